@@ -1,0 +1,381 @@
+//! Pseudo-arclength continuation of equilibria in one parameter (Keller 1977;
+//! Kuznetsov 1998, §10.2.1), as an iterator over branch points.
+//!
+//! With `z = (x, p_k)` and unit tangent `t`, a step predicts `z + ds t` and
+//! corrects by Newton on `f(x, p) = 0, t . (z - z_pred) = 0`. The step grows
+//! after easy corrections, halves after failures, and a step that would cross
+//! a parameter bound is shortened to land on it. Between consecutive points
+//! the fold and Hopf test functions are watched; sign changes are located
+//! (see [`crate::events`]) and attached to the later point.
+
+use crate::error::ContinuationError;
+use crate::events::{critical_pair, hopf_test, is_complex_pair, locate_fold, locate_hopf, Event};
+use crate::linalg::{count_unstable, eigenvalues, solve};
+use crate::newton::{self, NewtonReport, NewtonSettings};
+use crate::system::{eval, jacobian, param_derivative, VectorField};
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+/// Which way the continuation parameter moves at the start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// The parameter increases initially.
+    Increasing,
+    /// The parameter decreases initially.
+    Decreasing,
+}
+
+/// Settings of the continuation; see the field docs for defaults.
+#[derive(Clone, Debug)]
+pub struct ContinuationSettings {
+    /// Initial arclength step. Default `1e-2`.
+    pub ds: f64,
+    /// Smallest step before giving up. Default `1e-10`.
+    pub ds_min: f64,
+    /// Largest step. Default `0.5`.
+    pub ds_max: f64,
+    /// Step growth factor after an easy correction (≤ 3 Newton iterations). Default `1.5`.
+    pub growth: f64,
+    /// Largest number of accepted steps. Default `500`.
+    pub max_steps: usize,
+    /// Lower bound of the parameter. Default `-inf`.
+    pub p_min: f64,
+    /// Upper bound of the parameter. Default `+inf`.
+    pub p_max: f64,
+    /// Initial direction of the parameter. Default increasing.
+    pub direction: Direction,
+    /// Corrector settings. Default: [`NewtonSettings::default`] with 8 iterations.
+    pub corrector: NewtonSettings,
+    /// Settings of the Newton runs that locate events to relative `~1e-14`.
+    pub locator: NewtonSettings,
+    /// Smallest cosine between consecutive tangents; sharper turns are
+    /// rejected and retried with a smaller step. Default `0.9`.
+    pub min_tangent_cos: f64,
+    /// Watch and locate folds and Hopf points. Default `true`.
+    pub detect_events: bool,
+}
+
+impl Default for ContinuationSettings {
+    fn default() -> Self {
+        ContinuationSettings {
+            ds: 1e-2,
+            ds_min: 1e-10,
+            ds_max: 0.5,
+            growth: 1.5,
+            max_steps: 500,
+            p_min: f64::NEG_INFINITY,
+            p_max: f64::INFINITY,
+            direction: Direction::Increasing,
+            corrector: NewtonSettings { max_iter: 8, ..NewtonSettings::default() },
+            locator: NewtonSettings { step_tol: 1e-14, residual_tol: 1e-12, max_iter: 20 },
+            min_tangent_cos: 0.9,
+            detect_events: true,
+        }
+    }
+}
+
+/// Why the branch ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// The parameter reached `p_min` or `p_max` (the last point lies on it).
+    ParameterBound,
+    /// `max_steps` points were computed.
+    MaxSteps,
+}
+
+/// One point of a branch of equilibria.
+#[derive(Clone, Debug)]
+pub struct BranchPoint {
+    /// The equilibrium.
+    pub x: Vec<f64>,
+    /// The full parameter vector.
+    pub p: Vec<f64>,
+    /// Index of the continuation parameter.
+    pub param_index: usize,
+    /// Unit tangent `(dx/ds, dp/ds)`.
+    pub tangent: Vec<f64>,
+    /// Eigenvalues of the Jacobian, by decreasing real part.
+    pub eigenvalues: Vec<Complex64>,
+    /// Number of eigenvalues with positive real part.
+    pub n_unstable: usize,
+    /// Bifurcations located between the previous point and this one.
+    pub events: Vec<Event>,
+    /// The corrector's work at this point.
+    pub newton: NewtonReport,
+}
+
+impl BranchPoint {
+    /// Value of the continuation parameter.
+    pub fn param(&self) -> f64 {
+        self.p[self.param_index]
+    }
+}
+
+/// A branch of equilibria being traced; iterate it to get the points.
+///
+/// The first item is the corrected starting point. Iteration ends after a
+/// [`StopReason`] (see [`Branch::stop_reason`]) or after the first error.
+pub struct Branch<'a, S: VectorField> {
+    sys: &'a S,
+    k: usize,
+    settings: ContinuationSettings,
+    p: Vec<f64>,
+    z: DVector<f64>,
+    tangent: DVector<f64>,
+    ds: f64,
+    steps: usize,
+    last: Option<BranchPoint>,
+    stop: Option<StopReason>,
+    failed: bool,
+}
+
+impl<'a, S: VectorField> Branch<'a, S> {
+    /// Starts a branch at `(x0, p0)` in parameter `k`. The starting point is
+    /// corrected at fixed parameter first.
+    pub fn new(
+        sys: &'a S,
+        x0: &[f64],
+        p0: &[f64],
+        k: usize,
+        settings: ContinuationSettings,
+    ) -> Result<Self, ContinuationError> {
+        let n = sys.dim();
+        let mut x = DVector::from_column_slice(x0);
+        newton::solve(&mut x, &settings.corrector, " at the starting point", |x, g, dg| {
+            g.copy_from(&eval(sys, x.as_slice(), p0));
+            sys.jacobian(x.as_slice(), p0, dg);
+        })
+        .map_err(|e| ContinuationError::BadStart(Box::new(e)))?;
+        let mut z = DVector::zeros(n + 1);
+        z.rows_mut(0, n).copy_from(&x);
+        z[n] = p0[k];
+        let sign = if settings.direction == Direction::Increasing { 1.0 } else { -1.0 };
+        let mut seed = DVector::zeros(n + 1);
+        seed[n] = sign;
+        let p = p0.to_vec();
+        let tangent = tangent_at(sys, k, &z, &p, &seed)?;
+        let ds = settings.ds.abs();
+        Ok(Branch { sys, k, settings, p, z, tangent, ds, steps: 0, last: None, stop: None, failed: false })
+    }
+
+    /// Why the branch ended, once it has.
+    pub fn stop_reason(&self) -> Option<StopReason> {
+        self.stop
+    }
+
+    fn params_at(&self, z: &DVector<f64>) -> Vec<f64> {
+        let mut p = self.p.clone();
+        p[self.k] = z[self.sys.dim()];
+        p
+    }
+
+    fn make_point(&self, newton: NewtonReport) -> Result<BranchPoint, ContinuationError> {
+        let n = self.sys.dim();
+        let p = self.params_at(&self.z);
+        let x = self.z.as_slice()[..n].to_vec();
+        let ev = eigenvalues(&jacobian(self.sys, &x, &p))?;
+        Ok(BranchPoint {
+            n_unstable: count_unstable(&ev),
+            x,
+            p,
+            param_index: self.k,
+            tangent: self.tangent.as_slice().to_vec(),
+            eigenvalues: ev,
+            events: Vec::new(),
+            newton,
+        })
+    }
+
+    /// Takes one accepted step: predictor, corrector, step control.
+    fn step(&mut self) -> Result<NewtonReport, ContinuationError> {
+        let n = self.sys.dim();
+        let (lo, hi) = (self.settings.p_min, self.settings.p_max);
+        loop {
+            let mut ds = self.ds;
+            let mut z_pred = &self.z + &self.tangent * ds;
+            let bound = if z_pred[n] < lo { Some(lo) } else if z_pred[n] > hi { Some(hi) } else { None };
+            if let Some(b) = bound {
+                ds = (b - self.z[n]) / self.tangent[n];
+                z_pred = &self.z + &self.tangent * ds;
+                z_pred[n] = b;
+            }
+            let attempt = self.correct(&mut z_pred, bound.is_some());
+            let accepted = match attempt {
+                Ok(rep) => {
+                    let t_new = tangent_at(self.sys, self.k, &z_pred, &self.p, &self.tangent)?;
+                    if t_new.dot(&self.tangent) >= self.settings.min_tangent_cos || bound.is_some() {
+                        Some((rep, t_new))
+                    } else {
+                        None
+                    }
+                }
+                Err(_) => None,
+            };
+            if let Some((rep, t_new)) = accepted {
+                self.z = z_pred;
+                self.tangent = t_new;
+                if bound.is_some() {
+                    self.stop = Some(StopReason::ParameterBound);
+                } else if rep.iterations <= 3 {
+                    self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
+                }
+                return Ok(rep);
+            }
+            self.ds *= 0.5;
+            if self.ds < self.settings.ds_min {
+                let cause = match attempt {
+                    Err(e) => e.to_string(),
+                    Ok(_) => "the tangent turned too sharply".into(),
+                };
+                return Err(ContinuationError::StepTooSmall {
+                    param_name: format!("p[{}]", self.k),
+                    param: self.z[n],
+                    ds: self.ds,
+                    ds_min: self.settings.ds_min,
+                    cause,
+                });
+            }
+        }
+    }
+
+    /// Newton on the pseudo-arclength system, or at fixed parameter when
+    /// landing on a bound.
+    fn correct(&self, z: &mut DVector<f64>, fixed_param: bool) -> Result<NewtonReport, ContinuationError> {
+        let n = self.sys.dim();
+        let z_pred = z.clone();
+        let (sys, k, t) = (self.sys, self.k, &self.tangent);
+        newton::solve(z, &self.settings.corrector, "", |z, g, dg| {
+            let x = &z.as_slice()[..n];
+            let mut p = self.p.clone();
+            p[k] = z[n];
+            g.rows_mut(0, n).copy_from(&eval(sys, x, &p));
+            let mut jac = DMatrix::zeros(n, n);
+            sys.jacobian(x, &p, &mut jac);
+            dg.view_mut((0, 0), (n, n)).copy_from(&jac);
+            dg.view_mut((0, n), (n, 1)).copy_from(&param_derivative(sys, x, &p, k));
+            if fixed_param {
+                g[n] = z[n] - z_pred[n];
+                dg.row_mut(n).fill(0.0);
+                dg[(n, n)] = 1.0;
+            } else {
+                g[n] = t.dot(&(z - &z_pred));
+                dg.row_mut(n).copy_from(&t.transpose());
+            }
+        })
+    }
+
+    /// Watches the test functions between `prev` and `cur` and locates what changed sign.
+    fn detect(&self, prev: &BranchPoint, cur: &BranchPoint) -> Result<Vec<Event>, ContinuationError> {
+        let n = self.sys.dim();
+        let k = self.k;
+        let mut events = Vec::new();
+        let interpolate = |a: f64, b: f64| {
+            let s = a / (a - b);
+            let x: Vec<f64> = (0..n).map(|i| prev.x[i] + s * (cur.x[i] - prev.x[i])).collect();
+            let mut p = prev.p.clone();
+            p[k] = prev.param() + s * (cur.param() - prev.param());
+            (x, p, s)
+        };
+        let wrap = |kind: &'static str, e: ContinuationError| ContinuationError::Location {
+            kind,
+            param_name: format!("p[{k}]"),
+            from: prev.param(),
+            to: cur.param(),
+            cause: Box::new(e),
+        };
+        let (fa, fb) = (prev.tangent[n], cur.tangent[n]);
+        if fa * fb < 0.0 {
+            let (x, p, _) = interpolate(fa, fb);
+            events.push(locate_fold(self.sys, k, &x, &p, &self.settings.locator).map_err(|e| wrap("fold", e))?);
+        }
+        let (ha, hb) = (hopf_test(&prev.eigenvalues), hopf_test(&cur.eigenvalues));
+        if ha * hb < 0.0 {
+            let pairs = (critical_pair(&prev.eigenvalues), critical_pair(&cur.eigenvalues));
+            if let (Some(pa), Some(pb)) = pairs {
+                // A real pair at either end is a neutral saddle, not a Hopf point.
+                if is_complex_pair(pa) && is_complex_pair(pb) {
+                    let (x, p, s) = interpolate(ha, hb);
+                    let omega = pa.0.im.abs() + s * (pb.0.im.abs() - pa.0.im.abs());
+                    let ev = locate_hopf(self.sys, k, &x, &p, omega, &self.settings.locator)
+                        .map_err(|e| wrap("Hopf", e))?;
+                    events.push(ev);
+                }
+            }
+        }
+        events.sort_by(|a, b| {
+            let da = (a.param() - prev.param()).abs();
+            da.total_cmp(&(b.param() - prev.param()).abs())
+        });
+        Ok(events)
+    }
+
+    fn next_point(&mut self) -> Result<BranchPoint, ContinuationError> {
+        if self.last.is_none() {
+            return self.make_point(NewtonReport { iterations: 0, residual: 0.0, step: 0.0 });
+        }
+        let rep = self.step()?;
+        let mut point = self.make_point(rep)?;
+        if let Some(x) = point.x.iter().chain(point.eigenvalues.iter().map(|l| &l.re)).find(|v| !v.is_finite()) {
+            return Err(ContinuationError::NonFinite {
+                what: format!("{x}"),
+                param_name: format!("p[{}]", self.k),
+                param: point.param(),
+            });
+        }
+        if self.settings.detect_events {
+            if let Some(prev) = &self.last {
+                point.events = self.detect(prev, &point)?;
+            }
+        }
+        Ok(point)
+    }
+}
+
+impl<S: VectorField> Iterator for Branch<'_, S> {
+    type Item = Result<BranchPoint, ContinuationError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed || self.stop.is_some() {
+            return None;
+        }
+        if self.last.is_some() && self.steps >= self.settings.max_steps {
+            self.stop = Some(StopReason::MaxSteps);
+            return None;
+        }
+        match self.next_point() {
+            Ok(point) => {
+                self.steps += 1;
+                self.last = Some(point.clone());
+                Some(Ok(point))
+            }
+            Err(e) => {
+                self.failed = true;
+                Some(Err(e))
+            }
+        }
+    }
+}
+
+/// Unit tangent of the branch at `z`, oriented along `reference`:
+/// solves `[[J, f_p], [reference^T]] t = (0, 1)`.
+fn tangent_at<S: VectorField>(
+    sys: &S,
+    k: usize,
+    z: &DVector<f64>,
+    p: &[f64],
+    reference: &DVector<f64>,
+) -> Result<DVector<f64>, ContinuationError> {
+    let n = sys.dim();
+    let x = &z.as_slice()[..n];
+    let mut pk = p.to_vec();
+    pk[k] = z[n];
+    let mut m = DMatrix::zeros(n + 1, n + 1);
+    m.view_mut((0, 0), (n, n)).copy_from(&jacobian(sys, x, &pk));
+    m.view_mut((0, n), (n, 1)).copy_from(&param_derivative(sys, x, &pk, k));
+    m.row_mut(n).copy_from(&reference.transpose());
+    let mut rhs = DVector::zeros(n + 1);
+    rhs[n] = 1.0;
+    let t = solve(m, &rhs)?;
+    let t = t.normalize();
+    Ok(if t.dot(reference) < 0.0 { -t } else { t })
+}

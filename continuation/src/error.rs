@@ -1,0 +1,48 @@
+//! Typed errors of the engine. Each carries the numbers needed to judge the
+//! failure and its message says what to try.
+
+use thiserror::Error;
+
+/// Why Newton's method stopped without converging.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NewtonFailure {
+    /// The iteration limit was reached.
+    MaxIterations,
+    /// The Jacobian of the (augmented) system was singular.
+    SingularJacobian,
+    /// A residual or an iterate was NaN or infinite.
+    NonFinite,
+}
+
+/// An engine failure, with the last good state and the numbers that explain it.
+#[derive(Debug, Error)]
+pub enum ContinuationError {
+    #[error(
+        "Newton did not converge{context} after {iterations} iterations \
+         (residual {residual:.3e}, last step {step:.3e}, {reason:?}); {hint}"
+    )]
+    Newton {
+        context: String,
+        iterations: usize,
+        residual: f64,
+        step: f64,
+        reason: NewtonFailure,
+        hint: &'static str,
+    },
+    #[error(
+        "continuation stalled at {param_name} = {param:.10e}: step size {ds:.3e} fell below \
+         the minimum {ds_min:.3e} ({cause}); the branch may end, fold sharply, or need a \
+         smaller ds_min or rescaled variables"
+    )]
+    StepTooSmall { param_name: String, param: f64, ds: f64, ds_min: f64, cause: String },
+    #[error("the starting point is not an equilibrium: {0}")]
+    BadStart(Box<ContinuationError>),
+    #[error("a singular linear system was met (the Jacobian or its bordered form is not invertible)")]
+    Singular,
+    #[error("eigenvalue computation failed: {0}")]
+    Eigen(String),
+    #[error("non-finite value {what} at {param_name} = {param:.10e}; check the model's domain (logarithms of non-positive values?)")]
+    NonFinite { what: String, param_name: String, param: f64 },
+    #[error("{kind} location failed between {param_name} = {from:.10e} and {to:.10e}: {cause}")]
+    Location { kind: &'static str, param_name: String, from: f64, to: f64, cause: Box<ContinuationError> },
+}

@@ -1,0 +1,28 @@
+//! # continuation
+//!
+//! Numerical continuation and bifurcation analysis of equilibria of
+//! `x' = f(x, p)`, with exact derivatives from dual numbers.
+//!
+//! * [`system`]: the [`VectorField`] trait — `f(x, p)` written once, generic over
+//!   the scalar — and the exact Jacobian and higher derivatives derived from it.
+//! * [`branch`]: pseudo-arclength continuation of equilibria as an iterator.
+//! * [`events`]: test functions and the location of folds and Hopf points by
+//!   Newton's method on minimally augmented systems.
+//! * [`linalg`], [`newton`], [`error`]: eigenvalues, a Newton corrector with a
+//!   typed outcome, errors that carry the numbers.
+//!
+//! The crate knows nothing about the application; `stickslip` builds on it.
+
+pub mod branch;
+pub mod error;
+pub mod events;
+pub mod linalg;
+pub mod newton;
+pub mod system;
+
+pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};
+pub use error::ContinuationError;
+pub use events::{Event, EventKind};
+pub use newton::{NewtonReport, NewtonSettings};
+pub use num_complex::Complex64;
+pub use system::{Scalar, VectorField};

@@ -1,0 +1,94 @@
+//! Errors of the domain layer: bad input (exit status 2) and numerical
+//! failures (exit status 3). Every message names the field or the numbers.
+
+use thiserror::Error;
+
+/// Input the program refuses, with the field, the value and what is allowed.
+#[derive(Debug, Error)]
+pub enum InputError {
+    #[error("unknown {what} '{name}'{}; allowed: {allowed}", suggestion.as_ref().map(|s| format!(" (did you mean '{s}'?)")).unwrap_or_default())]
+    UnknownName { what: &'static str, name: String, suggestion: Option<String>, allowed: String },
+    #[error("{field} = {value} is out of range: expected {expected}")]
+    OutOfRange { field: String, value: String, expected: String },
+    #[error("{field}: cannot read '{value}': expected {expected}")]
+    Malformed { field: String, value: String, expected: String },
+    #[error("{0}")]
+    Conflict(String),
+    #[error("cannot read scene file {path}: {reason}")]
+    File { path: String, reason: String },
+}
+
+impl InputError {
+    /// A value outside its allowed range.
+    pub fn out_of_range(field: &str, value: f64, expected: &str) -> Self {
+        InputError::OutOfRange { field: field.to_string(), value: format!("{value}"), expected: expected.to_string() }
+    }
+}
+
+/// A numerical method that did not deliver, with what was reached and what to try.
+#[derive(Debug, Error)]
+pub enum NumericalError {
+    #[error(transparent)]
+    Continuation(#[from] continuation::ContinuationError),
+    #[error("{0}")]
+    Analysis(String),
+}
+
+/// Anything the command line reports; decides the exit status.
+#[derive(Debug, Error)]
+pub enum Error {
+    #[error("bad input: {0}")]
+    Input(#[from] InputError),
+    #[error("numerical failure: {0}")]
+    Numerical(#[from] NumericalError),
+    #[error("cannot write output: {0}")]
+    Output(#[from] std::io::Error),
+}
+
+impl Error {
+    /// Exit status: 2 for bad input, 3 for a numerical failure, 1 for I/O.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Input(_) => 2,
+            Error::Numerical(_) => 3,
+            Error::Output(_) => 1,
+        }
+    }
+}
+
+/// The candidate closest to `name` by edit distance, if reasonably close.
+pub fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
+    candidates
+        .map(|c| (levenshtein(&name.to_lowercase(), &c.to_lowercase()), c))
+        .filter(|(d, c)| *d <= 2.max(c.len() / 3))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c.to_string())
+}
+
+fn levenshtein(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diag = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (row[j + 1] + 1).min(row[j] + 1).min(diag + usize::from(ca != cb));
+            diag = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggests_the_nearest_name() {
+        let names = ["kappa", "nu", "theta_c", "mu2"];
+        assert_eq!(closest("kapa", names.iter().copied()).as_deref(), Some("kappa"));
+        assert_eq!(closest("theta-c", names.iter().copied()).as_deref(), Some("theta_c"));
+        assert_eq!(closest("zzzzzzzz", names.iter().copied()), None);
+    }
+}

@@ -1,0 +1,4 @@
+//! stickslip: bifurcation analysis of a rate-and-state driven block.
+pub mod error;
+pub mod friction;
+pub mod params;

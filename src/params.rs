@@ -1,0 +1,256 @@
+//! Dimensionless parameters of MODEL.md and their validation.
+//!
+//! | name | definition | meaning |
+//! |---|---|---|
+//! | `kappa` | `K D0 / W` | spring stiffness |
+//! | `nu` | `V / V0` | driving velocity |
+//! | `m` | `M V0^2 / (W D0)` | inertia |
+//! | `A`, `B`, `mu0`, `mu2` | | friction law coefficients |
+//! | `theta_c` | `tau V0 / D0` | ageing cutoff (selects the cutoff form) |
+
+use crate::error::InputError;
+use crate::friction::{Ageing, FrictionLaw};
+use continuation::Scalar;
+
+/// Index of each parameter in the vector handed to the continuation engine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    Kappa = 0,
+    Nu = 1,
+    M = 2,
+    A = 3,
+    B = 4,
+    Mu0 = 5,
+    Mu2 = 6,
+    ThetaC = 7,
+}
+
+/// Number of entries in the engine's parameter vector.
+pub const N_PARAMS: usize = 8;
+
+impl Param {
+    /// Every parameter, in vector order.
+    pub const ALL: [Param; N_PARAMS] = [
+        Param::Kappa,
+        Param::Nu,
+        Param::M,
+        Param::A,
+        Param::B,
+        Param::Mu0,
+        Param::Mu2,
+        Param::ThetaC,
+    ];
+
+    /// The name used on the command line (`--set NAME=VALUE`) and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Kappa => "kappa",
+            Param::Nu => "nu",
+            Param::M => "m",
+            Param::A => "A",
+            Param::B => "B",
+            Param::Mu0 => "mu0",
+            Param::Mu2 => "mu2",
+            Param::ThetaC => "theta_c",
+        }
+    }
+
+    /// Parses a parameter name; the error suggests the closest valid name.
+    pub fn parse(name: &str) -> Result<Param, InputError> {
+        Param::ALL
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| InputError::UnknownName {
+                what: "parameter",
+                name: name.to_string(),
+                suggestion: crate::error::closest(name, Param::ALL.iter().map(|p| p.name())),
+                allowed: Param::ALL.iter().map(|p| p.name()).collect::<Vec<_>>().join(", "),
+            })
+    }
+}
+
+/// The dimensionless parameter set of MODEL.md.
+///
+/// `theta_c = Some(..)` selects the cutoff ageing form `B ln(1 + theta/theta_c)`;
+/// `None` selects `B ln theta + mu2 (ln theta)^2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    pub kappa: f64,
+    pub nu: f64,
+    pub m: f64,
+    pub a: f64,
+    pub b: f64,
+    pub mu0: f64,
+    pub mu2: f64,
+    pub theta_c: Option<f64>,
+}
+
+impl Params {
+    /// Value of one parameter (`theta_c` reads 0 when the cutoff is off).
+    pub fn get(&self, p: Param) -> f64 {
+        match p {
+            Param::Kappa => self.kappa,
+            Param::Nu => self.nu,
+            Param::M => self.m,
+            Param::A => self.a,
+            Param::B => self.b,
+            Param::Mu0 => self.mu0,
+            Param::Mu2 => self.mu2,
+            Param::ThetaC => self.theta_c.unwrap_or(0.0),
+        }
+    }
+
+    /// Sets one parameter. Setting `theta_c` selects the cutoff form (and
+    /// clears `mu2`); setting `mu2` selects the logarithmic form.
+    pub fn set(&mut self, p: Param, value: f64) {
+        match p {
+            Param::Kappa => self.kappa = value,
+            Param::Nu => self.nu = value,
+            Param::M => self.m = value,
+            Param::A => self.a = value,
+            Param::B => self.b = value,
+            Param::Mu0 => self.mu0 = value,
+            Param::Mu2 => {
+                self.mu2 = value;
+                self.theta_c = None;
+            }
+            Param::ThetaC => {
+                self.theta_c = Some(value);
+                self.mu2 = 0.0;
+            }
+        }
+    }
+
+    /// Applies `NAME=VALUE` overrides in order. Setting both `mu2` and
+    /// `theta_c` is refused: the two ageing forms exclude each other.
+    pub fn apply_overrides(&mut self, overrides: &[String]) -> Result<(), InputError> {
+        let mut form_set_by: Option<Param> = None;
+        for item in overrides {
+            let (name, value) = item.split_once('=').ok_or_else(|| InputError::Malformed {
+                field: "--set".into(),
+                value: item.clone(),
+                expected: "NAME=VALUE, e.g. --set kappa=0.01".into(),
+            })?;
+            let p = Param::parse(name.trim())?;
+            let v: f64 = value.trim().parse().map_err(|_| InputError::Malformed {
+                field: format!("--set {}", p.name()),
+                value: value.to_string(),
+                expected: "a number".into(),
+            })?;
+            if matches!(p, Param::Mu2 | Param::ThetaC) {
+                if let Some(prev) = form_set_by.filter(|&prev| prev != p) {
+                    return Err(InputError::Conflict(format!(
+                        "--set {} and --set {} select different ageing forms \
+                         (ln² correction vs short-age cutoff); use one",
+                        prev.name(),
+                        p.name()
+                    )));
+                }
+                form_set_by = Some(p);
+            }
+            self.set(p, v);
+        }
+        self.validate()
+    }
+
+    /// Checks every parameter: finite, and within its physical range.
+    pub fn validate(&self) -> Result<(), InputError> {
+        for p in Param::ALL {
+            let v = self.get(p);
+            if !v.is_finite() {
+                return Err(InputError::out_of_range(p.name(), v, "a finite number"));
+            }
+        }
+        let positive = [(Param::A, self.a), (Param::Nu, self.nu)];
+        for (p, v) in positive {
+            if v <= 0.0 {
+                return Err(InputError::out_of_range(p.name(), v, "> 0"));
+            }
+        }
+        for (p, v) in [(Param::M, self.m), (Param::Kappa, self.kappa)] {
+            if v < 0.0 {
+                return Err(InputError::out_of_range(p.name(), v, ">= 0"));
+            }
+        }
+        if let Some(tc) = self.theta_c {
+            if !(tc > 0.0 && tc.is_finite()) {
+                return Err(InputError::out_of_range("theta_c", tc, "> 0"));
+            }
+        }
+        if self.b < 0.0 {
+            return Err(InputError::out_of_range("B", self.b, ">= 0 (ageing strengthens the interface)"));
+        }
+        Ok(())
+    }
+
+    /// The parameter vector in [`Param`] order, as the engine takes it.
+    pub fn to_vec(&self) -> Vec<f64> {
+        Param::ALL.iter().map(|&p| self.get(p)).collect()
+    }
+
+    /// Reads a parameter vector back (the ageing form is kept from `self`).
+    pub fn with_vec(&self, p: &[f64]) -> Params {
+        let mut out = *self;
+        for q in Param::ALL {
+            let v = p[q as usize];
+            match q {
+                Param::ThetaC if self.theta_c.is_none() => {}
+                Param::Mu2 if self.theta_c.is_some() => {}
+                _ => out.set_value_keep_form(q, v),
+            }
+        }
+        out
+    }
+
+    fn set_value_keep_form(&mut self, p: Param, v: f64) {
+        match p {
+            Param::ThetaC => self.theta_c = Some(v),
+            Param::Mu2 => self.mu2 = v,
+            _ => self.set(p, v),
+        }
+    }
+
+    /// The friction law with these coefficients.
+    pub fn friction(&self) -> FrictionLaw<f64> {
+        friction_from(self.theta_c.is_some(), &self.to_vec())
+    }
+
+    /// `mu_v = d mu / d ln v` at steady sliding (Appendix C).
+    pub fn mu_v(&self) -> f64 {
+        self.friction().mu_v()
+    }
+
+    /// `mu_phi = d mu / d ln theta` at steady sliding, `theta = 1/nu` (Appendix C).
+    pub fn mu_phi(&self) -> f64 {
+        self.friction().mu_phi(1.0 / self.nu)
+    }
+
+    /// Size of the inertia term in eq. C11, `m nu^2 / mu_v`.
+    pub fn inertia_ratio(&self) -> f64 {
+        self.m * self.nu * self.nu / self.mu_v()
+    }
+
+    /// Named values, for JSON output (`theta_c` only when the cutoff is on).
+    pub fn named(&self) -> Vec<(&'static str, f64)> {
+        Param::ALL
+            .iter()
+            .filter(|&&p| !(p == Param::ThetaC && self.theta_c.is_none()))
+            .filter(|&&p| !(p == Param::Mu2 && self.theta_c.is_some()))
+            .map(|&p| (p.name(), self.get(p)))
+            .collect()
+    }
+}
+
+/// Builds the friction law from an engine parameter vector (any scalar type).
+pub fn friction_from<D: Scalar>(cutoff: bool, p: &[D]) -> FrictionLaw<D> {
+    let b = p[Param::B as usize];
+    FrictionLaw {
+        mu0: p[Param::Mu0 as usize],
+        a: p[Param::A as usize],
+        ageing: if cutoff {
+            Ageing::Cutoff { b, theta_c: p[Param::ThetaC as usize] }
+        } else {
+            Ageing::Log { b, mu2: p[Param::Mu2 as usize] }
+        },
+    }
+}
