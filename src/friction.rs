@@ -109,7 +109,7 @@ mod tests {
             FrictionLaw { mu0: 0.6, a: 0.012, ageing: Ageing::Cutoff { b: 0.023, theta_c: 0.3 } },
         ] {
             for theta in [1e-3, 0.7, 5.0, 1e3] {
-                let h = 1e-4;
+                let h: f64 = 1e-4;
                 let fd = (law.ageing_term(theta * h.exp()) - law.ageing_term(theta * (-h).exp()))
                     / (2.0 * h);
                 let exact = law.mu_phi(theta);

@@ -2,3 +2,7 @@
 pub mod error;
 pub mod friction;
 pub mod params;
+pub mod model;
+pub mod analysis;
+pub mod appendix_c;
+pub mod scene;

@@ -186,8 +186,10 @@ impl<'a, S: VectorField> Branch<'a, S> {
         })
     }
 
-    /// Takes one accepted step: predictor, corrector, step control.
-    fn step(&mut self) -> Result<NewtonReport, ContinuationError> {
+    /// Takes one step that the corrector accepts: predictor, corrector, step
+    /// control. Returns the corrector's report and whether the step landed on
+    /// a parameter bound.
+    fn step(&mut self) -> Result<(NewtonReport, bool), ContinuationError> {
         let n = self.sys.dim();
         let (lo, hi) = (self.settings.p_min, self.settings.p_max);
         loop {
@@ -214,12 +216,10 @@ impl<'a, S: VectorField> Branch<'a, S> {
             if let Some((rep, t_new)) = accepted {
                 self.z = z_pred;
                 self.tangent = t_new;
-                if bound.is_some() {
-                    self.stop = Some(StopReason::ParameterBound);
-                } else if rep.iterations <= 3 {
+                if bound.is_none() && rep.iterations <= 3 {
                     self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
                 }
-                return Ok(rep);
+                return Ok((rep, bound.is_some()));
             }
             self.ds *= 0.5;
             if self.ds < self.settings.ds_min {
@@ -310,24 +310,56 @@ impl<'a, S: VectorField> Branch<'a, S> {
     }
 
     fn next_point(&mut self) -> Result<BranchPoint, ContinuationError> {
-        if self.last.is_none() {
+        let Some(prev) = self.last.take() else {
             return self.make_point(NewtonReport { iterations: 0, residual: 0.0, step: 0.0 });
-        }
-        let rep = self.step()?;
-        let mut point = self.make_point(rep)?;
-        if let Some(x) = point.x.iter().chain(point.eigenvalues.iter().map(|l| &l.re)).find(|v| !v.is_finite()) {
-            return Err(ContinuationError::NonFinite {
-                what: format!("{x}"),
-                param_name: format!("p[{}]", self.k),
-                param: point.param(),
-            });
-        }
-        if self.settings.detect_events {
-            if let Some(prev) = &self.last {
-                point.events = self.detect(prev, &point)?;
+        };
+        let result = self.next_point_after(&prev);
+        self.last = Some(prev);
+        result
+    }
+
+    /// Steps from `prev`. A step across which the number of unstable
+    /// eigenvalues changes without a located bifurcation to explain it (two
+    /// crossings inside one step, say), or whose bifurcation could not be
+    /// located from the bracket, is retaken with half the step size, down to
+    /// `ds_min`.
+    fn next_point_after(&mut self, prev: &BranchPoint) -> Result<BranchPoint, ContinuationError> {
+        let (z0, t0) = (self.z.clone(), self.tangent.clone());
+        loop {
+            let (rep, on_bound) = self.step()?;
+            let mut point = self.make_point(rep)?;
+            let values = point.x.iter().chain(point.eigenvalues.iter().map(|l| &l.re));
+            if let Some(x) = values.clone().find(|v| !v.is_finite()) {
+                return Err(ContinuationError::NonFinite {
+                    what: format!("{x}"),
+                    param_name: format!("p[{}]", self.k),
+                    param: point.param(),
+                });
             }
+            if self.settings.detect_events {
+                let last_step = (&self.z - &z0).norm();
+                let can_retry = 0.5 * last_step >= self.settings.ds_min;
+                let retry = match self.detect(prev, &point) {
+                    Ok(events) => {
+                        point.events = events;
+                        point.n_unstable != prev.n_unstable && point.events.is_empty()
+                    }
+                    // A long step gives a poor initial guess for the location.
+                    Err(_) if can_retry => true,
+                    Err(e) => return Err(e),
+                };
+                if retry && can_retry {
+                    self.z = z0.clone();
+                    self.tangent = t0.clone();
+                    self.ds = 0.5 * last_step;
+                    continue;
+                }
+            }
+            if on_bound {
+                self.stop = Some(StopReason::ParameterBound);
+            }
+            return Ok(point);
         }
-        Ok(point)
     }
 }
 

@@ -1,0 +1,1 @@
+//! Branches of steady sliding in `kappa` or `nu`, with eigenvalues and events.

@@ -1,0 +1,6 @@
+//! Analyses a user runs: model choice, the Hopf (stick-slip onset) point,
+//! branches of steady sliding.
+
+pub mod branch;
+pub mod hopf;
+pub mod model_choice;

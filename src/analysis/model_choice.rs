@@ -1,0 +1,63 @@
+//! Choosing the quasi-static or the inertial model.
+//!
+//! Inertia enters the critical stiffness only through the factor
+//! `1 + m nu^2 / mu_v` (seed eq. C11). When that ratio is below a threshold
+//! the quasi-static model changes `kappa_c` by less than the threshold
+//! (relative), and it is the one used; otherwise the inertial model is.
+
+use crate::model::ModelKind;
+use crate::params::Params;
+
+/// Default threshold on `m nu^2 / mu_v` below which inertia is dropped.
+pub const DEFAULT_INERTIA_THRESHOLD: f64 = 1e-3;
+
+/// The model an analysis uses and why.
+#[derive(Clone, Debug)]
+pub struct ModelChoice {
+    /// The model.
+    pub kind: ModelKind,
+    /// The inertia ratio `m nu^2 / mu_v` of the scene.
+    pub inertia_ratio: f64,
+    /// A sentence saying why.
+    pub reason: String,
+}
+
+/// Picks the model for `params`; `forced` (from `--model`) wins.
+pub fn choose_model(params: &Params, forced: Option<ModelKind>, threshold: f64) -> ModelChoice {
+    let ratio = params.inertia_ratio();
+    let (kind, reason) = match forced {
+        Some(ModelKind::QuasiStatic) if params.m > 0.0 => (
+            ModelKind::QuasiStatic,
+            format!("quasi-static as requested (--model); inertia m = {:.3e} dropped, which shifts kappa_c by {ratio:.3e} relative (eq. C11)", params.m),
+        ),
+        Some(k) => (k, format!("{} as requested (--model); inertia ratio m nu^2/mu_v = {ratio:.3e}", k.name())),
+        None if params.m == 0.0 => {
+            (ModelKind::QuasiStatic, "quasi-static: the scene has no inertia (m = 0)".to_string())
+        }
+        None if ratio < threshold => (
+            ModelKind::QuasiStatic,
+            format!(
+                "quasi-static: inertia ratio m nu^2/mu_v = {ratio:.3e} < {threshold:.0e}, so inertia \
+                 shifts kappa_c by only {ratio:.3e} relative (eq. C11); m = {:.3e} dropped",
+                params.m
+            ),
+        ),
+        None => (
+            ModelKind::Inertial,
+            format!(
+                "inertial: inertia ratio m nu^2/mu_v = {ratio:.3e} >= {threshold:.0e} shifts kappa_c \
+                 by that much relative (eq. C11)"
+            ),
+        ),
+    };
+    ModelChoice { kind, inertia_ratio: ratio, reason }
+}
+
+/// The parameters the chosen model actually uses (`m = 0` when quasi-static).
+pub fn params_for(kind: ModelKind, params: &Params) -> Params {
+    let mut p = *params;
+    if kind == ModelKind::QuasiStatic {
+        p.m = 0.0;
+    }
+    p
+}

@@ -1,0 +1,76 @@
+//! Closed forms of the seed's Appendix C (linear stability of steady sliding),
+//! in MODEL.md's dimensionless units. They are the reference the continuation
+//! results are compared with; the analyses never use them to get their answers.
+
+use crate::params::Params;
+use num_complex::Complex64;
+
+/// Critical stiffness with inertia, seed eq. C11:
+/// `kappa_c = (mu_phi - mu_v) (1 + m nu^2 / mu_v)`.
+pub fn critical_stiffness(p: &Params) -> f64 {
+    (p.mu_phi() - p.mu_v()) * (1.0 + p.inertia_ratio())
+}
+
+/// Critical stiffness without inertia, seed eq. C12: `kappa_c = mu_phi - mu_v`.
+pub fn critical_stiffness_quasi_static(p: &Params) -> f64 {
+    p.mu_phi() - p.mu_v()
+}
+
+/// Critical angular frequency, seed eq. C13: `omega_c = nu sqrt(mu_phi/mu_v - 1)`
+/// (units `V0/D0`); `None` when steady friction is not velocity weakening.
+pub fn critical_frequency(p: &Params) -> Option<f64> {
+    let r = p.mu_phi() / p.mu_v() - 1.0;
+    (r > 0.0).then(|| p.nu * r.sqrt())
+}
+
+/// Coefficients `[a3, a2, a1, a0]` of the characteristic polynomial of the
+/// inertial block at steady sliding, `a3 l^3 + a2 l^2 + a1 l + a0 = 0`:
+/// `m l^3 + (mu_v/nu + m nu) l^2 + (kappa + mu_v - mu_phi) l + kappa nu`.
+///
+/// This is seed eq. C9 with `i Omega = l` (growth rate) in MODEL.md units; at
+/// `m = 0` it reduces to the quasi-static quadratic.
+pub fn characteristic_polynomial(p: &Params) -> [f64; 4] {
+    let (mu_v, mu_phi, nu, m, kappa) = (p.mu_v(), p.mu_phi(), p.nu, p.m, p.kappa);
+    [m, mu_v / nu + m * nu, kappa + mu_v - mu_phi, kappa * nu]
+}
+
+/// Large-stiffness roots of the characteristic cubic (corrected seed eq. C10,
+/// MODEL.md): one real root `-> -nu` and a pair
+/// `-> -mu_v/(2 m nu) +- i sqrt(kappa/m)`. Returns `(real, upper)`, the upper
+/// member of the pair having positive imaginary part. Requires `m > 0`.
+///
+/// The seed prints the pair with a `(1 + 3i)` factor, which breaks the
+/// conjugate symmetry of a real polynomial's roots; these are the leading
+/// terms of the roots of [`characteristic_polynomial`] as `kappa -> inf`.
+pub fn large_stiffness_roots(p: &Params) -> (f64, Complex64) {
+    let real = -p.nu;
+    let pair = Complex64::new(-p.mu_v() / (2.0 * p.m * p.nu), (p.kappa / p.m).sqrt());
+    (real, pair)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p() -> Params {
+        Params { kappa: 0.0, nu: 3.0, m: 0.1, a: 0.01, b: 0.02, mu0: 0.6, mu2: 5e-4, theta_c: None }
+    }
+
+    #[test]
+    fn hopf_condition_of_the_cubic_holds_at_c11_c13() {
+        // l = i w is a root of a3 l^3 + a2 l^2 + a1 l + a0 iff a1 = a3 w^2 and a0 = a2 w^2.
+        let mut q = p();
+        q.kappa = critical_stiffness(&q);
+        let w = critical_frequency(&q).unwrap();
+        let [a3, a2, a1, a0] = characteristic_polynomial(&q);
+        assert!((a1 - a3 * w * w).abs() < 1e-14 * a1.abs());
+        assert!((a0 - a2 * w * w).abs() < 1e-14 * a0.abs());
+    }
+
+    #[test]
+    fn quasi_static_limit_of_c11_is_c12() {
+        let mut q = p();
+        q.m = 0.0;
+        assert_eq!(critical_stiffness(&q), critical_stiffness_quasi_static(&q));
+    }
+}

@@ -1,0 +1,195 @@
+//! The driven block of MODEL.md (seed §II.D.2, eqs. RR4, C1–C2), dimensionless.
+//!
+//! Inertial model, state `(s, v, theta)`:
+//! ```text
+//! ds/dt     = kappa (nu - v)
+//! m dv/dt   = s - mu(v, theta)
+//! dtheta/dt = 1 - v theta
+//! ```
+//! Quasi-static model (`m = 0`), state `(s, theta)`, with `v` slaved to the
+//! friction law: `v = exp((s - mu0 - ageing(theta)) / A)`.
+//!
+//! Both take the parameter vector of [`crate::params::Param`].
+
+use crate::params::{friction_from, Param, Params, N_PARAMS};
+use continuation::{Scalar, VectorField};
+
+/// Which driven-block model an analysis uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModelKind {
+    /// State `(s, v, theta)` with the inertia `m`.
+    Inertial,
+    /// State `(s, theta)`, inertia dropped.
+    QuasiStatic,
+}
+
+impl ModelKind {
+    /// `inertial` or `quasi-static` (the name used in JSON and on the command line).
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelKind::Inertial => "inertial",
+            ModelKind::QuasiStatic => "quasi-static",
+        }
+    }
+}
+
+/// The inertial driven block, state `(s, v, theta)`.
+#[derive(Clone, Copy, Debug)]
+pub struct InertialBlock {
+    /// Use the cutoff ageing form `B ln(1 + theta/theta_c)`.
+    pub cutoff: bool,
+}
+
+impl VectorField for InertialBlock {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn n_params(&self) -> usize {
+        N_PARAMS
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let law = friction_from(self.cutoff, p);
+        let (s, v, theta) = (x[0], x[1], x[2]);
+        let (kappa, nu, m) = (p[Param::Kappa as usize], p[Param::Nu as usize], p[Param::M as usize]);
+        out[0] = kappa * (nu - v);
+        out[1] = (s - law.mu(v, theta)) / m;
+        out[2] = -(v * theta) + 1.0;
+    }
+}
+
+/// The quasi-static driven block, state `(s, theta)`.
+#[derive(Clone, Copy, Debug)]
+pub struct QuasiStaticBlock {
+    /// Use the cutoff ageing form `B ln(1 + theta/theta_c)`.
+    pub cutoff: bool,
+}
+
+impl VectorField for QuasiStaticBlock {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        N_PARAMS
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let law = friction_from(self.cutoff, p);
+        let (s, theta) = (x[0], x[1]);
+        let v = law.slip_velocity(s, theta);
+        let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
+        out[0] = kappa * (nu - v);
+        out[1] = -(v * theta) + 1.0;
+    }
+}
+
+/// Either driven-block model, chosen at run time.
+#[derive(Clone, Copy, Debug)]
+pub enum DrivenBlock {
+    Inertial(InertialBlock),
+    QuasiStatic(QuasiStaticBlock),
+}
+
+impl DrivenBlock {
+    /// The model of the given kind for the ageing form of `params`.
+    pub fn new(kind: ModelKind, params: &Params) -> Self {
+        let cutoff = params.theta_c.is_some();
+        match kind {
+            ModelKind::Inertial => DrivenBlock::Inertial(InertialBlock { cutoff }),
+            ModelKind::QuasiStatic => DrivenBlock::QuasiStatic(QuasiStaticBlock { cutoff }),
+        }
+    }
+
+    /// Which model this is.
+    pub fn kind(&self) -> ModelKind {
+        match self {
+            DrivenBlock::Inertial(_) => ModelKind::Inertial,
+            DrivenBlock::QuasiStatic(_) => ModelKind::QuasiStatic,
+        }
+    }
+}
+
+impl VectorField for DrivenBlock {
+    fn dim(&self) -> usize {
+        match self {
+            DrivenBlock::Inertial(b) => b.dim(),
+            DrivenBlock::QuasiStatic(b) => b.dim(),
+        }
+    }
+    fn n_params(&self) -> usize {
+        N_PARAMS
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        match self {
+            DrivenBlock::Inertial(b) => b.rhs(x, p, out),
+            DrivenBlock::QuasiStatic(b) => b.rhs(x, p, out),
+        }
+    }
+}
+
+/// Steady sliding (seed eq. RR5): `v = nu`, `theta = 1/nu`, `s = mu(nu, 1/nu)`,
+/// as the state vector of the given model.
+pub fn steady_state(kind: ModelKind, params: &Params) -> Vec<f64> {
+    let nu = params.nu;
+    let s = params.friction().steady(nu);
+    match kind {
+        ModelKind::Inertial => vec![s, nu, 1.0 / nu],
+        ModelKind::QuasiStatic => vec![s, 1.0 / nu],
+    }
+}
+
+/// Names of the state variables of a model, in order.
+pub fn state_names(kind: ModelKind) -> &'static [&'static str] {
+    match kind {
+        ModelKind::Inertial => &["s", "v", "theta"],
+        ModelKind::QuasiStatic => &["s", "theta"],
+    }
+}
+
+/// The state of either model written as `(s, v, theta)`: in the quasi-static
+/// model `v` is the slaved velocity.
+pub fn full_state(kind: ModelKind, params: &Params, x: &[f64]) -> [f64; 3] {
+    match kind {
+        ModelKind::Inertial => [x[0], x[1], x[2]],
+        ModelKind::QuasiStatic => [x[0], params.friction().slip_velocity(x[0], x[1]), x[1]],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use continuation::system::{eval, jacobian};
+
+    fn params() -> Params {
+        Params { kappa: 0.02, nu: 3.0, m: 0.1, a: 0.01, b: 0.02, mu0: 0.6, mu2: 5e-4, theta_c: None }
+    }
+
+    #[test]
+    fn steady_state_is_an_equilibrium_of_both_models() {
+        let p = params();
+        for (kind, f) in [
+            (ModelKind::Inertial, eval(&InertialBlock { cutoff: false }, &steady_state(ModelKind::Inertial, &p), &p.to_vec())),
+            (ModelKind::QuasiStatic, eval(&QuasiStaticBlock { cutoff: false }, &steady_state(ModelKind::QuasiStatic, &p), &p.to_vec())),
+        ] {
+            assert!(f.amax() < 1e-14, "{kind:?}: {f}");
+        }
+    }
+
+    #[test]
+    fn inertial_jacobian_matches_the_linearisation_of_appendix_c() {
+        // Linearising at steady sliding (seed eqs. C6–C7 in MODEL.md units):
+        // J = [[0, -kappa, 0], [1/m, -mu_v/(m nu), -mu_phi nu/m], [0, -1/nu, -nu]].
+        let p = params();
+        let j = jacobian(&InertialBlock { cutoff: false }, &steady_state(ModelKind::Inertial, &p), &p.to_vec());
+        let (mu_v, mu_phi) = (p.mu_v(), p.mu_phi());
+        let expect = [
+            [0.0, -p.kappa, 0.0],
+            [1.0 / p.m, -mu_v / (p.m * p.nu), -mu_phi * p.nu / p.m],
+            [0.0, -1.0 / p.nu, -p.nu],
+        ];
+        for i in 0..3 {
+            for k in 0..3 {
+                let scale = expect[i][k].abs().max(1.0);
+                assert!((j[(i, k)] - expect[i][k]).abs() < 1e-13 * scale, "J[{i},{k}] = {} vs {}", j[(i, k)], expect[i][k]);
+            }
+        }
+    }
+}
