@@ -6,3 +6,4 @@ pub mod model;
 pub mod analysis;
 pub mod appendix_c;
 pub mod scene;
+pub mod cli;

@@ -1,1 +1,51 @@
 //! Branches of steady sliding in `kappa` or `nu`, with eigenvalues and events.
+
+use crate::error::NumericalError;
+use crate::model::{steady_state, DrivenBlock, ModelKind};
+use crate::params::{Param, Params};
+use continuation::{Branch, BranchPoint, ContinuationSettings, Direction};
+
+/// The branch to trace: the parameter and its range.
+#[derive(Clone, Copy, Debug)]
+pub struct BranchRequest {
+    /// `kappa` or `nu`.
+    pub param: Param,
+    /// Start value (steady sliding is corrected there).
+    pub from: f64,
+    /// End value: the branch stops on it.
+    pub to: f64,
+    /// Step limit.
+    pub max_steps: usize,
+}
+
+/// Traces steady sliding from `from` to `to`, handing each point to `sink`
+/// as soon as it is computed (so a failure keeps what was already written).
+pub fn trace(
+    kind: ModelKind,
+    params: &Params,
+    req: &BranchRequest,
+    mut sink: impl FnMut(&BranchPoint) -> Result<(), crate::error::Error>,
+) -> Result<(), crate::error::Error> {
+    let block = DrivenBlock::new(kind, params);
+    let mut p = *params;
+    p.set(req.param, req.from);
+    let span = (req.to - req.from).abs();
+    // Arclength mixes the state and the parameter; the state changes on the
+    // scale of the parameter for nu (theta = 1/nu), so steps are a fraction of the span.
+    let settings = ContinuationSettings {
+        ds: 1e-3 * span,
+        ds_max: 0.02 * span,
+        ds_min: 1e-13 * span.max(1e-300),
+        p_min: req.from.min(req.to),
+        p_max: req.from.max(req.to),
+        direction: if req.to < req.from { Direction::Decreasing } else { Direction::Increasing },
+        max_steps: req.max_steps,
+        ..Default::default()
+    };
+    let x0 = steady_state(kind, &p);
+    let branch = Branch::new(&block, &x0, &p.to_vec(), req.param as usize, settings).map_err(NumericalError::from)?;
+    for point in branch {
+        sink(&point.map_err(NumericalError::from)?)?;
+    }
+    Ok(())
+}

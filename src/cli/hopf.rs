@@ -1,0 +1,178 @@
+//! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
+
+use super::{describe_params, params_json, SceneArgs, Setup};
+use crate::analysis::hopf::{find_hopf, HopfOutcome, HopfPoint};
+use crate::appendix_c;
+use crate::error::{Error, NumericalError};
+use crate::model::ModelKind;
+use clap::Args;
+use serde_json::json;
+
+#[derive(Args, Debug)]
+pub struct HopfArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Relative difference `|a - b| / |b|`.
+fn rel_diff(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// Runs the command.
+pub fn run(args: &HopfArgs) -> Result<(), Error> {
+    let setup = args.scene.setup(|p| *p)?;
+    let outcome = find_hopf(setup.choice.kind, &setup.params)?;
+    if let HopfOutcome::Found(h) = &outcome {
+        let values = [h.kappa_c, h.omega_c].into_iter().chain(h.state);
+        if values.clone().any(|v| !v.is_finite()) {
+            return Err(NumericalError::Analysis(format!(
+                "the located Hopf point has non-finite values (kappa_c = {}, omega_c = {})",
+                h.kappa_c, h.omega_c
+            ))
+            .into());
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&to_json(&setup, &outcome)).map_err(std::io::Error::other)?);
+    } else {
+        print_text(&setup, &outcome);
+    }
+    Ok(())
+}
+
+fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
+    let mut at = setup.params;
+    if let HopfOutcome::Found(h) = outcome {
+        at.kappa = h.kappa_c;
+    }
+    let p = &at;
+    let units = &setup.scene.units;
+    let mut out = json!({
+        "scene": setup.scene.name,
+        "model": setup.choice.kind.name(),
+        "model_reason": setup.choice.reason,
+        "inertia_ratio": setup.choice.inertia_ratio,
+        "params": params_json(p),
+        "mu_v": p.mu_v(),
+        "mu_phi": p.mu_phi(),
+    });
+    let kappa_ref = appendix_c::critical_stiffness(p);
+    match outcome {
+        HopfOutcome::Found(h) => {
+            let omega_ref = appendix_c::critical_frequency(p).unwrap_or(f64::NAN);
+            let extra = json!({
+                "status": "hopf",
+                "kappa_c": h.kappa_c,
+                "omega_c": h.omega_c,
+                "state": { "s": h.state[0], "v": h.state[1], "theta": h.state[2] },
+                "eigenvalues": h.eigenvalues.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>(),
+                "appendix_c": {
+                    "kappa_c": kappa_ref,
+                    "omega_c": omega_ref,
+                    "kappa_c_rel_diff": rel_diff(h.kappa_c, kappa_ref),
+                    "omega_c_rel_diff": rel_diff(h.omega_c, omega_ref),
+                },
+                "physical": {
+                    "V_um_per_s": units.velocity_um_s(p.nu),
+                    "K_over_W_per_m": units.k_over_w(h.kappa_c),
+                    "K_over_M_per_s2": units.k_over_m(h.kappa_c),
+                    "K_N_per_m": units.stiffness(h.kappa_c),
+                    "frequency_hz": units.frequency_hz(h.omega_c),
+                },
+                "location": { "newton_iterations": h.newton_iterations, "residual": h.residual, "continuation_steps": h.steps },
+            });
+            merge(&mut out, extra);
+        }
+        HopfOutcome::StableForAllStiffness { kappa_min } => {
+            merge(
+                &mut out,
+                json!({
+                    "status": "stable_for_all_stiffness",
+                    "kappa_c": null,
+                    "omega_c": null,
+                    "kappa_min_checked": kappa_min,
+                    "appendix_c": { "kappa_c": kappa_ref },
+                }),
+            );
+        }
+    }
+    out
+}
+
+fn merge(into: &mut serde_json::Value, from: serde_json::Value) {
+    if let (Some(a), serde_json::Value::Object(b)) = (into.as_object_mut(), from) {
+        a.extend(b);
+    }
+}
+
+fn print_text(setup: &Setup, outcome: &HopfOutcome) {
+    let p = &setup.params;
+    let units = &setup.scene.units;
+    println!("scene: {} — {}", setup.scene.name, setup.scene.description);
+    println!("model: {}", setup.choice.reason);
+    let mut shown = *p;
+    if let HopfOutcome::Found(h) = outcome {
+        shown.kappa = h.kappa_c;
+    }
+    println!("parameters (dimensionless, MODEL.md; kappa at onset): {}", describe_params(&shown));
+    println!(
+        "steady sliding at V = {:.4e} um/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
+        units.velocity_um_s(p.nu),
+        p.mu_v(),
+        p.mu_phi(),
+        p.mu_v() - p.mu_phi()
+    );
+    match outcome {
+        HopfOutcome::Found(h) => print_hopf(setup, h),
+        HopfOutcome::StableForAllStiffness { kappa_min } => {
+            println!();
+            println!(
+                "steady sliding is linearly stable for every stiffness checked, down to kappa = {kappa_min:.3e}: \
+                 no stick-slip onset (steady friction is velocity strengthening here, mu_phi - mu_v = {:.4e} <= 0). \
+                 Finite-amplitude (hysteretic) stick-slip may still exist with inertia.",
+                p.mu_phi() - p.mu_v()
+            );
+        }
+    }
+}
+
+fn print_hopf(setup: &Setup, h: &HopfPoint) {
+    let p = &setup.params;
+    let units = &setup.scene.units;
+    let kappa_ref = appendix_c::critical_stiffness(p);
+    let omega_ref = appendix_c::critical_frequency(p).unwrap_or(f64::NAN);
+    let eq = if setup.choice.kind == ModelKind::Inertial { "C11" } else { "C12" };
+    println!();
+    println!("Hopf point (stick-slip onset): steady sliding is stable for kappa > kappa_c");
+    println!("  {:<24} {:>22} {:>28} {:>10}", "", "continuation", "Appendix C", "rel. diff");
+    println!(
+        "  {:<24} {:>22.14e} {:>17.14e} ({eq}) {:>9.1e}",
+        "kappa_c = K_c D0/W",
+        h.kappa_c,
+        kappa_ref,
+        rel_diff(h.kappa_c, kappa_ref)
+    );
+    println!(
+        "  {:<24} {:>22.14e} {:>17.14e} (C13) {:>9.1e}",
+        "omega_c [V0/D0]",
+        h.omega_c,
+        omega_ref,
+        rel_diff(h.omega_c, omega_ref)
+    );
+    println!("  {:<24} {:>22.8e}", "K_c/W [1/m]", units.k_over_w(h.kappa_c));
+    match units.k_over_m(h.kappa_c) {
+        Some(km) => println!("  {:<24} {:>22.8e}   (W = {:.4e} N, M = {:.4e} kg)", "K_c/M [1/s^2]", km, units.load, units.mass),
+        None => println!("  {:<24} {:>22}", "K_c/M [1/s^2]", "— (massless block)"),
+    }
+    println!("  {:<24} {:>22.8e}", "K_c [N/m]", units.stiffness(h.kappa_c));
+    println!("  {:<24} {:>22.8e}", "f_c [Hz]", units.frequency_hz(h.omega_c));
+    println!(
+        "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
+         after {} continuation steps from a stable stiffness",
+        h.newton_iterations, h.residual, h.steps
+    );
+}

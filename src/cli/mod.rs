@@ -1,0 +1,118 @@
+//! The command line: `stickslip hopf`, `stickslip branch`, `stickslip scenes`.
+//!
+//! Human-readable text by default; `--json` / `--csv` for machines. Bad input
+//! exits with status 2, a numerical failure with status 3.
+
+pub mod branch;
+pub mod hopf;
+
+use crate::analysis::model_choice::{choose_model, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD};
+use crate::error::{Error, InputError};
+use crate::model::ModelKind;
+use crate::params::Params;
+use crate::scene::{self, Scene};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Bifurcation analysis of frictional sliding: when does steady sliding of a
+/// spring-driven block turn into stick-slip?
+#[derive(Parser, Debug)]
+#[command(name = "stickslip", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Locate the stick-slip onset (Hopf point) in the stiffness and compare with Appendix C.
+    Hopf(hopf::HopfArgs),
+    /// Continue steady sliding in kappa or nu; print eigenvalues and located bifurcations.
+    Branch(branch::BranchArgs),
+    /// List the built-in scenes.
+    Scenes,
+}
+
+/// Options shared by every analysis: which scene, overrides, which model.
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file.
+    #[arg(long, default_value = scene::DEFAULT_SCENE)]
+    pub scene: String,
+    /// Override a dimensionless parameter of MODEL.md: kappa, nu, m, A, B, mu0, mu2, theta_c.
+    /// Setting theta_c selects the cutoff ageing form, mu2 the ln² form. Repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v.
+    #[arg(long, value_enum)]
+    pub model: Option<ModelArg>,
+    /// Inertia is dropped (quasi-static model) when m nu^2 / mu_v is below this.
+    #[arg(long, default_value_t = DEFAULT_INERTIA_THRESHOLD)]
+    pub inertia_threshold: f64,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelArg {
+    Inertial,
+    QuasiStatic,
+}
+
+impl From<ModelArg> for ModelKind {
+    fn from(m: ModelArg) -> Self {
+        match m {
+            ModelArg::Inertial => ModelKind::Inertial,
+            ModelArg::QuasiStatic => ModelKind::QuasiStatic,
+        }
+    }
+}
+
+/// A scene with overrides applied and the model chosen.
+pub struct Setup {
+    pub scene: Scene,
+    /// The scene's parameters after `--set` (inertia kept).
+    pub scene_params: Params,
+    /// The parameters the chosen model uses (`m = 0` when quasi-static).
+    pub params: Params,
+    pub choice: ModelChoice,
+}
+
+impl SceneArgs {
+    /// Loads the scene, applies `--set`, validates, and chooses the model for `params_at`
+    /// (a hook to evaluate the choice at another velocity, e.g. the top of a range).
+    pub fn setup(&self, params_at: impl Fn(&Params) -> Params) -> Result<Setup, Error> {
+        if !(self.inertia_threshold.is_finite() && self.inertia_threshold >= 0.0) {
+            return Err(InputError::out_of_range("--inertia-threshold", self.inertia_threshold, ">= 0").into());
+        }
+        let scene = scene::load(&self.scene)?;
+        let mut scene_params = scene.params;
+        scene_params.apply_overrides(&self.set)?;
+        let choice = choose_model(&params_at(&scene_params), self.model.map(Into::into), self.inertia_threshold);
+        let params = params_for(choice.kind, &scene_params);
+        Ok(Setup { scene, scene_params, params, choice })
+    }
+}
+
+/// Runs the parsed command line, writing to standard output.
+pub fn run(cli: Cli) -> Result<(), Error> {
+    match cli.command {
+        Command::Hopf(args) => hopf::run(&args),
+        Command::Branch(args) => branch::run(&args),
+        Command::Scenes => {
+            for name in scene::builtin_names() {
+                if let Some(s) = scene::builtin(name) {
+                    println!("{name:10} {}", s.description);
+                }
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Formats parameters as `name = value` pairs on one line.
+pub fn describe_params(p: &Params) -> String {
+    p.named().iter().map(|(n, v)| format!("{n} = {v:.6e}")).collect::<Vec<_>>().join(", ")
+}
+
+/// Parameters as a JSON object (names of MODEL.md).
+pub fn params_json(p: &Params) -> serde_json::Value {
+    serde_json::Value::Object(p.named().into_iter().map(|(n, v)| (n.to_string(), serde_json::json!(v))).collect())
+}
