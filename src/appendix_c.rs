@@ -53,7 +53,16 @@ mod tests {
     use super::*;
 
     fn p() -> Params {
-        Params { kappa: 0.0, nu: 3.0, m: 0.1, a: 0.01, b: 0.02, mu0: 0.6, mu2: 5e-4, theta_c: None }
+        Params {
+            kappa: 0.0,
+            nu: 3.0,
+            m: 0.1,
+            a: 0.01,
+            b: 0.02,
+            mu0: 0.6,
+            mu2: 5e-4,
+            theta_c: None,
+        }
     }
 
     #[test]

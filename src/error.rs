@@ -7,11 +7,24 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum InputError {
     #[error("unknown {what} '{name}'{}; allowed: {allowed}", suggestion.as_ref().map(|s| format!(" (did you mean '{s}'?)")).unwrap_or_default())]
-    UnknownName { what: &'static str, name: String, suggestion: Option<String>, allowed: String },
+    UnknownName {
+        what: &'static str,
+        name: String,
+        suggestion: Option<String>,
+        allowed: String,
+    },
     #[error("{field} = {value} is out of range: expected {expected}")]
-    OutOfRange { field: String, value: String, expected: String },
+    OutOfRange {
+        field: String,
+        value: String,
+        expected: String,
+    },
     #[error("{field}: cannot read '{value}': expected {expected}")]
-    Malformed { field: String, value: String, expected: String },
+    Malformed {
+        field: String,
+        value: String,
+        expected: String,
+    },
     #[error("{0}")]
     Conflict(String),
     #[error("cannot read scene file {path}: {reason}")]
@@ -21,7 +34,11 @@ pub enum InputError {
 impl InputError {
     /// A value outside its allowed range.
     pub fn out_of_range(field: &str, value: f64, expected: &str) -> Self {
-        InputError::OutOfRange { field: field.to_string(), value: format!("{value}"), expected: expected.to_string() }
+        InputError::OutOfRange {
+            field: field.to_string(),
+            value: format!("{value}"),
+            expected: expected.to_string(),
+        }
     }
 }
 
@@ -72,7 +89,9 @@ fn levenshtein(a: &str, b: &str) -> usize {
         let mut diag = row[0];
         row[0] = i + 1;
         for (j, &cb) in b.iter().enumerate() {
-            let next = (row[j + 1] + 1).min(row[j] + 1).min(diag + usize::from(ca != cb));
+            let next = (row[j + 1] + 1)
+                .min(row[j] + 1)
+                .min(diag + usize::from(ca != cb));
             diag = row[j + 1];
             row[j + 1] = next;
         }
@@ -87,8 +106,14 @@ mod tests {
     #[test]
     fn suggests_the_nearest_name() {
         let names = ["kappa", "nu", "theta_c", "mu2"];
-        assert_eq!(closest("kapa", names.iter().copied()).as_deref(), Some("kappa"));
-        assert_eq!(closest("theta-c", names.iter().copied()).as_deref(), Some("theta_c"));
+        assert_eq!(
+            closest("kapa", names.iter().copied()).as_deref(),
+            Some("kappa")
+        );
+        assert_eq!(
+            closest("theta-c", names.iter().copied()).as_deref(),
+            Some("theta_c")
+        );
         assert_eq!(closest("zzzzzzzz", names.iter().copied()), None);
     }
 }

@@ -98,7 +98,14 @@ mod tests {
     use super::*;
 
     fn ln2_law() -> FrictionLaw<f64> {
-        FrictionLaw { mu0: 0.6, a: 0.012, ageing: Ageing::Log { b: 0.023, mu2: 2.4e-4 } }
+        FrictionLaw {
+            mu0: 0.6,
+            a: 0.012,
+            ageing: Ageing::Log {
+                b: 0.023,
+                mu2: 2.4e-4,
+            },
+        }
     }
 
     #[test]
@@ -106,14 +113,24 @@ mod tests {
         // Central difference in ln(theta) with an O(h^2) error, h = 1e-4.
         for law in [
             ln2_law(),
-            FrictionLaw { mu0: 0.6, a: 0.012, ageing: Ageing::Cutoff { b: 0.023, theta_c: 0.3 } },
+            FrictionLaw {
+                mu0: 0.6,
+                a: 0.012,
+                ageing: Ageing::Cutoff {
+                    b: 0.023,
+                    theta_c: 0.3,
+                },
+            },
         ] {
             for theta in [1e-3, 0.7, 5.0, 1e3] {
                 let h: f64 = 1e-4;
                 let fd = (law.ageing_term(theta * h.exp()) - law.ageing_term(theta * (-h).exp()))
                     / (2.0 * h);
                 let exact = law.mu_phi(theta);
-                assert!((fd - exact).abs() <= 1e-8 * exact.abs().max(1e-3), "{fd} vs {exact}");
+                assert!(
+                    (fd - exact).abs() <= 1e-8 * exact.abs().max(1e-3),
+                    "{fd} vs {exact}"
+                );
             }
         }
     }
@@ -129,7 +146,14 @@ mod tests {
 
     #[test]
     fn cutoff_steady_friction_is_minimal_at_v_min() {
-        let law = FrictionLaw { mu0: 0.4, a: 0.012, ageing: Ageing::Cutoff { b: 0.023, theta_c: 0.05 } };
+        let law = FrictionLaw {
+            mu0: 0.4,
+            a: 0.012,
+            ageing: Ageing::Cutoff {
+                b: 0.023,
+                theta_c: 0.05,
+            },
+        };
         let v_min = law.v_min().unwrap();
         assert!((v_min - 0.011 / (0.012 * 0.05)).abs() < 1e-12 * v_min);
         assert!(law.steady_slope(v_min).abs() < 1e-15);

@@ -50,7 +50,11 @@ impl VectorField for InertialBlock {
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         let law = friction_from(self.cutoff, p);
         let (s, v, theta) = (x[0], x[1], x[2]);
-        let (kappa, nu, m) = (p[Param::Kappa as usize], p[Param::Nu as usize], p[Param::M as usize]);
+        let (kappa, nu, m) = (
+            p[Param::Kappa as usize],
+            p[Param::Nu as usize],
+            p[Param::M as usize],
+        );
         out[0] = kappa * (nu - v);
         out[1] = (s - law.mu(v, theta)) / m;
         out[2] = -(v * theta) + 1.0;
@@ -159,15 +163,38 @@ mod tests {
     use continuation::system::{eval, jacobian};
 
     fn params() -> Params {
-        Params { kappa: 0.02, nu: 3.0, m: 0.1, a: 0.01, b: 0.02, mu0: 0.6, mu2: 5e-4, theta_c: None }
+        Params {
+            kappa: 0.02,
+            nu: 3.0,
+            m: 0.1,
+            a: 0.01,
+            b: 0.02,
+            mu0: 0.6,
+            mu2: 5e-4,
+            theta_c: None,
+        }
     }
 
     #[test]
     fn steady_state_is_an_equilibrium_of_both_models() {
         let p = params();
         for (kind, f) in [
-            (ModelKind::Inertial, eval(&InertialBlock { cutoff: false }, &steady_state(ModelKind::Inertial, &p), &p.to_vec())),
-            (ModelKind::QuasiStatic, eval(&QuasiStaticBlock { cutoff: false }, &steady_state(ModelKind::QuasiStatic, &p), &p.to_vec())),
+            (
+                ModelKind::Inertial,
+                eval(
+                    &InertialBlock { cutoff: false },
+                    &steady_state(ModelKind::Inertial, &p),
+                    &p.to_vec(),
+                ),
+            ),
+            (
+                ModelKind::QuasiStatic,
+                eval(
+                    &QuasiStaticBlock { cutoff: false },
+                    &steady_state(ModelKind::QuasiStatic, &p),
+                    &p.to_vec(),
+                ),
+            ),
         ] {
             assert!(f.amax() < 1e-14, "{kind:?}: {f}");
         }
@@ -178,7 +205,11 @@ mod tests {
         // Linearising at steady sliding (seed eqs. C6–C7 in MODEL.md units):
         // J = [[0, -kappa, 0], [1/m, -mu_v/(m nu), -mu_phi nu/m], [0, -1/nu, -nu]].
         let p = params();
-        let j = jacobian(&InertialBlock { cutoff: false }, &steady_state(ModelKind::Inertial, &p), &p.to_vec());
+        let j = jacobian(
+            &InertialBlock { cutoff: false },
+            &steady_state(ModelKind::Inertial, &p),
+            &p.to_vec(),
+        );
         let (mu_v, mu_phi) = (p.mu_v(), p.mu_phi());
         let expect = [
             [0.0, -p.kappa, 0.0],
@@ -188,7 +219,12 @@ mod tests {
         for i in 0..3 {
             for k in 0..3 {
                 let scale = expect[i][k].abs().max(1.0);
-                assert!((j[(i, k)] - expect[i][k]).abs() < 1e-13 * scale, "J[{i},{k}] = {} vs {}", j[(i, k)], expect[i][k]);
+                assert!(
+                    (j[(i, k)] - expect[i][k]).abs() < 1e-13 * scale,
+                    "J[{i},{k}] = {} vs {}",
+                    j[(i, k)],
+                    expect[i][k]
+                );
             }
         }
     }

@@ -64,7 +64,11 @@ impl Param {
                 what: "parameter",
                 name: name.to_string(),
                 suggestion: crate::error::closest(name, Param::ALL.iter().map(|p| p.name())),
-                allowed: Param::ALL.iter().map(|p| p.name()).collect::<Vec<_>>().join(", "),
+                allowed: Param::ALL
+                    .iter()
+                    .map(|p| p.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
             })
     }
 }
@@ -178,7 +182,11 @@ impl Params {
             }
         }
         if self.b < 0.0 {
-            return Err(InputError::out_of_range("B", self.b, ">= 0 (ageing strengthens the interface)"));
+            return Err(InputError::out_of_range(
+                "B",
+                self.b,
+                ">= 0 (ageing strengthens the interface)",
+            ));
         }
         Ok(())
     }
@@ -248,9 +256,15 @@ pub fn friction_from<D: Scalar>(cutoff: bool, p: &[D]) -> FrictionLaw<D> {
         mu0: p[Param::Mu0 as usize],
         a: p[Param::A as usize],
         ageing: if cutoff {
-            Ageing::Cutoff { b, theta_c: p[Param::ThetaC as usize] }
+            Ageing::Cutoff {
+                b,
+                theta_c: p[Param::ThetaC as usize],
+            }
         } else {
-            Ageing::Log { b, mu2: p[Param::Mu2 as usize] }
+            Ageing::Log {
+                b,
+                mu2: p[Param::Mu2 as usize],
+            }
         },
     }
 }

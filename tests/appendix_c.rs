@@ -39,10 +39,27 @@ fn sweep(n: usize, seed: u64) -> Vec<Params> {
         .map(|i| {
             let a = rng.uniform(1e-3, 0.05);
             let b = a + rng.uniform(1e-3, 0.05);
-            let mu2 = if i % 4 == 0 { 0.0 } else { rng.uniform(0.0, 3e-3) };
+            let mu2 = if i % 4 == 0 {
+                0.0
+            } else {
+                rng.uniform(0.0, 3e-3)
+            };
             let nu = rng.log_uniform(0.01, 100.0);
-            let m = if i % 3 == 0 { 0.0 } else { rng.log_uniform(1e-4, 10.0) };
-            Params { kappa: 0.0, nu, m, a, b, mu0: rng.uniform(0.1, 0.9), mu2, theta_c: None }
+            let m = if i % 3 == 0 {
+                0.0
+            } else {
+                rng.log_uniform(1e-4, 10.0)
+            };
+            Params {
+                kappa: 0.0,
+                nu,
+                m,
+                a,
+                b,
+                mu0: rng.uniform(0.1, 0.9),
+                mu2,
+                theta_c: None,
+            }
         })
         .collect()
 }
@@ -64,17 +81,31 @@ fn hopf_point_matches_c11_and_c13_over_a_random_sweep() {
             HopfOutcome::Found(h) => {
                 found += 1;
                 let omega_ref = appendix_c::critical_frequency(&p).unwrap();
-                assert!(rel(h.kappa_c, kappa_ref) < 1e-10, "{p:?}: kappa_c {} vs {kappa_ref}", h.kappa_c);
-                assert!(rel(h.omega_c, omega_ref) < 1e-10, "{p:?}: omega_c {} vs {omega_ref}", h.omega_c);
+                assert!(
+                    rel(h.kappa_c, kappa_ref) < 1e-10,
+                    "{p:?}: kappa_c {} vs {kappa_ref}",
+                    h.kappa_c
+                );
+                assert!(
+                    rel(h.omega_c, omega_ref) < 1e-10,
+                    "{p:?}: omega_c {} vs {omega_ref}",
+                    h.omega_c
+                );
             }
             HopfOutcome::StableForAllStiffness { .. } => {
                 // Only legitimate when the law is not velocity weakening here.
                 stable += 1;
-                assert!(kappa_ref <= 0.0, "{p:?}: no Hopf point found, but C11 gives {kappa_ref}");
+                assert!(
+                    kappa_ref <= 0.0,
+                    "{p:?}: no Hopf point found, but C11 gives {kappa_ref}"
+                );
             }
         }
     }
-    assert!(found > 300 && stable > 0, "sweep coverage: {found} Hopf points, {stable} stable cases");
+    assert!(
+        found > 300 && stable > 0,
+        "sweep coverage: {found} Hopf points, {stable} stable cases"
+    );
 }
 
 #[test]
@@ -87,10 +118,27 @@ fn hopf_point_of_the_cutoff_law_matches_c11_and_c13() {
         // Stay below V_min = (B - A)/(A theta_c), where friction weakens.
         let nu = rng.uniform(0.05, 0.9) * (b - a) / (a * theta_c);
         let m = rng.log_uniform(1e-4, 10.0) / (nu * nu);
-        let p = Params { kappa: 0.0, nu, m, a, b, mu0: 0.5, mu2: 0.0, theta_c: Some(theta_c) };
-        let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else { panic!("{p:?}: no Hopf") };
-        assert!(rel(h.kappa_c, appendix_c::critical_stiffness(&p)) < 1e-10, "{p:?}");
-        assert!(rel(h.omega_c, appendix_c::critical_frequency(&p).unwrap()) < 1e-10, "{p:?}");
+        let p = Params {
+            kappa: 0.0,
+            nu,
+            m,
+            a,
+            b,
+            mu0: 0.5,
+            mu2: 0.0,
+            theta_c: Some(theta_c),
+        };
+        let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
+            panic!("{p:?}: no Hopf")
+        };
+        assert!(
+            rel(h.kappa_c, appendix_c::critical_stiffness(&p)) < 1e-10,
+            "{p:?}"
+        );
+        assert!(
+            rel(h.omega_c, appendix_c::critical_frequency(&p).unwrap()) < 1e-10,
+            "{p:?}"
+        );
     }
 }
 
@@ -100,7 +148,11 @@ fn cubic_roots(c: [f64; 4]) -> [Complex64; 3] {
     let [a3, a2, a1, a0] = c;
     let poly = |z: Complex64| ((z * a3 + a2) * z + a1) * z + a0;
     let dpoly = |z: Complex64| (z * (3.0 * a3) + 2.0 * a2) * z + a1;
-    let scale = 1.0 + [a2 / a3, a1 / a3, a0 / a3].iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let scale = 1.0
+        + [a2 / a3, a1 / a3, a0 / a3]
+            .iter()
+            .map(|v| v.abs())
+            .fold(0.0, f64::max);
     let mut r = [0, 1, 2].map(|k| Complex64::from_polar(scale, 0.4 + 2.1 * k as f64));
     for _ in 0..500 {
         for i in 0..3 {
@@ -124,14 +176,29 @@ fn cubic_roots(c: [f64; 4]) -> [Complex64; 3] {
 #[test]
 fn inertial_frequency_matches_the_roots_of_the_cubic_c9() {
     for p in sweep(120, 99).into_iter().filter(|p| p.m > 0.0) {
-        let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else { continue };
+        let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
+            continue;
+        };
         let mut at = p;
         at.kappa = h.kappa_c;
         let roots = cubic_roots(appendix_c::characteristic_polynomial(&at));
-        let upper = roots.iter().copied().max_by(|a, b| a.im.total_cmp(&b.im)).unwrap();
+        let upper = roots
+            .iter()
+            .copied()
+            .max_by(|a, b| a.im.total_cmp(&b.im))
+            .unwrap();
         let scale = roots.iter().map(|z| z.norm()).fold(0.0, f64::max);
-        assert!(upper.re.abs() < 1e-9 * scale, "{p:?}: Re of the critical root {}", upper.re);
-        assert!(rel(upper.im, h.omega_c) < 1e-10, "{p:?}: cubic {} vs {}", upper.im, h.omega_c);
+        assert!(
+            upper.re.abs() < 1e-9 * scale,
+            "{p:?}: Re of the critical root {}",
+            upper.re
+        );
+        assert!(
+            rel(upper.im, h.omega_c) < 1e-10,
+            "{p:?}: cubic {} vs {}",
+            upper.im,
+            h.omega_c
+        );
     }
 }
 
@@ -141,11 +208,22 @@ fn eigenvalues_equal_the_roots_of_the_cubic() {
         let mut at = p;
         at.kappa = 0.37 * appendix_c::critical_stiffness(&p).abs() + 1e-3;
         let x = steady_state(ModelKind::Inertial, &at);
-        let ev = eigenvalues(&jacobian(&DrivenBlock::new(ModelKind::Inertial, &at), &x, &at.to_vec())).unwrap();
+        let ev = eigenvalues(&jacobian(
+            &DrivenBlock::new(ModelKind::Inertial, &at),
+            &x,
+            &at.to_vec(),
+        ))
+        .unwrap();
         let roots = cubic_roots(appendix_c::characteristic_polynomial(&at));
         for r in roots {
-            let d = ev.iter().map(|l| (l - r).norm()).fold(f64::INFINITY, f64::min);
-            assert!(d < 1e-8 * r.norm().max(1.0), "{at:?}: root {r} has no eigenvalue nearby ({ev:?})");
+            let d = ev
+                .iter()
+                .map(|l| (l - r).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d < 1e-8 * r.norm().max(1.0),
+                "{at:?}: root {r} has no eigenvalue nearby ({ev:?})"
+            );
         }
     }
 }
@@ -155,25 +233,48 @@ fn large_stiffness_eigenvalues_approach_the_asymptotics() {
     // Leading terms: l1 -> -nu, l+- -> -mu_v/(2 m nu) +- i sqrt(kappa/m). From the
     // sum of the roots and l1 = -nu - mu_phi nu/kappa + O(1/kappa^2), the real parts
     // carry an O(1/kappa) error: error * kappa must settle to a constant.
-    let base = Params { kappa: 0.0, nu: 1.0, m: 0.01, a: 0.012, b: 0.023, mu0: 0.6, mu2: 0.0, theta_c: None };
+    let base = Params {
+        kappa: 0.0,
+        nu: 1.0,
+        m: 0.01,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.6,
+        mu2: 0.0,
+        theta_c: None,
+    };
     let block = DrivenBlock::new(ModelKind::Inertial, &base);
     let mut scaled = Vec::new();
     for kappa in [1e2, 1e3, 1e4, 1e5] {
         let mut p = base;
         p.kappa = kappa;
-        let ev = eigenvalues(&jacobian(&block, &steady_state(ModelKind::Inertial, &p), &p.to_vec())).unwrap();
+        let ev = eigenvalues(&jacobian(
+            &block,
+            &steady_state(ModelKind::Inertial, &p),
+            &p.to_vec(),
+        ))
+        .unwrap();
         let (real, pair) = appendix_c::large_stiffness_roots(&p);
         let l1 = ev.iter().find(|l| l.im == 0.0).unwrap();
         let lp = ev.iter().find(|l| l.im > 0.0).unwrap();
         assert!(rel(lp.im, pair.im) < 1e-3, "Im at kappa = {kappa}");
         let mu_phi = p.mu_phi();
         // Next-order terms for the real root and the real part of the pair.
-        assert!(rel(l1.re, real - mu_phi * p.nu / kappa) < 50.0 / (kappa * kappa), "kappa = {kappa}");
-        assert!(rel(lp.re, pair.re + mu_phi * p.nu / (2.0 * kappa)) < 50.0 / (kappa * kappa), "kappa = {kappa}");
+        assert!(
+            rel(l1.re, real - mu_phi * p.nu / kappa) < 50.0 / (kappa * kappa),
+            "kappa = {kappa}"
+        );
+        assert!(
+            rel(lp.re, pair.re + mu_phi * p.nu / (2.0 * kappa)) < 50.0 / (kappa * kappa),
+            "kappa = {kappa}"
+        );
         scaled.push((rel(lp.re, pair.re) * kappa, rel(l1.re, real) * kappa));
     }
     for w in scaled.windows(2) {
-        assert!(rel(w[1].0, w[0].0) < 0.05 && rel(w[1].1, w[0].1) < 0.05, "O(1/kappa) rate: {scaled:?}");
+        assert!(
+            rel(w[1].0, w[0].0) < 0.05 && rel(w[1].1, w[0].1) < 0.05,
+            "O(1/kappa) rate: {scaled:?}"
+        );
     }
 }
 
@@ -181,12 +282,15 @@ fn large_stiffness_eigenvalues_approach_the_asymptotics() {
 fn eigenvalue_signs_on_both_sides_of_kappa_c() {
     for p in sweep(80, 11) {
         let kind = model_for(&p);
-        let HopfOutcome::Found(h) = find_hopf(kind, &p).unwrap() else { continue };
+        let HopfOutcome::Found(h) = find_hopf(kind, &p).unwrap() else {
+            continue;
+        };
         let block = DrivenBlock::new(kind, &p);
         for (factor, unstable) in [(1.0 + 1e-6, 0), (1.0 - 1e-6, 2)] {
             let mut at = p;
             at.kappa = h.kappa_c * factor;
-            let ev = eigenvalues(&jacobian(&block, &steady_state(kind, &at), &at.to_vec())).unwrap();
+            let ev =
+                eigenvalues(&jacobian(&block, &steady_state(kind, &at), &at.to_vec())).unwrap();
             assert_eq!(count_unstable(&ev), unstable, "{at:?}: {ev:?}");
         }
     }

@@ -5,8 +5,15 @@ use serde_json::Value;
 use std::process::Command;
 
 fn stickslip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip")).args(args).output().expect("run stickslip");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(args)
+        .output()
+        .expect("run stickslip");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 fn hopf_json(extra: &[&str]) -> Value {
@@ -21,7 +28,11 @@ fn hopf_json(extra: &[&str]) -> Value {
 /// `mu_phi = B - 2 mu2 ln nu` for the ln² law (MODEL.md), written out here
 /// rather than taken from the library.
 fn c11_from_json(params: &Value) -> f64 {
-    let g = |k: &str| params[k].as_f64().unwrap_or_else(|| panic!("params.{k} missing"));
+    let g = |k: &str| {
+        params[k]
+            .as_f64()
+            .unwrap_or_else(|| panic!("params.{k} missing"))
+    };
     let (a, b, mu2, nu, m) = (g("A"), g("B"), g("mu2"), g("nu"), g("m"));
     let mu_phi = b - 2.0 * mu2 * nu.ln();
     (mu_phi - a) * (1.0 + m * nu * nu / a)
@@ -31,23 +42,41 @@ fn c11_from_json(params: &Value) -> f64 {
 fn hopf_json_default_scene_matches_c11() {
     let v = hopf_json(&[]);
     assert_eq!(v["model"], "quasi-static");
-    assert_eq!(v["params"]["m"], 0.0, "the quasi-static model reports the inertia it used");
+    assert_eq!(
+        v["params"]["m"], 0.0,
+        "the quasi-static model reports the inertia it used"
+    );
     let kappa_c = v["kappa_c"].as_f64().unwrap();
     let expect = c11_from_json(&v["params"]);
-    assert!((kappa_c - expect).abs() < 1e-10 * expect, "{kappa_c} vs {expect}");
+    assert!(
+        (kappa_c - expect).abs() < 1e-10 * expect,
+        "{kappa_c} vs {expect}"
+    );
     assert!(v["omega_c"].as_f64().unwrap() > 0.0);
 }
 
 #[test]
 fn hopf_json_inertial_override_matches_c11() {
-    let v = hopf_json(&["--set", "A=0.01", "--set", "B=0.02", "--set", "mu2=5e-4", "--set", "m=0.1", "--set", "nu=3"]);
+    let v = hopf_json(&[
+        "--set", "A=0.01", "--set", "B=0.02", "--set", "mu2=5e-4", "--set", "m=0.1", "--set",
+        "nu=3",
+    ]);
     assert_eq!(v["model"], "inertial");
-    for (k, want) in [("A", 0.01), ("B", 0.02), ("mu2", 5e-4), ("m", 0.1), ("nu", 3.0)] {
+    for (k, want) in [
+        ("A", 0.01),
+        ("B", 0.02),
+        ("mu2", 5e-4),
+        ("m", 0.1),
+        ("nu", 3.0),
+    ] {
         assert_eq!(v["params"][k].as_f64(), Some(want), "params.{k}");
     }
     let kappa_c = v["kappa_c"].as_f64().unwrap();
     let expect = c11_from_json(&v["params"]);
-    assert!((kappa_c - expect).abs() < 1e-10 * expect, "{kappa_c} vs {expect}");
+    assert!(
+        (kappa_c - expect).abs() < 1e-10 * expect,
+        "{kappa_c} vs {expect}"
+    );
     // C13 with mu_phi = B - 2 mu2 ln nu.
     let mu_phi = 0.02 - 2.0 * 5e-4 * 3f64.ln();
     let omega = 3.0 * (mu_phi / 0.01 - 1.0).sqrt();
@@ -63,7 +92,18 @@ fn velocity_strengthening_is_stable_for_all_stiffness() {
 
 #[test]
 fn branch_csv_has_a_located_hopf_row_and_no_nan() {
-    let (code, out, err) = stickslip(&["branch", "--param", "nu", "--csv", "--set", "kappa=0.0105", "--from", "0.5", "--to", "10"]);
+    let (code, out, err) = stickslip(&[
+        "branch",
+        "--param",
+        "nu",
+        "--csv",
+        "--set",
+        "kappa=0.0105",
+        "--from",
+        "0.5",
+        "--to",
+        "10",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(!out.to_lowercase().contains("nan") && !out.contains("inf"));
     let hopf: Vec<&str> = out.lines().filter(|l| l.contains(",hopf,")).collect();
@@ -71,13 +111,20 @@ fn branch_csv_has_a_located_hopf_row_and_no_nan() {
     let nu: f64 = hopf[0].split(',').next().unwrap().parse().unwrap();
     // At fixed kappa the onset velocity solves kappa = (B - A - 2 mu2 ln nu)(1 + m nu^2/A)
     // (C11 with the ln² law); pmma has m = V0^2/(g D0) if the model kept inertia.
-    assert!(out.starts_with("# model: inertial"), "nu up to 10 makes the inertia ratio 2e-3: {out}");
+    assert!(
+        out.starts_with("# model: inertial"),
+        "nu up to 10 makes the inertia ratio 2e-3: {out}"
+    );
     let (a, b, mu2, kappa, m) = (0.012, 0.023, 2.4e-4, 0.0105, 1e-12 / (9.81 * 0.4e-6));
     let c11 = |nu: f64| (b - a - 2.0 * mu2 * nu.ln()) * (1.0 + m * nu * nu / a) - kappa;
     let (mut lo, mut hi) = (0.5f64, 10.0f64);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if c11(mid) > 0.0 { lo = mid } else { hi = mid }
+        if c11(mid) > 0.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     assert!((nu / lo - 1.0).abs() < 1e-10, "{nu} vs {lo}");
 }
@@ -89,7 +136,10 @@ fn bad_input_exits_2_naming_the_field() {
         (vec!["hopf", "--set", "A=0"], "A"),
         (vec!["hopf", "--set", "nu=nan"], "nu"),
         (vec!["hopf", "--set", "kapa=0.1"], "kappa"),
-        (vec!["hopf", "--set", "mu2=1e-4", "--set", "theta_c=0.1"], "theta_c"),
+        (
+            vec!["hopf", "--set", "mu2=1e-4", "--set", "theta_c=0.1"],
+            "theta_c",
+        ),
         (vec!["hopf", "--set", "kappa"], "NAME=VALUE"),
         (vec!["hopf", "--scene", "pmmaa"], "pmma"),
         (vec!["hopf", "--scene", "/nonexistent/scene.toml"], "scene"),
@@ -97,7 +147,10 @@ fn bad_input_exits_2_naming_the_field() {
     ] {
         let (code, out, err) = stickslip(&args);
         assert_eq!(code, 2, "{args:?}: {out}{err}");
-        assert!(err.contains(needle), "{args:?}: message should name '{needle}': {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: message should name '{needle}': {err}"
+        );
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }

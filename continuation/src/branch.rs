@@ -66,8 +66,15 @@ impl Default for ContinuationSettings {
             p_min: f64::NEG_INFINITY,
             p_max: f64::INFINITY,
             direction: Direction::Increasing,
-            corrector: NewtonSettings { max_iter: 8, ..NewtonSettings::default() },
-            locator: NewtonSettings { step_tol: 1e-14, residual_tol: 1e-12, max_iter: 20 },
+            corrector: NewtonSettings {
+                max_iter: 8,
+                ..NewtonSettings::default()
+            },
+            locator: NewtonSettings {
+                step_tol: 1e-14,
+                residual_tol: 1e-12,
+                max_iter: 20,
+            },
             min_tangent_cos: 0.9,
             detect_events: true,
         }
@@ -141,21 +148,42 @@ impl<'a, S: VectorField> Branch<'a, S> {
     ) -> Result<Self, ContinuationError> {
         let n = sys.dim();
         let mut x = DVector::from_column_slice(x0);
-        newton::solve(&mut x, &settings.corrector, " at the starting point", |x, g, dg| {
-            g.copy_from(&eval(sys, x.as_slice(), p0));
-            sys.jacobian(x.as_slice(), p0, dg);
-        })
+        newton::solve(
+            &mut x,
+            &settings.corrector,
+            " at the starting point",
+            |x, g, dg| {
+                g.copy_from(&eval(sys, x.as_slice(), p0));
+                sys.jacobian(x.as_slice(), p0, dg);
+            },
+        )
         .map_err(|e| ContinuationError::BadStart(Box::new(e)))?;
         let mut z = DVector::zeros(n + 1);
         z.rows_mut(0, n).copy_from(&x);
         z[n] = p0[k];
-        let sign = if settings.direction == Direction::Increasing { 1.0 } else { -1.0 };
+        let sign = if settings.direction == Direction::Increasing {
+            1.0
+        } else {
+            -1.0
+        };
         let mut seed = DVector::zeros(n + 1);
         seed[n] = sign;
         let p = p0.to_vec();
         let tangent = tangent_at(sys, k, &z, &p, &seed)?;
         let ds = settings.ds.abs();
-        Ok(Branch { sys, k, settings, p, z, tangent, ds, steps: 0, last: None, stop: None, failed: false })
+        Ok(Branch {
+            sys,
+            k,
+            settings,
+            p,
+            z,
+            tangent,
+            ds,
+            steps: 0,
+            last: None,
+            stop: None,
+            failed: false,
+        })
     }
 
     /// Why the branch ended, once it has.
@@ -195,7 +223,13 @@ impl<'a, S: VectorField> Branch<'a, S> {
         loop {
             let mut ds = self.ds;
             let mut z_pred = &self.z + &self.tangent * ds;
-            let bound = if z_pred[n] < lo { Some(lo) } else if z_pred[n] > hi { Some(hi) } else { None };
+            let bound = if z_pred[n] < lo {
+                Some(lo)
+            } else if z_pred[n] > hi {
+                Some(hi)
+            } else {
+                None
+            };
             if let Some(b) = bound {
                 ds = (b - self.z[n]) / self.tangent[n];
                 z_pred = &self.z + &self.tangent * ds;
@@ -205,7 +239,8 @@ impl<'a, S: VectorField> Branch<'a, S> {
             let accepted = match attempt {
                 Ok(rep) => {
                     let t_new = tangent_at(self.sys, self.k, &z_pred, &self.p, &self.tangent)?;
-                    if t_new.dot(&self.tangent) >= self.settings.min_tangent_cos || bound.is_some() {
+                    if t_new.dot(&self.tangent) >= self.settings.min_tangent_cos || bound.is_some()
+                    {
                         Some((rep, t_new))
                     } else {
                         None
@@ -240,7 +275,11 @@ impl<'a, S: VectorField> Branch<'a, S> {
 
     /// Newton on the pseudo-arclength system, or at fixed parameter when
     /// landing on a bound.
-    fn correct(&self, z: &mut DVector<f64>, fixed_param: bool) -> Result<NewtonReport, ContinuationError> {
+    fn correct(
+        &self,
+        z: &mut DVector<f64>,
+        fixed_param: bool,
+    ) -> Result<NewtonReport, ContinuationError> {
         let n = self.sys.dim();
         let z_pred = z.clone();
         let (sys, k, t) = (self.sys, self.k, &self.tangent);
@@ -252,7 +291,8 @@ impl<'a, S: VectorField> Branch<'a, S> {
             let mut jac = DMatrix::zeros(n, n);
             sys.jacobian(x, &p, &mut jac);
             dg.view_mut((0, 0), (n, n)).copy_from(&jac);
-            dg.view_mut((0, n), (n, 1)).copy_from(&param_derivative(sys, x, &p, k));
+            dg.view_mut((0, n), (n, 1))
+                .copy_from(&param_derivative(sys, x, &p, k));
             if fixed_param {
                 g[n] = z[n] - z_pred[n];
                 dg.row_mut(n).fill(0.0);
@@ -265,13 +305,19 @@ impl<'a, S: VectorField> Branch<'a, S> {
     }
 
     /// Watches the test functions between `prev` and `cur` and locates what changed sign.
-    fn detect(&self, prev: &BranchPoint, cur: &BranchPoint) -> Result<Vec<Event>, ContinuationError> {
+    fn detect(
+        &self,
+        prev: &BranchPoint,
+        cur: &BranchPoint,
+    ) -> Result<Vec<Event>, ContinuationError> {
         let n = self.sys.dim();
         let k = self.k;
         let mut events = Vec::new();
         let interpolate = |a: f64, b: f64| {
             let s = a / (a - b);
-            let x: Vec<f64> = (0..n).map(|i| prev.x[i] + s * (cur.x[i] - prev.x[i])).collect();
+            let x: Vec<f64> = (0..n)
+                .map(|i| prev.x[i] + s * (cur.x[i] - prev.x[i]))
+                .collect();
             let mut p = prev.p.clone();
             p[k] = prev.param() + s * (cur.param() - prev.param());
             (x, p, s)
@@ -286,11 +332,17 @@ impl<'a, S: VectorField> Branch<'a, S> {
         let (fa, fb) = (prev.tangent[n], cur.tangent[n]);
         if fa * fb < 0.0 {
             let (x, p, _) = interpolate(fa, fb);
-            events.push(locate_fold(self.sys, k, &x, &p, &self.settings.locator).map_err(|e| wrap("fold", e))?);
+            events.push(
+                locate_fold(self.sys, k, &x, &p, &self.settings.locator)
+                    .map_err(|e| wrap("fold", e))?,
+            );
         }
         let (ha, hb) = (hopf_test(&prev.eigenvalues), hopf_test(&cur.eigenvalues));
         if ha * hb < 0.0 {
-            let pairs = (critical_pair(&prev.eigenvalues), critical_pair(&cur.eigenvalues));
+            let pairs = (
+                critical_pair(&prev.eigenvalues),
+                critical_pair(&cur.eigenvalues),
+            );
             if let (Some(pa), Some(pb)) = pairs {
                 // A real pair at either end is a neutral saddle, not a Hopf point.
                 if is_complex_pair(pa) && is_complex_pair(pb) {
@@ -311,7 +363,11 @@ impl<'a, S: VectorField> Branch<'a, S> {
 
     fn next_point(&mut self) -> Result<BranchPoint, ContinuationError> {
         let Some(prev) = self.last.take() else {
-            return self.make_point(NewtonReport { iterations: 0, residual: 0.0, step: 0.0 });
+            return self.make_point(NewtonReport {
+                iterations: 0,
+                residual: 0.0,
+                step: 0.0,
+            });
         };
         let result = self.next_point_after(&prev);
         self.last = Some(prev);
@@ -328,7 +384,10 @@ impl<'a, S: VectorField> Branch<'a, S> {
         loop {
             let (rep, on_bound) = self.step()?;
             let mut point = self.make_point(rep)?;
-            let values = point.x.iter().chain(point.eigenvalues.iter().map(|l| &l.re));
+            let values = point
+                .x
+                .iter()
+                .chain(point.eigenvalues.iter().map(|l| &l.re));
             if let Some(x) = values.clone().find(|v| !v.is_finite()) {
                 return Err(ContinuationError::NonFinite {
                     what: format!("{x}"),
@@ -403,7 +462,8 @@ fn tangent_at<S: VectorField>(
     pk[k] = z[n];
     let mut m = DMatrix::zeros(n + 1, n + 1);
     m.view_mut((0, 0), (n, n)).copy_from(&jacobian(sys, x, &pk));
-    m.view_mut((0, n), (n, 1)).copy_from(&param_derivative(sys, x, &pk, k));
+    m.view_mut((0, n), (n, 1))
+        .copy_from(&param_derivative(sys, x, &pk, k));
     m.row_mut(n).copy_from(&reference.transpose());
     let mut rhs = DVector::zeros(n + 1);
     rhs[n] = 1.0;

@@ -34,15 +34,33 @@ pub enum ContinuationError {
          the minimum {ds_min:.3e} ({cause}); the branch may end, fold sharply, or need a \
          smaller ds_min or rescaled variables"
     )]
-    StepTooSmall { param_name: String, param: f64, ds: f64, ds_min: f64, cause: String },
+    StepTooSmall {
+        param_name: String,
+        param: f64,
+        ds: f64,
+        ds_min: f64,
+        cause: String,
+    },
     #[error("the starting point is not an equilibrium: {0}")]
     BadStart(Box<ContinuationError>),
-    #[error("a singular linear system was met (the Jacobian or its bordered form is not invertible)")]
+    #[error(
+        "a singular linear system was met (the Jacobian or its bordered form is not invertible)"
+    )]
     Singular,
     #[error("eigenvalue computation failed: {0}")]
     Eigen(String),
     #[error("non-finite value {what} at {param_name} = {param:.10e}; check the model's domain (logarithms of non-positive values?)")]
-    NonFinite { what: String, param_name: String, param: f64 },
+    NonFinite {
+        what: String,
+        param_name: String,
+        param: f64,
+    },
     #[error("{kind} location failed between {param_name} = {from:.10e} and {to:.10e}: {cause}")]
-    Location { kind: &'static str, param_name: String, from: f64, to: f64, cause: Box<ContinuationError> },
+    Location {
+        kind: &'static str,
+        param_name: String,
+        from: f64,
+        to: f64,
+        cause: Box<ContinuationError>,
+    },
 }

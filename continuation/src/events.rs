@@ -18,7 +18,9 @@
 use crate::error::ContinuationError;
 use crate::linalg::{eigenpair_near, eigenvalues, solve, solve_complex};
 use crate::newton::{self, NewtonReport, NewtonSettings};
-use crate::system::{eval, jacobian, param_derivative, second_derivative, JointDirection, VectorField};
+use crate::system::{
+    eval, jacobian, param_derivative, second_derivative, JointDirection, VectorField,
+};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
@@ -141,7 +143,8 @@ pub fn locate_hopf<S: VectorField>(
         g.rows_mut(0, n).copy_from(&eval(sys, x, &p));
         dg.fill(0.0);
         dg.view_mut((0, 0), (n, n)).copy_from(&jac);
-        dg.view_mut((0, n), (n, 1)).copy_from(&param_derivative(sys, x, &p, k));
+        dg.view_mut((0, n), (n, 1))
+            .copy_from(&param_derivative(sys, x, &p, k));
         let Ok((v, w, gval)) = complex_bordered(&jac, omega, &border_b, &border_c) else {
             g[n] = f64::NAN;
             return;
@@ -161,7 +164,16 @@ pub fn locate_hopf<S: VectorField>(
     let x = z.as_slice()[..n].to_vec();
     let p = with_param(p0, k, z[n]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
-    Ok(Event { kind: EventKind::Hopf { omega: z[n + 1].abs() }, x, p, param_index: k, eigenvalues: ev, newton: report })
+    Ok(Event {
+        kind: EventKind::Hopf {
+            omega: z[n + 1].abs(),
+        },
+        x,
+        p,
+        param_index: k,
+        eigenvalues: ev,
+        newton: report,
+    })
 }
 
 /// Locates a fold (limit point) from the guess `(x0, p0[k])` by Newton's
@@ -187,7 +199,8 @@ pub fn locate_fold<S: VectorField>(
         let jac = jacobian(sys, x, &p);
         g.rows_mut(0, n).copy_from(&eval(sys, x, &p));
         dg.view_mut((0, 0), (n, n)).copy_from(&jac);
-        dg.view_mut((0, n), (n, 1)).copy_from(&param_derivative(sys, x, &p, k));
+        dg.view_mut((0, n), (n, 1))
+            .copy_from(&param_derivative(sys, x, &p, k));
         let mut m = DMatrix::zeros(n + 1, n + 1);
         m.view_mut((0, 0), (n, n)).copy_from(&jac);
         m.view_mut((0, n), (n, 1)).copy_from(&border_b);
@@ -208,7 +221,14 @@ pub fn locate_fold<S: VectorField>(
     let x = z.as_slice()[..n].to_vec();
     let p = with_param(p0, k, z[n]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
-    Ok(Event { kind: EventKind::Fold, x, p, param_index: k, eigenvalues: ev, newton: report })
+    Ok(Event {
+        kind: EventKind::Fold,
+        x,
+        p,
+        param_index: k,
+        eigenvalues: ev,
+        newton: report,
+    })
 }
 
 /// Solves the complex bordered system `[[J - i omega I, b], [c^H, 0]] (v, g) = (0, 1)`
@@ -229,10 +249,16 @@ fn complex_bordered(
         m[(i, n)] = b[i];
         m[(n, i)] = c[i].conj();
     }
-    let e = DVector::from_fn(n + 1, |i, _| Complex64::from(if i == n { 1.0 } else { 0.0 }));
+    let e = DVector::from_fn(n + 1, |i, _| {
+        Complex64::from(if i == n { 1.0 } else { 0.0 })
+    });
     let vg = solve_complex(m.clone(), &e)?;
     let wh = solve_complex(m.adjoint(), &e)?;
-    Ok((vg.rows(0, n).into_owned(), wh.rows(0, n).into_owned(), vg[n]))
+    Ok((
+        vg.rows(0, n).into_owned(),
+        wh.rows(0, n).into_owned(),
+        vg[n],
+    ))
 }
 
 /// `(dJ/dz_col) v` for the joint unknown `z = (x, p_k)`: column `col < n` is a

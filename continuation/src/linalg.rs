@@ -8,7 +8,9 @@ use num_complex::Complex64;
 /// Eigenvalues of a real square matrix, sorted by decreasing real part.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, ContinuationError> {
     let m = to_faer(a);
-    let mut ev = m.eigenvalues().map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
+    let mut ev = m
+        .eigenvalues()
+        .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
     ev.sort_by(|x, y| y.re.total_cmp(&x.re).then(y.im.total_cmp(&x.im)));
     Ok(ev)
 }
@@ -20,7 +22,9 @@ pub fn eigenpair_near(
     target: Complex64,
 ) -> Result<(Complex64, DVector<Complex64>), ContinuationError> {
     let m = to_faer(a);
-    let evd = m.eigen().map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
+    let evd = m
+        .eigen()
+        .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
     let s = evd.S();
     let u = evd.U();
     let n = a.nrows();
@@ -39,7 +43,10 @@ pub fn count_unstable(eigenvalues: &[Complex64]) -> usize {
 
 /// Solves `a x = b` for a real square `a` by LU with partial pivoting.
 pub fn solve(a: DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, ContinuationError> {
-    a.lu().solve(b).filter(|x| x.iter().all(|v| v.is_finite())).ok_or(ContinuationError::Singular)
+    a.lu()
+        .solve(b)
+        .filter(|x| x.iter().all(|v| v.is_finite()))
+        .ok_or(ContinuationError::Singular)
 }
 
 /// Solves `a x = b` for a complex square `a` by LU with partial pivoting.

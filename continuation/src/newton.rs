@@ -20,7 +20,11 @@ pub struct NewtonSettings {
 
 impl Default for NewtonSettings {
     fn default() -> Self {
-        NewtonSettings { step_tol: 1e-11, residual_tol: 1e-10, max_iter: 12 }
+        NewtonSettings {
+            step_tol: 1e-11,
+            residual_tol: 1e-10,
+            max_iter: 12,
+        }
     }
 }
 
@@ -73,21 +77,40 @@ where
             return Err(fail(it, residual, last_step, NewtonFailure::NonFinite));
         }
         if last_step <= settings.step_tol * (1.0 + z.amax()) && residual <= settings.residual_tol {
-            return Ok(NewtonReport { iterations: it, residual, step: last_step });
+            return Ok(NewtonReport {
+                iterations: it,
+                residual,
+                step: last_step,
+            });
         }
         if it == settings.max_iter {
             break;
         }
         let Some(dz) = dg.clone().lu().solve(&g) else {
-            return Err(fail(it, residual, last_step, NewtonFailure::SingularJacobian));
+            return Err(fail(
+                it,
+                residual,
+                last_step,
+                NewtonFailure::SingularJacobian,
+            ));
         };
         last_step = dz.amax();
         if !last_step.is_finite() {
-            return Err(fail(it, residual, last_step, NewtonFailure::SingularJacobian));
+            return Err(fail(
+                it,
+                residual,
+                last_step,
+                NewtonFailure::SingularJacobian,
+            ));
         }
         *z -= dz;
     }
-    Err(fail(settings.max_iter, residual, last_step, NewtonFailure::MaxIterations))
+    Err(fail(
+        settings.max_iter,
+        residual,
+        last_step,
+        NewtonFailure::MaxIterations,
+    ))
 }
 
 #[cfg(test)]
@@ -109,11 +132,22 @@ mod tests {
     #[test]
     fn reports_a_singular_jacobian() {
         let mut z = DVector::from_element(1, 0.0);
-        let err = solve(&mut z, &NewtonSettings::default(), " at test", |z, g, dg| {
-            g[0] = z[0] * z[0] + 1.0;
-            dg[(0, 0)] = 2.0 * z[0];
-        })
+        let err = solve(
+            &mut z,
+            &NewtonSettings::default(),
+            " at test",
+            |z, g, dg| {
+                g[0] = z[0] * z[0] + 1.0;
+                dg[(0, 0)] = 2.0 * z[0];
+            },
+        )
         .unwrap_err();
-        assert!(matches!(err, ContinuationError::Newton { reason: NewtonFailure::SingularJacobian, .. }));
+        assert!(matches!(
+            err,
+            ContinuationError::Newton {
+                reason: NewtonFailure::SingularJacobian,
+                ..
+            }
+        ));
     }
 }

@@ -97,10 +97,12 @@ pub fn second_derivative<S: VectorField>(
     w: JointDirection,
 ) -> DVector<f64> {
     let comp = |d: &[f64], i: usize| d.get(i).copied().unwrap_or(0.0);
-    let xd: Vec<HyperDual64> =
-        (0..x.len()).map(|i| HyperDual64::new(x[i], comp(u.x, i), comp(w.x, i), 0.0)).collect();
-    let pd: Vec<HyperDual64> =
-        (0..p.len()).map(|i| HyperDual64::new(p[i], comp(u.p, i), comp(w.p, i), 0.0)).collect();
+    let xd: Vec<HyperDual64> = (0..x.len())
+        .map(|i| HyperDual64::new(x[i], comp(u.x, i), comp(w.x, i), 0.0))
+        .collect();
+    let pd: Vec<HyperDual64> = (0..p.len())
+        .map(|i| HyperDual64::new(p[i], comp(u.p, i), comp(w.p, i), 0.0))
+        .collect();
     let mut out = vec![HyperDual64::from(0.0); sys.dim()];
     sys.rhs(&xd, &pd, &mut out);
     DVector::from_iterator(out.len(), out.iter().map(|d| d.eps1eps2))
@@ -130,7 +132,10 @@ mod tests {
         let (x, p) = ([0.7, -1.3], [0.4, 2.5]);
         let j = jacobian(&Toy, &x, &p);
         let e = x[0].exp();
-        let expect = [[2.0 * x[0] * x[1], x[0] * x[0] + p[0] * x[1].cos()], [e * p[0] * p[1], 0.0]];
+        let expect = [
+            [2.0 * x[0] * x[1], x[0] * x[0] + p[0] * x[1].cos()],
+            [e * p[0] * p[1], 0.0],
+        ];
         for i in 0..2 {
             for k in 0..2 {
                 assert!((j[(i, k)] - expect[i][k]).abs() < 1e-15, "J[{i},{k}]");
@@ -140,12 +145,27 @@ mod tests {
         assert!((fp[0]).abs() < 1e-15 && (fp[1] - e * p[0]).abs() < 1e-15);
         // B(u, w) for the first component: 2 x1 u0 w0 + 2 x0 (u0 w1 + u1 w0) - p0 sin(x1) u1 w1.
         let (u, w) = ([0.3, 0.8], [-1.1, 0.5]);
-        let b = second_derivative(&Toy, &x, &p, JointDirection::state(&u), JointDirection::state(&w));
+        let b = second_derivative(
+            &Toy,
+            &x,
+            &p,
+            JointDirection::state(&u),
+            JointDirection::state(&w),
+        );
         let b0 = 2.0 * x[1] * u[0] * w[0] + 2.0 * x[0] * (u[0] * w[1] + u[1] * w[0])
             - p[0] * x[1].sin() * u[1] * w[1];
         assert!((b[0] - b0).abs() < 1e-14);
         // (D_p0 J) u for the second component: exp(x0) p1 u0.
-        let dp = second_derivative(&Toy, &x, &p, JointDirection::state(&u), JointDirection { x: &[], p: &[1.0, 0.0] });
+        let dp = second_derivative(
+            &Toy,
+            &x,
+            &p,
+            JointDirection::state(&u),
+            JointDirection {
+                x: &[],
+                p: &[1.0, 0.0],
+            },
+        );
         assert!((dp[1] - e * p[1] * u[0]).abs() < 1e-14);
     }
 }

@@ -3,7 +3,13 @@
 use continuation::{Branch, ContinuationSettings, Direction, EventKind, Scalar, VectorField};
 
 /// Collects all located events of a branch, failing the test on any error.
-fn events_of<S: VectorField>(sys: &S, x0: &[f64], p0: &[f64], k: usize, s: ContinuationSettings) -> Vec<continuation::Event> {
+fn events_of<S: VectorField>(
+    sys: &S,
+    x0: &[f64],
+    p0: &[f64],
+    k: usize,
+    s: ContinuationSettings,
+) -> Vec<continuation::Event> {
     let mut out = Vec::new();
     for point in Branch::new(sys, x0, p0, k, s).expect("start") {
         out.extend(point.expect("branch point").events);
@@ -27,12 +33,23 @@ impl VectorField for FoldNormalForm {
 
 #[test]
 fn fold_normal_form_limit_point_at_origin() {
-    let settings = ContinuationSettings { direction: Direction::Decreasing, ds: 0.05, max_steps: 200, p_max: 1.0, ..Default::default() };
+    let settings = ContinuationSettings {
+        direction: Direction::Decreasing,
+        ds: 0.05,
+        max_steps: 200,
+        p_max: 1.0,
+        ..Default::default()
+    };
     let events = events_of(&FoldNormalForm, &[1.0], &[1.0], 0, settings);
     assert_eq!(events.len(), 1, "{events:?}");
     let e = &events[0];
     assert_eq!(e.kind, EventKind::Fold);
-    assert!(e.param().abs() < 1e-14 && e.x[0].abs() < 1e-7, "p = {}, x = {}", e.param(), e.x[0]);
+    assert!(
+        e.param().abs() < 1e-14 && e.x[0].abs() < 1e-7,
+        "p = {}, x = {}",
+        e.param(),
+        e.x[0]
+    );
     // At a fold the equilibrium is a double root: x = O(sqrt(p)) explains the looser x bound.
     assert!(e.eigenvalues[0].norm() < 1e-7);
 }
@@ -61,11 +78,21 @@ impl VectorField for HopfNormalForm {
 
 #[test]
 fn hopf_normal_form_hopf_point_and_frequency() {
-    let sys = HopfNormalForm { p0: 0.37, w: 2.5, c: (-1.0, 0.3) };
-    let settings = ContinuationSettings { ds: 0.1, p_max: 1.0, ..Default::default() };
+    let sys = HopfNormalForm {
+        p0: 0.37,
+        w: 2.5,
+        c: (-1.0, 0.3),
+    };
+    let settings = ContinuationSettings {
+        ds: 0.1,
+        p_max: 1.0,
+        ..Default::default()
+    };
     let events = events_of(&sys, &[0.0, 0.0], &[-0.5], 0, settings);
     assert_eq!(events.len(), 1, "{events:?}");
-    let EventKind::Hopf { omega } = events[0].kind else { panic!("not a Hopf point") };
+    let EventKind::Hopf { omega } = events[0].kind else {
+        panic!("not a Hopf point")
+    };
     assert!((events[0].param() / 0.37 - 1.0).abs() < 1e-12);
     assert!((omega / 2.5 - 1.0).abs() < 1e-12);
 }
@@ -91,13 +118,23 @@ impl VectorField for Brusselator {
 fn brusselator_hopf_at_one_plus_a_squared() {
     for a in [0.3, 1.0, 2.7] {
         let b0 = 0.5 * (1.0 + a * a);
-        let settings = ContinuationSettings { ds: 0.05, p_max: 3.0 * (1.0 + a * a), ..Default::default() };
+        let settings = ContinuationSettings {
+            ds: 0.05,
+            p_max: 3.0 * (1.0 + a * a),
+            ..Default::default()
+        };
         let events = events_of(&Brusselator, &[a, b0 / a], &[a, b0], 1, settings);
         assert_eq!(events.len(), 1, "a = {a}: {events:?}");
         let e = &events[0];
-        let EventKind::Hopf { omega } = e.kind else { panic!("not a Hopf point") };
+        let EventKind::Hopf { omega } = e.kind else {
+            panic!("not a Hopf point")
+        };
         let b_c = 1.0 + a * a;
-        assert!((e.param() / b_c - 1.0).abs() < 1e-12, "b = {} vs {b_c}", e.param());
+        assert!(
+            (e.param() / b_c - 1.0).abs() < 1e-12,
+            "b = {} vs {b_c}",
+            e.param()
+        );
         assert!((omega / a - 1.0).abs() < 1e-12, "omega = {omega} vs {a}");
         assert!((e.x[0] / a - 1.0).abs() < 1e-12 && (e.x[1] / (b_c / a) - 1.0).abs() < 1e-12);
     }
@@ -122,15 +159,27 @@ impl VectorField for NeutralSaddle {
 
 #[test]
 fn neutral_saddle_is_not_reported_as_hopf() {
-    let settings = ContinuationSettings { ds: 0.05, p_max: 2.0, ..Default::default() };
+    let settings = ContinuationSettings {
+        ds: 0.05,
+        p_max: 2.0,
+        ..Default::default()
+    };
     let mut crossed = false;
     let mut prev_test: Option<f64> = None;
     for point in Branch::new(&NeutralSaddle, &[0.0, 0.0], &[0.5], 0, settings).unwrap() {
         let point = point.unwrap();
-        assert!(point.events.is_empty(), "spurious event at p = {}: {:?}", point.param(), point.events);
+        assert!(
+            point.events.is_empty(),
+            "spurious event at p = {}: {:?}",
+            point.param(),
+            point.events
+        );
         let t = continuation::events::hopf_test(&point.eigenvalues);
         crossed |= prev_test.is_some_and(|a| a * t < 0.0);
         prev_test = Some(t);
     }
-    assert!(crossed, "the Hopf test function must change sign here, or the test proves nothing");
+    assert!(
+        crossed,
+        "the Hopf test function must change sign here, or the test proves nothing"
+    );
 }

@@ -38,12 +38,17 @@ pub fn trace(
         ds_min: 1e-13 * span.max(1e-300),
         p_min: req.from.min(req.to),
         p_max: req.from.max(req.to),
-        direction: if req.to < req.from { Direction::Decreasing } else { Direction::Increasing },
+        direction: if req.to < req.from {
+            Direction::Decreasing
+        } else {
+            Direction::Increasing
+        },
         max_steps: req.max_steps,
         ..Default::default()
     };
     let x0 = steady_state(kind, &p);
-    let branch = Branch::new(&block, &x0, &p.to_vec(), req.param as usize, settings).map_err(NumericalError::from)?;
+    let branch = Branch::new(&block, &x0, &p.to_vec(), req.param as usize, settings)
+        .map_err(NumericalError::from)?;
     for point in branch {
         sink(&point.map_err(NumericalError::from)?)?;
     }

@@ -44,7 +44,8 @@ pub enum HopfOutcome {
 /// from a scale built from the friction coefficients. Errors when none is
 /// found (the steady state is unstable at every stiffness tried).
 pub fn stable_stiffness(block: &DrivenBlock, params: &Params) -> Result<f64, NumericalError> {
-    let scale = (params.b + params.a + params.mu2.abs() * (1.0 + params.nu.ln().abs())) * (1.0 + params.inertia_ratio());
+    let scale = (params.b + params.a + params.mu2.abs() * (1.0 + params.nu.ln().abs()))
+        * (1.0 + params.inertia_ratio());
     let x = steady_state(block.kind(), params);
     let mut kappa = 4.0 * scale;
     for _ in 0..60 {

@@ -50,7 +50,11 @@ pub fn choose_model(params: &Params, forced: Option<ModelKind>, threshold: f64) 
             ),
         ),
     };
-    ModelChoice { kind, inertia_ratio: ratio, reason }
+    ModelChoice {
+        kind,
+        inertia_ratio: ratio,
+        reason,
+    }
 }
 
 /// The parameters the chosen model actually uses (`m = 0` when quasi-static).

@@ -61,7 +61,9 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let kind = setup.choice.kind;
     let from = match (args.from, param) {
         (Some(v), _) => v,
-        (None, Param::Kappa) => stable_stiffness(&DrivenBlock::new(kind, &setup.params), &setup.params)?,
+        (None, Param::Kappa) => {
+            stable_stiffness(&DrivenBlock::new(kind, &setup.params), &setup.params)?
+        }
         (None, _) => nu_lo,
     };
     let to = match (args.to, param) {
@@ -70,13 +72,25 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         (None, _) => nu_hi,
     };
     for (name, v) in [("--from", from), ("--to", to)] {
-        let positive = if param == Param::Kappa { v >= 0.0 } else { v > 0.0 };
+        let positive = if param == Param::Kappa {
+            v >= 0.0
+        } else {
+            v > 0.0
+        };
         if !v.is_finite() || !positive {
-            return Err(InputError::out_of_range(name, v, "a finite value in the parameter's range (kappa >= 0, nu > 0)").into());
+            return Err(InputError::out_of_range(
+                name,
+                v,
+                "a finite value in the parameter's range (kappa >= 0, nu > 0)",
+            )
+            .into());
         }
     }
     if from == to {
-        return Err(InputError::Conflict(format!("--from and --to are equal ({from}); give a range")).into());
+        return Err(InputError::Conflict(format!(
+            "--from and --to are equal ({from}); give a range"
+        ))
+        .into());
     }
     let mut out = std::io::stdout().lock();
     let names = ["s", "v", "theta"];
@@ -84,13 +98,34 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         writeln!(out, "# model: {}", setup.choice.reason)?;
         writeln!(out, "{},s,v,theta,n_unstable,eig_re_1,eig_im_1,eig_re_2,eig_im_2,eig_re_3,eig_im_3,event,omega", param.name())?;
     } else {
-        writeln!(out, "scene: {} — {}", setup.scene.name, setup.scene.description)?;
+        writeln!(
+            out,
+            "scene: {} — {}",
+            setup.scene.name, setup.scene.description
+        )?;
         writeln!(out, "model: {}", setup.choice.reason)?;
         writeln!(out, "parameters: {}", describe_params(&setup.params))?;
-        writeln!(out, "continuing steady sliding in {} from {from:.6e} to {to:.6e}", param.name())?;
-        writeln!(out, "{:>14} {:>14} {:>12} {:>12} {:>3}  eigenvalues", param.name(), names[0], names[1], names[2], "#u")?;
+        writeln!(
+            out,
+            "continuing steady sliding in {} from {from:.6e} to {to:.6e}",
+            param.name()
+        )?;
+        writeln!(
+            out,
+            "{:>14} {:>14} {:>12} {:>12} {:>3}  eigenvalues",
+            param.name(),
+            names[0],
+            names[1],
+            names[2],
+            "#u"
+        )?;
     }
-    let req = BranchRequest { param, from, to, max_steps: args.max_steps };
+    let req = BranchRequest {
+        param,
+        from,
+        to,
+        max_steps: args.max_steps,
+    };
     let params = setup.params;
     trace(kind, &params, &req, |point| {
         for e in &point.events {
@@ -99,10 +134,30 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
                 EventKind::Fold => f64::NAN,
             };
             let at = params.with_vec(&e.p);
-            write_row(&mut out, args.csv, &at, kind, param, &e.x, &e.eigenvalues, None, Some((e.kind.name(), omega)))?;
+            write_row(
+                &mut out,
+                args.csv,
+                &at,
+                kind,
+                param,
+                &e.x,
+                &e.eigenvalues,
+                None,
+                Some((e.kind.name(), omega)),
+            )?;
         }
         let at = params.with_vec(&point.p);
-        write_row(&mut out, args.csv, &at, kind, param, &point.x, &point.eigenvalues, Some(point), None)?;
+        write_row(
+            &mut out,
+            args.csv,
+            &at,
+            kind,
+            param,
+            &point.x,
+            &point.eigenvalues,
+            Some(point),
+            None,
+        )?;
         Ok(())
     })
 }
@@ -133,15 +188,22 @@ fn write_row(
             }
         }
         match event {
-            Some((name, omega)) if omega.is_finite() => cells.extend([name.to_string(), format!("{omega:.15e}")]),
+            Some((name, omega)) if omega.is_finite() => {
+                cells.extend([name.to_string(), format!("{omega:.15e}")])
+            }
             Some((name, _)) => cells.extend([name.to_string(), String::new()]),
             None => cells.extend([String::new(), String::new()]),
         }
         writeln!(out, "{}", cells.join(","))?;
     } else {
-        let evs: Vec<String> = ev.iter().map(|l| format!("{:+.4e}{:+.4e}i", l.re, l.im)).collect();
+        let evs: Vec<String> = ev
+            .iter()
+            .map(|l| format!("{:+.4e}{:+.4e}i", l.re, l.im))
+            .collect();
         let tag = match event {
-            Some((name, omega)) if omega.is_finite() => format!("  <- {} (omega = {omega:.10e})", name.to_uppercase()),
+            Some((name, omega)) if omega.is_finite() => {
+                format!("  <- {} (omega = {omega:.10e})", name.to_uppercase())
+            }
             Some((name, _)) => format!("  <- {}", name.to_uppercase()),
             None => String::new(),
         };

@@ -37,7 +37,11 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
         }
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&to_json(&setup, &outcome)).map_err(std::io::Error::other)?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&to_json(&setup, &outcome))
+                .map_err(std::io::Error::other)?
+        );
     } else {
         print_text(&setup, &outcome);
     }
@@ -118,7 +122,10 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
     if let HopfOutcome::Found(h) = outcome {
         shown.kappa = h.kappa_c;
     }
-    println!("parameters (dimensionless, MODEL.md; kappa at onset): {}", describe_params(&shown));
+    println!(
+        "parameters (dimensionless, MODEL.md; kappa at onset): {}",
+        describe_params(&shown)
+    );
     println!(
         "steady sliding at V = {:.4e} um/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
         units.velocity_um_s(p.nu),
@@ -145,10 +152,17 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
     let units = &setup.scene.units;
     let kappa_ref = appendix_c::critical_stiffness(p);
     let omega_ref = appendix_c::critical_frequency(p).unwrap_or(f64::NAN);
-    let eq = if setup.choice.kind == ModelKind::Inertial { "C11" } else { "C12" };
+    let eq = if setup.choice.kind == ModelKind::Inertial {
+        "C11"
+    } else {
+        "C12"
+    };
     println!();
     println!("Hopf point (stick-slip onset): steady sliding is stable for kappa > kappa_c");
-    println!("  {:<24} {:>22} {:>28} {:>10}", "", "continuation", "Appendix C", "rel. diff");
+    println!(
+        "  {:<24} {:>22} {:>28} {:>10}",
+        "", "continuation", "Appendix C", "rel. diff"
+    );
     println!(
         "  {:<24} {:>22.14e} {:>17.14e} ({eq}) {:>9.1e}",
         "kappa_c = K_c D0/W",
@@ -163,13 +177,28 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
         omega_ref,
         rel_diff(h.omega_c, omega_ref)
     );
-    println!("  {:<24} {:>22.8e}", "K_c/W [1/m]", units.k_over_w(h.kappa_c));
+    println!(
+        "  {:<24} {:>22.8e}",
+        "K_c/W [1/m]",
+        units.k_over_w(h.kappa_c)
+    );
     match units.k_over_m(h.kappa_c) {
-        Some(km) => println!("  {:<24} {:>22.8e}   (W = {:.4e} N, M = {:.4e} kg)", "K_c/M [1/s^2]", km, units.load, units.mass),
+        Some(km) => println!(
+            "  {:<24} {:>22.8e}   (W = {:.4e} N, M = {:.4e} kg)",
+            "K_c/M [1/s^2]", km, units.load, units.mass
+        ),
         None => println!("  {:<24} {:>22}", "K_c/M [1/s^2]", "— (massless block)"),
     }
-    println!("  {:<24} {:>22.8e}", "K_c [N/m]", units.stiffness(h.kappa_c));
-    println!("  {:<24} {:>22.8e}", "f_c [Hz]", units.frequency_hz(h.omega_c));
+    println!(
+        "  {:<24} {:>22.8e}",
+        "K_c [N/m]",
+        units.stiffness(h.kappa_c)
+    );
+    println!(
+        "  {:<24} {:>22.8e}",
+        "f_c [Hz]",
+        units.frequency_hz(h.omega_c)
+    );
     println!(
         "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
          after {} continuation steps from a stable stiffness",

@@ -6,7 +6,9 @@
 pub mod branch;
 pub mod hopf;
 
-use crate::analysis::model_choice::{choose_model, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD};
+use crate::analysis::model_choice::{
+    choose_model, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD,
+};
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Params;
@@ -80,14 +82,28 @@ impl SceneArgs {
     /// (a hook to evaluate the choice at another velocity, e.g. the top of a range).
     pub fn setup(&self, params_at: impl Fn(&Params) -> Params) -> Result<Setup, Error> {
         if !(self.inertia_threshold.is_finite() && self.inertia_threshold >= 0.0) {
-            return Err(InputError::out_of_range("--inertia-threshold", self.inertia_threshold, ">= 0").into());
+            return Err(InputError::out_of_range(
+                "--inertia-threshold",
+                self.inertia_threshold,
+                ">= 0",
+            )
+            .into());
         }
         let scene = scene::load(&self.scene)?;
         let mut scene_params = scene.params;
         scene_params.apply_overrides(&self.set)?;
-        let choice = choose_model(&params_at(&scene_params), self.model.map(Into::into), self.inertia_threshold);
+        let choice = choose_model(
+            &params_at(&scene_params),
+            self.model.map(Into::into),
+            self.inertia_threshold,
+        );
         let params = params_for(choice.kind, &scene_params);
-        Ok(Setup { scene, scene_params, params, choice })
+        Ok(Setup {
+            scene,
+            scene_params,
+            params,
+            choice,
+        })
     }
 }
 
@@ -109,10 +125,19 @@ pub fn run(cli: Cli) -> Result<(), Error> {
 
 /// Formats parameters as `name = value` pairs on one line.
 pub fn describe_params(p: &Params) -> String {
-    p.named().iter().map(|(n, v)| format!("{n} = {v:.6e}")).collect::<Vec<_>>().join(", ")
+    p.named()
+        .iter()
+        .map(|(n, v)| format!("{n} = {v:.6e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Parameters as a JSON object (names of MODEL.md).
 pub fn params_json(p: &Params) -> serde_json::Value {
-    serde_json::Value::Object(p.named().into_iter().map(|(n, v)| (n.to_string(), serde_json::json!(v))).collect())
+    serde_json::Value::Object(
+        p.named()
+            .into_iter()
+            .map(|(n, v)| (n.to_string(), serde_json::json!(v)))
+            .collect(),
+    )
 }
