@@ -17,7 +17,9 @@ pub mod branch;
 pub mod error;
 pub mod events;
 pub mod linalg;
+pub mod multilinear;
 pub mod newton;
+pub mod normal_form;
 pub mod system;
 
 pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};

@@ -9,8 +9,57 @@ use crate::error::NumericalError;
 use crate::model::{full_state, steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
 use continuation::linalg::{count_unstable, eigenvalues};
+use continuation::normal_form::{eigenvalue_derivative, hopf_normal_form, onset_law};
 use continuation::system::jacobian;
 use continuation::{Branch, Complex64, ContinuationSettings, Direction, EventKind};
+
+/// `|l1|` below this fraction of the size of its terms counts as zero
+/// (rounding level is ~1e-16): the Hopf point is degenerate.
+pub const DEGENERACY_TOL: f64 = 1e-9;
+
+/// Sub- or supercritical onset, from the sign of `l1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Criticality {
+    /// `l1 < 0`: stick-slip amplitude grows continuously below `kappa_c`.
+    Supercritical,
+    /// `l1 > 0`: an unstable cycle surrounds stable sliding; the onset is hysteretic.
+    Subcritical,
+    /// `l1 = 0` to rounding: the cubic terms do not decide (e.g. quasi-static plain RR law).
+    Degenerate,
+}
+
+impl Criticality {
+    /// `supercritical`, `subcritical` or `degenerate`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Criticality::Supercritical => "supercritical",
+            Criticality::Subcritical => "subcritical",
+            Criticality::Degenerate => "degenerate",
+        }
+    }
+}
+
+/// The normal form at the onset and what it predicts for the emerging cycle.
+#[derive(Clone, Debug)]
+pub struct Onset {
+    /// First Lyapunov coefficient in MODEL.md's coordinates and normalization.
+    pub l1: f64,
+    /// Cubic normal-form coefficient `c1` (`l1 = Re c1 / omega`).
+    pub c1: Complex64,
+    /// Size of the terms `l1` is made of: the scale for "l1 = 0".
+    pub l1_scale: f64,
+    /// Sub-, supercritical or degenerate.
+    pub criticality: Criticality,
+    /// `d lambda / d kappa` of the critical eigenvalue (transversality).
+    pub dlambda_dkappa: Complex64,
+    /// `C` in `Delta_s ~ C sqrt|kappa - kappa_c|` (peak-to-peak spring force);
+    /// `None` at a degenerate point.
+    pub amplitude_coefficient: Option<f64>,
+    /// `-1`: the cycle exists for `kappa < kappa_c`; `+1`: for `kappa > kappa_c`.
+    pub side: Option<f64>,
+    /// `d Omega / d kappa` of the cycle's angular frequency at onset.
+    pub frequency_slope: Option<f64>,
+}
 
 /// A located Hopf point of steady sliding.
 #[derive(Clone, Debug)]
@@ -28,6 +77,37 @@ pub struct HopfPoint {
     pub residual: f64,
     /// Accepted continuation steps before the point was bracketed.
     pub steps: usize,
+    /// Normal form and onset law.
+    pub onset: Onset,
+}
+
+/// The normal form of the Hopf point of `block` at state `x` (model
+/// coordinates, which are MODEL.md's) and parameters `p`.
+pub fn onset_at(
+    block: &DrivenBlock,
+    x: &[f64],
+    p: &[f64],
+    omega: f64,
+) -> Result<Onset, NumericalError> {
+    let nf = hopf_normal_form(block, x, p, omega)?;
+    let dl = eigenvalue_derivative(block, x, p, Param::Kappa as usize, &nf)?;
+    let degenerate = nf.is_degenerate(DEGENERACY_TOL);
+    let criticality = match () {
+        _ if degenerate => Criticality::Degenerate,
+        _ if nf.l1 < 0.0 => Criticality::Supercritical,
+        _ => Criticality::Subcritical,
+    };
+    let law = (!degenerate).then(|| onset_law(&nf, dl, 0));
+    Ok(Onset {
+        l1: nf.l1,
+        c1: nf.c1,
+        l1_scale: nf.term_scale,
+        criticality,
+        dlambda_dkappa: dl,
+        amplitude_coefficient: law.map(|l| l.coefficient),
+        side: law.map(|l| l.side),
+        frequency_slope: law.map(|l| l.frequency_slope),
+    })
 }
 
 /// What the search for the stick-slip onset found.
@@ -98,6 +178,7 @@ pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, Numeri
                 newton_iterations: e.newton.iterations,
                 residual: e.newton.residual,
                 steps,
+                onset: onset_at(&block, &e.x, &e.p, omega)?,
             }));
         }
         if point.n_unstable > 0 {

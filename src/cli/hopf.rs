@@ -87,6 +87,16 @@ fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
                     "K_N_per_m": units.stiffness(h.kappa_c),
                     "frequency_hz": units.frequency_hz(h.omega_c),
                 },
+                "l1": h.onset.l1,
+                "l1_term_scale": h.onset.l1_scale,
+                "criticality": h.onset.criticality.name(),
+                "amplitude_coefficient": h.onset.amplitude_coefficient,
+                "onset": {
+                    "c1": [h.onset.c1.re, h.onset.c1.im],
+                    "dlambda_dkappa": [h.onset.dlambda_dkappa.re, h.onset.dlambda_dkappa.im],
+                    "cycle_side": h.onset.side.map(|s| if s < 0.0 { "kappa < kappa_c" } else { "kappa > kappa_c" }),
+                    "frequency_slope": h.onset.frequency_slope,
+                },
                 "location": { "newton_iterations": h.newton_iterations, "residual": h.residual, "continuation_steps": h.steps },
             });
             merge(&mut out, extra);
@@ -199,9 +209,45 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
         "f_c [Hz]",
         units.frequency_hz(h.omega_c)
     );
+    print_onset(&h.onset, h.kappa_c);
     println!(
         "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
          after {} continuation steps from a stable stiffness",
         h.newton_iterations, h.residual, h.steps
     );
+}
+
+fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
+    use crate::analysis::hopf::Criticality;
+    println!();
+    println!(
+        "Onset type: {} (first Lyapunov coefficient l1 = {:.10e}, MODEL.md convention)",
+        o.criticality.name(),
+        o.l1
+    );
+    match (o.criticality, o.amplitude_coefficient, o.side) {
+        (Criticality::Degenerate, ..) => println!(
+            "  l1 vanishes to rounding (|l1| <= 1e-9 x {:.2e}, the size of its terms): the cubic normal form \
+             does not decide. For the quasi-static Rice–Ruina law this is exact (Ranjith & Rice 1999): \
+             at kappa = kappa_c a whole family of cycles exists; add the ln² term (mu2) or inertia.",
+            o.l1_scale
+        ),
+        (_, Some(c), Some(side)) => {
+            let (where_, hyst) = if side < 0.0 {
+                ("below kappa_c (kappa < kappa_c)", "stable: stick-slip grows continuously as K decreases")
+            } else {
+                ("above kappa_c (kappa > kappa_c)", "unstable: it bounds the basin of steady sliding; the onset is hysteretic")
+            };
+            println!("  emerging cycle exists {where_}; it is {hyst}");
+            println!(
+                "  peak-to-peak spring force: Delta_s ~ C sqrt|kappa - kappa_c|, C = {c:.10e} \
+                 (Delta(K x / W) in units of the friction coefficient)"
+            );
+            println!("  e.g. 1 % from onset: Delta_s ~ {:.4e}", c * (0.01 * kappa_c).sqrt());
+            if let Some(fs) = o.frequency_slope {
+                println!("  frequency shift on the cycle: d Omega / d kappa = {fs:.6e} (units V0/D0)");
+            }
+        }
+        _ => {}
+    }
 }
