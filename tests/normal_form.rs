@@ -4,6 +4,8 @@
 //! closed forms for the quasi-static ln² law (`docs/reference/t4_qs_symbolic.py`),
 //! and a finite-difference evaluation of the same formula.
 
+#![allow(clippy::excessive_precision)] // references are quoted with every digit of their source
+
 use continuation::system::{eval, jacobian};
 use continuation::Complex64;
 use nalgebra::{DMatrix, DVector};

@@ -8,12 +8,14 @@
 //! the fold and Hopf test functions are watched; sign changes are located
 //! (see [`crate::events`]) and attached to the later point.
 
+use crate::arclength::{Bound, StepControl, Stepper};
+use crate::defining::{EquilibriumSystem, FreeParams};
 use crate::error::ContinuationError;
 use crate::events::{critical_pair, hopf_test, is_complex_pair, locate_fold, locate_hopf, Event};
-use crate::linalg::{count_unstable, eigenvalues, solve};
+use crate::linalg::{count_unstable, eigenvalues};
 use crate::newton::{self, NewtonReport, NewtonSettings};
-use crate::system::{eval, jacobian, param_derivative, VectorField};
-use nalgebra::{DMatrix, DVector};
+use crate::system::{eval, jacobian, VectorField};
+use nalgebra::DVector;
 use num_complex::Complex64;
 
 /// Which way the continuation parameter moves at the start.
@@ -126,10 +128,7 @@ pub struct Branch<'a, S: VectorField> {
     sys: &'a S,
     k: usize,
     settings: ContinuationSettings,
-    p: Vec<f64>,
-    z: DVector<f64>,
-    tangent: DVector<f64>,
-    ds: f64,
+    stepper: Stepper<EquilibriumSystem<'a, S>>,
     steps: usize,
     last: Option<BranchPoint>,
     stop: Option<StopReason>,
@@ -158,27 +157,39 @@ impl<'a, S: VectorField> Branch<'a, S> {
             },
         )
         .map_err(|e| ContinuationError::BadStart(Box::new(e)))?;
-        let mut z = DVector::zeros(n + 1);
-        z.rows_mut(0, n).copy_from(&x);
-        z[n] = p0[k];
+        let z = DVector::from_iterator(n + 1, x.iter().copied().chain([p0[k]]));
         let sign = if settings.direction == Direction::Increasing {
             1.0
         } else {
             -1.0
         };
-        let mut seed = DVector::zeros(n + 1);
-        seed[n] = sign;
-        let p = p0.to_vec();
-        let tangent = tangent_at(sys, k, &z, &p, &seed)?;
-        let ds = settings.ds.abs();
+        let seed = DVector::from_fn(n + 1, |i, _| if i == n { sign } else { 0.0 });
+        let system = EquilibriumSystem {
+            sys,
+            params: FreeParams {
+                base: p0.to_vec(),
+                free: vec![k],
+            },
+        };
+        let control = StepControl {
+            ds: settings.ds,
+            ds_min: settings.ds_min,
+            ds_max: settings.ds_max,
+            growth: settings.growth,
+            min_tangent_cos: settings.min_tangent_cos,
+            corrector: settings.corrector,
+        };
+        let bounds = vec![Bound {
+            index: n,
+            min: settings.p_min,
+            max: settings.p_max,
+        }];
+        let stepper = Stepper::new(system, z, &seed, control, bounds)?;
         Ok(Branch {
             sys,
             k,
             settings,
-            p,
-            z,
-            tangent,
-            ds,
+            stepper,
             steps: 0,
             last: None,
             stop: None,
@@ -191,116 +202,21 @@ impl<'a, S: VectorField> Branch<'a, S> {
         self.stop
     }
 
-    fn params_at(&self, z: &DVector<f64>) -> Vec<f64> {
-        let mut p = self.p.clone();
-        p[self.k] = z[self.sys.dim()];
-        p
-    }
-
     fn make_point(&self, newton: NewtonReport) -> Result<BranchPoint, ContinuationError> {
         let n = self.sys.dim();
-        let p = self.params_at(&self.z);
-        let x = self.z.as_slice()[..n].to_vec();
+        let z = self.stepper.z();
+        let p = self.stepper.system.params.with(&z.as_slice()[n..]);
+        let x = z.as_slice()[..n].to_vec();
         let ev = eigenvalues(&jacobian(self.sys, &x, &p))?;
         Ok(BranchPoint {
             n_unstable: count_unstable(&ev),
             x,
             p,
             param_index: self.k,
-            tangent: self.tangent.as_slice().to_vec(),
+            tangent: self.stepper.tangent().as_slice().to_vec(),
             eigenvalues: ev,
             events: Vec::new(),
             newton,
-        })
-    }
-
-    /// Takes one step that the corrector accepts: predictor, corrector, step
-    /// control. Returns the corrector's report and whether the step landed on
-    /// a parameter bound.
-    fn step(&mut self) -> Result<(NewtonReport, bool), ContinuationError> {
-        let n = self.sys.dim();
-        let (lo, hi) = (self.settings.p_min, self.settings.p_max);
-        loop {
-            let mut ds = self.ds;
-            let mut z_pred = &self.z + &self.tangent * ds;
-            let bound = if z_pred[n] < lo {
-                Some(lo)
-            } else if z_pred[n] > hi {
-                Some(hi)
-            } else {
-                None
-            };
-            if let Some(b) = bound {
-                ds = (b - self.z[n]) / self.tangent[n];
-                z_pred = &self.z + &self.tangent * ds;
-                z_pred[n] = b;
-            }
-            let attempt = self.correct(&mut z_pred, bound.is_some());
-            let accepted = match attempt {
-                Ok(rep) => {
-                    let t_new = tangent_at(self.sys, self.k, &z_pred, &self.p, &self.tangent)?;
-                    if t_new.dot(&self.tangent) >= self.settings.min_tangent_cos || bound.is_some()
-                    {
-                        Some((rep, t_new))
-                    } else {
-                        None
-                    }
-                }
-                Err(_) => None,
-            };
-            if let Some((rep, t_new)) = accepted {
-                self.z = z_pred;
-                self.tangent = t_new;
-                if bound.is_none() && rep.iterations <= 3 {
-                    self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
-                }
-                return Ok((rep, bound.is_some()));
-            }
-            self.ds *= 0.5;
-            if self.ds < self.settings.ds_min {
-                let cause = match attempt {
-                    Err(e) => e.to_string(),
-                    Ok(_) => "the tangent turned too sharply".into(),
-                };
-                return Err(ContinuationError::StepTooSmall {
-                    param_name: format!("p[{}]", self.k),
-                    param: self.z[n],
-                    ds: self.ds,
-                    ds_min: self.settings.ds_min,
-                    cause,
-                });
-            }
-        }
-    }
-
-    /// Newton on the pseudo-arclength system, or at fixed parameter when
-    /// landing on a bound.
-    fn correct(
-        &self,
-        z: &mut DVector<f64>,
-        fixed_param: bool,
-    ) -> Result<NewtonReport, ContinuationError> {
-        let n = self.sys.dim();
-        let z_pred = z.clone();
-        let (sys, k, t) = (self.sys, self.k, &self.tangent);
-        newton::solve(z, &self.settings.corrector, "", |z, g, dg| {
-            let x = &z.as_slice()[..n];
-            let mut p = self.p.clone();
-            p[k] = z[n];
-            g.rows_mut(0, n).copy_from(&eval(sys, x, &p));
-            let mut jac = DMatrix::zeros(n, n);
-            sys.jacobian(x, &p, &mut jac);
-            dg.view_mut((0, 0), (n, n)).copy_from(&jac);
-            dg.view_mut((0, n), (n, 1))
-                .copy_from(&param_derivative(sys, x, &p, k));
-            if fixed_param {
-                g[n] = z[n] - z_pred[n];
-                dg.row_mut(n).fill(0.0);
-                dg[(n, n)] = 1.0;
-            } else {
-                g[n] = t.dot(&(z - &z_pred));
-                dg.row_mut(n).copy_from(&t.transpose());
-            }
         })
     }
 
@@ -380,10 +296,21 @@ impl<'a, S: VectorField> Branch<'a, S> {
     /// located from the bracket, is retaken with half the step size, down to
     /// `ds_min`.
     fn next_point_after(&mut self, prev: &BranchPoint) -> Result<BranchPoint, ContinuationError> {
-        let (z0, t0) = (self.z.clone(), self.tangent.clone());
+        let (z0, t0) = (self.stepper.z().clone(), self.stepper.tangent().clone());
         loop {
-            let (rep, on_bound) = self.step()?;
-            let mut point = self.make_point(rep)?;
+            let step = self.stepper.step().map_err(|e| match e {
+                ContinuationError::StepTooSmall {
+                    ds, ds_min, cause, ..
+                } => ContinuationError::StepTooSmall {
+                    param_name: format!("p[{}]", self.k),
+                    param: prev.param(),
+                    ds,
+                    ds_min,
+                    cause,
+                },
+                other => other,
+            })?;
+            let mut point = self.make_point(step.report)?;
             let values = point
                 .x
                 .iter()
@@ -396,8 +323,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
                 });
             }
             if self.settings.detect_events {
-                let last_step = (&self.z - &z0).norm();
-                let can_retry = 0.5 * last_step >= self.settings.ds_min;
+                let can_retry = 0.5 * step.ds.abs() >= self.settings.ds_min;
                 let retry = match self.detect(prev, &point) {
                     Ok(events) => {
                         point.events = events;
@@ -408,13 +334,12 @@ impl<'a, S: VectorField> Branch<'a, S> {
                     Err(e) => return Err(e),
                 };
                 if retry && can_retry {
-                    self.z = z0.clone();
-                    self.tangent = t0.clone();
-                    self.ds = 0.5 * last_step;
+                    self.stepper
+                        .restore(z0.clone(), t0.clone(), 0.5 * step.ds.abs())?;
                     continue;
                 }
             }
-            if on_bound {
+            if step.bound.is_some() {
                 self.stop = Some(StopReason::ParameterBound);
             }
             return Ok(point);
@@ -445,29 +370,4 @@ impl<S: VectorField> Iterator for Branch<'_, S> {
             }
         }
     }
-}
-
-/// Unit tangent of the branch at `z`, oriented along `reference`:
-/// solves `[[J, f_p], [reference^T]] t = (0, 1)`.
-fn tangent_at<S: VectorField>(
-    sys: &S,
-    k: usize,
-    z: &DVector<f64>,
-    p: &[f64],
-    reference: &DVector<f64>,
-) -> Result<DVector<f64>, ContinuationError> {
-    let n = sys.dim();
-    let x = &z.as_slice()[..n];
-    let mut pk = p.to_vec();
-    pk[k] = z[n];
-    let mut m = DMatrix::zeros(n + 1, n + 1);
-    m.view_mut((0, 0), (n, n)).copy_from(&jacobian(sys, x, &pk));
-    m.view_mut((0, n), (n, 1))
-        .copy_from(&param_derivative(sys, x, &pk, k));
-    m.row_mut(n).copy_from(&reference.transpose());
-    let mut rhs = DVector::zeros(n + 1);
-    rhs[n] = 1.0;
-    let t = solve(m, &rhs)?;
-    let t = t.normalize();
-    Ok(if t.dot(reference) < 0.0 { -t } else { t })
 }

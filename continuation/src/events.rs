@@ -11,16 +11,13 @@
 //!   `f(x, p) = 0, Re g = Im g = 0` with unknowns `(x, p, omega)`, where `g`
 //!   comes from `[[J - i omega I, b], [c^H, 0]] (v, g) = (0, 1)`.
 //!
-//! The derivatives of `g` are exact: `dg/dz = -w^H (dJ/dz) v` with `w` from
-//! the adjoint bordered system, and `(dJ/dz) v` a second derivative of `f`
-//! computed with hyper-dual numbers.
+//! The defining systems live in [`crate::defining`].
 
+use crate::defining::{DefiningSystem, FoldSystem, FreeParams, HopfSystem};
 use crate::error::ContinuationError;
-use crate::linalg::{eigenpair_near, eigenvalues, solve, solve_complex};
+use crate::linalg::eigenvalues;
 use crate::newton::{self, NewtonReport, NewtonSettings};
-use crate::system::{
-    eval, jacobian, param_derivative, second_derivative, JointDirection, VectorField,
-};
+use crate::system::{jacobian, VectorField};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
@@ -104,18 +101,30 @@ pub fn is_complex_pair(pair: (Complex64, Complex64)) -> bool {
     a.im.abs() > 1e-8 * scale && (a.im + b.im).abs() <= 1e-6 * scale
 }
 
-fn with_param(p: &[f64], k: usize, value: f64) -> Vec<f64> {
-    let mut q = p.to_vec();
-    q[k] = value;
-    q
+fn context(kind: &str, k: &[usize], value: &[f64]) -> String {
+    format!(" locating the {kind} point (free parameters {k:?} = {value:?})")
 }
 
-fn context(kind: &str, k: usize, value: f64) -> String {
-    format!(" locating the {kind} point (p[{k}] = {value:.10e})")
+/// Newton's method on a square defining system, from `z`.
+fn solve_square<G: DefiningSystem>(
+    system: &G,
+    z: &mut DVector<f64>,
+    settings: &NewtonSettings,
+    context: &str,
+) -> Result<NewtonReport, ContinuationError> {
+    let m = system.n_equations();
+    let mut gs = DVector::zeros(m);
+    let mut dgs = DMatrix::zeros(m, z.len());
+    newton::solve(z, settings, context, |z, g, dg| {
+        system.eval(z, &mut gs, &mut dgs);
+        g.copy_from(&gs);
+        dg.copy_from(&dgs);
+    })
 }
 
 /// Locates a Hopf point from the guess `(x0, p0[k], omega0)` by Newton's
-/// method on the minimally augmented system; `p0` holds the other parameters.
+/// method on the minimally augmented system ([`HopfSystem`]); `p0` holds the
+/// other parameters.
 pub fn locate_hopf<S: VectorField>(
     sys: &S,
     k: usize,
@@ -125,49 +134,18 @@ pub fn locate_hopf<S: VectorField>(
     settings: &NewtonSettings,
 ) -> Result<Event, ContinuationError> {
     let n = sys.dim();
-    let j0 = jacobian(sys, x0, p0);
-    let target = Complex64::new(0.0, omega0.abs());
-    let (_, q) = eigenpair_near(&j0, target)?;
-    let (_, lt) = eigenpair_near(&j0.transpose(), target)?;
-    let border_b = lt.map(|z| z.conj());
-    let border_c = q;
-    let mut z = DVector::zeros(n + 2);
-    z.rows_mut(0, n).copy_from_slice(x0);
-    z[n] = p0[k];
-    z[n + 1] = omega0.abs();
-    let report = newton::solve(&mut z, settings, &context("Hopf", k, p0[k]), |z, g, dg| {
-        let x = &z.as_slice()[..n];
-        let p = with_param(p0, k, z[n]);
-        let omega = z[n + 1];
-        let jac = jacobian(sys, x, &p);
-        g.rows_mut(0, n).copy_from(&eval(sys, x, &p));
-        dg.fill(0.0);
-        dg.view_mut((0, 0), (n, n)).copy_from(&jac);
-        dg.view_mut((0, n), (n, 1))
-            .copy_from(&param_derivative(sys, x, &p, k));
-        let Ok((v, w, gval)) = complex_bordered(&jac, omega, &border_b, &border_c) else {
-            g[n] = f64::NAN;
-            return;
-        };
-        g[n] = gval.re;
-        g[n + 1] = gval.im;
-        for col in 0..=n {
-            let d = jacobian_action_derivative(sys, x, &p, k, col, &v);
-            let dgz = -w.dotc(&d);
-            dg[(n, col)] = dgz.re;
-            dg[(n + 1, col)] = dgz.im;
-        }
-        let dgw = Complex64::i() * w.dotc(&v);
-        dg[(n, n + 1)] = dgw.re;
-        dg[(n + 1, n + 1)] = dgw.im;
-    })?;
+    let mut z = DVector::from_iterator(n + 2, x0.iter().copied().chain([omega0.abs(), p0[k]]));
+    let params = FreeParams {
+        base: p0.to_vec(),
+        free: vec![k],
+    };
+    let system = HopfSystem::new(sys, params, &z)?;
+    let report = solve_square(&system, &mut z, settings, &context("Hopf", &[k], &[p0[k]]))?;
     let x = z.as_slice()[..n].to_vec();
-    let p = with_param(p0, k, z[n]);
+    let p = system.params.with(&[z[n + 1]]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
     Ok(Event {
-        kind: EventKind::Hopf {
-            omega: z[n + 1].abs(),
-        },
+        kind: EventKind::Hopf { omega: z[n].abs() },
         x,
         p,
         param_index: k,
@@ -177,7 +155,7 @@ pub fn locate_hopf<S: VectorField>(
 }
 
 /// Locates a fold (limit point) from the guess `(x0, p0[k])` by Newton's
-/// method on the minimally augmented system.
+/// method on the minimally augmented system ([`FoldSystem`]).
 pub fn locate_fold<S: VectorField>(
     sys: &S,
     k: usize,
@@ -186,40 +164,15 @@ pub fn locate_fold<S: VectorField>(
     settings: &NewtonSettings,
 ) -> Result<Event, ContinuationError> {
     let n = sys.dim();
-    let j0 = jacobian(sys, x0, p0);
-    let zero = Complex64::new(0.0, 0.0);
-    let border_c = eigenpair_near(&j0, zero)?.1.map(|z| z.re);
-    let border_b = eigenpair_near(&j0.transpose(), zero)?.1.map(|z| z.re);
-    let mut z = DVector::zeros(n + 1);
-    z.rows_mut(0, n).copy_from_slice(x0);
-    z[n] = p0[k];
-    let report = newton::solve(&mut z, settings, &context("fold", k, p0[k]), |z, g, dg| {
-        let x = &z.as_slice()[..n];
-        let p = with_param(p0, k, z[n]);
-        let jac = jacobian(sys, x, &p);
-        g.rows_mut(0, n).copy_from(&eval(sys, x, &p));
-        dg.view_mut((0, 0), (n, n)).copy_from(&jac);
-        dg.view_mut((0, n), (n, 1))
-            .copy_from(&param_derivative(sys, x, &p, k));
-        let mut m = DMatrix::zeros(n + 1, n + 1);
-        m.view_mut((0, 0), (n, n)).copy_from(&jac);
-        m.view_mut((0, n), (n, 1)).copy_from(&border_b);
-        m.view_mut((n, 0), (1, n)).copy_from(&border_c.transpose());
-        let e = DVector::from_fn(n + 1, |i, _| if i == n { 1.0 } else { 0.0 });
-        let (Ok(vg), Ok(wh)) = (solve(m.clone(), &e), solve(m.transpose(), &e)) else {
-            g[n] = f64::NAN;
-            return;
-        };
-        g[n] = vg[n];
-        let v = vg.rows(0, n).map(Complex64::from);
-        let w = wh.rows(0, n).into_owned();
-        for col in 0..=n {
-            let d = jacobian_action_derivative(sys, x, &p, k, col, &v);
-            dg[(n, col)] = -w.dot(&d.map(|c| c.re));
-        }
-    })?;
+    let mut z = DVector::from_iterator(n + 1, x0.iter().copied().chain([p0[k]]));
+    let params = FreeParams {
+        base: p0.to_vec(),
+        free: vec![k],
+    };
+    let system = FoldSystem::new(sys, params, &z)?;
+    let report = solve_square(&system, &mut z, settings, &context("fold", &[k], &[p0[k]]))?;
     let x = z.as_slice()[..n].to_vec();
-    let p = with_param(p0, k, z[n]);
+    let p = system.params.with(&[z[n]]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
     Ok(Event {
         kind: EventKind::Fold,
@@ -229,64 +182,4 @@ pub fn locate_fold<S: VectorField>(
         eigenvalues: ev,
         newton: report,
     })
-}
-
-/// Solves the complex bordered system `[[J - i omega I, b], [c^H, 0]] (v, g) = (0, 1)`
-/// and its adjoint; returns `(v, w, g)`.
-fn complex_bordered(
-    jac: &DMatrix<f64>,
-    omega: f64,
-    b: &DVector<Complex64>,
-    c: &DVector<Complex64>,
-) -> Result<(DVector<Complex64>, DVector<Complex64>, Complex64), ContinuationError> {
-    let n = jac.nrows();
-    let mut m = DMatrix::<Complex64>::zeros(n + 1, n + 1);
-    for i in 0..n {
-        for j in 0..n {
-            m[(i, j)] = Complex64::from(jac[(i, j)]);
-        }
-        m[(i, i)] -= Complex64::new(0.0, omega);
-        m[(i, n)] = b[i];
-        m[(n, i)] = c[i].conj();
-    }
-    let e = DVector::from_fn(n + 1, |i, _| {
-        Complex64::from(if i == n { 1.0 } else { 0.0 })
-    });
-    let vg = solve_complex(m.clone(), &e)?;
-    let wh = solve_complex(m.adjoint(), &e)?;
-    Ok((
-        vg.rows(0, n).into_owned(),
-        wh.rows(0, n).into_owned(),
-        vg[n],
-    ))
-}
-
-/// `(dJ/dz_col) v` for the joint unknown `z = (x, p_k)`: column `col < n` is a
-/// state direction, `col = n` the parameter `p_k`. Complex `v` is split into
-/// real and imaginary parts (the form is linear in `v`).
-fn jacobian_action_derivative<S: VectorField>(
-    sys: &S,
-    x: &[f64],
-    p: &[f64],
-    k: usize,
-    col: usize,
-    v: &DVector<Complex64>,
-) -> DVector<Complex64> {
-    let n = x.len();
-    let mut ex = vec![0.0; n];
-    let mut ep = vec![0.0; p.len()];
-    if col < n {
-        ex[col] = 1.0;
-    } else {
-        ep[k] = 1.0;
-    }
-    let dir = JointDirection { x: &ex, p: &ep };
-    let vr: Vec<f64> = v.iter().map(|c| c.re).collect();
-    let vi: Vec<f64> = v.iter().map(|c| c.im).collect();
-    let re = second_derivative(sys, x, p, JointDirection::state(&vr), dir);
-    if vi.iter().all(|&t| t == 0.0) {
-        return re.map(Complex64::from);
-    }
-    let im = second_derivative(sys, x, p, JointDirection::state(&vi), dir);
-    DVector::from_fn(n, |i, _| Complex64::new(re[i], im[i]))
 }

@@ -13,7 +13,9 @@
 //!
 //! The crate knows nothing about the application; `stickslip` builds on it.
 
+pub mod arclength;
 pub mod branch;
+pub mod defining;
 pub mod error;
 pub mod events;
 pub mod linalg;

@@ -1,0 +1,233 @@
+//! Pseudo-arclength continuation of the solution curve of a
+//! [`DefiningSystem`] with one more unknown than equations (Keller 1977;
+//! Kuznetsov 1998, §10.2.1).
+//!
+//! With unit tangent `t`, a step predicts `z + ds t` and corrects by Newton on
+//! `G(z) = 0, t . (z - z_pred) = 0`. The step grows after easy corrections
+//! (at most 3 Newton iterations), halves after failures or sharp turns of the
+//! tangent, and a step that would cross a bound is shortened to land on it.
+
+use crate::defining::DefiningSystem;
+use crate::error::ContinuationError;
+use crate::linalg::solve;
+use crate::newton::{self, NewtonReport, NewtonSettings};
+use nalgebra::{DMatrix, DVector};
+
+/// Step-size control of a curve.
+#[derive(Clone, Debug)]
+pub struct StepControl {
+    /// Initial step.
+    pub ds: f64,
+    /// Smallest step before giving up.
+    pub ds_min: f64,
+    /// Largest step.
+    pub ds_max: f64,
+    /// Growth factor after an easy correction.
+    pub growth: f64,
+    /// Smallest cosine between consecutive tangents.
+    pub min_tangent_cos: f64,
+    /// Corrector settings.
+    pub corrector: NewtonSettings,
+}
+
+/// Bounds on one unknown of the curve: the curve stops on them.
+#[derive(Clone, Copy, Debug)]
+pub struct Bound {
+    /// Index of the unknown in `z`.
+    pub index: usize,
+    /// Lower bound.
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
+}
+
+/// An accepted step.
+#[derive(Clone, Copy, Debug)]
+pub struct Step {
+    /// The corrector's work.
+    pub report: NewtonReport,
+    /// The bound the step landed on, if any.
+    pub bound: Option<Bound>,
+    /// The step length taken.
+    pub ds: f64,
+}
+
+/// A curve being traced: its current point, tangent and step size.
+pub struct Stepper<G: DefiningSystem> {
+    /// The defining system.
+    pub system: G,
+    z: DVector<f64>,
+    tangent: DVector<f64>,
+    ds: f64,
+    control: StepControl,
+    bounds: Vec<Bound>,
+}
+
+impl<G: DefiningSystem> Stepper<G> {
+    /// Starts at `z0` (already on the curve) with the tangent oriented along `seed`.
+    pub fn new(
+        mut system: G,
+        z0: DVector<f64>,
+        seed: &DVector<f64>,
+        control: StepControl,
+        bounds: Vec<Bound>,
+    ) -> Result<Self, ContinuationError> {
+        system.accept(&z0)?;
+        let tangent = tangent_at(&system, &z0, seed)?;
+        let ds = control.ds.abs();
+        Ok(Stepper {
+            system,
+            z: z0,
+            tangent,
+            ds,
+            control,
+            bounds,
+        })
+    }
+
+    /// Current point.
+    pub fn z(&self) -> &DVector<f64> {
+        &self.z
+    }
+
+    /// Current unit tangent.
+    pub fn tangent(&self) -> &DVector<f64> {
+        &self.tangent
+    }
+
+    /// Current step size.
+    pub fn ds(&self) -> f64 {
+        self.ds
+    }
+
+    /// Moves back to an earlier point with a new step size (for a caller that
+    /// rejects a step, e.g. because events need a shorter bracket).
+    pub fn restore(
+        &mut self,
+        z: DVector<f64>,
+        tangent: DVector<f64>,
+        ds: f64,
+    ) -> Result<(), ContinuationError> {
+        self.system.accept(&z)?;
+        self.z = z;
+        self.tangent = tangent;
+        self.ds = ds;
+        Ok(())
+    }
+
+    /// Newton on `G(z) = 0` plus `t . (z - z_pred) = 0`, or plus `z_i = value`
+    /// when `fixed = Some((i, value))`.
+    pub fn correct(
+        &self,
+        z: &mut DVector<f64>,
+        tangent: &DVector<f64>,
+        fixed: Option<(usize, f64)>,
+        settings: &NewtonSettings,
+    ) -> Result<NewtonReport, ContinuationError> {
+        let m = self.system.n_equations();
+        let z_pred = z.clone();
+        let mut gs = DVector::zeros(m);
+        let mut dgs = DMatrix::zeros(m, z.len());
+        newton::solve(z, settings, "", |z, g, dg| {
+            self.system.eval(z, &mut gs, &mut dgs);
+            g.rows_mut(0, m).copy_from(&gs);
+            dg.view_mut((0, 0), (m, z.len())).copy_from(&dgs);
+            match fixed {
+                Some((i, value)) => {
+                    g[m] = z[i] - value;
+                    dg.row_mut(m).fill(0.0);
+                    dg[(m, i)] = 1.0;
+                }
+                None => {
+                    g[m] = tangent.dot(&(z - &z_pred));
+                    dg.row_mut(m).copy_from(&tangent.transpose());
+                }
+            }
+        })
+    }
+
+    /// Takes one step that the corrector accepts.
+    pub fn step(&mut self) -> Result<Step, ContinuationError> {
+        loop {
+            let mut ds = self.ds;
+            let mut z_new = &self.z + &self.tangent * ds;
+            let crossed = self.bounds.iter().copied().find_map(|b| {
+                let v = z_new[b.index];
+                let target = if v < b.min {
+                    b.min
+                } else if v > b.max {
+                    b.max
+                } else {
+                    return None;
+                };
+                Some((b, target))
+            });
+            if let Some((b, target)) = crossed {
+                ds = (target - self.z[b.index]) / self.tangent[b.index];
+                z_new = &self.z + &self.tangent * ds;
+                z_new[b.index] = target;
+            }
+            let fixed = crossed.map(|(b, target)| (b.index, target));
+            let attempt = self.correct(
+                &mut z_new,
+                &self.tangent.clone(),
+                fixed,
+                &self.control.corrector,
+            );
+            let accepted = match &attempt {
+                Ok(report) => {
+                    let t_new = tangent_at(&self.system, &z_new, &self.tangent)?;
+                    let turn_ok = t_new.dot(&self.tangent) >= self.control.min_tangent_cos;
+                    (turn_ok || crossed.is_some()).then_some((*report, t_new))
+                }
+                Err(_) => None,
+            };
+            if let Some((report, t_new)) = accepted {
+                self.system.accept(&z_new)?;
+                self.z = z_new;
+                self.tangent = t_new;
+                if crossed.is_none() && report.iterations <= 3 {
+                    self.ds = (self.ds * self.control.growth).min(self.control.ds_max);
+                }
+                return Ok(Step {
+                    report,
+                    bound: crossed.map(|(b, _)| b),
+                    ds,
+                });
+            }
+            self.ds *= 0.5;
+            if self.ds < self.control.ds_min {
+                return Err(ContinuationError::StepTooSmall {
+                    param_name: "z".into(),
+                    param: self.z[self.z.len() - 1],
+                    ds: self.ds,
+                    ds_min: self.control.ds_min,
+                    cause: match attempt {
+                        Err(e) => e.to_string(),
+                        Ok(_) => "the tangent turned too sharply".into(),
+                    },
+                });
+            }
+        }
+    }
+}
+
+/// Unit tangent of the curve at `z`, oriented along `reference`: solves
+/// `[[DG(z)], [reference^T]] t = (0, 1)`.
+pub fn tangent_at<G: DefiningSystem>(
+    system: &G,
+    z: &DVector<f64>,
+    reference: &DVector<f64>,
+) -> Result<DVector<f64>, ContinuationError> {
+    let m = system.n_equations();
+    let mut g = DVector::zeros(m);
+    let mut dg = DMatrix::zeros(m, z.len());
+    system.eval(z, &mut g, &mut dg);
+    let mut a = DMatrix::zeros(m + 1, z.len());
+    a.view_mut((0, 0), (m, z.len())).copy_from(&dg);
+    a.row_mut(m).copy_from(&reference.transpose());
+    let mut rhs = DVector::zeros(m + 1);
+    rhs[m] = 1.0;
+    let t = solve(a, &rhs)?.normalize();
+    Ok(if t.dot(reference) < 0.0 { -t } else { t })
+}
