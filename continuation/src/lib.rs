@@ -15,6 +15,7 @@
 
 pub mod arclength;
 pub mod branch;
+pub mod codim2;
 pub mod defining;
 pub mod error;
 pub mod events;

@@ -1,0 +1,286 @@
+//! Two-parameter continuation of Hopf points and folds (Govaerts 2000, §4;
+//! Kuznetsov 1998, §10.2.2), with Bautin (generalized Hopf) points located on
+//! Hopf curves where the first Lyapunov coefficient `l1` changes sign.
+//!
+//! A Hopf curve is the solution curve of [`HopfSystem`] with two free
+//! parameters, `z = (x, omega, p_a, p_b)`; a fold curve that of [`FoldSystem`],
+//! `z = (x, p_a, p_b)`. Both are traced by the shared [`Stepper`].
+
+use crate::arclength::{Bound, StepControl, Stepper};
+use crate::defining::{FoldSystem, FreeParams, HopfSystem};
+use crate::error::ContinuationError;
+use crate::newton::NewtonSettings;
+use crate::normal_form::hopf_normal_form;
+use crate::system::VectorField;
+use nalgebra::DVector;
+
+/// Settings of a two-parameter curve.
+#[derive(Clone, Debug)]
+pub struct CurveSettings {
+    /// Step-size control (`ds` etc. in the joint space `(x, omega, p_a, p_b)`).
+    pub control: StepControl,
+    /// Largest number of points.
+    pub max_steps: usize,
+    /// Bounds `(min, max)` of the two free parameters; the curve stops on them.
+    pub bounds: [(f64, f64); 2],
+    /// Initial direction: the sign of `d p_b / ds`.
+    pub increase_second: bool,
+    /// Hopf curves: stop when `omega` falls below this (approach to a
+    /// Bogdanov–Takens point, where the Hopf system degenerates). Default `1e-6`.
+    pub omega_min: f64,
+    /// Newton settings for locating codimension-2 points.
+    pub locator: NewtonSettings,
+}
+
+impl Default for CurveSettings {
+    fn default() -> Self {
+        CurveSettings {
+            control: StepControl {
+                ds: 1e-2,
+                ds_min: 1e-12,
+                ds_max: 0.2,
+                growth: 1.5,
+                min_tangent_cos: 0.95,
+                corrector: NewtonSettings {
+                    max_iter: 8,
+                    ..NewtonSettings::default()
+                },
+            },
+            max_steps: 1000,
+            bounds: [(f64::NEG_INFINITY, f64::INFINITY); 2],
+            increase_second: true,
+            omega_min: 1e-6,
+            locator: NewtonSettings {
+                step_tol: 1e-14,
+                residual_tol: 1e-12,
+                max_iter: 20,
+            },
+        }
+    }
+}
+
+/// Why a curve ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveStop {
+    /// A free parameter reached its bound (the last point lies on it).
+    Bound,
+    /// `max_steps` points.
+    MaxSteps,
+    /// The Hopf frequency fell below `omega_min`: a Bogdanov–Takens point is near.
+    FrequencyVanishing,
+}
+
+/// A point of a Hopf curve.
+#[derive(Clone, Debug)]
+pub struct HopfCurvePoint {
+    /// Equilibrium.
+    pub x: Vec<f64>,
+    /// Angular frequency.
+    pub omega: f64,
+    /// Full parameter vector.
+    pub p: Vec<f64>,
+    /// First Lyapunov coefficient (Kuznetsov's normalization) and its term scale.
+    pub l1: f64,
+    pub l1_scale: f64,
+    /// A Bautin point located between the previous point and this one.
+    pub bautin: Option<Box<HopfCurvePoint>>,
+}
+
+/// A Hopf curve being traced in parameters `(p_a, p_b)`.
+pub struct HopfCurve<'a, S: VectorField> {
+    sys: &'a S,
+    stepper: Stepper<HopfSystem<'a, S>>,
+    settings: CurveSettings,
+    last: Option<HopfCurvePoint>,
+    steps: usize,
+    stop: Option<CurveStop>,
+    failed: bool,
+}
+
+impl<'a, S: VectorField> HopfCurve<'a, S> {
+    /// Starts at a Hopf point `(x0, omega0, p0)` and frees parameters `a`, `b`.
+    pub fn new(
+        sys: &'a S,
+        x0: &[f64],
+        omega0: f64,
+        p0: &[f64],
+        [a, b]: [usize; 2],
+        settings: CurveSettings,
+    ) -> Result<Self, ContinuationError> {
+        let n = sys.dim();
+        let z0 = DVector::from_iterator(n + 3, x0.iter().copied().chain([omega0, p0[a], p0[b]]));
+        let system = HopfSystem::new(
+            sys,
+            FreeParams {
+                base: p0.to_vec(),
+                free: vec![a, b],
+            },
+            &z0,
+        )?;
+        let sign = if settings.increase_second { 1.0 } else { -1.0 };
+        let seed = DVector::from_fn(n + 3, |i, _| if i == n + 2 { sign } else { 0.0 });
+        let bounds = (0..2)
+            .map(|i| Bound {
+                index: n + 1 + i,
+                min: settings.bounds[i].0,
+                max: settings.bounds[i].1,
+            })
+            .collect();
+        let stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
+        Ok(HopfCurve {
+            sys,
+            stepper,
+            settings,
+            last: None,
+            steps: 0,
+            stop: None,
+            failed: false,
+        })
+    }
+
+    /// Why the curve ended, once it has.
+    pub fn stop_reason(&self) -> Option<CurveStop> {
+        self.stop
+    }
+
+    fn point_at(&self, z: &DVector<f64>) -> Result<HopfCurvePoint, ContinuationError> {
+        let n = self.sys.dim();
+        let x = z.as_slice()[..n].to_vec();
+        let p = self.stepper.system.params.with(&z.as_slice()[n + 1..]);
+        let nf = hopf_normal_form(self.sys, &x, &p, z[n])?;
+        Ok(HopfCurvePoint {
+            x,
+            omega: z[n].abs(),
+            p,
+            l1: nf.l1,
+            l1_scale: nf.term_scale,
+            bautin: None,
+        })
+    }
+
+    /// Locates `l1 = 0` between `z0` (tangent `t0`) and the current point,
+    /// `ds` apart along `t0`, by the Illinois variant of regula falsi on the
+    /// arclength `sigma`; each trial point is corrected onto the curve.
+    fn locate_bautin(
+        &self,
+        z0: &DVector<f64>,
+        t0: &DVector<f64>,
+        l1_0: f64,
+        ds: f64,
+        l1_1: f64,
+    ) -> Result<HopfCurvePoint, ContinuationError> {
+        let (mut a, mut fa, mut b, mut fb) = (0.0, l1_0, ds, l1_1);
+        let mut best = None;
+        for _ in 0..100 {
+            let sigma = b - fb * (b - a) / (fb - fa);
+            let mut z = z0 + t0 * sigma;
+            self.stepper
+                .correct(&mut z, t0, None, &self.settings.locator)?;
+            let pt = self.point_at(&z)?;
+            let f = pt.l1;
+            let negligible = f.abs() <= 1e-13 * pt.l1_scale;
+            best = Some(pt);
+            if f * fb < 0.0 {
+                (a, fa) = (b, fb);
+            } else {
+                fa *= 0.5;
+            }
+            (b, fb) = (sigma, f);
+            if negligible || (b - a).abs() <= 1e-13 * ds.abs() {
+                break;
+            }
+        }
+        best.ok_or(ContinuationError::Singular)
+    }
+
+    fn next_point(&mut self) -> Result<HopfCurvePoint, ContinuationError> {
+        let Some(prev) = self.last.clone() else {
+            return self.point_at(self.stepper.z());
+        };
+        let (z0, t0) = (self.stepper.z().clone(), self.stepper.tangent().clone());
+        let step = self.stepper.step()?;
+        let mut point = self.point_at(self.stepper.z())?;
+        if prev.l1 * point.l1 < 0.0 {
+            let b = self.locate_bautin(&z0, &t0, prev.l1, step.ds, point.l1)?;
+            point.bautin = Some(Box::new(b));
+        }
+        if step.bound.is_some() {
+            self.stop = Some(CurveStop::Bound);
+        } else if point.omega < self.settings.omega_min {
+            self.stop = Some(CurveStop::FrequencyVanishing);
+        }
+        Ok(point)
+    }
+}
+
+impl<S: VectorField> Iterator for HopfCurve<'_, S> {
+    type Item = Result<HopfCurvePoint, ContinuationError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed || self.stop.is_some() {
+            return None;
+        }
+        if self.last.is_some() && self.steps >= self.settings.max_steps {
+            self.stop = Some(CurveStop::MaxSteps);
+            return None;
+        }
+        match self.next_point() {
+            Ok(p) => {
+                self.steps += 1;
+                self.last = Some(p.clone());
+                Some(Ok(p))
+            }
+            Err(e) => {
+                self.failed = true;
+                Some(Err(e))
+            }
+        }
+    }
+}
+
+/// Traces a fold curve from the fold `(x0, p0)` in parameters `(p_a, p_b)`;
+/// returns the points as `(x, p)`.
+pub fn fold_curve<S: VectorField>(
+    sys: &S,
+    x0: &[f64],
+    p0: &[f64],
+    [a, b]: [usize; 2],
+    settings: &CurveSettings,
+) -> Result<Vec<(Vec<f64>, Vec<f64>)>, ContinuationError> {
+    let n = sys.dim();
+    let z0 = DVector::from_iterator(n + 2, x0.iter().copied().chain([p0[a], p0[b]]));
+    let system = FoldSystem::new(
+        sys,
+        FreeParams {
+            base: p0.to_vec(),
+            free: vec![a, b],
+        },
+        &z0,
+    )?;
+    let sign = if settings.increase_second { 1.0 } else { -1.0 };
+    let seed = DVector::from_fn(n + 2, |i, _| if i == n + 1 { sign } else { 0.0 });
+    let bounds = (0..2)
+        .map(|i| Bound {
+            index: n + i,
+            min: settings.bounds[i].0,
+            max: settings.bounds[i].1,
+        })
+        .collect();
+    let mut stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
+    let read = |s: &Stepper<FoldSystem<S>>| {
+        let z = s.z();
+        (
+            z.as_slice()[..n].to_vec(),
+            s.system.params.with(&z.as_slice()[n..]),
+        )
+    };
+    let mut out = vec![read(&stepper)];
+    for _ in 0..settings.max_steps {
+        let step = stepper.step()?;
+        out.push(read(&stepper));
+        if step.bound.is_some() {
+            break;
+        }
+    }
+    Ok(out)
+}
