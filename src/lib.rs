@@ -6,4 +6,5 @@ pub mod error;
 pub mod friction;
 pub mod model;
 pub mod params;
+pub mod plot;
 pub mod scene;

@@ -28,6 +28,30 @@ pub struct StepControl {
     pub min_tangent_cos: f64,
     /// Corrector settings.
     pub corrector: NewtonSettings,
+    /// Weights of the unknowns in the arclength norm `|dz|^2 = sum w_i dz_i^2`
+    /// (empty: all 1). Small weights on the state let the step follow the
+    /// parameters, as AUTO's THL/THU do.
+    pub weights: Vec<f64>,
+}
+
+impl StepControl {
+    fn weight(&self, i: usize) -> f64 {
+        self.weights.get(i).copied().unwrap_or(1.0)
+    }
+
+    /// Weighted inner product `sum w_i a_i b_i`.
+    pub fn dot(&self, a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+        a.iter()
+            .zip(b.iter())
+            .enumerate()
+            .map(|(i, (x, y))| self.weight(i) * x * y)
+            .sum()
+    }
+
+    /// `W a`: the weights applied to a vector.
+    fn weighted(&self, a: &DVector<f64>) -> DVector<f64> {
+        DVector::from_fn(a.len(), |i, _| self.weight(i) * a[i])
+    }
 }
 
 /// Bounds on one unknown of the curve: the curve stops on them.
@@ -73,7 +97,7 @@ impl<G: DefiningSystem> Stepper<G> {
         bounds: Vec<Bound>,
     ) -> Result<Self, ContinuationError> {
         system.accept(&z0)?;
-        let tangent = tangent_at(&system, &z0, seed)?;
+        let tangent = tangent_at(&system, &z0, seed, &control)?;
         let ds = control.ds.abs();
         Ok(Stepper {
             system,
@@ -139,8 +163,9 @@ impl<G: DefiningSystem> Stepper<G> {
                     dg[(m, i)] = 1.0;
                 }
                 None => {
-                    g[m] = tangent.dot(&(z - &z_pred));
-                    dg.row_mut(m).copy_from(&tangent.transpose());
+                    let wt = self.control.weighted(tangent);
+                    g[m] = wt.dot(&(z - &z_pred));
+                    dg.row_mut(m).copy_from(&wt.transpose());
                 }
             }
         })
@@ -176,8 +201,9 @@ impl<G: DefiningSystem> Stepper<G> {
             );
             let accepted = match &attempt {
                 Ok(report) => {
-                    let t_new = tangent_at(&self.system, &z_new, &self.tangent)?;
-                    let turn_ok = t_new.dot(&self.tangent) >= self.control.min_tangent_cos;
+                    let t_new = tangent_at(&self.system, &z_new, &self.tangent, &self.control)?;
+                    let turn_ok =
+                        self.control.dot(&t_new, &self.tangent) >= self.control.min_tangent_cos;
                     (turn_ok || crossed.is_some()).then_some((*report, t_new))
                 }
                 Err(_) => None,
@@ -212,12 +238,13 @@ impl<G: DefiningSystem> Stepper<G> {
     }
 }
 
-/// Unit tangent of the curve at `z`, oriented along `reference`: solves
-/// `[[DG(z)], [reference^T]] t = (0, 1)`.
+/// Unit tangent of the curve at `z` (in the weighted norm of `control`),
+/// oriented along `reference`: solves `[[DG(z)], [(W reference)^T]] t = (0, 1)`.
 pub fn tangent_at<G: DefiningSystem>(
     system: &G,
     z: &DVector<f64>,
     reference: &DVector<f64>,
+    control: &StepControl,
 ) -> Result<DVector<f64>, ContinuationError> {
     let m = system.n_equations();
     let mut g = DVector::zeros(m);
@@ -225,9 +252,15 @@ pub fn tangent_at<G: DefiningSystem>(
     system.eval(z, &mut g, &mut dg);
     let mut a = DMatrix::zeros(m + 1, z.len());
     a.view_mut((0, 0), (m, z.len())).copy_from(&dg);
-    a.row_mut(m).copy_from(&reference.transpose());
+    let wref = control.weighted(reference);
+    a.row_mut(m).copy_from(&wref.transpose());
     let mut rhs = DVector::zeros(m + 1);
     rhs[m] = 1.0;
-    let t = solve(a, &rhs)?.normalize();
-    Ok(if t.dot(reference) < 0.0 { -t } else { t })
+    let t = solve(a, &rhs)?;
+    let t = &t / control.dot(&t, &t).sqrt();
+    Ok(if control.dot(&t, reference) < 0.0 {
+        -t
+    } else {
+        t
+    })
 }

@@ -178,6 +178,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
             growth: settings.growth,
             min_tangent_cos: settings.min_tangent_cos,
             corrector: settings.corrector,
+            weights: Vec::new(),
         };
         let bounds = vec![Bound {
             index: n,

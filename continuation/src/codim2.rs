@@ -41,6 +41,7 @@ impl Default for CurveSettings {
                 ds_max: 0.2,
                 growth: 1.5,
                 min_tangent_cos: 0.95,
+                weights: Vec::new(),
                 corrector: NewtonSettings {
                     max_iter: 8,
                     ..NewtonSettings::default()
@@ -200,7 +201,10 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         let (z0, t0) = (self.stepper.z().clone(), self.stepper.tangent().clone());
         let step = self.stepper.step()?;
         let mut point = self.point_at(self.stepper.z())?;
-        if prev.l1 * point.l1 < 0.0 {
+        // A sign change counts only where l1 is resolved at both ends (not
+        // rounding noise near a degenerate point).
+        let resolved = |p: &HopfCurvePoint| p.l1.abs() > 1e-12 * p.l1_scale;
+        if prev.l1 * point.l1 < 0.0 && resolved(&prev) && resolved(&point) {
             let b = self.locate_bautin(&z0, &t0, prev.l1, step.ds, point.l1)?;
             point.bautin = Some(Box::new(b));
         }
@@ -238,15 +242,23 @@ impl<S: VectorField> Iterator for HopfCurve<'_, S> {
     }
 }
 
-/// Traces a fold curve from the fold `(x0, p0)` in parameters `(p_a, p_b)`;
-/// returns the points as `(x, p)`.
+/// A point of a fold curve.
+#[derive(Clone, Debug)]
+pub struct FoldCurvePoint {
+    /// Equilibrium.
+    pub x: Vec<f64>,
+    /// Full parameter vector.
+    pub p: Vec<f64>,
+}
+
+/// Traces a fold curve from the fold `(x0, p0)` in parameters `(p_a, p_b)`.
 pub fn fold_curve<S: VectorField>(
     sys: &S,
     x0: &[f64],
     p0: &[f64],
     [a, b]: [usize; 2],
     settings: &CurveSettings,
-) -> Result<Vec<(Vec<f64>, Vec<f64>)>, ContinuationError> {
+) -> Result<Vec<FoldCurvePoint>, ContinuationError> {
     let n = sys.dim();
     let z0 = DVector::from_iterator(n + 2, x0.iter().copied().chain([p0[a], p0[b]]));
     let system = FoldSystem::new(
@@ -269,10 +281,10 @@ pub fn fold_curve<S: VectorField>(
     let mut stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
     let read = |s: &Stepper<FoldSystem<S>>| {
         let z = s.z();
-        (
-            z.as_slice()[..n].to_vec(),
-            s.system.params.with(&z.as_slice()[n..]),
-        )
+        FoldCurvePoint {
+            x: z.as_slice()[..n].to_vec(),
+            p: s.system.params.with(&z.as_slice()[n..]),
+        }
     };
     let mut out = vec![read(&stepper)];
     for _ in 0..settings.max_steps {

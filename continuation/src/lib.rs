@@ -30,4 +30,4 @@ pub use error::ContinuationError;
 pub use events::{Event, EventKind};
 pub use newton::{NewtonReport, NewtonSettings};
 pub use num_complex::Complex64;
-pub use system::{Scalar, VectorField};
+pub use system::{LogParameters, Scalar, VectorField};

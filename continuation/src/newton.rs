@@ -2,7 +2,9 @@
 //!
 //! The caller supplies one closure that writes the residual `G(z)` and its
 //! Jacobian `DG(z)`; the corrector iterates `z <- z - DG^{-1} G` until the step
-//! is below `step_tol (1 + |z|)` and the residual below `residual_tol`.
+//! is below `step_tol (1 + |z|)` and the residual below
+//! `residual_tol (1 + |DG| |z|)` (max norms: a backward-error test, so that a
+//! badly scaled system is judged against its own rounding level).
 
 use crate::error::{ContinuationError, NewtonFailure};
 use nalgebra::{DMatrix, DVector};
@@ -12,7 +14,7 @@ use nalgebra::{DMatrix, DVector};
 pub struct NewtonSettings {
     /// Relative step tolerance (max norm). Default `1e-11`.
     pub step_tol: f64,
-    /// Absolute residual tolerance (max norm). Default `1e-10`.
+    /// Residual tolerance relative to `1 + |DG| |z|` (max norms). Default `1e-10`.
     pub residual_tol: f64,
     /// Iteration limit. Default `12`.
     pub max_iter: usize,
@@ -76,7 +78,12 @@ where
         if !residual.is_finite() {
             return Err(fail(it, residual, last_step, NewtonFailure::NonFinite));
         }
-        if last_step <= settings.step_tol * (1.0 + z.amax()) && residual <= settings.residual_tol {
+        // Backward-error scale: rounding in G is ~ eps |DG| |z|, so the
+        // residual tolerance is relative to that for badly scaled systems.
+        let scale = 1.0 + dg.row_iter().map(|r| r.abs().sum()).fold(0.0, f64::max) * z.amax();
+        if last_step <= settings.step_tol * (1.0 + z.amax())
+            && residual <= settings.residual_tol * scale
+        {
             return Ok(NewtonReport {
                 iterations: it,
                 residual,

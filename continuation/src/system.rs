@@ -108,6 +108,52 @@ pub fn second_derivative<S: VectorField>(
     DVector::from_iterator(out.len(), out.iter().map(|d| d.eps1eps2))
 }
 
+/// A system whose parameters `indices` are given by their logarithms:
+/// `rhs(x, p)` evaluates the inner system at `exp(p_k)` for those `k`.
+/// Continuation in `ln p` takes steps that are uniform on a logarithmic axis.
+pub struct LogParameters<'a, S: VectorField> {
+    /// The system in its own parameters.
+    pub inner: &'a S,
+    /// Which parameters are logarithmic.
+    pub indices: Vec<usize>,
+}
+
+impl<S: VectorField> LogParameters<'_, S> {
+    /// Converts a parameter vector to the logarithmic one (`ln p_k` at `indices`).
+    pub fn to_log(&self, p: &[f64]) -> Vec<f64> {
+        let mut q = p.to_vec();
+        for &k in &self.indices {
+            q[k] = q[k].ln();
+        }
+        q
+    }
+
+    /// Converts a logarithmic parameter vector back.
+    pub fn from_log(&self, q: &[f64]) -> Vec<f64> {
+        let mut p = q.to_vec();
+        for &k in &self.indices {
+            p[k] = p[k].exp();
+        }
+        p
+    }
+}
+
+impl<S: VectorField> VectorField for LogParameters<'_, S> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn n_params(&self) -> usize {
+        self.inner.n_params()
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let mut q = p.to_vec();
+        for &k in &self.indices {
+            q[k] = q[k].exp();
+        }
+        self.inner.rhs(x, &q, out);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

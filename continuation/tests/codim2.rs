@@ -94,7 +94,8 @@ fn fold_curve_of_the_cusp() {
     };
     let points = fold_curve(&Cusp, &[1.0], &[-2.0, 3.0], [0, 1], &settings).unwrap();
     assert!(points.len() > 5);
-    for (x, p) in &points {
+    for pt in &points {
+        let (x, p) = (&pt.x, &pt.p);
         let (a, b) = (p[0], p[1]);
         assert!(
             (27.0 * a * a - 4.0 * b * b * b).abs() < 1e-11 * b.powi(3),
@@ -102,5 +103,5 @@ fn fold_curve_of_the_cusp() {
         );
         assert!((3.0 * x[0] * x[0] - b).abs() < 1e-12 * b);
     }
-    assert!((points.last().unwrap().1[1] - 0.3).abs() < 1e-14);
+    assert!((points.last().unwrap().p[1] - 0.3).abs() < 1e-14);
 }

@@ -2,5 +2,6 @@
 //! branches of steady sliding.
 
 pub mod branch;
+pub mod diagram;
 pub mod hopf;
 pub mod model_choice;

@@ -4,6 +4,7 @@
 //! exits with status 2, a numerical failure with status 3.
 
 pub mod branch;
+pub mod diagram;
 pub mod hopf;
 
 use crate::analysis::model_choice::{
@@ -30,6 +31,8 @@ pub enum Command {
     Hopf(hopf::HopfArgs),
     /// Continue steady sliding in kappa or nu; print eigenvalues and located bifurcations.
     Branch(branch::BranchArgs),
+    /// Trace the stability diagram (Hopf curve in stiffness and velocity) with onset types; write figures, CSV, JSON.
+    Diagram(diagram::DiagramArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -112,6 +115,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         Command::Hopf(args) => hopf::run(&args),
         Command::Branch(args) => branch::run(&args),
+        Command::Diagram(args) => diagram::run(&args),
         Command::Scenes => {
             for name in scene::builtin_names() {
                 if let Some(s) = scene::builtin(name) {

@@ -1,0 +1,219 @@
+//! The stability diagram: the Hopf curve `kappa_c(nu)` of a scene over a
+//! velocity range, with the onset type along it and its special points.
+//!
+//! The curve is continued in `(ln kappa, ln nu)` (steps uniform on the log
+//! axes of the plot) by the engine's minimally augmented Hopf system; `l1` is
+//! evaluated at every point and Bautin points (`l1 = 0`) are located where it
+//! changes sign. Where the curve runs into `kappa_c -> 0` — the minimum of
+//! steady friction, `V_min` for the cutoff law — the end point is located on
+//! the friction law itself: `mu_phi(1/nu) = mu_v`.
+
+use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome, DEGENERACY_TOL};
+use crate::error::NumericalError;
+use crate::model::{full_state, DrivenBlock, ModelKind};
+use crate::params::{Param, Params};
+use continuation::arclength::StepControl;
+use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
+use continuation::{LogParameters, NewtonSettings};
+
+/// One point of the Hopf curve, in MODEL.md's variables.
+#[derive(Clone, Debug)]
+pub struct CurvePoint {
+    pub nu: f64,
+    pub kappa: f64,
+    pub omega: f64,
+    pub l1: f64,
+    pub criticality: Criticality,
+    /// Steady state `(s, v, theta)`.
+    pub state: [f64; 3],
+}
+
+/// A codimension-2 or end point of the diagram.
+#[derive(Clone, Debug)]
+pub struct SpecialPoint {
+    /// `bautin` (l1 = 0: the onset changes type) or `endpoint` (kappa_c -> 0).
+    pub kind: &'static str,
+    pub nu: f64,
+    pub kappa: f64,
+    pub omega: f64,
+}
+
+/// The Hopf curve of a scene and its special points.
+#[derive(Clone, Debug)]
+pub struct StabilityDiagram {
+    pub points: Vec<CurvePoint>,
+    pub special: Vec<SpecialPoint>,
+    /// Why the continuation stopped (`bound` at the end of the velocity range).
+    pub stop: &'static str,
+}
+
+fn criticality_of(l1: f64, scale: f64) -> Criticality {
+    if l1.abs() <= DEGENERACY_TOL * scale {
+        Criticality::Degenerate
+    } else if l1 < 0.0 {
+        Criticality::Supercritical
+    } else {
+        Criticality::Subcritical
+    }
+}
+
+/// The first velocity of a log grid over `[lo, hi]` at which steady sliding
+/// has a Hopf point, with that point.
+fn first_hopf(
+    kind: ModelKind,
+    params: &Params,
+    lo: f64,
+    hi: f64,
+) -> Result<Option<(f64, crate::analysis::hopf::HopfPoint)>, NumericalError> {
+    const GRID: usize = 41;
+    for i in 0..GRID {
+        let nu = lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64);
+        let mut p = *params;
+        p.nu = nu;
+        if let HopfOutcome::Found(h) = find_hopf(kind, &p)? {
+            return Ok(Some((nu, h)));
+        }
+    }
+    Ok(None)
+}
+
+/// Velocity where `mu_phi(1/nu) = mu_v` (steady friction minimal, `kappa_c = 0`),
+/// by Newton's method in `ln nu` from `nu0`, derivative by dual numbers.
+fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
+    use num_dual::{Dual64, DualNum};
+    let law = crate::params::friction_from(
+        params.theta_c.is_some(),
+        &params
+            .to_vec()
+            .iter()
+            .map(|&v| Dual64::from(v))
+            .collect::<Vec<_>>(),
+    );
+    let mut ln_nu = nu0.ln();
+    for _ in 0..50 {
+        let nu = Dual64::new(ln_nu, 1.0).exp();
+        let slope = law.steady_slope(nu);
+        if slope.eps == 0.0 {
+            return None;
+        }
+        let step = slope.re / slope.eps;
+        ln_nu -= step;
+        if step.abs() < 1e-15 * ln_nu.abs().max(1.0) {
+            return Some(ln_nu.exp());
+        }
+    }
+    None
+}
+
+/// Traces the Hopf curve of `params` for `nu` in `[nu_lo, nu_hi]`.
+pub fn stability_diagram(
+    kind: ModelKind,
+    params: &Params,
+    (nu_lo, nu_hi): (f64, f64),
+) -> Result<StabilityDiagram, NumericalError> {
+    let Some((nu0, h0)) = first_hopf(kind, params, nu_lo, nu_hi)? else {
+        return Ok(StabilityDiagram {
+            points: Vec::new(),
+            special: Vec::new(),
+            stop: "no Hopf point in the range",
+        });
+    };
+    let block = DrivenBlock::new(kind, params);
+    let logs = LogParameters {
+        inner: &block,
+        indices: vec![Param::Kappa as usize, Param::Nu as usize],
+    };
+    let mut p0 = *params;
+    p0.nu = nu0;
+    p0.kappa = h0.kappa_c;
+    let x0: Vec<f64> = match kind {
+        ModelKind::Inertial => h0.state.to_vec(),
+        ModelKind::QuasiStatic => vec![h0.state[0], h0.state[2]],
+    };
+    let q0 = logs.to_log(&p0.to_vec());
+    let settings = CurveSettings {
+        control: StepControl {
+            ds: 0.02,
+            ds_min: 1e-10,
+            ds_max: 0.1,
+            growth: 1.5,
+            min_tangent_cos: 0.97,
+            corrector: NewtonSettings {
+                max_iter: 8,
+                ..NewtonSettings::default()
+            },
+            // Arclength measured in (ln kappa, ln nu): the state and omega get small weights.
+            weights: [vec![1e-6; x0.len() + 1], vec![1.0, 1.0]].concat(),
+        },
+        max_steps: 5000,
+        // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
+        // the Hopf system degenerates (omega -> 0); the end point is then
+        // located on the friction law.
+        bounds: [
+            (q0[0] + 1e-6f64.ln(), f64::INFINITY),
+            (nu_lo.ln(), nu_hi.ln()),
+        ],
+        increase_second: true,
+        omega_min: 1e-4 * h0.omega_c,
+        ..Default::default()
+    };
+    let curve = HopfCurve::new(
+        &logs,
+        &x0,
+        h0.omega_c,
+        &q0,
+        [Param::Kappa as usize, Param::Nu as usize],
+        settings,
+    )
+    .map_err(NumericalError::from)?;
+    let mut points = Vec::new();
+    let mut special = Vec::new();
+    let convert = |pt: &HopfCurvePoint| {
+        let p = params.with_vec(&logs.from_log(&pt.p));
+        CurvePoint {
+            nu: p.nu,
+            kappa: p.kappa,
+            omega: pt.omega,
+            l1: pt.l1,
+            criticality: criticality_of(pt.l1, pt.l1_scale),
+            state: full_state(kind, &p, &pt.x),
+        }
+    };
+    let mut curve = curve;
+    for pt in curve.by_ref() {
+        let pt = pt.map_err(NumericalError::from)?;
+        if let Some(b) = &pt.bautin {
+            let c = convert(b);
+            special.push(SpecialPoint {
+                kind: "bautin",
+                nu: c.nu,
+                kappa: c.kappa,
+                omega: c.omega,
+            });
+        }
+        points.push(convert(&pt));
+    }
+    let last = points.last().map(|p| p.nu).unwrap_or(nu0);
+    let stop = match curve.stop_reason() {
+        Some(CurveStop::Bound) if last < nu_hi * (1.0 - 1e-12) => "kappa_c -> 0",
+        Some(CurveStop::Bound) => "end of the velocity range",
+        Some(CurveStop::MaxSteps) => "step limit",
+        Some(CurveStop::FrequencyVanishing) => "kappa_c -> 0",
+        None => "stopped",
+    };
+    if stop == "kappa_c -> 0" {
+        if let Some(nu_end) = friction_minimum(params, last) {
+            special.push(SpecialPoint {
+                kind: "endpoint",
+                nu: nu_end,
+                kappa: 0.0,
+                omega: 0.0,
+            });
+        }
+    }
+    Ok(StabilityDiagram {
+        points,
+        special,
+        stop,
+    })
+}

@@ -1,0 +1,398 @@
+//! `stickslip diagram`: the stability diagram of one or several scenes
+//! (in parallel), as figures (PNG, SVG), CSV and JSON.
+
+use super::{params_json, SceneArgs, Setup};
+use crate::analysis::diagram::{stability_diagram, StabilityDiagram};
+use crate::appendix_c;
+use crate::error::{Error, InputError, NumericalError};
+use crate::plot::stability::{render, segments, StabilityFigure};
+use clap::Args;
+use rayon::prelude::*;
+use serde_json::{json, Value};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Args, Debug)]
+pub struct DiagramArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Velocity range as LO:HI in units of V0 (dimensionless nu); default: the scene's V_range.
+    #[arg(long, value_name = "LO:HI")]
+    pub nu_range: Option<String>,
+    /// Output directory for figures, CSV and JSON.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Print one JSON object (an array for several scenes) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
+    let bad = || InputError::Malformed {
+        field: "--nu-range".into(),
+        value: text.into(),
+        expected: "LO:HI with 0 < LO < HI, e.g. 0.1:100".into(),
+    };
+    let (a, b) = text.split_once(':').ok_or_else(bad)?;
+    let (lo, hi): (f64, f64) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo {
+        Ok((lo, hi))
+    } else {
+        Err(bad())
+    }
+}
+
+/// One scene's result.
+struct SceneResult {
+    setup: Setup,
+    range: (f64, f64),
+    diagram: StabilityDiagram,
+    files: Vec<PathBuf>,
+    seconds: f64,
+}
+
+/// Runs the command.
+pub fn run(args: &DiagramArgs) -> Result<(), Error> {
+    let names: Vec<&str> = args
+        .scene
+        .scene
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
+    let range = args.nu_range.as_deref().map(parse_range).transpose()?;
+    std::fs::create_dir_all(&args.out)?;
+    let results: Vec<Result<SceneResult, Error>> = names
+        .par_iter()
+        .map(|name| one_scene(args, name, range))
+        .collect();
+    let mut json_out = Vec::new();
+    for r in results {
+        let r = r?;
+        if args.json {
+            json_out.push(to_json(&r));
+        } else {
+            print_text(&r);
+        }
+    }
+    if args.json {
+        let v = if json_out.len() == 1 {
+            json_out.remove(0)
+        } else {
+            Value::Array(json_out)
+        };
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
+        );
+    }
+    Ok(())
+}
+
+fn one_scene(
+    args: &DiagramArgs,
+    name: &str,
+    range: Option<(f64, f64)>,
+) -> Result<SceneResult, Error> {
+    let t0 = Instant::now();
+    let scene_args = SceneArgs {
+        scene: name.to_string(),
+        ..args.scene.clone()
+    };
+    let scene = crate::scene::load(name)?;
+    let (lo, hi) = range.unwrap_or(scene.nu_range);
+    // Inertia grows with nu^2: the model is chosen at the top of the range.
+    let setup = scene_args.setup(|p| {
+        let mut q = *p;
+        q.nu = hi;
+        q
+    })?;
+    let diagram = stability_diagram(setup.choice.kind, &setup.params, (lo, hi))?;
+    if diagram.points.iter().any(|p| {
+        !(p.kappa.is_finite() && p.nu.is_finite() && p.omega.is_finite() && p.l1.is_finite())
+    }) {
+        return Err(NumericalError::Analysis(format!(
+            "the Hopf curve of scene '{name}' has non-finite values"
+        ))
+        .into());
+    }
+    let stem = args.out.join(&setup.scene.name);
+    let mut files = write_csv(&setup, &diagram, &stem)?;
+    files.extend(write_figures(&setup, &diagram, (lo, hi), &stem)?);
+    let mut result = SceneResult {
+        setup,
+        range: (lo, hi),
+        diagram,
+        files,
+        seconds: 0.0,
+    };
+    let json_path = with_suffix(&stem, "-diagram.json");
+    result.seconds = t0.elapsed().as_secs_f64();
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&to_json(&result)).map_err(std::io::Error::other)?,
+    )?;
+    result.files.push(json_path);
+    Ok(result)
+}
+
+fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
+    let mut s = stem.as_os_str().to_owned();
+    s.push(suffix);
+    PathBuf::from(s)
+}
+
+fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<PathBuf>, Error> {
+    let path = with_suffix(stem, "-hopf-curve.csv");
+    let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
+    let u = &setup.scene.units;
+    writeln!(
+        w,
+        "# scene {}; model {}; {}",
+        setup.scene.name,
+        setup.choice.kind.name(),
+        setup.choice.reason
+    )?;
+    writeln!(w, "nu,kappa,omega,l1,criticality,kappa_appendix_c,V_um_per_s,K_over_W_per_m,K_over_M_per_s2,frequency_hz")?;
+    for p in &d.points {
+        let mut at = setup.params;
+        at.nu = p.nu;
+        let km = u
+            .k_over_m(p.kappa)
+            .map(|v| format!("{v:.12e}"))
+            .unwrap_or_default();
+        writeln!(
+            w,
+            "{:.15e},{:.15e},{:.15e},{:.15e},{},{:.15e},{:.12e},{:.12e},{km},{:.12e}",
+            p.nu,
+            p.kappa,
+            p.omega,
+            p.l1,
+            p.criticality.name(),
+            appendix_c::critical_stiffness(&at),
+            u.velocity_um_s(p.nu),
+            u.k_over_w(p.kappa),
+            u.frequency_hz(p.omega)
+        )?;
+    }
+    w.flush()?;
+    Ok(vec![path])
+}
+
+/// One pair of axes: how `(nu, kappa)` map to the plotted coordinates.
+struct Axes {
+    suffix: &'static str,
+    fx: Box<dyn Fn(f64) -> f64>,
+    fy: Box<dyn Fn(f64) -> f64>,
+    x_label: String,
+    y_label: String,
+    title: String,
+}
+
+fn write_figures(
+    setup: &Setup,
+    d: &StabilityDiagram,
+    (lo, hi): (f64, f64),
+    stem: &Path,
+) -> Result<Vec<PathBuf>, Error> {
+    let u = setup.scene.units;
+    let model = setup.choice.kind.name();
+    let reference_every = (d.points.len() / 25).max(1);
+    let mut files = Vec::new();
+    // Physical axes: (V, K/M) with W = M g; K/W for a massless block.
+    let (y_of, y_label): (Box<dyn Fn(f64) -> f64>, &str) = match u.k_over_m(1.0) {
+        Some(_) => (
+            Box::new(move |k| u.k_over_m(k).unwrap_or(f64::NAN)),
+            "critical K/M [1/s²]  (W = M g)",
+        ),
+        None => (Box::new(move |k| u.k_over_w(k)), "critical K/W [1/m]"),
+    };
+    let axes = [
+        Axes {
+            suffix: "-stability-physical",
+            fx: Box::new(move |nu| u.velocity_um_s(nu)),
+            fy: y_of,
+            x_label: "driving velocity V [µm/s]".into(),
+            y_label: y_label.into(),
+            title: format!("Stability diagram, {} ({model} model)", setup.scene.name),
+        },
+        Axes {
+            suffix: "-stability-dimensionless",
+            fx: Box::new(|nu| nu),
+            fy: Box::new(|k| k),
+            x_label: "ν = V / V0".into(),
+            y_label: "κ = K D0 / W".into(),
+            title: format!(
+                "Stability diagram, {}: (κ, ν) ({model} model)",
+                setup.scene.name
+            ),
+        },
+    ];
+    for Axes {
+        suffix,
+        fx,
+        fy,
+        x_label,
+        y_label,
+        title,
+    } in axes
+    {
+        let pts: Vec<_> = d
+            .points
+            .iter()
+            .filter(|p| p.kappa > 0.0)
+            .map(|p| (fx(p.nu), fy(p.kappa), p.criticality))
+            .collect();
+        let reference = d
+            .points
+            .iter()
+            .step_by(reference_every)
+            .filter_map(|p| {
+                let mut at = setup.params;
+                at.nu = p.nu;
+                let k = appendix_c::critical_stiffness(&at);
+                (k > 0.0).then(|| (fx(p.nu), fy(k)))
+            })
+            .collect();
+        let markers = d
+            .special
+            .iter()
+            .filter(|s| s.kind == "bautin")
+            .map(|s| ("Bautin (l1 = 0)".to_string(), fx(s.nu), fy(s.kappa)))
+            .collect();
+        let vlines = d
+            .special
+            .iter()
+            .filter(|s| s.kind == "endpoint")
+            .map(|s| ("κ_c → 0: friction minimum".to_string(), fx(s.nu)))
+            .collect();
+        let fig = StabilityFigure {
+            title,
+            x_label,
+            y_label,
+            segments: segments(&pts),
+            reference,
+            reference_label: format!(
+                "Appendix C, eq. {}",
+                if setup.choice.kind == crate::model::ModelKind::Inertial {
+                    "C11"
+                } else {
+                    "C12"
+                }
+            ),
+            markers,
+            vlines,
+            x_range: (fx(lo), fx(hi)),
+        };
+        files.extend(
+            render(&fig, &with_suffix(stem, suffix))
+                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
+        );
+    }
+    Ok(files)
+}
+
+fn to_json(r: &SceneResult) -> Value {
+    let u = &r.setup.scene.units;
+    let params = &r.setup.params;
+    let curve: Vec<Value> = r
+        .diagram
+        .points
+        .iter()
+        .map(|p| {
+            let mut at = *params;
+            at.nu = p.nu;
+            json!({
+                "nu": p.nu, "kappa": p.kappa, "omega": p.omega, "l1": p.l1,
+                "criticality": p.criticality.name(),
+                "kappa_appendix_c": appendix_c::critical_stiffness(&at),
+                "V_um_per_s": u.velocity_um_s(p.nu),
+                "K_over_W_per_m": u.k_over_w(p.kappa),
+                "K_over_M_per_s2": u.k_over_m(p.kappa),
+            })
+        })
+        .collect();
+    let special: Vec<Value> = r
+        .diagram
+        .special
+        .iter()
+        .map(|s| {
+            let mut v = json!({
+                "kind": s.kind, "nu": s.nu, "kappa": s.kappa, "omega": s.omega,
+                "V_um_per_s": u.velocity_um_s(s.nu),
+                "K_over_M_per_s2": u.k_over_m(s.kappa),
+            });
+            if s.kind == "bautin" {
+                v["l2"] = Value::Null;
+            }
+            v
+        })
+        .collect();
+    json!({
+        "scene": r.setup.scene.name,
+        "model": r.setup.choice.kind.name(),
+        "model_reason": r.setup.choice.reason,
+        "params": params_json(params),
+        "nu_range": [r.range.0, r.range.1],
+        "hopf_curve": curve,
+        "special_points": special,
+        "stop": r.diagram.stop,
+        "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
+        "elapsed_s": r.seconds,
+    })
+}
+
+fn print_text(r: &SceneResult) {
+    let u = &r.setup.scene.units;
+    let d = &r.diagram;
+    println!(
+        "scene: {} — {}",
+        r.setup.scene.name, r.setup.scene.description
+    );
+    println!("model: {}", r.setup.choice.reason);
+    println!(
+        "Hopf curve over V = {:.4} .. {:.4} um/s: {} points, ended at {}",
+        u.velocity_um_s(r.range.0),
+        u.velocity_um_s(r.range.1),
+        d.points.len(),
+        d.stop
+    );
+    if let (Some(a), Some(b)) = (d.points.first(), d.points.last()) {
+        println!(
+            "  kappa_c from {:.6e} (V = {:.4} um/s) to {:.6e} (V = {:.4} um/s)",
+            a.kappa,
+            u.velocity_um_s(a.nu),
+            b.kappa,
+            u.velocity_um_s(b.nu)
+        );
+        let max_rel = d
+            .points
+            .iter()
+            .map(|p| {
+                let mut at = r.setup.params;
+                at.nu = p.nu;
+                let k = appendix_c::critical_stiffness(&at);
+                (p.kappa - k).abs() / k.abs()
+            })
+            .fold(0.0, f64::max);
+        println!("  largest relative difference from Appendix C along the curve: {max_rel:.1e}");
+    }
+    for s in &d.special {
+        println!(
+            "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), kappa = {:.10e}, omega = {:.6e}",
+            s.kind,
+            u.velocity_um_s(s.nu),
+            s.nu,
+            s.kappa,
+            s.omega
+        );
+    }
+    for f in &r.files {
+        println!("  wrote {}", f.display());
+    }
+    println!("  {:.3} s", r.seconds);
+}

@@ -1,0 +1,46 @@
+//! Figures: PNG and SVG via plotters, with a bundled font (DejaVu Sans) so
+//! text renders on a machine without fontconfig.
+
+pub mod stability;
+
+use std::sync::Once;
+
+/// The font family registered for every figure.
+pub const FONT: &str = "sans-serif";
+
+static REGISTER: Once = Once::new();
+
+/// Registers the bundled font once per process.
+pub fn ensure_font() {
+    REGISTER.call_once(|| {
+        let bytes: &'static [u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+        // The bundled file is a valid TrueType font; a failure here would be a
+        // build defect, and plotters then falls back to drawing no text.
+        let _ = plotters::style::register_font(FONT, plotters::style::FontStyle::Normal, bytes);
+    });
+}
+
+/// Tick label for a log axis: plain digits within `[1e-2, 1e4)`, else `a.b e k`.
+pub fn tick_label(v: f64) -> String {
+    let a = v.abs();
+    if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        let e = a.log10().floor() as i32;
+        let m = v / 10f64.powi(e);
+        if (m - m.round()).abs() < 1e-9 {
+            format!("{}e{e}", m.round())
+        } else {
+            format!("{m:.1}e{e}")
+        }
+    }
+}
+
+/// An error writing a figure (the path and what went wrong).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot draw {path}: {reason}")]
+pub struct PlotError {
+    pub path: String,
+    pub reason: String,
+}
