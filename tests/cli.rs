@@ -154,3 +154,64 @@ fn bad_input_exits_2_naming_the_field() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn hopf_json_reports_the_onset_type() {
+    let v = hopf_json(&[]);
+    assert_eq!(v["criticality"], "supercritical");
+    assert!(v["l1"].as_f64().unwrap() < 0.0);
+    // Quasi-static ln² closed form: C = 4 sqrt(mu_phi (mu_phi - A) / mu2) at nu = 1.
+    let c = 4.0 * (0.023f64 * 0.011 / 2.4e-4).sqrt();
+    assert!((v["amplitude_coefficient"].as_f64().unwrap() / c - 1.0).abs() < 1e-10);
+    let rr = hopf_json(&["--scene", "pmma-rr", "--model", "quasi-static"]);
+    assert_eq!(rr["criticality"], "degenerate");
+    assert!(rr["amplitude_coefficient"].is_null());
+}
+
+#[test]
+fn diagram_json_and_files() {
+    let dir = std::env::temp_dir().join(format!("stickslip-diagram-{}", std::process::id()));
+    let out = dir.to_str().unwrap();
+    let (code, text, err) =
+        stickslip(&["diagram", "--json", "--out", out, "--nu-range", "0.1:100"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!text.contains("NaN") && !text.contains("nan"));
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let curve = v["hopf_curve"].as_array().unwrap();
+    assert!(curve.len() > 20);
+    for p in curve {
+        for k in ["nu", "kappa", "omega", "l1"] {
+            assert!(
+                p[k].as_f64().is_some_and(f64::is_finite),
+                "hopf_curve point lacks {k}: {p}"
+            );
+        }
+    }
+    let special = v["special_points"].as_array().unwrap();
+    assert!(
+        special
+            .iter()
+            .any(|s| s["kind"] == "bautin" && s["l2"].as_f64().is_some()),
+        "{special:?}"
+    );
+    for f in v["files"].as_array().unwrap() {
+        let len = std::fs::metadata(f.as_str().unwrap())
+            .map(|m| m.len())
+            .unwrap_or(0);
+        assert!(len > 1000, "{f} missing or empty");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn diagram_rejects_a_bad_range() {
+    let (code, _, err) = stickslip(&[
+        "diagram",
+        "--nu-range",
+        "10:1",
+        "--out",
+        "/tmp/stickslip-never",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--nu-range"), "{err}");
+}

@@ -14,6 +14,7 @@ use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
 use continuation::arclength::StepControl;
 use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
+use continuation::hopf_series::hopf_series;
 use continuation::{LogParameters, NewtonSettings};
 
 /// One point of the Hopf curve, in MODEL.md's variables.
@@ -21,6 +22,8 @@ use continuation::{LogParameters, NewtonSettings};
 pub struct CurvePoint {
     pub nu: f64,
     pub kappa: f64,
+    /// Inertia (varies along a `(kappa, m)` curve).
+    pub m: f64,
     pub omega: f64,
     pub l1: f64,
     pub criticality: Criticality,
@@ -36,6 +39,11 @@ pub struct SpecialPoint {
     pub nu: f64,
     pub kappa: f64,
     pub omega: f64,
+    /// Inertia at the point (varies along an `(kappa, m)` curve).
+    pub m: f64,
+    /// Second Lyapunov coefficient at a Bautin point: `l2 < 0` means the
+    /// subcritical side is bounded by a fold of cycles (hysteresis loop).
+    pub l2: Option<f64>,
 }
 
 /// The Hopf curve of a scene and its special points.
@@ -57,21 +65,20 @@ fn criticality_of(l1: f64, scale: f64) -> Criticality {
     }
 }
 
-/// The first velocity of a log grid over `[lo, hi]` at which steady sliding
-/// has a Hopf point, with that point.
+/// The first value of `second` on a log grid over `[lo, hi]` at which steady
+/// sliding has a Hopf point, with that point.
 fn first_hopf(
     kind: ModelKind,
     params: &Params,
-    lo: f64,
-    hi: f64,
-) -> Result<Option<(f64, crate::analysis::hopf::HopfPoint)>, NumericalError> {
+    second: Param,
+    (lo, hi): (f64, f64),
+) -> Result<Option<(Params, crate::analysis::hopf::HopfPoint)>, NumericalError> {
     const GRID: usize = 41;
     for i in 0..GRID {
-        let nu = lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64);
         let mut p = *params;
-        p.nu = nu;
+        p.set(second, lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64));
         if let HopfOutcome::Found(h) = find_hopf(kind, &p)? {
-            return Ok(Some((nu, h)));
+            return Ok(Some((p, h)));
         }
     }
     Ok(None)
@@ -109,9 +116,20 @@ fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
 pub fn stability_diagram(
     kind: ModelKind,
     params: &Params,
-    (nu_lo, nu_hi): (f64, f64),
+    range: (f64, f64),
 ) -> Result<StabilityDiagram, NumericalError> {
-    let Some((nu0, h0)) = first_hopf(kind, params, nu_lo, nu_hi)? else {
+    hopf_curve(kind, params, Param::Nu, range)
+}
+
+/// Traces the Hopf curve `kappa_c(second)` for `second` (`nu` or `m`) in
+/// `range`, continued in `(ln kappa, ln second)`.
+pub fn hopf_curve(
+    kind: ModelKind,
+    params: &Params,
+    second: Param,
+    range: (f64, f64),
+) -> Result<StabilityDiagram, NumericalError> {
+    let Some((p0, h0)) = first_hopf(kind, params, second, range)? else {
         return Ok(StabilityDiagram {
             points: Vec::new(),
             special: Vec::new(),
@@ -119,12 +137,12 @@ pub fn stability_diagram(
         });
     };
     let block = DrivenBlock::new(kind, params);
+    let pair = [Param::Kappa as usize, second as usize];
     let logs = LogParameters {
         inner: &block,
-        indices: vec![Param::Kappa as usize, Param::Nu as usize],
+        indices: pair.to_vec(),
     };
-    let mut p0 = *params;
-    p0.nu = nu0;
+    let mut p0 = p0;
     p0.kappa = h0.kappa_c;
     let x0: Vec<f64> = match kind {
         ModelKind::Inertial => h0.state.to_vec(),
@@ -142,7 +160,7 @@ pub fn stability_diagram(
                 max_iter: 8,
                 ..NewtonSettings::default()
             },
-            // Arclength measured in (ln kappa, ln nu): the state and omega get small weights.
+            // Arclength measured in (ln kappa, ln second): the state and omega get small weights.
             weights: [vec![1e-6; x0.len() + 1], vec![1.0, 1.0]].concat(),
         },
         max_steps: 5000,
@@ -151,63 +169,68 @@ pub fn stability_diagram(
         // located on the friction law.
         bounds: [
             (q0[0] + 1e-6f64.ln(), f64::INFINITY),
-            (nu_lo.ln(), nu_hi.ln()),
+            (range.0.ln(), range.1.ln()),
         ],
         increase_second: true,
         omega_min: 1e-4 * h0.omega_c,
         ..Default::default()
     };
-    let curve = HopfCurve::new(
-        &logs,
-        &x0,
-        h0.omega_c,
-        &q0,
-        [Param::Kappa as usize, Param::Nu as usize],
-        settings,
-    )
-    .map_err(NumericalError::from)?;
+    let mut curve = HopfCurve::new(&logs, &x0, h0.omega_c, &q0, pair, settings)
+        .map_err(NumericalError::from)?;
     let mut points = Vec::new();
     let mut special = Vec::new();
     let convert = |pt: &HopfCurvePoint| {
         let p = params.with_vec(&logs.from_log(&pt.p));
-        CurvePoint {
+        let point = CurvePoint {
             nu: p.nu,
             kappa: p.kappa,
+            m: p.m,
             omega: pt.omega,
             l1: pt.l1,
             criticality: criticality_of(pt.l1, pt.l1_scale),
             state: full_state(kind, &p, &pt.x),
-        }
+        };
+        point
     };
-    let mut curve = curve;
     for pt in curve.by_ref() {
         let pt = pt.map_err(NumericalError::from)?;
         if let Some(b) = &pt.bautin {
             let c = convert(b);
+            let l2 = hopf_series(&logs, &b.x, &b.p, b.omega)
+                .map_err(NumericalError::from)?
+                .l2;
             special.push(SpecialPoint {
                 kind: "bautin",
                 nu: c.nu,
                 kappa: c.kappa,
                 omega: c.omega,
+                m: c.m,
+                l2: Some(l2),
             });
         }
         points.push(convert(&pt));
     }
-    let last = points.last().map(|p| p.nu).unwrap_or(nu0);
+    let last = points.last().map(|p| p.nu).unwrap_or(p0.nu);
+    let last_second = points
+        .last()
+        .map(|p| if second == Param::Nu { p.nu } else { p.m })
+        .unwrap_or(range.0);
+    let at_top = last_second >= range.1 * (1.0 - 1e-12);
     let stop = match curve.stop_reason() {
-        Some(CurveStop::Bound) if last < nu_hi * (1.0 - 1e-12) => "kappa_c -> 0",
-        Some(CurveStop::Bound) => "end of the velocity range",
+        Some(CurveStop::Bound) if at_top => "end of the range",
+        Some(CurveStop::Bound) | Some(CurveStop::FrequencyVanishing) => "kappa_c -> 0",
         Some(CurveStop::MaxSteps) => "step limit",
-        Some(CurveStop::FrequencyVanishing) => "kappa_c -> 0",
         None => "stopped",
     };
-    if stop == "kappa_c -> 0" {
+    if stop == "kappa_c -> 0" && second == Param::Nu {
         if let Some(nu_end) = friction_minimum(params, last) {
             special.push(SpecialPoint {
                 kind: "endpoint",
                 nu: nu_end,
                 kappa: 0.0,
                 omega: 0.0,
+                m: params.m,
+                l2: None,
             });
         }
     }

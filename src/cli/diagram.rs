@@ -327,7 +327,7 @@ fn to_json(r: &SceneResult) -> Value {
                 "K_over_M_per_s2": u.k_over_m(s.kappa),
             });
             if s.kind == "bautin" {
-                v["l2"] = Value::Null;
+                v["l2"] = json!(s.l2);
             }
             v
         })
@@ -382,8 +382,11 @@ fn print_text(r: &SceneResult) {
         println!("  largest relative difference from Appendix C along the curve: {max_rel:.1e}");
     }
     for s in &d.special {
+        let l2 =
+            s.l2.map(|l2| format!(", l2 = {l2:.6e}"))
+                .unwrap_or_default();
         println!(
-            "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), kappa = {:.10e}, omega = {:.6e}",
+            "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), kappa = {:.10e}, omega = {:.6e}{l2}",
             s.kind,
             u.velocity_um_s(s.nu),
             s.nu,

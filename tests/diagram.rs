@@ -1,0 +1,206 @@
+//! Hopf curves and their special points against closed forms (Appendix C,
+//! the friction minimum) and independent references.
+
+#![allow(clippy::excessive_precision)] // references are quoted with every digit of their source
+
+use stickslip::analysis::diagram::{hopf_curve, stability_diagram};
+use stickslip::analysis::hopf::Criticality;
+use stickslip::appendix_c;
+use stickslip::model::ModelKind;
+use stickslip::params::{Param, Params};
+use stickslip::scene;
+
+fn c11(p: &Params, nu: f64) -> f64 {
+    let mut q = *p;
+    q.nu = nu;
+    appendix_c::critical_stiffness(&q)
+}
+
+#[test]
+fn hopf_curves_match_appendix_c_along_nu() {
+    let cases = [
+        (
+            ModelKind::Inertial,
+            scene::builtin("pmma").unwrap().params,
+            (0.1, 100.0),
+        ),
+        (
+            ModelKind::QuasiStatic,
+            Params {
+                m: 0.0,
+                ..scene::builtin("pmma").unwrap().params
+            },
+            (1e-2, 1e2),
+        ),
+        (
+            ModelKind::Inertial,
+            Params {
+                kappa: 0.0,
+                nu: 1.0,
+                m: 0.05,
+                a: 0.01,
+                b: 0.03,
+                mu0: 0.5,
+                mu2: 1e-3,
+                theta_c: None,
+            },
+            (0.01, 10.0),
+        ),
+        (
+            ModelKind::Inertial,
+            Params {
+                kappa: 0.0,
+                nu: 1.0,
+                m: 1e-4,
+                a: 0.012,
+                b: 0.023,
+                mu0: 0.5,
+                mu2: 0.0,
+                theta_c: Some(0.05),
+            },
+            (0.1, 10.0),
+        ),
+    ];
+    for (kind, p, range) in cases {
+        let d = stability_diagram(kind, &p, range).unwrap();
+        assert!(d.points.len() > 20, "{p:?}: {} points", d.points.len());
+        for pt in &d.points {
+            let want = c11(&p, pt.nu);
+            // Near kappa_c -> 0 the closed form itself loses digits to the cancellation mu_phi - mu_v.
+            let tol = 1e-10f64.max(1e-16 * p.b / want);
+            assert!(
+                (pt.kappa / want - 1.0).abs() < tol,
+                "{kind:?} {p:?} nu = {}: {} vs {want}",
+                pt.nu,
+                pt.kappa
+            );
+            let mut q = p;
+            q.nu = pt.nu;
+            let w = appendix_c::critical_frequency(&q).unwrap();
+            assert!((pt.omega / w - 1.0).abs() < tol, "omega at nu = {}", pt.nu);
+        }
+    }
+}
+
+#[test]
+fn ln2_term_gives_the_observed_ten_percent_per_decade() {
+    // Quasi-static ln² law with mu2 = 2.4e-4 (the pmma scene): kappa_c(nu) = B - A - 2 mu2 ln nu,
+    // so kappa_c falls by 2 ln(10) mu2 per decade: 10.05 % of kappa_c at 1 um/s.
+    let p = Params {
+        m: 0.0,
+        ..scene::builtin("pmma").unwrap().params
+    };
+    let d = stability_diagram(ModelKind::QuasiStatic, &p, (1.0, 10.0)).unwrap();
+    let (first, last) = (d.points.first().unwrap(), d.points.last().unwrap());
+    assert!((first.nu - 1.0).abs() < 1e-12 && (last.nu - 10.0).abs() < 1e-11);
+    let drop = first.kappa - last.kappa;
+    assert!(
+        (drop / (2.0 * 10f64.ln() * 2.4e-4) - 1.0).abs() < 1e-9,
+        "drop per decade {drop}"
+    );
+    let percent = 100.0 * drop / first.kappa;
+    assert!((9.5..10.5).contains(&percent), "{percent} % per decade");
+    // The quasi-static ln² onset is supercritical everywhere.
+    assert!(d
+        .points
+        .iter()
+        .all(|p| p.criticality == Criticality::Supercritical));
+}
+
+#[test]
+fn inertia_bends_the_curve_up_at_high_velocity() {
+    // C11: kappa_c = (mu_phi - A)(1 + m nu^2/A) grows like nu^2 once m nu^2/A ~ 1.
+    let p = scene::builtin("pmma").unwrap().params;
+    let d = stability_diagram(ModelKind::Inertial, &p, (0.1, 1000.0)).unwrap();
+    let k: Vec<f64> = d.points.iter().map(|p| p.kappa).collect();
+    let i_min = (0..k.len()).min_by(|&a, &b| k[a].total_cmp(&k[b])).unwrap();
+    assert!(
+        i_min > 0 && i_min < k.len() - 1,
+        "kappa_c must have an interior minimum"
+    );
+    assert!(
+        k[k.len() - 1] > 5.0 * k[i_min],
+        "strong upturn at 1 mm/s: {} vs {}",
+        k[k.len() - 1],
+        k[i_min]
+    );
+    // The minimum of C11 in ln nu: d/d ln nu [(B - A - 2 mu2 ln nu)(1 + m nu^2/A)] = 0.
+    let (a, b, mu2, m) = (p.a, p.b, p.mu2, p.m);
+    let slope = |nu: f64| {
+        -2.0 * mu2 * (1.0 + m * nu * nu / a) + (b - a - 2.0 * mu2 * nu.ln()) * 2.0 * m * nu * nu / a
+    };
+    let (mut lo, mut hi) = (d.points[i_min - 1].nu, d.points[i_min + 1].nu);
+    for _ in 0..100 {
+        let mid = (lo * hi).sqrt();
+        if slope(mid) < 0.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    assert!(d.points[i_min - 1].nu <= lo && lo <= d.points[i_min + 1].nu);
+}
+
+#[test]
+fn cutoff_curve_ends_at_the_friction_minimum() {
+    let s = scene::builtin("brockley").unwrap();
+    let d = stability_diagram(ModelKind::Inertial, &s.params, s.nu_range).unwrap();
+    let end = d
+        .special
+        .iter()
+        .find(|p| p.kind == "endpoint")
+        .expect("endpoint");
+    let tc = s.params.theta_c.unwrap();
+    let v_min = (s.params.b - s.params.a) / (s.params.a * tc);
+    assert!(
+        (end.nu / v_min - 1.0).abs() < 1e-13,
+        "{} vs {v_min}",
+        end.nu
+    );
+    assert_eq!(d.stop, "kappa_c -> 0");
+    assert!(d.points.last().unwrap().kappa < 1e-5 * d.points[0].kappa);
+}
+
+/// Bautin point of the inertial plain RR law (A = 0.012, B = 0.023, nu = 1):
+/// m* from a 40-digit computation (docs/reference/REPORT.md, case d).
+const M_STAR: f64 = 0.0016140505108687765219;
+
+#[test]
+fn inertial_rr_onset_changes_type_at_eta_star() {
+    for nu in [1.0, 3.0, 0.2] {
+        let p = Params {
+            kappa: 0.0,
+            nu,
+            m: 0.0,
+            a: 0.012,
+            b: 0.023,
+            mu0: 0.6,
+            mu2: 0.0,
+            theta_c: None,
+        };
+        let d = hopf_curve(
+            ModelKind::Inertial,
+            &p,
+            Param::M,
+            (1e-5 / (nu * nu), 1.0 / (nu * nu)),
+        )
+        .unwrap();
+        let bautins: Vec<_> = d.special.iter().filter(|s| s.kind == "bautin").collect();
+        assert_eq!(bautins.len(), 1, "nu = {nu}: {:?}", d.special);
+        let b = bautins[0];
+        // The onset type depends on eta = m nu^2 / A only: eta* = m*(nu = 1) / A.
+        let eta = b.m * nu * nu / p.a;
+        assert!(
+            (eta / (M_STAR / p.a) - 1.0).abs() < 1e-10,
+            "nu = {nu}: eta* = {eta}"
+        );
+        assert!((b.kappa / ((p.b - p.a) * (1.0 + eta)) - 1.0).abs() < 1e-12);
+        // Subcritical below eta*, supercritical above.
+        let first = d.points.first().unwrap();
+        let last = d.points.last().unwrap();
+        assert_eq!(
+            (first.criticality, last.criticality),
+            (Criticality::Subcritical, Criticality::Supercritical)
+        );
+    }
+}
