@@ -181,7 +181,7 @@ pub fn hopf_curve(
     let mut special = Vec::new();
     let convert = |pt: &HopfCurvePoint| {
         let p = params.with_vec(&logs.from_log(&pt.p));
-        let point = CurvePoint {
+        CurvePoint {
             nu: p.nu,
             kappa: p.kappa,
             m: p.m,
@@ -189,8 +189,7 @@ pub fn hopf_curve(
             l1: pt.l1,
             criticality: criticality_of(pt.l1, pt.l1_scale),
             state: full_state(kind, &p, &pt.x),
-        };
-        point
+        }
     };
     for pt in curve.by_ref() {
         let pt = pt.map_err(NumericalError::from)?;
