@@ -17,6 +17,7 @@ use crate::defining::{DefiningSystem, FoldSystem, FreeParams, HopfSystem};
 use crate::error::ContinuationError;
 use crate::linalg::eigenvalues;
 use crate::newton::{self, NewtonReport, NewtonSettings};
+use crate::normal_form::fold_coefficient;
 use crate::system::{jacobian, VectorField};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
@@ -25,7 +26,11 @@ use num_complex::Complex64;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EventKind {
     /// A limit point of the equilibrium branch (one real eigenvalue crosses 0).
-    Fold,
+    Fold {
+        /// Normal-form coefficient `a` of `y' = beta + a y^2`
+        /// ([`crate::normal_form::fold_coefficient`]).
+        a: f64,
+    },
     /// A pair `+-i omega` crosses the imaginary axis.
     Hopf {
         /// Angular frequency at the bifurcation (positive).
@@ -37,7 +42,7 @@ impl EventKind {
     /// Short name: `fold` or `hopf`.
     pub fn name(&self) -> &'static str {
         match self {
-            EventKind::Fold => "fold",
+            EventKind::Fold { .. } => "fold",
             EventKind::Hopf { .. } => "hopf",
         }
     }
@@ -175,7 +180,9 @@ pub fn locate_fold<S: VectorField>(
     let p = system.params.with(&[z[n]]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
     Ok(Event {
-        kind: EventKind::Fold,
+        kind: EventKind::Fold {
+            a: fold_coefficient(sys, &x, &p)?,
+        },
         x,
         p,
         param_index: k,

@@ -88,6 +88,31 @@ pub fn hopf_normal_form<S: VectorField>(
     })
 }
 
+/// Coefficient `a` of the fold normal form `y' = beta + a y^2` on the centre
+/// manifold of a limit point: `a = 1/2 <p, B(q, q)>` with `A q = 0`,
+/// `A^T p = 0`, `<q, q> = 1`, `<p, q> = 1` (Kuznetsov 1998, §3.2 and §5.4,
+/// projection method); `a != 0` makes the fold nondegenerate.
+pub fn fold_coefficient<S: VectorField>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+) -> Result<f64, ContinuationError> {
+    let a = jacobian(sys, x, p);
+    let zero = Complex64::new(0.0, 0.0);
+    let q = eigenpair_near(&a, zero)?.1.map(|z| z.re);
+    let q = &q / q.norm();
+    let pt = eigenpair_near(&a.transpose(), zero)?.1.map(|z| z.re);
+    let padj = &pt / pt.dot(&q);
+    let b = second_derivative(
+        sys,
+        x,
+        p,
+        JointDirection::state(q.as_slice()),
+        JointDirection::state(q.as_slice()),
+    );
+    Ok(0.5 * padj.dot(&b))
+}
+
 /// Derivative of the critical eigenvalue along parameter `k`,
 /// `lambda' = <p, (D_pk A + B(., x_pk)) q>` with `x_pk = -A^-1 D_pk f` the
 /// motion of the equilibrium (Kuznetsov 1998, §3.5, transversality).

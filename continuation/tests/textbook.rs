@@ -43,7 +43,11 @@ fn fold_normal_form_limit_point_at_origin() {
     let events = events_of(&FoldNormalForm, &[1.0], &[1.0], 0, settings);
     assert_eq!(events.len(), 1, "{events:?}");
     let e = &events[0];
-    assert_eq!(e.kind, EventKind::Fold);
+    // y = x - x_fold on the centre manifold: x' = p - x^2 gives a = -1 with q = p = 1.
+    let EventKind::Fold { a } = e.kind else {
+        panic!("not a fold: {:?}", e.kind)
+    };
+    assert!((a + 1.0).abs() < 1e-14, "a = {a}");
     assert!(
         e.param().abs() < 1e-14 && e.x[0].abs() < 1e-7,
         "p = {}, x = {}",

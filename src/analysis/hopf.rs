@@ -167,7 +167,7 @@ pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, Numeri
         let point = point.map_err(NumericalError::from)?;
         let hopf = point.events.iter().find_map(|e| match e.kind {
             EventKind::Hopf { omega } => Some((e, omega)),
-            EventKind::Fold => None,
+            EventKind::Fold { .. } => None,
         });
         if let Some((e, omega)) = hopf {
             return Ok(HopfOutcome::Found(HopfPoint {

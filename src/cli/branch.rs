@@ -131,7 +131,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         for e in &point.events {
             let omega = match e.kind {
                 EventKind::Hopf { omega } => omega,
-                EventKind::Fold => f64::NAN,
+                EventKind::Fold { .. } => f64::NAN,
             };
             let at = params.with_vec(&e.p);
             write_row(
