@@ -166,6 +166,11 @@ fn hopf_json_reports_the_onset_type() {
     let rr = hopf_json(&["--scene", "pmma-rr", "--model", "quasi-static"]);
     assert_eq!(rr["criticality"], "degenerate");
     assert!(rr["amplitude_coefficient"].is_null());
+    // Unforced, the tiny inertia of the scene decides the degenerate onset: subcritical
+    // (eta = m nu^2/A = 2.1e-5 < eta* = 0.1345).
+    let rr = hopf_json(&["--scene", "pmma-rr"]);
+    assert_eq!(rr["model"], "inertial");
+    assert_eq!(rr["criticality"], "subcritical");
 }
 
 #[test]
