@@ -47,6 +47,15 @@ pub enum ContinuationError {
         "a singular linear system was met (the Jacobian or its bordered form is not invertible)"
     )]
     Singular,
+    #[error(
+        "degenerate Hopf point: l1 = {l1:.3e} vanishes against its terms ({scale:.3e}), so the \
+         normal form does not say on which side the cycles are (for the quasi-static Rice–Ruina \
+         law a whole family of cycles exists at the critical parameter); add the ln² term or \
+         inertia, or start from a simulated orbit"
+    )]
+    DegenerateHopf { l1: f64, scale: f64 },
+    #[error("sparse linear algebra failed: {0}")]
+    Sparse(String),
     #[error("eigenvalue computation failed: {0}")]
     Eigen(String),
     #[error("non-finite value {what} at {param_name} = {param:.10e}; check the model's domain (logarithms of non-positive values?)")]

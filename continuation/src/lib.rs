@@ -24,6 +24,7 @@ pub mod linalg;
 pub mod multilinear;
 pub mod newton;
 pub mod normal_form;
+pub mod periodic;
 pub mod system;
 
 pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};

@@ -1,0 +1,465 @@
+//! Continuation of periodic orbits in one parameter by pseudo-arclength on
+//! the collocation system, from a Hopf point or from a given orbit, with
+//! Floquet multipliers at every orbit and periodic mesh adaptation.
+//!
+//! The arclength norm weights the orbit by `1 / (NTST m)` per node (an
+//! approximation of `int |u|^2 dtau`) and the period and parameter by 1.
+
+use super::adapt::equidistribute;
+use super::collocation::Collocation;
+use super::cycle::Cycle;
+use super::floquet::{condense, multipliers, trivial_multiplier_error};
+use super::mesh::Mesh;
+use crate::error::{ContinuationError, NewtonFailure};
+use crate::linalg::solve_sparse;
+use crate::newton::{NewtonReport, NewtonSettings};
+use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
+use crate::system::{jacobian, param_derivative, VectorField};
+use faer::sparse::Triplet;
+use num_complex::Complex64;
+
+/// Settings of a cycle branch.
+#[derive(Clone, Debug)]
+pub struct CycleSettings {
+    /// Mesh intervals. Default 50.
+    pub ntst: usize,
+    /// Collocation degree. Default 4.
+    pub degree: usize,
+    /// Initial, smallest and largest arclength step.
+    pub ds: f64,
+    pub ds_min: f64,
+    pub ds_max: f64,
+    /// Step growth after an easy correction.
+    pub growth: f64,
+    /// Largest number of orbits.
+    pub max_steps: usize,
+    /// Bounds of the parameter; the branch stops on them.
+    pub p_min: f64,
+    pub p_max: f64,
+    /// Stop when the period exceeds this.
+    pub max_period: f64,
+    /// Re-equidistribute the mesh every this many steps (0: never). Default 1.
+    pub adapt_every: usize,
+    /// Corrector.
+    pub corrector: NewtonSettings,
+    /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
+    pub start_amplitude: f64,
+}
+
+impl Default for CycleSettings {
+    fn default() -> Self {
+        CycleSettings {
+            ntst: 50,
+            degree: 4,
+            ds: 1e-3,
+            ds_min: 1e-12,
+            ds_max: 0.5,
+            growth: 1.3,
+            max_steps: 200,
+            p_min: f64::NEG_INFINITY,
+            p_max: f64::INFINITY,
+            max_period: f64::INFINITY,
+            adapt_every: 1,
+            corrector: NewtonSettings {
+                step_tol: 1e-10,
+                residual_tol: 1e-10,
+                max_iter: 10,
+            },
+            start_amplitude: 1e-3,
+        }
+    }
+}
+
+/// One orbit of the branch.
+#[derive(Clone, Debug)]
+pub struct CyclePoint {
+    pub cycle: Cycle,
+    /// Floquet multipliers by decreasing modulus (including the trivial one).
+    pub multipliers: Vec<Complex64>,
+    /// `min |mu - 1|`.
+    pub trivial_error: f64,
+    /// Multipliers outside the unit circle, the trivial one excluded.
+    pub n_unstable: usize,
+    pub newton: NewtonReport,
+}
+
+/// A branch of periodic orbits being traced.
+pub struct CycleBranch<'a, S: VectorField> {
+    sys: &'a S,
+    k: usize,
+    settings: CycleSettings,
+    z: Vec<f64>,
+    tangent: Vec<f64>,
+    coll: Collocation<'a, S>,
+    ds: f64,
+    steps: usize,
+    done: bool,
+}
+
+/// Arclength weight of unknown `i`: `1 / N` on the orbit's `N` values, 1 on `T` and `p`.
+fn weights(n_orbit: usize) -> impl Fn(usize) -> f64 {
+    move |i| {
+        if i < n_orbit {
+            1.0 / (n_orbit as f64)
+        } else {
+            1.0
+        }
+    }
+}
+
+fn wdot(a: &[f64], b: &[f64], n_orbit: usize) -> f64 {
+    let w = weights(n_orbit);
+    a.iter()
+        .zip(b)
+        .enumerate()
+        .map(|(i, (x, y))| w(i) * x * y)
+        .sum()
+}
+
+impl<'a, S: VectorField> CycleBranch<'a, S> {
+    /// Starts from the Hopf point `(x0, omega, p0)` in parameter `k`: the first
+    /// orbit comes from the normal form (`x0 + 2 r Re(q e^{2 pi i tau})` at
+    /// `p_k = p_c - Re(c1) r^2 / Re(lambda')`) and is corrected at that parameter.
+    pub fn from_hopf(
+        sys: &'a S,
+        x0: &[f64],
+        omega: f64,
+        p0: &[f64],
+        k: usize,
+        settings: CycleSettings,
+    ) -> Result<Self, ContinuationError> {
+        let nf = hopf_normal_form(sys, x0, p0, omega)?;
+        if nf.is_degenerate(1e-9) {
+            return Err(ContinuationError::DegenerateHopf {
+                l1: nf.l1,
+                scale: nf.term_scale,
+            });
+        }
+        let dl = eigenvalue_derivative(sys, x0, p0, k, &nf)?;
+        let n = sys.dim();
+        let scale = 1.0 + x0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let r = settings.start_amplitude * scale;
+        let dp = -nf.c1.re * r * r / dl.re;
+        let xp = crate::linalg::solve(jacobian(sys, x0, p0), &(-param_derivative(sys, x0, p0, k)))?;
+        let mesh = Mesh::uniform(settings.ntst, settings.degree);
+        let mut u = Vec::with_capacity(mesh.n_nodes() * n);
+        let mut du = Vec::with_capacity(mesh.n_nodes() * n);
+        for i in 0..mesh.ntst() {
+            for l in 0..mesh.degree {
+                let phase =
+                    Complex64::new(0.0, 2.0 * std::f64::consts::PI * mesh.node_time(i, l)).exp();
+                for j in 0..n {
+                    let wave = 2.0 * (nf.q[j] * phase).re;
+                    u.push(x0[j] + xp[j] * dp + r * wave);
+                    du.push(wave);
+                }
+            }
+        }
+        let mut p = p0.to_vec();
+        p[k] += dp;
+        let period = 2.0 * std::f64::consts::PI / (omega + dl.im * dp);
+        let guess = Cycle {
+            mesh,
+            u,
+            period,
+            p,
+            n,
+        };
+        // Seed of the tangent: growing amplitude, d p / d r = -2 r Re(c1) / Re(lambda').
+        let mut seed = du;
+        seed.push(0.0);
+        seed.push(-2.0 * r * nf.c1.re / dl.re);
+        Self::from_cycle(sys, guess, k, Some(seed), settings)
+    }
+
+    /// Starts from an approximate orbit (corrected at its parameter first);
+    /// `seed` orients the tangent (default: increasing parameter).
+    pub fn from_cycle(
+        sys: &'a S,
+        guess: Cycle,
+        k: usize,
+        seed: Option<Vec<f64>>,
+        settings: CycleSettings,
+    ) -> Result<Self, ContinuationError> {
+        if guess.mesh.ntst() < 2 {
+            return Err(ContinuationError::Sparse(
+                "a cycle mesh needs at least 2 intervals".into(),
+            ));
+        }
+        let coll = Collocation::new(sys, &guess, k);
+        let mut z = coll.unknowns(&guess);
+        let nz = z.len();
+        let fixed_p = z[nz - 1];
+        newton_sparse(
+            &coll,
+            &mut z,
+            &settings.corrector,
+            |_, row| {
+                row.push(Triplet::new(nz - 1, nz - 1, 1.0));
+            },
+            |z| z[nz - 1] - fixed_p,
+        )?;
+        let coll = Collocation::new(sys, &coll.cycle(&z), k);
+        let seed = seed.unwrap_or_else(|| {
+            let mut s = vec![0.0; nz];
+            s[nz - 1] = 1.0;
+            s
+        });
+        let n_orbit = nz - 2;
+        let tangent = tangent(&coll, &z, &seed, n_orbit)?;
+        Ok(CycleBranch {
+            sys,
+            k,
+            ds: settings.ds,
+            settings,
+            z,
+            tangent,
+            coll,
+            steps: 0,
+            done: false,
+        })
+    }
+
+    fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
+        let lin = self.coll.linearize(&self.z);
+        let mu = multipliers(condense(&lin.blocks, self.sys.dim(), self.coll.mesh.degree))?;
+        let trivial_error = trivial_multiplier_error(&mu);
+        let trivial = mu
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
+            .map(|(i, _)| i);
+        let n_unstable = mu
+            .iter()
+            .enumerate()
+            .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0)
+            .count();
+        Ok(CyclePoint {
+            cycle: self.coll.cycle(&self.z),
+            multipliers: mu,
+            trivial_error,
+            n_unstable,
+            newton,
+        })
+    }
+
+    fn step(&mut self) -> Result<NewtonReport, ContinuationError> {
+        let nz = self.z.len();
+        let n_orbit = nz - 2;
+        loop {
+            let pred: Vec<f64> = self
+                .z
+                .iter()
+                .zip(&self.tangent)
+                .map(|(z, t)| z + self.ds * t)
+                .collect();
+            let mut z = pred.clone();
+            let t = self.tangent.clone();
+            let w = weights(n_orbit);
+            let attempt = newton_sparse(
+                &self.coll,
+                &mut z,
+                &self.settings.corrector,
+                |_, row| {
+                    row.extend(
+                        (0..nz)
+                            .filter(|&i| t[i] != 0.0)
+                            .map(|i| Triplet::new(nz - 1, i, w(i) * t[i])),
+                    );
+                },
+                |z| (0..nz).map(|i| w(i) * t[i] * (z[i] - pred[i])).sum(),
+            );
+            if let Ok(rep) = attempt {
+                if let Ok(t_new) = tangent(&self.coll, &z, &self.tangent, n_orbit) {
+                    if wdot(&t_new, &self.tangent, n_orbit) > 0.8 {
+                        self.z = z;
+                        self.tangent = t_new;
+                        if rep.iterations <= 3 {
+                            self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
+                        }
+                        return Ok(rep);
+                    }
+                }
+            }
+            self.ds *= 0.5;
+            if self.ds < self.settings.ds_min {
+                return Err(ContinuationError::StepTooSmall {
+                    param_name: format!("p[{}]", self.k),
+                    param: self.z[nz - 1],
+                    ds: self.ds,
+                    ds_min: self.settings.ds_min,
+                    cause: match attempt {
+                        Err(e) => e.to_string(),
+                        Ok(_) => "the tangent turned too sharply".into(),
+                    },
+                });
+            }
+        }
+    }
+
+    /// Moves the orbit and tangent onto an equidistributing mesh.
+    fn adapt(&mut self) {
+        let orbit = self.coll.cycle(&self.z);
+        let new = equidistribute(&orbit, self.settings.ntst);
+        let nn = orbit.u.len();
+        let dir = Cycle {
+            u: self.tangent[..nn].to_vec(),
+            period: 0.0,
+            ..orbit.clone()
+        }
+        .remesh(new.mesh.clone());
+        self.coll = Collocation::new(self.sys, &new, self.k);
+        self.z = self.coll.unknowns(&new);
+        let mut t = dir.u;
+        t.extend_from_slice(&self.tangent[nn..]);
+        let norm = wdot(&t, &t, nn).sqrt();
+        self.tangent = t.iter().map(|v| v / norm).collect();
+    }
+}
+
+impl<S: VectorField> Iterator for CycleBranch<'_, S> {
+    type Item = Result<CyclePoint, ContinuationError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let result = if self.steps == 0 {
+            self.point(NewtonReport {
+                iterations: 0,
+                residual: 0.0,
+                step: 0.0,
+            })
+        } else {
+            if self.settings.adapt_every > 0 && self.steps % self.settings.adapt_every == 0 {
+                self.adapt();
+            }
+            self.step().and_then(|rep| {
+                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+                self.point(rep)
+            })
+        };
+        self.steps += 1;
+        match result {
+            Ok(pt) => {
+                let p = pt.cycle.p[self.k];
+                if self.steps > self.settings.max_steps
+                    || p <= self.settings.p_min
+                    || p >= self.settings.p_max
+                    || pt.cycle.period > self.settings.max_period
+                {
+                    self.done = true;
+                }
+                Some(Ok(pt))
+            }
+            Err(e) => {
+                self.done = true;
+                Some(Err(e))
+            }
+        }
+    }
+}
+
+/// Newton's method on the collocation system plus one extra scalar equation
+/// `extra(z) = 0` whose Jacobian row (last row) `extra_row` appends.
+fn newton_sparse<S: VectorField>(
+    coll: &Collocation<S>,
+    z: &mut [f64],
+    settings: &NewtonSettings,
+    extra_row: impl Fn(&[f64], &mut Vec<Triplet<usize, usize, f64>>),
+    extra: impl Fn(&[f64]) -> f64,
+) -> Result<NewtonReport, ContinuationError> {
+    let nz = z.len();
+    let mut last_step = f64::INFINITY;
+    let mut residual = f64::INFINITY;
+    for it in 0..=settings.max_iter {
+        let mut lin = coll.linearize(z);
+        lin.residual.push(extra(z));
+        residual = lin.residual.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if !residual.is_finite() {
+            return Err(newton_error(
+                it,
+                residual,
+                last_step,
+                NewtonFailure::NonFinite,
+            ));
+        }
+        let zmax = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if last_step <= settings.step_tol * (1.0 + zmax)
+            && residual <= settings.residual_tol * (1.0 + zmax)
+        {
+            return Ok(NewtonReport {
+                iterations: it,
+                residual,
+                step: last_step,
+            });
+        }
+        if it == settings.max_iter {
+            break;
+        }
+        extra_row(z, &mut lin.triplets);
+        let dz = solve_sparse(nz, &lin.triplets, &lin.residual)
+            .map_err(|_| newton_error(it, residual, last_step, NewtonFailure::SingularJacobian))?;
+        last_step = dz.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for (zi, d) in z.iter_mut().zip(&dz) {
+            *zi -= d;
+        }
+    }
+    Err(newton_error(
+        settings.max_iter,
+        residual,
+        last_step,
+        NewtonFailure::MaxIterations,
+    ))
+}
+
+fn newton_error(
+    iterations: usize,
+    residual: f64,
+    step: f64,
+    reason: NewtonFailure,
+) -> ContinuationError {
+    ContinuationError::Newton {
+        context: " correcting a periodic orbit".into(),
+        iterations,
+        residual,
+        step,
+        hint: match reason {
+            NewtonFailure::MaxIterations => "reduce the step size or refine the mesh (more NTST)",
+            NewtonFailure::SingularJacobian => {
+                "the orbit may be at a fold or period doubling; perturb the parameter"
+            }
+            NewtonFailure::NonFinite => {
+                "the orbit left the model's domain; use log variables or a smaller step"
+            }
+        },
+        reason,
+    }
+}
+
+/// Unit tangent (weighted norm) of the cycle branch at `z`, oriented along `reference`.
+fn tangent<S: VectorField>(
+    coll: &Collocation<S>,
+    z: &[f64],
+    reference: &[f64],
+    n_orbit: usize,
+) -> Result<Vec<f64>, ContinuationError> {
+    let nz = z.len();
+    let mut lin = coll.linearize(z);
+    let w = weights(n_orbit);
+    lin.triplets.extend(
+        (0..nz)
+            .filter(|&i| reference[i] != 0.0)
+            .map(|i| Triplet::new(nz - 1, i, w(i) * reference[i])),
+    );
+    let mut rhs = vec![0.0; nz];
+    rhs[nz - 1] = 1.0;
+    let t = solve_sparse(nz, &lin.triplets, &rhs)?;
+    let norm = wdot(&t, &t, n_orbit).sqrt();
+    let sign = if wdot(&t, reference, n_orbit) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    Ok(t.iter().map(|v| sign * v / norm).collect())
+}

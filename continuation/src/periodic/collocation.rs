@@ -1,0 +1,167 @@
+//! The collocation equations of a periodic orbit and their exact, sparse Jacobian.
+//!
+//! On interval `i` (length `h_i`) with local nodes `u_{i,l}`, at each Gauss
+//! point `z_k`:
+//!
+//! ```text
+//! sum_l L_l'(z_k) u_{i,l} - h_i T f( sum_l L_l(z_k) u_{i,l}, p ) = 0
+//! ```
+//!
+//! and the integral phase condition against a reference orbit `u_ref`,
+//! `int_0^1 <u(tau), u_ref'(tau)> dtau = 0` (Doedel; Kuznetsov 1998 §10.3).
+//! Unknowns `z = (u, T, p_k)`: `N + 2` with `N = NTST m n`; equations `N + 1`.
+
+use super::cycle::Cycle;
+use super::mesh::Mesh;
+use crate::system::{eval, jacobian, param_derivative, VectorField};
+use faer::sparse::Triplet;
+
+/// The collocation system of one mesh, with the phase reference.
+pub struct Collocation<'a, S: VectorField> {
+    pub sys: &'a S,
+    pub mesh: Mesh,
+    /// Index of the free parameter.
+    pub k: usize,
+    /// Parameters (entry `k` is read from the unknowns).
+    pub p: Vec<f64>,
+    /// `u_ref'(tau)` at the Gauss points, interval-major: `[(i m + k) n ..]`.
+    phase_ref: Vec<f64>,
+}
+
+/// Residual and Jacobian (as triplets) of the collocation system.
+pub struct Linearization {
+    pub residual: Vec<f64>,
+    pub triplets: Vec<Triplet<usize, usize, f64>>,
+    /// The collocation blocks `d r_{i,k} / d u_{i,l}`, interval-major: block
+    /// `(i, l)` is an `(m n) x n` column-major matrix (for Floquet condensation).
+    pub blocks: Vec<Vec<f64>>,
+}
+
+impl<'a, S: VectorField> Collocation<'a, S> {
+    /// The system on `reference`'s mesh, with `reference` as the phase reference.
+    pub fn new(sys: &'a S, reference: &Cycle, k: usize) -> Self {
+        let mesh = reference.mesh.clone();
+        let n = reference.n;
+        let m = mesh.degree;
+        let mut phase_ref = Vec::with_capacity(mesh.ntst() * m * n);
+        for i in 0..mesh.ntst() {
+            let h = mesh.t[i + 1] - mesh.t[i];
+            for kk in 0..m {
+                for j in 0..n {
+                    let d: f64 = (0..=m)
+                        .map(|l| mesh.dbasis[kk][l] * reference.node(mesh.node(i, l))[j])
+                        .sum();
+                    phase_ref.push(d / h);
+                }
+            }
+        }
+        Collocation {
+            sys,
+            mesh,
+            k,
+            p: reference.p.clone(),
+            phase_ref,
+        }
+    }
+
+    /// Number of unknowns `N + 2`.
+    pub fn n_unknowns(&self) -> usize {
+        self.mesh.n_nodes() * self.sys.dim() + 2
+    }
+
+    /// The orbit described by unknowns `z`.
+    pub fn cycle(&self, z: &[f64]) -> Cycle {
+        let nn = self.mesh.n_nodes() * self.sys.dim();
+        let mut p = self.p.clone();
+        p[self.k] = z[nn + 1];
+        Cycle {
+            mesh: self.mesh.clone(),
+            u: z[..nn].to_vec(),
+            period: z[nn],
+            p,
+            n: self.sys.dim(),
+        }
+    }
+
+    /// Unknowns of an orbit on this mesh.
+    pub fn unknowns(&self, c: &Cycle) -> Vec<f64> {
+        let mut z = c.u.clone();
+        z.push(c.period);
+        z.push(c.p[self.k]);
+        z
+    }
+
+    /// Residual and sparse Jacobian at `z`.
+    pub fn linearize(&self, z: &[f64]) -> Linearization {
+        let n = self.sys.dim();
+        let m = self.mesh.degree;
+        let nn = self.mesh.n_nodes() * n;
+        let (period, mut p) = (z[nn], self.p.clone());
+        p[self.k] = z[nn + 1];
+        let node = |g: usize| &z[g * n..(g + 1) * n];
+        let mut residual = vec![0.0; nn + 1];
+        let mut triplets =
+            Vec::with_capacity(self.mesh.ntst() * m * n * ((m + 1) * n + 2) + nn + 2);
+        let mut phase_row = vec![0.0; nn];
+        let mut blocks = Vec::with_capacity(self.mesh.ntst() * (m + 1));
+        for i in 0..self.mesh.ntst() {
+            let h = self.mesh.t[i + 1] - self.mesh.t[i];
+            let mut local = vec![vec![0.0; m * n * n]; m + 1];
+            for kk in 0..m {
+                let row0 = (i * m + kk) * n;
+                let mut x = vec![0.0; n];
+                let mut dx = vec![0.0; n];
+                for l in 0..=m {
+                    let v = node(self.mesh.node(i, l));
+                    for j in 0..n {
+                        x[j] += self.mesh.basis[kk][l] * v[j];
+                        dx[j] += self.mesh.dbasis[kk][l] * v[j];
+                    }
+                }
+                let f = eval(self.sys, &x, &p);
+                let jac = jacobian(self.sys, &x, &p);
+                let fp = param_derivative(self.sys, &x, &p, self.k);
+                for j in 0..n {
+                    residual[row0 + j] = dx[j] - h * period * f[j];
+                    triplets.push(Triplet::new(row0 + j, nn, -h * f[j]));
+                    triplets.push(Triplet::new(row0 + j, nn + 1, -h * period * fp[j]));
+                }
+                for l in 0..=m {
+                    let col0 = self.mesh.node(i, l) * n;
+                    let (b, db) = (self.mesh.basis[kk][l], self.mesh.dbasis[kk][l]);
+                    for r in 0..n {
+                        for c in 0..n {
+                            let v = if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
+                            triplets.push(Triplet::new(row0 + r, col0 + c, v));
+                            local[l][c * m * n + kk * n + r] = v;
+                        }
+                    }
+                }
+                let w = h * self.mesh.weights[kk];
+                let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
+                for j in 0..n {
+                    residual[nn] += w * x[j] * dref[j];
+                }
+                for l in 0..=m {
+                    let col0 = self.mesh.node(i, l) * n;
+                    for j in 0..n {
+                        phase_row[col0 + j] += w * self.mesh.basis[kk][l] * dref[j];
+                    }
+                }
+            }
+            blocks.extend(local);
+        }
+        triplets.extend(
+            phase_row
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v != 0.0)
+                .map(|(c, &v)| Triplet::new(nn, c, v)),
+        );
+        Linearization {
+            residual,
+            triplets,
+            blocks,
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! Collocation meshes: `NTST` intervals of `[0, 1]`, a degree-`m` polynomial
+//! on each, represented by its values at `m + 1` equally spaced nodes, and
+//! collocation at the `m` Gauss–Legendre points (de Boor & Swartz 1973;
+//! Doedel, AUTO-07p manual, §"orthogonal collocation").
+
+/// Gauss–Legendre points on `(0, 1)` and their weights, by Newton's method
+/// on the Legendre polynomial `P_m` (three-term recurrence).
+pub fn gauss_legendre(m: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut nodes = Vec::with_capacity(m);
+    let mut weights = Vec::with_capacity(m);
+    for i in 0..m {
+        // Chebyshev-like initial guess on (-1, 1), descending.
+        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (m as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=m {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let pm = if m == 0 { 1.0 } else { p1 };
+            let pm1 = if m == 0 { 0.0 } else { p0 };
+            dp = m as f64 * (x * pm - pm1) / (x * x - 1.0);
+            let dx = pm / dp;
+            x -= dx;
+            if dx.abs() < 1e-16 {
+                break;
+            }
+        }
+        nodes.push(0.5 * (1.0 - x));
+        weights.push(1.0 / ((1.0 - x * x) * dp * dp));
+    }
+    (nodes, weights)
+}
+
+/// Values `L_l(z)` and derivatives `L_l'(z)` of the Lagrange basis on the
+/// equally spaced nodes `l / m`, `l = 0..=m`, at the point `z` in `[0, 1]`.
+pub fn lagrange(m: usize, z: f64) -> (Vec<f64>, Vec<f64>) {
+    let nodes: Vec<f64> = (0..=m).map(|l| l as f64 / m as f64).collect();
+    let mut val = vec![0.0; m + 1];
+    let mut der = vec![0.0; m + 1];
+    for l in 0..=m {
+        let mut v = 1.0;
+        for (j, &xj) in nodes.iter().enumerate() {
+            if j != l {
+                v *= (z - xj) / (nodes[l] - xj);
+            }
+        }
+        val[l] = v;
+        let mut d = 0.0;
+        for (k, &xk) in nodes.iter().enumerate() {
+            if k == l {
+                continue;
+            }
+            let mut term = 1.0 / (nodes[l] - xk);
+            for (j, &xj) in nodes.iter().enumerate() {
+                if j != l && j != k {
+                    term *= (z - xj) / (nodes[l] - xj);
+                }
+            }
+            d += term;
+        }
+        der[l] = d;
+    }
+    (val, der)
+}
+
+/// A collocation mesh with its precomputed basis tables.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    /// Mesh points `0 = t_0 < ... < t_NTST = 1`.
+    pub t: Vec<f64>,
+    /// Polynomial degree `m`.
+    pub degree: usize,
+    /// Gauss points on `(0, 1)` and weights.
+    pub gauss: Vec<f64>,
+    pub weights: Vec<f64>,
+    /// `basis[k][l] = L_l(z_k)`, `dbasis[k][l] = L_l'(z_k)` (derivative in the local variable).
+    pub basis: Vec<Vec<f64>>,
+    pub dbasis: Vec<Vec<f64>>,
+}
+
+impl Mesh {
+    /// A mesh on the given points (strictly increasing, from 0 to 1).
+    pub fn new(t: Vec<f64>, degree: usize) -> Self {
+        let (gauss, weights) = gauss_legendre(degree);
+        let (basis, dbasis) = gauss.iter().map(|&z| lagrange(degree, z)).unzip();
+        Mesh {
+            t,
+            degree,
+            gauss,
+            weights,
+            basis,
+            dbasis,
+        }
+    }
+
+    /// A uniform mesh of `ntst` intervals.
+    pub fn uniform(ntst: usize, degree: usize) -> Self {
+        Mesh::new((0..=ntst).map(|i| i as f64 / ntst as f64).collect(), degree)
+    }
+
+    /// Number of intervals.
+    pub fn ntst(&self) -> usize {
+        self.t.len() - 1
+    }
+
+    /// Number of distinct nodes (the last node is the first: periodicity).
+    pub fn n_nodes(&self) -> usize {
+        self.ntst() * self.degree
+    }
+
+    /// Global node index of local node `l` of interval `i` (periodic).
+    pub fn node(&self, i: usize, l: usize) -> usize {
+        (i * self.degree + l) % self.n_nodes()
+    }
+
+    /// Normalized time of node `(i, l)`.
+    pub fn node_time(&self, i: usize, l: usize) -> f64 {
+        self.t[i] + (self.t[i + 1] - self.t[i]) * l as f64 / self.degree as f64
+    }
+
+    /// Interval containing normalized time `tau` in `[0, 1]` and the local coordinate.
+    pub fn locate(&self, tau: f64) -> (usize, f64) {
+        let tau = tau.rem_euclid(1.0);
+        let i = match self.t.binary_search_by(|x| x.total_cmp(&tau)) {
+            Ok(i) => i.min(self.ntst() - 1),
+            Err(i) => i.saturating_sub(1).min(self.ntst() - 1),
+        };
+        (i, (tau - self.t[i]) / (self.t[i + 1] - self.t[i]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gauss_legendre_integrates_degree_2m_minus_1_exactly() {
+        for m in 1..=7 {
+            let (z, w) = gauss_legendre(m);
+            for d in 0..2 * m {
+                let q: f64 = z.iter().zip(&w).map(|(z, w)| w * z.powi(d as i32)).sum();
+                assert!(
+                    (q - 1.0 / (d as f64 + 1.0)).abs() < 1e-14,
+                    "m = {m}, degree {d}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lagrange_basis_reproduces_polynomials_and_derivatives() {
+        let m = 4;
+        let p = |x: f64| 1.0 - 2.0 * x + 3.0 * x.powi(3) - x.powi(4);
+        let dp = |x: f64| -2.0 + 9.0 * x * x - 4.0 * x.powi(3);
+        let values: Vec<f64> = (0..=m).map(|l| p(l as f64 / m as f64)).collect();
+        for z in [0.0, 0.13, 0.5, 0.91] {
+            let (v, d) = lagrange(m, z);
+            let pv: f64 = v.iter().zip(&values).map(|(a, b)| a * b).sum();
+            let pd: f64 = d.iter().zip(&values).map(|(a, b)| a * b).sum();
+            assert!((pv - p(z)).abs() < 1e-13 && (pd - dp(z)).abs() < 1e-12);
+        }
+    }
+}

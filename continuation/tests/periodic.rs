@@ -1,0 +1,78 @@
+//! Periodic orbits by collocation on systems with known cycles.
+
+use continuation::periodic::branch::{CycleBranch, CycleSettings};
+use continuation::{Scalar, VectorField};
+
+/// Stuart–Landau `Z' = (beta + i w) Z - Z |Z|^2 + i g Z |Z|^2` (beta = p):
+/// cycle `|Z|^2 = beta`, angular frequency `w + g beta`, nontrivial Floquet
+/// multiplier `exp(-2 beta T)`.
+struct StuartLandau {
+    w: f64,
+    g: f64,
+}
+impl VectorField for StuartLandau {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        let rot = r2 * self.g + self.w;
+        out[0] = (p[0] - r2) * x[0] - rot * x[1];
+        out[1] = rot * x[0] + (p[0] - r2) * x[1];
+    }
+}
+
+#[test]
+fn stuart_landau_cycles_radius_period_and_multipliers() {
+    let sys = StuartLandau { w: 2.0, g: 0.5 };
+    let settings = CycleSettings {
+        ntst: 20,
+        p_max: 1.0,
+        ds: 1e-2,
+        max_steps: 300,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 2.0, &[0.0], 0, settings).unwrap();
+    let mut count = 0;
+    let mut last_beta = 0.0;
+    for pt in branch {
+        let pt = pt.unwrap();
+        let c = &pt.cycle;
+        let beta = c.p[0];
+        let (lo, hi) = c.range(0);
+        let period = 2.0 * std::f64::consts::PI / (2.0 + 0.5 * beta);
+        assert!(
+            (c.period / period - 1.0).abs() < 1e-9,
+            "beta = {beta}: T = {} vs {period}",
+            c.period
+        );
+        assert!(
+            (0.5 * (hi - lo) / beta.sqrt() - 1.0).abs() < 1e-8,
+            "beta = {beta}: radius"
+        );
+        assert!(
+            pt.trivial_error < 1e-9,
+            "trivial multiplier off by {}",
+            pt.trivial_error
+        );
+        let nontrivial = pt
+            .multipliers
+            .iter()
+            .map(|z| z.norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            (nontrivial / (-2.0 * beta * period).exp() - 1.0).abs() < 1e-7,
+            "beta = {beta}: mu = {nontrivial}"
+        );
+        assert_eq!(pt.n_unstable, 0);
+        count += 1;
+        last_beta = beta;
+    }
+    assert!(
+        count > 5 && last_beta > 0.9,
+        "{count} cycles up to beta = {last_beta}"
+    );
+}
