@@ -1,9 +1,11 @@
 //! stickslip: bifurcation analysis of a rate-and-state driven block.
 pub mod analysis;
 pub mod appendix_c;
+pub mod bench;
 pub mod cli;
 pub mod error;
 pub mod friction;
+pub mod log_model;
 pub mod model;
 pub mod params;
 pub mod plot;

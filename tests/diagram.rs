@@ -195,6 +195,22 @@ fn inertial_rr_onset_changes_type_at_eta_star() {
             "nu = {nu}: eta* = {eta}"
         );
         assert!((b.kappa / ((p.b - p.a) * (1.0 + eta)) - 1.0).abs() < 1e-12);
+        if nu == 1.0 {
+            // l2 at the Bautin point: two independent 40-digit computations
+            // (docs/reference/l2: generic homological solver and Kuznetsov's formulas).
+            let l2 = b.l2.unwrap();
+            assert!(
+                (l2 / -0.0186423503821319602273952015914 - 1.0).abs() < 1e-8,
+                "l2 = {l2}"
+            );
+        }
+        if nu == 3.0 {
+            let l2 = b.l2.unwrap();
+            assert!(
+                (l2 / -0.000526259450281443271422534277299 - 1.0).abs() < 1e-8,
+                "l2 = {l2}"
+            );
+        }
         // Subcritical below eta*, supercritical above.
         let first = d.points.first().unwrap();
         let last = d.points.last().unwrap();

@@ -54,6 +54,17 @@ pub enum ContinuationError {
          inertia, or start from a simulated orbit"
     )]
     DegenerateHopf { l1: f64, scale: f64 },
+    #[error(
+        "the periodic orbit at p = {param:.10e} is no longer resolved: its trivial Floquet multiplier \
+         is off by {trivial_error:.2e} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; \
+         the cycle has become too stiff for this mesh — raise the interval limit, or stop here"
+    )]
+    Unresolved {
+        ntst: usize,
+        trivial_error: f64,
+        tol: f64,
+        param: f64,
+    },
     #[error("sparse linear algebra failed: {0}")]
     Sparse(String),
     #[error("eigenvalue computation failed: {0}")]

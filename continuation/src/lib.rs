@@ -20,6 +20,7 @@ pub mod defining;
 pub mod error;
 pub mod events;
 pub mod hopf_series;
+pub mod integrate;
 pub mod linalg;
 pub mod multilinear;
 pub mod newton;

@@ -2,6 +2,7 @@
 //! branches of steady sliding.
 
 pub mod branch;
+pub mod cycles;
 pub mod diagram;
 pub mod hopf;
 pub mod model_choice;

@@ -3,7 +3,9 @@
 //! Human-readable text by default; `--json` / `--csv` for machines. Bad input
 //! exits with status 2, a numerical failure with status 3.
 
+pub mod bench;
 pub mod branch;
+pub mod cycles;
 pub mod diagram;
 pub mod hopf;
 
@@ -33,8 +35,12 @@ pub enum Command {
     Branch(branch::BranchArgs),
     /// Trace the stability diagram (Hopf curve in stiffness and velocity) with onset types; write figures, CSV, JSON.
     Diagram(diagram::DiagramArgs),
+    /// Continue the stick-slip cycles born at the Hopf point in the stiffness; figures and data.
+    Cycles(cycles::CyclesArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Time the user-level jobs (Hopf point, Hopf curve, diagrams) and count vector-field evaluations.
+    Bench(bench::BenchArgs),
 }
 
 /// Options shared by every analysis: which scene, overrides, which model.
@@ -116,6 +122,8 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         Command::Hopf(args) => hopf::run(&args),
         Command::Branch(args) => branch::run(&args),
         Command::Diagram(args) => diagram::run(&args),
+        Command::Cycles(args) => cycles::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Scenes => {
             for name in scene::builtin_names() {
                 if let Some(s) = scene::builtin(name) {

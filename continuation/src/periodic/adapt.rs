@@ -19,7 +19,7 @@ fn monitor(c: &Cycle) -> Vec<f64> {
             for j in 0..c.n {
                 let mut d = 0.0;
                 for l in 0..=m {
-                    let sign = if (m - l) % 2 == 0 { 1.0 } else { -1.0 };
+                    let sign = if (m - l).is_multiple_of(2) { 1.0 } else { -1.0 };
                     d += sign * binom(l) * c.node(c.mesh.node(i, l))[j];
                 }
                 // Step between nodes is h/m: the m-th derivative is d (m/h)^m.

@@ -44,6 +44,11 @@ pub struct CycleSettings {
     pub corrector: NewtonSettings,
     /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
     pub start_amplitude: f64,
+    /// Largest acceptable distance of the trivial multiplier from 1 before
+    /// the mesh is refined. Default `1e-8`.
+    pub trivial_tol: f64,
+    /// Most mesh intervals the refinement may use. Default 400.
+    pub ntst_max: usize,
 }
 
 impl Default for CycleSettings {
@@ -66,6 +71,8 @@ impl Default for CycleSettings {
                 max_iter: 10,
             },
             start_amplitude: 1e-3,
+            trivial_tol: 1e-8,
+            ntst_max: 400,
         }
     }
 }
@@ -189,23 +196,30 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let coll = Collocation::new(sys, &guess, k);
         let mut z = coll.unknowns(&guess);
         let nz = z.len();
-        let fixed_p = z[nz - 1];
-        newton_sparse(
-            &coll,
-            &mut z,
-            &settings.corrector,
-            |_, row| {
-                row.push(Triplet::new(nz - 1, nz - 1, 1.0));
-            },
-            |z| z[nz - 1] - fixed_p,
-        )?;
-        let coll = Collocation::new(sys, &coll.cycle(&z), k);
+        let n_orbit = nz - 2;
+        // Correct along the seed when one is given (near a Hopf point the
+        // amplitude is ill-determined at fixed parameter), else at fixed parameter.
         let seed = seed.unwrap_or_else(|| {
             let mut s = vec![0.0; nz];
             s[nz - 1] = 1.0;
             s
         });
-        let n_orbit = nz - 2;
+        let w = weights(n_orbit);
+        let z0 = z.clone();
+        newton_sparse(
+            &coll,
+            &mut z,
+            &settings.corrector,
+            |_, row| {
+                row.extend(
+                    (0..nz)
+                        .filter(|&i| seed[i] != 0.0)
+                        .map(|i| Triplet::new(nz - 1, i, w(i) * seed[i])),
+                )
+            },
+            |z| (0..nz).map(|i| w(i) * seed[i] * (z[i] - z0[i])).sum(),
+        )?;
+        let coll = Collocation::new(sys, &coll.cycle(&z), k);
         let tangent = tangent(&coll, &z, &seed, n_orbit)?;
         Ok(CycleBranch {
             sys,
@@ -297,10 +311,41 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         }
     }
 
-    /// Moves the orbit and tangent onto an equidistributing mesh.
-    fn adapt(&mut self) {
+    /// The current orbit; while its trivial multiplier is off by more than
+    /// `trivial_tol`, the mesh grows by half (up to `ntst_max`) and the orbit
+    /// is corrected on it at fixed parameter.
+    fn refined_point(&mut self, rep: NewtonReport) -> Result<CyclePoint, ContinuationError> {
+        let mut pt = self.point(rep)?;
+        while pt.trivial_error > self.settings.trivial_tol {
+            if self.coll.mesh.ntst() >= self.settings.ntst_max {
+                return Err(ContinuationError::Unresolved {
+                    ntst: self.coll.mesh.ntst(),
+                    trivial_error: pt.trivial_error,
+                    tol: self.settings.trivial_tol,
+                    param: self.z[self.z.len() - 1],
+                });
+            }
+            let ntst = (self.coll.mesh.ntst() * 2).min(self.settings.ntst_max);
+            self.adapt(ntst);
+            let nz = self.z.len();
+            let fixed = self.z[nz - 1];
+            let rep = newton_sparse(
+                &self.coll,
+                &mut self.z,
+                &self.settings.corrector,
+                |_, row| row.push(Triplet::new(nz - 1, nz - 1, 1.0)),
+                |z| z[nz - 1] - fixed,
+            )?;
+            self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+            pt = self.point(rep)?;
+        }
+        Ok(pt)
+    }
+
+    /// Moves the orbit and tangent onto an equidistributing mesh of `ntst` intervals.
+    fn adapt(&mut self, ntst: usize) {
         let orbit = self.coll.cycle(&self.z);
-        let new = equidistribute(&orbit, self.settings.ntst);
+        let new = equidistribute(&orbit, ntst);
         let nn = orbit.u.len();
         let dir = Cycle {
             u: self.tangent[..nn].to_vec(),
@@ -331,12 +376,12 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 step: 0.0,
             })
         } else {
-            if self.settings.adapt_every > 0 && self.steps % self.settings.adapt_every == 0 {
-                self.adapt();
+            if self.settings.adapt_every > 0 && self.steps.is_multiple_of(self.settings.adapt_every) {
+                self.adapt(self.coll.mesh.ntst());
             }
             self.step().and_then(|rep| {
                 self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                self.point(rep)
+                self.refined_point(rep)
             })
         };
         self.steps += 1;

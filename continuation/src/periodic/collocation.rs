@@ -126,14 +126,14 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                     triplets.push(Triplet::new(row0 + j, nn, -h * f[j]));
                     triplets.push(Triplet::new(row0 + j, nn + 1, -h * period * fp[j]));
                 }
-                for l in 0..=m {
+                for (l, block) in local.iter_mut().enumerate() {
                     let col0 = self.mesh.node(i, l) * n;
                     let (b, db) = (self.mesh.basis[kk][l], self.mesh.dbasis[kk][l]);
                     for r in 0..n {
                         for c in 0..n {
                             let v = if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
                             triplets.push(Triplet::new(row0 + r, col0 + c, v));
-                            local[l][c * m * n + kk * n + r] = v;
+                            block[c * m * n + kk * n + r] = v;
                         }
                     }
                 }

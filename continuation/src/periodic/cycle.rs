@@ -54,16 +54,29 @@ impl Cycle {
         out
     }
 
-    /// Minimum and maximum of component `j` over the orbit (sampled densely:
-    /// 8 points per interval besides the nodes).
+    /// Minimum and maximum of component `j` over the orbit: the extreme
+    /// samples (8 per interval) refined by golden-section search on the
+    /// piecewise polynomial between their neighbours.
     pub fn range(&self, j: usize) -> (f64, f64) {
-        self.samples(8)
-            .iter()
-            .map(|(_, x)| x[j])
-            .chain((0..self.mesh.n_nodes()).map(|g| self.node(g)[j]))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(v), hi.max(v))
-            })
+        let samples = self.samples(8);
+        let k = samples.len() - 1;
+        let pick = |sign: f64| {
+            let (i, _) = samples[..k]
+                .iter()
+                .enumerate()
+                .max_by(|a, b| (sign * a.1 .1[j]).total_cmp(&(sign * b.1 .1[j])))
+                .unwrap_or((0, &samples[0]));
+            let (lo, hi) = (
+                if i == 0 {
+                    samples[k - 1].0 - 1.0
+                } else {
+                    samples[i - 1].0
+                },
+                samples[i + 1].0,
+            );
+            sign * golden_max(|tau| sign * self.state_at(tau.rem_euclid(1.0))[j], lo, hi)
+        };
+        (pick(-1.0), pick(1.0))
     }
 
     /// Moves the orbit onto another mesh (same degree) by evaluating its polynomials.
@@ -82,4 +95,26 @@ impl Cycle {
             n: self.n,
         }
     }
+}
+
+/// Maximum of a unimodal `f` on `[a, b]` by golden-section search.
+fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..80 {
+        if fc > fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+        if (b - a).abs() < 1e-14 {
+            break;
+        }
+    }
+    fc.max(fd)
 }

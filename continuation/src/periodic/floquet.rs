@@ -83,8 +83,15 @@ pub fn multipliers(
     }
     let (a, b) = pairs.pop().ok_or(ContinuationError::Singular)?;
     let n = a.nrows();
-    let fa = faer::Mat::from_fn(n, n, |i, j| a[(i, j)]);
-    let fb = faer::Mat::from_fn(n, n, |i, j| -b[(i, j)]);
+    if a.iter().chain(b.iter()).any(|v| !v.is_finite()) {
+        return Err(ContinuationError::Eigen(
+            "non-finite entries in the condensed Floquet pencil".into(),
+        ));
+    }
+    // The complex QZ path of faer (its real path mis-sizes a scratch buffer
+    // for some 3 x 3 pencils in 0.24.4).
+    let fa = faer::Mat::from_fn(n, n, |i, j| Complex64::from(a[(i, j)]));
+    let fb = faer::Mat::from_fn(n, n, |i, j| Complex64::from(-b[(i, j)]));
     let ge = fa
         .generalized_eigen(&fb)
         .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;

@@ -1,0 +1,133 @@
+//! Stick-slip cycles: the branch of periodic orbits born at the Hopf point,
+//! continued in the stiffness by collocation in logarithmic variables.
+
+use crate::analysis::hopf::{find_hopf, HopfOutcome, HopfPoint};
+use crate::error::NumericalError;
+use crate::log_model::LogBlock;
+use crate::model::ModelKind;
+use crate::params::{Param, Params};
+use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::Complex64;
+
+/// One stick-slip cycle in MODEL.md's variables.
+#[derive(Clone, Debug)]
+pub struct CycleRecord {
+    pub kappa: f64,
+    /// Period in units of `D0/V0`.
+    pub period: f64,
+    /// Peak-to-peak spring force.
+    pub delta_s: f64,
+    pub s_min: f64,
+    pub s_max: f64,
+    /// Slowest and fastest slip velocity on the cycle (units of `V0`).
+    pub v_min: f64,
+    pub v_max: f64,
+    /// Floquet multipliers, by decreasing modulus.
+    pub multipliers: Vec<Complex64>,
+    /// `min |mu - 1|`: the accuracy check of the trivial multiplier.
+    pub trivial_error: f64,
+    /// No multiplier outside the unit circle but the trivial one.
+    pub stable: bool,
+    /// Mesh intervals used.
+    pub ntst: usize,
+    /// The orbit sampled over one period: `(t / T, s, v, theta)`.
+    pub samples: Vec<[f64; 4]>,
+}
+
+/// What to trace.
+#[derive(Clone, Debug)]
+pub struct CycleRequest {
+    /// Stop when `kappa` falls below this.
+    pub kappa_min: f64,
+    /// Stop when `kappa` rises above this (subcritical branches first go up).
+    pub kappa_max: f64,
+    pub max_steps: usize,
+    pub ntst: usize,
+}
+
+fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
+    let c = &pt.cycle;
+    let (s_min, s_max) = c.range(0);
+    let (v_min, v_max) = match log.kind {
+        ModelKind::Inertial => {
+            let (lo, hi) = c.range(1);
+            (lo.exp(), hi.exp())
+        }
+        ModelKind::QuasiStatic => {
+            let vs: Vec<f64> = c
+                .samples(8)
+                .iter()
+                .map(|(_, x)| log.to_model(x, &c.p)[1])
+                .collect();
+            vs.iter()
+                .fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)))
+        }
+    };
+    CycleRecord {
+        kappa: c.p[Param::Kappa as usize],
+        period: c.period,
+        delta_s: s_max - s_min,
+        s_min,
+        s_max,
+        v_min,
+        v_max,
+        multipliers: pt.multipliers.clone(),
+        trivial_error: pt.trivial_error,
+        stable: pt.n_unstable == 0,
+        ntst: c.mesh.ntst(),
+        samples: c
+            .samples(4)
+            .iter()
+            .map(|(tau, x)| {
+                let [s, v, theta] = log.to_model(x, &c.p);
+                [*tau, s, v, theta]
+            })
+            .collect(),
+    }
+}
+
+/// Traces the cycles born at the Hopf point of `params` (in `kappa`), handing
+/// each to `sink` as it is computed. Returns the Hopf point it started from.
+pub fn trace_cycles(
+    kind: ModelKind,
+    params: &Params,
+    req: &CycleRequest,
+    mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<HopfPoint, crate::error::Error> {
+    let HopfOutcome::Found(h) = find_hopf(kind, params)? else {
+        return Err(NumericalError::Analysis(
+            "steady sliding is stable for every stiffness here: no Hopf point, hence no cycles born from it".into(),
+        )
+        .into());
+    };
+    let log = LogBlock {
+        kind,
+        cutoff: params.theta_c.is_some(),
+    };
+    let x0 = log.from_model(h.state[0], h.state[1], h.state[2]);
+    let mut p = *params;
+    p.kappa = h.kappa_c;
+    let settings = CycleSettings {
+        ntst: req.ntst,
+        p_min: req.kappa_min,
+        p_max: req.kappa_max,
+        max_steps: req.max_steps,
+        ds: 1e-3,
+        ds_max: 0.2,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf(
+        &log,
+        &x0,
+        h.omega_c,
+        &p.to_vec(),
+        Param::Kappa as usize,
+        settings,
+    )
+    .map_err(NumericalError::from)?;
+    for pt in branch {
+        let pt = pt.map_err(NumericalError::from)?;
+        sink(&record(&log, &pt))?;
+    }
+    Ok(h)
+}

@@ -1,0 +1,52 @@
+//! `stickslip bench`: times the user-level jobs of [`crate::bench`] and
+//! counts their vector-field evaluations.
+
+use crate::bench::{run_all, table, to_json, Settings};
+use crate::error::Error;
+use crate::model::EVAL_KINDS;
+use clap::Args;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Print a JSON array, one record per job (`job`, `median_s`, `points`,
+    /// `per_point_s`, `repetitions`, `evals`), instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// A fast smoke run: about 10 ms of repetitions per job instead of 0.5 s
+    /// (timings are rough; evaluation counts are exact either way).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Runs the command.
+pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    let settings = if args.quick {
+        Settings::quick()
+    } else {
+        Settings::full()
+    };
+    let reports = run_all(settings)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&to_json(&reports)).map_err(std::io::Error::other)?
+        );
+        return Ok(());
+    }
+    println!(
+        "wall time of one run (median over reps), {} thread(s){}",
+        rayon::current_num_threads(),
+        if args.quick { ", --quick: rough" } else { "" }
+    );
+    println!(
+        "evals: rhs calls of the driven-block model in one run, by derivative order of the scalar ({})",
+        EVAL_KINDS.join(", ")
+    );
+    println!();
+    print!("{}", table(&reports));
+    println!();
+    for r in &reports {
+        println!("  {:<30} {}", r.job, r.description);
+    }
+    Ok(())
+}

@@ -1,0 +1,295 @@
+//! `stickslip cycles`: the stick-slip cycles born at the Hopf point, continued
+//! in the stiffness; the bifurcation diagram, orbits and time series.
+
+use super::{params_json, SceneArgs, Setup};
+use crate::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
+use crate::error::{Error, InputError};
+use crate::plot::lines::{render, LineFigure, Series};
+use clap::Args;
+use plotters::style::RGBColor;
+use serde_json::{json, Value};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(Args, Debug)]
+pub struct CyclesArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Stop when the stiffness falls below this fraction of kappa_c.
+    #[arg(long, default_value_t = 0.5)]
+    pub kappa_fraction: f64,
+    /// Largest number of cycles.
+    #[arg(long, default_value_t = 80)]
+    pub max_steps: usize,
+    /// Initial number of mesh intervals (grown automatically when needed).
+    #[arg(long, default_value_t = 40)]
+    pub ntst: usize,
+    /// Output directory for figures and data.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn record_json(c: &CycleRecord) -> Value {
+    json!({
+        "kappa": c.kappa, "period": c.period, "delta_s": c.delta_s,
+        "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
+        "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
+        "trivial_multiplier_error": c.trivial_error, "stable": c.stable, "ntst": c.ntst,
+    })
+}
+
+/// Runs the command.
+pub fn run(args: &CyclesArgs) -> Result<(), Error> {
+    if !(args.kappa_fraction > 0.0 && args.kappa_fraction < 1.0) {
+        return Err(
+            InputError::out_of_range("--kappa-fraction", args.kappa_fraction, "in (0, 1)").into(),
+        );
+    }
+    if args.ntst < 4 {
+        return Err(InputError::out_of_range("--ntst", args.ntst as f64, ">= 4").into());
+    }
+    let setup = args.scene.setup(|p| *p)?;
+    std::fs::create_dir_all(&args.out)?;
+    let stem = args.out.join(format!("{}-cycles", setup.scene.name));
+    let csv_path = with_suffix(&stem, ".csv");
+    let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
+    writeln!(
+        csv,
+        "# scene {}; model {}",
+        setup.scene.name, setup.choice.reason
+    )?;
+    writeln!(
+        csv,
+        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,ntst"
+    )?;
+    let kappa_c = match crate::analysis::hopf::find_hopf(setup.choice.kind, &setup.params)? {
+        crate::analysis::hopf::HopfOutcome::Found(h) => h.kappa_c,
+        crate::analysis::hopf::HopfOutcome::StableForAllStiffness { .. } => f64::NAN,
+    };
+    let req = CycleRequest {
+        kappa_min: args.kappa_fraction * kappa_c,
+        kappa_max: 10.0 * kappa_c,
+        max_steps: args.max_steps,
+        ntst: args.ntst,
+    };
+    let mut records = Vec::new();
+    let outcome = trace_cycles(setup.choice.kind, &setup.params, &req, |c| {
+        writeln!(
+            csv,
+            "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{}",
+            c.kappa,
+            c.period,
+            c.delta_s,
+            c.s_min,
+            c.s_max,
+            c.v_min,
+            c.v_max,
+            c.stable,
+            c.trivial_error,
+            c.ntst
+        )?;
+        csv.flush()?;
+        if !args.json {
+            println!(
+                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {:.1e}  NTST {}",
+                c.kappa,
+                c.period,
+                c.delta_s,
+                c.v_min,
+                c.v_max,
+                if c.stable { "stable" } else { "unstable" },
+                c.trivial_error,
+                c.ntst
+            );
+        }
+        records.push(c.clone());
+        Ok(())
+    });
+    // Whatever was computed is kept and drawn, even when the branch stopped on an error.
+    let files = if records.is_empty() {
+        Vec::new()
+    } else {
+        write_figures(&setup, &records, &stem)?
+    };
+    let stop = match &outcome {
+        Ok(_) => "end of the requested range".to_string(),
+        Err(e) => e.to_string(),
+    };
+    if args.json {
+        let v = json!({
+            "scene": setup.scene.name,
+            "model": setup.choice.kind.name(),
+            "params": params_json(&setup.params),
+            "kappa_c": kappa_c,
+            "cycles": records.iter().map(record_json).collect::<Vec<_>>(),
+            "special_points": [],
+            "stop": stop,
+            "files": files.iter().chain([&csv_path]).map(|f| f.display().to_string()).collect::<Vec<_>>(),
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
+        );
+    } else {
+        println!("stopped: {stop}");
+        for f in files.iter().chain([&csv_path]) {
+            println!("wrote {}", f.display());
+        }
+    }
+    match outcome {
+        Err(e) if records.len() < 2 => Err(e),
+        _ => Ok(()),
+    }
+}
+
+fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
+    let mut s = stem.as_os_str().to_owned();
+    s.push(suffix);
+    PathBuf::from(s)
+}
+
+fn write_figures(
+    setup: &Setup,
+    records: &[CycleRecord],
+    stem: &Path,
+) -> Result<Vec<PathBuf>, Error> {
+    let u = setup.scene.units;
+    let blue = RGBColor(31, 90, 180);
+    let red = RGBColor(200, 40, 40);
+    let by_stability = |f: &dyn Fn(&CycleRecord) -> f64| -> Vec<Series> {
+        let mut out: Vec<Series> = Vec::new();
+        for c in records {
+            let pt = (u.k_over_w(c.kappa), f(c));
+            match out.last_mut() {
+                Some(s) if s.dashed != c.stable => s.points.push(pt),
+                _ => {
+                    let mut points = out
+                        .last()
+                        .and_then(|s| s.points.last().copied())
+                        .into_iter()
+                        .collect::<Vec<_>>();
+                    points.push(pt);
+                    let label = if out.iter().any(|s| s.dashed != c.stable) {
+                        None
+                    } else {
+                        Some(
+                            if c.stable {
+                                "stable cycles"
+                            } else {
+                                "unstable cycles"
+                            }
+                            .to_string(),
+                        )
+                    };
+                    out.push(Series {
+                        label,
+                        points,
+                        color: if c.stable { blue } else { red },
+                        dashed: !c.stable,
+                        markers: false,
+                    });
+                }
+            }
+        }
+        out
+    };
+    let title = format!(
+        "Stick-slip cycles, {} ({} model)",
+        setup.scene.name,
+        setup.choice.kind.name()
+    );
+    let figures = [
+        (
+            "-amplitude",
+            LineFigure {
+                title: title.clone(),
+                x_label: "K/W [1/m]".into(),
+                y_label: "peak-to-peak spring force Δs = Δ(K x)/W".into(),
+                log_x: false,
+                log_y: false,
+                series: by_stability(&|c| c.delta_s),
+            },
+        ),
+        (
+            "-period",
+            LineFigure {
+                title: title.clone(),
+                x_label: "K/W [1/m]".into(),
+                y_label: "period [s]".into(),
+                log_x: false,
+                log_y: false,
+                series: by_stability(&|c| c.period * u.d0 / u.v0),
+            },
+        ),
+    ];
+    let picks: Vec<&CycleRecord> = {
+        let step = (records.len() / 6).max(1);
+        records.iter().step_by(step).collect()
+    };
+    let shade = |i: usize| {
+        let f = i as f64 / picks.len().max(1) as f64;
+        RGBColor(
+            (30.0 + 180.0 * f) as u8,
+            (90.0 - 50.0 * f) as u8,
+            (180.0 - 140.0 * f) as u8,
+        )
+    };
+    let orbit = LineFigure {
+        title: format!("Cycles in the (s, v) plane, {}", setup.scene.name),
+        x_label: "spring force s = K(Vt - x)/W".into(),
+        y_label: "slip velocity v [µm/s]".into(),
+        log_x: false,
+        log_y: true,
+        series: picks
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Series {
+                label: Some(format!("K/W = {:.4e} 1/m", u.k_over_w(c.kappa))),
+                points: c
+                    .samples
+                    .iter()
+                    .map(|p| (p[1], u.velocity_um_s(p[2])))
+                    .collect(),
+                color: shade(i),
+                dashed: false,
+                markers: false,
+            })
+            .collect(),
+    };
+    let series = LineFigure {
+        title: format!("Spring force over one period, {}", setup.scene.name),
+        x_label: "time t [s]".into(),
+        y_label: "spring force s".into(),
+        log_x: false,
+        log_y: false,
+        series: picks
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Series {
+                label: Some(format!("K/W = {:.4e} 1/m", u.k_over_w(c.kappa))),
+                points: c
+                    .samples
+                    .iter()
+                    .map(|p| (p[0] * c.period * u.d0 / u.v0, p[1]))
+                    .collect(),
+                color: shade(i),
+                dashed: false,
+                markers: false,
+            })
+            .collect(),
+    };
+    let mut files = Vec::new();
+    for (suffix, fig) in figures
+        .iter()
+        .chain([("-orbits", orbit), ("-time-series", series)].iter())
+    {
+        files.extend(
+            render(fig, &with_suffix(stem, suffix))
+                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
+        );
+    }
+    Ok(files)
+}

@@ -1,0 +1,66 @@
+//! Stick-slip cycles against the normal form and the closed-form onset law.
+
+use stickslip::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
+use stickslip::analysis::hopf::HopfPoint;
+use stickslip::model::ModelKind;
+use stickslip::params::Params;
+
+fn cycles(kind: ModelKind, p: &Params, steps: usize) -> (HopfPoint, Vec<CycleRecord>) {
+    let mut out = Vec::new();
+    let req = CycleRequest {
+        kappa_min: 0.0,
+        kappa_max: 1.0,
+        max_steps: steps,
+        ntst: 40,
+    };
+    let h = trace_cycles(kind, p, &req, |c| {
+        out.push(c.clone());
+        Ok(())
+    })
+    .unwrap();
+    (h, out)
+}
+
+#[test]
+fn onset_amplitude_and_period_follow_the_normal_form() {
+    // Quasi-static ln² law: Delta_s = 4 sqrt(mu_phi (mu_phi - A) (kappa_c - kappa) / mu2),
+    // an independent closed form (docs/diagram.md); the error is O(kappa_c - kappa).
+    let p = Params {
+        kappa: 0.0,
+        nu: 1.0,
+        m: 0.0,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.5,
+        mu2: 2.4e-4,
+        theta_c: None,
+    };
+    let (h, recs) = cycles(ModelKind::QuasiStatic, &p, 14);
+    let (kappa_c, omega) = (h.kappa_c, h.omega_c);
+    let slope = h.onset.frequency_slope.unwrap();
+    let c = 4.0 * (0.023f64 * 0.011 / 2.4e-4).sqrt();
+    let mut checked = 0;
+    for r in &recs {
+        let eps = (kappa_c - r.kappa) / kappa_c;
+        assert!(eps > 0.0, "supercritical: cycles below kappa_c");
+        assert!(r.stable, "supercritical cycles are stable");
+        assert!(r.trivial_error < 1e-8);
+        // Below eps ~ 1e-6 the corrector's tolerance on kappa (1e-10) dominates kappa_c - kappa.
+        if (1e-6..1e-3).contains(&eps) {
+            let ratio = r.delta_s / (c * (kappa_c - r.kappa).sqrt());
+            assert!(
+                (ratio - 1.0).abs() < 0.5 * eps + 1e-7,
+                "eps = {eps:.2e}: amplitude ratio {ratio}"
+            );
+            // Period from the normal form's frequency shift: Omega = omega + slope (kappa - kappa_c).
+            let t = 2.0 * std::f64::consts::PI / (omega + slope * (r.kappa - kappa_c));
+            assert!(
+                (r.period / t - 1.0).abs() < 1e3 * eps * eps + 1e-8,
+                "eps = {eps:.2e}: period {} vs {t}",
+                r.period
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "{checked} cycles close to onset");
+}
