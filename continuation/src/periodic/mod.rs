@@ -7,3 +7,4 @@ pub mod collocation;
 pub mod cycle;
 pub mod floquet;
 pub mod mesh;
+pub mod newton;
