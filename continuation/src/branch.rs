@@ -11,7 +11,9 @@
 use crate::arclength::{Bound, StepControl, Stepper};
 use crate::defining::{EquilibriumSystem, FreeParams};
 use crate::error::ContinuationError;
-use crate::events::{critical_pair, hopf_test, is_complex_pair, locate_fold, locate_hopf, Event};
+use crate::events::{
+    critical_pair, hopf_test, is_complex_pair, locate_fold, locate_hopf, Event, EventKind,
+};
 use crate::linalg::{count_unstable, eigenvalues};
 use crate::newton::{self, NewtonReport, NewtonSettings};
 use crate::system::{eval, jacobian, VectorField};
@@ -266,6 +268,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
                     let (x, p, s) = interpolate(ha, hb);
                     let omega = pa.0.im.abs() + s * (pb.0.im.abs() - pa.0.im.abs());
                     let ev = locate_hopf(self.sys, k, &x, &p, omega, &self.settings.locator)
+                        .and_then(|e| plausible(e, prev.param(), cur.param(), omega))
                         .map_err(|e| wrap("Hopf", e))?;
                     events.push(ev);
                 }
@@ -370,5 +373,28 @@ impl<S: VectorField> Iterator for Branch<'_, S> {
                 Some(Err(e))
             }
         }
+    }
+}
+
+/// Accepts a located Hopf point only inside its bracket (with half a
+/// bracket of slack) and with a frequency of the order of the one
+/// interpolated from the bracket: Newton may otherwise converge to another
+/// solution of the augmented system, e.g. a degenerate one (`omega -> 0`) at
+/// the end of the branch. A rejected location makes the step retry shorter.
+fn plausible(e: Event, a: f64, b: f64, omega_guess: f64) -> Result<Event, ContinuationError> {
+    let (lo, hi) = (a.min(b), a.max(b));
+    let slack = 0.5 * (hi - lo);
+    let omega = match e.kind {
+        EventKind::Hopf { omega } => omega,
+        EventKind::Fold { .. } => omega_guess,
+    };
+    if e.param() >= lo - slack && e.param() <= hi + slack && omega > 0.1 * omega_guess {
+        Ok(e)
+    } else {
+        Err(ContinuationError::OutsideBracket {
+            found: e.param(),
+            from: a,
+            to: b,
+        })
     }
 }

@@ -65,6 +65,11 @@ pub enum ContinuationError {
         tol: f64,
         param: f64,
     },
+    #[error(
+        "the located point p = {found:.10e} is not the crossing bracketed by [{from:.10e}, {to:.10e}] \
+         (outside it, or with a vanishing frequency): Newton converged to another solution"
+    )]
+    OutsideBracket { found: f64, from: f64, to: f64 },
     #[error("sparse linear algebra failed: {0}")]
     Sparse(String),
     #[error("eigenvalue computation failed: {0}")]

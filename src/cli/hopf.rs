@@ -29,7 +29,8 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
     // A degenerate quasi-static onset (plain RR law) is decided by the inertia
     // that was dropped: when the scene has some and the model was not forced,
     // redo the analysis with it.
-    let degenerate = matches!(&outcome, HopfOutcome::Found(h) if h.onset.criticality == Criticality::Degenerate);
+    let degenerate =
+        matches!(&outcome, HopfOutcome::Found(h) if h.onset.criticality == Criticality::Degenerate);
     if degenerate && args.scene.model.is_none() && setup.scene_params.m > 0.0 {
         setup.choice.kind = ModelKind::Inertial;
         setup.choice.reason = format!(

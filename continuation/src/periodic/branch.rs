@@ -356,7 +356,8 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 step: 0.0,
             })
         } else {
-            if self.settings.adapt_every > 0 && self.steps.is_multiple_of(self.settings.adapt_every) {
+            if self.settings.adapt_every > 0 && self.steps.is_multiple_of(self.settings.adapt_every)
+            {
                 self.adapt(self.coll.mesh.ntst());
             }
             self.step().and_then(|rep| {
@@ -384,4 +385,3 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
         }
     }
 }
-

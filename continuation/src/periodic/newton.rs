@@ -11,13 +11,23 @@ use faer::sparse::Triplet;
 
 /// Arclength weight of unknown `i`: `1 / N` on the orbit's `N` values, 1 on `T` and `p`.
 pub fn weights(n_orbit: usize) -> impl Fn(usize) -> f64 {
-    move |i| if i < n_orbit { 1.0 / (n_orbit as f64) } else { 1.0 }
+    move |i| {
+        if i < n_orbit {
+            1.0 / (n_orbit as f64)
+        } else {
+            1.0
+        }
+    }
 }
 
 /// Weighted inner product of two unknown vectors.
 pub fn wdot(a: &[f64], b: &[f64], n_orbit: usize) -> f64 {
     let w = weights(n_orbit);
-    a.iter().zip(b).enumerate().map(|(i, (x, y))| w(i) * x * y).sum()
+    a.iter()
+        .zip(b)
+        .enumerate()
+        .map(|(i, (x, y))| w(i) * x * y)
+        .sum()
 }
 
 /// Newton's method on the collocation system plus one extra scalar equation
