@@ -241,7 +241,9 @@ impl Drop for TempDir {
 /// Runs `f` with the process's standard output (file descriptor 1) sent to
 /// `/dev/null`, so that a command's report does not mix with the benchmark's.
 /// Printing still happens (and is timed); only its destination changes.
-#[cfg(unix)]
+/// (Not in unit tests: there the test harness captures `println!` itself,
+/// and redirecting descriptor 1 would swallow its reports of other tests.)
+#[cfg(all(unix, not(test)))]
 fn silence_stdout<T>(f: impl FnOnce() -> T) -> T {
     use std::io::Write;
     struct Restore(libc::c_int);
@@ -276,7 +278,7 @@ fn silence_stdout<T>(f: impl FnOnce() -> T) -> T {
     f()
 }
 
-#[cfg(not(unix))]
+#[cfg(not(all(unix, not(test))))]
 fn silence_stdout<T>(f: impl FnOnce() -> T) -> T {
     f()
 }

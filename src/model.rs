@@ -55,7 +55,9 @@ fn eval_kind<D>() -> usize {
 /// [`reset_eval_counts`], indexed like [`EVAL_KINDS`]: `[f64, order 1,
 /// order 2, order 3, order 4, order 5]`. A Jacobian by dual numbers costs `n`
 /// order-1 evaluations (one per column), a second derivative in two
-/// directions one order-2 evaluation, and so on.
+/// directions one order-2 evaluation, and so on. The block in logarithmic
+/// variables of the cycle computations (`crate::log_model::LogBlock`) has its
+/// own `rhs` and is not counted.
 ///
 /// The counters are process-wide and shared by all threads (relaxed atomics):
 /// evaluations of concurrent analyses add up, so read them around a single

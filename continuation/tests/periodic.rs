@@ -76,3 +76,82 @@ fn stuart_landau_cycles_radius_period_and_multipliers() {
         "{count} cycles up to beta = {last_beta}"
     );
 }
+
+/// `Z' = (beta + i w) Z + Z |Z|^2 - Z |Z|^4`: subcritical Hopf at `beta = 0`;
+/// cycles on `beta = r^4 - r^2`, a fold of cycles at `r^2 = 1/2`, `beta = -1/4`;
+/// nontrivial multiplier `exp(2 r^2 (1 - 2 r^2) T)` (unstable below the fold's radius).
+struct Subcritical {
+    w: f64,
+}
+impl VectorField for Subcritical {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        let g = p[0] + r2 - r2 * r2;
+        out[0] = g * x[0] - x[1] * self.w;
+        out[1] = x[0] * self.w + g * x[1];
+    }
+}
+
+#[test]
+fn fold_of_cycles_is_located_and_stability_changes_there() {
+    let sys = Subcritical { w: 1.5 };
+    let settings = CycleSettings {
+        ntst: 20,
+        p_min: -1.0,
+        p_max: 0.5,
+        ds: 1e-2,
+        max_steps: 120,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0], 0, settings).unwrap();
+    let period = 2.0 * std::f64::consts::PI / 1.5;
+    let mut lpcs = Vec::new();
+    let mut last_r2 = 0.0;
+    for pt in branch {
+        let pt = pt.unwrap();
+        let (lo, hi) = pt.cycle.range(0);
+        let r2 = (0.5 * (hi - lo)).powi(2);
+        let beta = pt.cycle.p[0];
+        assert!(
+            (beta - (r2 * r2 - r2)).abs() < 1e-8,
+            "on the branch: beta = {beta}, r^2 = {r2}: {:.2e}",
+            beta - (r2 * r2 - r2)
+        );
+        if (r2 - 0.5).abs() > 1e-2 {
+            let mu = (2.0 * r2 * (1.0 - 2.0 * r2) * period).exp();
+            let nontrivial = pt
+                .multipliers
+                .iter()
+                .map(|z| z.norm())
+                .min_by(|a, b| (a - mu).abs().total_cmp(&(b - mu).abs()))
+                .unwrap();
+            assert!(
+                (nontrivial - mu).abs() < 1e-7 * mu + 1e-13,
+                "r^2 = {r2}: {nontrivial} vs {mu}"
+            );
+            assert_eq!(pt.n_unstable, usize::from(r2 < 0.5), "r^2 = {r2}");
+        }
+        lpcs.extend(pt.lpc);
+        last_r2 = r2;
+    }
+    assert!(
+        last_r2 > 0.9,
+        "the branch must pass the fold: r^2 reached {last_r2}"
+    );
+    assert_eq!(lpcs.len(), 1);
+    let lpc = &lpcs[0];
+    let (lo, hi) = lpc.cycle.range(0);
+    assert!(
+        (lpc.cycle.p[0] + 0.25).abs() < 1e-10,
+        "LPC at beta = {}",
+        lpc.cycle.p[0]
+    );
+    assert!(((0.5 * (hi - lo)).powi(2) - 0.5).abs() < 1e-5, "LPC radius");
+    assert!(lpc.dp_ds.abs() < 1e-8);
+}

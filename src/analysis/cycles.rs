@@ -32,6 +32,8 @@ pub struct CycleRecord {
     pub ntst: usize,
     /// The orbit sampled over one period: `(t / T, s, v, theta)`.
     pub samples: Vec<[f64; 4]>,
+    /// A fold of cycles (LPC) located between the previous cycle and this one.
+    pub lpc: Option<Box<CycleRecord>>,
 }
 
 /// What to trace.
@@ -83,6 +85,7 @@ fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
                 [*tau, s, v, theta]
             })
             .collect(),
+        lpc: pt.lpc.as_ref().map(|l| Box::new(record(log, l))),
     }
 }
 

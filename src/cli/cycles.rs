@@ -51,7 +51,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if args.ntst < 4 {
         return Err(InputError::out_of_range("--ntst", args.ntst as f64, ">= 4").into());
     }
-    let setup = args.scene.setup(|p| *p)?;
+    let mut setup = args.scene.setup(|p| *p)?;
+    let onset = super::onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
     std::fs::create_dir_all(&args.out)?;
     let stem = args.out.join(format!("{}-cycles", setup.scene.name));
     let csv_path = with_suffix(&stem, ".csv");
@@ -65,9 +66,14 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         csv,
         "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,ntst"
     )?;
-    let kappa_c = match crate::analysis::hopf::find_hopf(setup.choice.kind, &setup.params)? {
+    let kappa_c = match onset {
         crate::analysis::hopf::HopfOutcome::Found(h) => h.kappa_c,
-        crate::analysis::hopf::HopfOutcome::StableForAllStiffness { .. } => f64::NAN,
+        crate::analysis::hopf::HopfOutcome::StableForAllStiffness { .. } => {
+            return Err(crate::error::NumericalError::Analysis(
+                "steady sliding is stable for every stiffness here: no Hopf point, hence no cycles born from it".into(),
+            )
+            .into())
+        }
     };
     let req = CycleRequest {
         kappa_min: args.kappa_fraction * kappa_c,
@@ -105,6 +111,15 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 c.ntst
             );
         }
+        if let (Some(l), false) = (&c.lpc, args.json) {
+            println!(
+                "  fold of cycles (LPC) at kappa = {:.10e} (K/W = {:.6e} 1/m): period {:.6e}, Delta_s {:.6e}",
+                l.kappa,
+                setup.scene.units.k_over_w(l.kappa),
+                l.period,
+                l.delta_s
+            );
+        }
         records.push(c.clone());
         Ok(())
     });
@@ -125,7 +140,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             "params": params_json(&setup.params),
             "kappa_c": kappa_c,
             "cycles": records.iter().map(record_json).collect::<Vec<_>>(),
-            "special_points": [],
+            "special_points": records.iter().filter_map(|c| c.lpc.as_deref()).map(|l| json!({
+                "kind": "lpc", "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
+                "v_min": l.v_min, "v_max": l.v_max,
+            })).collect::<Vec<_>>(),
             "stop": stop,
             "files": files.iter().chain([&csv_path]).map(|f| f.display().to_string()).collect::<Vec<_>>(),
         });

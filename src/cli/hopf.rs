@@ -1,7 +1,7 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::{describe_params, params_json, SceneArgs, Setup};
-use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome, HopfPoint};
+use super::{describe_params, onset_with_degeneracy_resolved, params_json, SceneArgs, Setup};
+use crate::analysis::hopf::{HopfOutcome, HopfPoint};
 use crate::appendix_c;
 use crate::error::{Error, NumericalError};
 use crate::model::ModelKind;
@@ -25,22 +25,7 @@ fn rel_diff(a: f64, b: f64) -> f64 {
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
-    let mut outcome = find_hopf(setup.choice.kind, &setup.params)?;
-    // A degenerate quasi-static onset (plain RR law) is decided by the inertia
-    // that was dropped: when the scene has some and the model was not forced,
-    // redo the analysis with it.
-    let degenerate =
-        matches!(&outcome, HopfOutcome::Found(h) if h.onset.criticality == Criticality::Degenerate);
-    if degenerate && args.scene.model.is_none() && setup.scene_params.m > 0.0 {
-        setup.choice.kind = ModelKind::Inertial;
-        setup.choice.reason = format!(
-            "inertial: the quasi-static onset is degenerate (l1 = 0 to rounding), so the scene's small \
-             inertia (m nu^2/mu_v = {:.3e}) decides the onset type",
-            setup.choice.inertia_ratio
-        );
-        setup.params = setup.scene_params;
-        outcome = find_hopf(ModelKind::Inertial, &setup.params)?;
-    }
+    let outcome = onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
     if let HopfOutcome::Found(h) = &outcome {
         let values = [h.kappa_c, h.omega_c].into_iter().chain(h.state);
         if values.clone().any(|v| !v.is_finite()) {

@@ -9,6 +9,7 @@ pub mod cycles;
 pub mod diagram;
 pub mod hopf;
 
+use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::model_choice::{
     choose_model, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD,
 };
@@ -114,6 +115,34 @@ impl SceneArgs {
             choice,
         })
     }
+}
+
+/// Locates the onset; when the quasi-static onset is degenerate (plain RR
+/// law) and the scene has some inertia that the automatic choice dropped,
+/// that inertia decides the onset type: the analysis is redone with the
+/// inertial model and the reason says so.
+pub fn onset_with_degeneracy_resolved(
+    setup: &mut Setup,
+    model_forced: bool,
+) -> Result<HopfOutcome, Error> {
+    let outcome = find_hopf(setup.choice.kind, &setup.params)?;
+    let degenerate =
+        matches!(&outcome, HopfOutcome::Found(h) if h.onset.criticality == Criticality::Degenerate);
+    if !(degenerate
+        && !model_forced
+        && setup.scene_params.m > 0.0
+        && setup.choice.kind == ModelKind::QuasiStatic)
+    {
+        return Ok(outcome);
+    }
+    setup.choice.kind = ModelKind::Inertial;
+    setup.choice.reason = format!(
+        "inertial: the quasi-static onset is degenerate (l1 = 0 to rounding), so the scene's small \
+         inertia (m nu^2/mu_v = {:.3e}) decides the onset type",
+        setup.choice.inertia_ratio
+    );
+    setup.params = setup.scene_params;
+    Ok(find_hopf(ModelKind::Inertial, &setup.params)?)
 }
 
 /// Runs the parsed command line, writing to standard output.

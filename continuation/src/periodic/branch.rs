@@ -88,6 +88,10 @@ pub struct CyclePoint {
     /// Multipliers outside the unit circle, the trivial one excluded.
     pub n_unstable: usize,
     pub newton: NewtonReport,
+    /// `d p / d s` along the branch: its sign change marks a fold of cycles.
+    pub dp_ds: f64,
+    /// A fold of cycles (limit point, LPC) located between the previous orbit and this one.
+    pub lpc: Option<Box<CyclePoint>>,
 }
 
 /// A branch of periodic orbits being traced.
@@ -215,63 +219,31 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 
     fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
-        let lin = self.coll.linearize(&self.z);
-        let mu = multipliers(condense(&lin.blocks, self.sys.dim(), self.coll.mesh.degree))?;
-        let trivial_error = trivial_multiplier_error(&mu);
-        let trivial = mu
-            .iter()
-            .enumerate()
-            .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
-            .map(|(i, _)| i);
-        let n_unstable = mu
-            .iter()
-            .enumerate()
-            .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0)
-            .count();
-        Ok(CyclePoint {
-            cycle: self.coll.cycle(&self.z),
-            multipliers: mu,
-            trivial_error,
-            n_unstable,
-            newton,
-        })
+        point_at(&self.coll, &self.z, &self.tangent, newton)
     }
 
-    fn step(&mut self) -> Result<NewtonReport, ContinuationError> {
+    /// Takes one accepted step; returns the corrector's report and the step length.
+    fn step(&mut self) -> Result<(NewtonReport, f64), ContinuationError> {
         let nz = self.z.len();
         let n_orbit = nz - 2;
         loop {
-            let pred: Vec<f64> = self
-                .z
-                .iter()
-                .zip(&self.tangent)
-                .map(|(z, t)| z + self.ds * t)
-                .collect();
-            let mut z = pred.clone();
-            let t = self.tangent.clone();
-            let w = weights(n_orbit);
-            let attempt = newton_sparse(
+            let attempt = correct_along(
                 &self.coll,
-                &mut z,
+                &self.z,
+                &self.tangent,
+                self.ds,
                 &self.settings.corrector,
-                |_, row| {
-                    row.extend(
-                        (0..nz)
-                            .filter(|&i| t[i] != 0.0)
-                            .map(|i| Triplet::new(nz - 1, i, w(i) * t[i])),
-                    );
-                },
-                |z| (0..nz).map(|i| w(i) * t[i] * (z[i] - pred[i])).sum(),
             );
-            if let Ok(rep) = attempt {
-                if let Ok(t_new) = tangent(&self.coll, &z, &self.tangent, n_orbit) {
+            if let Ok((z, rep)) = &attempt {
+                if let Ok(t_new) = tangent(&self.coll, z, &self.tangent, n_orbit) {
                     if wdot(&t_new, &self.tangent, n_orbit) > 0.8 {
-                        self.z = z;
+                        let ds = self.ds;
+                        self.z = z.clone();
                         self.tangent = t_new;
                         if rep.iterations <= 3 {
                             self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
                         }
-                        return Ok(rep);
+                        return Ok((*rep, ds));
                     }
                 }
             }
@@ -289,6 +261,45 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                 });
             }
         }
+    }
+
+    /// Locates the fold of cycles between `z0` (tangent `t0`) and the orbit
+    /// `ds` further, where `dp/ds` vanishes: regula falsi (Illinois) on the
+    /// arclength, each trial corrected onto the branch.
+    fn locate_lpc(
+        &self,
+        coll: &Collocation<'a, S>,
+        z0: &[f64],
+        t0: &[f64],
+        f0: f64,
+        ds: f64,
+        f1: f64,
+    ) -> Result<CyclePoint, ContinuationError> {
+        let nz = z0.len();
+        let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
+        let mut best = None;
+        let tight = NewtonSettings {
+            step_tol: 1e-13,
+            residual_tol: 1e-12,
+            max_iter: 15,
+        };
+        for _ in 0..60 {
+            let sigma = b - fb * (b - a) / (fb - fa);
+            let (z, rep) = correct_along(coll, z0, t0, sigma, &tight)?;
+            let t = tangent(coll, &z, t0, nz - 2)?;
+            let f = t[nz - 1];
+            best = Some(point_at(coll, &z, &t, rep)?);
+            if f * fb < 0.0 {
+                (a, fa) = (b, fb);
+            } else {
+                fa *= 0.5;
+            }
+            (b, fb) = (sigma, f);
+            if (b - a).abs() <= 1e-12 * ds.abs() || f == 0.0 {
+                break;
+            }
+        }
+        best.ok_or(ContinuationError::Singular)
     }
 
     /// The current orbit; while its trivial multiplier is off by more than
@@ -342,6 +353,66 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 }
 
+/// The orbit at `z` with its Floquet multipliers.
+fn point_at<S: VectorField>(
+    coll: &Collocation<S>,
+    z: &[f64],
+    tangent: &[f64],
+    newton: NewtonReport,
+) -> Result<CyclePoint, ContinuationError> {
+    let lin = coll.linearize(z);
+    let mu = multipliers(condense(&lin.blocks, coll.sys.dim(), coll.mesh.degree))?;
+    let trivial_error = trivial_multiplier_error(&mu);
+    let trivial = mu
+        .iter()
+        .enumerate()
+        .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
+        .map(|(i, _)| i);
+    let n_unstable = mu
+        .iter()
+        .enumerate()
+        .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0)
+        .count();
+    Ok(CyclePoint {
+        cycle: coll.cycle(z),
+        multipliers: mu,
+        trivial_error,
+        n_unstable,
+        newton,
+        dp_ds: tangent[tangent.len() - 1],
+        lpc: None,
+    })
+}
+
+/// Predicts `z0 + sigma t` and corrects it on the collocation system plus the
+/// pseudo-arclength condition `<t, z - prediction>_w = 0`.
+fn correct_along<S: VectorField>(
+    coll: &Collocation<S>,
+    z0: &[f64],
+    t: &[f64],
+    sigma: f64,
+    settings: &NewtonSettings,
+) -> Result<(Vec<f64>, NewtonReport), ContinuationError> {
+    let nz = z0.len();
+    let w = weights(nz - 2);
+    let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
+    let mut z = pred.clone();
+    let rep = newton_sparse(
+        coll,
+        &mut z,
+        settings,
+        |_, row| {
+            row.extend(
+                (0..nz)
+                    .filter(|&i| t[i] != 0.0)
+                    .map(|i| Triplet::new(nz - 1, i, w(i) * t[i])),
+            )
+        },
+        |z| (0..nz).map(|i| w(i) * t[i] * (z[i] - pred[i])).sum(),
+    )?;
+    Ok((z, rep))
+}
+
 impl<S: VectorField> Iterator for CycleBranch<'_, S> {
     type Item = Result<CyclePoint, ContinuationError>;
 
@@ -360,9 +431,23 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
             {
                 self.adapt(self.coll.mesh.ntst());
             }
-            self.step().and_then(|rep| {
+            let (z0, t0) = (self.z.clone(), self.tangent.clone());
+            let coll0 = Collocation::new(self.sys, &self.coll.cycle(&z0), self.k);
+            self.step().and_then(|(rep, ds)| {
                 self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                self.refined_point(rep)
+                let mut pt = self.refined_point(rep)?;
+                let nz = z0.len();
+                if t0[nz - 1] * pt.dp_ds < 0.0 {
+                    pt.lpc = Some(Box::new(self.locate_lpc(
+                        &coll0,
+                        &z0,
+                        &t0,
+                        t0[nz - 1],
+                        ds,
+                        pt.dp_ds,
+                    )?));
+                }
+                Ok(pt)
             })
         };
         self.steps += 1;
