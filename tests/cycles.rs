@@ -2,6 +2,7 @@
 
 use stickslip::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
 use stickslip::analysis::hopf::HopfPoint;
+use stickslip::analysis::simulate::cycle_by_integration;
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
@@ -63,4 +64,63 @@ fn onset_amplitude_and_period_follow_the_normal_form() {
         }
     }
     assert!(checked >= 3, "{checked} cycles close to onset");
+}
+
+#[test]
+fn collocation_cycles_agree_with_long_time_integration() {
+    // Stable stick-slip cycles, quasi-static ln² law and inertial (m = 0.01):
+    // integrate from a point of the collocation orbit with Radau IIA at rtol 1e-12,
+    // measure period and Delta_s from the events v = nu (extremes of s).
+    for (kind, p) in [
+        (
+            ModelKind::QuasiStatic,
+            Params {
+                kappa: 0.0,
+                nu: 1.0,
+                m: 0.0,
+                a: 0.012,
+                b: 0.023,
+                mu0: 0.5,
+                mu2: 2.4e-4,
+                theta_c: None,
+            },
+        ),
+        (
+            ModelKind::Inertial,
+            Params {
+                kappa: 0.0,
+                nu: 1.0,
+                m: 0.01,
+                a: 0.012,
+                b: 0.023,
+                mu0: 0.5,
+                mu2: 2.4e-4,
+                theta_c: None,
+            },
+        ),
+    ] {
+        let (h, recs) = cycles(kind, &p, 60);
+        let r = recs
+            .iter()
+            .rev()
+            .find(|r| (h.kappa_c - r.kappa) / h.kappa_c > 0.005)
+            .expect("a developed cycle");
+        assert!(r.stable && r.trivial_error < 1e-8);
+        let mut at = p;
+        at.kappa = r.kappa;
+        let start = [r.samples[0][1], r.samples[0][2], r.samples[0][3]];
+        let (period, delta_s) =
+            cycle_by_integration(kind, &at, start, 2.0 * r.period, 8.0 * r.period, 4, 1e-12)
+                .unwrap();
+        assert!(
+            (period / r.period - 1.0).abs() < 1e-6,
+            "{kind:?}: period {period} vs {}",
+            r.period
+        );
+        assert!(
+            (delta_s / r.delta_s - 1.0).abs() < 1e-6,
+            "{kind:?}: Delta_s {delta_s} vs {}",
+            r.delta_s
+        );
+    }
 }

@@ -6,3 +6,4 @@ pub mod cycles;
 pub mod diagram;
 pub mod hopf;
 pub mod model_choice;
+pub mod simulate;
