@@ -8,6 +8,7 @@ pub mod branch;
 pub mod cycles;
 pub mod diagram;
 pub mod hopf;
+pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::model_choice::{
@@ -38,6 +39,8 @@ pub enum Command {
     Diagram(diagram::DiagramArgs),
     /// Continue the stick-slip cycles born at the Hopf point in the stiffness; figures and data.
     Cycles(cycles::CyclesArgs),
+    /// Integrate driven sliding in time under a protocol of pulling velocities (jumps, stop-and-go).
+    Simulate(simulate::SimulateArgs),
     /// List the built-in scenes.
     Scenes,
     /// Time the user-level jobs (Hopf point, Hopf curve, diagrams) and count vector-field evaluations.
@@ -152,6 +155,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         Command::Branch(args) => branch::run(&args),
         Command::Diagram(args) => diagram::run(&args),
         Command::Cycles(args) => cycles::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Scenes => {
             for name in scene::builtin_names() {

@@ -21,10 +21,12 @@ pub fn ensure_font() {
     });
 }
 
-/// Tick label for a log axis: plain digits within `[1e-2, 1e4)`, else `a.b e k`.
+/// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`.
 pub fn tick_label(v: f64) -> String {
     let a = v.abs();
-    if (1e-2..1e4).contains(&a) {
+    if a < 1e-300 {
+        "0".to_string()
+    } else if (1e-2..1e4).contains(&a) {
         let s = format!("{v:.3}");
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {
@@ -39,6 +41,20 @@ pub fn tick_label(v: f64) -> String {
 }
 
 /// An error writing a figure (the path and what went wrong).
+#[cfg(test)]
+mod tests {
+    use super::tick_label;
+
+    #[test]
+    fn tick_labels_are_short_and_finite() {
+        assert_eq!(tick_label(0.0), "0");
+        assert_eq!(tick_label(2.5), "2.5");
+        assert_eq!(tick_label(1e5), "1e5");
+        assert_eq!(tick_label(-3e-4), "-3e-4");
+        assert_eq!(tick_label(2.5e-5), "2.5e-5");
+    }
+}
+
 #[derive(Debug, thiserror::Error)]
 #[error("cannot draw {path}: {reason}")]
 pub struct PlotError {

@@ -1,0 +1,182 @@
+//! `stickslip simulate`: driven sliding in time under a driving protocol
+//! (steady pulling, velocity jumps, stop-and-go), with time-series figures.
+
+use super::SceneArgs;
+use crate::analysis::simulate::{simulate, Segment, Trajectory};
+use crate::error::{Error, InputError};
+use crate::plot::lines::{render, LineFigure, Series};
+use clap::Args;
+use plotters::style::RGBColor;
+use std::io::Write;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Driving protocol as V1:T1,V2:T2,... (velocity in um/s, duration in s); V = 0 stops the drive.
+    /// Default: the scene's velocity for 40 D0/V.
+    #[arg(long, value_name = "V:T,...")]
+    pub protocol: Option<String>,
+    /// Relative perturbation of the initial age away from steady sliding.
+    #[arg(long, default_value_t = 1e-2)]
+    pub perturb: f64,
+    /// Integrator relative tolerance.
+    #[arg(long, default_value_t = 1e-8)]
+    pub rtol: f64,
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+}
+
+fn parse_protocol(text: &str, v0_um_s: f64, time_unit_s: f64) -> Result<Vec<Segment>, InputError> {
+    text.split(',')
+        .map(|item| {
+            let bad = || InputError::Malformed {
+                field: "--protocol".into(),
+                value: item.into(),
+                expected: "V:T with V >= 0 in um/s and T > 0 in s, e.g. 1:100,10:20,0:300".into(),
+            };
+            let (v, t) = item.split_once(':').ok_or_else(bad)?;
+            let (v, t): (f64, f64) = (
+                v.trim().parse().map_err(|_| bad())?,
+                t.trim().parse().map_err(|_| bad())?,
+            );
+            if !(v.is_finite() && v >= 0.0 && t.is_finite() && t > 0.0) {
+                return Err(bad());
+            }
+            Ok(Segment {
+                nu: v / v0_um_s,
+                duration: t / time_unit_s,
+            })
+        })
+        .collect()
+}
+
+/// Runs the command.
+pub fn run(args: &SimulateArgs) -> Result<(), Error> {
+    if !(args.rtol > 1e-14 && args.rtol < 1e-2) {
+        return Err(InputError::out_of_range("--rtol", args.rtol, "in (1e-14, 1e-2)").into());
+    }
+    if !(args.perturb.is_finite() && args.perturb.abs() < 1.0) {
+        return Err(InputError::out_of_range("--perturb", args.perturb, "|perturb| < 1").into());
+    }
+    let setup = args.scene.setup(|p| *p)?;
+    let u = setup.scene.units;
+    let time_unit = u.d0 / u.v0;
+    let protocol = match &args.protocol {
+        Some(text) => parse_protocol(text, u.v0 * 1e6, time_unit)?,
+        None => vec![Segment {
+            nu: setup.params.nu,
+            duration: 40.0 / setup.params.nu,
+        }],
+    };
+    let nu0 = protocol[0].nu;
+    if nu0 <= 0.0 {
+        return Err(InputError::Conflict(
+            "--protocol must start with a positive velocity (steady sliding)".into(),
+        )
+        .into());
+    }
+    if setup.params.kappa <= 0.0 {
+        return Err(InputError::Conflict(
+            "simulation needs a spring: give K in the scene or --set kappa=...".into(),
+        )
+        .into());
+    }
+    let mut start_params = setup.params;
+    start_params.nu = nu0;
+    let s0 = start_params.friction().steady(nu0);
+    let start = [s0, nu0, (1.0 + args.perturb) / nu0];
+    let traj = simulate(
+        setup.choice.kind,
+        &setup.params,
+        start,
+        &protocol,
+        args.rtol,
+        None,
+    )?;
+    std::fs::create_dir_all(&args.out)?;
+    let stem = args.out.join(format!("{}-simulation", setup.scene.name));
+    let csv = write_csv(&traj, &stem.with_extension("csv"), time_unit)?;
+    let figs = figures(&setup.scene.name, &traj, &u, &stem)?;
+    println!("model: {}", setup.choice.reason);
+    println!(
+        "{} steps over {:.6e} s",
+        traj.t.len(),
+        traj.t.last().copied().unwrap_or(0.0) * time_unit
+    );
+    for f in figs.iter().chain([&csv]) {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn write_csv(traj: &Trajectory, path: &std::path::Path, time_unit: f64) -> Result<PathBuf, Error> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "t_s,t,s,v,theta,slip")?;
+    for i in 0..traj.t.len() {
+        writeln!(
+            w,
+            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}",
+            traj.t[i] * time_unit,
+            traj.t[i],
+            traj.s[i],
+            traj.v[i],
+            traj.theta[i],
+            traj.slip[i]
+        )?;
+    }
+    w.flush()?;
+    Ok(path.to_path_buf())
+}
+
+fn figures(
+    name: &str,
+    traj: &Trajectory,
+    u: &crate::scene::Units,
+    stem: &std::path::Path,
+) -> Result<Vec<PathBuf>, Error> {
+    let t: Vec<f64> = traj.t.iter().map(|t| t * u.d0 / u.v0).collect();
+    let line = |y: &[f64], label: &str| Series {
+        label: Some(label.into()),
+        points: t.iter().copied().zip(y.iter().copied()).collect(),
+        color: RGBColor(31, 90, 180),
+        dashed: false,
+        markers: false,
+    };
+    let v_um: Vec<f64> = traj.v.iter().map(|v| u.velocity_um_s(*v)).collect();
+    let mut files = Vec::new();
+    for (suffix, fig) in [
+        (
+            "-spring-force",
+            LineFigure {
+                title: format!("Spring force, {name}"),
+                x_label: "time t [s]".into(),
+                y_label: "spring force s = K(Vt - x)/W".into(),
+                log_x: false,
+                log_y: false,
+                series: vec![line(&traj.s, "s(t)")],
+            },
+        ),
+        (
+            "-velocity",
+            LineFigure {
+                title: format!("Slip velocity, {name}"),
+                x_label: "time t [s]".into(),
+                y_label: "slip velocity v [µm/s]".into(),
+                log_x: false,
+                log_y: true,
+                series: vec![line(&v_um, "v(t)")],
+            },
+        ),
+    ] {
+        let mut s = stem.as_os_str().to_owned();
+        s.push(suffix);
+        files.extend(
+            render(&fig, &PathBuf::from(s))
+                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
+        );
+    }
+    Ok(files)
+}
