@@ -56,8 +56,8 @@ fn velocity_jump_direct_effect_and_relaxation_over_d0() {
     // Rigid-spring limit: at constant v = Vf the ageing law in slip x (units D0) gives
     // theta v - 1 = (Vf/Vi - 1) e^-x, so the excess friction B ln(theta v) falls as
     // ln(1 + 9 e^-x) / ln 10: the memory of the old state fades over a few D0.
-    for x in [0.3, 1.0, 3.0] {
-        let rigid = (1.0 + 9.0 * (-x as f64).exp()).ln() / 10f64.ln();
+    for x in [0.3f64, 1.0, 3.0] {
+        let rigid = (1.0 + 9.0 * (-x).exp()).ln() / 10f64.ln();
         assert!(
             (excess(x) - rigid).abs() < 0.03,
             "after {x} D0: {} vs rigid-spring {rigid}",
