@@ -73,7 +73,7 @@ fn random_scene_files_parse_or_fail_cleanly() {
         for _ in 0..n {
             text.push_str(&format!("{} = {}\n", rng.pick(&KEYS), rng.pick(&VALUES)));
         }
-        if rng.next() % 5 == 0 {
+        if rng.next().is_multiple_of(5) {
             let cut = (rng.next() as usize) % (text.len() + 1);
             text.truncate(cut);
         }
