@@ -155,3 +155,72 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
     assert!(((0.5 * (hi - lo)).powi(2) - 0.5).abs() < 1e-5, "LPC radius");
     assert!(lpc.dp_ds.abs() < 1e-8);
 }
+
+/// Van der Pol `x' = y, y' = mu (1 - x^2) y - x` (parameter mu).
+struct VanDerPol;
+impl VectorField for VanDerPol {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        out[0] = x[1];
+        out[1] = p[0] * (-(x[0] * x[0]) + 1.0) * x[1] - x[0];
+    }
+}
+
+fn vdp_period(ntst: usize, degree: usize) -> f64 {
+    use continuation::periodic::cycle::Cycle;
+    use continuation::periodic::mesh::Mesh;
+    let mesh = Mesh::uniform(ntst, degree);
+    let mut u = Vec::new();
+    for i in 0..ntst {
+        for l in 0..degree {
+            let t = 2.0 * std::f64::consts::PI * mesh.node_time(i, l);
+            u.extend([2.0 * t.cos(), -2.0 * t.sin()]);
+        }
+    }
+    let guess = Cycle {
+        mesh,
+        u,
+        period: 6.66,
+        p: vec![1.0],
+        n: 2,
+    };
+    let settings = CycleSettings {
+        adapt_every: 0,
+        trivial_tol: 1.0,
+        ..Default::default()
+    };
+    let mut branch = CycleBranch::from_cycle(&VanDerPol, guess, 0, None, settings).unwrap();
+    let first = branch.next().unwrap().unwrap();
+    assert!(
+        (first.cycle.p[0] - 1.0).abs() < 1e-14,
+        "the first orbit is corrected at fixed mu"
+    );
+    first.cycle.period
+}
+
+#[test]
+fn period_converges_at_order_2m_in_ntst() {
+    // Gauss collocation of degree m: superconvergence O(h^(2m)) at mesh points and for the period.
+    let m = 2;
+    let reference = vdp_period(400, 4);
+    assert!(
+        (reference - 6.663286859323130).abs() < 1e-10,
+        "van der Pol mu = 1 period {reference}"
+    );
+    let errs: Vec<f64> = [20, 40, 80]
+        .iter()
+        .map(|&n| (vdp_period(n, m) - reference).abs())
+        .collect();
+    for w in errs.windows(2) {
+        let order = (w[0] / w[1]).log2();
+        assert!(
+            (order - 2.0 * m as f64).abs() < 0.6,
+            "observed order {order} (errors {errs:?})"
+        );
+    }
+}
