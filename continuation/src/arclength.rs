@@ -148,14 +148,29 @@ impl<G: DefiningSystem> Stepper<G> {
         fixed: Option<(usize, f64)>,
         settings: &NewtonSettings,
     ) -> Result<NewtonReport, ContinuationError> {
+        let mut dgs = DMatrix::zeros(self.system.n_equations(), z.len());
+        self.correct_into(z, tangent, fixed, settings, &mut dgs)
+    }
+
+    /// [`correct`](Self::correct), leaving in `dgs` (`n_equations` rows) the
+    /// Jacobian `DG` of the last evaluation: on success, `DG` at the solution.
+    fn correct_into(
+        &self,
+        z: &mut DVector<f64>,
+        tangent: &DVector<f64>,
+        fixed: Option<(usize, f64)>,
+        settings: &NewtonSettings,
+        dgs: &mut DMatrix<f64>,
+    ) -> Result<NewtonReport, ContinuationError> {
         let m = self.system.n_equations();
         let z_pred = z.clone();
         let mut gs = DVector::zeros(m);
-        let mut dgs = DMatrix::zeros(m, z.len());
+        let wt = self.control.weighted(tangent);
+        let mut diff = DVector::zeros(z.len());
         newton::solve(z, settings, "", |z, g, dg| {
-            self.system.eval(z, &mut gs, &mut dgs);
+            self.system.eval(z, &mut gs, dgs);
             g.rows_mut(0, m).copy_from(&gs);
-            dg.view_mut((0, 0), (m, z.len())).copy_from(&dgs);
+            dg.view_mut((0, 0), (m, z.len())).copy_from(&*dgs);
             match fixed {
                 Some((i, value)) => {
                     g[m] = z[i] - value;
@@ -163,8 +178,9 @@ impl<G: DefiningSystem> Stepper<G> {
                     dg[(m, i)] = 1.0;
                 }
                 None => {
-                    let wt = self.control.weighted(tangent);
-                    g[m] = wt.dot(&(z - &z_pred));
+                    diff.copy_from(z);
+                    diff -= &z_pred;
+                    g[m] = wt.dot(&diff);
                     dg.row_mut(m).copy_from(&wt.transpose());
                 }
             }
@@ -193,15 +209,18 @@ impl<G: DefiningSystem> Stepper<G> {
                 z_new[b.index] = target;
             }
             let fixed = crossed.map(|(b, target)| (b.index, target));
-            let attempt = self.correct(
+            let mut dgs = DMatrix::zeros(self.system.n_equations(), z_new.len());
+            let attempt = self.correct_into(
                 &mut z_new,
-                &self.tangent.clone(),
+                &self.tangent,
                 fixed,
                 &self.control.corrector,
+                &mut dgs,
             );
             let accepted = match &attempt {
                 Ok(report) => {
-                    let t_new = tangent_at(&self.system, &z_new, &self.tangent, &self.control)?;
+                    // The corrector's last evaluation was at `z_new`: its `DG` is reused.
+                    let t_new = tangent_from(&dgs, &self.tangent, &self.control)?;
                     let turn_ok =
                         self.control.dot(&t_new, &self.tangent) >= self.control.min_tangent_cos;
                     (turn_ok || crossed.is_some()).then_some((*report, t_new))
@@ -250,8 +269,18 @@ pub fn tangent_at<G: DefiningSystem>(
     let mut g = DVector::zeros(m);
     let mut dg = DMatrix::zeros(m, z.len());
     system.eval(z, &mut g, &mut dg);
-    let mut a = DMatrix::zeros(m + 1, z.len());
-    a.view_mut((0, 0), (m, z.len())).copy_from(&dg);
+    tangent_from(&dg, reference, control)
+}
+
+/// The tangent of [`tangent_at`] from the Jacobian `dg = DG(z)` (`m` rows).
+fn tangent_from(
+    dg: &DMatrix<f64>,
+    reference: &DVector<f64>,
+    control: &StepControl,
+) -> Result<DVector<f64>, ContinuationError> {
+    let (m, nz) = dg.shape();
+    let mut a = DMatrix::zeros(m + 1, nz);
+    a.view_mut((0, 0), (m, nz)).copy_from(dg);
     let wref = control.weighted(reference);
     a.row_mut(m).copy_from(&wref.transpose());
     let mut rhs = DVector::zeros(m + 1);

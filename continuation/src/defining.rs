@@ -16,10 +16,11 @@
 use crate::error::ContinuationError;
 use crate::linalg::{eigenpair_near, solve, solve_complex};
 use crate::system::{
-    eval, jacobian, param_derivative, second_derivative, JointDirection, VectorField,
+    jacobian, param_derivative_into, second_derivative_into, Buf, JointDirection, VectorField,
 };
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
+use smallvec::SmallVec;
 
 /// A system of equations `G(z) = 0` with an exact Jacobian.
 pub trait DefiningSystem {
@@ -56,7 +57,7 @@ impl FreeParams {
 }
 
 /// Writes the `f` rows of a defining system: `f(x, p)`, `[J, f_p_free]`
-/// (parameter columns starting at `pcol`).
+/// (parameter columns starting at `pcol`). Returns `J`.
 fn equilibrium_rows<S: VectorField>(
     sys: &S,
     x: &[f64],
@@ -67,42 +68,61 @@ fn equilibrium_rows<S: VectorField>(
     dg: &mut DMatrix<f64>,
 ) -> DMatrix<f64> {
     let n = x.len();
-    let jac = jacobian(sys, x, p);
-    g.rows_mut(0, n).copy_from(&eval(sys, x, p));
+    let mut jac = DMatrix::zeros(n, n);
+    sys.jacobian(x, p, &mut jac);
+    sys.rhs(x, p, &mut g.as_mut_slice()[..n]);
     dg.view_mut((0, 0), (n, n)).copy_from(&jac);
+    let rows = dg.nrows();
+    let data = dg.as_mut_slice();
     for (i, &k) in free.iter().enumerate() {
-        dg.view_mut((0, pcol + i), (n, 1))
-            .copy_from(&param_derivative(sys, x, p, k));
+        let start = (pcol + i) * rows;
+        param_derivative_into(sys, x, p, k, &mut data[start..start + n]);
     }
     jac
 }
 
 /// `(dJ/dz) v` for one unknown of the joint space: a state coordinate
-/// (`state = Some(j)`) or the parameter `param`. Complex `v` is split into
-/// real and imaginary parts (the form is linear in `v`).
+/// (`state = Some(j)`) or the parameter `param`, written into `re` and `im`
+/// (length `n`). Complex `v = vr + i vi` is split into real and imaginary
+/// parts (the form is linear in `v`); `vi = None` means a real `v` (then
+/// `im` is zero).
+#[allow(clippy::too_many_arguments)]
 fn jacobian_action_derivative<S: VectorField>(
     sys: &S,
     x: &[f64],
     p: &[f64],
     unknown: Unknown,
-    v: &DVector<Complex64>,
-) -> DVector<Complex64> {
-    let n = x.len();
-    let mut ex = vec![0.0; n];
-    let mut ep = vec![0.0; p.len()];
+    vr: &[f64],
+    vi: Option<&[f64]>,
+    re: &mut [f64],
+    im: &mut [f64],
+) {
+    let mut ex: Buf<f64> = SmallVec::from_elem(0.0, x.len());
+    let mut ep: Buf<f64> = SmallVec::from_elem(0.0, p.len());
     match unknown {
         Unknown::State(j) => ex[j] = 1.0,
         Unknown::Param(k) => ep[k] = 1.0,
     }
     let dir = JointDirection { x: &ex, p: &ep };
-    let vr: Vec<f64> = v.iter().map(|c| c.re).collect();
-    let vi: Vec<f64> = v.iter().map(|c| c.im).collect();
-    let re = second_derivative(sys, x, p, JointDirection::state(&vr), dir);
-    if vi.iter().all(|&t| t == 0.0) {
-        return re.map(Complex64::from);
+    second_derivative_into(sys, x, p, JointDirection::state(vr), dir, re);
+    match vi {
+        Some(vi) => second_derivative_into(sys, x, p, JointDirection::state(vi), dir, im),
+        None => im.fill(0.0),
     }
-    let im = second_derivative(sys, x, p, JointDirection::state(&vi), dir);
-    DVector::from_fn(n, |i, _| Complex64::new(re[i], im[i]))
+}
+
+/// Real and imaginary parts of `v` on the stack; the imaginary part is
+/// `None` when it vanishes.
+fn split_parts(v: &DVector<Complex64>) -> (Buf<f64>, Option<Buf<f64>>) {
+    let vr: Buf<f64> = v.iter().map(|c| c.re).collect();
+    let vi: Buf<f64> = v.iter().map(|c| c.im).collect();
+    let real = vi.iter().all(|&t| t == 0.0);
+    (vr, (!real).then_some(vi))
+}
+
+/// `a . b`, summed in order (as nalgebra's `dot` does for fewer than 8 entries).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |acc, (x, y)| acc + x * y)
 }
 
 #[derive(Clone, Copy)]
@@ -182,19 +202,22 @@ impl<S: VectorField> DefiningSystem for FoldSystem<'_, S> {
         m.view_mut((0, n), (n, 1)).copy_from(&self.b);
         m.view_mut((n, 0), (1, n)).copy_from(&self.c.transpose());
         let e = DVector::from_fn(n + 1, |i, _| if i == n { 1.0 } else { 0.0 });
-        let (Ok(vg), Ok(wh)) = (solve(m.clone(), &e), solve(m.transpose(), &e)) else {
+        let mt = m.transpose();
+        let (Ok(vg), Ok(wh)) = (solve(m, &e), solve(mt, &e)) else {
             g[n] = f64::NAN;
             return;
         };
         g[n] = vg[n];
-        let v = vg.rows(0, n).map(Complex64::from);
-        let w = wh.rows(0, n).into_owned();
+        let v = &vg.as_slice()[..n];
+        let w = &wh.as_slice()[..n];
         let unknowns = (0..n)
             .map(Unknown::State)
             .chain(self.params.free.iter().map(|&k| Unknown::Param(k)));
+        let mut re: Buf<f64> = SmallVec::from_elem(0.0, n);
+        let mut im: Buf<f64> = SmallVec::from_elem(0.0, n);
         for (col, u) in unknowns.enumerate() {
-            let d = jacobian_action_derivative(self.sys, x, &p, u, &v);
-            dg[(n, col)] = -w.dot(&d.map(|c| c.re));
+            jacobian_action_derivative(self.sys, x, &p, u, v, None, &mut re, &mut im);
+            dg[(n, col)] = -dot(w, &re);
         }
     }
     fn accept(&mut self, z: &DVector<f64>) -> Result<(), ContinuationError> {
@@ -253,8 +276,9 @@ impl<'a, S: VectorField> HopfSystem<'a, S> {
         let e = DVector::from_fn(n + 1, |i, _| {
             Complex64::from(if i == n { 1.0 } else { 0.0 })
         });
-        let vg = solve_complex(m.clone(), &e)?;
-        let wh = solve_complex(m.adjoint(), &e)?;
+        let madj = m.adjoint();
+        let vg = solve_complex(m, &e)?;
+        let wh = solve_complex(madj, &e)?;
         Ok((
             vg.rows(0, n).into_owned(),
             wh.rows(0, n).into_owned(),
@@ -290,8 +314,17 @@ impl<S: VectorField> DefiningSystem for HopfSystem<'_, S> {
             .iter()
             .enumerate()
             .map(|(i, &k)| (n + 1 + i, Unknown::Param(k)));
+        let (vr, vi) = split_parts(&v);
+        let mut re: Buf<f64> = SmallVec::from_elem(0.0, n);
+        let mut im: Buf<f64> = SmallVec::from_elem(0.0, n);
         for (col, u) in state.chain(params) {
-            let dgz = -w.dotc(&jacobian_action_derivative(self.sys, x, &p, u, &v));
+            jacobian_action_derivative(self.sys, x, &p, u, &vr, vi.as_deref(), &mut re, &mut im);
+            // -w^H d, summed in order (as nalgebra's `dotc` does for n < 8).
+            let mut acc = Complex64::new(0.0, 0.0);
+            for i in 0..n {
+                acc += w[i].conj() * Complex64::new(re[i], im[i]);
+            }
+            let dgz = -acc;
             dg[(n, col)] = dgz.re;
             dg[(n + 1, col)] = dgz.im;
         }

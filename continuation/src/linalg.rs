@@ -1,16 +1,100 @@
 //! Dense linear algebra for small systems: eigenvalues and eigenvectors
-//! (faer), real and complex solves (nalgebra LU).
+//! (faer, in reused per-thread buffers), real and complex solves (nalgebra LU).
 
 use crate::error::ContinuationError;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
+use std::cell::RefCell;
+
+/// Reused buffers of the eigenvalue routines: the matrix as faer holds it,
+/// the real Schur vectors, the eigenvalues and faer's workspace. faer's
+/// convenience calls (`Mat::eigenvalues`, `Mat::eigen`) allocate all of these
+/// on every call, which dominates for the 2x2 and 3x3 Jacobians here; the
+/// same routine ([`faer::linalg::evd::evd_real`]) is called with the same
+/// inputs, so the results are identical.
+struct EvdWork {
+    a: faer::Mat<f64>,
+    u: faer::Mat<f64>,
+    s_re: faer::diag::Diag<f64>,
+    s_im: faer::diag::Diag<f64>,
+    mem: MemBuffer,
+    req: StackReq,
+}
+
+thread_local! {
+    static EVD_WORK: RefCell<EvdWork> = RefCell::new(EvdWork {
+        a: faer::Mat::zeros(0, 0),
+        u: faer::Mat::zeros(0, 0),
+        s_re: faer::diag::Diag::zeros(0),
+        s_im: faer::diag::Diag::zeros(0),
+        mem: MemBuffer::new(StackReq::EMPTY),
+        req: StackReq::EMPTY,
+    });
+}
+
+/// Runs faer's real eigenvalue decomposition of `a` in the thread's reused
+/// buffers (with the right eigenvectors if `vectors`), then hands the buffers
+/// to `read`.
+fn with_evd<R>(
+    a: &DMatrix<f64>,
+    vectors: bool,
+    read: impl FnOnce(&EvdWork) -> R,
+) -> Result<R, ContinuationError> {
+    use faer::linalg::evd::{evd_real, evd_scratch, ComputeEigenvectors};
+    let n = a.nrows();
+    EVD_WORK.with(|work| {
+        let mut guard = work.borrow_mut();
+        let w = &mut *guard;
+        if w.a.nrows() != n {
+            w.a = faer::Mat::zeros(n, n);
+            w.u = faer::Mat::zeros(n, n);
+            w.s_re = faer::diag::Diag::zeros(n);
+            w.s_im = faer::diag::Diag::zeros(n);
+        }
+        // Same inputs as faer's convenience calls: the matrix, and zeroed outputs.
+        for j in 0..n {
+            for i in 0..n {
+                w.a[(i, j)] = a[(i, j)];
+                w.u[(i, j)] = 0.0;
+            }
+            w.s_re[j] = 0.0;
+            w.s_im[j] = 0.0;
+        }
+        let par = faer::get_global_parallelism();
+        let right = if vectors {
+            ComputeEigenvectors::Yes
+        } else {
+            ComputeEigenvectors::No
+        };
+        let req = evd_scratch::<f64>(n, ComputeEigenvectors::No, right, par, Default::default());
+        if req.size_bytes() > w.req.size_bytes() || req.align_bytes() > w.req.align_bytes() {
+            w.req = req.or(w.req);
+            w.mem = MemBuffer::new(w.req);
+        }
+        evd_real(
+            w.a.as_ref(),
+            w.s_re.as_mut(),
+            w.s_im.as_mut(),
+            None,
+            vectors.then(|| w.u.as_mut()),
+            par,
+            MemStack::new(&mut w.mem),
+            Default::default(),
+        )
+        .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
+        Ok(read(w))
+    })
+}
 
 /// Eigenvalues of a real square matrix, sorted by decreasing real part.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, ContinuationError> {
-    let m = to_faer(a);
-    let mut ev = m
-        .eigenvalues()
-        .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
+    let n = a.nrows();
+    let mut ev = with_evd(a, false, |w| {
+        (0..n)
+            .map(|i| Complex64::new(w.s_re[i], w.s_im[i]))
+            .collect::<Vec<_>>()
+    })?;
     ev.sort_by(|x, y| y.re.total_cmp(&x.re).then(y.im.total_cmp(&x.im)));
     Ok(ev)
 }
@@ -21,19 +105,40 @@ pub fn eigenpair_near(
     a: &DMatrix<f64>,
     target: Complex64,
 ) -> Result<(Complex64, DVector<Complex64>), ContinuationError> {
-    let m = to_faer(a);
-    let evd = m
-        .eigen()
-        .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
-    let s = evd.S();
-    let u = evd.U();
     let n = a.nrows();
-    let k = (0..n)
-        .min_by(|&i, &j| (s[i] - target).norm().total_cmp(&(s[j] - target).norm()))
-        .ok_or_else(|| ContinuationError::Eigen("empty matrix".into()))?;
-    let v = DVector::from_iterator(n, (0..n).map(|i| u[(i, k)]));
+    if n == 0 {
+        return Err(ContinuationError::Eigen("empty matrix".into()));
+    }
+    let (l, v) = with_evd(a, true, |w| {
+        // Complex eigenpairs from the real ones, as faer's `Eigen::new_from_real`
+        // forms them: a complex pair is stored as (re, im) columns.
+        let mut s = Vec::with_capacity(n);
+        let mut col = Vec::with_capacity(n);
+        let mut j = 0;
+        while j < n {
+            if w.s_im[j] == 0.0 {
+                s.push(Complex64::new(w.s_re[j], 0.0));
+                col.push((j, None));
+                j += 1;
+            } else {
+                s.push(Complex64::new(w.s_re[j], w.s_im[j]));
+                s.push(Complex64::new(w.s_re[j], -w.s_im[j]));
+                col.push((j, Some(1.0)));
+                col.push((j, Some(-1.0)));
+                j += 2;
+            }
+        }
+        let k = (0..n)
+            .min_by(|&i, &j| (s[i] - target).norm().total_cmp(&(s[j] - target).norm()))
+            .unwrap_or(0);
+        let v = DVector::from_fn(n, |i, _| match col[k] {
+            (c, None) => Complex64::new(w.u[(i, c)], 0.0),
+            (c, Some(sign)) => Complex64::new(w.u[(i, c)], sign * w.u[(i, c + 1)]),
+        });
+        (s[k], v)
+    })?;
     let norm = v.norm();
-    Ok((s[k], v / Complex64::from(norm)))
+    Ok((l, v / Complex64::from(norm)))
 }
 
 /// Number of eigenvalues with positive real part.
@@ -80,10 +185,6 @@ pub fn solve_sparse(
     } else {
         Err(ContinuationError::Singular)
     }
-}
-
-fn to_faer(a: &DMatrix<f64>) -> faer::Mat<f64> {
-    faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
 }
 
 #[cfg(test)]

@@ -80,7 +80,11 @@ where
         }
         // Backward-error scale: rounding in G is ~ eps |DG| |z|, so the
         // residual tolerance is relative to that for badly scaled systems.
-        let scale = 1.0 + dg.row_iter().map(|r| r.abs().sum()).fold(0.0, f64::max) * z.amax();
+        let scale = 1.0
+            + dg.row_iter()
+                .map(|r| r.iter().fold(0.0, |acc, v| acc + v.abs()))
+                .fold(0.0, f64::max)
+                * z.amax();
         if last_step <= settings.step_tol * (1.0 + z.amax())
             && residual <= settings.residual_tol * scale
         {

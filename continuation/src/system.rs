@@ -8,6 +8,12 @@
 
 use nalgebra::{DMatrix, DVector};
 use num_dual::{Dual64, DualNum, HyperDual64};
+use smallvec::SmallVec;
+
+/// A buffer of scalars (dual-number copies of a state or parameter vector)
+/// that lives on the stack up to 8 entries, so that the derivatives below do
+/// not allocate for small systems.
+pub(crate) type Buf<D> = SmallVec<[D; 8]>;
 
 /// The scalar types a vector field is evaluated with: `f64` and the dual numbers.
 pub trait Scalar: DualNum<Primitive = f64> + Copy {}
@@ -29,9 +35,9 @@ pub trait VectorField {
     /// evaluation; a system may override it with a hand-written one.
     fn jacobian(&self, x: &[f64], p: &[f64], jac: &mut DMatrix<f64>) {
         let n = self.dim();
-        let pd: Vec<Dual64> = p.iter().map(|&v| Dual64::from(v)).collect();
-        let mut xd: Vec<Dual64> = x.iter().map(|&v| Dual64::from(v)).collect();
-        let mut out = vec![Dual64::from(0.0); n];
+        let pd: Buf<Dual64> = p.iter().map(|&v| Dual64::from(v)).collect();
+        let mut xd: Buf<Dual64> = x.iter().map(|&v| Dual64::from(v)).collect();
+        let mut out: Buf<Dual64> = SmallVec::from_elem(Dual64::from(0.0), n);
         for j in 0..n {
             xd[j].eps = 1.0;
             self.rhs(&xd, &pd, &mut out);
@@ -60,12 +66,28 @@ pub fn jacobian<S: VectorField>(sys: &S, x: &[f64], p: &[f64]) -> DMatrix<f64> {
 
 /// The derivative `d f / d p_k` at `(x, p)`.
 pub fn param_derivative<S: VectorField>(sys: &S, x: &[f64], p: &[f64], k: usize) -> DVector<f64> {
-    let xd: Vec<Dual64> = x.iter().map(|&v| Dual64::from(v)).collect();
-    let mut pd: Vec<Dual64> = p.iter().map(|&v| Dual64::from(v)).collect();
+    let mut out = DVector::zeros(sys.dim());
+    param_derivative_into(sys, x, p, k, out.as_mut_slice());
+    out
+}
+
+/// [`param_derivative`] written into `out` (length `dim`), without allocating
+/// for systems of up to 8 states and parameters.
+pub fn param_derivative_into<S: VectorField>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    out: &mut [f64],
+) {
+    let xd: Buf<Dual64> = x.iter().map(|&v| Dual64::from(v)).collect();
+    let mut pd: Buf<Dual64> = p.iter().map(|&v| Dual64::from(v)).collect();
     pd[k].eps = 1.0;
-    let mut out = vec![Dual64::from(0.0); sys.dim()];
-    sys.rhs(&xd, &pd, &mut out);
-    DVector::from_iterator(out.len(), out.iter().map(|d| d.eps))
+    let mut res: Buf<Dual64> = SmallVec::from_elem(Dual64::from(0.0), sys.dim());
+    sys.rhs(&xd, &pd, &mut res);
+    for (o, d) in out.iter_mut().zip(&res) {
+        *o = d.eps;
+    }
 }
 
 /// A direction in the joint space `(x, p)`: a state part and a parameter part.
@@ -96,16 +118,33 @@ pub fn second_derivative<S: VectorField>(
     u: JointDirection,
     w: JointDirection,
 ) -> DVector<f64> {
+    let mut out = DVector::zeros(sys.dim());
+    second_derivative_into(sys, x, p, u, w, out.as_mut_slice());
+    out
+}
+
+/// [`second_derivative`] written into `out` (length `dim`), without
+/// allocating for systems of up to 8 states and parameters.
+pub fn second_derivative_into<S: VectorField>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    u: JointDirection,
+    w: JointDirection,
+    out: &mut [f64],
+) {
     let comp = |d: &[f64], i: usize| d.get(i).copied().unwrap_or(0.0);
-    let xd: Vec<HyperDual64> = (0..x.len())
+    let xd: Buf<HyperDual64> = (0..x.len())
         .map(|i| HyperDual64::new(x[i], comp(u.x, i), comp(w.x, i), 0.0))
         .collect();
-    let pd: Vec<HyperDual64> = (0..p.len())
+    let pd: Buf<HyperDual64> = (0..p.len())
         .map(|i| HyperDual64::new(p[i], comp(u.p, i), comp(w.p, i), 0.0))
         .collect();
-    let mut out = vec![HyperDual64::from(0.0); sys.dim()];
-    sys.rhs(&xd, &pd, &mut out);
-    DVector::from_iterator(out.len(), out.iter().map(|d| d.eps1eps2))
+    let mut res: Buf<HyperDual64> = SmallVec::from_elem(HyperDual64::from(0.0), sys.dim());
+    sys.rhs(&xd, &pd, &mut res);
+    for (o, d) in out.iter_mut().zip(&res) {
+        *o = d.eps1eps2;
+    }
 }
 
 /// A system whose parameters `indices` are given by their logarithms:
@@ -146,7 +185,7 @@ impl<S: VectorField> VectorField for LogParameters<'_, S> {
         self.inner.n_params()
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
-        let mut q = p.to_vec();
+        let mut q: Buf<D> = SmallVec::from_slice(p);
         for &k in &self.indices {
             q[k] = q[k].exp();
         }
