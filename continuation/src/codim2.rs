@@ -71,6 +71,25 @@ pub enum CurveStop {
     FrequencyVanishing,
 }
 
+/// The tangent seed (sign of `d p_b / ds`) and the bounds of a curve whose
+/// two free parameters sit at `first` and `first + 1` of its `len` unknowns.
+fn seed_and_bounds(
+    len: usize,
+    first: usize,
+    settings: &CurveSettings,
+) -> (DVector<f64>, Vec<Bound>) {
+    let sign = if settings.increase_second { 1.0 } else { -1.0 };
+    let seed = DVector::from_fn(len, |i, _| if i == first + 1 { sign } else { 0.0 });
+    let bounds = (0..2)
+        .map(|i| Bound {
+            index: first + i,
+            min: settings.bounds[i].0,
+            max: settings.bounds[i].1,
+        })
+        .collect();
+    (seed, bounds)
+}
+
 /// A point of a Hopf curve.
 #[derive(Clone, Debug)]
 pub struct HopfCurvePoint {
@@ -118,15 +137,7 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
             },
             &z0,
         )?;
-        let sign = if settings.increase_second { 1.0 } else { -1.0 };
-        let seed = DVector::from_fn(n + 3, |i, _| if i == n + 2 { sign } else { 0.0 });
-        let bounds = (0..2)
-            .map(|i| Bound {
-                index: n + 1 + i,
-                min: settings.bounds[i].0,
-                max: settings.bounds[i].1,
-            })
-            .collect();
+        let (seed, bounds) = seed_and_bounds(n + 3, n + 1, &settings);
         let stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
         Ok(HopfCurve {
             sys,
@@ -269,15 +280,7 @@ pub fn fold_curve<S: VectorField>(
         },
         &z0,
     )?;
-    let sign = if settings.increase_second { 1.0 } else { -1.0 };
-    let seed = DVector::from_fn(n + 2, |i, _| if i == n + 1 { sign } else { 0.0 });
-    let bounds = (0..2)
-        .map(|i| Bound {
-            index: n + i,
-            min: settings.bounds[i].0,
-            max: settings.bounds[i].1,
-        })
-        .collect();
+    let (seed, bounds) = seed_and_bounds(n + 2, n, settings);
     let mut stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
     let read = |s: &Stepper<FoldSystem<S>>| {
         let z = s.z();

@@ -169,6 +169,9 @@ fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// Maps a cycle's sample `(t/T, s, v, theta)` to a plotted point.
+type SamplePoint<'a> = dyn Fn(&CycleRecord, &[f64; 4]) -> (f64, f64) + 'a;
+
 fn write_figures(
     setup: &Setup,
     records: &[CycleRecord],
@@ -255,27 +258,27 @@ fn write_figures(
             (180.0 - 140.0 * f) as u8,
         )
     };
+    // One curve per picked cycle, mapping each sample (t/T, s, v, theta) to a point.
+    let per_cycle = |point: &SamplePoint| -> Vec<Series> {
+        picks
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Series {
+                label: Some(format!("K/W = {:.4e} 1/m", u.k_over_w(c.kappa))),
+                points: c.samples.iter().map(|p| point(c, p)).collect(),
+                color: shade(i),
+                dashed: false,
+                markers: false,
+            })
+            .collect()
+    };
     let orbit = LineFigure {
         title: format!("Cycles in the (s, v) plane, {}", setup.scene.name),
         x_label: "spring force s = K(Vt - x)/W".into(),
         y_label: "slip velocity v [µm/s]".into(),
         log_x: false,
         log_y: true,
-        series: picks
-            .iter()
-            .enumerate()
-            .map(|(i, c)| Series {
-                label: Some(format!("K/W = {:.4e} 1/m", u.k_over_w(c.kappa))),
-                points: c
-                    .samples
-                    .iter()
-                    .map(|p| (p[1], u.velocity_um_s(p[2])))
-                    .collect(),
-                color: shade(i),
-                dashed: false,
-                markers: false,
-            })
-            .collect(),
+        series: per_cycle(&|_, p| (p[1], u.velocity_um_s(p[2]))),
     };
     let series = LineFigure {
         title: format!("Spring force over one period, {}", setup.scene.name),
@@ -283,21 +286,7 @@ fn write_figures(
         y_label: "spring force s".into(),
         log_x: false,
         log_y: false,
-        series: picks
-            .iter()
-            .enumerate()
-            .map(|(i, c)| Series {
-                label: Some(format!("K/W = {:.4e} 1/m", u.k_over_w(c.kappa))),
-                points: c
-                    .samples
-                    .iter()
-                    .map(|p| (p[0] * c.period * u.d0 / u.v0, p[1]))
-                    .collect(),
-                color: shade(i),
-                dashed: false,
-                markers: false,
-            })
-            .collect(),
+        series: per_cycle(&|c, p| (p[0] * c.period * u.d0 / u.v0, p[1])),
     };
     let mut files = Vec::new();
     for (suffix, fig) in figures

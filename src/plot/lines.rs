@@ -1,7 +1,7 @@
 //! Generic line figures (PNG and SVG): several labelled series on linear or
 //! logarithmic axes. Cycle diagrams, orbits and time series use it.
 
-use super::{ensure_font, tick_label, PlotError, FONT};
+use super::{render_both, tick_label, PlotError, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -62,21 +62,12 @@ fn bounds(fig: &LineFigure) -> ((f64, f64), (f64, f64)) {
 
 /// Writes `stem.png` and `stem.svg`.
 pub fn render(fig: &LineFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-    ensure_font();
-    let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
-    let err = |p: &Path, reason: String| PlotError {
-        path: p.display().to_string(),
-        reason,
-    };
-    draw_any(
-        BitMapBackend::new(&png, (1000, 650)).into_drawing_area(),
-        fig,
+    render_both(
+        stem,
+        (1000, 650),
+        |a| draw_any(a, fig),
+        |a| draw_any(a, fig),
     )
-    .map_err(|e| err(&png, e))?;
-    draw_any(SVGBackend::new(&svg, (1000, 650)).into_drawing_area(), fig)
-        .map_err(|e| err(&svg, e))?;
-    Ok(vec![png, svg])
 }
 
 fn draw_any<DB: DrawingBackend>(

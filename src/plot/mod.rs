@@ -4,6 +4,9 @@
 pub mod lines;
 pub mod stability;
 
+use plotters::coord::Shift;
+use plotters::prelude::{BitMapBackend, DrawingArea, IntoDrawingArea, SVGBackend};
+use std::path::{Path, PathBuf};
 use std::sync::Once;
 
 /// The font family registered for every figure.
@@ -19,6 +22,25 @@ pub fn ensure_font() {
         // build defect, and plotters then falls back to drawing no text.
         let _ = plotters::style::register_font(FONT, plotters::style::FontStyle::Normal, bytes);
     });
+}
+
+/// Writes `stem.png` and `stem.svg` of the given size; `png` and `svg` draw
+/// the same figure (one generic drawing function instantiated per backend).
+pub fn render_both(
+    stem: &Path,
+    size: (u32, u32),
+    png: impl FnOnce(DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>,
+    svg: impl FnOnce(DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>,
+) -> Result<Vec<PathBuf>, PlotError> {
+    ensure_font();
+    let (png_path, svg_path) = (stem.with_extension("png"), stem.with_extension("svg"));
+    let err = |p: &Path, reason: String| PlotError {
+        path: p.display().to_string(),
+        reason,
+    };
+    png(BitMapBackend::new(&png_path, size).into_drawing_area()).map_err(|e| err(&png_path, e))?;
+    svg(SVGBackend::new(&svg_path, size).into_drawing_area()).map_err(|e| err(&svg_path, e))?;
+    Ok(vec![png_path, svg_path])
 }
 
 /// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`.

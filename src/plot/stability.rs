@@ -2,7 +2,7 @@
 //! parts drawn differently, the Appendix C curve overlaid, special points
 //! marked, stable and unstable regions labelled.
 
-use super::{ensure_font, tick_label, PlotError, FONT};
+use super::{render_both, tick_label, PlotError, FONT};
 use crate::analysis::hopf::Criticality;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -79,20 +79,7 @@ pub fn segments(points: &[(f64, f64, Criticality)]) -> Vec<Segment> {
 
 /// Writes `stem.png` and `stem.svg`; returns their paths.
 pub fn render(fig: &StabilityFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-    ensure_font();
-    let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
-    let err = |p: &Path, reason: String| PlotError {
-        path: p.display().to_string(),
-        reason,
-    };
-    draw(
-        BitMapBackend::new(&png, (1000, 700)).into_drawing_area(),
-        fig,
-    )
-    .map_err(|e| err(&png, e))?;
-    draw(SVGBackend::new(&svg, (1000, 700)).into_drawing_area(), fig).map_err(|e| err(&svg, e))?;
-    Ok(vec![png, svg])
+    render_both(stem, (1000, 700), |a| draw(a, fig), |a| draw(a, fig))
 }
 
 fn y_range(fig: &StabilityFigure) -> (f64, f64) {
