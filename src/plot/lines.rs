@@ -1,7 +1,7 @@
 //! Generic line figures (PNG and SVG): several labelled series on linear or
 //! logarithmic axes. Cycle diagrams, orbits and time series use it.
 
-use super::{render_both, tick_label, PlotError, FONT};
+use super::{frame, render_both, PlotError, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -96,25 +96,7 @@ where
     Y::CoordDescType: ValueFormatter<f64>,
 {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(&fig.title, (FONT, 22))
-        .margin(18)
-        .x_label_area_size(55)
-        .y_label_area_size(85)
-        .build_cartesian_2d(xr, yr)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc(&fig.x_label)
-        .y_desc(&fig.y_label)
-        .x_label_formatter(&|v| tick_label(*v))
-        .y_label_formatter(&|v| tick_label(*v))
-        .label_style((FONT, 15))
-        .axis_desc_style((FONT, 18))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(e)?;
+    let mut chart = frame(&root, (&fig.title, &fig.x_label, &fig.y_label), xr, yr)?;
     let mut any_label = false;
     for s in &fig.series {
         let c = s.color;

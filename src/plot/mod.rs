@@ -4,8 +4,12 @@
 pub mod lines;
 pub mod stability;
 
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
-use plotters::prelude::{BitMapBackend, DrawingArea, IntoDrawingArea, SVGBackend};
+use plotters::prelude::{
+    BitMapBackend, Cartesian2d, ChartBuilder, ChartContext, DrawingArea, DrawingAreaErrorKind,
+    DrawingBackend, IntoDrawingArea, RGBColor, SVGBackend, WHITE,
+};
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
@@ -41,6 +45,51 @@ pub fn render_both(
     png(BitMapBackend::new(&png_path, size).into_drawing_area()).map_err(|e| err(&png_path, e))?;
     svg(SVGBackend::new(&svg_path, size).into_drawing_area()).map_err(|e| err(&svg_path, e))?;
     Ok(vec![png_path, svg_path])
+}
+
+/// The chart type [`frame`] returns for the ranges `X`, `Y`.
+pub type Chart<'a, DB, X, Y> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<<X as AsRangedCoord>::CoordDescType, <Y as AsRangedCoord>::CoordDescType>,
+>;
+
+/// A chart on `root` with the common frame of every figure: title, margins,
+/// labelled axes with [`tick_label`] ticks, light grid.
+pub fn frame<'a, DB, X, Y>(
+    root: &'a DrawingArea<DB, Shift>,
+    (title, x_label, y_label): (&str, &str, &str),
+    xr: X,
+    yr: Y,
+) -> Result<Chart<'a, DB, X, Y>, String>
+where
+    DB: DrawingBackend,
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+    X::CoordDescType: ValueFormatter<f64>,
+    Y::CoordDescType: ValueFormatter<f64>,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FONT, 23))
+        .margin(18)
+        .x_label_area_size(55)
+        .y_label_area_size(85)
+        .build_cartesian_2d(xr, yr)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| tick_label(*v))
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 19))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(e)?;
+    Ok(chart)
 }
 
 /// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`.

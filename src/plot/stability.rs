@@ -2,7 +2,7 @@
 //! parts drawn differently, the Appendix C curve overlaid, special points
 //! marked, stable and unstable regions labelled.
 
-use super::{render_both, tick_label, PlotError, FONT};
+use super::{frame, render_both, PlotError, FONT};
 use crate::analysis::hopf::Criticality;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -107,28 +107,15 @@ fn draw<DB: DrawingBackend>(
     fig: &StabilityFigure,
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
     let (y0, y1) = y_range(fig);
     // A little room at both ends so the end ticks and markers show.
     let (x0, x1) = (fig.x_range.0 / 1.12, fig.x_range.1 * 1.12);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(&fig.title, (FONT, 24))
-        .margin(18)
-        .x_label_area_size(55)
-        .y_label_area_size(85)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc(&fig.x_label)
-        .y_desc(&fig.y_label)
-        .x_label_formatter(&|v| tick_label(*v))
-        .y_label_formatter(&|v| tick_label(*v))
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 19))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(e)?;
+    let mut chart = frame(
+        &root,
+        (&fig.title, &fig.x_label, &fig.y_label),
+        (x0..x1).log_scale(),
+        (y0..y1).log_scale(),
+    )?;
     // Region labels: steady sliding is stable at high stiffness (top) and, past a
     // friction minimum, at high velocity; stick-slip lives at low stiffness (bottom left).
     let at = |fx: f64, fy: f64| (x0 * (x1 / x0).powf(fx), y0 * (y1 / y0).powf(fy));
@@ -140,7 +127,7 @@ fn draw<DB: DrawingBackend>(
         .map_err(e)?;
     chart
         .draw_series([Text::new(
-            "steady sliding unstable: stick-slip",
+            "unstable: stick-slip",
             at(0.02, 0.06),
             left,
         )])
