@@ -60,15 +60,19 @@ pub enum Error {
     Numerical(#[from] NumericalError),
     #[error("cannot write output: {0}")]
     Output(#[from] std::io::Error),
+    #[error("interrupted (Ctrl-C) {0}; everything computed before is kept")]
+    Interrupted(String),
 }
 
 impl Error {
-    /// Exit status: 2 for bad input, 3 for a numerical failure, 1 for I/O.
+    /// Exit status: 2 for bad input, 3 for a numerical failure, 1 for I/O,
+    /// 130 after Ctrl-C.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Input(_) => 2,
             Error::Numerical(_) => 3,
             Error::Output(_) => 1,
+            Error::Interrupted(_) => 130,
         }
     }
 }

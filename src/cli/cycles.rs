@@ -81,8 +81,26 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         max_steps: args.max_steps,
         ntst: args.ntst,
     };
-    let mut records = Vec::new();
+    let mut records: Vec<CycleRecord> = Vec::new();
+    super::interrupt::catch_interrupts();
+    let bar = super::interrupt::progress("continuing cycles");
     let outcome = trace_cycles(setup.choice.kind, &setup.params, &req, |c| {
+        if super::interrupt::interrupted() {
+            return Err(Error::Interrupted(match records.last() {
+                Some(r) => format!(
+                    "after {} cycles, the last at kappa = {:.10e}",
+                    records.len(),
+                    r.kappa
+                ),
+                None => "before the first cycle".to_string(),
+            }));
+        }
+        bar.set_message(format!(
+            "{} cycles, kappa = {:.6e}, NTST {}",
+            records.len() + 1,
+            c.kappa,
+            c.ntst
+        ));
         writeln!(
             csv,
             "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{}",
@@ -123,6 +141,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         records.push(c.clone());
         Ok(())
     });
+    bar.finish_and_clear();
     // Whatever was computed is kept and drawn, even when the branch stopped on an error.
     let files = if records.is_empty() {
         Vec::new()
@@ -158,6 +177,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         }
     }
     match outcome {
+        Err(e @ Error::Interrupted(_)) => Err(e),
         Err(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }

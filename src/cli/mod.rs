@@ -8,6 +8,7 @@ pub mod branch;
 pub mod cycles;
 pub mod diagram;
 pub mod hopf;
+pub mod interrupt;
 pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};

@@ -126,11 +126,7 @@ fn draw<DB: DrawingBackend>(
         .draw_series([Text::new("steady sliding stable", at(0.5, 0.93), centred)])
         .map_err(e)?;
     chart
-        .draw_series([Text::new(
-            "unstable: stick-slip",
-            at(0.02, 0.06),
-            left,
-        )])
+        .draw_series([Text::new("unstable: stick-slip", at(0.02, 0.06), left)])
         .map_err(e)?;
     let mut labelled = Vec::new();
     for s in &fig.segments {

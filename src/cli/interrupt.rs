@@ -1,0 +1,40 @@
+//! Ctrl-C and progress for long computations: an interrupt stops the work at
+//! the next point, keeps everything already written, and says where it
+//! stopped; a progress bar shows on a terminal only.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Once;
+
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+static INSTALL: Once = Once::new();
+
+/// Installs the Ctrl-C handler (once); afterwards Ctrl-C sets a flag instead
+/// of killing the process.
+pub fn catch_interrupts() {
+    INSTALL.call_once(|| {
+        // If another handler is already installed, Ctrl-C keeps its default
+        // effect; the files written so far are complete either way.
+        let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
+    });
+}
+
+/// Whether Ctrl-C was pressed.
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
+}
+
+/// A spinner with a message on standard error when it is a terminal; hidden otherwise.
+pub fn progress(what: &str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new_spinner();
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed} {msg}") {
+        bar.set_style(style);
+    }
+    bar.set_message(what.to_string());
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar
+}
