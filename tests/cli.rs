@@ -266,3 +266,46 @@ fn ctrl_c_keeps_the_cycles_computed_so_far() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn cycles_json_lands_on_the_requested_stiffnesses() {
+    let dir = std::env::temp_dir().join(format!("stickslip-user-points-{}", std::process::id()));
+    let out = dir.to_str().unwrap();
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--json",
+        "--max-steps",
+        "40",
+        "--at-kappa",
+        "0.0109,0.0108",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let cycles = v["cycles"].as_array().unwrap();
+    for c in cycles {
+        for k in [
+            "kappa",
+            "period",
+            "delta_s",
+            "v_min",
+            "v_max",
+            "multipliers",
+            "stable",
+        ] {
+            assert!(!c[k].is_null(), "cycle lacks {k}");
+        }
+    }
+    let users: Vec<f64> = cycles
+        .iter()
+        .filter(|c| c["user_point"] == true)
+        .map(|c| c["kappa"].as_f64().unwrap())
+        .collect();
+    assert_eq!(users.len(), 2, "{users:?}");
+    assert!(
+        (users[0] / 0.0109 - 1.0).abs() < 1e-12 && (users[1] / 0.0108 - 1.0).abs() < 1e-12,
+        "{users:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -13,6 +13,7 @@ fn cycles(kind: ModelKind, p: &Params, steps: usize) -> (HopfPoint, Vec<CycleRec
         kappa_max: 1.0,
         max_steps: steps,
         ntst: 40,
+        at_kappa: Vec::new(),
     };
     let h = trace_cycles(kind, p, &req, |c| {
         out.push(c.clone());

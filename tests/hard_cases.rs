@@ -54,6 +54,7 @@ fn degenerate_hopf_is_named_and_cycles_refuse_with_a_reason() {
         kappa_max: 1.0,
         max_steps: 5,
         ntst: 20,
+        at_kappa: Vec::new(),
     };
     let err = trace_cycles(ModelKind::QuasiStatic, &p, &req, |_| Ok(()))
         .unwrap_err()

@@ -224,3 +224,29 @@ fn period_converges_at_order_2m_in_ntst() {
         );
     }
 }
+
+#[test]
+fn user_points_land_exactly_on_the_requested_parameters() {
+    let sys = StuartLandau { w: 2.0, g: 0.5 };
+    let settings = CycleSettings {
+        ntst: 20,
+        p_max: 0.8,
+        ds: 1e-2,
+        user_points: vec![0.25, 0.5],
+        ..Default::default()
+    };
+    let mut found = Vec::new();
+    for pt in CycleBranch::from_hopf(&sys, &[0.0, 0.0], 2.0, &[0.0], 0, settings).unwrap() {
+        found.extend(pt.unwrap().user);
+    }
+    assert_eq!(found.len(), 2);
+    for (u, beta) in found.iter().zip([0.25, 0.5]) {
+        assert!(
+            (u.cycle.p[0] - beta).abs() < 1e-12,
+            "landed at {}",
+            u.cycle.p[0]
+        );
+        let (lo, hi) = u.cycle.range(0);
+        assert!((0.5 * (hi - lo) / f64::sqrt(beta) - 1.0).abs() < 1e-8);
+    }
+}

@@ -34,6 +34,10 @@ pub struct CycleRecord {
     pub samples: Vec<[f64; 4]>,
     /// A fold of cycles (LPC) located between the previous cycle and this one.
     pub lpc: Option<Box<CycleRecord>>,
+    /// Cycles at the requested stiffnesses (`--at-kappa`) passed since the previous cycle.
+    pub user: Vec<CycleRecord>,
+    /// Whether this cycle is one of the requested stiffnesses.
+    pub user_point: bool,
 }
 
 /// What to trace.
@@ -45,6 +49,8 @@ pub struct CycleRequest {
     pub kappa_max: f64,
     pub max_steps: usize,
     pub ntst: usize,
+    /// Stiffnesses at which a cycle is located exactly and reported.
+    pub at_kappa: Vec<f64>,
 }
 
 fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
@@ -86,6 +92,15 @@ fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
             })
             .collect(),
         lpc: pt.lpc.as_ref().map(|l| Box::new(record(log, l))),
+        user: pt
+            .user
+            .iter()
+            .map(|u| CycleRecord {
+                user_point: true,
+                ..record(log, u)
+            })
+            .collect(),
+        user_point: false,
     }
 }
 
@@ -117,6 +132,7 @@ pub fn trace_cycles(
         max_steps: req.max_steps,
         ds: 1e-3,
         ds_max: 0.2,
+        user_points: req.at_kappa.clone(),
         ..Default::default()
     };
     let branch = CycleBranch::from_hopf(

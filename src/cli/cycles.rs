@@ -24,6 +24,9 @@ pub struct CyclesArgs {
     /// Initial number of mesh intervals (grown automatically when needed).
     #[arg(long, default_value_t = 40)]
     pub ntst: usize,
+    /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
+    #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
+    pub at_kappa: Vec<f64>,
     /// Output directory for figures and data.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
@@ -38,6 +41,7 @@ fn record_json(c: &CycleRecord) -> Value {
         "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
         "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
         "trivial_multiplier_error": c.trivial_error, "stable": c.stable, "ntst": c.ntst,
+        "user_point": c.user_point,
     })
 }
 
@@ -47,6 +51,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         return Err(
             InputError::out_of_range("--kappa-fraction", args.kappa_fraction, "in (0, 1)").into(),
         );
+    }
+    if let Some(k) = args.at_kappa.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
+        return Err(InputError::out_of_range("--at-kappa", *k, "> 0").into());
     }
     if args.ntst < 4 {
         return Err(InputError::out_of_range("--ntst", args.ntst as f64, ">= 4").into());
@@ -80,6 +87,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         kappa_max: 10.0 * kappa_c,
         max_steps: args.max_steps,
         ntst: args.ntst,
+        at_kappa: args.at_kappa.clone(),
     };
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
@@ -101,21 +109,17 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             c.kappa,
             c.ntst
         ));
-        writeln!(
-            csv,
-            "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{}",
-            c.kappa,
-            c.period,
-            c.delta_s,
-            c.s_min,
-            c.s_max,
-            c.v_min,
-            c.v_max,
-            c.stable,
-            c.trivial_error,
-            c.ntst
-        )?;
-        csv.flush()?;
+        for u in &c.user {
+            write_row(&mut csv, u)?;
+            if !args.json {
+                println!(
+                    "  user point kappa = {:.10e}: period {:.10e}, Delta_s {:.10e}",
+                    u.kappa, u.period, u.delta_s
+                );
+            }
+            records.push(u.clone());
+        }
+        write_row(&mut csv, c)?;
         if !args.json {
             println!(
                 "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {:.1e}  NTST {}",
@@ -181,6 +185,27 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         Err(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }
+}
+
+/// One CSV row per cycle, flushed at once so an interrupted run keeps it.
+fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
+    writeln!(
+        csv,
+        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{},{}",
+        c.kappa,
+        c.period,
+        c.delta_s,
+        c.s_min,
+        c.s_max,
+        c.v_min,
+        c.v_max,
+        c.stable,
+        c.trivial_error,
+        c.ntst,
+        c.user_point
+    )?;
+    csv.flush()?;
+    Ok(())
 }
 
 fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {

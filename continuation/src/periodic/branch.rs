@@ -49,6 +49,9 @@ pub struct CycleSettings {
     pub trivial_tol: f64,
     /// Most mesh intervals the refinement may use. Default 400.
     pub ntst_max: usize,
+    /// Parameter values at which an orbit is located exactly and reported
+    /// (AUTO's user points). Default none.
+    pub user_points: Vec<f64>,
 }
 
 impl Default for CycleSettings {
@@ -73,6 +76,7 @@ impl Default for CycleSettings {
             start_amplitude: 1e-3,
             trivial_tol: 1e-8,
             ntst_max: 400,
+            user_points: Vec::new(),
         }
     }
 }
@@ -92,6 +96,8 @@ pub struct CyclePoint {
     pub dp_ds: f64,
     /// A fold of cycles (limit point, LPC) located between the previous orbit and this one.
     pub lpc: Option<Box<CyclePoint>>,
+    /// Orbits at the user's parameter values passed between the previous orbit and this one.
+    pub user: Vec<CyclePoint>,
 }
 
 /// A branch of periodic orbits being traced.
@@ -263,17 +269,19 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         }
     }
 
-    /// Locates the fold of cycles between `z0` (tangent `t0`) and the orbit
-    /// `ds` further, where `dp/ds` vanishes: regula falsi (Illinois) on the
-    /// arclength, each trial corrected onto the branch.
-    fn locate_lpc(
+    /// Locates the zero of a test function `f(z, tangent)` between `z0`
+    /// (tangent `t0`, where `f = f0`) and the orbit `ds` further (`f = f1`):
+    /// regula falsi (Illinois) on the arclength, each trial corrected onto
+    /// the branch. Folds of cycles use `f = dp/ds`; user points `f = p - p_user`.
+    #[allow(clippy::too_many_arguments)]
+    fn locate(
         &self,
         coll: &Collocation<'a, S>,
         z0: &[f64],
         t0: &[f64],
-        f0: f64,
+        (f0, f1): (f64, f64),
         ds: f64,
-        f1: f64,
+        f: impl Fn(&[f64], &[f64]) -> f64,
     ) -> Result<CyclePoint, ContinuationError> {
         let nz = z0.len();
         let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
@@ -287,15 +295,15 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             let sigma = b - fb * (b - a) / (fb - fa);
             let (z, rep) = correct_along(coll, z0, t0, sigma, &tight)?;
             let t = tangent(coll, &z, t0, nz - 2)?;
-            let f = t[nz - 1];
+            let fz = f(&z, &t);
             best = Some(point_at(coll, &z, &t, rep)?);
-            if f * fb < 0.0 {
+            if fz * fb < 0.0 {
                 (a, fa) = (b, fb);
             } else {
                 fa *= 0.5;
             }
-            (b, fb) = (sigma, f);
-            if (b - a).abs() <= 1e-12 * ds.abs() || f == 0.0 {
+            (b, fb) = (sigma, fz);
+            if (b - a).abs() <= 1e-12 * ds.abs() || fz == 0.0 {
                 break;
             }
         }
@@ -381,6 +389,7 @@ fn point_at<S: VectorField>(
         newton,
         dp_ds: tangent[tangent.len() - 1],
         lpc: None,
+        user: Vec::new(),
     })
 }
 
@@ -438,14 +447,26 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 let mut pt = self.refined_point(rep)?;
                 let nz = z0.len();
                 if t0[nz - 1] * pt.dp_ds < 0.0 {
-                    pt.lpc = Some(Box::new(self.locate_lpc(
-                        &coll0,
-                        &z0,
-                        &t0,
-                        t0[nz - 1],
-                        ds,
-                        pt.dp_ds,
-                    )?));
+                    let lpc =
+                        self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
+                            t[nz - 1]
+                        })?;
+                    pt.lpc = Some(Box::new(lpc));
+                }
+                // The mesh (hence the length of z) may have been refined since z0.
+                let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
+                for &target in &self.settings.user_points {
+                    if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
+                        let user = self.locate(
+                            &coll0,
+                            &z0,
+                            &t0,
+                            (p0 - target, p1 - target),
+                            ds,
+                            |z, _| z[nz - 1] - target,
+                        )?;
+                        pt.user.push(user);
+                    }
                 }
                 Ok(pt)
             })
