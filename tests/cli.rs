@@ -144,6 +144,7 @@ fn bad_input_exits_2_naming_the_field() {
         (vec!["hopf", "--scene", "pmmaa"], "pmma"),
         (vec!["hopf", "--scene", "/nonexistent/scene.toml"], "scene"),
         (vec!["branch", "--param", "nu", "--from=-1"], "--from"),
+        (vec!["hopf", "--set", "m=0", "--model", "inertial"], "m = 0"),
     ] {
         let (code, out, err) = stickslip(&args);
         assert_eq!(code, 2, "{args:?}: {out}{err}");
@@ -224,6 +225,7 @@ fn diagram_rejects_a_bad_range() {
 #[test]
 fn ctrl_c_keeps_the_cycles_computed_so_far() {
     let dir = std::env::temp_dir().join(format!("stickslip-interrupt-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
     let child = Command::new(env!("CARGO_BIN_EXE_stickslip"))
         .args([
             "cycles",
@@ -260,6 +262,12 @@ fn ctrl_c_keeps_the_cycles_computed_so_far() {
     assert_eq!(out.status.code(), Some(130), "{err}");
     assert!(err.contains("interrupted") && err.contains("kept"), "{err}");
     assert!(rows() >= 6, "cycles written before the interrupt are kept");
+    let csv = std::fs::read_to_string(&csv_path).unwrap();
+    let header = csv.lines().nth(1).unwrap().split(',').count();
+    assert!(
+        csv.lines().skip(2).all(|l| l.split(',').count() == header),
+        "every row matches the header"
+    );
     assert!(
         dir.join("pmma-cycles-amplitude.png").exists(),
         "figures of the computed cycles"

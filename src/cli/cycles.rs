@@ -1,6 +1,7 @@
 //! `stickslip cycles`: the stick-slip cycles born at the Hopf point, continued
 //! in the stiffness; the bifurcation diagram, orbits and time series.
 
+use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
 use crate::error::{Error, InputError};
@@ -61,7 +62,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
     let onset = super::onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
     std::fs::create_dir_all(&args.out)?;
-    let stem = args.out.join(format!("{}-cycles", setup.scene.name));
+    let stem = with_suffix(&super::files::stem(&args.out, &setup.scene.name), "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
     let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
     writeln!(
@@ -71,7 +72,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     )?;
     writeln!(
         csv,
-        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,ntst"
+        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,ntst,user_point"
     )?;
     let kappa_c = match onset {
         crate::analysis::hopf::HopfOutcome::Found(h) => h.kappa_c,
@@ -206,12 +207,6 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
     )?;
     csv.flush()?;
     Ok(())
-}
-
-fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
-    let mut s = stem.as_os_str().to_owned();
-    s.push(suffix);
-    PathBuf::from(s)
 }
 
 /// Maps a cycle's sample `(t/T, s, v, theta)` to a plotted point.

@@ -1,6 +1,7 @@
 //! `stickslip diagram`: the stability diagram of one or several scenes
 //! (in parallel), as figures (PNG, SVG), CSV and JSON.
 
+use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::diagram::{stability_diagram, StabilityDiagram};
 use crate::appendix_c;
@@ -120,7 +121,7 @@ fn one_scene(
         ))
         .into());
     }
-    let stem = args.out.join(&setup.scene.name);
+    let stem = super::files::stem(&args.out, &setup.scene.name);
     let mut files = write_csv(&setup, &diagram, &stem)?;
     files.extend(write_figures(&setup, &diagram, (lo, hi), &stem)?);
     let mut result = SceneResult {
@@ -138,12 +139,6 @@ fn one_scene(
     )?;
     result.files.push(json_path);
     Ok(result)
-}
-
-fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
-    let mut s = stem.as_os_str().to_owned();
-    s.push(suffix);
-    PathBuf::from(s)
 }
 
 fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<PathBuf>, Error> {
@@ -313,6 +308,7 @@ fn to_json(r: &SceneResult) -> Value {
                 "V_um_per_s": u.velocity_um_s(p.nu),
                 "K_over_W_per_m": u.k_over_w(p.kappa),
                 "K_over_M_per_s2": u.k_over_m(p.kappa),
+                "frequency_hz": u.frequency_hz(p.omega),
             })
         })
         .collect();
@@ -324,7 +320,9 @@ fn to_json(r: &SceneResult) -> Value {
             let mut v = json!({
                 "kind": s.kind, "nu": s.nu, "kappa": s.kappa, "omega": s.omega,
                 "V_um_per_s": u.velocity_um_s(s.nu),
+                "K_over_W_per_m": u.k_over_w(s.kappa),
                 "K_over_M_per_s2": u.k_over_m(s.kappa),
+                "frequency_hz": u.frequency_hz(s.omega),
             });
             if s.kind == "bautin" {
                 v["l2"] = json!(s.l2);
@@ -369,6 +367,8 @@ fn print_text(r: &SceneResult) {
             b.kappa,
             u.velocity_um_s(b.nu)
         );
+        // Relative to the largest kappa_c on the curve where kappa_c -> 0 (an end point).
+        let scale = d.points.iter().map(|p| p.kappa.abs()).fold(0.0, f64::max);
         let max_rel = d
             .points
             .iter()
@@ -376,7 +376,7 @@ fn print_text(r: &SceneResult) {
                 let mut at = r.setup.params;
                 at.nu = p.nu;
                 let k = appendix_c::critical_stiffness(&at);
-                (p.kappa - k).abs() / k.abs()
+                (p.kappa - k).abs() / k.abs().max(1e-6 * scale)
             })
             .fold(0.0, f64::max);
         println!("  largest relative difference from Appendix C along the curve: {max_rel:.1e}");

@@ -147,12 +147,19 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
         HopfOutcome::Found(h) => print_hopf(setup, h),
         HopfOutcome::StableForAllStiffness { kappa_min } => {
             println!();
-            println!(
-                "steady sliding is linearly stable for every stiffness checked, down to kappa = {kappa_min:.3e}: \
-                 no stick-slip onset (steady friction is velocity strengthening here, mu_phi - mu_v = {:.4e} <= 0). \
-                 Finite-amplitude (hysteretic) stick-slip may still exist with inertia.",
-                p.mu_phi() - p.mu_v()
-            );
+            let weakening = p.mu_phi() - p.mu_v();
+            if weakening <= 0.0 {
+                println!(
+                    "steady sliding is linearly stable for every stiffness: steady friction is velocity \
+                     strengthening here (mu_phi - mu_v = {weakening:.4e} <= 0). Finite-amplitude (hysteretic) \
+                     stick-slip may still exist with inertia."
+                );
+            } else {
+                println!(
+                    "no Hopf point down to kappa = {kappa_min:.3e}, although steady friction weakens slightly \
+                     (mu_phi - mu_v = {weakening:.4e}): the critical stiffness, if any, lies below the searched range."
+                );
+            }
         }
     }
 }

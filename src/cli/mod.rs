@@ -7,6 +7,7 @@ pub mod bench;
 pub mod branch;
 pub mod cycles;
 pub mod diagram;
+pub mod files;
 pub mod hopf;
 pub mod interrupt;
 pub mod simulate;
@@ -111,6 +112,14 @@ impl SceneArgs {
             self.model.map(Into::into),
             self.inertia_threshold,
         );
+        if choice.kind == ModelKind::Inertial && scene_params.m <= 0.0 {
+            return Err(InputError::Conflict(
+                "the inertial model needs inertia: m = 0 here (M = 0 in the scene); give M > 0 or --set m=..., \
+                 or use --model quasi-static"
+                    .into(),
+            )
+            .into());
+        }
         let params = params_for(choice.kind, &scene_params);
         Ok(Setup {
             scene,

@@ -97,8 +97,11 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         None,
     )?;
     std::fs::create_dir_all(&args.out)?;
-    let stem = args.out.join(format!("{}-simulation", setup.scene.name));
-    let csv = write_csv(&traj, &stem.with_extension("csv"), time_unit)?;
+    let stem = super::files::with_suffix(
+        &super::files::stem(&args.out, &setup.scene.name),
+        "-simulation",
+    );
+    let csv = write_csv(&traj, &super::files::with_suffix(&stem, ".csv"), time_unit)?;
     let figs = figures(&setup.scene.name, &traj, &u, &stem)?;
     println!("model: {}", setup.choice.reason);
     println!(

@@ -28,7 +28,7 @@ pub fn ensure_font() {
     });
 }
 
-/// Writes `stem.png` and `stem.svg` of the given size; `png` and `svg` draw
+/// Writes `<stem>.png` and `<stem>.svg` (appended, so dots in `stem` stay) of the given size; `png` and `svg` draw
 /// the same figure (one generic drawing function instantiated per backend).
 pub fn render_both(
     stem: &Path,
@@ -37,7 +37,12 @@ pub fn render_both(
     svg: impl FnOnce(DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>,
 ) -> Result<Vec<PathBuf>, PlotError> {
     ensure_font();
-    let (png_path, svg_path) = (stem.with_extension("png"), stem.with_extension("svg"));
+    let with = |ext: &str| {
+        let mut s = stem.as_os_str().to_owned();
+        s.push(ext);
+        PathBuf::from(s)
+    };
+    let (png_path, svg_path) = (with(".png"), with(".svg"));
     let err = |p: &Path, reason: String| PlotError {
         path: p.display().to_string(),
         reason,

@@ -376,10 +376,12 @@ fn point_at<S: VectorField>(
         .enumerate()
         .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
         .map(|(i, _)| i);
+    // Multipliers within 1e-9 of the unit circle count as neutral, not unstable:
+    // at a Hopf point or a fold of cycles one multiplier is 1 to rounding.
     let n_unstable = mu
         .iter()
         .enumerate()
-        .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0)
+        .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0 + 1e-9)
         .count();
     Ok(CyclePoint {
         cycle: coll.cycle(z),
