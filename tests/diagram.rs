@@ -220,3 +220,47 @@ fn inertial_rr_onset_changes_type_at_eta_star() {
         );
     }
 }
+
+#[test]
+fn a_hopf_region_starting_inside_the_range_is_traced_from_its_start() {
+    // mu2 < 0 and B < A: mu_phi = B - 2 mu2 ln nu exceeds A only for nu > exp((A - B) / (-2 mu2)),
+    // so the Hopf curve starts at the friction minimum nu* = e^0.5 inside [0.1, 100].
+    let p = Params {
+        kappa: 0.0,
+        nu: 1.0,
+        m: 0.0,
+        a: 0.012,
+        b: 0.011,
+        mu0: 0.5,
+        mu2: -1e-3,
+        theta_c: None,
+    };
+    let d = stability_diagram(ModelKind::QuasiStatic, &p, (0.1, 100.0)).unwrap();
+    let nu_star = 0.5f64.exp();
+    let end = d
+        .special
+        .iter()
+        .find(|s| s.kind == "endpoint")
+        .expect("the start of the region is found");
+    assert!(
+        (end.nu / nu_star - 1.0).abs() < 1e-12,
+        "{} vs {nu_star}",
+        end.nu
+    );
+    let first = &d.points[0];
+    assert!(
+        first.nu < nu_star * 1.01 && first.kappa < 1e-4 * d.points.last().unwrap().kappa,
+        "{first:?}"
+    );
+    assert!(
+        d.points.windows(2).all(|w| w[1].nu > w[0].nu),
+        "points in increasing velocity"
+    );
+    for pt in &d.points {
+        assert!(
+            (pt.kappa - c11(&p, pt.nu)).abs() < 1e-10 * c11(&p, 100.0),
+            "nu = {}",
+            pt.nu
+        );
+    }
+}

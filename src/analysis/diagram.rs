@@ -149,36 +149,6 @@ pub fn hopf_curve(
         ModelKind::QuasiStatic => vec![h0.state[0], h0.state[2]],
     };
     let q0 = logs.to_log(&p0.to_vec());
-    let settings = CurveSettings {
-        control: StepControl {
-            ds: 0.02,
-            ds_min: 1e-10,
-            ds_max: 0.1,
-            growth: 1.5,
-            min_tangent_cos: 0.97,
-            corrector: NewtonSettings {
-                max_iter: 8,
-                ..NewtonSettings::default()
-            },
-            // Arclength measured in (ln kappa, ln second): the state and omega get small weights.
-            weights: [vec![1e-6; x0.len() + 1], vec![1.0, 1.0]].concat(),
-        },
-        max_steps: 5000,
-        // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
-        // the Hopf system degenerates (omega -> 0); the end point is then
-        // located on the friction law.
-        bounds: [
-            (q0[0] + 1e-6f64.ln(), f64::INFINITY),
-            (range.0.ln(), range.1.ln()),
-        ],
-        increase_second: true,
-        omega_min: 1e-4 * h0.omega_c,
-        ..Default::default()
-    };
-    let mut curve = HopfCurve::new(&logs, &x0, h0.omega_c, &q0, pair, settings)
-        .map_err(NumericalError::from)?;
-    let mut points = Vec::new();
-    let mut special = Vec::new();
     let convert = |pt: &HopfCurvePoint| {
         let p = params.with_vec(&logs.from_log(&pt.p));
         CurvePoint {
@@ -191,47 +161,66 @@ pub fn hopf_curve(
             state: full_state(kind, &p, &pt.x),
         }
     };
-    for pt in curve.by_ref() {
-        let pt = pt.map_err(NumericalError::from)?;
-        if let Some(b) = &pt.bautin {
-            let c = convert(b);
-            let l2 = hopf_series(&logs, &b.x, &b.p, b.omega)
-                .map_err(NumericalError::from)?
-                .l2;
-            special.push(SpecialPoint {
-                kind: "bautin",
-                nu: c.nu,
-                kappa: c.kappa,
-                omega: c.omega,
-                m: c.m,
-                l2: Some(l2),
-            });
+    // One run of the curve from the starting Hopf point, up or down in `second`.
+    let run = |upward: bool| -> Result<(Vec<CurvePoint>, Vec<SpecialPoint>, &'static str), NumericalError> {
+        let settings = CurveSettings {
+            control: StepControl {
+                ds: 0.02,
+                ds_min: 1e-10,
+                ds_max: 0.1,
+                growth: 1.5,
+                min_tangent_cos: 0.97,
+                corrector: NewtonSettings { max_iter: 8, ..NewtonSettings::default() },
+                // Arclength measured in (ln kappa, ln second): the state and omega get small weights.
+                weights: [vec![1e-6; x0.len() + 1], vec![1.0, 1.0]].concat(),
+            },
+            max_steps: 5000,
+            // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
+            // the Hopf system degenerates (omega -> 0); the end point is then
+            // located on the friction law.
+            bounds: [(q0[0] + 1e-6f64.ln(), f64::INFINITY), (range.0.ln(), range.1.ln())],
+            increase_second: upward,
+            omega_min: 1e-4 * h0.omega_c,
+            ..Default::default()
+        };
+        let mut curve = HopfCurve::new(&logs, &x0, h0.omega_c, &q0, pair, settings).map_err(NumericalError::from)?;
+        let (mut points, mut special) = (Vec::new(), Vec::new());
+        for pt in curve.by_ref() {
+            let pt = pt.map_err(NumericalError::from)?;
+            if let Some(b) = &pt.bautin {
+                let c = convert(b);
+                let l2 = hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?.l2;
+                special.push(SpecialPoint { kind: "bautin", nu: c.nu, kappa: c.kappa, omega: c.omega, m: c.m, l2: Some(l2) });
+            }
+            points.push(convert(&pt));
         }
-        points.push(convert(&pt));
-    }
-    let last = points.last().map(|p| p.nu).unwrap_or(p0.nu);
-    let last_second = points
-        .last()
-        .map(|p| if second == Param::Nu { p.nu } else { p.m })
-        .unwrap_or(range.0);
-    let at_top = last_second >= range.1 * (1.0 - 1e-12);
-    let stop = match curve.stop_reason() {
-        Some(CurveStop::Bound) if at_top => "end of the range",
-        Some(CurveStop::Bound) | Some(CurveStop::FrequencyVanishing) => "kappa_c -> 0",
-        Some(CurveStop::MaxSteps) => "step limit",
-        None => "stopped",
+        let last = points.last().map(|p| if second == Param::Nu { p.nu } else { p.m });
+        let end = if upward { range.1 } else { range.0 };
+        let at_end = last.is_some_and(|v| (v / end - 1.0).abs() < 1e-10);
+        let stop = match curve.stop_reason() {
+            Some(CurveStop::Bound) if at_end => "end of the range",
+            Some(CurveStop::Bound) | Some(CurveStop::FrequencyVanishing) => "kappa_c -> 0",
+            Some(CurveStop::MaxSteps) => "step limit",
+            None => "stopped",
+        };
+        if stop == "kappa_c -> 0" && second == Param::Nu {
+            if let Some(nu_end) = points.last().and_then(|p| friction_minimum(params, p.nu)) {
+                special.push(SpecialPoint { kind: "endpoint", nu: nu_end, kappa: 0.0, omega: 0.0, m: params.m, l2: None });
+            }
+        }
+        Ok((points, special, stop))
     };
-    if stop == "kappa_c -> 0" && second == Param::Nu {
-        if let Some(nu_end) = friction_minimum(params, last) {
-            special.push(SpecialPoint {
-                kind: "endpoint",
-                nu: nu_end,
-                kappa: 0.0,
-                omega: 0.0,
-                m: params.m,
-                l2: None,
-            });
-        }
+    let (mut points, mut special, stop) = run(true)?;
+    // The grid search may have started above the bottom of the range: trace
+    // the stretch below as well, and put it in front.
+    let start = if second == Param::Nu { p0.nu } else { p0.m };
+    if start > range.0 * (1.0 + 1e-12) {
+        let (mut below, below_special, _) = run(false)?;
+        below.reverse();
+        below.pop();
+        below.extend(points);
+        points = below;
+        special.splice(0..0, below_special);
     }
     Ok(StabilityDiagram {
         points,
