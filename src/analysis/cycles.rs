@@ -110,14 +110,30 @@ pub fn trace_cycles(
     kind: ModelKind,
     params: &Params,
     req: &CycleRequest,
-    mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+    sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<HopfPoint, crate::error::Error> {
     let HopfOutcome::Found(h) = find_hopf(kind, params)? else {
-        return Err(NumericalError::Analysis(
-            "steady sliding is stable for every stiffness here: no Hopf point, hence no cycles born from it".into(),
-        )
-        .into());
+        return Err(no_onset().into());
     };
+    trace_cycles_from(kind, params, &h, req, sink)?;
+    Ok(h)
+}
+
+/// The error for a scene without a Hopf point: no cycles are born.
+pub fn no_onset() -> NumericalError {
+    NumericalError::Analysis(
+        "steady sliding is stable for every stiffness here: no Hopf point, hence no cycles born from it".into(),
+    )
+}
+
+/// Traces the cycles born at the already located Hopf point `h` of `params`.
+pub fn trace_cycles_from(
+    kind: ModelKind,
+    params: &Params,
+    h: &HopfPoint,
+    req: &CycleRequest,
+    mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<(), crate::error::Error> {
     let log = LogBlock {
         kind,
         cutoff: params.theta_c.is_some(),
@@ -148,5 +164,5 @@ pub fn trace_cycles(
         let pt = pt.map_err(NumericalError::from)?;
         sink(&record(&log, &pt))?;
     }
-    Ok(h)
+    Ok(())
 }

@@ -3,7 +3,7 @@
 
 use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
-use crate::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
+use crate::analysis::cycles::{trace_cycles_from, CycleRecord, CycleRequest};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
@@ -74,15 +74,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         csv,
         "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,ntst,user_point"
     )?;
-    let kappa_c = match onset {
-        crate::analysis::hopf::HopfOutcome::Found(h) => h.kappa_c,
-        crate::analysis::hopf::HopfOutcome::StableForAllStiffness { .. } => {
-            return Err(crate::error::NumericalError::Analysis(
-                "steady sliding is stable for every stiffness here: no Hopf point, hence no cycles born from it".into(),
-            )
-            .into())
-        }
+    let crate::analysis::hopf::HopfOutcome::Found(hopf) = onset else {
+        return Err(crate::analysis::cycles::no_onset().into());
     };
+    let kappa_c = hopf.kappa_c;
     let req = CycleRequest {
         kappa_min: args.kappa_fraction * kappa_c,
         kappa_max: 10.0 * kappa_c,
@@ -93,7 +88,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress("continuing cycles");
-    let outcome = trace_cycles(setup.choice.kind, &setup.params, &req, |c| {
+    let outcome = trace_cycles_from(setup.choice.kind, &setup.params, &hopf, &req, |c| {
         if super::interrupt::interrupted() {
             return Err(Error::Interrupted(match records.last() {
                 Some(r) => format!(
