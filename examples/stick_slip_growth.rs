@@ -30,6 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         max_steps: 200,
         ntst: 40,
         at_kappa: fractions.iter().map(|f| f * kappa_c).collect(),
+        ntst_max: 400,
     };
     let mut branch = Vec::new();
     trace_cycles(ModelKind::QuasiStatic, &base, &req, |c| {

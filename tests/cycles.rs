@@ -14,6 +14,7 @@ fn cycles(kind: ModelKind, p: &Params, steps: usize) -> (HopfPoint, Vec<CycleRec
         max_steps: steps,
         ntst: 40,
         at_kappa: Vec::new(),
+        ntst_max: 400,
     };
     let h = trace_cycles(kind, p, &req, |c| {
         out.push(c.clone());

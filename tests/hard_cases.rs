@@ -55,6 +55,7 @@ fn degenerate_hopf_is_named_and_cycles_refuse_with_a_reason() {
         max_steps: 5,
         ntst: 20,
         at_kappa: Vec::new(),
+        ntst_max: 400,
     };
     let err = trace_cycles(ModelKind::QuasiStatic, &p, &req, |_| Ok(()))
         .unwrap_err()

@@ -57,7 +57,7 @@ pub enum ContinuationError {
     #[error(
         "the periodic orbit at p = {param:.10e} is no longer resolved: its trivial Floquet multiplier \
          is off by {trivial_error:.2e} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; \
-         the cycle has become too stiff for this mesh — raise the interval limit, or stop here"
+         the cycle has become too stiff for this mesh — raise the interval limit (`cycles --ntst-max`), or stop here"
     )]
     Unresolved {
         ntst: usize,

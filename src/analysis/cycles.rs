@@ -51,6 +51,8 @@ pub struct CycleRequest {
     pub ntst: usize,
     /// Stiffnesses at which a cycle is located exactly and reported.
     pub at_kappa: Vec<f64>,
+    /// Most mesh intervals the automatic refinement may use.
+    pub ntst_max: usize,
 }
 
 fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
@@ -149,6 +151,7 @@ pub fn trace_cycles_from(
         ds: 1e-3,
         ds_max: 0.2,
         user_points: req.at_kappa.clone(),
+        ntst_max: req.ntst_max.max(req.ntst),
         ..Default::default()
     };
     let branch = CycleBranch::from_hopf(

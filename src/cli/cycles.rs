@@ -25,6 +25,9 @@ pub struct CyclesArgs {
     /// Initial number of mesh intervals (grown automatically when needed).
     #[arg(long, default_value_t = 40)]
     pub ntst: usize,
+    /// Most mesh intervals the automatic refinement may use (the cost grows with it).
+    #[arg(long, default_value_t = 400)]
+    pub ntst_max: usize,
     /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
     pub at_kappa: Vec<f64>,
@@ -84,6 +87,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         max_steps: args.max_steps,
         ntst: args.ntst,
         at_kappa: args.at_kappa.clone(),
+        ntst_max: args.ntst_max,
     };
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
