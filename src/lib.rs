@@ -10,3 +10,4 @@ pub mod model;
 pub mod params;
 pub mod plot;
 pub mod scene;
+pub mod work_precision;

@@ -11,7 +11,7 @@ use crate::params::{Param, Params};
 use continuation::linalg::{count_unstable, eigenvalues};
 use continuation::normal_form::{eigenvalue_derivative, hopf_normal_form, onset_law};
 use continuation::system::jacobian;
-use continuation::{Branch, Complex64, ContinuationSettings, Direction, EventKind};
+use continuation::{Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings};
 
 /// `|l1|` below this fraction of the size of its terms counts as zero
 /// (rounding level is ~1e-16): the Hopf point is degenerate.
@@ -146,6 +146,16 @@ pub fn stable_stiffness(block: &DrivenBlock, params: &Params) -> Result<f64, Num
 /// Continues steady sliding in `kappa` downward from a stable stiffness and
 /// locates the first Hopf point.
 pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, NumericalError> {
+    find_hopf_with(kind, params, &ContinuationSettings::default().locator)
+}
+
+/// [`find_hopf`] with the Newton settings of the Hopf location given
+/// (the accuracy knob of the work-precision study).
+pub fn find_hopf_with(
+    kind: ModelKind,
+    params: &Params,
+    locator: &NewtonSettings,
+) -> Result<HopfOutcome, NumericalError> {
     let block = DrivenBlock::new(kind, params);
     let k0 = stable_stiffness(&block, params)?;
     let mut p = *params;
@@ -158,6 +168,7 @@ pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, Numeri
         p_min: kappa_min,
         direction: Direction::Decreasing,
         max_steps: 10_000,
+        locator: *locator,
         ..Default::default()
     };
     let x0 = steady_state(kind, &p);

@@ -16,10 +16,34 @@ pub struct BenchArgs {
     /// (timings are rough; evaluation counts are exact either way).
     #[arg(long)]
     pub quick: bool,
+    /// Instead of the job table: the work-precision study (error against
+    /// time as the accuracy knobs turn), written as CSV and figures into `--out`.
+    #[arg(long)]
+    pub work_precision: bool,
+    /// Output directory of `--work-precision`.
+    #[arg(long, default_value = "out")]
+    pub out: std::path::PathBuf,
 }
 
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    if args.work_precision {
+        let m = crate::work_precision::study()?;
+        println!(
+            "{:<8} {:<36} {:>8} {:>12} {:>12}",
+            "job", "method", "knob", "time [s]", "rel. error"
+        );
+        for r in &m {
+            println!(
+                "{:<8} {:<36} {:>8.0e} {:>12.3e} {:>12.3e}",
+                r.job, r.method, r.knob, r.seconds, r.error
+            );
+        }
+        for f in crate::work_precision::write(&m, &args.out)? {
+            println!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
     let settings = if args.quick {
         Settings::quick()
     } else {
