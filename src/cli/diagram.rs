@@ -58,13 +58,19 @@ struct SceneResult {
 
 /// Runs the command.
 pub fn run(args: &DiagramArgs) -> Result<(), Error> {
-    let names: Vec<&str> = args
+    // Each scene once (the same scene twice would write the same files concurrently).
+    let mut names: Vec<&str> = Vec::new();
+    for name in args
         .scene
         .scene
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .collect();
+    {
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
     let range = args.nu_range.as_deref().map(parse_range).transpose()?;
     std::fs::create_dir_all(&args.out)?;
     let results: Vec<Result<SceneResult, Error>> = names
