@@ -68,6 +68,9 @@ mod tests {
     #[test]
     fn hopf_condition_of_the_cubic_holds_at_c11_c13() {
         // l = i w is a root of a3 l^3 + a2 l^2 + a1 l + a0 iff a1 = a3 w^2 and a0 = a2 w^2.
+        // A consistency check of the closed forms with each other; the independent
+        // checks (eigenvalues against the cubic's roots, continuation against C11/C13)
+        // are in tests/appendix_c.rs.
         let mut q = p();
         q.kappa = critical_stiffness(&q);
         let w = critical_frequency(&q).unwrap();

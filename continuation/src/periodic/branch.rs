@@ -10,7 +10,7 @@ use super::collocation::Collocation;
 use super::cycle::Cycle;
 use super::floquet::{condense, multipliers, trivial_multiplier_error};
 use super::mesh::Mesh;
-use super::newton::{newton_sparse, tangent, wdot, weights};
+use super::newton::{correct_along, newton_sparse, tangent, wdot, weights};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
@@ -415,35 +415,6 @@ fn point_at<S: VectorField>(
         lpc: None,
         user: Vec::new(),
     })
-}
-
-/// Predicts `z0 + sigma t` and corrects it on the collocation system plus the
-/// pseudo-arclength condition `<t, z - prediction>_w = 0`.
-fn correct_along<S: VectorField>(
-    coll: &Collocation<S>,
-    z0: &[f64],
-    t: &[f64],
-    sigma: f64,
-    settings: &NewtonSettings,
-) -> Result<(Vec<f64>, NewtonReport), ContinuationError> {
-    let nz = z0.len();
-    let w = weights(nz - 2);
-    let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
-    let mut z = pred.clone();
-    let rep = newton_sparse(
-        coll,
-        &mut z,
-        settings,
-        |_, row| {
-            row.extend(
-                (0..nz)
-                    .filter(|&i| t[i] != 0.0)
-                    .map(|i| Triplet::new(nz - 1, i, w(i) * t[i])),
-            )
-        },
-        |z| (0..nz).map(|i| w(i) * t[i] * (z[i] - pred[i])).sum(),
-    )?;
-    Ok((z, rep))
 }
 
 impl<S: VectorField> Iterator for CycleBranch<'_, S> {

@@ -133,3 +133,32 @@ pub fn tangent<S: VectorField>(
     };
     Ok(t.iter().map(|v| sign * v / norm).collect())
 }
+
+/// Predicts `z0 + sigma t` and corrects it on the collocation system plus the
+/// pseudo-arclength condition `<t, z - prediction>_w = 0`.
+pub fn correct_along<S: VectorField>(
+    coll: &Collocation<S>,
+    z0: &[f64],
+    t: &[f64],
+    sigma: f64,
+    settings: &NewtonSettings,
+) -> Result<(Vec<f64>, NewtonReport), ContinuationError> {
+    let nz = z0.len();
+    let w = weights(nz - 2);
+    let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
+    let mut z = pred.clone();
+    let rep = newton_sparse(
+        coll,
+        &mut z,
+        settings,
+        |_, row| {
+            row.extend(
+                (0..nz)
+                    .filter(|&i| t[i] != 0.0)
+                    .map(|i| Triplet::new(nz - 1, i, w(i) * t[i])),
+            )
+        },
+        |z| (0..nz).map(|i| w(i) * t[i] * (z[i] - pred[i])).sum(),
+    )?;
+    Ok((z, rep))
+}
