@@ -8,13 +8,14 @@ use stickslip::params::Params;
 
 fn cycles(kind: ModelKind, p: &Params, steps: usize) -> (HopfPoint, Vec<CycleRecord>) {
     let mut out = Vec::new();
+    // Down to 0.9 kappa_c: stick-slip well developed (v over 4 to 5 decades).
     let req = CycleRequest {
-        kappa_min: 0.0,
+        kappa_min: 0.9 * stickslip::appendix_c::critical_stiffness(p),
         kappa_max: 1.0,
         max_steps: steps,
         ntst: 40,
         at_kappa: Vec::new(),
-        ntst_max: 400,
+        ntst_max: 1600,
     };
     let h = trace_cycles(kind, p, &req, |c| {
         out.push(c.clone());

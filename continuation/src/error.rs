@@ -55,16 +55,24 @@ pub enum ContinuationError {
     )]
     DegenerateHopf { l1: f64, scale: f64 },
     #[error(
-        "the periodic orbit at p = {param:.10e} is no longer resolved: its trivial Floquet multiplier \
-         is off by {trivial_error:.2e} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; \
-         the cycle has become too stiff for this mesh — raise the interval limit (`cycles --ntst-max`), or stop here"
+        "the periodic orbit at p = {param:.10e} is no longer resolved: its estimated discretization \
+         error is {error:.2e} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; the cycle \
+         has become too stiff for this mesh — raise the interval limit (`cycles --ntst-max`), or stop here"
     )]
     Unresolved {
         ntst: usize,
-        trivial_error: f64,
+        error: f64,
         tol: f64,
         param: f64,
     },
+    #[error(
+        "the Floquet multipliers of the periodic orbit at p = {param:.10e} can no longer decide its \
+         stability: the trivial multiplier is off by {trivial_error:.2e} and another multiplier is \
+         that close to the unit circle; perturbations grow by so many decades along the orbit that \
+         rounding dominates (the orbit itself is resolved); judge stability by simulation \
+         (`stickslip simulate`) from here on"
+    )]
+    FloquetIllConditioned { param: f64, trivial_error: f64 },
     #[error(
         "the located point p = {found:.10e} is not the crossing bracketed by [{from:.10e}, {to:.10e}] \
          (outside it, or with a vanishing frequency): Newton converged to another solution"

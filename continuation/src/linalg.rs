@@ -165,28 +165,6 @@ pub fn solve_complex(
         .ok_or(ContinuationError::Singular)
 }
 
-/// Solves the sparse system given by `triplets` (duplicates are summed)
-/// by faer's sparse LU; used for collocation systems, whose Jacobians are
-/// block-banded with a few dense rows and columns.
-pub fn solve_sparse(
-    dim: usize,
-    triplets: &[faer::sparse::Triplet<usize, usize, f64>],
-    rhs: &[f64],
-) -> Result<Vec<f64>, ContinuationError> {
-    use faer::linalg::solvers::Solve;
-    let a = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(dim, dim, triplets)
-        .map_err(|e| ContinuationError::Sparse(format!("assembly: {e:?}")))?;
-    let lu = a.sp_lu().map_err(|_| ContinuationError::Singular)?;
-    let mut b = faer::Mat::from_fn(dim, 1, |i, _| rhs[i]);
-    lu.solve_in_place(b.as_mut());
-    let x: Vec<f64> = (0..dim).map(|i| b[(i, 0)]).collect();
-    if x.iter().all(|v| v.is_finite()) {
-        Ok(x)
-    } else {
-        Err(ContinuationError::Singular)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

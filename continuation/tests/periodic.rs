@@ -191,7 +191,7 @@ fn vdp_period(ntst: usize, degree: usize) -> f64 {
     };
     let settings = CycleSettings {
         adapt_every: 0,
-        trivial_tol: 1.0,
+        mesh_tol: f64::INFINITY,
         ..Default::default()
     };
     let mut branch = CycleBranch::from_cycle(&VanDerPol, guess, 0, None, settings).unwrap();

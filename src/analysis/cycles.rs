@@ -24,8 +24,12 @@ pub struct CycleRecord {
     pub v_max: f64,
     /// Floquet multipliers, by decreasing modulus.
     pub multipliers: Vec<Complex64>,
-    /// `min |mu - 1|`: the accuracy check of the trivial multiplier.
+    /// `min |mu - 1|`: rounding in the multipliers (amplified by the
+    /// growth of perturbations along stiff cycles).
     pub trivial_error: f64,
+    /// Estimated relative discretization error of the period and extremes
+    /// (comparison with the orbit on half the mesh).
+    pub error_estimate: f64,
     /// No multiplier outside the unit circle but the trivial one.
     pub stable: bool,
     /// Mesh intervals used.
@@ -83,6 +87,7 @@ fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
         v_max,
         multipliers: pt.multipliers.clone(),
         trivial_error: pt.trivial_error,
+        error_estimate: pt.error_estimate,
         stable: pt.n_unstable == 0,
         ntst: c.mesh.ntst(),
         samples: c
@@ -152,6 +157,10 @@ pub fn trace_cycles_from(
         ds_max: 0.2,
         user_points: req.at_kappa.clone(),
         ntst_max: req.ntst_max.max(req.ntst),
+        // Relative steps in kappa down to the smallest stiffness asked for.
+        param_floor: 0.5 * req.kappa_min.max(1e-12),
+        mesh_tol: 1e-7,
+        mesh_accept: 1e-5,
         ..Default::default()
     };
     let branch = CycleBranch::from_hopf(

@@ -26,7 +26,7 @@ pub struct CyclesArgs {
     #[arg(long, default_value_t = 40)]
     pub ntst: usize,
     /// Most mesh intervals the automatic refinement may use (the cost grows with it).
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 12800)]
     pub ntst_max: usize,
     /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
@@ -44,7 +44,8 @@ fn record_json(c: &CycleRecord) -> Value {
         "kappa": c.kappa, "period": c.period, "delta_s": c.delta_s,
         "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
         "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
-        "trivial_multiplier_error": c.trivial_error, "stable": c.stable, "ntst": c.ntst,
+        "trivial_multiplier_error": c.trivial_error, "error_estimate": c.error_estimate,
+        "stable": c.stable, "ntst": c.ntst,
         "user_point": c.user_point,
     })
 }
@@ -75,7 +76,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     )?;
     writeln!(
         csv,
-        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,ntst,user_point"
+        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point"
     )?;
     let crate::analysis::hopf::HopfOutcome::Found(hopf) = onset else {
         return Err(crate::analysis::cycles::no_onset().into());
@@ -122,7 +123,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         write_row(&mut csv, c)?;
         if !args.json {
             println!(
-                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {:.1e}  NTST {}",
+                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {:.1e}  err {:.1e}  NTST {}",
                 c.kappa,
                 c.period,
                 c.delta_s,
@@ -130,6 +131,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 c.v_max,
                 if c.stable { "stable" } else { "unstable" },
                 c.trivial_error,
+                c.error_estimate,
                 c.ntst
             );
         }
@@ -191,7 +193,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
 fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
     writeln!(
         csv,
-        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{},{}",
+        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{:.3e},{},{}",
         c.kappa,
         c.period,
         c.delta_s,
@@ -201,6 +203,7 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
         c.v_max,
         c.stable,
         c.trivial_error,
+        c.error_estimate,
         c.ntst,
         c.user_point
     )?;

@@ -6,29 +6,63 @@
 use super::cycle::Cycle;
 use super::mesh::Mesh;
 
-/// The monitor `|u^(m)|^(1/(m+1))` of every interval, from the `m`-th
-/// divided difference of the interval's `m + 1` node values (exact for the
-/// local polynomial).
-fn monitor(c: &Cycle) -> Vec<f64> {
+/// The `m`-th derivative (in `tau`) of the local polynomial of every
+/// interval: the `m`-th divided difference of its `m + 1` node values.
+fn mth_derivatives(c: &Cycle) -> Vec<Vec<f64>> {
     let m = c.mesh.degree;
     let binom = |k: usize| (0..k).fold(1.0, |acc, j| acc * (m - j) as f64 / (j + 1) as f64);
     (0..c.mesh.ntst())
         .map(|i| {
             let h = c.mesh.t[i + 1] - c.mesh.t[i];
-            let mut norm2 = 0.0;
-            for j in 0..c.n {
-                let mut d = 0.0;
-                for l in 0..=m {
-                    let sign = if (m - l).is_multiple_of(2) { 1.0 } else { -1.0 };
-                    d += sign * binom(l) * c.node(c.mesh.node(i, l))[j];
-                }
-                // Step between nodes is h/m: the m-th derivative is d (m/h)^m.
-                let deriv = d * (m as f64 / h).powi(m as i32);
-                norm2 += deriv * deriv;
-            }
-            norm2.sqrt().powf(1.0 / (m as f64 + 1.0))
+            (0..c.n)
+                .map(|j| {
+                    let mut d = 0.0;
+                    for l in 0..=m {
+                        let sign = if (m - l).is_multiple_of(2) { 1.0 } else { -1.0 };
+                        d += sign * binom(l) * c.node(c.mesh.node(i, l))[j];
+                    }
+                    // Step between nodes is h/m: the m-th derivative is d (m/h)^m.
+                    d * (m as f64 / h).powi(m as i32)
+                })
+                .collect()
         })
         .collect()
+}
+
+/// The monitor `|u^(m)|^(1/(m+1))` of every interval.
+fn monitor(c: &Cycle) -> Vec<f64> {
+    let m = c.mesh.degree;
+    mth_derivatives(c)
+        .iter()
+        .map(|d| {
+            let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+            norm.powf(1.0 / (m as f64 + 1.0))
+        })
+        .collect()
+}
+
+/// Estimate of the collocation error of the orbit between mesh points
+/// (largest over intervals and components): `h_i^(m+1) |u^(m+1)| / (m+1)!`,
+/// with `u^(m+1)` from the jumps of the piecewise constant `u^(m)` between
+/// neighbouring intervals (the estimate behind AUTO's mesh adaptation).
+/// At the mesh points the error is smaller still (`O(h^(2m))`).
+pub fn error_estimate(c: &Cycle) -> f64 {
+    let m = c.mesh.degree;
+    let ntst = c.mesh.ntst();
+    let d = mth_derivatives(c);
+    let h = |i: usize| c.mesh.t[i + 1] - c.mesh.t[i];
+    let factorial = (1..=m + 1).fold(1.0, |a, k| a * k as f64);
+    (0..ntst)
+        .map(|i| {
+            let (prev, next) = ((i + ntst - 1) % ntst, (i + 1) % ntst);
+            // Distance between the midpoints of the neighbours.
+            let span = 0.5 * h(prev) + h(i) + 0.5 * h(next);
+            let jump = (0..c.n)
+                .map(|j| (d[next][j] - d[prev][j]).abs())
+                .fold(0.0f64, f64::max);
+            h(i).powi(m as i32 + 1) * jump / span / factorial
+        })
+        .fold(0.0, f64::max)
 }
 
 /// A mesh of `ntst` intervals equidistributing the monitor of `c` (with a

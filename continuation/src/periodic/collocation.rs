@@ -14,7 +14,7 @@
 use super::cycle::Cycle;
 use super::mesh::Mesh;
 use crate::system::{eval, jacobian, param_derivative, VectorField};
-use faer::sparse::Triplet;
+use nalgebra::DMatrix;
 
 /// The collocation system of one mesh, with the phase reference.
 pub struct Collocation<'a, S: VectorField> {
@@ -28,13 +28,20 @@ pub struct Collocation<'a, S: VectorField> {
     phase_ref: Vec<f64>,
 }
 
-/// Residual and Jacobian (as triplets) of the collocation system.
+/// Residual and Jacobian of the collocation system, by interval.
 pub struct Linearization {
+    /// Collocation residuals (interval-major, `N` values), then the phase condition.
     pub residual: Vec<f64>,
-    pub triplets: Vec<Triplet<usize, usize, f64>>,
-    /// The collocation blocks `d r_{i,k} / d u_{i,l}`, interval-major: block
-    /// `(i, l)` is an `(m n) x n` column-major matrix (for Floquet condensation).
-    pub blocks: Vec<Vec<f64>>,
+    /// Interval `i`'s Jacobian rows (`m n` of them) on its `m + 1` nodes
+    /// (`n` columns each), then on `T` and `p_k`.
+    pub local: Vec<DMatrix<f64>>,
+    /// The phase condition's row on the node values (it involves neither `T` nor `p_k`).
+    pub phase: Vec<f64>,
+    /// Largest size of the terms of a collocation residual and of its
+    /// linearization, `max(|u'| + |h T f|, sum_c |J_rc| |z_c|)`: rounding
+    /// leaves residuals of about `eps` times this (large on stiff stretches
+    /// of an orbit, where `f` has huge, canceling terms).
+    pub term_scale: f64,
 }
 
 impl<'a, S: VectorField> Collocation<'a, S> {
@@ -91,7 +98,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         z
     }
 
-    /// Residual and sparse Jacobian at `z`.
+    /// Residual and Jacobian at `z`.
     pub fn linearize(&self, z: &[f64]) -> Linearization {
         let n = self.sys.dim();
         let m = self.mesh.degree;
@@ -100,17 +107,19 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         p[self.k] = z[nn + 1];
         let node = |g: usize| &z[g * n..(g + 1) * n];
         let mut residual = vec![0.0; nn + 1];
-        let mut triplets =
-            Vec::with_capacity(self.mesh.ntst() * m * n * ((m + 1) * n + 2) + nn + 2);
-        let mut phase_row = vec![0.0; nn];
-        let mut blocks = Vec::with_capacity(self.mesh.ntst() * (m + 1));
+        let mut phase = vec![0.0; nn];
+        let mut local = Vec::with_capacity(self.mesh.ntst());
+        let (mut x, mut dx) = (vec![0.0; n], vec![0.0; n]);
+        let mut term_scale = 0.0f64;
+        let mut row_sums = vec![0.0; n];
         for i in 0..self.mesh.ntst() {
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
-            let mut local = vec![vec![0.0; m * n * n]; m + 1];
+            let mut block = DMatrix::zeros(m * n, (m + 1) * n + 2);
             for kk in 0..m {
-                let row0 = (i * m + kk) * n;
-                let mut x = vec![0.0; n];
-                let mut dx = vec![0.0; n];
+                let row0 = kk * n;
+                x.fill(0.0);
+                dx.fill(0.0);
+                row_sums.fill(0.0);
                 for l in 0..=m {
                     let v = node(self.mesh.node(i, l));
                     for j in 0..n {
@@ -122,21 +131,24 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 let jac = jacobian(self.sys, &x, &p);
                 let fp = param_derivative(self.sys, &x, &p, self.k);
                 for j in 0..n {
-                    residual[row0 + j] = dx[j] - h * period * f[j];
-                    triplets.push(Triplet::new(row0 + j, nn, -h * f[j]));
-                    triplets.push(Triplet::new(row0 + j, nn + 1, -h * period * fp[j]));
+                    residual[(i * m + kk) * n + j] = dx[j] - h * period * f[j];
+                    term_scale = term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
+                    block[(row0 + j, (m + 1) * n)] = -h * f[j];
+                    block[(row0 + j, (m + 1) * n + 1)] = -h * period * fp[j];
                 }
-                for (l, block) in local.iter_mut().enumerate() {
-                    let col0 = self.mesh.node(i, l) * n;
+                for l in 0..=m {
                     let (b, db) = (self.mesh.basis[kk][l], self.mesh.dbasis[kk][l]);
+                    let v = node(self.mesh.node(i, l));
                     for r in 0..n {
                         for c in 0..n {
-                            let v = if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
-                            triplets.push(Triplet::new(row0 + r, col0 + c, v));
-                            block[c * m * n + kk * n + r] = v;
+                            let entry =
+                                if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
+                            block[(row0 + r, l * n + c)] = entry;
+                            row_sums[r] += entry.abs() * v[c].abs();
                         }
                     }
                 }
+                term_scale = row_sums.iter().fold(term_scale, |a, v| a.max(*v));
                 let w = h * self.mesh.weights[kk];
                 let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
                 for j in 0..n {
@@ -145,23 +157,17 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 for l in 0..=m {
                     let col0 = self.mesh.node(i, l) * n;
                     for j in 0..n {
-                        phase_row[col0 + j] += w * self.mesh.basis[kk][l] * dref[j];
+                        phase[col0 + j] += w * self.mesh.basis[kk][l] * dref[j];
                     }
                 }
             }
-            blocks.extend(local);
+            local.push(block);
         }
-        triplets.extend(
-            phase_row
-                .iter()
-                .enumerate()
-                .filter(|(_, v)| **v != 0.0)
-                .map(|(c, &v)| Triplet::new(nn, c, v)),
-        );
         Linearization {
             residual,
-            triplets,
-            blocks,
+            local,
+            phase,
+            term_scale,
         }
     }
 }

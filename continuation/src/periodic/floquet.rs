@@ -10,78 +10,30 @@
 //! and a Floquet solution `y_N = mu y_0` gives the `n x n` pencil
 //! `A y = mu (-B) y`, solved by the QZ algorithm (faer). No inverse and no
 //! product of transition matrices is formed, so multipliers spanning many
-//! decades (stiff stick-slip cycles) keep their relative accuracy.
+//! decades (stiff stick-slip cycles) keep their relative accuracy. The
+//! condensation and the reduction are those of the Newton solves
+//! ([`super::bordered`]), without border columns.
 
+use super::bordered::{condense, reduce_pencil};
+use super::collocation::Linearization;
 use crate::error::ContinuationError;
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 
-/// `(A_i, B_i)` of every interval from the collocation blocks
-/// (`blocks[i (m + 1) + l]` is `d r_i / d u_{i,l}`, `(m n) x n`, column-major).
-pub fn condense(blocks: &[Vec<f64>], n: usize, m: usize) -> Vec<(DMatrix<f64>, DMatrix<f64>)> {
-    let rows = m * n;
-    blocks
-        .chunks(m + 1)
-        .map(|b| {
-            let block = |l: usize| DMatrix::from_column_slice(rows, n, &b[l]);
-            let mut ends = DMatrix::zeros(rows, 2 * n);
-            ends.view_mut((0, 0), (rows, n)).copy_from(&block(0));
-            ends.view_mut((0, n), (rows, n)).copy_from(&block(m));
-            if m > 1 {
-                let mut interior = DMatrix::zeros(rows, (m - 1) * n);
-                for l in 1..m {
-                    interior
-                        .view_mut((0, (l - 1) * n), (rows, n))
-                        .copy_from(&block(l));
-                }
-                interior.qr().q_tr_mul(&mut ends);
-            }
-            let tail = ends.rows(rows - n, n);
-            (
-                tail.columns(0, n).into_owned(),
-                tail.columns(n, n).into_owned(),
-            )
+/// Floquet multipliers of the orbit whose collocation system is linearized
+/// in `lin` (state dimension `n`), sorted by decreasing modulus.
+pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, ContinuationError> {
+    let ntst = lin.local.len();
+    let chain = lin
+        .local
+        .iter()
+        .enumerate()
+        .map(|(i, block)| {
+            let nodes = block.columns(0, block.ncols() - 2);
+            condense(nodes, &DMatrix::zeros(block.nrows(), 0), n, i, ntst).relation
         })
-        .collect()
-}
-
-/// Eliminates the shared node of two consecutive relations.
-fn combine(
-    first: &(DMatrix<f64>, DMatrix<f64>),
-    second: &(DMatrix<f64>, DMatrix<f64>),
-) -> (DMatrix<f64>, DMatrix<f64>) {
-    let n = first.0.nrows();
-    let mut middle = DMatrix::zeros(2 * n, n);
-    middle.view_mut((0, 0), (n, n)).copy_from(&first.1);
-    middle.view_mut((n, 0), (n, n)).copy_from(&second.0);
-    let mut outer = DMatrix::zeros(2 * n, 2 * n);
-    outer.view_mut((0, 0), (n, n)).copy_from(&first.0);
-    outer.view_mut((n, n), (n, n)).copy_from(&second.1);
-    middle.qr().q_tr_mul(&mut outer);
-    let tail = outer.rows(n, n);
-    (
-        tail.columns(0, n).into_owned(),
-        tail.columns(n, n).into_owned(),
-    )
-}
-
-/// Floquet multipliers of the relations `A_i y_i + B_i y_{i+1} = 0` closed
-/// periodically, sorted by decreasing modulus.
-pub fn multipliers(
-    mut pairs: Vec<(DMatrix<f64>, DMatrix<f64>)>,
-) -> Result<Vec<Complex64>, ContinuationError> {
-    while pairs.len() > 1 {
-        let mut next = Vec::with_capacity(pairs.len().div_ceil(2));
-        for chunk in pairs.chunks(2) {
-            next.push(if chunk.len() == 2 {
-                combine(&chunk[0], &chunk[1])
-            } else {
-                chunk[0].clone()
-            });
-        }
-        pairs = next;
-    }
-    let (a, b) = pairs.pop().ok_or(ContinuationError::Singular)?;
+        .collect();
+    let (a, b) = reduce_pencil(chain)?;
     let n = a.nrows();
     if a.iter().chain(b.iter()).any(|v| !v.is_finite()) {
         return Err(ContinuationError::Eigen(

@@ -2,6 +2,7 @@
 //! continuation of cycles from a Hopf point.
 
 pub mod adapt;
+pub mod bordered;
 pub mod branch;
 pub mod collocation;
 pub mod cycle;

@@ -1,51 +1,137 @@
 //! Newton's method and tangents for the collocation system bordered by one
-//! extra scalar equation (fixed parameter, or the pseudo-arclength condition),
-//! solved with faer's sparse LU.
+//! linear scalar equation `<row, z - anchor> = 0` (fixed parameter, or the
+//! pseudo-arclength condition), solved by condensation and cyclic reduction
+//! ([`super::bordered`]).
 
-use super::collocation::Collocation;
+use super::bordered::{condense, dense_rows, solve};
+use super::collocation::{Collocation, Linearization};
 use crate::error::{ContinuationError, NewtonFailure};
-use crate::linalg::solve_sparse;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::system::VectorField;
-use faer::sparse::Triplet;
+use nalgebra::DMatrix;
 
-/// Arclength weight of unknown `i`: `1 / N` on the orbit's `N` values, 1 on `T` and `p`.
-pub fn weights(n_orbit: usize) -> impl Fn(usize) -> f64 {
-    move |i| {
-        if i < n_orbit {
-            1.0 / (n_orbit as f64)
-        } else {
-            1.0
+/// Weights of the pseudo-arclength inner product on `z = (u, T, p)`:
+/// `1 / N` on each of the `N` orbit values (a quadrature of
+/// `int_0^1 |u|^2 dtau`), `1 / T^2` on the period and `1 / max(|p|, floor)^2`
+/// on the parameter, `T` and `p` taken at the orbit the step starts from.
+/// A step of length `ds` then changes the period and the parameter by at most
+/// the fraction `ds`, so branches whose period and parameter span decades
+/// (stick-slip down to small stiffness) advance in equal relative steps.
+#[derive(Clone, Copy, Debug)]
+pub struct ArcWeights {
+    n_orbit: usize,
+    period: f64,
+    param: f64,
+}
+
+impl ArcWeights {
+    /// The weights at the orbit `z`; `floor` bounds the parameter's scale below.
+    pub fn at(z: &[f64], floor: f64) -> Self {
+        let nz = z.len();
+        let scale = |v: f64, f: f64| 1.0 / v.abs().max(f).powi(2);
+        ArcWeights {
+            n_orbit: nz - 2,
+            period: scale(z[nz - 2], f64::MIN_POSITIVE.sqrt()),
+            param: scale(z[nz - 1], floor),
         }
+    }
+
+    /// Weight of unknown `i`.
+    pub fn get(&self, i: usize) -> f64 {
+        if i < self.n_orbit {
+            1.0 / self.n_orbit as f64
+        } else if i == self.n_orbit {
+            self.period
+        } else {
+            self.param
+        }
+    }
+
+    /// Weighted inner product.
+    pub fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .enumerate()
+            .map(|(i, (x, y))| self.get(i) * x * y)
+            .sum()
+    }
+
+    /// `a` scaled by the weights: the row of the constraint `<a, dz>_w = 0`.
+    pub fn row(&self, a: &[f64]) -> Vec<f64> {
+        a.iter().enumerate().map(|(i, v)| self.get(i) * v).collect()
     }
 }
 
-/// Weighted inner product of two unknown vectors.
-pub fn wdot(a: &[f64], b: &[f64], n_orbit: usize) -> f64 {
-    let w = weights(n_orbit);
-    a.iter()
-        .zip(b)
-        .enumerate()
-        .map(|(i, (x, y))| w(i) * x * y)
-        .sum()
+/// The row `e_k`: the constraint `z_k = anchor_k` (parameter fixed when `k` is last).
+pub fn unit_row(nz: usize, k: usize) -> Vec<f64> {
+    let mut row = vec![0.0; nz];
+    row[k] = 1.0;
+    row
 }
 
-/// Newton's method on the collocation system plus one extra scalar equation
-/// `extra(z) = 0` whose Jacobian row (last row) `extra_row` appends.
-pub fn newton_sparse<S: VectorField>(
+/// Solves `J x = rhs` where `J` is the collocation Jacobian `lin` (state
+/// dimension `n`) bordered by the row `extra`.
+pub fn solve_bordered(
+    lin: &Linearization,
+    n: usize,
+    extra: &[f64],
+    rhs: &[f64],
+) -> Result<Vec<f64>, ContinuationError> {
+    let ntst = lin.local.len();
+    let mn = lin.local[0].nrows();
+    let m = mn / n;
+    let nn = ntst * mn;
+    let condensed: Vec<_> = lin
+        .local
+        .iter()
+        .enumerate()
+        .map(|(i, block)| {
+            let mut border = DMatrix::zeros(mn, 3);
+            border
+                .columns_mut(0, 2)
+                .copy_from(&block.columns((m + 1) * n, 2));
+            for r in 0..mn {
+                border[(r, 2)] = -rhs[i * mn + r];
+            }
+            condense(block.columns(0, (m + 1) * n), &border, n, i, ntst)
+        })
+        .collect();
+    let mut rows = DMatrix::zeros(2, nn + 3);
+    for (c, v) in lin.phase.iter().enumerate() {
+        rows[(0, c)] = *v;
+    }
+    for (c, v) in extra.iter().enumerate() {
+        rows[(1, c)] = *v;
+    }
+    rows[(0, nn + 2)] = -rhs[nn];
+    rows[(1, nn + 2)] = -rhs[nn + 1];
+    let dense = dense_rows(&rows, &condensed, n, m)?;
+    solve(condensed, dense, n, m)
+}
+
+/// Newton's method on the collocation system plus the linear equation
+/// `<row, z - anchor> = 0`.
+pub fn newton_bordered<S: VectorField>(
     coll: &Collocation<S>,
     z: &mut [f64],
     settings: &NewtonSettings,
-    extra_row: impl Fn(&[f64], &mut Vec<Triplet<usize, usize, f64>>),
-    extra: impl Fn(&[f64]) -> f64,
+    row: &[f64],
+    anchor: &[f64],
 ) -> Result<NewtonReport, ContinuationError> {
-    let nz = z.len();
+    let n = coll.sys.dim();
     let mut last_step = f64::INFINITY;
     let mut residual = f64::INFINITY;
     for it in 0..=settings.max_iter {
         let mut lin = coll.linearize(z);
-        lin.residual.push(extra(z));
-        residual = lin.residual.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let extra: f64 = row
+            .iter()
+            .zip(z.iter().zip(anchor))
+            .map(|(r, (a, b))| r * (a - b))
+            .sum();
+        let mut rhs = std::mem::take(&mut lin.residual);
+        let floor = 1e3 * f64::EPSILON * lin.term_scale;
+        rhs.push(extra);
+        residual = rhs.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if !residual.is_finite() {
             return Err(newton_error(
                 it,
@@ -55,8 +141,10 @@ pub fn newton_sparse<S: VectorField>(
             ));
         }
         let zmax = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        // The residual cannot fall below the rounding of its terms (`floor`),
+        // which on stiff stretches of stick-slip orbits exceeds any fixed tolerance.
         if last_step <= settings.step_tol * (1.0 + zmax)
-            && residual <= settings.residual_tol * (1.0 + zmax)
+            && residual <= (settings.residual_tol * (1.0 + zmax)).max(floor)
         {
             return Ok(NewtonReport {
                 iterations: it,
@@ -67,8 +155,7 @@ pub fn newton_sparse<S: VectorField>(
         if it == settings.max_iter {
             break;
         }
-        extra_row(z, &mut lin.triplets);
-        let dz = solve_sparse(nz, &lin.triplets, &lin.residual)
+        let dz = solve_bordered(&lin, n, row, &rhs)
             .map_err(|_| newton_error(it, residual, last_step, NewtonFailure::SingularJacobian))?;
         last_step = dz.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for (zi, d) in z.iter_mut().zip(&dz) {
@@ -107,26 +194,22 @@ fn newton_error(
     }
 }
 
-/// Unit tangent (weighted norm) of the cycle branch at `z`, oriented along `reference`.
+/// Unit tangent (norm of `w`) of the cycle branch at `z`: the null vector of
+/// the collocation Jacobian, normalized by `<reference, t>_w = 1` and then
+/// scaled to unit length (so it points along `reference`).
 pub fn tangent<S: VectorField>(
     coll: &Collocation<S>,
     z: &[f64],
     reference: &[f64],
-    n_orbit: usize,
+    w: &ArcWeights,
 ) -> Result<Vec<f64>, ContinuationError> {
     let nz = z.len();
-    let mut lin = coll.linearize(z);
-    let w = weights(n_orbit);
-    lin.triplets.extend(
-        (0..nz)
-            .filter(|&i| reference[i] != 0.0)
-            .map(|i| Triplet::new(nz - 1, i, w(i) * reference[i])),
-    );
+    let lin = coll.linearize(z);
     let mut rhs = vec![0.0; nz];
     rhs[nz - 1] = 1.0;
-    let t = solve_sparse(nz, &lin.triplets, &rhs)?;
-    let norm = wdot(&t, &t, n_orbit).sqrt();
-    let sign = if wdot(&t, reference, n_orbit) < 0.0 {
+    let t = solve_bordered(&lin, coll.sys.dim(), &w.row(reference), &rhs)?;
+    let norm = w.dot(&t, &t).sqrt();
+    let sign = if w.dot(&t, reference) < 0.0 {
         -1.0
     } else {
         1.0
@@ -141,24 +224,11 @@ pub fn correct_along<S: VectorField>(
     z0: &[f64],
     t: &[f64],
     sigma: f64,
+    w: &ArcWeights,
     settings: &NewtonSettings,
 ) -> Result<(Vec<f64>, NewtonReport), ContinuationError> {
-    let nz = z0.len();
-    let w = weights(nz - 2);
     let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
     let mut z = pred.clone();
-    let rep = newton_sparse(
-        coll,
-        &mut z,
-        settings,
-        |_, row| {
-            row.extend(
-                (0..nz)
-                    .filter(|&i| t[i] != 0.0)
-                    .map(|i| Triplet::new(nz - 1, i, w(i) * t[i])),
-            )
-        },
-        |z| (0..nz).map(|i| w(i) * t[i] * (z[i] - pred[i])).sum(),
-    )?;
+    let rep = newton_bordered(coll, &mut z, settings, &w.row(t), &pred)?;
     Ok((z, rep))
 }

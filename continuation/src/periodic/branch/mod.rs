@@ -2,20 +2,20 @@
 //! the collocation system, from a Hopf point or from a given orbit, with
 //! Floquet multipliers at every orbit and periodic mesh adaptation.
 //!
-//! The arclength norm weights the orbit by `1 / (NTST m)` per node (an
-//! approximation of `int |u|^2 dtau`) and the period and parameter by 1.
+//! The arclength norm is relative in the period and the parameter
+//! ([`ArcWeights`]).
 
-use super::adapt::equidistribute;
 use super::collocation::Collocation;
+mod refine;
+
 use super::cycle::Cycle;
-use super::floquet::{condense, multipliers, trivial_multiplier_error};
+use super::floquet::{multipliers, trivial_multiplier_error};
 use super::mesh::Mesh;
-use super::newton::{correct_along, newton_sparse, tangent, wdot, weights};
+use super::newton::{correct_along, newton_bordered, tangent, ArcWeights};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
 use crate::system::{jacobian, param_derivative, VectorField};
-use faer::sparse::Triplet;
 use num_complex::Complex64;
 
 /// Settings of a cycle branch.
@@ -44,17 +44,29 @@ pub struct CycleSettings {
     pub corrector: NewtonSettings,
     /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
     pub start_amplitude: f64,
-    /// Largest acceptable distance of the trivial multiplier from 1 before
-    /// the mesh is refined. Default `1e-8`.
-    pub trivial_tol: f64,
+    /// Largest acceptable estimate of an orbit's discretization error
+    /// (relative, see `refine`) before the mesh is refined. Default `1e-8`.
+    pub mesh_tol: f64,
     /// Most mesh intervals the refinement may use. Default 400.
     pub ntst_max: usize,
-    /// At `ntst_max`, cycles whose trivial multiplier is off by less than
-    /// this are still accepted (and reported with that error). Default `1e-6`.
-    pub trivial_accept: f64,
+    /// At `ntst_max`, orbits whose error estimate is below this are still
+    /// accepted (and reported with it). Default `1e-6`.
+    pub mesh_accept: f64,
+    /// The mesh is also refined while the trivial multiplier is off by more
+    /// than this and refining reduces that error (it is then discretization,
+    /// not rounding). Default `1e-8`.
+    pub trivial_tol: f64,
+    /// Beyond this distance of the trivial multiplier from 1, the branch
+    /// stops when another multiplier lies within ten times that distance of
+    /// the unit circle (stability undecidable) or the distance exceeds 0.1.
+    /// Default `1e-3`.
+    pub trivial_limit: f64,
     /// Parameter values at which an orbit is located exactly and reported
     /// (AUTO's user points). Default none.
     pub user_points: Vec<f64>,
+    /// Smallest scale of the parameter in the arclength weights: below it
+    /// steps in the parameter are absolute, above it relative. Default `1e-3`.
+    pub param_floor: f64,
 }
 
 impl Default for CycleSettings {
@@ -77,10 +89,13 @@ impl Default for CycleSettings {
                 max_iter: 10,
             },
             start_amplitude: 1e-3,
-            trivial_tol: 1e-8,
+            mesh_tol: 1e-8,
             ntst_max: 400,
-            trivial_accept: 1e-6,
+            mesh_accept: 1e-6,
+            trivial_tol: 1e-8,
+            trivial_limit: 1e-3,
             user_points: Vec::new(),
+            param_floor: 1e-3,
         }
     }
 }
@@ -91,8 +106,12 @@ pub struct CyclePoint {
     pub cycle: Cycle,
     /// Floquet multipliers by decreasing modulus (including the trivial one).
     pub multipliers: Vec<Complex64>,
-    /// `min |mu - 1|`.
+    /// `min |mu - 1|`: rounding in the multipliers, amplified by the
+    /// orbit's transient growth (not a measure of the mesh).
     pub trivial_error: f64,
+    /// Estimated discretization error (relative) of the period and of the
+    /// extremes of every component.
+    pub error_estimate: f64,
     /// Multipliers outside the unit circle, the trivial one excluded.
     pub n_unstable: usize,
     pub newton: NewtonReport,
@@ -115,8 +134,8 @@ pub struct CycleBranch<'a, S: VectorField> {
     ds: f64,
     steps: usize,
     done: bool,
-    /// Tolerance on the trivial multiplier in force (raised to the Floquet
-    /// rounding floor of stiff cycles, see `refined_point`).
+    /// Tolerance on the trivial multiplier in force: raised to the rounding
+    /// floor of stiff orbits when refining no longer reduces its error.
     trivial_tol: f64,
 }
 
@@ -193,7 +212,6 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let coll = Collocation::new(sys, &guess, k);
         let mut z = coll.unknowns(&guess);
         let nz = z.len();
-        let n_orbit = nz - 2;
         // Correct along the seed when one is given (near a Hopf point the
         // amplitude is ill-determined at fixed parameter), else at fixed parameter.
         let seed = seed.unwrap_or_else(|| {
@@ -201,23 +219,11 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             s[nz - 1] = 1.0;
             s
         });
-        let w = weights(n_orbit);
+        let w = ArcWeights::at(&z, settings.param_floor);
         let z0 = z.clone();
-        newton_sparse(
-            &coll,
-            &mut z,
-            &settings.corrector,
-            |_, row| {
-                row.extend(
-                    (0..nz)
-                        .filter(|&i| seed[i] != 0.0)
-                        .map(|i| Triplet::new(nz - 1, i, w(i) * seed[i])),
-                )
-            },
-            |z| (0..nz).map(|i| w(i) * seed[i] * (z[i] - z0[i])).sum(),
-        )?;
+        newton_bordered(&coll, &mut z, &settings.corrector, &w.row(&seed), &z0)?;
         let coll = Collocation::new(sys, &coll.cycle(&z), k);
-        let tangent = tangent(&coll, &z, &seed, n_orbit)?;
+        let tangent = tangent(&coll, &z, &seed, &w)?;
         Ok(CycleBranch {
             sys,
             k,
@@ -232,25 +238,24 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         })
     }
 
-    fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
-        point_at(&self.coll, &self.z, &self.tangent, newton)
-    }
-
     /// Takes one accepted step; returns the corrector's report and the step length.
     fn step(&mut self) -> Result<(NewtonReport, f64), ContinuationError> {
         let nz = self.z.len();
-        let n_orbit = nz - 2;
+        let w = ArcWeights::at(&self.z, self.settings.param_floor);
+        let norm = w.dot(&self.tangent, &self.tangent).sqrt();
+        self.tangent.iter_mut().for_each(|v| *v /= norm);
         loop {
             let attempt = correct_along(
                 &self.coll,
                 &self.z,
                 &self.tangent,
                 self.ds,
+                &w,
                 &self.settings.corrector,
             );
             if let Ok((z, rep)) = &attempt {
-                if let Ok(t_new) = tangent(&self.coll, z, &self.tangent, n_orbit) {
-                    if wdot(&t_new, &self.tangent, n_orbit) > 0.8 {
+                if let Ok(t_new) = tangent(&self.coll, z, &self.tangent, &w) {
+                    if w.dot(&t_new, &self.tangent) > 0.8 {
                         let ds = self.ds;
                         self.z = z.clone();
                         self.tangent = t_new;
@@ -291,7 +296,6 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         ds: f64,
         f: impl Fn(&[f64], &[f64]) -> f64,
     ) -> Result<CyclePoint, ContinuationError> {
-        let nz = z0.len();
         let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
         let mut best = None;
         let tight = NewtonSettings {
@@ -299,10 +303,11 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             residual_tol: 1e-12,
             max_iter: 15,
         };
+        let w = ArcWeights::at(z0, self.settings.param_floor);
         for _ in 0..60 {
             let sigma = b - fb * (b - a) / (fb - fa);
-            let (z, rep) = correct_along(coll, z0, t0, sigma, &tight)?;
-            let t = tangent(coll, &z, t0, nz - 2)?;
+            let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &tight)?;
+            let t = tangent(coll, &z, t0, &w)?;
             let fz = f(&z, &t);
             best = Some(point_at(coll, &z, &t, rep)?);
             if fz * fb < 0.0 {
@@ -315,71 +320,9 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                 break;
             }
         }
-        best.ok_or(ContinuationError::Singular)
-    }
-
-    /// The current orbit; while its trivial multiplier is off by more than
-    /// `trivial_tol`, the mesh grows by half (up to `ntst_max`) and the orbit
-    /// is corrected on it at fixed parameter.
-    fn refined_point(&mut self, rep: NewtonReport) -> Result<CyclePoint, ContinuationError> {
-        let mut pt = self.point(rep)?;
-        while pt.trivial_error > self.trivial_tol {
-            if self.coll.mesh.ntst() >= self.settings.ntst_max {
-                // At the mesh limit a cycle is still accepted while its trivial
-                // multiplier is within `trivial_accept` of 1 (reported with it).
-                if pt.trivial_error <= self.settings.trivial_accept {
-                    break;
-                }
-                return Err(ContinuationError::Unresolved {
-                    ntst: self.coll.mesh.ntst(),
-                    trivial_error: pt.trivial_error,
-                    tol: self.settings.trivial_accept,
-                    param: self.z[self.z.len() - 1],
-                });
-            }
-            let (period, error) = (pt.cycle.period, pt.trivial_error);
-            let ntst = (self.coll.mesh.ntst() * 2).min(self.settings.ntst_max);
-            self.adapt(ntst);
-            let nz = self.z.len();
-            let fixed = self.z[nz - 1];
-            let rep = newton_sparse(
-                &self.coll,
-                &mut self.z,
-                &self.settings.corrector,
-                |_, row| row.push(Triplet::new(nz - 1, nz - 1, 1.0)),
-                |z| z[nz - 1] - fixed,
-            )?;
-            self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-            pt = self.point(rep)?;
-            // The orbit did not change with twice the intervals but the trivial
-            // multiplier did not improve: its error is the rounding floor of
-            // the Floquet computation for this stiff cycle, not discretization.
-            // Accept it from now on (up to 1e-4); it is reported with every cycle.
-            let converged = ((pt.cycle.period - period) / period).abs() < 1e-10;
-            if converged && pt.trivial_error > 0.5 * error && pt.trivial_error < 1e-4 {
-                self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
-            }
-        }
-        Ok(pt)
-    }
-
-    /// Moves the orbit and tangent onto an equidistributing mesh of `ntst` intervals.
-    fn adapt(&mut self, ntst: usize) {
-        let orbit = self.coll.cycle(&self.z);
-        let new = equidistribute(&orbit, ntst);
-        let nn = orbit.u.len();
-        let dir = Cycle {
-            u: self.tangent[..nn].to_vec(),
-            period: 0.0,
-            ..orbit.clone()
-        }
-        .remesh(new.mesh.clone());
-        self.coll = Collocation::new(self.sys, &new, self.k);
-        self.z = self.coll.unknowns(&new);
-        let mut t = dir.u;
-        t.extend_from_slice(&self.tangent[nn..]);
-        let norm = wdot(&t, &t, nn).sqrt();
-        self.tangent = t.iter().map(|v| v / norm).collect();
+        let mut best: CyclePoint = best.ok_or(ContinuationError::Singular)?;
+        best.error_estimate = self.error_estimate(&best.cycle);
+        Ok(best)
     }
 }
 
@@ -390,25 +333,27 @@ fn point_at<S: VectorField>(
     tangent: &[f64],
     newton: NewtonReport,
 ) -> Result<CyclePoint, ContinuationError> {
-    let lin = coll.linearize(z);
-    let mu = multipliers(condense(&lin.blocks, coll.sys.dim(), coll.mesh.degree))?;
+    let mu = multipliers(&coll.linearize(z), coll.sys.dim())?;
     let trivial_error = trivial_multiplier_error(&mu);
     let trivial = mu
         .iter()
         .enumerate()
         .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
         .map(|(i, _)| i);
-    // Multipliers within 1e-9 of the unit circle count as neutral, not unstable:
-    // at a Hopf point or a fold of cycles one multiplier is 1 to rounding.
+    // Multipliers within 1e-9 of the unit circle (or within the trivial
+    // multiplier's error) count as neutral, not unstable: at a Hopf point or
+    // a fold of cycles one multiplier is 1 to rounding.
+    let neutral = trivial_error.max(1e-9);
     let n_unstable = mu
         .iter()
         .enumerate()
-        .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0 + 1e-9)
+        .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0 + neutral)
         .count();
     Ok(CyclePoint {
         cycle: coll.cycle(z),
         multipliers: mu,
         trivial_error,
+        error_estimate: 0.0,
         n_unstable,
         newton,
         dp_ds: tangent[tangent.len() - 1],

@@ -1,0 +1,167 @@
+//! Accuracy control of every orbit on the branch: its discretization error
+//! is estimated by solving it again on half the mesh, and the mesh is
+//! doubled (and re-equidistributed) until the estimate meets the tolerance.
+//!
+//! The multipliers can need a finer mesh than the orbit itself, so the mesh
+//! is also refined while the trivial multiplier is off by more than
+//! `trivial_tol` — as long as that helps: on stiff stick-slip orbits
+//! perturbations grow by many decades during the slip, and the multiplier 1
+//! is then so ill-conditioned that its computed distance from 1 is set by
+//! rounding (`eps` times that growth), whatever the mesh. That floor is
+//! detected (doubling the mesh no longer halves the error) and accepted.
+
+use super::{point_at, CycleBranch, CyclePoint};
+use crate::error::ContinuationError;
+use crate::newton::NewtonReport;
+use crate::periodic::adapt::equidistribute;
+use crate::periodic::collocation::Collocation;
+use crate::periodic::cycle::Cycle;
+use crate::periodic::mesh::Mesh;
+use crate::periodic::newton::{newton_bordered, ArcWeights};
+use crate::system::VectorField;
+
+/// Largest difference between two approximations of an orbit: of the
+/// periods (relative) and of the least and greatest value of every
+/// component (relative to `1 + |value|`).
+fn difference(a: &Cycle, b: &Cycle) -> f64 {
+    let mut d = ((a.period - b.period) / a.period).abs();
+    for j in 0..a.n {
+        let ((a_lo, a_hi), (b_lo, b_hi)) = (a.range(j), b.range(j));
+        d = d
+            .max((a_lo - b_lo).abs() / (1.0 + a_lo.abs()))
+            .max((a_hi - b_hi).abs() / (1.0 + a_hi.abs()));
+    }
+    d
+}
+
+impl<S: VectorField> CycleBranch<'_, S> {
+    /// The current orbit, on a mesh fine enough for `mesh_tol` (and for
+    /// `trivial_tol` while refining helps the multipliers): otherwise the mesh
+    /// doubles (up to `ntst_max`) and the orbit is corrected on it.
+    pub(super) fn refined_point(
+        &mut self,
+        rep: NewtonReport,
+    ) -> Result<CyclePoint, ContinuationError> {
+        let mut pt = self.point(rep)?;
+        loop {
+            pt.error_estimate = self.error_estimate(&pt.cycle);
+            let ntst = self.coll.mesh.ntst();
+            let orbit_resolved = pt.error_estimate <= self.settings.mesh_tol;
+            if orbit_resolved && pt.trivial_error <= self.trivial_tol {
+                break;
+            }
+            if ntst >= self.settings.ntst_max {
+                // At the mesh limit an orbit is still accepted within
+                // `mesh_accept` (and reported with its estimate).
+                if pt.error_estimate <= self.settings.mesh_accept {
+                    break;
+                }
+                return Err(ContinuationError::Unresolved {
+                    ntst,
+                    error: pt.error_estimate,
+                    tol: self.settings.mesh_accept,
+                    param: self.z[self.z.len() - 1],
+                });
+            }
+            let before = pt.trivial_error;
+            self.adapt((2 * ntst).min(self.settings.ntst_max));
+            // Corrected on the hyperplane through the orbit normal to the
+            // branch: well posed also near a Hopf point or a fold, where the
+            // orbit at fixed parameter is ill-determined.
+            let w = ArcWeights::at(&self.z, self.settings.param_floor);
+            let anchor = self.z.clone();
+            let rep = newton_bordered(
+                &self.coll,
+                &mut self.z,
+                &self.settings.corrector,
+                &w.row(&self.tangent),
+                &anchor,
+            )?;
+            self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+            pt = self.point(rep)?;
+            if orbit_resolved && pt.trivial_error > 0.5 * before {
+                // Twice the intervals did not help the multipliers: their error
+                // is the rounding floor of this orbit; accept it from now on.
+                self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
+            }
+        }
+        // Past `trivial_limit`, stability is still decided while no other
+        // multiplier lies within the trivial one's error of the unit circle.
+        let near_circle = pt
+            .multipliers
+            .iter()
+            .filter(|z| (z.norm() - 1.0).abs() <= 10.0 * pt.trivial_error)
+            .count();
+        if pt.trivial_error > self.settings.trivial_limit
+            && (near_circle > 1 || pt.trivial_error > 0.1)
+        {
+            return Err(ContinuationError::FloquetIllConditioned {
+                param: self.z[self.z.len() - 1],
+                trivial_error: pt.trivial_error,
+            });
+        }
+        Ok(pt)
+    }
+
+    /// Error estimate of `orbit` (the branch's current orbit, or one located
+    /// near it): its difference from the same orbit solved on an
+    /// equidistributed mesh of half as many intervals (on the hyperplane
+    /// normal to the branch), divided by `2^(m+1) - 1` (Richardson: the
+    /// collocation error between mesh points is `O(h^(m+1))`). Infinite when
+    /// the coarse mesh cannot carry the orbit.
+    pub(super) fn error_estimate(&self, orbit: &Cycle) -> f64 {
+        let ntst = orbit.mesh.ntst();
+        if ntst < 4 {
+            return f64::INFINITY;
+        }
+        let coarse = equidistribute(orbit, ntst / 2);
+        let coll = Collocation::new(self.sys, &coarse, self.k);
+        let mut z = coll.unknowns(&coarse);
+        let anchor = z.clone();
+        let tangent = self.tangent_on(&coarse.mesh);
+        let w = ArcWeights::at(&z, self.settings.param_floor);
+        match newton_bordered(
+            &coll,
+            &mut z,
+            &self.settings.corrector,
+            &w.row(&tangent),
+            &anchor,
+        ) {
+            Ok(_) => {
+                let order = orbit.mesh.degree as i32 + 1;
+                difference(orbit, &coll.cycle(&z)) / (2f64.powi(order) - 1.0)
+            }
+            Err(_) => f64::INFINITY,
+        }
+    }
+
+    /// The branch's tangent moved onto `mesh` (unit length there).
+    fn tangent_on(&self, mesh: &Mesh) -> Vec<f64> {
+        let orbit = self.coll.cycle(&self.z);
+        let nn = orbit.u.len();
+        let mut t = Cycle {
+            u: self.tangent[..nn].to_vec(),
+            period: 0.0,
+            ..orbit
+        }
+        .remesh(mesh.clone())
+        .u;
+        t.extend_from_slice(&self.tangent[nn..]);
+        let norm = ArcWeights::at(&self.z, self.settings.param_floor)
+            .dot(&t, &t)
+            .sqrt();
+        t.iter().map(|v| v / norm).collect()
+    }
+
+    pub(super) fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
+        point_at(&self.coll, &self.z, &self.tangent, newton)
+    }
+
+    /// Moves the orbit and tangent onto an equidistributing mesh of `ntst` intervals.
+    pub(super) fn adapt(&mut self, ntst: usize) {
+        let new = equidistribute(&self.coll.cycle(&self.z), ntst);
+        self.tangent = self.tangent_on(&new.mesh);
+        self.coll = Collocation::new(self.sys, &new, self.k);
+        self.z = self.coll.unknowns(&new);
+    }
+}
