@@ -223,6 +223,35 @@ fn diagram_rejects_a_bad_range() {
 }
 
 #[test]
+fn physical_axis_says_w_equals_m_g_only_when_the_load_is_the_weight() {
+    let dir = std::env::temp_dir().join(format!("stickslip-load-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let loaded = dir.join("loaded.toml");
+    std::fs::write(
+        &loaded,
+        "name = \"loaded\"\nA = 0.012\nB = 0.023\nmu2 = 2.4e-4\nD0 = 0.4\nM = 1\nW = 50\nV_range = [0.1, 10]\n",
+    )
+    .unwrap();
+    for (scene, stem, weight) in [
+        ("pmma", "pmma", true),
+        (loaded.to_str().unwrap(), "loaded", false),
+    ] {
+        let (code, _, err) =
+            stickslip(&["diagram", "--scene", scene, "--out", dir.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let svg =
+            std::fs::read_to_string(dir.join(format!("{stem}-stability-physical.svg"))).unwrap();
+        assert!(svg.contains("critical K/M"), "{stem}: no K/M axis");
+        assert_eq!(
+            svg.contains("W = M g"),
+            weight,
+            "{stem}: W = M g shown iff W is derived"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn ctrl_c_keeps_the_cycles_computed_so_far() {
     let dir = std::env::temp_dir().join(format!("stickslip-interrupt-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

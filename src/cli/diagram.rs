@@ -204,11 +204,16 @@ fn write_figures(
     let model = setup.choice.kind.name();
     let reference_every = (d.points.len() / 25).max(1);
     let mut files = Vec::new();
-    // Physical axes: (V, K/M) with W = M g; K/W for a massless block.
+    // Physical axes: (V, K/M), noting W = M g when the load is the weight;
+    // K/W for a massless block.
     let (y_of, y_label): (Box<dyn Fn(f64) -> f64>, &str) = match u.k_over_m(1.0) {
         Some(_) => (
             Box::new(move |k| u.k_over_m(k).unwrap_or(f64::NAN)),
-            "critical K/M [1/s²]  (W = M g)",
+            if u.load_is_weight {
+                "critical K/M [1/s²]  (W = M g)"
+            } else {
+                "critical K/M [1/s²]"
+            },
         ),
         None => (Box::new(move |k| u.k_over_w(k)), "critical K/W [1/m]"),
     };
