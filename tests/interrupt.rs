@@ -1,4 +1,5 @@
-//! Ctrl-C on long runs: `cycles` and `simulate` are sent SIGINT part-way and must exit with status 130, keep what was computed
+//! Ctrl-C on long runs: `cycles`, `simulate` and a many-scene `diagram` are
+//! sent SIGINT part-way and must exit with status 130, keep what was computed
 //! (complete rows, no NaN, figures), and say where they stopped.
 
 use std::io::Read;
@@ -180,5 +181,67 @@ fn ctrl_c_keeps_the_simulated_time_series() {
         assert!(dir.join(f).exists(), "figure {f} of the computed part");
     }
     assert!(run.stdout.contains("wrote"), "{}", run.stdout);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn ctrl_c_skips_the_scenes_not_started() {
+    let dir = out_dir("interrupt-diagram");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Many copies of the pmma scene, each under its own name.
+    let pmma = include_str!("../examples/scenes/pmma.toml").replace("name = \"pmma\"", "");
+    let scenes: Vec<String> = (0..200)
+        .map(|i| {
+            let path = dir.join(format!("s{i:03}.toml"));
+            std::fs::write(&path, &pmma).unwrap();
+            path.to_str().unwrap().to_string()
+        })
+        .collect();
+    let list = scenes.join(",");
+    let args = ["diagram", "--scene", &list, "--out", dir.to_str().unwrap()];
+    // A finished scene's summary is printed at once: interrupt on the first.
+    let run = interrupt_when(&args, |stdout| stdout.contains("scene: "));
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(130), "{err}");
+    // "... after N of 200 scenes (completed: a, b; skipped: c, d); ..."
+    let names = |key: &str| -> Vec<String> {
+        let rest = err
+            .split(key)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no '{key}' in: {err}"));
+        rest.split([';', ')'])
+            .next()
+            .unwrap()
+            .split(", ")
+            .filter(|s| *s != "none")
+            .map(str::to_string)
+            .collect()
+    };
+    let (completed, skipped) = (names("completed: "), names("skipped: "));
+    assert!(!completed.is_empty() && !skipped.is_empty(), "{err}");
+    assert_eq!(completed.len() + skipped.len(), scenes.len(), "{err}");
+    let stem = |path: &str| {
+        Path::new(path)
+            .file_stem()
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .to_string()
+    };
+    for s in &completed {
+        let name = stem(s);
+        assert!(
+            run.stdout.contains(&format!("scene: {name} ")),
+            "summary of {name}"
+        );
+        assert!(dir.join(format!("{name}-diagram.json")).exists(), "{name}");
+    }
+    for s in &skipped {
+        let name = stem(s);
+        assert!(
+            !dir.join(format!("{name}-hopf-curve.csv")).exists(),
+            "{name} was skipped"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
