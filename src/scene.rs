@@ -27,6 +27,8 @@ pub struct Units {
     pub load: f64,
     /// Gravity `g` [m/s^2].
     pub g: f64,
+    /// Whether the load is the block's weight, `W = M g` (the scene gives no `W`).
+    pub load_is_weight: bool,
 }
 
 impl Units {
@@ -162,7 +164,8 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
     let v0 = read(&t, "V0", "> 0", "um/s")?.unwrap_or(1.0);
     let mass = read(&t, "M", ">= 0", "kg")?.unwrap_or(1.0);
     let g = read(&t, "g", "> 0", "m/s^2")?.unwrap_or(9.81);
-    let load = match read(&t, "W", "> 0", "newtons")? {
+    let given_load = read(&t, "W", "> 0", "newtons")?;
+    let load = match given_load {
         Some(w) => w,
         None if mass == 0.0 => {
             return Err(InputError::Conflict(format!(
@@ -181,6 +184,7 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
         mass,
         load,
         g,
+        load_is_weight: given_load.is_none(),
     };
     let params = Params {
         kappa: k.map_or(0.0, |k| k * units.d0 / load),
@@ -331,6 +335,7 @@ mod tests {
         assert!(!s.stiffness_given && s.name == "pmma");
         assert!(rel(s.nu_range.0, 0.1) < 1e-15 && rel(s.nu_range.1, 100.0) < 1e-15);
         assert!(rel(u.load, 9.81) < 1e-15 && rel(u.d0, 0.4e-6) < 1e-15);
+        assert!(u.load_is_weight);
         // With W = M g, K/M = kappa g / D0.
         assert!(rel(u.k_over_m(0.011).unwrap(), 0.011 * 9.81 / 0.4e-6) < 1e-14);
         assert!(rel(u.k_over_w(0.011), 0.011 / 0.4e-6) < 1e-14);
@@ -353,6 +358,7 @@ mod tests {
         let s = scene("A = 0.01\nM = 2\nW = 50\nD0 = 0.5\nV0 = 2\nK = 100");
         assert!(rel(s.params.m, 8e-12 / 2.5e-5) < 1e-14);
         assert!(rel(s.params.kappa, 100.0 * 0.5e-6 / 50.0) < 1e-14);
+        assert!(!s.units.load_is_weight);
         // Massless block: W required, no K/M.
         let s = scene("A = 0.01\nM = 0\nW = 3");
         assert_eq!((s.params.m, s.units.k_over_m(1.0)), (0.0, None));

@@ -1,6 +1,8 @@
-//! Driven sliding in time: velocity jumps and stop-and-go (seed §II.D.2).
+//! Driven sliding in time: velocity jumps and stop-and-go (seed §II.D.2),
+//! and the samples handed over as they are computed.
 
-use stickslip::analysis::simulate::{simulate, Segment};
+use std::ops::ControlFlow;
+use stickslip::analysis::simulate::{simulate, simulate_with, Sample, Segment};
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
@@ -120,4 +122,70 @@ fn stop_and_go_relaxation_is_scale_invariant_only_for_the_plain_rr_law() {
         c[4],
         d[4]
     );
+}
+
+#[test]
+fn samples_stream_in_order_and_the_sink_can_stop_the_run() {
+    let p = Params {
+        kappa: 0.009,
+        ..law(2.4e-4)
+    };
+    let start = [p.friction().steady(1.0), 1.0, 1.01];
+    let protocol = [
+        Segment {
+            nu: 1.0,
+            duration: 50.0,
+        },
+        Segment {
+            nu: 3.0,
+            duration: 10.0,
+        },
+    ];
+    let run = |grid: Option<&[f64]>, stop_after: usize| {
+        let mut seen: Vec<Sample> = Vec::new();
+        let end = simulate_with(
+            ModelKind::QuasiStatic,
+            &p,
+            start,
+            &protocol,
+            1e-8,
+            grid,
+            |s| {
+                seen.push(*s);
+                if seen.len() == stop_after {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            },
+        )
+        .unwrap();
+        (end, seen)
+    };
+    let all = simulate(ModelKind::QuasiStatic, &p, start, &protocol, 1e-8, None).unwrap();
+    // Every step once, in order, through the change of velocity at t = 50.
+    assert!(all.t.windows(2).all(|w| w[1] > w[0]));
+    assert!(all.t.contains(&50.0) && all.t.last() == Some(&60.0));
+    let (end, seen) = run(None, usize::MAX);
+    assert_eq!((end.stopped, end.t, end.t_end), (false, 60.0, 60.0));
+    assert_eq!(seen.len(), all.t.len());
+    // Stopped by the sink after 25 samples: the same samples, and where it stopped.
+    let (end, seen) = run(None, 25);
+    assert!(
+        end.stopped && end.t == seen[24].t && end.t < 50.0,
+        "{end:?}"
+    );
+    for (i, s) in seen.iter().enumerate() {
+        assert_eq!(
+            (s.t, s.s, s.v, s.slip),
+            (all.t[i], all.s[i], all.v[i], all.slip[i])
+        );
+    }
+    // On a grid: the grid times, stopping after 3 of them.
+    let grid: Vec<f64> = (0..=12).map(|k| 5.0 * k as f64).collect();
+    let (end, seen) = run(Some(&grid), usize::MAX);
+    assert!(!end.stopped);
+    assert_eq!(seen.iter().map(|s| s.t).collect::<Vec<_>>(), grid);
+    let (end, seen) = run(Some(&grid), 3);
+    assert!(end.stopped && end.t == 10.0 && seen.len() == 3, "{end:?}");
 }

@@ -1,18 +1,45 @@
 //! Time integration of the driven block under a driving protocol: steady
 //! pulling, velocity jumps, stop-and-go. Integrated in logarithmic variables
 //! (slip velocity and age span decades) by the engine's Radau IIA method.
+//!
+//! [`simulate_with`] hands every sample to a sink as soon as the integrator
+//! produces it (so a caller can write rows as they come, show progress and
+//! stop early); [`simulate`] collects them into a [`Trajectory`].
 
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::Params;
-use continuation::integrate::{self, EventDirection, EventFunction, Output, Radau5, Settings};
+use continuation::integrate::{
+    self, EventDirection, EventFunction, Outcome, Output, Radau5, Settings,
+};
+use std::ops::ControlFlow;
 
 /// A stretch of constant driving velocity `nu` lasting `duration` (units `D0/V0`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
     pub nu: f64,
     pub duration: f64,
+}
+
+/// One point of a simulated trajectory in MODEL.md's variables.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub t: f64,
+    pub s: f64,
+    pub v: f64,
+    pub theta: f64,
+    /// Slip `x(t) - x(0)` in units of `D0`, from `s = kappa (int nu dt - x)`.
+    pub slip: f64,
+}
+
+impl Sample {
+    /// Whether every field is a finite number.
+    pub fn is_finite(&self) -> bool {
+        [self.t, self.s, self.v, self.theta, self.slip]
+            .iter()
+            .all(|x| x.is_finite())
+    }
 }
 
 /// A simulated trajectory in MODEL.md's variables.
@@ -26,6 +53,29 @@ pub struct Trajectory {
     pub slip: Vec<f64>,
 }
 
+impl Trajectory {
+    /// Appends one sample.
+    pub fn push(&mut self, p: &Sample) {
+        self.t.push(p.t);
+        self.s.push(p.s);
+        self.v.push(p.v);
+        self.theta.push(p.theta);
+        self.slip.push(p.slip);
+    }
+}
+
+/// How a run of [`simulate_with`] ended (failures are errors).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunEnd {
+    /// The simulated time reached: the end of the protocol, or the last
+    /// sample handed to the sink when it stopped the run.
+    pub t: f64,
+    /// The end of the protocol (sum of the durations).
+    pub t_end: f64,
+    /// Whether the sink stopped the run before the end.
+    pub stopped: bool,
+}
+
 /// Integrates from the state `(s, v, theta)` through the protocol, recording
 /// every accepted step, or the dense output at the times of `grid` when given
 /// (absolute times from 0). `rtol` is the integrator's relative tolerance.
@@ -37,13 +87,57 @@ pub fn simulate(
     rtol: f64,
     grid: Option<&[f64]>,
 ) -> Result<Trajectory, NumericalError> {
+    let mut out = Trajectory::default();
+    simulate_with(kind, params, start, protocol, rtol, grid, |p| {
+        out.push(p);
+        ControlFlow::Continue(())
+    })?;
+    Ok(out)
+}
+
+/// As [`simulate`], handing each sample to `sink` as soon as it is computed
+/// (the start, then the end of every accepted step or every grid time, in
+/// order, each time once). `sink` returning `ControlFlow::Break(())` stops the
+/// integration there ([`RunEnd::stopped`]). A sample with a non-finite value
+/// is never handed over: the run fails at it. On failure the sink has
+/// received everything up to the last good step.
+pub fn simulate_with(
+    kind: ModelKind,
+    params: &Params,
+    start: [f64; 3],
+    protocol: &[Segment],
+    rtol: f64,
+    grid: Option<&[f64]>,
+    mut sink: impl FnMut(&Sample) -> ControlFlow<()>,
+) -> Result<RunEnd, NumericalError> {
+    if let Some(g) = grid {
+        if g.iter().any(|t| !t.is_finite()) || g.windows(2).any(|w| w[1] < w[0]) {
+            return Err(NumericalError::Analysis(
+                "simulation: the output times must be finite and increasing".into(),
+            ));
+        }
+    }
     let log = LogBlock {
         kind,
         cutoff: params.theta_c.is_some(),
     };
+    let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
     let mut x = log.from_model(start[0], start[1], start[2]);
+    let mut out = Emitter {
+        log: &log,
+        start_s: start[0],
+        kappa: params.kappa,
+        grid: grid.map(|g| (g, 0)),
+        last: None,
+        bad: None,
+    };
     let (mut t0, mut pulled) = (0.0, 0.0);
-    let mut out = Trajectory::default();
+    let first_nu = protocol.first().map_or(params.nu, |seg| seg.nu);
+    let mut p0 = *params;
+    p0.nu = first_nu;
+    if out.start(&x, &p0.to_vec(), &mut sink).is_break() {
+        return out.finish(t0, t_end, true);
+    }
     for seg in protocol {
         let mut p = *params;
         p.nu = seg.nu;
@@ -54,31 +148,151 @@ pub fn simulate(
             ..Settings::default()
         };
         let t1 = t0 + seg.duration;
-        let output = match grid {
-            Some(g) => Output::Grid(g.iter().copied().filter(|&t| t >= t0 && t <= t1).collect()),
-            None => Output::Steps,
+        let drive = Drive {
+            t0,
+            nu: seg.nu,
+            pulled,
         };
-        let sol = Radau5::new(&log, &pv, settings).solve(t0, &x, t1, output);
-        let sol = sol
-            .into_result()
-            .map_err(|e| NumericalError::Analysis(format!("simulation at nu = {}: {e}", seg.nu)))?;
-        for (t, y) in sol.t.iter().zip(&sol.x) {
-            if t == &t0 && !out.t.is_empty() {
-                continue;
+        let sol = Radau5::new(&log, &pv, settings).solve_with(t0, &x, t1, Output::Final, |step| {
+            out.step(step, &pv, drive, &mut sink)
+        });
+        if let Some(bad) = out.bad.take() {
+            return Err(bad);
+        }
+        match sol.outcome {
+            Outcome::ObserverStop => return out.finish(sol.t_final, t_end, true),
+            Outcome::Failed(e) => {
+                return Err(NumericalError::Analysis(format!(
+                    "simulation at nu = {}: {e}",
+                    seg.nu
+                )))
             }
-            let [s, v, theta] = log.to_model(y, &pv);
-            out.t.push(*t);
-            out.s.push(s);
-            out.v.push(v);
-            out.theta.push(theta);
-            out.slip
-                .push(pulled + seg.nu * (t - t0) - (s - start[0]) / params.kappa);
+            Outcome::ReachedEnd | Outcome::TerminalEvent { .. } => {}
         }
         pulled += seg.nu * seg.duration;
         t0 = sol.t_final;
         x = sol.x_final;
     }
-    Ok(out)
+    out.finish(t0, t_end, false)
+}
+
+/// The drive of the current segment: its start, velocity, and the spring
+/// end's displacement before it.
+#[derive(Clone, Copy)]
+struct Drive {
+    t0: f64,
+    nu: f64,
+    pulled: f64,
+}
+
+/// Turns integrator states into samples for the sink: at the step ends or at
+/// the grid times, each time once, checked finite.
+struct Emitter<'a> {
+    log: &'a LogBlock,
+    start_s: f64,
+    kappa: f64,
+    /// The output times and the index of the next one.
+    grid: Option<(&'a [f64], usize)>,
+    /// Time of the last sample handed over.
+    last: Option<f64>,
+    /// A non-finite sample that stopped the run.
+    bad: Option<NumericalError>,
+}
+
+impl Emitter<'_> {
+    fn sample(&self, t: f64, y: &[f64], pv: &[f64], drive: Drive) -> Sample {
+        let [s, v, theta] = self.log.to_model(y, pv);
+        let slip = drive.pulled + drive.nu * (t - drive.t0) - (s - self.start_s) / self.kappa;
+        Sample {
+            t,
+            s,
+            v,
+            theta,
+            slip,
+        }
+    }
+
+    /// Hands over `p` unless its time was already handed over.
+    fn emit(
+        &mut self,
+        p: Sample,
+        sink: &mut impl FnMut(&Sample) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
+        if self.last.is_some_and(|t| p.t <= t) {
+            return ControlFlow::Continue(());
+        }
+        if !p.is_finite() {
+            self.bad = Some(NumericalError::Analysis(format!(
+                "simulation: non-finite state at t = {:e} (s = {:e}, v = {:e}, theta = {:e}); \
+                 try a tighter --rtol or a shorter protocol",
+                p.t, p.s, p.v, p.theta
+            )));
+            return ControlFlow::Break(());
+        }
+        self.last = Some(p.t);
+        sink(&p)
+    }
+
+    /// The initial state at `t = 0` (with the grid: only if 0 is a grid time).
+    fn start(
+        &mut self,
+        y: &[f64],
+        pv: &[f64],
+        sink: &mut impl FnMut(&Sample) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
+        let drive = Drive {
+            t0: 0.0,
+            nu: 0.0,
+            pulled: 0.0,
+        };
+        if let Some((g, pos)) = &mut self.grid {
+            // Times before the start are never reached.
+            while *pos < g.len() && g[*pos] < 0.0 {
+                *pos += 1;
+            }
+            if !(*pos < g.len() && g[*pos] == 0.0) {
+                return ControlFlow::Continue(());
+            }
+            *pos += 1;
+        }
+        let p = self.sample(0.0, y, pv, drive);
+        self.emit(p, sink)
+    }
+
+    /// An accepted step: its end, or the grid times inside it.
+    fn step(
+        &mut self,
+        step: &integrate::StepView<'_>,
+        pv: &[f64],
+        drive: Drive,
+        sink: &mut impl FnMut(&Sample) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
+        let Some((g, mut pos)) = self.grid else {
+            let p = self.sample(step.t, step.x, pv, drive);
+            return self.emit(p, sink);
+        };
+        let mut y = vec![0.0; step.x.len()];
+        let mut flow = ControlFlow::Continue(());
+        while flow.is_continue() && pos < g.len() && g[pos] <= step.t {
+            step.eval(g[pos], &mut y);
+            let p = self.sample(g[pos], &y, pv, drive);
+            pos += 1;
+            flow = self.emit(p, sink);
+        }
+        self.grid = Some((g, pos));
+        flow
+    }
+
+    fn finish(&mut self, t: f64, t_end: f64, stopped: bool) -> Result<RunEnd, NumericalError> {
+        match self.bad.take() {
+            Some(e) => Err(e),
+            None => Ok(RunEnd {
+                t: if stopped { self.last.unwrap_or(t) } else { t },
+                t_end,
+                stopped,
+            }),
+        }
+    }
 }
 
 /// Period and peak-to-peak spring force of the attractor reached from `start`

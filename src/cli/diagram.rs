@@ -1,5 +1,6 @@
 //! `stickslip diagram`: the stability diagram of one or several scenes
-//! (in parallel), as figures (PNG, SVG), CSV and JSON.
+//! (in parallel), as figures (PNG, SVG), CSV and JSON. Each scene's files and
+//! summary are written as it finishes; Ctrl-C skips the scenes not started.
 
 use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
@@ -73,21 +74,42 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
     }
     let range = args.nu_range.as_deref().map(parse_range).transpose()?;
     std::fs::create_dir_all(&args.out)?;
-    let results: Vec<Result<SceneResult, Error>> = names
+    super::interrupt::catch_interrupts();
+    let bar = super::interrupt::progress(&format!("{} scene(s)", names.len()));
+    let finished = std::sync::atomic::AtomicUsize::new(0);
+    // A scene not started when Ctrl-C comes is skipped (None); each finished
+    // scene's summary is printed at once (not with --json).
+    let results: Vec<Option<Result<SceneResult, Error>>> = names
         .par_iter()
-        .map(|name| one_scene(args, name, range))
+        .map(|name| {
+            if super::interrupt::interrupted() {
+                return None;
+            }
+            let r = one_scene(args, name, range);
+            let done = 1 + finished.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            bar.set_message(format!("{done} of {} scenes finished", names.len()));
+            if let (Ok(r), false) = (&r, args.json) {
+                bar.suspend(|| print_text(r));
+            }
+            Some(r)
+        })
         .collect();
-    let mut json_out = Vec::new();
-    for r in results {
-        let r = r?;
-        if args.json {
-            json_out.push(to_json(&r));
-        } else {
-            print_text(&r);
+    bar.finish_and_clear();
+    let (mut json_out, mut completed, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
+    for (name, r) in names.iter().zip(results) {
+        match r {
+            Some(r) => {
+                let r = r?;
+                if args.json {
+                    json_out.push(to_json(&r));
+                }
+                completed.push(*name);
+            }
+            None => skipped.push(*name),
         }
     }
     if args.json {
-        let v = if json_out.len() == 1 {
+        let v = if names.len() == 1 {
             json_out.remove(0)
         } else {
             Value::Array(json_out)
@@ -97,7 +119,23 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
             serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
         );
     }
-    Ok(())
+    if skipped.is_empty() {
+        return Ok(());
+    }
+    let list = |v: &[&str]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    Err(Error::Interrupted(format!(
+        "after {} of {} scenes (completed: {}; skipped: {})",
+        completed.len(),
+        names.len(),
+        list(&completed),
+        list(&skipped)
+    )))
 }
 
 fn one_scene(
@@ -204,11 +242,16 @@ fn write_figures(
     let model = setup.choice.kind.name();
     let reference_every = (d.points.len() / 25).max(1);
     let mut files = Vec::new();
-    // Physical axes: (V, K/M) with W = M g; K/W for a massless block.
+    // Physical axes: (V, K/M), noting W = M g when the load is the weight;
+    // K/W for a massless block.
     let (y_of, y_label): (Box<dyn Fn(f64) -> f64>, &str) = match u.k_over_m(1.0) {
         Some(_) => (
             Box::new(move |k| u.k_over_m(k).unwrap_or(f64::NAN)),
-            "critical K/M [1/s²]  (W = M g)",
+            if u.load_is_weight {
+                "critical K/M [1/s²]  (W = M g)"
+            } else {
+                "critical K/M [1/s²]"
+            },
         ),
         None => (Box::new(move |k| u.k_over_w(k)), "critical K/W [1/m]"),
     };
@@ -351,6 +394,8 @@ fn to_json(r: &SceneResult) -> Value {
 }
 
 fn print_text(r: &SceneResult) {
+    // One scene's lines together, also when scenes finish at the same time.
+    let _whole = std::io::stdout().lock();
     let u = &r.setup.scene.units;
     let d = &r.diagram;
     println!(

@@ -27,11 +27,25 @@ pub fn interrupted() -> bool {
 
 /// A spinner with a message on standard error when it is a terminal; hidden otherwise.
 pub fn progress(what: &str) -> ProgressBar {
+    on_terminal(
+        ProgressBar::new_spinner(),
+        "{spinner} {elapsed} {msg}",
+        what,
+    )
+}
+
+/// A bar filling up to `len` with a message and the time left on standard
+/// error when it is a terminal; hidden otherwise.
+pub fn progress_bar(len: u64, what: &str) -> ProgressBar {
+    let template = "{spinner} {bar:30} {percent:>3}% {msg}  {elapsed} (eta {eta})";
+    on_terminal(ProgressBar::new(len), template, what)
+}
+
+fn on_terminal(bar: ProgressBar, template: &str, what: &str) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::new_spinner();
-    if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed} {msg}") {
+    if let Ok(style) = ProgressStyle::with_template(template) {
         bar.set_style(style);
     }
     bar.set_message(what.to_string());

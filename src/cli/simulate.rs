@@ -1,14 +1,18 @@
 //! `stickslip simulate`: driven sliding in time under a driving protocol
 //! (steady pulling, velocity jumps, stop-and-go), with time-series figures.
+//! Rows are written as they are computed; a bar shows the simulated time on
+//! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
 
 use super::SceneArgs;
-use crate::analysis::simulate::{simulate, Segment, Trajectory};
+use crate::analysis::simulate::{simulate_with, Sample, Segment, Trajectory};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
 use plotters::style::RGBColor;
 use std::io::Write;
-use std::path::PathBuf;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
@@ -88,50 +92,121 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     start_params.nu = nu0;
     let s0 = start_params.friction().steady(nu0);
     let start = [s0, nu0, (1.0 + args.perturb) / nu0];
-    let traj = simulate(
+    std::fs::create_dir_all(&args.out)?;
+    let stem = super::files::with_suffix(
+        &super::files::stem(&args.out, &setup.scene.name),
+        "-simulation",
+    );
+    let csv_path = super::files::with_suffix(&stem, ".csv");
+    super::interrupt::catch_interrupts();
+    let mut rows = Rows::create(&csv_path, time_unit)?;
+    let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
+    const TICKS: f64 = 10_000.0;
+    let bar = super::interrupt::progress_bar(TICKS as u64, "simulating");
+    let mut traj = Trajectory::default();
+    let mut write_error = None;
+    let run = simulate_with(
         setup.choice.kind,
         &setup.params,
         start,
         &protocol,
         args.rtol,
         None,
-    )?;
-    std::fs::create_dir_all(&args.out)?;
-    let stem = super::files::with_suffix(
-        &super::files::stem(&args.out, &setup.scene.name),
-        "-simulation",
+        |p| {
+            if let Err(e) = rows.push(p) {
+                write_error = Some(e);
+                return ControlFlow::Break(());
+            }
+            traj.push(p);
+            if !bar.is_hidden() {
+                bar.set_position((TICKS * p.t / t_end) as u64);
+                bar.set_message(format!(
+                    "t = {:.4e} s of {:.4e} s",
+                    p.t * time_unit,
+                    t_end * time_unit
+                ));
+            }
+            if super::interrupt::interrupted() {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
     );
-    let csv = write_csv(&traj, &super::files::with_suffix(&stem, ".csv"), time_unit)?;
-    let figs = figures(&setup.scene.name, &traj, &u, &stem)?;
+    bar.finish_and_clear();
+    rows.flush()?;
+    if let Some(e) = write_error {
+        return Err(e.into());
+    }
+    // Whatever was computed is kept and drawn, also after Ctrl-C or a failure.
+    let figs = if traj.t.len() >= 2 {
+        figures(&setup.scene.name, &traj, &u, &stem)?
+    } else {
+        Vec::new()
+    };
     println!("model: {}", setup.choice.reason);
     println!(
         "{} steps over {:.6e} s",
         traj.t.len(),
         traj.t.last().copied().unwrap_or(0.0) * time_unit
     );
-    for f in figs.iter().chain([&csv]) {
+    for f in figs.iter().chain([&csv_path]) {
         println!("wrote {}", f.display());
     }
-    Ok(())
+    match run {
+        Ok(end) if end.stopped => Err(Error::Interrupted(format!(
+            "at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
+            end.t * time_unit,
+            end.t_end * time_unit,
+            traj.t.len()
+        ))),
+        Ok(_) => Ok(()),
+        Err(e) => Err(e.into()),
+    }
 }
 
-fn write_csv(traj: &Trajectory, path: &std::path::Path, time_unit: f64) -> Result<PathBuf, Error> {
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(w, "t_s,t,s,v,theta,slip")?;
-    for i in 0..traj.t.len() {
-        writeln!(
+/// The CSV of the time series, written row by row as the integrator produces
+/// them; flushed at least every 0.1 s, so a killed run keeps its rows.
+struct Rows {
+    w: std::io::BufWriter<std::fs::File>,
+    time_unit: f64,
+    flushed: Instant,
+}
+
+impl Rows {
+    fn create(path: &Path, time_unit: f64) -> std::io::Result<Rows> {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+        writeln!(w, "t_s,t,s,v,theta,slip")?;
+        w.flush()?;
+        Ok(Rows {
             w,
-            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}",
-            traj.t[i] * time_unit,
-            traj.t[i],
-            traj.s[i],
-            traj.v[i],
-            traj.theta[i],
-            traj.slip[i]
-        )?;
+            time_unit,
+            flushed: Instant::now(),
+        })
     }
-    w.flush()?;
-    Ok(path.to_path_buf())
+
+    fn push(&mut self, p: &Sample) -> std::io::Result<()> {
+        // One write per row, so that a flush never splits it.
+        let row = format!(
+            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+            p.t * self.time_unit,
+            p.t,
+            p.s,
+            p.v,
+            p.theta,
+            p.slip
+        );
+        self.w.write_all(row.as_bytes())?;
+        if self.flushed.elapsed() > Duration::from_millis(100) {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.flushed = Instant::now();
+        self.w.flush()
+    }
 }
 
 fn figures(

@@ -1,0 +1,207 @@
+//! The benchmark jobs: what each one runs, prepared once and run repeatedly.
+
+use super::sandbox::{silence_stdout, TempDir};
+use crate::analysis::diagram::stability_diagram;
+use crate::analysis::hopf::{find_hopf, HopfOutcome};
+use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use crate::cli::diagram::DiagramArgs;
+use crate::cli::SceneArgs;
+use crate::error::{Error, NumericalError};
+use crate::model::ModelKind;
+use crate::params::Params;
+use serde_json::Value;
+use std::path::Path;
+
+/// Names of the jobs, in the order they run.
+pub const JOB_NAMES: [&str; 5] = [
+    "hopf_point_l1",
+    "hopf_point_l1_inertial",
+    "hopf_curve_4_decades",
+    "diagram_default",
+    "diagram_three_scenes_parallel",
+];
+
+/// The inertial variant of the worked example (docs/index.md §5).
+const INERTIAL_OVERRIDES: [&str; 5] = ["A=0.01", "B=0.02", "mu2=5e-4", "m=0.1", "nu=3"];
+
+/// The scenes of `diagram_three_scenes_parallel`.
+const THREE_SCENES: &str = "pmma,pmma-rr,brockley";
+
+/// A prepared benchmark job.
+pub struct Job {
+    /// One of [`JOB_NAMES`].
+    pub name: &'static str,
+    /// What the job does, in one line.
+    pub description: &'static str,
+    work: Work,
+}
+
+enum Work {
+    /// `find_hopf` (continuation in kappa, Hopf location, normal form with l1).
+    Hopf { kind: ModelKind, params: Params },
+    /// `stability_diagram` (Hopf curve in (ln kappa, ln nu) with l1 at every point).
+    Curve {
+        kind: ModelKind,
+        params: Params,
+        range: (f64, f64),
+    },
+    /// The `diagram` command end to end (figures, CSV, JSON written), its
+    /// standard output discarded.
+    Diagram {
+        args: DiagramArgs,
+        /// File-name stems of the scenes (their `name`), to count points.
+        stems: Vec<String>,
+        _dir: TempDir,
+    },
+}
+
+/// A scene with `--set` overrides, as the CLI would set it up.
+fn scene_args(scene: &str, set: &[&str]) -> SceneArgs {
+    SceneArgs {
+        scene: scene.to_string(),
+        set: set.iter().map(|s| s.to_string()).collect(),
+        model: None,
+        inertia_threshold: DEFAULT_INERTIA_THRESHOLD,
+    }
+}
+
+impl Job {
+    /// Prepares the job called `name` (one of [`JOB_NAMES`]).
+    pub fn new(name: &str) -> Result<Job, Error> {
+        let (name, description, work) = match name {
+            "hopf_point_l1" => {
+                let setup = scene_args(crate::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
+                (
+                    JOB_NAMES[0],
+                    "find_hopf on the default scene (pmma, quasi-static), with l1",
+                    Work::Hopf {
+                        kind: setup.choice.kind,
+                        params: setup.params,
+                    },
+                )
+            }
+            "hopf_point_l1_inertial" => {
+                let setup =
+                    scene_args(crate::scene::DEFAULT_SCENE, &INERTIAL_OVERRIDES).setup(|p| *p)?;
+                (
+                    JOB_NAMES[1],
+                    "find_hopf, --set A=0.01 B=0.02 mu2=5e-4 m=0.1 nu=3 (inertial), with l1",
+                    Work::Hopf {
+                        kind: setup.choice.kind,
+                        params: setup.params,
+                    },
+                )
+            }
+            "hopf_curve_4_decades" => {
+                let scene = crate::scene::load("pmma")?;
+                (
+                    JOB_NAMES[2],
+                    "stability_diagram, pmma, inertial, nu in [0.01, 100], l1 at every point",
+                    Work::Curve {
+                        kind: ModelKind::Inertial,
+                        params: scene.params,
+                        range: (0.01, 100.0),
+                    },
+                )
+            }
+            "diagram_default" => (
+                JOB_NAMES[3],
+                "`stickslip diagram` end to end (pmma; PNG, SVG, CSV, JSON written)",
+                diagram_work(crate::scene::DEFAULT_SCENE)?,
+            ),
+            "diagram_three_scenes_parallel" => (
+                JOB_NAMES[4],
+                "`stickslip diagram --scene pmma,pmma-rr,brockley` end to end (rayon)",
+                diagram_work(THREE_SCENES)?,
+            ),
+            other => {
+                return Err(NumericalError::Analysis(format!(
+                    "no benchmark job '{other}'; jobs: {}",
+                    JOB_NAMES.join(", ")
+                ))
+                .into())
+            }
+        };
+        Ok(Job {
+            name,
+            description,
+            work,
+        })
+    }
+
+    /// Runs the job once; returns the number of points it produced (1 for a
+    /// Hopf point, the curve points of a diagram).
+    pub fn run(&self) -> Result<usize, Error> {
+        self.execute(true)
+    }
+
+    /// Runs the job once without counting points afterwards (what is timed:
+    /// for the diagram jobs, counting means reading the JSON files back).
+    pub fn run_untallied(&self) -> Result<(), Error> {
+        self.execute(false).map(|_| ())
+    }
+
+    fn execute(&self, tally: bool) -> Result<usize, Error> {
+        match &self.work {
+            Work::Hopf { kind, params } => match find_hopf(*kind, params)? {
+                HopfOutcome::Found(h) => {
+                    std::hint::black_box(&h);
+                    Ok(1)
+                }
+                HopfOutcome::StableForAllStiffness { .. } => Err(NumericalError::Analysis(
+                    format!("benchmark job {}: no Hopf point found", self.name),
+                )
+                .into()),
+            },
+            Work::Curve {
+                kind,
+                params,
+                range,
+            } => {
+                let d = stability_diagram(*kind, params, *range)?;
+                Ok(std::hint::black_box(d).points.len())
+            }
+            Work::Diagram { args, stems, .. } => {
+                silence_stdout(|| crate::cli::diagram::run(args))?;
+                if tally {
+                    stems.iter().map(|s| curve_points(&args.out, s)).sum()
+                } else {
+                    Ok(0)
+                }
+            }
+        }
+    }
+}
+
+/// All jobs of [`JOB_NAMES`], prepared.
+pub fn jobs() -> Result<Vec<Job>, Error> {
+    JOB_NAMES.iter().map(|n| Job::new(n)).collect()
+}
+
+fn diagram_work(scenes: &str) -> Result<Work, Error> {
+    let dir = TempDir::new()?;
+    let stems = scenes
+        .split(',')
+        .map(|s| crate::scene::load(s).map(|sc| sc.name))
+        .collect::<Result<_, _>>()?;
+    Ok(Work::Diagram {
+        args: DiagramArgs {
+            scene: scene_args(scenes, &[]),
+            nu_range: None,
+            out: dir.0.clone(),
+            json: false,
+        },
+        stems,
+        _dir: dir,
+    })
+}
+
+/// Number of Hopf-curve points in `DIR/<stem>-diagram.json`.
+fn curve_points(dir: &Path, stem: &str) -> Result<usize, Error> {
+    let path = dir.join(format!("{stem}-diagram.json"));
+    let text = std::fs::read_to_string(&path)?;
+    let v: Value = serde_json::from_str(&text).map_err(std::io::Error::other)?;
+    v["hopf_curve"].as_array().map(Vec::len).ok_or_else(|| {
+        std::io::Error::other(format!("{} has no hopf_curve array", path.display())).into()
+    })
+}

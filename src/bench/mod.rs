@@ -1,0 +1,49 @@
+//! Benchmark jobs: the analyses a user runs, timed end to end, with the
+//! number of vector-field evaluations each one makes.
+//!
+//! `stickslip bench` and the criterion benchmarks (`benches/jobs.rs`) share
+//! these jobs. A job is prepared once (scene loaded, overrides applied, model
+//! chosen, output directory created) and then run repeatedly; only the run is
+//! timed. Evaluation counts come from [`crate::model::eval_counts`] around one
+//! run, so they are exact for that run (the counters are process-wide: other
+//! analyses running at the same time in the same process would add to them).
+//! See `docs/performance.md`.
+
+mod jobs;
+mod measure;
+mod report;
+mod sandbox;
+
+pub use jobs::{jobs, Job, JOB_NAMES};
+pub use measure::{measure, run_all, JobReport, Settings};
+pub use report::{format_seconds, table, to_json};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::EVAL_KINDS;
+
+    #[test]
+    fn quick_run_gives_one_record_per_job_with_the_public_keys() {
+        let reports = run_all(Settings::quick()).unwrap();
+        let v = to_json(&reports);
+        let records = v.as_array().unwrap();
+        assert_eq!(records.len(), JOB_NAMES.len());
+        for (r, name) in records.iter().zip(JOB_NAMES) {
+            assert_eq!(r["job"], name);
+            for key in ["median_s", "per_point_s"] {
+                assert!(r[key].as_f64().is_some_and(|t| t > 0.0), "{name}: {key}");
+            }
+            assert!(r["points"].as_u64().is_some_and(|n| n >= 1), "{name}");
+            assert!(r["repetitions"].as_u64().is_some_and(|n| n >= 1), "{name}");
+            let evals = r["evals"].as_object().unwrap();
+            for k in EVAL_KINDS {
+                assert!(evals[k].as_u64().is_some(), "{name}: evals.{k}");
+            }
+            assert!(evals["order1"].as_u64().unwrap() > 0, "{name}");
+        }
+        // The three-scene job runs the default scene's diagram and two more.
+        assert!(reports[4].points > reports[3].points);
+        assert!(table(&reports).lines().count() == JOB_NAMES.len() + 1);
+    }
+}

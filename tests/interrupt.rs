@@ -1,0 +1,247 @@
+//! Ctrl-C on long runs: `cycles`, `simulate` and a many-scene `diagram` are
+//! sent SIGINT part-way and must exit with status 130, keep what was computed
+//! (complete rows, no NaN, figures), and say where they stopped.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// What an interrupted run left behind.
+struct Interrupted {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+/// Runs stickslip with `args`, sends it SIGINT as soon as `ready(stdout so
+/// far)` holds (polled every 20 ms, for at most 120 s), and waits for it to
+/// exit (killing it after another 120 s).
+fn interrupt_when(args: &[&str], ready: impl Fn(&str) -> bool) -> Interrupted {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start stickslip");
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        let text = Arc::new(Mutex::new(String::new()));
+        let sink = Arc::clone(&text);
+        let thread = std::thread::spawn(move || {
+            let mut pipe = pipe.expect("piped");
+            let mut buf = [0u8; 4096];
+            while let Ok(n @ 1..) = pipe.read(&mut buf) {
+                sink.lock()
+                    .unwrap()
+                    .push_str(&String::from_utf8_lossy(&buf[..n]));
+            }
+        });
+        (text, thread)
+    };
+    let (stdout, out_thread) = drain(child.stdout.take().map(|p| Box::new(p) as _));
+    let (stderr, err_thread) = drain(child.stderr.take().map(|p| Box::new(p) as _));
+    let start = Instant::now();
+    while !ready(&stdout.lock().unwrap())
+        && child.try_wait().unwrap().is_none()
+        && start.elapsed() < Duration::from_secs(120)
+    {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // SAFETY: sending SIGINT to our own child process.
+    unsafe {
+        libc::kill(child.id() as libc::pid_t, libc::SIGINT);
+    }
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("stickslip {args:?} did not stop within 120 s of SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    out_thread.join().unwrap();
+    err_thread.join().unwrap();
+    let text = |t: Arc<Mutex<String>>| t.lock().unwrap().clone();
+    Interrupted {
+        code: status.code(),
+        stdout: text(stdout),
+        stderr: text(stderr),
+    }
+}
+
+/// A fresh output directory for one test.
+fn out_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("stickslip-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn lines(path: &Path) -> usize {
+    std::fs::read_to_string(path)
+        .map(|s| s.lines().count())
+        .unwrap_or(0)
+}
+
+#[test]
+fn ctrl_c_keeps_the_cycles_computed_so_far() {
+    let dir = out_dir("interrupt-cycles");
+    let out = dir.to_str().unwrap();
+    // Interrupt once a few cycles are on disk (rows are written as computed).
+    let csv_path = dir.join("pmma-cycles.csv");
+    let args = [
+        "cycles",
+        "--set",
+        "m=0.01",
+        "--kappa-fraction",
+        "0.01",
+        "--max-steps",
+        "100000",
+        "--out",
+        out,
+    ];
+    let run = interrupt_when(&args, |_| lines(&csv_path) >= 6);
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(130), "{err}");
+    assert!(err.contains("interrupted") && err.contains("kept"), "{err}");
+    assert!(
+        lines(&csv_path) >= 6,
+        "cycles written before the interrupt are kept"
+    );
+    let csv = std::fs::read_to_string(&csv_path).unwrap();
+    let header = csv.lines().nth(1).unwrap().split(',').count();
+    assert!(
+        csv.lines().skip(2).all(|l| l.split(',').count() == header),
+        "every row matches the header"
+    );
+    assert!(
+        dir.join("pmma-cycles-amplitude.png").exists(),
+        "figures of the computed cycles"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn ctrl_c_keeps_the_simulated_time_series() {
+    let dir = out_dir("interrupt-simulate");
+    let out = dir.to_str().unwrap();
+    // Stick-slip for 200 x 1500 s, several seconds of computing; interrupted
+    // once rows are on disk.
+    let protocol = vec!["1:1500"; 200].join(",");
+    let csv_path = dir.join("pmma-simulation.csv");
+    let args = [
+        "simulate",
+        "--set",
+        "kappa=0.009",
+        "--protocol",
+        &protocol,
+        "--out",
+        out,
+    ];
+    let run = interrupt_when(&args, |_| lines(&csv_path) >= 50);
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(130), "{err}");
+    assert!(err.contains("interrupted") && err.contains("kept"), "{err}");
+    // "... at simulated time t = T s of 3.000000e5 s (N rows) ..."
+    let reached: f64 = err
+        .split("at simulated time t = ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no stopping time in: {err}"));
+    assert!(err.contains(" s of 3.000000e5 s"), "{err}");
+    assert!(reached > 0.0 && reached < 3e5, "{err}");
+    let csv = std::fs::read_to_string(&csv_path).unwrap();
+    let mut rows = csv.lines();
+    assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip"));
+    let values: Vec<Vec<f64>> = rows
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .collect();
+    assert!(values.len() >= 50, "{} rows", values.len());
+    assert!(
+        values
+            .iter()
+            .all(|r| r.len() == 6 && r.iter().all(|x| x.is_finite())),
+        "complete rows, no NaN or infinity"
+    );
+    assert!(
+        values.windows(2).all(|w| w[1][0] > w[0][0]),
+        "time increases"
+    );
+    // The message names the last row written.
+    let last = values.last().unwrap()[0];
+    assert!((last / reached - 1.0).abs() < 1e-6, "{last} vs {err}");
+    for f in [
+        "pmma-simulation-velocity.png",
+        "pmma-simulation-spring-force.svg",
+    ] {
+        assert!(dir.join(f).exists(), "figure {f} of the computed part");
+    }
+    assert!(run.stdout.contains("wrote"), "{}", run.stdout);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn ctrl_c_skips_the_scenes_not_started() {
+    let dir = out_dir("interrupt-diagram");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Many copies of the pmma scene, each under its own name.
+    let pmma = include_str!("../examples/scenes/pmma.toml").replace("name = \"pmma\"", "");
+    let scenes: Vec<String> = (0..200)
+        .map(|i| {
+            let path = dir.join(format!("s{i:03}.toml"));
+            std::fs::write(&path, &pmma).unwrap();
+            path.to_str().unwrap().to_string()
+        })
+        .collect();
+    let list = scenes.join(",");
+    let args = ["diagram", "--scene", &list, "--out", dir.to_str().unwrap()];
+    // A finished scene's summary is printed at once: interrupt on the first.
+    let run = interrupt_when(&args, |stdout| stdout.contains("scene: "));
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(130), "{err}");
+    // "... after N of 200 scenes (completed: a, b; skipped: c, d); ..."
+    let names = |key: &str| -> Vec<String> {
+        let rest = err
+            .split(key)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no '{key}' in: {err}"));
+        rest.split([';', ')'])
+            .next()
+            .unwrap()
+            .split(", ")
+            .filter(|s| *s != "none")
+            .map(str::to_string)
+            .collect()
+    };
+    let (completed, skipped) = (names("completed: "), names("skipped: "));
+    assert!(!completed.is_empty() && !skipped.is_empty(), "{err}");
+    assert_eq!(completed.len() + skipped.len(), scenes.len(), "{err}");
+    let stem = |path: &str| {
+        Path::new(path)
+            .file_stem()
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .to_string()
+    };
+    for s in &completed {
+        let name = stem(s);
+        assert!(
+            run.stdout.contains(&format!("scene: {name} ")),
+            "summary of {name}"
+        );
+        assert!(dir.join(format!("{name}-diagram.json")).exists(), "{name}");
+    }
+    for s in &skipped {
+        let name = stem(s);
+        assert!(
+            !dir.join(format!("{name}-hopf-curve.csv")).exists(),
+            "{name} was skipped"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
