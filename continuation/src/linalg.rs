@@ -165,6 +165,53 @@ pub fn solve_complex(
         .ok_or(ContinuationError::Singular)
 }
 
+/// A sparse LU factorization (faer, partial pivoting with a fill-reducing
+/// ordering) that solves with the matrix and with its transpose: used where
+/// an adjoint vector is needed (folds of cycles), the structured collocation
+/// solver covering the plain solves.
+pub struct SparseLu {
+    lu: faer::sparse::linalg::solvers::Lu<usize, f64>,
+    dim: usize,
+}
+
+impl SparseLu {
+    /// Factors the `dim x dim` matrix given by `triplets` (duplicates summed).
+    pub fn new(
+        dim: usize,
+        triplets: &[faer::sparse::Triplet<usize, usize, f64>],
+    ) -> Result<Self, ContinuationError> {
+        let a = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(dim, dim, triplets)
+            .map_err(|e| ContinuationError::Sparse(format!("assembly: {e:?}")))?;
+        let lu = a.sp_lu().map_err(|_| ContinuationError::Singular)?;
+        Ok(SparseLu { lu, dim })
+    }
+
+    fn finish(b: faer::Mat<f64>) -> Result<Vec<f64>, ContinuationError> {
+        let x: Vec<f64> = (0..b.nrows()).map(|i| b[(i, 0)]).collect();
+        if x.iter().all(|v| v.is_finite()) {
+            Ok(x)
+        } else {
+            Err(ContinuationError::Singular)
+        }
+    }
+
+    /// Solves `A x = rhs`.
+    pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        use faer::linalg::solvers::Solve;
+        let mut b = faer::Mat::from_fn(self.dim, 1, |i, _| rhs[i]);
+        self.lu.solve_in_place(b.as_mut());
+        Self::finish(b)
+    }
+
+    /// Solves `A^T x = rhs`.
+    pub fn solve_transpose(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        use faer::linalg::solvers::Solve;
+        let mut b = faer::Mat::from_fn(self.dim, 1, |i, _| rhs[i]);
+        self.lu.solve_transpose_in_place(b.as_mut());
+        Self::finish(b)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

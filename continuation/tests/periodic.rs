@@ -1,6 +1,8 @@
 //! Periodic orbits by collocation on systems with known cycles.
 
-use continuation::periodic::branch::{CycleBranch, CycleSettings};
+use continuation::newton::NewtonSettings;
+use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::lpc::{locate_lpc, LpcCurve, LpcCurveSettings};
 use continuation::{Scalar, VectorField};
 
 /// Stuart–Landau `Z' = (beta + i w) Z - Z |Z|^2 + i g Z |Z|^2` (beta = p):
@@ -248,5 +250,110 @@ fn user_points_land_exactly_on_the_requested_parameters() {
         );
         let (lo, hi) = u.cycle.range(0);
         assert!((0.5 * (hi - lo) / f64::sqrt(beta) - 1.0).abs() < 1e-8);
+    }
+}
+
+/// `Z' = (beta + i w) Z + alpha Z |Z|^2 - Z |Z|^4` (parameters `beta`, `alpha`):
+/// cycles on `beta = r^4 - alpha r^2`; folds of cycles where `2 r^2 = alpha`,
+/// i.e. on the curve `beta = -alpha^2 / 4`, ending at the Bautin point `alpha = 0`.
+struct Bautin {
+    w: f64,
+}
+impl VectorField for Bautin {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        2
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        let g = p[0] + p[1] * r2 - r2 * r2;
+        out[0] = g * x[0] - x[1] * self.w;
+        out[1] = x[0] * self.w + g * x[1];
+    }
+}
+
+#[test]
+fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
+    let sys = Bautin { w: 1.5 };
+    let alpha = 1.2;
+    let settings = CycleSettings {
+        ntst: 20,
+        p_min: -1.0,
+        p_max: 0.5,
+        ds: 1e-2,
+        max_steps: 200,
+        ..Default::default()
+    };
+    let branch =
+        CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0, alpha], 0, settings).unwrap();
+    // Route 1: the sign change of dp/ds on the branch; route 2: Newton on the
+    // minimally augmented system from the orbit before the fold.
+    let mut previous = None;
+    let mut routes = None;
+    for pt in branch {
+        let pt = pt.unwrap();
+        if let Some(lpc) = &pt.lpc {
+            let before: &CyclePoint = previous.as_ref().unwrap();
+            let newton = NewtonSettings {
+                step_tol: 1e-12,
+                residual_tol: 1e-11,
+                max_iter: 20,
+            };
+            let second = locate_lpc(&sys, &before.cycle, 0, &newton).unwrap();
+            routes = Some((lpc.cycle.clone(), second.cycle));
+            break;
+        }
+        previous = Some(pt);
+    }
+    let (first, second) = routes.expect("a fold of cycles on the branch");
+    let exact = -alpha * alpha / 4.0;
+    assert!(
+        (first.p[0] - exact).abs() < 1e-10,
+        "route 1: {}",
+        first.p[0]
+    );
+    assert!(
+        (second.p[0] - exact).abs() < 1e-10,
+        "route 2: {}",
+        second.p[0]
+    );
+    assert!((first.p[0] - second.p[0]).abs() < 1e-8 * exact.abs());
+    let (lo, hi) = second.range(0);
+    assert!(((0.5 * (hi - lo)).powi(2) - alpha / 2.0).abs() < 1e-6);
+    // The curve of folds, both ways: on beta = -alpha^2/4 up to alpha = 2, and
+    // down to the Bautin point, where the cycles shrink to nothing.
+    for (direction, bound) in [(1.0, 2.0), (-1.0, 0.0)] {
+        let curve_settings = LpcCurveSettings {
+            p2_min: 0.05,
+            p2_max: 2.0,
+            min_amplitude: 0.3,
+            ..Default::default()
+        };
+        let curve = LpcCurve::new(&sys, &second, (0, 1), direction, curve_settings).unwrap();
+        let mut last_alpha = alpha;
+        let mut count = 0;
+        for pt in curve {
+            let c = pt.unwrap().cycle;
+            let (beta, a) = (c.p[0], c.p[1]);
+            assert!(
+                (beta + a * a / 4.0).abs() < 1e-9,
+                "alpha = {a}: beta = {beta} vs {}",
+                -a * a / 4.0
+            );
+            let (lo, hi) = c.range(0);
+            assert!(
+                ((0.5 * (hi - lo)).powi(2) - a / 2.0).abs() < 1e-5,
+                "radius at alpha = {a}"
+            );
+            last_alpha = a;
+            count += 1;
+        }
+        assert!(count > 5, "{count} folds");
+        assert!(
+            (last_alpha - bound).abs() < 0.3,
+            "direction {direction}: the curve reached alpha = {last_alpha}"
+        );
     }
 }

@@ -145,9 +145,7 @@ pub fn trace_cycles_from(
         kind,
         cutoff: params.theta_c.is_some(),
     };
-    let x0 = log.from_model(h.state[0], h.state[1], h.state[2]);
-    let mut p = *params;
-    p.kappa = h.kappa_c;
+    let (x0, p) = hopf_start(&log, params, h);
     let settings = CycleSettings {
         ntst: req.ntst,
         p_min: req.kappa_min,
@@ -163,18 +161,22 @@ pub fn trace_cycles_from(
         mesh_accept: 1e-5,
         ..Default::default()
     };
-    let branch = CycleBranch::from_hopf(
-        &log,
-        &x0,
-        h.omega_c,
-        &p.to_vec(),
-        Param::Kappa as usize,
-        settings,
-    )
-    .map_err(NumericalError::from)?;
+    let branch = CycleBranch::from_hopf(&log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
+        .map_err(NumericalError::from)?;
     for pt in branch {
         let pt = pt.map_err(NumericalError::from)?;
         sink(&record(&log, &pt))?;
     }
     Ok(())
+}
+
+/// The Hopf point `h` of `params` in the log variables of `log`: the state
+/// and the parameter vector (with `kappa = kappa_c`) to start cycles from.
+pub fn hopf_start(log: &LogBlock, params: &Params, h: &HopfPoint) -> (Vec<f64>, Vec<f64>) {
+    let mut p = *params;
+    p.kappa = h.kappa_c;
+    (
+        log.from_model(h.state[0], h.state[1], h.state[2]),
+        p.to_vec(),
+    )
 }

@@ -9,6 +9,7 @@
 //! the friction law itself: `mu_phi(1/nu) = mu_v`.
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome, DEGENERACY_TOL};
+use crate::analysis::lpc_curve::{lpc_curves, LpcCurves};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
@@ -53,6 +54,8 @@ pub struct StabilityDiagram {
     pub special: Vec<SpecialPoint>,
     /// Why the continuation stopped (`bound` at the end of the velocity range).
     pub stop: &'static str,
+    /// Curves of folds of cycles (empty without a subcritical onset).
+    pub lpc: LpcCurves,
 }
 
 fn criticality_of(l1: f64, scale: f64) -> Criticality {
@@ -112,13 +115,17 @@ fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
     None
 }
 
-/// Traces the Hopf curve of `params` for `nu` in `[nu_lo, nu_hi]`.
+/// Traces the Hopf curve of `params` for `nu` in `[nu_lo, nu_hi]` and,
+/// from its Bautin points, the curves of folds of cycles that bound the
+/// hysteretic region.
 pub fn stability_diagram(
     kind: ModelKind,
     params: &Params,
     range: (f64, f64),
 ) -> Result<StabilityDiagram, NumericalError> {
-    hopf_curve(kind, params, Param::Nu, range)
+    let mut d = hopf_curve(kind, params, Param::Nu, range)?;
+    d.lpc = lpc_curves(kind, params, &d, range);
+    Ok(d)
 }
 
 /// Traces the Hopf curve `kappa_c(second)` for `second` (`nu` or `m`) in
@@ -134,6 +141,7 @@ pub fn hopf_curve(
             points: Vec::new(),
             special: Vec::new(),
             stop: "no Hopf point in the range",
+            lpc: LpcCurves::default(),
         });
     };
     let block = DrivenBlock::new(kind, params);
@@ -226,5 +234,6 @@ pub fn hopf_curve(
         points,
         special,
         stop,
+        lpc: LpcCurves::default(),
     })
 }

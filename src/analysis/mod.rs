@@ -5,5 +5,6 @@ pub mod branch;
 pub mod cycles;
 pub mod diagram;
 pub mod hopf;
+pub mod lpc_curve;
 pub mod model_choice;
 pub mod simulate;

@@ -219,7 +219,34 @@ fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<Pat
         )?;
     }
     w.flush()?;
-    Ok(vec![path])
+    let mut files = vec![path];
+    if !d.lpc.points.is_empty() {
+        let path = with_suffix(stem, "-lpc-curve.csv");
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
+        writeln!(
+            w,
+            "# folds of cycles (LPC) of scene {}: the hysteresis boundary",
+            setup.scene.name
+        )?;
+        writeln!(w, "curve,nu,kappa,period,delta_s,V_um_per_s,K_over_W_per_m")?;
+        for (i, curve) in d.lpc.points.iter().enumerate() {
+            for p in curve {
+                writeln!(
+                    w,
+                    "{i},{:.15e},{:.15e},{:.15e},{:.15e},{:.12e},{:.12e}",
+                    p.nu,
+                    p.kappa,
+                    p.period,
+                    p.delta_s,
+                    u.velocity_um_s(p.nu),
+                    u.k_over_w(p.kappa)
+                )?;
+            }
+        }
+        w.flush()?;
+        files.push(path);
+    }
+    Ok(files)
 }
 
 /// One pair of axes: how `(nu, kappa)` map to the plotted coordinates.
@@ -314,6 +341,25 @@ fn write_figures(
             .filter(|s| s.kind == "endpoint")
             .map(|s| ("κ_c → 0: friction minimum".to_string(), fx(s.nu)))
             .collect();
+        let lpc: Vec<Vec<(f64, f64)>> = d
+            .lpc
+            .points
+            .iter()
+            .map(|c| c.iter().map(|p| (fx(p.nu), fy(p.kappa))).collect())
+            .collect();
+        let bistable = d
+            .lpc
+            .points
+            .iter()
+            .map(|c| {
+                c.iter()
+                    .map(|p| {
+                        let lower = hopf_kappa_at(d, p.nu).filter(|k| *k < p.kappa).map(&fy);
+                        (fx(p.nu), fy(p.kappa), lower)
+                    })
+                    .collect()
+            })
+            .collect();
         let fig = StabilityFigure {
             title,
             x_label,
@@ -330,6 +376,8 @@ fn write_figures(
             ),
             markers,
             vlines,
+            lpc,
+            bistable,
             x_range: (fx(lo), fx(hi)),
         };
         files.extend(
@@ -338,6 +386,19 @@ fn write_figures(
         );
     }
     Ok(files)
+}
+
+/// `kappa_c` of the Hopf curve at `nu`, interpolated linearly in
+/// `(ln nu, ln kappa)`; `None` outside the curve or where `kappa_c -> 0`.
+fn hopf_kappa_at(d: &StabilityDiagram, nu: f64) -> Option<f64> {
+    d.points
+        .windows(2)
+        .find(|w| (w[0].nu - nu) * (w[1].nu - nu) <= 0.0 && w[0].kappa > 0.0 && w[1].kappa > 0.0)
+        .map(|w| {
+            let f = (nu / w[0].nu).ln() / (w[1].nu / w[0].nu).ln();
+            let f = if f.is_finite() { f } else { 0.0 };
+            (w[0].kappa.ln() + f * (w[1].kappa / w[0].kappa).ln()).exp()
+        })
 }
 
 fn to_json(r: &SceneResult) -> Value {
@@ -379,6 +440,21 @@ fn to_json(r: &SceneResult) -> Value {
             v
         })
         .collect();
+    let lpc: Vec<Value> = r
+        .diagram
+        .lpc
+        .points
+        .iter()
+        .flatten()
+        .map(|p| {
+            json!({
+                "nu": p.nu, "kappa": p.kappa, "period": p.period, "delta_s": p.delta_s,
+                "V_um_per_s": u.velocity_um_s(p.nu),
+                "K_over_W_per_m": u.k_over_w(p.kappa),
+                "K_over_M_per_s2": u.k_over_m(p.kappa),
+            })
+        })
+        .collect();
     json!({
         "scene": r.setup.scene.name,
         "model": r.setup.choice.kind.name(),
@@ -388,6 +464,8 @@ fn to_json(r: &SceneResult) -> Value {
         "hopf_curve": curve,
         "special_points": special,
         "stop": r.diagram.stop,
+        "lpc_curve": lpc,
+        "lpc_stops": r.diagram.lpc.stops,
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
         "elapsed_s": r.seconds,
     })
@@ -444,6 +522,22 @@ fn print_text(r: &SceneResult) {
             s.kappa,
             s.omega
         );
+    }
+    for curve in &d.lpc.points {
+        if let (Some(a), Some(b)) = (curve.first(), curve.last()) {
+            println!(
+                "  fold of cycles (LPC) curve: {} points from V = {:.6e} um/s (kappa = {:.6e}) to V = {:.6e} um/s (kappa = {:.6e}); \
+                 stick-slip coexists with stable steady sliding (hysteresis) between it and the Hopf curve",
+                curve.len(),
+                u.velocity_um_s(a.nu),
+                a.kappa,
+                u.velocity_um_s(b.nu),
+                b.kappa
+            );
+        }
+    }
+    for stop in &d.lpc.stops {
+        println!("  fold-of-cycles curve stopped: {stop}");
     }
     for f in &r.files {
         println!("  wrote {}", f.display());

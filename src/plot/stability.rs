@@ -31,6 +31,12 @@ pub struct StabilityFigure {
     pub markers: Vec<(String, f64, f64)>,
     /// Vertical lines (label, x): the end of the curve where kappa_c -> 0.
     pub vlines: Vec<(String, f64)>,
+    /// Curves of folds of cycles (LPC).
+    pub lpc: Vec<Vec<(f64, f64)>>,
+    /// Hysteretic regions below each LPC curve: `(x, upper y, lower y)`,
+    /// the lower bound `None` where it is the bottom of the axes (no Hopf
+    /// point at that velocity: steady sliding stable for every stiffness).
+    pub bistable: Vec<Vec<(f64, f64, Option<f64>)>>,
     /// x range of the axes.
     pub x_range: (f64, f64),
 }
@@ -38,6 +44,7 @@ pub struct StabilityFigure {
 const SUPER: RGBColor = RGBColor(31, 90, 180);
 const SUB: RGBColor = RGBColor(200, 40, 40);
 const DEGEN: RGBColor = RGBColor(120, 120, 120);
+const FOLD: RGBColor = RGBColor(150, 60, 150);
 
 fn color(c: Criticality) -> RGBColor {
     match c {
@@ -87,7 +94,8 @@ fn y_range(fig: &StabilityFigure) -> (f64, f64) {
         .segments
         .iter()
         .flat_map(|s| s.points.iter().map(|p| p.1))
-        .chain(fig.reference.iter().map(|p| p.1));
+        .chain(fig.reference.iter().map(|p| p.1))
+        .chain(fig.lpc.iter().flatten().map(|p| p.1));
     let (lo, hi) = ys
         .filter(|y| *y > 0.0)
         .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
@@ -128,6 +136,30 @@ fn draw<DB: DrawingBackend>(
     chart
         .draw_series([Text::new("unstable: stick-slip", at(0.02, 0.06), left)])
         .map_err(e)?;
+    for (i, region) in fig.bistable.iter().enumerate() {
+        let mut polygon: Vec<(f64, f64)> = region.iter().map(|&(x, hi, _)| (x, hi)).collect();
+        polygon.extend(region.iter().rev().map(|&(x, _, lo)| (x, lo.unwrap_or(y0))));
+        let series = chart
+            .draw_series([Polygon::new(polygon, FOLD.mix(0.18).filled())])
+            .map_err(e)?;
+        if i == 0 {
+            series
+                .label("bistable: stick-slip coexists with steady sliding")
+                .legend(|(x, y)| {
+                    Rectangle::new([(x, y - 6), (x + 24, y + 6)], FOLD.mix(0.18).filled())
+                });
+        }
+    }
+    for (i, curve) in fig.lpc.iter().enumerate() {
+        let series = chart
+            .draw_series(LineSeries::new(curve.clone(), FOLD.stroke_width(3)))
+            .map_err(e)?;
+        if i == 0 {
+            series
+                .label("fold of cycles (LPC): hysteresis boundary")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], FOLD.stroke_width(3)));
+        }
+    }
     let mut labelled = Vec::new();
     for s in &fig.segments {
         let c = color(s.criticality);
@@ -183,7 +215,12 @@ fn draw<DB: DrawingBackend>(
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
+        // With a hysteretic region the lower right is taken by it.
+        .position(if fig.lpc.is_empty() {
+            SeriesLabelPosition::LowerRight
+        } else {
+            SeriesLabelPosition::UpperRight
+        })
         .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .label_font((FONT, 15))

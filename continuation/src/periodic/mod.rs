@@ -7,5 +7,6 @@ pub mod branch;
 pub mod collocation;
 pub mod cycle;
 pub mod floquet;
+pub mod lpc;
 pub mod mesh;
 pub mod newton;

@@ -119,7 +119,7 @@ pub fn newton_bordered<S: VectorField>(
     anchor: &[f64],
 ) -> Result<NewtonReport, ContinuationError> {
     let n = coll.sys.dim();
-    let mut last_step = f64::INFINITY;
+    let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
     let mut residual = f64::INFINITY;
     for it in 0..=settings.max_iter {
         let mut lin = coll.linearize(z);
@@ -143,7 +143,11 @@ pub fn newton_bordered<S: VectorField>(
         let zmax = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         // The residual cannot fall below the rounding of its terms (`floor`),
         // which on stiff stretches of stick-slip orbits exceeds any fixed tolerance.
-        if last_step <= settings.step_tol * (1.0 + zmax)
+        // A step that no longer shrinks while within 1e3 of the tolerance is
+        // the rounding floor of the solve: converged as far as it can be.
+        let tol = settings.step_tol * (1.0 + zmax);
+        let stalled = last_step <= 1e3 * tol && last_step > 0.5 * previous_step;
+        if (last_step <= tol || stalled)
             && residual <= (settings.residual_tol * (1.0 + zmax)).max(floor)
         {
             return Ok(NewtonReport {
@@ -157,6 +161,7 @@ pub fn newton_bordered<S: VectorField>(
         }
         let dz = solve_bordered(&lin, n, row, &rhs)
             .map_err(|_| newton_error(it, residual, last_step, NewtonFailure::SingularJacobian))?;
+        previous_step = last_step;
         last_step = dz.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for (zi, d) in z.iter_mut().zip(&dz) {
             *zi -= d;

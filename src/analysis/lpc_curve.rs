@@ -1,0 +1,160 @@
+//! The boundary of the hysteretic (bistable) region: the curve of folds of
+//! cycles (LPC) in `(nu, kappa)`. It is born at a Bautin point of the Hopf
+//! curve, where the onset turns subcritical: there the unstable cycles born
+//! at the Hopf point fold back at `kappa_LPC > kappa_c` into large stable
+//! stick-slip cycles, which coexist with stable steady sliding for
+//! `kappa_c < kappa < kappa_LPC` (Brockley's hysteresis; seed, end of
+//! Appendix C). Past the friction minimum steady sliding is stable for every
+//! stiffness, and stick-slip below `kappa_LPC` is hysteretic alone.
+
+use crate::analysis::cycles::hopf_start;
+use crate::analysis::diagram::StabilityDiagram;
+use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
+use crate::error::NumericalError;
+use crate::log_model::LogBlock;
+use crate::model::ModelKind;
+use crate::params::{Param, Params};
+use continuation::periodic::branch::{CycleBranch, CycleSettings};
+use continuation::periodic::cycle::Cycle;
+use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
+
+/// A fold of cycles in MODEL.md's variables.
+#[derive(Clone, Debug)]
+pub struct LpcCurvePoint {
+    pub nu: f64,
+    pub kappa: f64,
+    /// Period at the fold (units of `D0/V0`).
+    pub period: f64,
+    /// Peak-to-peak spring force of the cycle at the fold.
+    pub delta_s: f64,
+}
+
+/// The curves of folds of cycles of a diagram (one per Bautin point), in
+/// increasing `nu`, and why each end stopped.
+#[derive(Clone, Debug, Default)]
+pub struct LpcCurves {
+    pub points: Vec<Vec<LpcCurvePoint>>,
+    pub stops: Vec<String>,
+}
+
+fn record(c: &Cycle) -> LpcCurvePoint {
+    let (lo, hi) = c.range(0);
+    LpcCurvePoint {
+        nu: c.p[Param::Nu as usize],
+        kappa: c.p[Param::Kappa as usize],
+        period: c.period,
+        delta_s: hi - lo,
+    }
+}
+
+/// The fold of the cycles born at the subcritical Hopf point of `params`
+/// (continued up in `kappa` until they turn back).
+fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> {
+    let HopfOutcome::Found(h) = find_hopf(log.kind, params)? else {
+        return Err(NumericalError::Analysis(
+            "no Hopf point next to the Bautin point".into(),
+        ));
+    };
+    let (x0, p) = hopf_start(log, params, &h);
+    let settings = CycleSettings {
+        ntst: 40,
+        p_min: 0.5 * h.kappa_c,
+        p_max: 50.0 * h.kappa_c,
+        max_steps: 300,
+        ds_max: 0.2,
+        param_floor: 1e-3 * h.kappa_c,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf(log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
+        .map_err(NumericalError::from)?;
+    for pt in branch {
+        if let Some(lpc) = pt.map_err(NumericalError::from)?.lpc {
+            return Ok(lpc.cycle);
+        }
+    }
+    Err(NumericalError::Analysis(format!(
+        "the cycles of the subcritical Hopf point at nu = {:.6e} did not fold back within 50 kappa_c",
+        params.nu
+    )))
+}
+
+/// The curves of folds of cycles from every Bautin point of `diagram`, within
+/// the velocity range.
+pub fn lpc_curves(
+    kind: ModelKind,
+    params: &Params,
+    diagram: &StabilityDiagram,
+    (lo, hi): (f64, f64),
+) -> LpcCurves {
+    let log = LogBlock {
+        kind,
+        cutoff: params.theta_c.is_some(),
+    };
+    let mut out = LpcCurves::default();
+    for bautin in diagram.special.iter().filter(|s| s.kind == "bautin") {
+        // A Hopf point on the subcritical side, a little away from the Bautin
+        // point (where the folded cycles are vanishingly small).
+        let Some(start) = diagram
+            .points
+            .iter()
+            .filter(|p| p.criticality == Criticality::Subcritical)
+            .filter(|p| (p.nu / bautin.nu).ln().abs() > 0.02)
+            .min_by(|a, b| {
+                let d = |p: &&crate::analysis::diagram::CurvePoint| (p.nu / bautin.nu).ln().abs();
+                d(a).total_cmp(&d(b))
+            })
+        else {
+            continue;
+        };
+        let mut at = *params;
+        at.nu = start.nu;
+        let fold = match first_fold(&log, &at) {
+            Ok(f) => f,
+            Err(e) => {
+                out.stops
+                    .push(format!("no fold of cycles near nu = {:.6e}: {e}", start.nu));
+                continue;
+            }
+        };
+        let mut curve = Vec::new();
+        for direction in [-1.0, 1.0] {
+            let settings = LpcCurveSettings {
+                p2_min: lo,
+                p2_max: hi,
+                param_floor: [1e-9, lo],
+                min_amplitude: 1e-3,
+                max_steps: 300,
+                ..Default::default()
+            };
+            let mut half = Vec::new();
+            let run = LpcCurve::new(
+                &log,
+                &fold,
+                (Param::Kappa as usize, Param::Nu as usize),
+                direction,
+                settings,
+            );
+            match run {
+                Ok(points) => {
+                    for pt in points {
+                        match pt {
+                            Ok(pt) => half.push(record(&pt.cycle)),
+                            Err(e) => {
+                                out.stops.push(e.to_string());
+                                break;
+                            }
+                        }
+                    }
+                }
+                Err(e) => out.stops.push(e.to_string()),
+            }
+            if direction < 0.0 {
+                half.reverse();
+                half.pop();
+            }
+            curve.extend(half);
+        }
+        out.points.push(curve);
+    }
+    out
+}

@@ -1,0 +1,133 @@
+//! Folds of cycles (LPC): two independent routes, a reference from another
+//! code, and the curve of folds that bounds the hysteretic region.
+
+use continuation::newton::NewtonSettings;
+use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::lpc::locate_lpc;
+use stickslip::analysis::cycles::hopf_start;
+use stickslip::analysis::diagram::stability_diagram;
+use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+use stickslip::log_model::LogBlock;
+use stickslip::model::ModelKind;
+use stickslip::params::{Param, Params};
+
+/// Cutoff law with V_min = 100 V0 and enough inertia for a subcritical onset
+/// just below V_min (a Bautin point near nu = 81.35).
+fn brockley(nu: f64) -> Params {
+    Params {
+        kappa: 0.0,
+        nu,
+        m: 1e-3,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.5,
+        mu2: 0.0,
+        theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
+    }
+}
+
+const LOG: LogBlock = LogBlock {
+    kind: ModelKind::Inertial,
+    cutoff: true,
+};
+
+/// The fold on the branch of cycles born at the Hopf point of `p` (route 1:
+/// sign change of dp/ds, located by regula falsi) and the orbit before it.
+fn fold_on_branch(p: &Params) -> (CyclePoint, CyclePoint) {
+    let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, p).unwrap() else {
+        panic!("no Hopf point at nu = {}", p.nu)
+    };
+    let (x0, pv) = hopf_start(&LOG, p, &h);
+    let settings = CycleSettings {
+        ntst: 40,
+        p_max: 50.0 * h.kappa_c,
+        max_steps: 300,
+        param_floor: 1e-3 * h.kappa_c,
+        ..Default::default()
+    };
+    let branch =
+        CycleBranch::from_hopf(&LOG, &x0, h.omega_c, &pv, Param::Kappa as usize, settings).unwrap();
+    let mut previous = None;
+    for pt in branch {
+        let pt = pt.unwrap();
+        if let Some(lpc) = &pt.lpc {
+            return (*lpc.clone(), previous.unwrap());
+        }
+        previous = Some(pt);
+    }
+    panic!("no fold of cycles at nu = {}", p.nu)
+}
+
+#[test]
+fn fold_of_cycles_by_two_routes_and_against_auto() {
+    let (fold, before) = fold_on_branch(&brockley(90.0));
+    let route1 = fold.cycle.p[Param::Kappa as usize];
+    // Route 2: Newton on the minimally augmented system from the orbit before the fold.
+    let newton = NewtonSettings {
+        step_tol: 1e-12,
+        residual_tol: 1e-10,
+        max_iter: 20,
+    };
+    let route2 = locate_lpc(&LOG, &before.cycle, Param::Kappa as usize, &newton)
+        .unwrap()
+        .cycle
+        .p[Param::Kappa as usize];
+    assert!(
+        ((route1 - route2) / route1).abs() < 1e-8,
+        "route 1: {route1}, route 2: {route2}"
+    );
+    // AUTO-07p (NCOL 4, log variables; docs/performance.md) printed 4.8441890476E-01.
+    assert!(((route1 - 0.48441890476) / route1).abs() < 1e-9, "{route1}");
+}
+
+#[test]
+fn the_curve_of_folds_starts_at_the_bautin_point_and_holds_folds_of_the_branches() {
+    let d = stability_diagram(ModelKind::Inertial, &brockley(50.0), (50.0, 300.0)).unwrap();
+    let bautin = d
+        .special
+        .iter()
+        .find(|s| s.kind == "bautin")
+        .expect("a Bautin point below V_min");
+    assert_eq!(d.lpc.points.len(), 1, "{:?}", d.lpc.stops);
+    let curve = &d.lpc.points[0];
+    // It ends where the folded cycles vanish: at the Bautin point (the fold
+    // system degenerates there; the curve stops once the cycles are small).
+    let end = curve.iter().min_by(|a, b| a.nu.total_cmp(&b.nu)).unwrap();
+    assert!(
+        ((end.nu - bautin.nu) / bautin.nu).abs() < 5e-3
+            && ((end.kappa - bautin.kappa) / bautin.kappa).abs() < 5e-3,
+        "curve end ({}, {}) vs Bautin ({}, {})",
+        end.nu,
+        end.kappa,
+        bautin.nu,
+        bautin.kappa
+    );
+    let at_90 = curve
+        .iter()
+        .min_by(|a, b| (a.nu - 90.0).abs().total_cmp(&(b.nu - 90.0).abs()))
+        .unwrap();
+    assert!(
+        end.delta_s < 0.2 * at_90.delta_s,
+        "the cycles shrink towards the Bautin point"
+    );
+    // It crosses the friction minimum (nu = 100) into velocity strengthening.
+    assert!(
+        curve.iter().any(|p| p.nu > 150.0),
+        "the curve stays below V_min"
+    );
+    // Points of the curve below V_min are the folds of the one-parameter branches there.
+    for target in [85.0, 95.0] {
+        let pt = curve
+            .iter()
+            .min_by(|a, b| (a.nu - target).abs().total_cmp(&(b.nu - target).abs()))
+            .unwrap();
+        let (fold, _) = fold_on_branch(&brockley(pt.nu));
+        let k = fold.cycle.p[Param::Kappa as usize];
+        assert!(
+            ((pt.kappa - k) / k).abs() < 1e-7,
+            "nu = {}: curve kappa {} vs branch fold {k}",
+            pt.nu,
+            pt.kappa
+        );
+    }
+}
