@@ -1,0 +1,238 @@
+//! Curves of folds of cycles in two parameters by pseudo-arclength on the
+//! minimally augmented system.
+
+use super::{Augmented, LpcPoint};
+use crate::error::ContinuationError;
+use crate::linalg::SparseLu;
+use crate::newton::{NewtonReport, NewtonSettings};
+use crate::periodic::adapt::equidistribute;
+use crate::periodic::cycle::Cycle;
+use crate::system::VectorField;
+use faer::sparse::Triplet;
+
+/// Settings of a curve of folds of cycles.
+#[derive(Clone, Debug)]
+pub struct LpcCurveSettings {
+    /// Initial, smallest and largest step (relative in `T`, `p1`, `p2`).
+    pub ds: f64,
+    pub ds_min: f64,
+    pub ds_max: f64,
+    pub max_steps: usize,
+    /// Bounds of the second parameter; the curve stops on them.
+    pub p2_min: f64,
+    pub p2_max: f64,
+    /// Smallest scales of the parameters in the arclength weights.
+    pub param_floor: [f64; 2],
+    /// The curve stops where the orbit's amplitude (largest range of a
+    /// component) falls below this: it ends on a Bautin point there.
+    pub min_amplitude: f64,
+    pub corrector: NewtonSettings,
+}
+
+impl Default for LpcCurveSettings {
+    fn default() -> Self {
+        LpcCurveSettings {
+            ds: 1e-2,
+            ds_min: 1e-8,
+            ds_max: 0.1,
+            max_steps: 200,
+            p2_min: f64::NEG_INFINITY,
+            p2_max: f64::INFINITY,
+            param_floor: [1e-6, 1e-6],
+            min_amplitude: 1e-4,
+            corrector: NewtonSettings {
+                step_tol: 1e-10,
+                residual_tol: 1e-9,
+                max_iter: 8,
+            },
+        }
+    }
+}
+
+/// A curve of folds of cycles in `(p1, p2)`, traced by pseudo-arclength
+/// from a fold; each item is the next fold (the first is the start).
+pub struct LpcCurve<'a, S: VectorField> {
+    sys: &'a S,
+    k1: usize,
+    k2: usize,
+    aug: Augmented<'a, S>,
+    y: Vec<f64>,
+    tangent: Vec<f64>,
+    ds: f64,
+    settings: LpcCurveSettings,
+    steps: usize,
+    done: bool,
+}
+
+impl<'a, S: VectorField> LpcCurve<'a, S> {
+    /// Starts at the fold `lpc` (in `k1`, at the value of `k2` it carries),
+    /// going towards increasing `p2` when `direction > 0`.
+    pub fn new(
+        sys: &'a S,
+        lpc: &Cycle,
+        (k1, k2): (usize, usize),
+        direction: f64,
+        settings: LpcCurveSettings,
+    ) -> Result<Self, ContinuationError> {
+        let aug = Augmented::new(sys, lpc, k1, Some(k2))?;
+        let mut y = aug.coll.unknowns(lpc);
+        y.push(lpc.p[k2]);
+        let mut seed = vec![0.0; y.len()];
+        *seed.last_mut().unwrap_or(&mut 0.0) = direction.signum();
+        let mut curve = LpcCurve {
+            sys,
+            k1,
+            k2,
+            aug,
+            y,
+            tangent: seed,
+            ds: settings.ds,
+            settings,
+            steps: 0,
+            done: false,
+        };
+        curve.tangent = curve.tangent_at(&curve.y.clone(), &curve.tangent.clone())?;
+        Ok(curve)
+    }
+
+    /// Arclength weights: `1/N` on the orbit, relative on `T`, `p1`, `p2`.
+    fn weights(&self) -> Vec<f64> {
+        let d = self.y.len();
+        let nn = d - 3;
+        let rel = |v: f64, floor: f64| 1.0 / v.abs().max(floor).powi(2);
+        (0..d)
+            .map(|i| match i.checked_sub(nn) {
+                None => 1.0 / nn as f64,
+                Some(0) => rel(self.y[i], f64::MIN_POSITIVE.sqrt()),
+                Some(1) => rel(self.y[i], self.settings.param_floor[0]),
+                Some(_) => rel(self.y[i], self.settings.param_floor[1]),
+            })
+            .collect()
+    }
+
+    /// The unit tangent at `y`, oriented along `reference`.
+    fn tangent_at(&mut self, y: &[f64], reference: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        let w = self.weights();
+        let d = y.len();
+        let mut e = self.aug.evaluate(y)?;
+        e.triplets.extend(
+            (0..d)
+                .filter(|&i| reference[i] != 0.0)
+                .map(|i| Triplet::new(d - 1, i, w[i] * reference[i])),
+        );
+        let mut rhs = vec![0.0; d];
+        rhs[d - 1] = 1.0;
+        let t = SparseLu::new(d, &e.triplets)?.solve(&rhs)?;
+        let norm = (0..d).map(|i| w[i] * t[i] * t[i]).sum::<f64>().sqrt();
+        Ok(t.iter().map(|v| v / norm).collect())
+    }
+
+    /// Re-equidistributes the mesh (same size) and rebuilds the bordering vectors.
+    fn adapt(&mut self) -> Result<(), ContinuationError> {
+        let orbit = self.aug.cycle(&self.y);
+        let new = equidistribute(&orbit, orbit.mesh.ntst());
+        let nn = orbit.u.len();
+        let dir = Cycle {
+            u: self.tangent[..nn].to_vec(),
+            ..orbit.clone()
+        }
+        .remesh(new.mesh.clone());
+        self.aug = Augmented::new(self.sys, &new, self.k1, Some(self.k2))?;
+        self.y = self.aug.coll.unknowns(&new);
+        self.y.push(new.p[self.k2]);
+        let mut t = dir.u;
+        t.extend_from_slice(&self.tangent[nn..]);
+        self.tangent = t;
+        Ok(())
+    }
+
+    fn step(&mut self) -> Result<LpcPoint, ContinuationError> {
+        if self.steps.is_multiple_of(5) {
+            self.adapt()?;
+        }
+        let w = self.weights();
+        let d = self.y.len();
+        loop {
+            let pred: Vec<f64> = (0..d)
+                .map(|i| self.y[i] + self.ds * self.tangent[i])
+                .collect();
+            let row: Vec<f64> = (0..d).map(|i| w[i] * self.tangent[i]).collect();
+            let mut y = pred.clone();
+            let attempt = self
+                .aug
+                .newton(&mut y, Some((&row, &pred)), &self.settings.corrector);
+            if let Ok((rep, e)) = attempt {
+                let reference = self.tangent.clone();
+                let t = self.tangent_at(&y, &reference);
+                if let Some(t) = t
+                    .ok()
+                    .filter(|t| (0..d).map(|i| w[i] * t[i] * reference[i]).sum::<f64>() > 0.8)
+                {
+                    self.aug.update_borders(&e);
+                    self.y = y;
+                    self.tangent = t;
+                    if rep.iterations <= 3 {
+                        self.ds = (self.ds * 1.3).min(self.settings.ds_max);
+                    }
+                    return Ok(LpcPoint {
+                        cycle: self.aug.cycle(&self.y),
+                        newton: rep,
+                    });
+                }
+            }
+            self.ds *= 0.5;
+            if self.ds < self.settings.ds_min {
+                return Err(ContinuationError::StepTooSmall {
+                    param_name: format!("p[{}] along the fold of cycles", self.k2),
+                    param: self.y[d - 1],
+                    ds: self.ds,
+                    ds_min: self.settings.ds_min,
+                    cause: "the fold-of-cycles system did not converge".into(),
+                });
+            }
+        }
+    }
+}
+
+impl<S: VectorField> Iterator for LpcCurve<'_, S> {
+    type Item = Result<LpcPoint, ContinuationError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let result = if self.steps == 0 {
+            Ok(LpcPoint {
+                cycle: self.aug.cycle(&self.y),
+                newton: NewtonReport {
+                    iterations: 0,
+                    residual: 0.0,
+                    step: 0.0,
+                },
+            })
+        } else {
+            self.step()
+        };
+        self.steps += 1;
+        match &result {
+            Ok(pt) => {
+                let p2 = pt.cycle.p[self.k2];
+                let amplitude = (0..pt.cycle.n)
+                    .map(|j| {
+                        let (lo, hi) = pt.cycle.range(j);
+                        hi - lo
+                    })
+                    .fold(0.0, f64::max);
+                if self.steps > self.settings.max_steps
+                    || p2 <= self.settings.p2_min
+                    || p2 >= self.settings.p2_max
+                    || amplitude < self.settings.min_amplitude
+                {
+                    self.done = true;
+                }
+            }
+            Err(_) => self.done = true,
+        }
+        Some(result)
+    }
+}

@@ -1,0 +1,253 @@
+//! Folds of cycles (limit points of cycles, LPC) by the minimally augmented
+//! system of Doedel, Govaerts & Kuznetsov (2003, "Computation of periodic
+//! solution bifurcations in ODEs using bordered systems", SIAM J. Numer.
+//! Anal. 41, 401–435), on the collocation discretization.
+//!
+//! With `F(u, T, p) = 0` the collocation and phase equations and
+//! `A = dF/d(u, T)`, a fold of cycles is where `A` is singular. With
+//! bordering vectors `b`, `c` (approximate left and right null vectors of
+//! `A`), the scalar `g` defined by
+//!
+//! ```text
+//! [ A    b ] [ v ]   [ 0 ]
+//! [ c^T  0 ] [ g ] = [ 1 ]
+//! ```
+//!
+//! vanishes exactly there, and its gradient is `dg = -psi^T (dA) v` with
+//! `(psi, gamma)` from the transposed system. The LPC is the solution of
+//! `F = 0, g = 0`: in `(u, T, p1)` at a fixed second parameter (a route
+//! independent of the sign change of `dp/ds` on a branch), and in
+//! `(u, T, p1, p2)` with pseudo-arclength for a curve of folds.
+
+mod curve;
+mod gradient;
+
+pub use curve::{LpcCurve, LpcCurveSettings};
+
+use super::collocation::Collocation;
+use super::cycle::Cycle;
+use crate::error::ContinuationError;
+use crate::linalg::SparseLu;
+use crate::newton::{NewtonReport, NewtonSettings};
+use crate::system::VectorField;
+use faer::sparse::Triplet;
+use gradient::{adjoint_gradient, jacobian_triplets};
+/// The minimally augmented system on one mesh, with its bordering vectors.
+struct Augmented<'a, S: VectorField> {
+    coll: Collocation<'a, S>,
+    /// Second free parameter (curves of folds), read from the unknowns.
+    k2: Option<usize>,
+    b: Vec<f64>,
+    c: Vec<f64>,
+}
+
+/// `F` and `g` at a point, the Newton matrix rows (triplets) and the null vectors.
+struct Evaluation {
+    residual: Vec<f64>,
+    triplets: Vec<Triplet<usize, usize, f64>>,
+    v: Vec<f64>,
+    psi: Vec<f64>,
+}
+
+impl<'a, S: VectorField> Augmented<'a, S> {
+    /// On `orbit`'s mesh, with `b`, `c` from inverse iteration started at
+    /// `dF/dp1` and the constant vector.
+    fn new(
+        sys: &'a S,
+        orbit: &Cycle,
+        k1: usize,
+        k2: Option<usize>,
+    ) -> Result<Self, ContinuationError> {
+        let coll = Collocation::new(sys, orbit, k1);
+        let nn = coll.mesh.n_nodes() * sys.dim();
+        let mut y = coll.unknowns(orbit);
+        if let Some(k) = k2 {
+            y.push(orbit.p[k]);
+        }
+        let lin = coll.linearize(&y[..nn + 2]);
+        let b: Vec<f64> = jacobian_triplets(&lin, sys.dim(), &|i, l| coll.mesh.node(i, l))
+            .iter()
+            .filter(|t| t.col == nn + 1)
+            .fold(vec![0.0; nn + 1], |mut b, t| {
+                b[t.row] += t.val;
+                b
+            });
+        let mut aug = Augmented {
+            coll,
+            k2,
+            b,
+            c: vec![1.0; nn + 1],
+        };
+        for _ in 0..2 {
+            let e = aug.evaluate(&y)?;
+            aug.update_borders(&e);
+        }
+        Ok(aug)
+    }
+
+    fn nn(&self) -> usize {
+        self.coll.mesh.n_nodes() * self.coll.sys.dim()
+    }
+
+    /// The next bordering vectors: the current null vectors, normalized.
+    fn update_borders(&mut self, e: &Evaluation) {
+        let unit = |a: &[f64]| {
+            let norm = a.iter().map(|v| v * v).sum::<f64>().sqrt();
+            a.iter().map(|v| v / norm).collect::<Vec<_>>()
+        };
+        self.c = unit(&e.v);
+        self.b = unit(&e.psi);
+    }
+
+    /// `(F, g)` at `y = (u, T, p1[, p2])`, the Jacobian rows of both, and `v`, `psi`.
+    fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
+        let n = self.coll.sys.dim();
+        let nn = self.nn();
+        if let Some(k) = self.k2 {
+            self.coll.p[k] = y[nn + 2];
+        }
+        let z = &y[..nn + 2];
+        let lin = self.coll.linearize(z);
+        let mesh = &self.coll.mesh;
+        let mut triplets = jacobian_triplets(&lin, n, &|i, l| mesh.node(i, l));
+        let mut bordered: Vec<_> = triplets.iter().filter(|t| t.col <= nn).copied().collect();
+        bordered.extend(
+            self.b
+                .iter()
+                .enumerate()
+                .map(|(r, v)| Triplet::new(r, nn + 1, *v)),
+        );
+        bordered.extend(
+            self.c
+                .iter()
+                .enumerate()
+                .map(|(c, v)| Triplet::new(nn + 1, c, *v)),
+        );
+        let lu = SparseLu::new(nn + 2, &bordered)?;
+        let mut e = vec![0.0; nn + 2];
+        e[nn + 1] = 1.0;
+        let vg = lu.solve(&e)?;
+        let psi = lu.solve_transpose(&e)?;
+        let (v, psi) = (vg[..nn + 1].to_vec(), psi[..nn + 1].to_vec());
+        let (grad, fp2) = adjoint_gradient(&self.coll, z, &v, &psi, self.k2);
+        if self.k2.is_some() {
+            triplets.extend(
+                fp2.iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0.0)
+                    .map(|(r, v)| Triplet::new(r, nn + 2, *v)),
+            );
+        }
+        // g's row: dg = -grad(phi).
+        triplets.extend(
+            grad.iter()
+                .enumerate()
+                .map(|(c, v)| Triplet::new(nn + 1, c, -v)),
+        );
+        let mut residual = lin.residual;
+        residual.push(vg[nn + 1]);
+        Ok(Evaluation {
+            residual,
+            triplets,
+            v,
+            psi,
+        })
+    }
+
+    /// The orbit of unknowns `y`.
+    fn cycle(&self, y: &[f64]) -> Cycle {
+        let nn = self.nn();
+        let mut c = self.coll.cycle(&y[..nn + 2]);
+        if let Some(k) = self.k2 {
+            c.p[k] = y[nn + 2];
+        }
+        c
+    }
+
+    /// Newton's method on `(F, g)` plus, for curves, the linear equation
+    /// `<row, y - anchor> = 0`.
+    fn newton(
+        &mut self,
+        y: &mut [f64],
+        extra: Option<(&[f64], &[f64])>,
+        settings: &NewtonSettings,
+    ) -> Result<(NewtonReport, Evaluation), ContinuationError> {
+        let dim = y.len();
+        let (mut last_step, mut residual) = (f64::INFINITY, f64::INFINITY);
+        for it in 0..=settings.max_iter {
+            let mut e = self.evaluate(y)?;
+            if let Some((row, anchor)) = extra {
+                let r: f64 = (0..dim).map(|i| row[i] * (y[i] - anchor[i])).sum();
+                e.residual.push(r);
+                e.triplets.extend(
+                    row.iter()
+                        .enumerate()
+                        .filter(|(_, v)| **v != 0.0)
+                        .map(|(c, v)| Triplet::new(dim - 1, c, *v)),
+                );
+            }
+            // The test function g is judged by the step it causes (its own
+            // scale is arbitrary: set by the bordering vectors); F by its residual.
+            let nn = self.nn();
+            residual = e.residual[..=nn]
+                .iter()
+                .chain(&e.residual[nn + 2..])
+                .fold(0.0f64, |a, v| a.max(v.abs()));
+            let ymax = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            if !(residual.is_finite() && e.residual.iter().all(|v| v.is_finite())) {
+                break;
+            }
+            if last_step <= settings.step_tol * (1.0 + ymax)
+                && residual <= settings.residual_tol * (1.0 + ymax)
+            {
+                return Ok((
+                    NewtonReport {
+                        iterations: it,
+                        residual,
+                        step: last_step,
+                    },
+                    e,
+                ));
+            }
+            if it == settings.max_iter {
+                break;
+            }
+            let dy = SparseLu::new(dim, &e.triplets)?.solve(&e.residual)?;
+            last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
+        }
+        Err(ContinuationError::Newton {
+            context: " solving the fold-of-cycles system".into(),
+            iterations: settings.max_iter,
+            residual,
+            step: last_step,
+            hint: "start closer to the fold (a cycle of the branch next to it)",
+            reason: crate::error::NewtonFailure::MaxIterations,
+        })
+    }
+}
+
+/// A fold of cycles.
+#[derive(Clone, Debug)]
+pub struct LpcPoint {
+    /// The orbit at the fold (parameters included).
+    pub cycle: Cycle,
+    pub newton: NewtonReport,
+}
+
+/// Locates the fold of cycles near `orbit` in parameter `k1` (the others
+/// fixed) by Newton's method on the minimally augmented system `F = 0, g = 0`.
+pub fn locate_lpc<S: VectorField>(
+    sys: &S,
+    orbit: &Cycle,
+    k1: usize,
+    settings: &NewtonSettings,
+) -> Result<LpcPoint, ContinuationError> {
+    let mut aug = Augmented::new(sys, orbit, k1, None)?;
+    let mut y = aug.coll.unknowns(orbit);
+    let (newton, _) = aug.newton(&mut y, None, settings)?;
+    Ok(LpcPoint {
+        cycle: aug.cycle(&y),
+        newton,
+    })
+}
