@@ -2,8 +2,10 @@
 
 use continuation::newton::NewtonSettings;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{locate_lpc, LpcCurve, LpcCurveSettings};
-use continuation::{Scalar, VectorField};
+use continuation::periodic::mesh::Mesh;
+use continuation::{Complex64, Scalar, VectorField};
 
 /// Stuart–Landau `Z' = (beta + i w) Z - Z |Z|^2 + i g Z |Z|^2` (beta = p):
 /// cycle `|Z|^2 = beta`, angular frequency `w + g beta`, nontrivial Floquet
@@ -356,4 +358,85 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
             "direction {direction}: the curve reached alpha = {last_alpha}"
         );
     }
+}
+
+/// A unit circle `x' = x - y - x r^2, y' = x + y - y r^2` (period 2 pi) with
+/// a normal plane `zeta' = (a + b M) zeta`, `M = [[x, y], [y, -x]]` (params
+/// `a`, `b`). On the circle `M` is a reflection whose axis turns by half a
+/// turn per period, so in a frame turning with it `zeta` obeys the constant
+/// `K = [[a + b, 1/2], [-1/2, a - b]]` and comes back reversed: the normal
+/// multipliers are `-exp(2 pi eig(K))`, `eig(K) = a +- sqrt(b^2 - 1/4)`.
+/// Period doubling where `a + sqrt(b^2 - 1/4) = 0` (`b = 1/sqrt 2` at
+/// `a = -1/2`); for `b < 1/2` a complex pair of modulus `exp(2 pi a)`: a
+/// torus bifurcation at `a = 0`.
+struct TwistedBand;
+impl VectorField for TwistedBand {
+    fn dim(&self) -> usize {
+        4
+    }
+    fn n_params(&self) -> usize {
+        2
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        out[0] = x[0] - x[1] - x[0] * r2;
+        out[1] = x[0] + x[1] - x[1] * r2;
+        out[2] = (p[0] + p[1] * x[0]) * x[2] + p[1] * x[1] * x[3];
+        out[3] = p[1] * x[1] * x[2] + (p[0] - p[1] * x[0]) * x[3];
+    }
+}
+
+fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
+    let mesh = Mesh::uniform(20, 4);
+    let mut u = Vec::new();
+    for i in 0..mesh.ntst() {
+        for l in 0..mesh.degree {
+            let t = 2.0 * std::f64::consts::PI * mesh.node_time(i, l);
+            u.extend([t.cos(), t.sin(), 0.0, 0.0]);
+        }
+    }
+    let guess = Cycle {
+        mesh,
+        u,
+        period: 2.0 * std::f64::consts::PI,
+        p: p.to_vec(),
+        n: 4,
+    };
+    let settings = CycleSettings {
+        ds: 1e-2,
+        ds_max: 0.05,
+        p_max,
+        max_steps: 100,
+        ..Default::default()
+    };
+    CycleBranch::from_cycle(&TwistedBand, guess, k, None, settings)
+        .unwrap()
+        .map(Result::unwrap)
+        .collect()
+}
+
+#[test]
+fn period_doubling_and_torus_bifurcations_are_located() {
+    let pd: Vec<_> = twisted_band_branch([-0.5, 0.6], 1, 0.8)
+        .into_iter()
+        .filter_map(|pt| pt.pd)
+        .collect();
+    assert_eq!(pd.len(), 1, "one period doubling");
+    let b = pd[0].cycle.p[1];
+    assert!((b - 0.5f64.sqrt()).abs() < 1e-10, "PD at b = {b}");
+    assert!(pd[0].multipliers.iter().any(|m| (m + 1.0).norm() < 1e-8));
+    let ns: Vec<_> = twisted_band_branch([-0.2, 0.3], 0, 0.2)
+        .into_iter()
+        .filter_map(|pt| pt.ns)
+        .collect();
+    assert_eq!(ns.len(), 1, "one torus bifurcation");
+    let a = ns[0].cycle.p[0];
+    assert!(a.abs() < 1e-10, "NS at a = {a}");
+    // The critical pair: -e^{+- 2 pi i 0.4} on the unit circle.
+    let angle = 2.0 * std::f64::consts::PI * (0.25f64 - 0.09).sqrt();
+    let expected = -Complex64::from_polar(1.0, angle);
+    assert!(ns[0]
+        .multipliers
+        .iter()
+        .any(|m| (m - expected).norm() < 1e-8 || (m - expected.conj()).norm() < 1e-8));
 }

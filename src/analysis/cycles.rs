@@ -38,10 +38,24 @@ pub struct CycleRecord {
     pub samples: Vec<[f64; 4]>,
     /// A fold of cycles (LPC) located between the previous cycle and this one.
     pub lpc: Option<Box<CycleRecord>>,
+    /// A period doubling located there.
+    pub pd: Option<Box<CycleRecord>>,
+    /// A Neimark–Sacker (torus) bifurcation located there.
+    pub ns: Option<Box<CycleRecord>>,
     /// Cycles at the requested stiffnesses (`--at-kappa`) passed since the previous cycle.
     pub user: Vec<CycleRecord>,
     /// Whether this cycle is one of the requested stiffnesses.
     pub user_point: bool,
+}
+
+impl CycleRecord {
+    /// The bifurcations located since the previous cycle, with their kind
+    /// (`lpc`, `pd`, `ns`).
+    pub fn special_points(&self) -> impl Iterator<Item = (&'static str, &CycleRecord)> {
+        [("lpc", &self.lpc), ("pd", &self.pd), ("ns", &self.ns)]
+            .into_iter()
+            .filter_map(|(kind, r)| r.as_deref().map(|r| (kind, r)))
+    }
 }
 
 /// What to trace.
@@ -99,6 +113,8 @@ fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
             })
             .collect(),
         lpc: pt.lpc.as_ref().map(|l| Box::new(record(log, l))),
+        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l))),
+        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l))),
         user: pt
             .user
             .iter()

@@ -135,9 +135,14 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 c.ntst
             );
         }
-        if let (Some(l), false) = (&c.lpc, args.json) {
+        for (kind, l) in c.special_points().filter(|_| !args.json) {
+            let name = match kind {
+                "lpc" => "fold of cycles (LPC)",
+                "pd" => "period doubling (PD)",
+                _ => "torus bifurcation (NS)",
+            };
             println!(
-                "  fold of cycles (LPC) at kappa = {:.10e} (K/W = {:.6e} 1/m): period {:.6e}, Delta_s {:.6e}",
+                "  {name} at kappa = {:.10e} (K/W = {:.6e} 1/m): period {:.6e}, Delta_s {:.6e}",
                 l.kappa,
                 setup.scene.units.k_over_w(l.kappa),
                 l.period,
@@ -165,8 +170,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             "params": params_json(&setup.params),
             "kappa_c": kappa_c,
             "cycles": records.iter().map(record_json).collect::<Vec<_>>(),
-            "special_points": records.iter().filter_map(|c| c.lpc.as_deref()).map(|l| json!({
-                "kind": "lpc", "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
+            "special_points": records.iter().flat_map(CycleRecord::special_points).map(|(kind, l)| json!({
+                "kind": kind, "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
                 "v_min": l.v_min, "v_max": l.v_max,
             })).collect::<Vec<_>>(),
             "stop": stop,

@@ -6,6 +6,7 @@
 //! ([`ArcWeights`]).
 
 use super::collocation::Collocation;
+mod detect;
 mod refine;
 
 use super::cycle::Cycle;
@@ -65,7 +66,9 @@ pub struct CycleSettings {
     /// (AUTO's user points). Default none.
     pub user_points: Vec<f64>,
     /// Smallest scale of the parameter in the arclength weights: below it
-    /// steps in the parameter are absolute, above it relative. Default `1e-3`.
+    /// steps in the parameter are absolute, above it relative. Default 1
+    /// (parameters that pass through 0 need a floor; set it to the smallest
+    /// scale of interest for branches spanning decades).
     pub param_floor: f64,
 }
 
@@ -95,7 +98,7 @@ impl Default for CycleSettings {
             trivial_tol: 1e-8,
             trivial_limit: 1e-3,
             user_points: Vec::new(),
-            param_floor: 1e-3,
+            param_floor: 1.0,
         }
     }
 }
@@ -119,6 +122,10 @@ pub struct CyclePoint {
     pub dp_ds: f64,
     /// A fold of cycles (limit point, LPC) located between the previous orbit and this one.
     pub lpc: Option<Box<CyclePoint>>,
+    /// A period doubling (a multiplier through -1) located there.
+    pub pd: Option<Box<CyclePoint>>,
+    /// A Neimark–Sacker (torus) bifurcation (a complex pair through the unit circle) located there.
+    pub ns: Option<Box<CyclePoint>>,
     /// Orbits at the user's parameter values passed between the previous orbit and this one.
     pub user: Vec<CyclePoint>,
 }
@@ -134,6 +141,8 @@ pub struct CycleBranch<'a, S: VectorField> {
     ds: f64,
     steps: usize,
     done: bool,
+    /// Floquet multipliers of the last orbit handed out (for the PD and NS tests).
+    previous_mu: Vec<Complex64>,
     /// Tolerance on the trivial multiplier in force: raised to the rounding
     /// floor of stiff orbits when refining no longer reduces its error.
     trivial_tol: f64,
@@ -235,6 +244,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             coll,
             steps: 0,
             done: false,
+            previous_mu: Vec::new(),
         })
     }
 
@@ -294,7 +304,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         t0: &[f64],
         (f0, f1): (f64, f64),
         ds: f64,
-        f: impl Fn(&[f64], &[f64]) -> f64,
+        f: impl Fn(&[f64], &[f64]) -> Result<f64, ContinuationError>,
     ) -> Result<CyclePoint, ContinuationError> {
         let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
         let mut best = None;
@@ -308,7 +318,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             let sigma = b - fb * (b - a) / (fb - fa);
             let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &tight)?;
             let t = tangent(coll, &z, t0, &w)?;
-            let fz = f(&z, &t);
+            let fz = f(&z, &t)?;
             best = Some(point_at(coll, &z, &t, rep)?);
             if fz * fb < 0.0 {
                 (a, fa) = (b, fb);
@@ -358,6 +368,8 @@ fn point_at<S: VectorField>(
         newton,
         dp_ds: tangent[tangent.len() - 1],
         lpc: None,
+        pd: None,
+        ns: None,
         user: Vec::new(),
     })
 }
@@ -389,10 +401,11 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 if t0[nz - 1] * pt.dp_ds < 0.0 {
                     let lpc =
                         self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
-                            t[nz - 1]
+                            Ok(t[nz - 1])
                         })?;
                     pt.lpc = Some(Box::new(lpc));
                 }
+                self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
                 // The mesh (hence the length of z) may have been refined since z0.
                 let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
                 for &target in &self.settings.user_points {
@@ -403,7 +416,7 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                             &t0,
                             (p0 - target, p1 - target),
                             ds,
-                            |z, _| z[nz - 1] - target,
+                            |z, _| Ok(z[nz - 1] - target),
                         )?;
                         pt.user.push(user);
                     }
@@ -414,6 +427,7 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
         self.steps += 1;
         match result {
             Ok(pt) => {
+                self.previous_mu.clone_from(&pt.multipliers);
                 let p = pt.cycle.p[self.k];
                 if self.steps > self.settings.max_steps
                     || p <= self.settings.p_min

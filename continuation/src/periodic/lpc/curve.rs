@@ -38,7 +38,7 @@ impl Default for LpcCurveSettings {
             max_steps: 200,
             p2_min: f64::NEG_INFINITY,
             p2_max: f64::INFINITY,
-            param_floor: [1e-6, 1e-6],
+            param_floor: [1.0, 1.0],
             min_amplitude: 1e-4,
             corrector: NewtonSettings {
                 step_tol: 1e-10,
