@@ -1,6 +1,6 @@
 //! A periodic orbit on a collocation mesh: node values, period, parameters.
 
-use super::mesh::{lagrange, Mesh};
+use super::mesh::{lagrange_values, Mesh};
 
 /// A periodic orbit `x(t)`, `t` in `[0, T]`, as piecewise polynomials on a
 /// [`Mesh`] of normalized time `tau = t / T`.
@@ -27,16 +27,17 @@ impl Cycle {
 
     /// The state at normalized time `tau` in `[0, 1]`.
     pub fn state_at(&self, tau: f64) -> Vec<f64> {
+        (0..self.n).map(|j| self.value_at(tau, j)).collect()
+    }
+
+    /// Component `j` of the state at normalized time `tau`.
+    pub fn value_at(&self, tau: f64, j: usize) -> f64 {
         let (i, z) = self.mesh.locate(tau);
-        let (basis, _) = lagrange(self.mesh.degree, z);
-        let mut x = vec![0.0; self.n];
-        for (l, b) in basis.iter().enumerate() {
-            let v = self.node(self.mesh.node(i, l));
-            for j in 0..self.n {
-                x[j] += b * v[j];
-            }
-        }
-        x
+        lagrange_values(self.mesh.degree, z)
+            .iter()
+            .enumerate()
+            .map(|(l, b)| b * self.node(self.mesh.node(i, l))[j])
+            .sum()
     }
 
     /// Samples `(tau, x)` at `per_interval` evenly spaced points of every
@@ -58,23 +59,22 @@ impl Cycle {
     /// samples (8 per interval) refined by golden-section search on the
     /// piecewise polynomial between their neighbours.
     pub fn range(&self, j: usize) -> (f64, f64) {
-        let samples = self.samples(8);
-        let k = samples.len() - 1;
+        let per = 8;
+        let taus: Vec<f64> = (0..self.mesh.ntst())
+            .flat_map(|i| {
+                let (a, b) = (self.mesh.t[i], self.mesh.t[i + 1]);
+                (0..per).map(move |s| a + (b - a) * s as f64 / per as f64)
+            })
+            .collect();
+        let values: Vec<f64> = taus.iter().map(|&t| self.value_at(t, j)).collect();
+        let k = taus.len();
         let pick = |sign: f64| {
-            let (i, _) = samples[..k]
-                .iter()
-                .enumerate()
-                .max_by(|a, b| (sign * a.1 .1[j]).total_cmp(&(sign * b.1 .1[j])))
-                .unwrap_or((0, &samples[0]));
-            let (lo, hi) = (
-                if i == 0 {
-                    samples[k - 1].0 - 1.0
-                } else {
-                    samples[i - 1].0
-                },
-                samples[i + 1].0,
-            );
-            sign * golden_max(|tau| sign * self.state_at(tau.rem_euclid(1.0))[j], lo, hi)
+            let i = (0..k)
+                .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
+                .unwrap_or(0);
+            let lo = if i == 0 { taus[k - 1] - 1.0 } else { taus[i - 1] };
+            let hi = if i + 1 == k { 1.0 } else { taus[i + 1] };
+            sign * golden_max(|tau| sign * self.value_at(tau.rem_euclid(1.0), j), lo, hi)
         };
         (pick(-1.0), pick(1.0))
     }

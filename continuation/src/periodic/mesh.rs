@@ -3,6 +3,8 @@
 //! collocation at the `m` Gauss–Legendre points (de Boor & Swartz 1973;
 //! Doedel, AUTO-07p manual, §"orthogonal collocation").
 
+use smallvec::SmallVec;
+
 /// Gauss–Legendre points on `(0, 1)` and their weights, by Newton's method
 /// on the Legendre polynomial `P_m` (three-term recurrence).
 pub fn gauss_legendre(m: usize) -> (Vec<f64>, Vec<f64>) {
@@ -64,6 +66,23 @@ pub fn lagrange(m: usize, z: f64) -> (Vec<f64>, Vec<f64>) {
         der[l] = d;
     }
     (val, der)
+}
+
+/// Values `L_l(z)` of the Lagrange basis on the equally spaced nodes `l / m`
+/// (no derivatives, no heap allocation for `m < 8`): for evaluating orbits.
+pub fn lagrange_values(m: usize, z: f64) -> SmallVec<[f64; 8]> {
+    (0..=m)
+        .map(|l| {
+            let xl = l as f64 / m as f64;
+            (0..=m)
+                .filter(|&j| j != l)
+                .map(|j| {
+                    let xj = j as f64 / m as f64;
+                    (z - xj) / (xl - xj)
+                })
+                .product()
+        })
+        .collect()
 }
 
 /// A collocation mesh with its precomputed basis tables.
