@@ -3,11 +3,11 @@
 //! multipliers at every cycle, and the accuracy of the last cycle against
 //! long-time integration (a different method).
 
+use super::reference::reference_cycle;
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
-use crate::analysis::simulate::{cycle_by_integration, simulate_with, Segment};
 use crate::error::{Error, NumericalError};
 use crate::log_model::LogBlock;
-use crate::model::{full_state, steady_state, ModelKind};
+use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
@@ -18,22 +18,6 @@ pub const NTST: usize = 50;
 pub const DEGREE: usize = 4;
 /// Cycles per run (the Hopf point's first cycle included).
 pub const CYCLES: usize = 100;
-
-/// How the reference of [`LastCycle::accuracy`] is computed, in one line.
-pub const REFERENCE: &str =
-    "Radau IIA, rtol 1e-12, 150 periods from steady sliding with the age 10 % off, 8 periods averaged";
-/// Relative tolerance of the reference integration (Radau IIA).
-const REFERENCE_RTOL: f64 = 1e-12;
-/// The reference starts from perturbed steady sliding and runs this many
-/// periods before it is measured: the start is forgotten at the rate of the
-/// largest nontrivial multiplier (below 0.8 per period on the last cycles
-/// of both jobs, and `0.8^150 ~ 3e-15`).
-const TRANSIENT_PERIODS: f64 = 150.0;
-/// Periods per integration segment (each is limited to 100 000 steps; a
-/// quasi-static period takes about 1 100 at `rtol = 1e-12`).
-const SEGMENT_PERIODS: f64 = 30.0;
-/// Periods averaged by the reference.
-const MEASURED_PERIODS: usize = 8;
 
 /// A branch of [`CYCLES`] cycles from the Hopf point of a scene, prepared.
 pub(super) struct CycleWork {
@@ -70,8 +54,8 @@ pub struct Accuracy {
     pub period_error: f64,
     /// `|Delta_s / Delta_s_ref - 1|` of the peak-to-peak spring force.
     pub delta_s_error: f64,
-    /// The reference's own uncertainty (relative, period): its largest change
-    /// when the tolerance is tightened to `rtol / 10` or the transient halved.
+    /// The reference period's own uncertainty
+    /// ([`ReferenceCycle::period_spread`](super::ReferenceCycle::period_spread)).
     pub reference_spread: f64,
 }
 
@@ -154,53 +138,17 @@ impl CycleWork {
 }
 
 impl LastCycle {
-    /// Compares the cycle with the attractor reached by Radau IIA integration
-    /// at `rtol = 1e-12` from steady sliding with the age 10 % off, after
-    /// 150 periods (period and `Delta_s` from the extremes of `s`, averaged
-    /// over 8 periods; see [`cycle_by_integration`]). Two more integrations
-    /// (`rtol = 1e-13`; a third less transient) measure the reference's spread.
+    /// Compares the cycle with the attractor reached by long-time
+    /// integration ([`reference_cycle`]).
     pub fn accuracy(&self) -> Result<Accuracy, Error> {
-        let (period_ref, delta_s_ref) = self.reference(REFERENCE_RTOL, TRANSIENT_PERIODS)?;
-        let spread = [
-            self.reference(0.1 * REFERENCE_RTOL, TRANSIENT_PERIODS)?,
-            self.reference(REFERENCE_RTOL, TRANSIENT_PERIODS * 2.0 / 3.0)?,
-        ]
-        .iter()
-        .map(|(t, _)| (t / period_ref - 1.0).abs())
-        .fold(0.0, f64::max);
+        let r = reference_cycle(self.kind, &self.params, self.period)?;
         Ok(Accuracy {
             kappa: self.params.kappa,
             period: self.period,
-            period_reference: period_ref,
-            period_error: (self.period / period_ref - 1.0).abs(),
-            delta_s_error: (self.delta_s / delta_s_ref - 1.0).abs(),
-            reference_spread: spread,
+            period_reference: r.period,
+            period_error: (self.period / r.period - 1.0).abs(),
+            delta_s_error: (self.delta_s / r.delta_s - 1.0).abs(),
+            reference_spread: r.period_spread,
         })
-    }
-
-    /// Period and `Delta_s` of the attractor by integration at `rtol`, after
-    /// `transient` periods (of this cycle) from perturbed steady sliding.
-    fn reference(&self, rtol: f64, transient: f64) -> Result<(f64, f64), Error> {
-        let (kind, p) = (self.kind, &self.params);
-        let steady = full_state(kind, p, &steady_state(kind, p));
-        let mut state = [steady[0], steady[1], 1.1 * steady[2]];
-        let segment = Segment {
-            nu: p.nu,
-            duration: SEGMENT_PERIODS * self.period,
-        };
-        let segments = vec![segment; (transient / SEGMENT_PERIODS).ceil() as usize];
-        simulate_with(kind, p, state, &segments, rtol, None, |x| {
-            state = [x.s, x.v, x.theta];
-            std::ops::ControlFlow::Continue(())
-        })?;
-        Ok(cycle_by_integration(
-            kind,
-            p,
-            state,
-            self.period,
-            (MEASURED_PERIODS as f64 + 2.0) * self.period,
-            MEASURED_PERIODS,
-            rtol,
-        )?)
     }
 }

@@ -33,7 +33,7 @@ impl JobReport {
                 "period_rel_error": a.period_error,
                 "delta_s_rel_error": a.delta_s_error,
                 "reference_spread": a.reference_spread,
-                "reference": super::cycles::REFERENCE,
+                "reference": super::REFERENCE,
             });
         }
         v
