@@ -13,7 +13,7 @@
 
 use super::{points, render_figure, time_it, Measurement};
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
-use crate::bench::reference_cycle;
+use crate::bench::{reference_cycle, ReferenceCycle};
 use crate::error::{Error, NumericalError};
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -79,7 +79,8 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
     Ok(out)
 }
 
-fn study_case(case: &Case) -> Result<Vec<Measurement>, Error> {
+/// The model of `case`, its finely resolved cycle and the reference.
+fn prepare(case: &Case) -> Result<(LogBlock, Cycle, ReferenceCycle), Error> {
     let mut params = crate::scene::load(crate::scene::DEFAULT_SCENE)?.params;
     params.m = case.m;
     let log = LogBlock {
@@ -90,6 +91,11 @@ fn study_case(case: &Case) -> Result<Vec<Measurement>, Error> {
     let mut at = params;
     at.kappa = fine.p[Param::Kappa as usize];
     let reference = reference_cycle(case.kind, &at, fine.period)?;
+    Ok((log, fine, reference))
+}
+
+fn study_case(case: &Case) -> Result<Vec<Measurement>, Error> {
+    let (log, fine, reference) = prepare(case)?;
     let [period_job, delta_s_job] = case.jobs;
     let mut out = Vec::new();
     for (job, spread) in case
@@ -295,4 +301,26 @@ pub(super) fn figures(measurements: &[Measurement], out: &Path) -> Result<Vec<Pa
         }
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stiff_quasi_static_cycle_needs_the_adaptive_mesh() {
+        // Degree 4 on 80 intervals: equidistributed, the period agrees with
+        // long-time integration to 1e-7; uniform, the short slip is not
+        // resolved (no convergence, or an error above 1e-3).
+        let (log, fine, reference) = prepare(&CASES[0]).unwrap();
+        let error = |adaptive| {
+            solve(&log, &fine, 80, adaptive).map_or(f64::INFINITY, |(_, t, _)| {
+                (t / reference.period - 1.0).abs()
+            })
+        };
+        let (adaptive, uniform) = (error(true), error(false));
+        assert!(adaptive < 1e-7, "adaptive: {adaptive:e}");
+        assert!(uniform > 1e-3, "uniform: {uniform:e}");
+        assert!(reference.period_spread < 1e-10, "{reference:?}");
+    }
 }
