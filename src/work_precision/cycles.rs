@@ -64,7 +64,7 @@ const QUANTITIES: [&str; 2] = ["period", "Delta_s"];
 /// The method label of degree `m` on an adaptive or uniform mesh.
 fn method(m: usize, adaptive: bool) -> String {
     let mesh = if adaptive { "adaptive" } else { "uniform" };
-    format!("degree {m}, {mesh} mesh")
+    format!("degree {m} {mesh} mesh")
 }
 
 /// Method label of the reference's own uncertainty (a horizontal line).
