@@ -289,7 +289,7 @@ pub(super) fn figures(measurements: &[Measurement], out: &Path) -> Result<Vec<Pa
                     "{quantity} of the {}: collocation against Radau IIA",
                     case.title
                 ),
-                x_label: "time per cycle (correction, tangent, Floquet multipliers) [ms]; \
+                x_label: "CPU time per cycle (correction, tangent, Floquet multipliers) [ms]; \
                           solid: adaptive mesh, dashed: uniform mesh"
                     .into(),
                 y_label: format!("relative error of {quantity}"),

@@ -25,8 +25,8 @@ pub struct Measurement {
     pub job: &'static str,
     pub method: String,
     pub knob: f64,
-    /// Seconds per evaluation (median over repetitions filling ~50 ms); NaN
-    /// when the method failed at this setting.
+    /// CPU seconds of one evaluation (median over batches, see `time_it`);
+    /// NaN when the method failed at this setting.
     pub seconds: f64,
     /// Relative error against the reference; NaN when the method failed.
     pub error: f64,
@@ -59,18 +59,45 @@ pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, E
     Ok(files)
 }
 
-/// Median seconds per call of `f` over calls filling about 50 ms (at least
-/// 3): robust to other processes taking the core now and then.
+/// Median CPU seconds per call of `f`: calls in batches of about 1 ms of
+/// CPU time (a clock read costs a fraction of a microsecond), batches
+/// repeated for about 50 ms of wall time (at least 5).
 fn time_it<T>(mut f: impl FnMut() -> T) -> f64 {
+    let t0 = cpu_seconds();
+    std::hint::black_box(f());
+    let batch = (1e-3 / (cpu_seconds() - t0).max(1e-7)).ceil() as usize;
     let start = Instant::now();
-    let mut times = Vec::new();
-    while times.len() < 3 || start.elapsed().as_secs_f64() < 0.05 {
-        let t = Instant::now();
-        std::hint::black_box(f());
-        times.push(t.elapsed().as_secs_f64());
+    let mut per_call = Vec::new();
+    while per_call.len() < 5 || start.elapsed().as_secs_f64() < 0.05 {
+        let t = cpu_seconds();
+        for _ in 0..batch {
+            std::hint::black_box(f());
+        }
+        per_call.push((cpu_seconds() - t) / batch as f64);
     }
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
+    per_call.sort_by(f64::total_cmp);
+    per_call[per_call.len() / 2]
+}
+
+/// CPU time of the calling thread, seconds: unlike wall time, it does not
+/// grow while other processes have the core (the study runs on shared
+/// machines).
+#[cfg(unix)]
+fn cpu_seconds() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes the timespec it is handed.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + 1e-9 * ts.tv_nsec as f64
+}
+
+/// Wall time since the first call, where no thread CPU clock is at hand.
+#[cfg(not(unix))]
+fn cpu_seconds() -> f64 {
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_secs_f64()
 }
 
 /// The methods measured for `job`, in order of appearance.
