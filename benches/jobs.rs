@@ -1,6 +1,6 @@
 //! Criterion benchmarks of the user-level jobs of `stickslip bench`
 //! (`stickslip::bench`): `cargo bench` (all), `cargo bench -- hopf_point`
-//! (a filter). Short measurement windows keep the whole run under a minute;
+//! (a filter). Short measurement windows keep the whole run near a minute;
 //! the diagram jobs write their files into a temporary directory and discard
 //! the command's standard output. See docs/performance.md.
 
@@ -10,10 +10,7 @@ use stickslip::bench::{Job, JOB_NAMES};
 
 fn jobs(c: &mut Criterion) {
     let mut group = c.benchmark_group("jobs");
-    group
-        .sample_size(20)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3));
+    group.warm_up_time(Duration::from_secs(1));
     for name in JOB_NAMES {
         // Millisecond jobs: a fixed iteration count per sample.
         group.sampling_mode(if name.starts_with("hopf_point") {
@@ -21,6 +18,11 @@ fn jobs(c: &mut Criterion) {
         } else {
             SamplingMode::Flat
         });
+        // Cycle branches take a few tenths of a second: criterion's fewest samples.
+        let cycles = name.starts_with("cycle_branch");
+        group
+            .sample_size(if cycles { 10 } else { 20 })
+            .measurement_time(Duration::from_secs(if cycles { 5 } else { 3 }));
         // Prepared (and run once) only when the filter selects the job.
         let mut job: Option<Job> = None;
         group.bench_function(name, |b| {

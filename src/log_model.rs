@@ -38,6 +38,7 @@ impl VectorField for LogBlock {
         N_PARAMS
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        crate::model::count_eval::<D>();
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         match self.kind {

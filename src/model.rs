@@ -25,7 +25,8 @@ pub const N_EVAL_KINDS: usize = 6;
 pub const EVAL_KINDS: [&str; N_EVAL_KINDS] =
     ["f64", "order1", "order2", "order3", "order4", "order5"];
 
-/// `rhs` calls of [`InertialBlock`] and [`QuasiStaticBlock`] by kind.
+/// `rhs` calls of [`InertialBlock`], [`QuasiStaticBlock`] and
+/// [`LogBlock`](crate::log_model::LogBlock) by kind.
 static EVALS: [AtomicU64; N_EVAL_KINDS] = [const { AtomicU64::new(0) }; N_EVAL_KINDS];
 
 /// Counts one `rhs` evaluation with scalar type `D`. The kind is read from the
@@ -38,7 +39,7 @@ static EVALS: [AtomicU64; N_EVAL_KINDS] = [const { AtomicU64::new(0) }; N_EVAL_K
 /// compile-time constant of each instantiation; the cost is one relaxed
 /// atomic increment per call.
 #[inline(always)]
-fn count_eval<D>() {
+pub(crate) fn count_eval<D>() {
     EVALS[eval_kind::<D>()].fetch_add(1, Ordering::Relaxed);
 }
 
@@ -49,15 +50,15 @@ fn eval_kind<D>() -> usize {
     (components.next_power_of_two().trailing_zeros() as usize).min(N_EVAL_KINDS - 1)
 }
 
-/// Vector-field evaluations (`rhs` calls of the driven-block models, both
+/// Vector-field evaluations (`rhs` calls of the driven-block models:
 /// [`InertialBlock`] and [`QuasiStaticBlock`], through [`DrivenBlock`] or
-/// directly) since the start of the process or the last
+/// directly, and the block in logarithmic variables of the cycle and
+/// simulation computations, [`LogBlock`](crate::log_model::LogBlock))
+/// since the start of the process or the last
 /// [`reset_eval_counts`], indexed like [`EVAL_KINDS`]: `[f64, order 1,
 /// order 2, order 3, order 4, order 5]`. A Jacobian by dual numbers costs `n`
 /// order-1 evaluations (one per column), a second derivative in two
-/// directions one order-2 evaluation, and so on. The block in logarithmic
-/// variables of the cycle computations (`crate::log_model::LogBlock`) has its
-/// own `rhs` and is not counted.
+/// directions one order-2 evaluation, and so on.
 ///
 /// The counters are process-wide and shared by all threads (relaxed atomics):
 /// evaluations of concurrent analyses add up, so read them around a single

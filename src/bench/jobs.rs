@@ -1,5 +1,6 @@
 //! The benchmark jobs: what each one runs, prepared once and run repeatedly.
 
+use super::cycles::{CycleWork, LastCycle};
 use super::sandbox::{silence_stdout, TempDir};
 use crate::analysis::diagram::stability_diagram;
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
@@ -13,12 +14,14 @@ use serde_json::Value;
 use std::path::Path;
 
 /// Names of the jobs, in the order they run.
-pub const JOB_NAMES: [&str; 5] = [
+pub const JOB_NAMES: [&str; 7] = [
     "hopf_point_l1",
     "hopf_point_l1_inertial",
     "hopf_curve_4_decades",
     "diagram_default",
     "diagram_three_scenes_parallel",
+    "cycle_branch_100",
+    "cycle_branch_100_inertial",
 ];
 
 /// The inertial variant of the worked example (docs/index.md §5).
@@ -26,6 +29,15 @@ const INERTIAL_OVERRIDES: [&str; 5] = ["A=0.01", "B=0.02", "mu2=5e-4", "m=0.1", 
 
 /// The scenes of `diagram_three_scenes_parallel`.
 const THREE_SCENES: &str = "pmma,pmma-rr,brockley";
+
+/// What one run of a job produced.
+#[derive(Clone, Debug)]
+pub struct Tally {
+    /// 1 for a Hopf point, the curve points of a diagram, the cycles of a branch.
+    pub points: usize,
+    /// The last cycle of a cycle branch.
+    pub last_cycle: Option<LastCycle>,
+}
 
 /// A prepared benchmark job.
 pub struct Job {
@@ -53,6 +65,8 @@ enum Work {
         stems: Vec<String>,
         _dir: TempDir,
     },
+    /// A branch of cycles from the Hopf point on a fixed mesh, with Floquet multipliers.
+    Cycles(CycleWork),
 }
 
 /// A scene with `--set` overrides, as the CLI would set it up.
@@ -114,6 +128,18 @@ impl Job {
                 "`stickslip diagram --scene pmma,pmma-rr,brockley` end to end (rayon)",
                 diagram_work(THREE_SCENES)?,
             ),
+            // Quasi-static cycles stiffen fast: at NTST = 50 the Floquet
+            // multipliers are lost below ~0.92 kappa_c, so short steps.
+            "cycle_branch_100" => (
+                JOB_NAMES[5],
+                "100 cycles from the Hopf point, pmma (quasi-static), NTST 50, degree 4, multipliers",
+                cycle_work(&[], 0.94, 0.02)?,
+            ),
+            "cycle_branch_100_inertial" => (
+                JOB_NAMES[6],
+                "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, multipliers",
+                cycle_work(&["m=0.01"], 0.3, 0.05)?,
+            ),
             other => {
                 return Err(NumericalError::Analysis(format!(
                     "no benchmark job '{other}'; jobs: {}",
@@ -129,9 +155,8 @@ impl Job {
         })
     }
 
-    /// Runs the job once; returns the number of points it produced (1 for a
-    /// Hopf point, the curve points of a diagram).
-    pub fn run(&self) -> Result<usize, Error> {
+    /// Runs the job once; returns what it produced.
+    pub fn run(&self) -> Result<Tally, Error> {
         self.execute(true)
     }
 
@@ -141,12 +166,16 @@ impl Job {
         self.execute(false).map(|_| ())
     }
 
-    fn execute(&self, tally: bool) -> Result<usize, Error> {
+    fn execute(&self, tally: bool) -> Result<Tally, Error> {
+        let points = |points| Tally {
+            points,
+            last_cycle: None,
+        };
         match &self.work {
             Work::Hopf { kind, params } => match find_hopf(*kind, params)? {
                 HopfOutcome::Found(h) => {
                     std::hint::black_box(&h);
-                    Ok(1)
+                    Ok(points(1))
                 }
                 HopfOutcome::StableForAllStiffness { .. } => Err(NumericalError::Analysis(
                     format!("benchmark job {}: no Hopf point found", self.name),
@@ -159,15 +188,26 @@ impl Job {
                 range,
             } => {
                 let d = stability_diagram(*kind, params, *range)?;
-                Ok(std::hint::black_box(d).points.len())
+                Ok(points(std::hint::black_box(d).points.len()))
             }
             Work::Diagram { args, stems, .. } => {
                 silence_stdout(|| crate::cli::diagram::run(args))?;
                 if tally {
-                    stems.iter().map(|s| curve_points(&args.out, s)).sum()
+                    stems
+                        .iter()
+                        .map(|s| curve_points(&args.out, s))
+                        .sum::<Result<usize, Error>>()
+                        .map(points)
                 } else {
-                    Ok(0)
+                    Ok(points(0))
                 }
+            }
+            Work::Cycles(work) => {
+                let (count, last) = work.run()?;
+                Ok(Tally {
+                    points: count,
+                    last_cycle: Some(last),
+                })
             }
         }
     }
@@ -176,6 +216,18 @@ impl Job {
 /// All jobs of [`JOB_NAMES`], prepared.
 pub fn jobs() -> Result<Vec<Job>, Error> {
     JOB_NAMES.iter().map(|n| Job::new(n)).collect()
+}
+
+/// The cycle branch of the default scene with `set` overrides, down to at
+/// most `fraction kappa_c`, arclength steps up to `ds_max`.
+fn cycle_work(set: &[&str], fraction: f64, ds_max: f64) -> Result<Work, Error> {
+    let setup = scene_args(crate::scene::DEFAULT_SCENE, set).setup(|p| *p)?;
+    Ok(Work::Cycles(CycleWork::new(
+        setup.choice.kind,
+        &setup.params,
+        fraction,
+        ds_max,
+    )?))
 }
 
 fn diagram_work(scenes: &str) -> Result<Work, Error> {

@@ -1,6 +1,7 @@
 //! Timing: repetitions to fill a time budget, their median, and the
 //! evaluation counts of one run.
 
+use super::cycles::Accuracy;
 use super::jobs::{jobs, Job};
 use crate::error::Error;
 use crate::model::{eval_counts, reset_eval_counts, N_EVAL_KINDS};
@@ -52,15 +53,20 @@ pub struct JobReport {
     /// Vector-field evaluations of one run, indexed like
     /// [`EVAL_KINDS`](crate::model::EVAL_KINDS).
     pub evals: [u64; N_EVAL_KINDS],
+    /// For a cycle branch: its last cycle against long-time integration.
+    pub accuracy: Option<Accuracy>,
 }
 
 /// Times `job`: one run with evaluation counting (which also warms caches
-/// and the thread pool), one run to estimate the time, then enough timed
+/// and the thread pool; a cycle branch's last cycle is then checked against
+/// integration, untimed), one run to estimate the time, then enough timed
 /// runs to fill `settings.budget`; reports their median.
 pub fn measure(job: &Job, settings: Settings) -> Result<JobReport, Error> {
     reset_eval_counts();
-    let points = job.run()?;
+    let tally = job.run()?;
     let evals = eval_counts();
+    let accuracy = tally.last_cycle.map(|c| c.accuracy()).transpose()?;
+    let points = tally.points;
     let t = Instant::now();
     job.run_untallied()?;
     let estimate = t.elapsed().as_secs_f64().max(1e-9);
@@ -89,6 +95,7 @@ pub fn measure(job: &Job, settings: Settings) -> Result<JobReport, Error> {
         per_point_s: median_s / points.max(1) as f64,
         repetitions,
         evals,
+        accuracy,
     })
 }
 

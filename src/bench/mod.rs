@@ -9,13 +9,17 @@
 //! analyses running at the same time in the same process would add to them).
 //! See `docs/performance.md`.
 
+mod cycles;
 mod jobs;
 mod measure;
+mod reference;
 mod report;
 mod sandbox;
 
-pub use jobs::{jobs, Job, JOB_NAMES};
+pub use cycles::{Accuracy, LastCycle};
+pub use jobs::{jobs, Job, Tally, JOB_NAMES};
 pub use measure::{measure, run_all, JobReport, Settings};
+pub use reference::{reference_cycle, ReferenceCycle, REFERENCE};
 pub use report::{format_seconds, table, to_json};
 
 #[cfg(test)]
@@ -44,6 +48,23 @@ mod tests {
         }
         // The three-scene job runs the default scene's diagram and two more.
         assert!(reports[4].points > reports[3].points);
+        // Cycle branches: their last cycle agrees with long-time integration
+        // (a different method), whose own spread is far smaller.
+        for (r, record) in reports[5..].iter().zip(&records[5..]) {
+            assert_eq!(r.points, 100, "{}", r.job);
+            let a = r
+                .accuracy
+                .as_ref()
+                .expect("a cycle job checks its last cycle");
+            assert!(
+                a.period_error < 1e-6 && a.delta_s_error < 1e-6,
+                "{}: {a:?}",
+                r.job
+            );
+            assert!(a.reference_spread < 1e-10, "{}: {a:?}", r.job);
+            assert!(record["accuracy"]["period_rel_error"].is_f64());
+        }
+        assert!(reports[..5].iter().all(|r| r.accuracy.is_none()));
         assert!(table(&reports).lines().count() == JOB_NAMES.len() + 1);
     }
 }

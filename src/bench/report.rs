@@ -6,14 +6,15 @@ use serde_json::{json, Value};
 
 impl JobReport {
     /// The JSON record: `job`, `median_s`, `points`, `per_point_s`,
-    /// `repetitions`, `evals` (by kind), plus `min_s`, `max_s`, `description`.
+    /// `repetitions`, `evals` (by kind), plus `min_s`, `max_s`, `description`,
+    /// and for a cycle branch `accuracy` (its last cycle against integration).
     pub fn to_json(&self) -> Value {
         let evals: serde_json::Map<String, Value> = EVAL_KINDS
             .iter()
             .zip(self.evals)
             .map(|(k, n)| (k.to_string(), json!(n)))
             .collect();
-        json!({
+        let mut v = json!({
             "job": self.job,
             "description": self.description,
             "median_s": self.median_s,
@@ -23,7 +24,19 @@ impl JobReport {
             "per_point_s": self.per_point_s,
             "repetitions": self.repetitions,
             "evals": evals,
-        })
+        });
+        if let Some(a) = &self.accuracy {
+            v["accuracy"] = json!({
+                "kappa": a.kappa,
+                "period": a.period,
+                "period_reference": a.period_reference,
+                "period_rel_error": a.period_error,
+                "delta_s_rel_error": a.delta_s_error,
+                "reference_spread": a.reference_spread,
+                "reference": super::REFERENCE,
+            });
+        }
+        v
     }
 }
 
@@ -53,6 +66,7 @@ pub fn table(reports: &[JobReport]) -> String {
         "per point".into(),
     ];
     header.extend(EVAL_KINDS.iter().map(|k| format!("evals {k}")));
+    header.push("period err".into());
     let rows: Vec<Vec<String>> = reports
         .iter()
         .map(|r| {
@@ -65,6 +79,11 @@ pub fn table(reports: &[JobReport]) -> String {
                 format_seconds(r.per_point_s),
             ];
             row.extend(r.evals.iter().map(u64::to_string));
+            row.push(
+                r.accuracy
+                    .as_ref()
+                    .map_or("-".into(), |a| format!("{:.1e}", a.period_error)),
+            );
             row
         })
         .collect();

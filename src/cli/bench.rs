@@ -30,13 +30,19 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
     if args.work_precision {
         let m = crate::work_precision::study()?;
         println!(
-            "{:<8} {:<36} {:>8} {:>12} {:>12}",
+            "{:<26} {:<36} {:>8} {:>12} {:>12}",
             "job", "method", "knob", "time [s]", "rel. error"
         );
         for r in &m {
+            // Counts (NTST) as integers, tolerances and steps as powers of ten.
+            let knob = if r.knob >= 1.0 && r.knob.fract() == 0.0 {
+                format!("{}", r.knob)
+            } else {
+                format!("{:.0e}", r.knob)
+            };
             println!(
-                "{:<8} {:<36} {:>8.0e} {:>12.3e} {:>12.3e}",
-                r.job, r.method, r.knob, r.seconds, r.error
+                "{:<26} {:<36} {:>8} {:>12.3e} {:>12.3e}",
+                r.job, r.method, knob, r.seconds, r.error
             );
         }
         for f in crate::work_precision::write(&m, &args.out)? {

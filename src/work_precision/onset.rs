@@ -1,38 +1,21 @@
-//! Speed against accuracy: each job is run with its accuracy knobs turned,
-//! and its error is measured against an independent closed form
-//! (Appendix C for `kappa_c`, the quasi-static ln² formula for `l1`).
-//!
-//! | job | methods (knob) | reference |
-//! |---|---|---|
-//! | `l1` at the PMMA onset | exact multilinear forms (dual numbers); finite differences (step `h`) | `l1 = -mu2 nu^2 / (2 sqrt(A (mu_phi - A)) D)` |
-//! | `kappa_c` of the PMMA scene | Newton tolerance of the Hopf location | `kappa_c = mu_phi - mu_v` (eq. C12) |
+//! Work against precision at the stick-slip onset: `kappa_c` against the
+//! Newton tolerance of the Hopf location (reference: eq. C12), and `l1` by
+//! exact multilinear forms against finite differences (reference: the
+//! quasi-static ln² closed form).
 
+use super::{methods, points, render_figure, time_it, Measurement};
 use crate::analysis::hopf::{find_hopf_with, HopfOutcome};
 use crate::error::{Error, NumericalError};
 use crate::model::{DrivenBlock, ModelKind};
 use crate::params::Params;
-use crate::plot::lines::{render, LineFigure, Series};
+use crate::plot::lines::{LineFigure, Series};
 use continuation::linalg::eigenpair_near;
 use continuation::normal_form::hopf_normal_form;
 use continuation::system::{eval, jacobian};
 use continuation::{Complex64, NewtonSettings, VectorField};
 use nalgebra::{DMatrix, DVector};
 use plotters::style::RGBColor;
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
-
-/// One measurement: a method at one setting of its knob.
-#[derive(Clone, Debug)]
-pub struct Measurement {
-    pub job: &'static str,
-    pub method: &'static str,
-    pub knob: f64,
-    /// Seconds per evaluation (mean over repetitions filling ~50 ms).
-    pub seconds: f64,
-    /// Relative error against the reference.
-    pub error: f64,
-}
 
 /// `l1` by Kuznetsov's formula with `B` and `C` from central finite
 /// differences of `f` with step `h` (truncation `O(h^2)`, rounding `O(eps/h^3)`):
@@ -112,19 +95,8 @@ pub fn l1_finite_differences<S: VectorField>(
     Ok(c1.re / omega)
 }
 
-/// Mean seconds per call of `f`, repeated until about 50 ms have passed.
-fn time_it<T>(mut f: impl FnMut() -> T) -> f64 {
-    let start = Instant::now();
-    let mut reps = 0u32;
-    while reps < 3 || start.elapsed().as_secs_f64() < 0.05 {
-        std::hint::black_box(f());
-        reps += 1;
-    }
-    start.elapsed().as_secs_f64() / reps as f64
-}
-
 /// Runs the study on the PMMA scene (quasi-static ln² law at 1 um/s).
-pub fn study() -> Result<Vec<Measurement>, Error> {
+pub(super) fn study() -> Result<Vec<Measurement>, Error> {
     let p = Params {
         kappa: 0.0,
         nu: 1.0,
@@ -155,7 +127,7 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
         let error = ((h.kappa_c - kappa_ref) / kappa_ref).abs().max(1e-17);
         out.push(Measurement {
             job: "kappa_c",
-            method: "continuation + Newton (tolerance)",
+            method: "continuation + Newton (tolerance)".into(),
             knob: tol,
             seconds,
             error,
@@ -188,7 +160,7 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
         .l1;
     out.push(Measurement {
         job: "l1",
-        method: "exact (dual numbers)",
+        method: "exact (dual numbers)".into(),
         knob: 0.0,
         seconds: time_it(|| hopf_normal_form(&block, &x, &pv, h.omega_c)),
         error: ((exact - l1_ref) / l1_ref).abs().max(1e-17),
@@ -198,7 +170,7 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
         let seconds = time_it(|| l1_finite_differences(&block, &x, &pv, h.omega_c, step));
         out.push(Measurement {
             job: "l1",
-            method: "finite differences (step h)",
+            method: "finite differences (step h)".into(),
             knob: step,
             seconds,
             error: ((l1 - l1_ref) / l1_ref).abs(),
@@ -207,42 +179,21 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
     Ok(out)
 }
 
-/// Writes `work-precision.csv` and one figure per job into `out`.
-pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, Error> {
-    std::fs::create_dir_all(out)?;
-    let csv_path = out.join("work-precision.csv");
-    let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
-    writeln!(csv, "job,method,knob,seconds,relative_error")?;
-    for m in measurements {
-        writeln!(
-            csv,
-            "{},{},{:e},{:.6e},{:.6e}",
-            m.job, m.method, m.knob, m.seconds, m.error
-        )?;
-    }
-    csv.flush()?;
-    let mut files = vec![csv_path];
+/// The figures of the onset jobs: error against time for `kappa_c` and `l1`,
+/// and the finite-difference error of `l1` against its step.
+pub(super) fn figures(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, Error> {
+    let mut files = Vec::new();
     let colors = [RGBColor(31, 90, 180), RGBColor(200, 40, 40)];
     for (job, title) in [
         ("kappa_c", "kappa_c against eq. C12"),
         ("l1", "first Lyapunov coefficient against its closed form"),
     ] {
-        let mut methods: Vec<&str> = measurements
-            .iter()
-            .filter(|m| m.job == job)
-            .map(|m| m.method)
-            .collect();
-        methods.dedup();
-        let series = methods
+        let series = methods(measurements, job)
             .iter()
             .enumerate()
             .map(|(i, method)| Series {
                 label: Some(method.to_string()),
-                points: measurements
-                    .iter()
-                    .filter(|m| m.job == job && m.method == *method)
-                    .map(|m| (m.seconds, m.error))
-                    .collect(),
+                points: points(measurements, job, method),
                 color: colors[i % colors.len()],
                 dashed: false,
                 markers: true,
@@ -256,10 +207,7 @@ pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, E
             log_y: true,
             series,
         };
-        files.extend(
-            render(&fig, &out.join(format!("work-precision-{job}")))
-                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
-        );
+        files.extend(render_figure(&fig, out, job)?);
     }
     // Finite differences against their step: truncation O(h^2) on the right,
     // rounding O(eps / h^3) on the left; the exact value as a reference line.
@@ -296,10 +244,7 @@ pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, E
                 },
             ],
         };
-        files.extend(
-            render(&fig, &out.join("work-precision-l1-step"))
-                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
-        );
+        files.extend(render_figure(&fig, out, "l1-step")?);
     }
     Ok(files)
 }
