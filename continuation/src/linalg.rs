@@ -172,6 +172,8 @@ pub fn solve_complex(
 pub struct SparseLu {
     lu: faer::sparse::linalg::solvers::Lu<usize, f64>,
     dim: usize,
+    /// Row scaling `D` of the factored matrix `D A`.
+    scale: Vec<f64>,
 }
 
 impl SparseLu {
@@ -180,10 +182,36 @@ impl SparseLu {
         dim: usize,
         triplets: &[faer::sparse::Triplet<usize, usize, f64>],
     ) -> Result<Self, ContinuationError> {
-        let a = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(dim, dim, triplets)
+        Self::with_dense_rows(dim, triplets, &[])
+    }
+
+    /// As [`SparseLu::new`], with the rows `dense` (rows with an entry in
+    /// most columns) scaled down to entries of at most `1e-6` before the
+    /// factorization: partial pivoting then never takes its pivots there,
+    /// which would fill the factors in completely.
+    pub fn with_dense_rows(
+        dim: usize,
+        triplets: &[faer::sparse::Triplet<usize, usize, f64>],
+        dense: &[usize],
+    ) -> Result<Self, ContinuationError> {
+        let mut scale = vec![1.0; dim];
+        for &r in dense {
+            let max = triplets
+                .iter()
+                .filter(|t| t.row == r)
+                .fold(0.0f64, |a, t| a.max(t.val.abs()));
+            if max > 0.0 {
+                scale[r] = 1e-6 / max;
+            }
+        }
+        let scaled: Vec<_> = triplets
+            .iter()
+            .map(|t| faer::sparse::Triplet::new(t.row, t.col, t.val * scale[t.row]))
+            .collect();
+        let a = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(dim, dim, &scaled)
             .map_err(|e| ContinuationError::Sparse(format!("assembly: {e:?}")))?;
         let lu = a.sp_lu().map_err(|_| ContinuationError::Singular)?;
-        Ok(SparseLu { lu, dim })
+        Ok(SparseLu { lu, dim, scale })
     }
 
     fn finish(b: faer::Mat<f64>) -> Result<Vec<f64>, ContinuationError> {
@@ -198,17 +226,19 @@ impl SparseLu {
     /// Solves `A x = rhs`.
     pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
         use faer::linalg::solvers::Solve;
-        let mut b = faer::Mat::from_fn(self.dim, 1, |i, _| rhs[i]);
+        let mut b = faer::Mat::from_fn(self.dim, 1, |i, _| rhs[i] * self.scale[i]);
         self.lu.solve_in_place(b.as_mut());
         Self::finish(b)
     }
 
-    /// Solves `A^T x = rhs`.
+    /// Solves `A^T x = rhs` (`x = D y` with `(D A)^T y = rhs`).
     pub fn solve_transpose(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
         use faer::linalg::solvers::Solve;
         let mut b = faer::Mat::from_fn(self.dim, 1, |i, _| rhs[i]);
         self.lu.solve_transpose_in_place(b.as_mut());
-        Self::finish(b)
+        let mut x = Self::finish(b)?;
+        x.iter_mut().zip(&self.scale).for_each(|(v, d)| *v *= d);
+        Ok(x)
     }
 }
 

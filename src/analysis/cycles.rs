@@ -174,7 +174,7 @@ pub fn trace_cycles_from(
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
         mesh_tol: 1e-7,
-        mesh_accept: 1e-5,
+        mesh_accept: 1e-4,
         ..Default::default()
     };
     let branch = CycleBranch::from_hopf(&log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)

@@ -18,6 +18,9 @@ use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
 
+/// Mesh intervals of the cycles along a curve of folds.
+const LPC_NTST: usize = 30;
+
 /// A fold of cycles in MODEL.md's variables.
 #[derive(Clone, Debug)]
 pub struct LpcCurvePoint {
@@ -56,13 +59,19 @@ fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> 
         ));
     };
     let (x0, p) = hopf_start(log, params, &h);
+    // A seed for the curve, on its own mesh: no refinement (the fold is
+    // corrected on the curve's mesh when the curve starts).
     let settings = CycleSettings {
-        ntst: 40,
+        ntst: LPC_NTST,
         p_min: 0.5 * h.kappa_c,
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
         ds_max: 0.2,
         param_floor: 1e-3 * h.kappa_c,
+        mesh_tol: f64::INFINITY,
+        trivial_tol: f64::INFINITY,
+        trivial_limit: f64::INFINITY,
+        ntst_max: LPC_NTST,
         ..Default::default()
     };
     let branch = CycleBranch::from_hopf(log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
@@ -91,7 +100,17 @@ pub fn lpc_curves(
         cutoff: params.theta_c.is_some(),
     };
     let mut out = LpcCurves::default();
-    for bautin in diagram.special.iter().filter(|s| s.kind == "bautin") {
+    let bautins: Vec<_> = diagram
+        .special
+        .iter()
+        .filter(|s| s.kind == "bautin")
+        .collect();
+    let near = |nu: f64, b: f64| (nu / b).ln().abs() < 0.01;
+    for bautin in &bautins {
+        // A curve already traced from another Bautin point may end here.
+        if out.points.iter().flatten().any(|p| near(p.nu, bautin.nu)) {
+            continue;
+        }
         // A Hopf point on the subcritical side, a little away from the Bautin
         // point (where the folded cycles are vanishingly small).
         let Some(start) = diagram
@@ -116,37 +135,53 @@ pub fn lpc_curves(
                 continue;
             }
         };
-        let mut curve = Vec::new();
-        for direction in [-1.0, 1.0] {
+        let trace = |direction: f64| {
             let settings = LpcCurveSettings {
                 p2_min: lo,
                 p2_max: hi,
                 param_floor: [1e-9, lo],
                 min_amplitude: 1e-3,
                 max_steps: 300,
+                ds_max: 0.2,
+                ds_min: 1e-5,
                 ..Default::default()
             };
             let mut half = Vec::new();
-            let run = LpcCurve::new(
+            let mut failure = None;
+            match LpcCurve::new(
                 &log,
                 &fold,
                 (Param::Kappa as usize, Param::Nu as usize),
                 direction,
                 settings,
-            );
-            match run {
+            ) {
                 Ok(points) => {
                     for pt in points {
                         match pt {
                             Ok(pt) => half.push(record(&pt.cycle)),
                             Err(e) => {
-                                out.stops.push(e.to_string());
+                                failure = Some(e.to_string());
                                 break;
                             }
                         }
                     }
                 }
-                Err(e) => out.stops.push(e.to_string()),
+                Err(e) => failure = Some(e.to_string()),
+            }
+            (half, failure)
+        };
+        // Both ways at once.
+        let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
+        let mut curve = Vec::new();
+        for (direction, (mut half, failure)) in [(-1.0, down), (1.0, up)] {
+            // Ending next to a Bautin point is the expected end: the folded
+            // cycles shrink to nothing there and the fold system degenerates.
+            let end = half.last().map(|p| (p.nu, p.kappa));
+            let at_bautin = end.is_some_and(|(nu, _)| bautins.iter().any(|b| near(nu, b.nu)));
+            if let (Some(cause), Some((nu, kappa)), false) = (failure, end, at_bautin) {
+                out.stops.push(format!(
+                    "the fold-of-cycles curve ends at nu = {nu:.6e}, kappa = {kappa:.6e}: {cause}"
+                ));
             }
             if direction < 0.0 {
                 half.reverse();

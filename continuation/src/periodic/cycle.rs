@@ -72,7 +72,11 @@ impl Cycle {
             let i = (0..k)
                 .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
                 .unwrap_or(0);
-            let lo = if i == 0 { taus[k - 1] - 1.0 } else { taus[i - 1] };
+            let lo = if i == 0 {
+                taus[k - 1] - 1.0
+            } else {
+                taus[i - 1]
+            };
             let hi = if i + 1 == k { 1.0 } else { taus[i + 1] };
             sign * golden_max(|tau| sign * self.value_at(tau.rem_euclid(1.0), j), lo, hi)
         };

@@ -113,7 +113,8 @@ pub struct CyclePoint {
     /// orbit's transient growth (not a measure of the mesh).
     pub trivial_error: f64,
     /// Estimated discretization error (relative) of the period and of the
-    /// extremes of every component.
+    /// extremes of every component; while far below `mesh_tol` it is renewed
+    /// every fifth orbit, and the last estimate is reported in between.
     pub error_estimate: f64,
     /// Multipliers outside the unit circle, the trivial one excluded.
     pub n_unstable: usize,
@@ -143,6 +144,11 @@ pub struct CycleBranch<'a, S: VectorField> {
     done: bool,
     /// Floquet multipliers of the last orbit handed out (for the PD and NS tests).
     previous_mu: Vec<Complex64>,
+    /// The last discretization error estimate, the mesh size it was made
+    /// on, and the orbits since (see `refine`).
+    last_estimate: f64,
+    last_ntst: usize,
+    since_estimate: usize,
     /// Tolerance on the trivial multiplier in force: raised to the rounding
     /// floor of stiff orbits when refining no longer reduces its error.
     trivial_tol: f64,
@@ -245,6 +251,9 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             steps: 0,
             done: false,
             previous_mu: Vec::new(),
+            last_estimate: f64::INFINITY,
+            last_ntst: 0,
+            since_estimate: 0,
         })
     }
 

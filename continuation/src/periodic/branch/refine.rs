@@ -8,7 +8,7 @@
 //! perturbations grow by many decades during the slip, and the multiplier 1
 //! is then so ill-conditioned that its computed distance from 1 is set by
 //! rounding (`eps` times that growth), whatever the mesh. That floor is
-//! detected (doubling the mesh no longer halves the error) and accepted.
+//! detected (doubling the mesh no longer divides the error by 4) and accepted.
 
 use super::{point_at, CycleBranch, CyclePoint};
 use crate::error::ContinuationError;
@@ -44,7 +44,20 @@ impl<S: VectorField> CycleBranch<'_, S> {
     ) -> Result<CyclePoint, ContinuationError> {
         let mut pt = self.point(rep)?;
         loop {
-            pt.error_estimate = self.error_estimate(&pt.cycle);
+            // Far below the tolerance the estimate is renewed every fifth orbit
+            // only (it costs a solve on the coarse mesh); in between the last
+            // one is reported.
+            let fresh = self.last_estimate > 0.1 * self.settings.mesh_tol
+                || self.since_estimate >= 4
+                || self.last_ntst != self.coll.mesh.ntst();
+            if fresh {
+                self.last_estimate = self.error_estimate(&pt.cycle);
+                self.last_ntst = self.coll.mesh.ntst();
+                self.since_estimate = 0;
+            } else {
+                self.since_estimate += 1;
+            }
+            pt.error_estimate = self.last_estimate;
             let ntst = self.coll.mesh.ntst();
             let orbit_resolved = pt.error_estimate <= self.settings.mesh_tol;
             if orbit_resolved && pt.trivial_error <= self.trivial_tol {
@@ -79,9 +92,10 @@ impl<S: VectorField> CycleBranch<'_, S> {
             )?;
             self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
             pt = self.point(rep)?;
-            if orbit_resolved && pt.trivial_error > 0.5 * before {
-                // Twice the intervals did not help the multipliers: their error
-                // is the rounding floor of this orbit; accept it from now on.
+            if orbit_resolved && pt.trivial_error > 0.25 * before {
+                // Twice the intervals did not help the multipliers (a
+                // discretization error would fall by 2^(m+1) or more): their
+                // error is the rounding floor of this orbit; accept it from now on.
                 self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
             }
         }

@@ -65,8 +65,9 @@ pub struct LpcCurve<'a, S: VectorField> {
 }
 
 impl<'a, S: VectorField> LpcCurve<'a, S> {
-    /// Starts at the fold `lpc` (in `k1`, at the value of `k2` it carries),
-    /// going towards increasing `p2` when `direction > 0`.
+    /// Starts at the fold near `lpc` (in `k1`, at the value of `k2` it
+    /// carries, corrected first), going towards increasing `p2` when
+    /// `direction > 0`.
     pub fn new(
         sys: &'a S,
         lpc: &Cycle,
@@ -74,9 +75,16 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         direction: f64,
         settings: LpcCurveSettings,
     ) -> Result<Self, ContinuationError> {
-        let aug = Augmented::new(sys, lpc, k1, Some(k2))?;
+        let mut aug = Augmented::new(sys, lpc, k1, Some(k2))?;
         let mut y = aug.coll.unknowns(lpc);
         y.push(lpc.p[k2]);
+        // The start is corrected onto the fold at its own p2 (it may come from
+        // another mesh or a looser location).
+        let mut fix_p2 = vec![0.0; y.len()];
+        *fix_p2.last_mut().unwrap_or(&mut 0.0) = 1.0;
+        let anchor = y.clone();
+        let (_, e) = aug.newton(&mut y, Some((&fix_p2, &anchor)), &settings.corrector)?;
+        aug.update_borders(&e);
         let mut seed = vec![0.0; y.len()];
         *seed.last_mut().unwrap_or(&mut 0.0) = direction.signum();
         let mut curve = LpcCurve {
@@ -122,7 +130,9 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         );
         let mut rhs = vec![0.0; d];
         rhs[d - 1] = 1.0;
-        let t = SparseLu::new(d, &e.triplets)?.solve(&rhs)?;
+        // Dense rows: the phase condition, g and the normalization.
+        let dense: Vec<usize> = (d - 3..d).collect();
+        let t = SparseLu::with_dense_rows(d, &e.triplets, &dense)?.solve(&rhs)?;
         let norm = (0..d).map(|i| w[i] * t[i] * t[i]).sum::<f64>().sqrt();
         Ok(t.iter().map(|v| v / norm).collect())
     }

@@ -123,7 +123,8 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                 .enumerate()
                 .map(|(c, v)| Triplet::new(nn + 1, c, *v)),
         );
-        let lu = SparseLu::new(nn + 2, &bordered)?;
+        // Dense rows: the phase condition and c.
+        let lu = SparseLu::with_dense_rows(nn + 2, &bordered, &[nn, nn + 1])?;
         let mut e = vec![0.0; nn + 2];
         e[nn + 1] = 1.0;
         let vg = lu.solve(&e)?;
@@ -138,14 +139,20 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                     .map(|(r, v)| Triplet::new(r, nn + 2, *v)),
             );
         }
-        // g's row: dg = -grad(phi).
+        // g's row: dg = -grad(phi), scaled to unit size (the scale of g is
+        // arbitrary; a row much larger than the others would attract the
+        // pivots of the sparse LU and fill it in).
+        let scale = grad
+            .iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
         triplets.extend(
             grad.iter()
                 .enumerate()
-                .map(|(c, v)| Triplet::new(nn + 1, c, -v)),
+                .map(|(c, v)| Triplet::new(nn + 1, c, -v / scale)),
         );
         let mut residual = lin.residual;
-        residual.push(vg[nn + 1]);
+        residual.push(vg[nn + 1] / scale);
         Ok(Evaluation {
             residual,
             triplets,
@@ -212,7 +219,9 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             if it == settings.max_iter {
                 break;
             }
-            let dy = SparseLu::new(dim, &e.triplets)?.solve(&e.residual)?;
+            // Dense rows: the phase condition, g and the arclength condition.
+            let dense: Vec<usize> = (nn..dim).collect();
+            let dy = SparseLu::with_dense_rows(dim, &e.triplets, &dense)?.solve(&e.residual)?;
             last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
         }
