@@ -6,4 +6,7 @@ pub mod cycles;
 pub mod diagram;
 pub mod hopf;
 pub mod model_choice;
+pub mod orbit_start;
+pub mod sampled_cycle;
+pub mod settle;
 pub mod simulate;
