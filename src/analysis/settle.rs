@@ -235,3 +235,51 @@ pub fn stuck_start(params: &Params) -> [f64; 3] {
     let v = 1e-3 * params.nu;
     [params.friction().mu(v, age), v, age]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params(b: f64) -> Params {
+        Params {
+            kappa: 0.01,
+            nu: 1.0,
+            m: 0.01,
+            a: 0.012,
+            b,
+            mu0: 0.5,
+            mu2: 0.0,
+            theta_c: None,
+        }
+    }
+
+    #[test]
+    fn velocity_strengthening_friction_decays_to_steady_sliding() {
+        // B < A: steady friction strengthens with velocity and ageing cannot
+        // hold the block; every start ends in steady sliding.
+        let p = params(0.005);
+        let out = settle(
+            ModelKind::Inertial,
+            &p,
+            stuck_start(&p),
+            &SettleSettings::for_params(&p),
+        );
+        assert!(matches!(out, Err(SettleError::Decayed { .. })), "{out:?}");
+    }
+
+    #[test]
+    fn a_short_budget_is_reported_as_not_settled() {
+        // Velocity weakening below kappa_c = B - A: stick-slip, but three
+        // crossings of the section cannot show the return map settling.
+        let p = params(0.023);
+        let settings = SettleSettings {
+            max_periods: 3,
+            ..SettleSettings::for_params(&p)
+        };
+        let out = settle(ModelKind::Inertial, &p, stuck_start(&p), &settings);
+        assert!(
+            matches!(out, Err(SettleError::NotSettled { periods: 3, .. })),
+            "{out:?}"
+        );
+    }
+}
