@@ -51,20 +51,10 @@ pub struct OrbitStart {
     "no stick-slip cycle found by simulation from a stuck state: {}. Stick-slip coexists with \
      stable sliding only at small enough stiffness and, above the friction minimum V_min, only in \
      a band of velocities close to it: try a smaller --set kappa=..., or --set nu=... closer to V_min",
-    .tries.iter().map(brief).collect::<Vec<_>>().join("; ")
+    .tries.iter().map(SettleError::summary).collect::<Vec<_>>().join("; ")
 )]
 pub struct NoCycleFound {
     pub tries: Vec<SettleError>,
-}
-
-/// One try in a few words.
-fn brief(e: &SettleError) -> String {
-    match e {
-        SettleError::Decayed { kappa, periods, .. } => {
-            format!("at kappa = {kappa:.3e} the orbit decayed to steady sliding after {periods} oscillations")
-        }
-        other => other.to_string(),
-    }
 }
 
 /// Simulates at each of [`candidate_stiffnesses`] until one settles on a cycle.

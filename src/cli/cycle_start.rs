@@ -72,7 +72,7 @@ impl Start {
         let tried: Vec<String> = orbit
             .rejected
             .iter()
-            .map(|e| format!("  tried first: {e}"))
+            .map(|e| format!("  tried first: {}", e.summary()))
             .collect();
         Some(format!(
             "{}{why}: starting from a simulated stick-slip orbit at kappa = {kappa:.6e} \
