@@ -76,6 +76,14 @@ pub struct CycleRequest {
     pub ntst_max: usize,
 }
 
+/// The cycles in their order along the branch: the leg toward smaller
+/// stiffness ([`Leg::Down`]) reversed, then the others as computed.
+pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
+    let down = records.iter().filter(|c| c.leg == Leg::Down).rev();
+    down.chain(records.iter().filter(|c| c.leg != Leg::Down))
+        .collect()
+}
+
 fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
     let c = &pt.cycle;
     let (s_min, s_max) = c.range(0);
@@ -242,7 +250,10 @@ fn settings(req: &CycleRequest, ntst: usize) -> CycleSettings {
 }
 
 /// Hands the cycles of `branch` to `sink`, skipping the first `skip` (the
-/// starting cycle of a second leg).
+/// starting cycle of a second leg). A failure after the cycles have shrunk
+/// below [`SHRUNK`] of the largest `Delta_s` on the leg is reported as what
+/// it is: the branch reached steady sliding at a Hopf point, where the
+/// collocation system is singular (zero amplitude).
 fn follow(
     log: &LogBlock,
     branch: CycleBranch<'_, LogBlock>,
@@ -250,9 +261,26 @@ fn follow(
     skip: usize,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<(), crate::error::Error> {
+    let (mut largest, mut last) = (0.0f64, None);
     for pt in branch.skip(skip) {
-        let pt = pt.map_err(NumericalError::from)?;
-        sink(&record(log, &pt, leg))?;
+        let pt = pt.map_err(|e| match last {
+            Some((kappa, delta_s)) if delta_s < SHRUNK * largest => {
+                NumericalError::Analysis(format!(
+                    "the cycles shrank onto steady sliding (Delta_s = {delta_s:.3e}, down from \
+                 {largest:.3e}) near kappa = {kappa:.6e}: the branch ends at a Hopf point, through \
+                 which collocation cannot continue ({e})"
+                ))
+            }
+            _ => NumericalError::from(e),
+        })?;
+        let rec = record(log, &pt, leg);
+        largest = largest.max(rec.delta_s);
+        last = Some((rec.kappa, rec.delta_s));
+        sink(&rec)?;
     }
     Ok(())
 }
+
+/// Fraction of a leg's largest `Delta_s` below which a cycle counts as
+/// shrunk onto steady sliding.
+const SHRUNK: f64 = 0.05;

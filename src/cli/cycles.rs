@@ -5,7 +5,7 @@
 use super::cycle_start::Start;
 use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
-use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
+use crate::analysis::cycles::{along_branch, CycleRecord, CycleRequest};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
@@ -213,14 +213,6 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         Some(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }
-}
-
-/// The cycles in their order along the branch: the leg toward smaller
-/// stiffness reversed, then the others as computed.
-fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
-    let down = records.iter().filter(|c| c.leg == Leg::Down).rev();
-    down.chain(records.iter().filter(|c| c.leg != Leg::Down))
-        .collect()
 }
 
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.
