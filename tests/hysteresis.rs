@@ -9,9 +9,10 @@
 //! * `nu = 150, m = 2.548e-7` (the scene's inertia, above V_min): no Hopf
 //!   point at all, stick-slip cycles at small stiffness.
 
+mod common;
+
 use stickslip::analysis::cycles::{trace_cycles_from_orbit, CycleRecord, CycleRequest, Leg};
 use stickslip::analysis::settle::{settle, stuck_start, SettleError, SettleSettings};
-use stickslip::analysis::simulate::cycle_by_integration;
 use stickslip::appendix_c::critical_stiffness;
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
@@ -86,30 +87,11 @@ fn steady_sliding_and_stick_slip_coexist_at_one_stiffness() {
         let cycle = &branch(&p, &req)[0];
         assert_eq!(cycle.kappa, kappa);
         assert!(cycle.stable, "nu = {nu}: the coexisting cycle is stable");
-        let start = [
-            cycle.samples[0][1],
-            cycle.samples[0][2],
-            cycle.samples[0][3],
-        ];
-        let (period, delta_s) = cycle_by_integration(
+        common::assert_reproduced_by_integration(
             ModelKind::Inertial,
             &p,
-            start,
-            2.0 * cycle.period,
-            8.0 * cycle.period,
-            4,
-            1e-12,
-        )
-        .unwrap();
-        assert!(
-            (period / cycle.period - 1.0).abs() < 1e-6,
-            "nu = {nu}: period {period} (simulation) vs {} (collocation)",
-            cycle.period
-        );
-        assert!(
-            (delta_s / cycle.delta_s - 1.0).abs() < 1e-6,
-            "nu = {nu}: Delta_s {delta_s} (simulation) vs {} (collocation)",
-            cycle.delta_s
+            cycle,
+            &format!("nu = {nu}"),
         );
     }
 }
