@@ -160,7 +160,9 @@ fn gap(a: [f64; 3], b: [f64; 3], scale_s: f64) -> f64 {
 }
 
 /// A twentieth of the shortest period `2 pi / |Im lambda|` among the
-/// eigenvalues of steady sliding (infinite when they are all real).
+/// eigenvalues of steady sliding (infinite when they are all real, or when
+/// the eigenvalue solver fails: the steps are then bounded by the tolerance
+/// alone, as everywhere else).
 fn step_bound(kind: ModelKind, params: &Params) -> f64 {
     let block = DrivenBlock::new(kind, params);
     let x = steady_state(kind, params);
@@ -184,8 +186,8 @@ pub fn settle(
     let log = LogBlock::new(kind, params);
     let pv = params.to_vec();
     let steady = Steady::of(params);
-    let steady_state = [steady.s, steady.ln_v.exp(), steady.ln_theta.exp()];
-    let distance = |x: &[f64]| gap(log.to_model(x, &pv), steady_state, steady.a);
+    let rest = [steady.s, steady.ln_v.exp(), steady.ln_theta.exp()];
+    let distance = |x: &[f64]| gap(log.to_model(x, &pv), rest, steady.a);
     let integration = Settings {
         rtol: settings.rtol,
         atol: settings.rtol * 1e-3,
