@@ -47,6 +47,8 @@ impl InputError {
 pub enum NumericalError {
     #[error(transparent)]
     Continuation(#[from] continuation::ContinuationError),
+    #[error(transparent)]
+    NoCycle(#[from] crate::analysis::orbit_start::NoCycleFound),
     #[error("{0}")]
     Analysis(String),
 }

@@ -16,7 +16,7 @@
 //! not depend on the choice of variables.
 
 use crate::model::ModelKind;
-use crate::params::{friction_from, Param, N_PARAMS};
+use crate::params::{friction_from, Param, Params, N_PARAMS};
 use continuation::{Scalar, VectorField};
 
 /// The inertial or quasi-static block in `(s, ln v, ln theta)` / `(s, ln theta)`.
@@ -62,11 +62,31 @@ impl VectorField for LogBlock {
 }
 
 impl LogBlock {
+    /// The block of `kind` with the ageing form of `params`.
+    pub fn new(kind: ModelKind, params: &Params) -> Self {
+        LogBlock {
+            kind,
+            cutoff: params.theta_c.is_some(),
+        }
+    }
+
     /// A state in MODEL.md's variables `(s, v, theta)` as this model's state.
     pub fn from_model(&self, s: f64, v: f64, theta: f64) -> Vec<f64> {
         match self.kind {
             ModelKind::Inertial => vec![s, v.ln(), theta.ln()],
             ModelKind::QuasiStatic => vec![s, theta.ln()],
+        }
+    }
+
+    /// `ln v` of this model's state: the state's second entry when inertial,
+    /// `(s - mu0 - ageing(theta)) / A` when quasi-static.
+    pub fn ln_velocity(&self, x: &[f64], p: &[f64]) -> f64 {
+        match self.kind {
+            ModelKind::Inertial => x[1],
+            ModelKind::QuasiStatic => {
+                let law = friction_from(self.cutoff, p);
+                (x[0] - law.mu0 - law.ageing_term(x[1].exp())) / law.a
+            }
         }
     }
 

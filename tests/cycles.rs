@@ -1,8 +1,9 @@
 //! Stick-slip cycles against the normal form and the closed-form onset law.
 
+mod common;
+
 use stickslip::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
 use stickslip::analysis::hopf::HopfPoint;
-use stickslip::analysis::simulate::cycle_by_integration;
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
@@ -109,21 +110,6 @@ fn collocation_cycles_agree_with_long_time_integration() {
             .find(|r| (h.kappa_c - r.kappa) / h.kappa_c > 0.005)
             .expect("a developed cycle");
         assert!(r.stable && r.trivial_error < 1e-8);
-        let mut at = p;
-        at.kappa = r.kappa;
-        let start = [r.samples[0][1], r.samples[0][2], r.samples[0][3]];
-        let (period, delta_s) =
-            cycle_by_integration(kind, &at, start, 2.0 * r.period, 8.0 * r.period, 4, 1e-12)
-                .unwrap();
-        assert!(
-            (period / r.period - 1.0).abs() < 1e-6,
-            "{kind:?}: period {period} vs {}",
-            r.period
-        );
-        assert!(
-            (delta_s / r.delta_s - 1.0).abs() < 1e-6,
-            "{kind:?}: Delta_s {delta_s} vs {}",
-            r.delta_s
-        );
+        common::assert_reproduced_by_integration(kind, &p, r, &format!("{kind:?}"));
     }
 }

@@ -1,13 +1,28 @@
-//! Stick-slip cycles: the branch of periodic orbits born at the Hopf point,
-//! continued in the stiffness by collocation in logarithmic variables.
+//! Stick-slip cycles: branches of periodic orbits continued in the stiffness
+//! by collocation in logarithmic variables, either born at the Hopf point or
+//! started from a simulated orbit ([`super::sampled_cycle`]) and followed
+//! both ways from it.
 
 use crate::analysis::hopf::{find_hopf, HopfOutcome, HopfPoint};
+use crate::analysis::sampled_cycle::sampled_cycle;
+use crate::analysis::settle::SettledOrbit;
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::Complex64;
+
+/// Which continuation a cycle comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Leg {
+    /// Born at the Hopf point, growing in amplitude.
+    FromHopf,
+    /// From a simulated orbit, first toward increasing stiffness.
+    Up,
+    /// From a simulated orbit, first toward decreasing stiffness.
+    Down,
+}
 
 /// One stick-slip cycle in MODEL.md's variables.
 #[derive(Clone, Debug)]
@@ -46,6 +61,8 @@ pub struct CycleRecord {
     pub user: Vec<CycleRecord>,
     /// Whether this cycle is one of the requested stiffnesses.
     pub user_point: bool,
+    /// The continuation it belongs to.
+    pub leg: Leg,
 }
 
 impl CycleRecord {
@@ -73,7 +90,15 @@ pub struct CycleRequest {
     pub ntst_max: usize,
 }
 
-fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
+/// The cycles in their order along the branch: the leg toward smaller
+/// stiffness ([`Leg::Down`]) reversed, then the others as computed.
+pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
+    let down = records.iter().filter(|c| c.leg == Leg::Down).rev();
+    down.chain(records.iter().filter(|c| c.leg != Leg::Down))
+        .collect()
+}
+
+fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
     let c = &pt.cycle;
     let (s_min, s_max) = c.range(0);
     let (v_min, v_max) = match log.kind {
@@ -112,18 +137,19 @@ fn record(log: &LogBlock, pt: &CyclePoint) -> CycleRecord {
                 [*tau, s, v, theta]
             })
             .collect(),
-        lpc: pt.lpc.as_ref().map(|l| Box::new(record(log, l))),
-        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l))),
-        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l))),
+        lpc: pt.lpc.as_ref().map(|l| Box::new(record(log, l, leg))),
+        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l, leg))),
+        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l, leg))),
         user: pt
             .user
             .iter()
             .map(|u| CycleRecord {
                 user_point: true,
-                ..record(log, u)
+                ..record(log, u, leg)
             })
             .collect(),
         user_point: false,
+        leg,
     }
 }
 
@@ -157,31 +183,114 @@ pub fn trace_cycles_from(
     req: &CycleRequest,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<(), crate::error::Error> {
-    let log = LogBlock {
-        kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::new(kind, params);
     let (x0, p) = hopf_start(&log, params, h);
-    let settings = CycleSettings {
-        ntst: req.ntst,
+    let branch = CycleBranch::from_hopf(
+        &log,
+        &x0,
+        h.omega_c,
+        &p,
+        Param::Kappa as usize,
+        settings(req, req.ntst),
+    )
+    .map_err(NumericalError::from)?;
+    follow(&log, branch, Leg::FromHopf, 0, &mut sink)
+}
+
+/// Mesh intervals of the first cycle sampled from a simulation: stick-slip
+/// orbits span decades of slip velocity, so at least this many.
+pub const SAMPLED_NTST: usize = 200;
+
+/// Traces the cycles through the simulated orbit `orbit` of `params` (at
+/// `params.kappa`): the orbit is put on a mesh of `max(req.ntst,`
+/// [`SAMPLED_NTST`]`)` intervals, corrected by collocation, and continued
+/// first toward increasing stiffness ([`Leg::Up`]: a fold of cycles, LPC,
+/// where the branch turns back, lies that way for a cycle coexisting with
+/// stable sliding) and then toward decreasing stiffness ([`Leg::Down`]),
+/// each leg within `req`'s bounds and step limit. The starting cycle is
+/// handed to `sink` once. A leg that stops on a numerical failure does not
+/// prevent the other; the errors are returned per leg (`[up, down]`).
+pub fn trace_cycles_from_orbit(
+    kind: ModelKind,
+    params: &Params,
+    orbit: &SettledOrbit,
+    req: &CycleRequest,
+    mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<[Result<(), crate::error::Error>; 2], crate::error::Error> {
+    let log = LogBlock::new(kind, params);
+    let ntst = req.ntst.max(SAMPLED_NTST);
+    let guess = sampled_cycle(&log, params, orbit, ntst, 1e-10)
+        .map_err(|e| NumericalError::Analysis(e.to_string()))?;
+    let nz = guess.u.len() + 2;
+    let mut legs = [Ok(()), Ok(())];
+    for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
+        // The last unknown is the stiffness: the seed orients the tangent.
+        let mut seed = vec![0.0; nz];
+        seed[nz - 1] = sign;
+        let outcome = CycleBranch::from_cycle(
+            &log,
+            guess.clone(),
+            Param::Kappa as usize,
+            Some(seed),
+            settings(req, ntst),
+        )
+        .map_err(|e| NumericalError::from(e).into())
+        .and_then(|branch| follow(&log, branch, leg, i, &mut sink));
+        match outcome {
+            Err(e @ crate::error::Error::Interrupted(_)) => return Err(e),
+            other => legs[i] = other,
+        }
+    }
+    Ok(legs)
+}
+
+/// Continuation settings for `req`, starting on `ntst` intervals.
+fn settings(req: &CycleRequest, ntst: usize) -> CycleSettings {
+    CycleSettings {
+        ntst,
         p_min: req.kappa_min,
         p_max: req.kappa_max,
         max_steps: req.max_steps,
         ds: 1e-3,
         ds_max: 0.2,
         user_points: req.at_kappa.clone(),
-        ntst_max: req.ntst_max.max(req.ntst),
+        ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
         mesh_tol: 1e-7,
         mesh_accept: 1e-4,
         ..Default::default()
-    };
-    let branch = CycleBranch::from_hopf(&log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
-        .map_err(NumericalError::from)?;
-    for pt in branch {
-        let pt = pt.map_err(NumericalError::from)?;
-        sink(&record(&log, &pt))?;
+    }
+}
+
+/// Hands the cycles of `branch` to `sink`, skipping the first `skip` (the
+/// starting cycle of a second leg). A failure after the cycles have shrunk
+/// below [`SHRUNK`] of the largest `Delta_s` on the leg is reported as what
+/// it is: the branch reached steady sliding at a Hopf point, where the
+/// collocation system is singular (zero amplitude).
+fn follow(
+    log: &LogBlock,
+    branch: CycleBranch<'_, LogBlock>,
+    leg: Leg,
+    skip: usize,
+    sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<(), crate::error::Error> {
+    let (mut largest, mut last) = (0.0f64, None);
+    for pt in branch.skip(skip) {
+        let pt = pt.map_err(|e| match last {
+            Some((kappa, delta_s)) if delta_s < SHRUNK * largest => {
+                NumericalError::Analysis(format!(
+                    "the cycles shrank onto steady sliding (Delta_s = {delta_s:.3e}, down from \
+                 {largest:.3e}) near kappa = {kappa:.6e}: the branch ends at a Hopf point, through \
+                 which collocation cannot continue ({e})"
+                ))
+            }
+            _ => NumericalError::from(e),
+        })?;
+        let rec = record(log, &pt, leg);
+        largest = largest.max(rec.delta_s);
+        last = Some((rec.kappa, rec.delta_s));
+        sink(&rec)?;
     }
     Ok(())
 }
@@ -196,3 +305,7 @@ pub fn hopf_start(log: &LogBlock, params: &Params, h: &HopfPoint) -> (Vec<f64>, 
         p.to_vec(),
     )
 }
+
+/// Fraction of a leg's largest `Delta_s` below which a cycle counts as
+/// shrunk onto steady sliding.
+const SHRUNK: f64 = 0.05;

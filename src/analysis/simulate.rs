@@ -117,10 +117,7 @@ pub fn simulate_with(
             ));
         }
     }
-    let log = LogBlock {
-        kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::new(kind, params);
     let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
     let mut x = log.from_model(start[0], start[1], start[2]);
     let mut out = Emitter {
@@ -309,10 +306,7 @@ pub fn cycle_by_integration(
     periods: usize,
     rtol: f64,
 ) -> Result<(f64, f64), NumericalError> {
-    let log = LogBlock {
-        kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::new(kind, params);
     let pv = params.to_vec();
     let ln_nu = params.nu.ln();
     let settings = Settings {
@@ -328,14 +322,9 @@ pub fn cycle_by_integration(
         .map_err(fail)?;
     // Slip velocity through nu (ds/dt = kappa (nu - v) changes sign): rising
     // marks a maximum of s, falling a minimum.
-    let velocity = |x: &[f64]| -> f64 {
-        match kind {
-            ModelKind::Inertial => x[1] - ln_nu,
-            ModelKind::QuasiStatic => log.to_model(x, &pv)[1].ln() - ln_nu,
-        }
-    };
-    let mut solver = Radau5::new(&log, &pv, settings)
-        .with_event(EventFunction::new(move |_, x| velocity(x)).direction(EventDirection::Any));
+    let mut solver = Radau5::new(&log, &pv, settings).with_event(
+        EventFunction::new(|_, x| log.ln_velocity(x, &pv) - ln_nu).direction(EventDirection::Any),
+    );
     let sol = solver
         .solve(0.0, &warm.x_final, horizon, Output::Final)
         .into_result()

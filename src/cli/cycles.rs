@@ -1,9 +1,11 @@
-//! `stickslip cycles`: the stick-slip cycles born at the Hopf point, continued
-//! in the stiffness; the bifurcation diagram, orbits and time series.
+//! `stickslip cycles`: the stick-slip cycles born at the Hopf point (or
+//! through a simulated orbit, [`super::cycle_start`]), continued in the
+//! stiffness; the bifurcation diagram, orbits and time series.
 
+use super::cycle_start::Start;
 use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
-use crate::analysis::cycles::{trace_cycles_from, CycleRecord, CycleRequest};
+use crate::analysis::cycles::{along_branch, CycleRecord, CycleRequest};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
@@ -16,9 +18,19 @@ use std::path::{Path, PathBuf};
 pub struct CyclesArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Stop when the stiffness falls below this fraction of kappa_c.
+    /// Stop when the stiffness falls below this fraction of kappa_c (without a Hopf
+    /// point: of the stiffness of the simulated orbit the branch starts from).
     #[arg(long, default_value_t = 0.5)]
     pub kappa_fraction: f64,
+    /// Start from a simulated stick-slip orbit instead of the Hopf point (automatic
+    /// when there is no Hopf point). The stiffness simulated: the scene's kappa when
+    /// it gives one and a simulation from a stuck state settles on a cycle there;
+    /// else 0.9 kappa_c below a Hopf point; else max(A, B) 10^-k, k = 1..5, the
+    /// first that settles. The branch is followed toward larger stiffness (where a
+    /// cycle coexisting with stable sliding ends at a fold of cycles, LPC) and then
+    /// toward smaller stiffness.
+    #[arg(long)]
+    pub from_simulation: bool,
     /// Largest number of cycles.
     #[arg(long, default_value_t = 80)]
     pub max_steps: usize,
@@ -65,6 +77,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     }
     let mut setup = args.scene.setup(|p| *p)?;
     let onset = super::onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
+    let start = Start::choose(&setup, onset, args.from_simulation)?;
+    if let (Some(text), false) = (start.describe(&setup), args.json) {
+        println!("{text}");
+    }
     std::fs::create_dir_all(&args.out)?;
     let stem = with_suffix(&super::files::stem(&args.out, &setup.scene.name), "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
@@ -78,13 +94,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         csv,
         "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point"
     )?;
-    let crate::analysis::hopf::HopfOutcome::Found(hopf) = onset else {
-        return Err(crate::analysis::cycles::no_onset().into());
-    };
-    let kappa_c = hopf.kappa_c;
+    let kappa_ref = start.reference_kappa();
     let req = CycleRequest {
-        kappa_min: args.kappa_fraction * kappa_c,
-        kappa_max: 10.0 * kappa_c,
+        kappa_min: args.kappa_fraction * kappa_ref,
+        kappa_max: 10.0 * kappa_ref,
         max_steps: args.max_steps,
         ntst: args.ntst,
         at_kappa: args.at_kappa.clone(),
@@ -93,7 +106,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress("continuing cycles");
-    let outcome = trace_cycles_from(setup.choice.kind, &setup.params, &hopf, &req, |c| {
+    let outcomes = start.trace(&setup, &req, |c| {
         if super::interrupt::interrupted() {
             return Err(Error::Interrupted(match records.last() {
                 Some(r) => format!(
@@ -157,18 +170,30 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let files = if records.is_empty() {
         Vec::new()
     } else {
-        write_figures(&setup, &records, &stem)?
+        write_figures(&setup, &along_branch(&records), &stem)?
     };
-    let stop = match &outcome {
-        Ok(_) => "end of the requested range".to_string(),
-        Err(e) => e.to_string(),
-    };
+    let stop = outcomes
+        .iter()
+        .map(|(leg, outcome)| {
+            let why = match outcome {
+                Ok(_) => "end of the requested range".to_string(),
+                Err(e) => e.to_string(),
+            };
+            if leg.is_empty() {
+                why
+            } else {
+                format!("{leg}: {why}")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
     if args.json {
         let v = json!({
             "scene": setup.scene.name,
             "model": setup.choice.kind.name(),
             "params": params_json(&setup.params),
-            "kappa_c": kappa_c,
+            "kappa_c": start.kappa_c(),
+            "start": start.json(),
             "cycles": records.iter().map(record_json).collect::<Vec<_>>(),
             "special_points": records.iter().flat_map(CycleRecord::special_points).map(|(kind, l)| json!({
                 "kind": kind, "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
@@ -187,9 +212,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             println!("wrote {}", f.display());
         }
     }
-    match outcome {
-        Err(e @ Error::Interrupted(_)) => Err(e),
-        Err(e) if records.len() < 2 => Err(e),
+    let mut errors = outcomes.into_iter().filter_map(|(_, o)| o.err());
+    match errors.next() {
+        Some(e @ Error::Interrupted(_)) => Err(e),
+        Some(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }
 }
@@ -221,7 +247,7 @@ type SamplePoint<'a> = dyn Fn(&CycleRecord, &[f64; 4]) -> (f64, f64) + 'a;
 
 fn write_figures(
     setup: &Setup,
-    records: &[CycleRecord],
+    records: &[&CycleRecord],
     stem: &Path,
 ) -> Result<Vec<PathBuf>, Error> {
     let u = setup.scene.units;
@@ -295,7 +321,7 @@ fn write_figures(
     ];
     let picks: Vec<&CycleRecord> = {
         let step = (records.len() / 6).max(1);
-        records.iter().step_by(step).collect()
+        records.iter().step_by(step).copied().collect()
     };
     let shade = |i: usize| {
         let f = i as f64 / picks.len().max(1) as f64;

@@ -5,6 +5,7 @@
 
 pub mod bench;
 pub mod branch;
+pub mod cycle_start;
 pub mod cycles;
 pub mod diagram;
 pub mod files;
@@ -39,7 +40,7 @@ pub enum Command {
     Branch(branch::BranchArgs),
     /// Trace the stability diagram (Hopf curve in stiffness and velocity) with onset types; write figures, CSV, JSON.
     Diagram(diagram::DiagramArgs),
-    /// Continue the stick-slip cycles born at the Hopf point in the stiffness; figures and data.
+    /// Continue stick-slip cycles in the stiffness, from the Hopf point or from a simulated orbit; figures and data.
     Cycles(cycles::CyclesArgs),
     /// Integrate driven sliding in time under a protocol of pulling velocities (jumps, stop-and-go).
     Simulate(simulate::SimulateArgs),

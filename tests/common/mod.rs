@@ -1,0 +1,28 @@
+//! Checks shared by the integration tests.
+
+use stickslip::analysis::cycles::CycleRecord;
+use stickslip::analysis::simulate::cycle_by_integration;
+use stickslip::model::ModelKind;
+use stickslip::params::Params;
+
+/// Integrates from the first sample of the collocation cycle `r` at `p` with
+/// `kappa = r.kappa` (Radau IIA, rtol 1e-12; two periods of transient, then
+/// the extremes of `s` over eight) and checks that the period and `Delta_s`
+/// agree with the cycle's to 1e-6.
+pub fn assert_reproduced_by_integration(kind: ModelKind, p: &Params, r: &CycleRecord, label: &str) {
+    let mut at = *p;
+    at.kappa = r.kappa;
+    let start = [r.samples[0][1], r.samples[0][2], r.samples[0][3]];
+    let (period, delta_s) =
+        cycle_by_integration(kind, &at, start, 2.0 * r.period, 8.0 * r.period, 4, 1e-12).unwrap();
+    assert!(
+        (period / r.period - 1.0).abs() < 1e-6,
+        "{label}: period {period} (simulation) vs {} (collocation)",
+        r.period
+    );
+    assert!(
+        (delta_s / r.delta_s - 1.0).abs() < 1e-6,
+        "{label}: Delta_s {delta_s} (simulation) vs {} (collocation)",
+        r.delta_s
+    );
+}
