@@ -354,7 +354,9 @@ fn write_figures(
             .map(|c| {
                 c.iter()
                     .map(|p| {
-                        let lower = hopf_kappa_at(d, p.nu).filter(|k| *k < p.kappa).map(&fy);
+                        // Below the Hopf curve steady sliding is unstable: the
+                        // region ends there (where the curve exists at this velocity).
+                        let lower = hopf_kappa_at(d, p.nu).map(|k| fy(k.min(p.kappa)));
                         (fx(p.nu), fy(p.kappa), lower)
                     })
                     .collect()

@@ -396,6 +396,10 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 residual: 0.0,
                 step: 0.0,
             })
+            .map(|mut pt| {
+                pt.error_estimate = self.error_estimate(&pt.cycle);
+                pt
+            })
         } else {
             if self.settings.adapt_every > 0 && self.steps.is_multiple_of(self.settings.adapt_every)
             {
