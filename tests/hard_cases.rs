@@ -1,6 +1,8 @@
 //! Where methods fail: each hard case either gets the right answer to a
 //! stated tolerance or a typed error that names the cause (docs/hard-cases.md).
 
+mod common;
+
 use stickslip::analysis::cycles::{trace_cycles, CycleRequest};
 use stickslip::analysis::hopf::{find_hopf, Criticality, HopfOutcome, HopfPoint};
 use stickslip::appendix_c;
@@ -239,4 +241,44 @@ fn cutoff_law_at_and_near_the_friction_minimum() {
     // kappa_c ~ 1e-8 here: the closed form itself carries the cancellation mu_phi - mu_v.
     let k = appendix_c::critical_stiffness(&near);
     assert!((h.kappa_c / k - 1.0).abs() < 1e-7, "{} vs {k}", h.kappa_c);
+}
+
+#[test]
+fn stiff_stick_slip_cycles_are_resolved_and_match_integration() {
+    // Inertial ln² PMMA (m = 0.01) down to 0.1 kappa_c: the slip velocity spans
+    // more than seven decades within a period. Every cycle carries a finite error
+    // estimate within the accepted bound; the last one is reproduced by Radau
+    // integration (period and Delta_s to 1e-6).
+    let p = Params {
+        m: 0.01,
+        ..pmma(2.4e-4)
+    };
+    let kappa_c = appendix_c::critical_stiffness(&p);
+    let req = CycleRequest {
+        kappa_min: 0.1 * kappa_c,
+        kappa_max: 1.0,
+        max_steps: 400,
+        ntst: 40,
+        at_kappa: Vec::new(),
+        ntst_max: 12800,
+    };
+    let mut cycles = Vec::new();
+    trace_cycles(ModelKind::Inertial, &p, &req, |c| {
+        cycles.push(c.clone());
+        Ok(())
+    })
+    .unwrap();
+    let last = cycles.last().unwrap();
+    assert!(last.kappa < 0.1 * kappa_c, "reached kappa = {}", last.kappa);
+    assert!(
+        last.v_max / last.v_min > 1e7,
+        "{} .. {}",
+        last.v_min,
+        last.v_max
+    );
+    for c in &cycles {
+        assert!(c.error_estimate.is_finite() && c.error_estimate <= 1e-4);
+        assert!(c.stable && c.trivial_error < 1e-3);
+    }
+    common::assert_reproduced_by_integration(ModelKind::Inertial, &p, last, "stiff cycle");
 }
