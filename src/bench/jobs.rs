@@ -2,7 +2,7 @@
 
 use super::cycles::{CycleWork, LastCycle};
 use super::sandbox::{silence_stdout, TempDir};
-use crate::analysis::diagram::stability_diagram;
+use crate::analysis::diagram::hopf_curve;
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
 use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use crate::cli::diagram::DiagramArgs;
@@ -51,7 +51,9 @@ pub struct Job {
 enum Work {
     /// `find_hopf` (continuation in kappa, Hopf location, normal form with l1).
     Hopf { kind: ModelKind, params: Params },
-    /// `stability_diagram` (Hopf curve in (ln kappa, ln nu) with l1 at every point).
+    /// `hopf_curve` (the Hopf curve in (ln kappa, ln nu) with l1 at every
+    /// point and l2 at Bautin points; the curves of folds of cycles that
+    /// `stability_diagram` adds are timed with the diagram jobs).
     Curve {
         kind: ModelKind,
         params: Params,
@@ -110,7 +112,7 @@ impl Job {
                 let scene = crate::scene::load("pmma")?;
                 (
                     JOB_NAMES[2],
-                    "stability_diagram, pmma, inertial, nu in [0.01, 100], l1 at every point",
+                    "hopf_curve, pmma, inertial, nu in [0.01, 100], l1 at every point",
                     Work::Curve {
                         kind: ModelKind::Inertial,
                         params: scene.params,
@@ -187,7 +189,7 @@ impl Job {
                 params,
                 range,
             } => {
-                let d = stability_diagram(*kind, params, *range)?;
+                let d = hopf_curve(*kind, params, crate::params::Param::Nu, *range)?;
                 Ok(points(std::hint::black_box(d).points.len()))
             }
             Work::Diagram { args, stems, .. } => {
