@@ -313,6 +313,8 @@ pub fn solve(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::periodic::collocation::Linearization;
+    use crate::periodic::newton::solve_bordered;
 
     /// A small deterministic pseudo-random sequence in (-1, 1).
     fn noise(seed: &mut u64) -> f64 {
@@ -339,7 +341,10 @@ mod tests {
                     })
                 })
                 .collect();
-            let dense = DMatrix::from_fn(2, dim, |_, _| noise(&mut seed));
+            // Dense rows: the phase condition (nodes only) and an arbitrary row.
+            let mut dense = DMatrix::from_fn(2, dim, |_, _| noise(&mut seed));
+            dense[(0, nn)] = 0.0;
+            dense[(0, nn + 1)] = 0.0;
             let rhs: Vec<f64> = (0..dim).map(|_| noise(&mut seed)).collect();
             // The assembled system.
             let mut full = DMatrix::zeros(dim, dim);
@@ -361,27 +366,15 @@ mod tests {
                 .full_piv_lu()
                 .solve(&nalgebra::DVector::from_column_slice(&rhs))
                 .unwrap();
-            // The structured solve.
-            let condensed: Vec<Condensed> = locals
-                .iter()
-                .enumerate()
-                .map(|(i, b)| {
-                    let mut border = DMatrix::zeros(mn, 3);
-                    border
-                        .columns_mut(0, 2)
-                        .copy_from(&b.columns((m + 1) * n, 2));
-                    for r in 0..mn {
-                        border[(r, 2)] = -rhs[i * mn + r];
-                    }
-                    condense(b.columns(0, (m + 1) * n), &border, n, i, ntst)
-                })
-                .collect();
-            let mut rows = DMatrix::zeros(2, nn + 3);
-            rows.columns_mut(0, nn + 2).copy_from(&dense);
-            rows[(0, nn + 2)] = -rhs[nn];
-            rows[(1, nn + 2)] = -rhs[nn + 1];
-            let d = dense_rows(&rows, &condensed, n, m).unwrap();
-            let x = solve(condensed, d, n, m).unwrap();
+            // The structured solve, as Newton's method calls it.
+            let lin = Linearization {
+                residual: Vec::new(),
+                local: locals,
+                phase: dense.row(0).columns(0, nn).iter().copied().collect(),
+                term_scale: 0.0,
+            };
+            let extra: Vec<f64> = dense.row(1).iter().copied().collect();
+            let x = solve_bordered(&lin, n, &extra, &rhs).unwrap();
             let scale = reference.amax();
             for (a, b) in x.iter().zip(reference.iter()) {
                 assert!(
