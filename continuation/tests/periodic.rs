@@ -440,3 +440,40 @@ fn period_doubling_and_torus_bifurcations_are_located() {
         .iter()
         .any(|m| (m - expected).norm() < 1e-8 || (m - expected.conj()).norm() < 1e-8));
 }
+
+#[test]
+fn undecidable_stability_is_a_typed_error() {
+    // On the twisted band with a = 0 and b < 1/2 a complex pair of multipliers
+    // lies on the unit circle for every b. Once the trivial multiplier's error
+    // exceeds `trivial_limit` (here: any error at all) and another multiplier
+    // is within ten times that error of the circle, stability cannot be
+    // decided, and the branch says so instead of guessing.
+    let mesh = Mesh::uniform(20, 4);
+    let mut u = Vec::new();
+    for i in 0..mesh.ntst() {
+        for l in 0..mesh.degree {
+            let t = 2.0 * std::f64::consts::PI * mesh.node_time(i, l);
+            u.extend([t.cos(), t.sin(), 0.0, 0.0]);
+        }
+    }
+    let guess = Cycle {
+        mesh,
+        u,
+        period: 2.0 * std::f64::consts::PI,
+        p: vec![0.0, 0.3],
+        n: 4,
+    };
+    let settings = CycleSettings {
+        ds: 1e-2,
+        max_steps: 5,
+        trivial_limit: 0.0,
+        trivial_tol: 1.0,
+        ..Default::default()
+    };
+    let outcome: Result<Vec<_>, _> =
+        CycleBranch::from_cycle(&TwistedBand, guess, 1, None, settings)
+            .unwrap()
+            .collect();
+    let err = outcome.expect_err("stability is undecidable").to_string();
+    assert!(err.contains("can no longer decide its stability"), "{err}");
+}
