@@ -1,0 +1,164 @@
+//! The figures of `stickslip diagram`: the stability diagram in physical
+//! and dimensionless axes, with the hysteretic region.
+
+use super::super::files::with_suffix;
+use super::super::Setup;
+use crate::analysis::diagram::StabilityDiagram;
+use crate::appendix_c;
+use crate::error::Error;
+use crate::plot::stability::{render, segments, StabilityFigure};
+use std::path::{Path, PathBuf};
+
+/// One pair of axes: how `(nu, kappa)` map to the plotted coordinates.
+struct Axes {
+    suffix: &'static str,
+    fx: Box<dyn Fn(f64) -> f64>,
+    fy: Box<dyn Fn(f64) -> f64>,
+    x_label: String,
+    y_label: String,
+    title: String,
+}
+
+pub(super) fn write_figures(
+    setup: &Setup,
+    d: &StabilityDiagram,
+    (lo, hi): (f64, f64),
+    stem: &Path,
+) -> Result<Vec<PathBuf>, Error> {
+    let u = setup.scene.units;
+    let model = setup.choice.kind.name();
+    let reference_every = (d.points.len() / 25).max(1);
+    let mut files = Vec::new();
+    // Physical axes: (V, K/M), noting W = M g when the load is the weight;
+    // K/W for a massless block.
+    let (y_of, y_label): (Box<dyn Fn(f64) -> f64>, &str) = match u.k_over_m(1.0) {
+        Some(_) => (
+            Box::new(move |k| u.k_over_m(k).unwrap_or(f64::NAN)),
+            if u.load_is_weight {
+                "critical K/M [1/s²]  (W = M g)"
+            } else {
+                "critical K/M [1/s²]"
+            },
+        ),
+        None => (Box::new(move |k| u.k_over_w(k)), "critical K/W [1/m]"),
+    };
+    let axes = [
+        Axes {
+            suffix: "-stability-physical",
+            fx: Box::new(move |nu| u.velocity_um_s(nu)),
+            fy: y_of,
+            x_label: "driving velocity V [µm/s]".into(),
+            y_label: y_label.into(),
+            title: format!("Stability diagram, {} ({model} model)", setup.scene.name),
+        },
+        Axes {
+            suffix: "-stability-dimensionless",
+            fx: Box::new(|nu| nu),
+            fy: Box::new(|k| k),
+            x_label: "ν = V / V0".into(),
+            y_label: "κ = K D0 / W".into(),
+            title: format!(
+                "Stability diagram, {}: (κ, ν) ({model} model)",
+                setup.scene.name
+            ),
+        },
+    ];
+    for Axes {
+        suffix,
+        fx,
+        fy,
+        x_label,
+        y_label,
+        title,
+    } in axes
+    {
+        let pts: Vec<_> = d
+            .points
+            .iter()
+            .filter(|p| p.kappa > 0.0)
+            .map(|p| (fx(p.nu), fy(p.kappa), p.criticality))
+            .collect();
+        let reference = d
+            .points
+            .iter()
+            .step_by(reference_every)
+            .filter_map(|p| {
+                let mut at = setup.params;
+                at.nu = p.nu;
+                let k = appendix_c::critical_stiffness(&at);
+                (k > 0.0).then(|| (fx(p.nu), fy(k)))
+            })
+            .collect();
+        let markers = d
+            .special
+            .iter()
+            .filter(|s| s.kind == "bautin")
+            .map(|s| ("Bautin (l1 = 0)".to_string(), fx(s.nu), fy(s.kappa)))
+            .collect();
+        let vlines = d
+            .special
+            .iter()
+            .filter(|s| s.kind == "endpoint")
+            .map(|s| ("κ_c → 0: friction minimum".to_string(), fx(s.nu)))
+            .collect();
+        let lpc: Vec<Vec<(f64, f64)>> = d
+            .lpc
+            .points
+            .iter()
+            .map(|c| c.iter().map(|p| (fx(p.nu), fy(p.kappa))).collect())
+            .collect();
+        let bistable = d
+            .lpc
+            .points
+            .iter()
+            .map(|c| {
+                c.iter()
+                    .map(|p| {
+                        // Below the Hopf curve steady sliding is unstable: the
+                        // region ends there (where the curve exists at this velocity).
+                        let lower = hopf_kappa_at(d, p.nu).map(|k| fy(k.min(p.kappa)));
+                        (fx(p.nu), fy(p.kappa), lower)
+                    })
+                    .collect()
+            })
+            .collect();
+        let fig = StabilityFigure {
+            title,
+            x_label,
+            y_label,
+            segments: segments(&pts),
+            reference,
+            reference_label: format!(
+                "Appendix C, eq. {}",
+                if setup.choice.kind == crate::model::ModelKind::Inertial {
+                    "C11"
+                } else {
+                    "C12"
+                }
+            ),
+            markers,
+            vlines,
+            lpc,
+            bistable,
+            x_range: (fx(lo), fx(hi)),
+        };
+        files.extend(
+            render(&fig, &with_suffix(stem, suffix))
+                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
+        );
+    }
+    Ok(files)
+}
+
+/// `kappa_c` of the Hopf curve at `nu`, interpolated linearly in
+/// `(ln nu, ln kappa)`; `None` outside the curve or where `kappa_c -> 0`.
+fn hopf_kappa_at(d: &StabilityDiagram, nu: f64) -> Option<f64> {
+    d.points
+        .windows(2)
+        .find(|w| (w[0].nu - nu) * (w[1].nu - nu) <= 0.0 && w[0].kappa > 0.0 && w[1].kappa > 0.0)
+        .map(|w| {
+            let f = (nu / w[0].nu).ln() / (w[1].nu / w[0].nu).ln();
+            let f = if f.is_finite() { f } else { 0.0 };
+            (w[0].kappa.ln() + f * (w[1].kappa / w[0].kappa).ln()).exp()
+        })
+}
