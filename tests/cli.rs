@@ -293,3 +293,46 @@ fn cycles_json_lands_on_the_requested_stiffnesses() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn diagram_json_has_the_curve_of_folds_of_the_cutoff_scene() {
+    let dir = std::env::temp_dir().join(format!("stickslip-lpc-curve-{}", std::process::id()));
+    let (code, text, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "brockley",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let curve = v["lpc_curve"].as_array().expect("lpc_curve");
+    assert!(curve.len() > 20, "{} folds", curve.len());
+    let bautin = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "bautin")
+        .expect("a Bautin point");
+    let nu_b = bautin["nu"].as_f64().unwrap();
+    let v_min = 2000.0;
+    for p in curve {
+        for k in [
+            "nu",
+            "kappa",
+            "period",
+            "delta_s",
+            "V_um_per_s",
+            "K_over_M_per_s2",
+        ] {
+            assert!(p[k].as_f64().is_some_and(f64::is_finite), "{k} in {p}");
+        }
+    }
+    // From the Bautin point, across the friction minimum.
+    let nus: Vec<f64> = curve.iter().map(|p| p["nu"].as_f64().unwrap()).collect();
+    assert!(nus.iter().any(|nu| (nu / nu_b - 1.0).abs() < 1e-2));
+    assert!(nus.iter().any(|nu| *nu > 2.0 * v_min));
+    assert!(dir.join("brockley-lpc-curve.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
