@@ -180,7 +180,10 @@ pub fn lpc_curves(
             let at_bautin = end.is_some_and(|(nu, _)| bautins.iter().any(|b| near(nu, b.nu)));
             if let (Some(cause), Some((nu, kappa)), false) = (failure, end, at_bautin) {
                 out.stops.push(format!(
-                    "the fold-of-cycles curve ends at nu = {nu:.6e}, kappa = {kappa:.6e}: {cause}"
+                    "the fold-of-cycles curve ends at nu = {nu:.6e}, kappa = {kappa:.6e}: {} \
+                     (the curve is traced on {LPC_NTST} mesh intervals; its cycles may have \
+                     become too stiff for them)",
+                    cause.replace("p[1] along the fold of cycles", "nu")
                 ));
             }
             if direction < 0.0 {
