@@ -10,13 +10,16 @@ use crate::periodic::cycle::Cycle;
 use crate::system::VectorField;
 use faer::sparse::Triplet;
 
-/// Settings of a curve of folds of cycles.
+/// Settings of a curve of folds of cycles. The engine defaults take absolute
+/// steps in parameters below 1 (`param_floor`); for parameters spanning
+/// decades set the floors to the smallest scale of interest.
 #[derive(Clone, Debug)]
 pub struct LpcCurveSettings {
     /// Initial, smallest and largest step (relative in `T`, `p1`, `p2`).
     pub ds: f64,
     pub ds_min: f64,
     pub ds_max: f64,
+    /// Largest number of folds after the start.
     pub max_steps: usize,
     /// Bounds of the second parameter; the curve stops on them.
     pub p2_min: f64,
@@ -26,6 +29,8 @@ pub struct LpcCurveSettings {
     /// The curve stops where the orbit's amplitude (largest range of a
     /// component) falls below this: it ends on a Bautin point there.
     pub min_amplitude: f64,
+    /// Newton's method on the augmented system (the test function `g` is
+    /// judged by the step it causes, `F` by its residual).
     pub corrector: NewtonSettings,
 }
 
