@@ -81,30 +81,13 @@ fn stuart_landau_cycles_radius_period_and_multipliers() {
     );
 }
 
-/// `Z' = (beta + i w) Z + Z |Z|^2 - Z |Z|^4`: subcritical Hopf at `beta = 0`;
-/// cycles on `beta = r^4 - r^2`, a fold of cycles at `r^2 = 1/2`, `beta = -1/4`;
-/// nontrivial multiplier `exp(2 r^2 (1 - 2 r^2) T)` (unstable below the fold's radius).
-struct Subcritical {
-    w: f64,
-}
-impl VectorField for Subcritical {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn n_params(&self) -> usize {
-        1
-    }
-    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
-        let r2 = x[0] * x[0] + x[1] * x[1];
-        let g = p[0] + r2 - r2 * r2;
-        out[0] = g * x[0] - x[1] * self.w;
-        out[1] = x[0] * self.w + g * x[1];
-    }
-}
-
 #[test]
 fn fold_of_cycles_is_located_and_stability_changes_there() {
-    let sys = Subcritical { w: 1.5 };
+    // The Bautin system at alpha = 1: `Z' = (beta + i w) Z + Z |Z|^2 - Z |Z|^4`,
+    // subcritical Hopf at beta = 0, cycles on beta = r^4 - r^2, a fold of
+    // cycles at r^2 = 1/2, beta = -1/4; nontrivial multiplier
+    // exp(2 r^2 (1 - 2 r^2) T) (unstable below the fold's radius).
+    let sys = Bautin { w: 1.5 };
     let settings = CycleSettings {
         ntst: 20,
         p_min: -1.0,
@@ -113,7 +96,7 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
         max_steps: 120,
         ..Default::default()
     };
-    let branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0], 0, settings).unwrap();
+    let branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0, 1.0], 0, settings).unwrap();
     let period = 2.0 * std::f64::consts::PI / 1.5;
     let mut lpcs = Vec::new();
     let mut last_r2 = 0.0;
@@ -386,7 +369,8 @@ impl VectorField for TwistedBand {
     }
 }
 
-fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
+/// The unit circle of the twisted band, exact, on 20 intervals, at parameters `p`.
+fn twisted_band_cycle(p: [f64; 2]) -> Cycle {
     let mesh = Mesh::uniform(20, 4);
     let mut u = Vec::new();
     for i in 0..mesh.ntst() {
@@ -395,13 +379,17 @@ fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
             u.extend([t.cos(), t.sin(), 0.0, 0.0]);
         }
     }
-    let guess = Cycle {
+    Cycle {
         mesh,
         u,
         period: 2.0 * std::f64::consts::PI,
         p: p.to_vec(),
         n: 4,
-    };
+    }
+}
+
+fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
+    let guess = twisted_band_cycle(p);
     let settings = CycleSettings {
         ds: 1e-2,
         ds_max: 0.05,
@@ -448,21 +436,7 @@ fn undecidable_stability_is_a_typed_error() {
     // exceeds `trivial_limit` (here: any error at all) and another multiplier
     // is within ten times that error of the circle, stability cannot be
     // decided, and the branch says so instead of guessing.
-    let mesh = Mesh::uniform(20, 4);
-    let mut u = Vec::new();
-    for i in 0..mesh.ntst() {
-        for l in 0..mesh.degree {
-            let t = 2.0 * std::f64::consts::PI * mesh.node_time(i, l);
-            u.extend([t.cos(), t.sin(), 0.0, 0.0]);
-        }
-    }
-    let guess = Cycle {
-        mesh,
-        u,
-        period: 2.0 * std::f64::consts::PI,
-        p: vec![0.0, 0.3],
-        n: 4,
-    };
+    let guess = twisted_band_cycle([0.0, 0.3]);
     let settings = CycleSettings {
         ds: 1e-2,
         max_steps: 5,
