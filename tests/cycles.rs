@@ -2,6 +2,8 @@
 
 mod common;
 
+use common::pmma;
+
 use stickslip::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
 use stickslip::analysis::hopf::HopfPoint;
 use stickslip::model::ModelKind;
@@ -30,16 +32,7 @@ fn cycles(kind: ModelKind, p: &Params, steps: usize) -> (HopfPoint, Vec<CycleRec
 fn onset_amplitude_and_period_follow_the_normal_form() {
     // Quasi-static ln² law: Delta_s = 4 sqrt(mu_phi (mu_phi - A) (kappa_c - kappa) / mu2),
     // an independent closed form (docs/diagram.md); the error is O(kappa_c - kappa).
-    let p = Params {
-        kappa: 0.0,
-        nu: 1.0,
-        m: 0.0,
-        a: 0.012,
-        b: 0.023,
-        mu0: 0.5,
-        mu2: 2.4e-4,
-        theta_c: None,
-    };
+    let p = pmma(0.0, 2.4e-4);
     let (h, recs) = cycles(ModelKind::QuasiStatic, &p, 14);
     let (kappa_c, omega) = (h.kappa_c, h.omega_c);
     let slope = h.onset.frequency_slope.unwrap();
@@ -76,32 +69,8 @@ fn collocation_cycles_agree_with_long_time_integration() {
     // integrate from a point of the collocation orbit with Radau IIA at rtol 1e-12,
     // measure period and Delta_s from the events v = nu (extremes of s).
     for (kind, p) in [
-        (
-            ModelKind::QuasiStatic,
-            Params {
-                kappa: 0.0,
-                nu: 1.0,
-                m: 0.0,
-                a: 0.012,
-                b: 0.023,
-                mu0: 0.5,
-                mu2: 2.4e-4,
-                theta_c: None,
-            },
-        ),
-        (
-            ModelKind::Inertial,
-            Params {
-                kappa: 0.0,
-                nu: 1.0,
-                m: 0.01,
-                a: 0.012,
-                b: 0.023,
-                mu0: 0.5,
-                mu2: 2.4e-4,
-                theta_c: None,
-            },
-        ),
+        (ModelKind::QuasiStatic, pmma(0.0, 2.4e-4)),
+        (ModelKind::Inertial, pmma(0.01, 2.4e-4)),
     ] {
         let (h, recs) = cycles(kind, &p, 60);
         let r = recs

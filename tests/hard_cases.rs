@@ -10,16 +10,7 @@ use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
 fn pmma(mu2: f64) -> Params {
-    Params {
-        kappa: 0.0,
-        nu: 1.0,
-        m: 0.0,
-        a: 0.012,
-        b: 0.023,
-        mu0: 0.5,
-        mu2,
-        theta_c: None,
-    }
+    common::pmma(0.0, mu2)
 }
 
 fn hopf(kind: ModelKind, p: &Params) -> HopfPoint {

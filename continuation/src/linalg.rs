@@ -194,14 +194,14 @@ impl SparseLu {
         triplets: &[faer::sparse::Triplet<usize, usize, f64>],
         dense: &[usize],
     ) -> Result<Self, ContinuationError> {
+        let mut size = vec![0.0f64; dim];
+        for t in triplets {
+            size[t.row] = size[t.row].max(t.val.abs());
+        }
         let mut scale = vec![1.0; dim];
         for &r in dense {
-            let max = triplets
-                .iter()
-                .filter(|t| t.row == r)
-                .fold(0.0f64, |a, t| a.max(t.val.abs()));
-            if max > 0.0 {
-                scale[r] = 1e-6 / max;
+            if size[r] > 0.0 {
+                scale[r] = 1e-6 / size[r];
             }
         }
         let scaled: Vec<_> = triplets

@@ -1,4 +1,6 @@
-//! Checks shared by the integration tests.
+//! Parameters and checks shared by the integration tests (each test crate
+//! uses some of them).
+#![allow(dead_code)]
 
 use stickslip::analysis::cycles::CycleRecord;
 use stickslip::analysis::simulate::cycle_by_integration;
@@ -25,4 +27,19 @@ pub fn assert_reproduced_by_integration(kind: ModelKind, p: &Params, r: &CycleRe
         "{label}: Delta_s {delta_s} (simulation) vs {} (collocation)",
         r.delta_s
     );
+}
+
+/// The PMMA multicontact interface of the seed (A = 0.012, B = 0.023,
+/// `nu = 1`, `mu0 = 0.5`) with the ln² coefficient `mu2` and inertia `m`.
+pub fn pmma(m: f64, mu2: f64) -> Params {
+    Params {
+        kappa: 0.0,
+        nu: 1.0,
+        m,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.5,
+        mu2,
+        theta_c: None,
+    }
 }

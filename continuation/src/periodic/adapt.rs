@@ -41,30 +41,6 @@ fn monitor(c: &Cycle) -> Vec<f64> {
         .collect()
 }
 
-/// Estimate of the collocation error of the orbit between mesh points
-/// (largest over intervals and components): `h_i^(m+1) |u^(m+1)| / (m+1)!`,
-/// with `u^(m+1)` from the jumps of the piecewise constant `u^(m)` between
-/// neighbouring intervals (the estimate behind AUTO's mesh adaptation).
-/// At the mesh points the error is smaller still (`O(h^(2m))`).
-pub fn error_estimate(c: &Cycle) -> f64 {
-    let m = c.mesh.degree;
-    let ntst = c.mesh.ntst();
-    let d = mth_derivatives(c);
-    let h = |i: usize| c.mesh.t[i + 1] - c.mesh.t[i];
-    let factorial = (1..=m + 1).fold(1.0, |a, k| a * k as f64);
-    (0..ntst)
-        .map(|i| {
-            let (prev, next) = ((i + ntst - 1) % ntst, (i + 1) % ntst);
-            // Distance between the midpoints of the neighbours.
-            let span = 0.5 * h(prev) + h(i) + 0.5 * h(next);
-            let jump = (0..c.n)
-                .map(|j| (d[next][j] - d[prev][j]).abs())
-                .fold(0.0f64, f64::max);
-            h(i).powi(m as i32 + 1) * jump / span / factorial
-        })
-        .fold(0.0, f64::max)
-}
-
 /// A mesh of `ntst` intervals equidistributing the monitor of `c` (with a
 /// floor so that no region is left without points), the orbit moved onto it.
 pub fn equidistribute(c: &Cycle, ntst: usize) -> Cycle {

@@ -53,10 +53,16 @@ pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, Cont
     Ok(mu)
 }
 
-/// Distance of the multiplier closest to 1 (the trivial multiplier of an
-/// autonomous system) from 1: a check on the accuracy of the orbit.
-pub fn trivial_multiplier_error(mu: &[Complex64]) -> f64 {
+/// Index of the trivial multiplier of an autonomous system: the one closest to 1.
+pub fn trivial_index(mu: &[Complex64]) -> Option<usize> {
     mu.iter()
-        .map(|z| (z - 1.0).norm())
-        .fold(f64::INFINITY, f64::min)
+        .enumerate()
+        .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
+        .map(|(i, _)| i)
+}
+
+/// Distance of the trivial multiplier from 1: a check on the accuracy of
+/// the orbit and of the multipliers.
+pub fn trivial_multiplier_error(mu: &[Complex64]) -> f64 {
+    trivial_index(mu).map_or(f64::INFINITY, |i| (mu[i] - 1.0).norm())
 }

@@ -14,17 +14,9 @@
 use super::{CycleBranch, CyclePoint};
 use crate::error::ContinuationError;
 use crate::periodic::collocation::Collocation;
-use crate::periodic::floquet::multipliers;
+use crate::periodic::floquet::{multipliers, trivial_index};
 use crate::system::VectorField;
 use num_complex::Complex64;
-
-/// Index of the trivial multiplier (closest to 1).
-fn trivial(mu: &[Complex64]) -> Option<usize> {
-    mu.iter()
-        .enumerate()
-        .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
-        .map(|(i, _)| i)
-}
 
 /// `prod_i (1 + mu_i)`.
 pub fn period_doubling_test(mu: &[Complex64]) -> f64 {
@@ -35,7 +27,7 @@ pub fn period_doubling_test(mu: &[Complex64]) -> f64 {
 
 /// `prod_{i<j} (mu_i mu_j - 1)` over the nontrivial multipliers.
 pub fn torus_test(mu: &[Complex64]) -> f64 {
-    let t = trivial(mu);
+    let t = trivial_index(mu);
     let others: Vec<Complex64> = mu
         .iter()
         .enumerate()

@@ -10,7 +10,7 @@ mod detect;
 mod refine;
 
 use super::cycle::Cycle;
-use super::floquet::{multipliers, trivial_multiplier_error};
+use super::floquet::{multipliers, trivial_index, trivial_multiplier_error};
 use super::mesh::Mesh;
 use super::newton::{correct_along, newton_bordered, tangent, ArcWeights};
 use crate::error::ContinuationError;
@@ -354,11 +354,7 @@ fn point_at<S: VectorField>(
 ) -> Result<CyclePoint, ContinuationError> {
     let mu = multipliers(&coll.linearize(z), coll.sys.dim())?;
     let trivial_error = trivial_multiplier_error(&mu);
-    let trivial = mu
-        .iter()
-        .enumerate()
-        .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
-        .map(|(i, _)| i);
+    let trivial = trivial_index(&mu);
     // Multipliers within 1e-9 of the unit circle (or within the trivial
     // multiplier's error) count as neutral, not unstable: at a Hopf point or
     // a fold of cycles one multiplier is 1 to rounding.

@@ -65,13 +65,19 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             y.push(orbit.p[k]);
         }
         let lin = coll.linearize(&y[..nn + 2]);
-        let b: Vec<f64> = jacobian_triplets(&lin, sys.dim(), &|i, l| coll.mesh.node(i, l))
+        // dF/dp1: the last column of every interval's block (the phase row has none).
+        let mut b: Vec<f64> = lin
+            .local
             .iter()
-            .filter(|t| t.col == nn + 1)
-            .fold(vec![0.0; nn + 1], |mut b, t| {
-                b[t.row] += t.val;
-                b
-            });
+            .flat_map(|block| {
+                block
+                    .column(block.ncols() - 1)
+                    .iter()
+                    .copied()
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        b.push(0.0);
         let mut aug = Augmented {
             coll,
             k2,
