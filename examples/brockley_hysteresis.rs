@@ -157,6 +157,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ntst: 40,
         at_kappa: Vec::new(),
         ntst_max: 1600,
+        collocation: None,
     };
     let mut cycles: Vec<CycleRecord> = Vec::new();
     let legs = trace_cycles_from_orbit(KIND, &p, &orbit, &req, |c| {

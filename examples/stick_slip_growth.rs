@@ -31,6 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ntst: 40,
         at_kappa: fractions.iter().map(|f| f * kappa_c).collect(),
         ntst_max: 400,
+        collocation: None,
     };
     let mut branch = Vec::new();
     trace_cycles(ModelKind::QuasiStatic, &base, &req, |c| {

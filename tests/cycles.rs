@@ -19,6 +19,7 @@ fn cycles(kind: ModelKind, p: &Params, steps: usize) -> (HopfPoint, Vec<CycleRec
         ntst: 40,
         at_kappa: Vec::new(),
         ntst_max: 1600,
+        collocation: None,
     };
     let h = trace_cycles(kind, p, &req, |c| {
         out.push(c.clone());

@@ -49,6 +49,7 @@ fn degenerate_hopf_is_named_and_cycles_refuse_with_a_reason() {
         ntst: 20,
         at_kappa: Vec::new(),
         ntst_max: 400,
+        collocation: None,
     };
     let err = trace_cycles(ModelKind::QuasiStatic, &p, &req, |_| Ok(()))
         .unwrap_err()
@@ -236,22 +237,24 @@ fn cutoff_law_at_and_near_the_friction_minimum() {
 
 #[test]
 fn stiff_stick_slip_cycles_are_resolved_and_match_integration() {
-    // Inertial ln² PMMA (m = 0.01) down to 0.1 kappa_c: the slip velocity spans
-    // more than seven decades within a period. Every cycle carries a finite error
-    // estimate within the accepted bound; the last one is reproduced by Radau
-    // integration (period and Delta_s to 1e-6).
+    // Inertial ln² PMMA (m = 0.01) from its Hopf point down to kappa = 1e-4
+    // (issue #4's target; a widely used Fortran code stops near 7e-4): the
+    // slip velocity spans more than fourteen decades within a period. Every
+    // cycle carries a finite error estimate within the accepted bound and is
+    // stable; the last one is reproduced by Radau integration (period and
+    // Delta_s to 1e-6).
     let p = Params {
         m: 0.01,
         ..pmma(2.4e-4)
     };
-    let kappa_c = appendix_c::critical_stiffness(&p);
     let req = CycleRequest {
-        kappa_min: 0.1 * kappa_c,
+        kappa_min: 1e-4,
         kappa_max: 1.0,
-        max_steps: 400,
+        max_steps: 1000,
         ntst: 40,
         at_kappa: Vec::new(),
         ntst_max: 12800,
+        collocation: None,
     };
     let mut cycles = Vec::new();
     trace_cycles(ModelKind::Inertial, &p, &req, |c| {
@@ -260,9 +263,9 @@ fn stiff_stick_slip_cycles_are_resolved_and_match_integration() {
     })
     .unwrap();
     let last = cycles.last().unwrap();
-    assert!(last.kappa < 0.1 * kappa_c, "reached kappa = {}", last.kappa);
+    assert!(last.kappa <= 1e-4, "reached kappa = {}", last.kappa);
     assert!(
-        last.v_max / last.v_min > 1e7,
+        last.v_max / last.v_min > 1e14,
         "{} .. {}",
         last.v_min,
         last.v_max

@@ -83,6 +83,7 @@ fn steady_sliding_and_stick_slip_coexist_at_one_stiffness() {
             ntst: 40,
             at_kappa: Vec::new(),
             ntst_max: 1600,
+            collocation: None,
         };
         let cycle = &branch(&p, &req)[0];
         assert_eq!(cycle.kappa, kappa);
@@ -106,6 +107,7 @@ fn fold_of_cycles_of_the_subcritical_onset_matches_auto() {
         ntst: 40,
         at_kappa: Vec::new(),
         ntst_max: 1600,
+        collocation: None,
     };
     let cycles = branch(&p, &req);
     let lpc: Vec<&CycleRecord> = cycles.iter().filter_map(|c| c.lpc.as_deref()).collect();

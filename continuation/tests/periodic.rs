@@ -2,9 +2,11 @@
 
 use continuation::newton::NewtonSettings;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::collocation::Collocation;
 use continuation::periodic::cycle::Cycle;
+use continuation::periodic::floquet::pencil_multipliers;
 use continuation::periodic::lpc::{locate_lpc, LpcCurve, LpcCurveSettings};
-use continuation::periodic::mesh::Mesh;
+use continuation::periodic::mesh::{CollocationPoints, Mesh};
 use continuation::{Complex64, Scalar, VectorField};
 
 /// Stuart–Landau `Z' = (beta + i w) Z - Z |Z|^2 + i g Z |Z|^2` (beta = p):
@@ -62,14 +64,20 @@ fn stuart_landau_cycles_radius_period_and_multipliers() {
             "trivial multiplier off by {}",
             pt.trivial_error
         );
-        let nontrivial = pt
-            .multipliers
-            .iter()
-            .map(|z| z.norm())
-            .fold(f64::INFINITY, f64::min);
+        // The nontrivial multiplier twice: by Liouville's formula (what the
+        // branch reports for planar systems) and from the Floquet pencil.
+        let exact = (-2.0 * beta * period).exp();
+        let smallest = |mu: &[Complex64]| mu.iter().map(|z| z.norm()).fold(f64::INFINITY, f64::min);
+        let liouville = smallest(&pt.multipliers);
         assert!(
-            (nontrivial / (-2.0 * beta * period).exp() - 1.0).abs() < 1e-7,
-            "beta = {beta}: mu = {nontrivial}"
+            (liouville / exact - 1.0).abs() < 1e-9,
+            "beta = {beta}: Liouville mu = {liouville} vs {exact}"
+        );
+        let coll = Collocation::new(&sys, c, 0);
+        let pencil = smallest(&pencil_multipliers(&coll.linearize(&coll.unknowns(c)), 2).unwrap());
+        assert!(
+            (pencil / exact - 1.0).abs() < 1e-7,
+            "beta = {beta}: pencil mu = {pencil} vs {exact}"
         );
         assert_eq!(pt.n_unstable, 0);
         count += 1;
@@ -158,10 +166,8 @@ impl VectorField for VanDerPol {
     }
 }
 
-fn vdp_period(ntst: usize, degree: usize) -> f64 {
-    use continuation::periodic::cycle::Cycle;
-    use continuation::periodic::mesh::Mesh;
-    let mesh = Mesh::uniform(ntst, degree);
+fn vdp_period(ntst: usize, degree: usize, points: CollocationPoints) -> f64 {
+    let mesh = Mesh::uniform(ntst, degree, points);
     let mut u = Vec::new();
     for i in 0..ntst {
         for l in 0..degree {
@@ -179,6 +185,8 @@ fn vdp_period(ntst: usize, degree: usize) -> f64 {
     let settings = CycleSettings {
         adapt_every: 0,
         mesh_tol: f64::INFINITY,
+        trivial_tol: f64::INFINITY,
+        points,
         ..Default::default()
     };
     let mut branch = CycleBranch::from_cycle(&VanDerPol, guess, 0, None, settings).unwrap();
@@ -190,25 +198,44 @@ fn vdp_period(ntst: usize, degree: usize) -> f64 {
     first.cycle.period
 }
 
-#[test]
-fn period_converges_at_order_2m_in_ntst() {
-    // Gauss collocation of degree m: superconvergence O(h^(2m)) at mesh points and for the period.
-    let m = 2;
-    let reference = vdp_period(400, 4);
+/// Observed orders of the period error of van der Pol (mu = 1) on uniform
+/// meshes of `ntsts` intervals, against a 400-interval Gauss reference.
+fn vdp_orders(m: usize, points: CollocationPoints, ntsts: [usize; 3]) -> Vec<f64> {
+    let reference = vdp_period(400, 4, CollocationPoints::Gauss);
     assert!(
         (reference - 6.66328685932313).abs() < 1e-10,
         "van der Pol mu = 1 period {reference}"
     );
-    let errs: Vec<f64> = [20, 40, 80]
+    let errs: Vec<f64> = ntsts
         .iter()
-        .map(|&n| (vdp_period(n, m) - reference).abs())
+        .map(|&n| (vdp_period(n, m, points) - reference).abs())
         .collect();
-    for w in errs.windows(2) {
-        let order = (w[0] / w[1]).log2();
+    errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+}
+
+#[test]
+fn period_converges_at_order_2m_in_ntst() {
+    // Gauss collocation of degree m: superconvergence O(h^(2m)) at mesh points and for the period.
+    let m = 2;
+    for order in vdp_orders(m, CollocationPoints::Gauss, [20, 40, 80]) {
         assert!(
             (order - 2.0 * m as f64).abs() < 0.6,
-            "observed order {order} (errors {errs:?})"
+            "observed order {order}"
         );
+    }
+}
+
+#[test]
+fn radau_period_converges_at_order_2m_minus_1_in_ntst() {
+    // Radau IIA collocation of degree m: O(h^(2m - 1)) at mesh points
+    // (asymptotic from 40 intervals on for m = 3).
+    for m in [2, 3] {
+        for order in vdp_orders(m, CollocationPoints::Radau, [40, 80, 160]) {
+            assert!(
+                (order - (2 * m - 1) as f64).abs() < 0.6,
+                "m = {m}: observed order {order}"
+            );
+        }
     }
 }
 
@@ -371,7 +398,7 @@ impl VectorField for TwistedBand {
 
 /// The unit circle of the twisted band, exact, on 20 intervals, at parameters `p`.
 fn twisted_band_cycle(p: [f64; 2]) -> Cycle {
-    let mesh = Mesh::uniform(20, 4);
+    let mesh = Mesh::uniform(20, 4, Default::default());
     let mut u = Vec::new();
     for i in 0..mesh.ntst() {
         for l in 0..mesh.degree {

@@ -11,6 +11,7 @@ use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::mesh::CollocationPoints;
 use continuation::Complex64;
 
 /// Which continuation a cycle comes from.
@@ -88,6 +89,24 @@ pub struct CycleRequest {
     pub at_kappa: Vec<f64>,
     /// Most mesh intervals the automatic refinement may use.
     pub ntst_max: usize,
+    /// Collocation points; `None`: [`collocation_for`] the model.
+    pub collocation: Option<CollocationPoints>,
+}
+
+/// The collocation points for cycles of `kind`:
+///
+/// - inertial: Radau IIA. While the block sticks, its velocity relaxes onto
+///   the quasi-static manifold at the rate `mu_v / (m v)`, up to `1e12` for
+///   `v ~ 1e-13`; Gauss collocation (not L-stable) leaves the velocity's
+///   polynomials oscillating between the Gauss points there, the
+///   equidistributed mesh then drains from the slip into the stick, and
+///   the branch stalls. Radau points put every mesh point on the manifold.
+/// - quasi-static: Gauss (no stiff component; one order more, `2m`).
+pub fn collocation_for(kind: ModelKind) -> CollocationPoints {
+    match kind {
+        ModelKind::Inertial => CollocationPoints::Radau,
+        ModelKind::QuasiStatic => CollocationPoints::Gauss,
+    }
 }
 
 /// The cycles in their order along the branch: the leg toward smaller
@@ -191,7 +210,7 @@ pub fn trace_cycles_from(
         h.omega_c,
         &p,
         Param::Kappa as usize,
-        settings(req, req.ntst),
+        settings(kind, req, req.ntst),
     )
     .map_err(NumericalError::from)?;
     follow(&log, branch, Leg::FromHopf, 0, &mut sink)
@@ -232,7 +251,7 @@ pub fn trace_cycles_from_orbit(
             guess.clone(),
             Param::Kappa as usize,
             Some(seed),
-            settings(req, ntst),
+            settings(kind, req, ntst),
         )
         .map_err(|e| NumericalError::from(e).into())
         .and_then(|branch| follow(&log, branch, leg, i, &mut sink));
@@ -245,8 +264,9 @@ pub fn trace_cycles_from_orbit(
 }
 
 /// Continuation settings for `req`, starting on `ntst` intervals.
-fn settings(req: &CycleRequest, ntst: usize) -> CycleSettings {
+fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
     CycleSettings {
+        points: req.collocation.unwrap_or(collocation_for(kind)),
         ntst,
         p_min: req.kappa_min,
         p_max: req.kappa_max,

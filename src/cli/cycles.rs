@@ -5,10 +5,12 @@
 use super::cycle_start::Start;
 use super::files::with_suffix;
 use super::{params_json, SceneArgs, Setup};
-use crate::analysis::cycles::{along_branch, CycleRecord, CycleRequest};
+use crate::analysis::cycles::{along_branch, collocation_for, CycleRecord, CycleRequest};
 use crate::error::{Error, InputError};
+use crate::model::ModelKind;
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
+use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
 use serde_json::{json, Value};
 use std::io::Write;
@@ -40,6 +42,11 @@ pub struct CyclesArgs {
     /// Most mesh intervals the automatic refinement may use (the cost grows with it).
     #[arg(long, default_value_t = 12800)]
     pub ntst_max: usize,
+    /// Collocation points instead of the model's choice (Radau IIA for the
+    /// inertial block, whose velocity relaxes stiffly while it sticks; Gauss
+    /// for the quasi-static one).
+    #[arg(long, value_enum)]
+    pub collocation: Option<Points>,
     /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
     pub at_kappa: Vec<f64>,
@@ -49,6 +56,22 @@ pub struct CyclesArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `--collocation` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Points {
+    Gauss,
+    Radau,
+}
+
+impl From<Points> for CollocationPoints {
+    fn from(p: Points) -> Self {
+        match p {
+            Points::Gauss => CollocationPoints::Gauss,
+            Points::Radau => CollocationPoints::Radau,
+        }
+    }
 }
 
 fn record_json(c: &CycleRecord) -> Value {
@@ -81,14 +104,22 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if let (Some(text), false) = (start.describe(&setup), args.json) {
         println!("{text}");
     }
+    let points = args
+        .collocation
+        .map_or(collocation_for(setup.choice.kind), Into::into);
+    if !args.json {
+        println!("{}", numerics(points, args.collocation.is_some(), &setup));
+    }
     std::fs::create_dir_all(&args.out)?;
     let stem = with_suffix(&super::files::stem(&args.out, &setup.scene.name), "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
     let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
     writeln!(
         csv,
-        "# scene {}; model {}",
-        setup.scene.name, setup.choice.reason
+        "# scene {}; model {}; collocation {}",
+        setup.scene.name,
+        setup.choice.reason,
+        points_name(points)
     )?;
     writeln!(
         csv,
@@ -102,6 +133,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ntst: args.ntst,
         at_kappa: args.at_kappa.clone(),
         ntst_max: args.ntst_max,
+        collocation: Some(points),
     };
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
@@ -194,6 +226,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             "params": params_json(&setup.params),
             "kappa_c": start.kappa_c(),
             "start": start.json(),
+            "collocation": points_name(points),
             "cycles": records.iter().map(record_json).collect::<Vec<_>>(),
             "special_points": records.iter().flat_map(CycleRecord::special_points).map(|(kind, l)| json!({
                 "kind": kind, "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
@@ -218,6 +251,43 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         Some(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }
+}
+
+/// `gauss` or `radau`.
+fn points_name(points: CollocationPoints) -> &'static str {
+    match points {
+        CollocationPoints::Gauss => "gauss",
+        CollocationPoints::Radau => "radau",
+    }
+}
+
+/// What the numerics are and why: the collocation points, and how stability
+/// is decided.
+fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
+    let why = match (forced, points) {
+        (true, _) => "as asked (--collocation)",
+        (false, CollocationPoints::Radau) => {
+            "L-stable, for the stiff relaxation of the velocity while the block sticks"
+        }
+        (false, CollocationPoints::Gauss) => "no stiff component in the quasi-static model",
+    };
+    let stability = match setup.choice.kind {
+        ModelKind::QuasiStatic => {
+            "stability from the nontrivial multiplier exp(int_0^T tr J dt) (Liouville's formula, \
+             exact in the plane); |mu_1 - 1| checks the Floquet pencil only"
+        }
+        ModelKind::Inertial => {
+            "stability from the Floquet pencil; |mu_1 - 1| is its error at the trivial multiplier"
+        }
+    };
+    format!(
+        "collocation: {} points, degree {} ({why}); {stability}",
+        match points {
+            CollocationPoints::Gauss => "Gauss-Legendre",
+            CollocationPoints::Radau => "Radau IIA",
+        },
+        continuation::periodic::branch::CycleSettings::default().degree
+    )
 }
 
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.

@@ -194,7 +194,7 @@ fn solve(
         if adaptive {
             equidistribute(orbit, ntst).mesh
         } else {
-            Mesh::uniform(ntst, fine.mesh.degree)
+            Mesh::uniform(ntst, fine.mesh.degree, fine.mesh.points)
         }
     };
     // Corrected at fixed stiffness, with tangent and multipliers.

@@ -4,7 +4,6 @@
 //! collocation error `h^(m+1) |u^(m+1)|`.
 
 use super::cycle::Cycle;
-use super::mesh::Mesh;
 
 /// The `m`-th derivative (in `tau`) of the local polynomial of every
 /// interval: the `m`-th divided difference of its `m + 1` node values.
@@ -69,5 +68,5 @@ pub fn equidistribute(c: &Cycle, ntst: usize) -> Cycle {
         t.push(c.mesh.t[i] + frac * (c.mesh.t[i + 1] - c.mesh.t[i]));
     }
     t.push(1.0);
-    c.remesh(Mesh::new(t, c.mesh.degree))
+    c.remesh(c.mesh.on(t))
 }

@@ -384,6 +384,7 @@ mod tests {
                 local: locals,
                 phase: dense.row(0).columns(0, nn).iter().copied().collect(),
                 term_scale: 0.0,
+                trace_integral: 0.0,
             };
             let extra: Vec<f64> = dense.row(1).iter().copied().collect();
             let x = solve_bordered(&lin, n, &extra, &rhs).unwrap();

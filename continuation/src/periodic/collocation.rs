@@ -42,6 +42,9 @@ pub struct Linearization {
     /// leaves residuals of about `eps` times this (large on stiff stretches
     /// of an orbit, where `f` has huge, canceling terms).
     pub term_scale: f64,
+    /// `int_0^T tr J(x(t)) dt` by the collocation quadrature: the logarithm
+    /// of the product of the Floquet multipliers (Liouville's formula).
+    pub trace_integral: f64,
 }
 
 impl<'a, S: VectorField> Collocation<'a, S> {
@@ -112,6 +115,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let (mut x, mut dx) = (vec![0.0; n], vec![0.0; n]);
         let mut term_scale = 0.0f64;
         let mut row_sums = vec![0.0; n];
+        let mut trace_integral = 0.0;
         for i in 0..self.mesh.ntst() {
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
             let mut block = DMatrix::zeros(m * n, (m + 1) * n + 2);
@@ -150,6 +154,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 }
                 term_scale = row_sums.iter().fold(term_scale, |a, v| a.max(*v));
                 let w = h * self.mesh.weights[kk];
+                trace_integral += w * period * (0..n).map(|j| jac[(j, j)]).sum::<f64>();
                 let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
                 for j in 0..n {
                     residual[nn] += w * x[j] * dref[j];
@@ -168,6 +173,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             local,
             phase,
             term_scale,
+            trace_integral,
         }
     }
 }

@@ -13,6 +13,14 @@
 //! decades (stiff stick-slip cycles) keep their relative accuracy. The
 //! condensation and the reduction are those of the Newton solves
 //! ([`super::bordered`]), without border columns.
+//!
+//! In the plane the nontrivial multiplier is known in closed form: by
+//! Liouville's formula the product of the multipliers is
+//! `exp(int_0^T tr J dt)`, and the trivial one is exactly 1, so the other is
+//! `exp(int_0^T tr J dt)` (Kuznetsov 1998, §1.5). Where perturbations grow
+//! by many decades during a slip, the pencil's eigenvalues carry rounding of
+//! `eps` times that growth; the trace integral does not, so stability of a
+//! planar cycle is always decided.
 
 use super::bordered::{condense, reduce_pencil};
 use super::collocation::Linearization;
@@ -21,8 +29,23 @@ use nalgebra::DMatrix;
 use num_complex::Complex64;
 
 /// Floquet multipliers of the orbit whose collocation system is linearized
-/// in `lin` (state dimension `n`), sorted by decreasing modulus.
+/// in `lin` (state dimension `n`), sorted by decreasing modulus: those of the
+/// pencil, except that in the plane (`n = 2`) the nontrivial one is
+/// `exp(int_0^T tr J dt)` (Liouville).
 pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, ContinuationError> {
+    let mut mu = pencil_multipliers(lin, n)?;
+    if let (2, Some(trivial)) = (n, trivial_index(&mu)) {
+        mu[1 - trivial] = Complex64::from(lin.trace_integral.exp());
+        mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
+    }
+    Ok(mu)
+}
+
+/// The eigenvalues of the condensed Floquet pencil, sorted by decreasing modulus.
+pub fn pencil_multipliers(
+    lin: &Linearization,
+    n: usize,
+) -> Result<Vec<Complex64>, ContinuationError> {
     let ntst = lin.local.len();
     let chain = lin
         .local

@@ -1,7 +1,9 @@
 //! Collocation meshes: `NTST` intervals of `[0, 1]`, a degree-`m` polynomial
 //! on each, represented by its values at `m + 1` equally spaced nodes, and
-//! collocation at the `m` Gauss–Legendre points (de Boor & Swartz 1973;
-//! Doedel, AUTO-07p manual, §"orthogonal collocation").
+//! collocation at `m` points of every interval: the Gauss–Legendre points
+//! (de Boor & Swartz 1973; Doedel, AUTO-07p manual, §"orthogonal
+//! collocation") or the Radau IIA points (Hairer & Wanner, *Solving ODEs II*,
+//! §IV.5), which make the scheme L-stable for stiff orbits.
 
 use smallvec::SmallVec;
 
@@ -33,6 +35,48 @@ pub fn gauss_legendre(m: usize) -> (Vec<f64>, Vec<f64>) {
         nodes.push(0.5 * (1.0 - x));
         weights.push(1.0 / ((1.0 - x * x) * dp * dp));
     }
+    (nodes, weights)
+}
+
+/// The Radau IIA points on `(0, 1]` (right end included) and their
+/// quadrature weights: the zeros of `P_m(2z - 1) - P_{m-1}(2z - 1)`, found by
+/// bisection between sign changes on a fine grid; the weights make the
+/// quadrature exact for polynomials of degree `m - 1` (it then is for `2m - 2`).
+pub fn radau_right(m: usize) -> (Vec<f64>, Vec<f64>) {
+    let q = |x: f64| {
+        let xi = 2.0 * x - 1.0;
+        let (mut p0, mut p1) = (1.0, xi);
+        for k in 2..=m {
+            let p2 = ((2 * k - 1) as f64 * xi * p1 - (k - 1) as f64 * p0) / k as f64;
+            p0 = p1;
+            p1 = p2;
+        }
+        p1 - p0
+    };
+    let grid = 64 * m;
+    let mut nodes = Vec::with_capacity(m);
+    for g in 0..grid - 1 {
+        let (mut a, mut b) = (g as f64 / grid as f64, (g + 1) as f64 / grid as f64);
+        if q(a) * q(b) > 0.0 {
+            continue;
+        }
+        for _ in 0..80 {
+            let c = 0.5 * (a + b);
+            if q(a) * q(c) <= 0.0 {
+                b = c;
+            } else {
+                a = c;
+            }
+        }
+        nodes.push(0.5 * (a + b));
+    }
+    nodes.push(1.0);
+    let moments = nalgebra::DMatrix::from_fn(m, m, |k, i| nodes[i].powi(k as i32));
+    let rhs = nalgebra::DVector::from_fn(m, |k, _| 1.0 / (k as f64 + 1.0));
+    let weights = moments
+        .lu()
+        .solve(&rhs)
+        .map_or_else(Vec::new, |w| w.iter().copied().collect());
     (nodes, weights)
 }
 
@@ -85,6 +129,21 @@ pub fn lagrange_values(m: usize, z: f64) -> SmallVec<[f64; 8]> {
         .collect()
 }
 
+/// Where the collocation equations are imposed in every interval.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CollocationPoints {
+    /// Gauss–Legendre: order `2m` at the mesh points; A-stable but not
+    /// L-stable — a stiff component is pinned to its slow manifold at the
+    /// Gauss points only, and between them its polynomial may oscillate.
+    #[default]
+    Gauss,
+    /// Radau IIA (right end of the interval included): order `2m - 1` at the
+    /// mesh points and L-stable: on stiff stretches (the stuck phase of
+    /// stick-slip, where the velocity relaxes at rates of `1e10`) every
+    /// mesh point lies on the slow manifold and the polynomials stay smooth.
+    Radau,
+}
+
 /// A collocation mesh with its precomputed basis tables.
 #[derive(Clone, Debug)]
 pub struct Mesh {
@@ -92,32 +151,53 @@ pub struct Mesh {
     pub t: Vec<f64>,
     /// Polynomial degree `m`.
     pub degree: usize,
-    /// Gauss points on `(0, 1)` and weights.
-    pub gauss: Vec<f64>,
+    /// Which collocation points.
+    pub points: CollocationPoints,
+    /// Collocation points on `(0, 1]` and their quadrature weights.
+    pub nodes: Vec<f64>,
     pub weights: Vec<f64>,
-    /// `basis[k][l] = L_l(z_k)`, `dbasis[k][l] = L_l'(z_k)` (derivative in the local variable).
+    /// `basis[k][l] = L_l(z_k)`, `dbasis[k][l] = L_l'(z_k)` at collocation
+    /// point `z_k` (derivative in the local variable).
     pub basis: Vec<Vec<f64>>,
     pub dbasis: Vec<Vec<f64>>,
 }
 
 impl Mesh {
-    /// A mesh on the given points (strictly increasing, from 0 to 1).
+    /// A Gauss mesh on the given points (strictly increasing, from 0 to 1).
     pub fn new(t: Vec<f64>, degree: usize) -> Self {
-        let (gauss, weights) = gauss_legendre(degree);
-        let (basis, dbasis) = gauss.iter().map(|&z| lagrange(degree, z)).unzip();
+        Mesh::with_points(t, degree, CollocationPoints::Gauss)
+    }
+
+    /// A mesh on the given points with the given collocation points.
+    pub fn with_points(t: Vec<f64>, degree: usize, points: CollocationPoints) -> Self {
+        let (nodes, weights) = match points {
+            CollocationPoints::Gauss => gauss_legendre(degree),
+            CollocationPoints::Radau => radau_right(degree),
+        };
+        let (basis, dbasis) = nodes.iter().map(|&z| lagrange(degree, z)).unzip();
         Mesh {
             t,
             degree,
-            gauss,
+            points,
+            nodes,
             weights,
             basis,
             dbasis,
         }
     }
 
+    /// A mesh of the same degree and collocation points on other mesh points.
+    pub fn on(&self, t: Vec<f64>) -> Self {
+        Mesh::with_points(t, self.degree, self.points)
+    }
+
     /// A uniform mesh of `ntst` intervals.
-    pub fn uniform(ntst: usize, degree: usize) -> Self {
-        Mesh::new((0..=ntst).map(|i| i as f64 / ntst as f64).collect(), degree)
+    pub fn uniform(ntst: usize, degree: usize, points: CollocationPoints) -> Self {
+        Mesh::with_points(
+            (0..=ntst).map(|i| i as f64 / ntst as f64).collect(),
+            degree,
+            points,
+        )
     }
 
     /// Number of intervals.
@@ -167,6 +247,27 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn radau_points_are_the_tableau_and_integrate_degree_2m_minus_2_exactly() {
+        for m in 1..=7 {
+            let (z, w) = radau_right(m);
+            assert_eq!(z.len(), m);
+            assert_eq!(z[m - 1], 1.0);
+            for d in 0..2 * m - 1 {
+                let q: f64 = z.iter().zip(&w).map(|(z, w)| w * z.powi(d as i32)).sum();
+                assert!(
+                    (q - 1.0 / (d as f64 + 1.0)).abs() < 1e-13,
+                    "m = {m}, degree {d}"
+                );
+            }
+        }
+        // Radau IIA, three stages (Hairer & Wanner, Table IV.5.6): (4 -+ sqrt 6)/10, 1.
+        let (z, _) = radau_right(3);
+        let s6 = 6f64.sqrt();
+        assert!((z[0] - (4.0 - s6) / 10.0).abs() < 1e-15);
+        assert!((z[1] - (4.0 + s6) / 10.0).abs() < 1e-15);
     }
 
     #[test]

@@ -11,7 +11,7 @@ mod refine;
 
 use super::cycle::Cycle;
 use super::floquet::{multipliers, trivial_index, trivial_multiplier_error};
-use super::mesh::Mesh;
+use super::mesh::{CollocationPoints, Mesh};
 use super::newton::{correct_along, newton_bordered, tangent, ArcWeights};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
@@ -26,6 +26,8 @@ pub struct CycleSettings {
     pub ntst: usize,
     /// Collocation degree. Default 4.
     pub degree: usize,
+    /// Collocation points. Default Gauss (Radau for stiff orbits).
+    pub points: CollocationPoints,
     /// Initial, smallest and largest arclength step.
     pub ds: f64,
     pub ds_min: f64,
@@ -77,6 +79,7 @@ impl Default for CycleSettings {
         CycleSettings {
             ntst: 50,
             degree: 4,
+            points: CollocationPoints::Gauss,
             ds: 1e-3,
             ds_min: 1e-12,
             ds_max: 0.5,
@@ -179,7 +182,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let r = settings.start_amplitude * scale;
         let dp = -nf.c1.re * r * r / dl.re;
         let xp = crate::linalg::solve(jacobian(sys, x0, p0), &(-param_derivative(sys, x0, p0, k)))?;
-        let mesh = Mesh::uniform(settings.ntst, settings.degree);
+        let mesh = Mesh::uniform(settings.ntst, settings.degree, settings.points);
         let mut u = Vec::with_capacity(mesh.n_nodes() * n);
         let mut du = Vec::with_capacity(mesh.n_nodes() * n);
         for i in 0..mesh.ntst() {
@@ -224,6 +227,11 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                 "a cycle mesh needs at least 2 intervals".into(),
             ));
         }
+        // The node values do not depend on where the equations are imposed.
+        let guess = Cycle {
+            mesh: Mesh::with_points(guess.mesh.t.clone(), guess.mesh.degree, settings.points),
+            ..guess
+        };
         let coll = Collocation::new(sys, &guess, k);
         let mut z = coll.unknowns(&guess);
         let nz = z.len();
@@ -278,7 +286,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                         let ds = self.ds;
                         self.z = z.clone();
                         self.tangent = t_new;
-                        if rep.iterations <= 3 {
+                        if rep.iterations <= 5 {
                             self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
                         }
                         return Ok((*rep, ds));
@@ -387,19 +395,19 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
             return None;
         }
         let result = if self.steps == 0 {
-            self.point(NewtonReport {
+            // The first orbit, like every other, on a mesh fine enough for it.
+            self.refined_point(NewtonReport {
                 iterations: 0,
                 residual: 0.0,
                 step: 0.0,
             })
-            .map(|mut pt| {
-                pt.error_estimate = self.error_estimate(&pt.cycle);
-                pt
-            })
         } else {
-            if self.settings.adapt_every > 0 && self.steps.is_multiple_of(self.settings.adapt_every)
+            let ntst = self.mesh_size();
+            if ntst != self.coll.mesh.ntst()
+                || (self.settings.adapt_every > 0
+                    && self.steps.is_multiple_of(self.settings.adapt_every))
             {
-                self.adapt(self.coll.mesh.ntst());
+                self.adapt(ntst);
             }
             let (z0, t0) = (self.z.clone(), self.tangent.clone());
             let coll0 = Collocation::new(self.sys, &self.coll.cycle(&z0), self.k);

@@ -8,7 +8,12 @@
 //! perturbations grow by many decades during the slip, and the multiplier 1
 //! is then so ill-conditioned that its computed distance from 1 is set by
 //! rounding (`eps` times that growth), whatever the mesh. That floor is
-//! detected (doubling the mesh no longer divides the error by 4) and accepted.
+//! detected (doubling the mesh no longer divides the error by 4) and
+//! accepted, and the orbit stays on the coarser mesh.
+//!
+//! Where an estimate falls far below the tolerance the next step halves the
+//! mesh ([`CycleBranch::mesh_size`]): the intervals a stretch of the branch
+//! needed are not carried along the rest of it.
 
 use super::{point_at, CycleBranch, CyclePoint};
 use crate::error::ContinuationError;
@@ -76,7 +81,9 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     param: self.z[self.z.len() - 1],
                 });
             }
-            let before = pt.trivial_error;
+            // Kept while the orbit is resolved and only the multipliers ask
+            // for more intervals: if they do not improve, the coarser mesh stays.
+            let coarser = orbit_resolved.then(|| (self.coll.cycle(&self.z), self.tangent.clone()));
             self.adapt((2 * ntst).min(self.settings.ntst_max));
             // Corrected on the hyperplane through the orbit normal to the
             // branch: well posed also near a Hopf point or a fold, where the
@@ -91,22 +98,32 @@ impl<S: VectorField> CycleBranch<'_, S> {
                 &anchor,
             )?;
             self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-            pt = self.point(rep)?;
-            if orbit_resolved && pt.trivial_error > 0.25 * before {
-                // Twice the intervals did not help the multipliers (a
-                // discretization error would fall by 2^(m+1) or more): their
-                // error is the rounding floor of this orbit; accept it from now on.
-                self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
+            let finer = self.point(rep)?;
+            if let Some((orbit, tangent)) = coarser {
+                if finer.trivial_error > 0.25 * pt.trivial_error {
+                    // Twice the intervals did not help the multipliers (a
+                    // discretization error would fall by 2^(m+1) or more):
+                    // their error is the rounding floor of this orbit; accept
+                    // it from now on, on the mesh the orbit needs.
+                    self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
+                    self.coll = Collocation::new(self.sys, &orbit, self.k);
+                    self.z = self.coll.unknowns(&orbit);
+                    self.tangent = tangent;
+                    break;
+                }
             }
+            pt = finer;
         }
         // Past `trivial_limit`, stability is still decided while no other
-        // multiplier lies within the trivial one's error of the unit circle.
+        // multiplier lies within the trivial one's error of the unit circle
+        // (always in the plane, where the other multiplier is exact).
         let near_circle = pt
             .multipliers
             .iter()
             .filter(|z| (z.norm() - 1.0).abs() <= 10.0 * pt.trivial_error)
             .count();
-        if pt.trivial_error > self.settings.trivial_limit
+        if self.sys.dim() > 2
+            && pt.trivial_error > self.settings.trivial_limit
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
             return Err(ContinuationError::FloquetIllConditioned {
@@ -149,22 +166,45 @@ impl<S: VectorField> CycleBranch<'_, S> {
         }
     }
 
+    /// Intervals for the next orbit: half the current mesh when its last
+    /// (fresh) estimate is below `mesh_tol / (8 * 2^(m+1))` — halving raises
+    /// the error by about `2^(m+1)`, which leaves a margin of 8 — and never
+    /// fewer than the initial `ntst`; else the current mesh.
+    pub(super) fn mesh_size(&self) -> usize {
+        let ntst = self.coll.mesh.ntst();
+        let order = self.coll.mesh.degree as i32 + 1;
+        let far_below = self.settings.mesh_tol / (8.0 * 2f64.powi(order));
+        let fresh = self.since_estimate == 0 && self.last_ntst == ntst;
+        if fresh && self.last_estimate < far_below && ntst / 2 >= self.settings.ntst {
+            ntst / 2
+        } else {
+            ntst
+        }
+    }
+
     /// The branch's tangent moved onto `mesh` (unit length there).
     fn tangent_on(&self, mesh: &Mesh) -> Vec<f64> {
+        let t = self.moved_to(&self.tangent, mesh);
+        let norm = ArcWeights::at(&self.z, self.settings.param_floor)
+            .dot(&t, &t)
+            .sqrt();
+        t.iter().map(|v| v / norm).collect()
+    }
+
+    /// A vector of unknowns on the current mesh (orbit part interpolated)
+    /// moved onto `mesh`.
+    fn moved_to(&self, v: &[f64], mesh: &Mesh) -> Vec<f64> {
         let orbit = self.coll.cycle(&self.z);
         let nn = orbit.u.len();
-        let mut t = Cycle {
-            u: self.tangent[..nn].to_vec(),
+        let mut moved = Cycle {
+            u: v[..nn].to_vec(),
             period: 0.0,
             ..orbit
         }
         .remesh(mesh.clone())
         .u;
-        t.extend_from_slice(&self.tangent[nn..]);
-        let norm = ArcWeights::at(&self.z, self.settings.param_floor)
-            .dot(&t, &t)
-            .sqrt();
-        t.iter().map(|v| v / norm).collect()
+        moved.extend_from_slice(&v[nn..]);
+        moved
     }
 
     pub(super) fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
