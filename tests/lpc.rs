@@ -7,6 +7,7 @@ use continuation::periodic::lpc::locate_lpc;
 use stickslip::analysis::cycles::hopf_start;
 use stickslip::analysis::diagram::stability_diagram;
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+use stickslip::analysis::lpc_curve::{lpc_curve_through, LpcCurvePoint};
 use stickslip::log_model::LogBlock;
 use stickslip::model::ModelKind;
 use stickslip::params::{Param, Params};
@@ -43,6 +44,10 @@ fn fold_on_branch(p: &Params) -> (CyclePoint, CyclePoint) {
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
         param_floor: 1e-3 * h.kappa_c,
+        // Short steps: the orbit before the fold then lies within reach of
+        // Newton's method on the fold system (route 2 diverges from 1.3 %
+        // below the fold in kappa).
+        ds_max: 0.05,
         ..Default::default()
     };
     let branch =
@@ -115,7 +120,12 @@ fn the_curve_of_folds_starts_at_the_bautin_point_and_holds_folds_of_the_branches
         curve.iter().any(|p| p.nu > 150.0),
         "the curve stays below V_min"
     );
-    // Points of the curve below V_min are the folds of the one-parameter branches there.
+    assert_holds_branch_folds(curve);
+}
+
+/// Points of a curve of folds below V_min are the folds of the one-parameter
+/// branches there (to 1e-7).
+fn assert_holds_branch_folds(curve: &[LpcCurvePoint]) {
     for target in [85.0, 95.0] {
         let pt = curve
             .iter()
@@ -130,4 +140,26 @@ fn the_curve_of_folds_starts_at_the_bautin_point_and_holds_folds_of_the_branches
             pt.kappa
         );
     }
+}
+
+#[test]
+fn the_curve_through_a_fold_found_on_a_branch_holds_the_other_folds() {
+    // Started from the fold of the branch at nu = 90 (not from a Bautin
+    // point), on that orbit's own mesh.
+    let (fold, _) = fold_on_branch(&brockley(90.0));
+    let curves = lpc_curve_through(
+        ModelKind::Inertial,
+        &brockley(90.0),
+        &fold.cycle,
+        (80.0, 300.0),
+    );
+    let curve = &curves.points[0];
+    assert!(
+        curve.first().unwrap().nu < 85.0 && curve.last().unwrap().nu > 150.0,
+        "{} .. {}: {:?}",
+        curve.first().unwrap().nu,
+        curve.last().unwrap().nu,
+        curves.stops
+    );
+    assert_holds_branch_folds(curve);
 }

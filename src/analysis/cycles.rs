@@ -11,6 +11,7 @@ use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::Complex64;
 
@@ -64,6 +65,9 @@ pub struct CycleRecord {
     pub user_point: bool,
     /// The continuation it belongs to.
     pub leg: Leg,
+    /// For a fold of cycles: its orbit in the model's log variables, to
+    /// continue the fold in two parameters ([`crate::analysis::lpc_curve::lpc_curve_through`]).
+    pub orbit: Option<Cycle>,
 }
 
 impl CycleRecord {
@@ -156,7 +160,12 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
                 [*tau, s, v, theta]
             })
             .collect(),
-        lpc: pt.lpc.as_ref().map(|l| Box::new(record(log, l, leg))),
+        lpc: pt.lpc.as_ref().map(|l| {
+            Box::new(CycleRecord {
+                orbit: Some(l.cycle.clone()),
+                ..record(log, l, leg)
+            })
+        }),
         pd: pt.pd.as_ref().map(|l| Box::new(record(log, l, leg))),
         ns: pt.ns.as_ref().map(|l| Box::new(record(log, l, leg))),
         user: pt
@@ -169,6 +178,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
             .collect(),
         user_point: false,
         leg,
+        orbit: None,
     }
 }
 

@@ -135,64 +135,103 @@ pub fn lpc_curves(
                 continue;
             }
         };
-        let trace = |direction: f64| {
-            let settings = LpcCurveSettings {
-                p2_min: lo,
-                p2_max: hi,
-                param_floor: [1e-9, lo],
-                min_amplitude: 1e-3,
-                max_steps: 300,
-                ds_max: 0.2,
-                ds_min: 1e-5,
-                ..Default::default()
-            };
-            let mut half = Vec::new();
-            let mut failure = None;
-            match LpcCurve::new(
-                &log,
-                &fold,
-                (Param::Kappa as usize, Param::Nu as usize),
-                direction,
-                settings,
-            ) {
-                Ok(points) => {
-                    for pt in points {
-                        match pt {
-                            Ok(pt) => half.push(record(&pt.cycle)),
-                            Err(e) => {
-                                failure = Some(e.to_string());
-                                break;
-                            }
-                        }
-                    }
-                }
-                Err(e) => failure = Some(e.to_string()),
-            }
-            (half, failure)
-        };
-        // Both ways at once.
-        let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
-        let mut curve = Vec::new();
-        for (direction, (mut half, failure)) in [(-1.0, down), (1.0, up)] {
-            // Ending next to a Bautin point is the expected end: the folded
-            // cycles shrink to nothing there and the fold system degenerates.
-            let end = half.last().map(|p| (p.nu, p.kappa));
-            let at_bautin = end.is_some_and(|(nu, _)| bautins.iter().any(|b| near(nu, b.nu)));
-            if let (Some(cause), Some((nu, kappa)), false) = (failure, end, at_bautin) {
-                out.stops.push(format!(
-                    "the fold-of-cycles curve ends at nu = {nu:.6e}, kappa = {kappa:.6e}: {} \
-                     (the curve is traced on {LPC_NTST} mesh intervals; its cycles may have \
-                     become too stiff for them)",
-                    cause.replace("p[1] along the fold of cycles", "nu")
-                ));
-            }
-            if direction < 0.0 {
-                half.reverse();
-                half.pop();
-            }
-            curve.extend(half);
-        }
+        let (curve, stops) = trace_through(&log, &fold, (lo, hi), &|nu| {
+            bautins.iter().any(|b| near(nu, b.nu))
+        });
+        out.stops.extend(stops);
         out.points.push(curve);
     }
     out
+}
+
+/// The curve of folds of cycles through the fold `fold` (an orbit of `log`
+/// at a fold in `kappa`, e.g. one located on a cycle branch), continued in
+/// `(kappa, nu)` both ways within `nu` in `(lo, hi)` on the fold's own mesh.
+pub fn lpc_curve_through(
+    kind: ModelKind,
+    params: &Params,
+    fold: &Cycle,
+    (lo, hi): (f64, f64),
+) -> LpcCurves {
+    let log = LogBlock {
+        kind,
+        cutoff: params.theta_c.is_some(),
+    };
+    let (curve, stops) = trace_through(&log, fold, (lo, hi), &|_| false);
+    LpcCurves {
+        points: vec![curve],
+        stops,
+    }
+}
+
+/// The curve of folds through `fold`, both ways at once, in increasing `nu`,
+/// with a message for each end that stopped on a failure away from a Bautin
+/// point (`at_bautin(nu)`: where the folded cycles shrink to nothing and the
+/// fold system degenerates, the expected end).
+fn trace_through(
+    log: &LogBlock,
+    fold: &Cycle,
+    (lo, hi): (f64, f64),
+    at_bautin: &(dyn Fn(f64) -> bool + Sync),
+) -> (Vec<LpcCurvePoint>, Vec<String>) {
+    let ntst = fold.mesh.ntst();
+    let trace = |direction: f64| {
+        let settings = LpcCurveSettings {
+            p2_min: lo,
+            p2_max: hi,
+            param_floor: [1e-9, lo],
+            min_amplitude: 1e-3,
+            max_steps: 300,
+            ds_max: 0.2,
+            ds_min: 1e-5,
+            ..Default::default()
+        };
+        let mut half = Vec::new();
+        let mut failure = None;
+        match LpcCurve::new(
+            log,
+            fold,
+            (Param::Kappa as usize, Param::Nu as usize),
+            direction,
+            settings,
+        ) {
+            Ok(points) => {
+                for pt in points {
+                    match pt {
+                        Ok(pt) => half.push(record(&pt.cycle)),
+                        Err(e) => {
+                            failure = Some(e.to_string());
+                            break;
+                        }
+                    }
+                }
+            }
+            Err(e) => failure = Some(e.to_string()),
+        }
+        (half, failure)
+    };
+    let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
+    let (mut curve, mut stops) = (Vec::new(), Vec::new());
+    for (direction, (mut half, failure)) in [(-1.0, down), (1.0, up)] {
+        let end = half.last().map(|p| (p.nu, p.kappa));
+        match (failure, end) {
+            (Some(cause), None) => stops.push(format!(
+                "the fold-of-cycles curve did not start toward {} nu: {cause}",
+                if direction < 0.0 { "smaller" } else { "larger" }
+            )),
+            (Some(cause), Some((nu, kappa))) if !at_bautin(nu) => stops.push(format!(
+                "the fold-of-cycles curve ends at nu = {nu:.6e}, kappa = {kappa:.6e}: {} \
+                     (the curve is traced on {ntst} mesh intervals; its cycles may have \
+                     become too stiff for them)",
+                cause.replace("p[1] along the fold of cycles", "nu")
+            )),
+            _ => {}
+        }
+        if direction < 0.0 {
+            half.reverse();
+            half.pop();
+        }
+        curve.extend(half);
+    }
+    (curve, stops)
 }

@@ -4,8 +4,10 @@
 
 use super::cycle_start::Start;
 use super::files::with_suffix;
+use super::lpc_output::{lpc_json, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::cycles::{along_branch, collocation_for, CycleRecord, CycleRequest};
+use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::plot::lines::{render, LineFigure, Series};
@@ -47,6 +49,12 @@ pub struct CyclesArgs {
     /// for the quasi-static one).
     #[arg(long, value_enum)]
     pub collocation: Option<Points>,
+    /// Continue every fold of cycles (LPC) found on the branch in two
+    /// parameters, (kappa, nu), across the scene's velocity range: the
+    /// boundary of the hysteretic region. Writes -lpc-curve.csv and
+    /// -lpc-curve.png/.svg, and `lpc_curve` in the JSON.
+    #[arg(long)]
+    pub lpc_curve: bool,
     /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
     pub at_kappa: Vec<f64>,
@@ -204,6 +212,12 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     } else {
         write_figures(&setup, &along_branch(&records), &stem)?
     };
+    let lpc = if args.lpc_curve {
+        fold_curves(&setup, &records, &stem, args.json)?
+    } else {
+        (LpcCurves::default(), Vec::new())
+    };
+    let files: Vec<PathBuf> = files.into_iter().chain(lpc.1).collect();
     let stop = outcomes
         .iter()
         .map(|(leg, outcome)| {
@@ -233,6 +247,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 "v_min": l.v_min, "v_max": l.v_max,
             })).collect::<Vec<_>>(),
             "stop": stop,
+            "lpc_curve": lpc_json(&lpc.0, &setup.scene.units),
+            "lpc_stops": lpc.0.stops,
             "files": files.iter().chain([&csv_path]).map(|f| f.display().to_string()).collect::<Vec<_>>(),
         });
         println!(
@@ -251,6 +267,79 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         Some(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }
+}
+
+/// The curves of folds of cycles through every fold on the branch, with
+/// their files (CSV and figure); the text output reports each curve.
+fn fold_curves(
+    setup: &Setup,
+    records: &[CycleRecord],
+    stem: &Path,
+    json: bool,
+) -> Result<(LpcCurves, Vec<PathBuf>), Error> {
+    let mut curves = LpcCurves::default();
+    let folds = records
+        .iter()
+        .flat_map(CycleRecord::special_points)
+        .filter_map(|(kind, r)| (kind == "lpc").then_some(r.orbit.as_ref()).flatten());
+    for fold in folds {
+        let c = lpc_curve_through(setup.choice.kind, &setup.params, fold, setup.scene.nu_range);
+        curves.points.extend(c.points);
+        curves.stops.extend(c.stops);
+    }
+    let u = setup.scene.units;
+    if !json {
+        for curve in &curves.points {
+            if let (Some(a), Some(b)) = (curve.first(), curve.last()) {
+                println!(
+                    "  fold-of-cycles curve: {} points from V = {:.6e} um/s (kappa = {:.6e}) to \
+                     V = {:.6e} um/s (kappa = {:.6e})",
+                    curve.len(),
+                    u.velocity_um_s(a.nu),
+                    a.kappa,
+                    u.velocity_um_s(b.nu),
+                    b.kappa
+                );
+            }
+        }
+        for stop in &curves.stops {
+            println!("  fold-of-cycles curve stopped: {stop}");
+        }
+    }
+    if curves.points.iter().all(Vec::is_empty) {
+        return Ok((curves, Vec::new()));
+    }
+    let mut files = vec![write_lpc_csv(stem, &setup.scene.name, &curves, &u)?];
+    let figure = LineFigure {
+        title: format!(
+            "Folds of cycles (hysteresis boundary), {}: stick-slip coexists with steady sliding below",
+            setup.scene.name
+        ),
+        x_label: "driving velocity V [um/s]".into(),
+        y_label: "K/W [1/m]".into(),
+        log_x: true,
+        log_y: true,
+        series: curves
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, curve)| Series {
+                label: (i == 0).then(|| "fold of cycles (LPC)".to_string()),
+                points: curve
+                    .iter()
+                    .map(|p| (u.velocity_um_s(p.nu), u.k_over_w(p.kappa)))
+                    .collect(),
+                color: RGBColor(120, 40, 160),
+                dashed: false,
+                markers: false,
+            })
+            .collect(),
+    };
+    files.extend(
+        render(&figure, &with_suffix(stem, "-lpc-curve"))
+            .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
+    );
+    Ok((curves, files))
 }
 
 /// `gauss` or `radau`.

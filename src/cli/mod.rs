@@ -11,6 +11,7 @@ pub mod diagram;
 pub mod files;
 pub mod hopf;
 pub mod interrupt;
+pub mod lpc_output;
 pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};

@@ -5,6 +5,7 @@
 mod figures;
 
 use super::files::with_suffix;
+use super::lpc_output::{lpc_json, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::diagram::{stability_diagram, StabilityDiagram};
 use crate::appendix_c;
@@ -223,30 +224,7 @@ fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<Pat
     w.flush()?;
     let mut files = vec![path];
     if !d.lpc.points.is_empty() {
-        let path = with_suffix(stem, "-lpc-curve.csv");
-        let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
-        writeln!(
-            w,
-            "# folds of cycles (LPC) of scene {}: the hysteresis boundary",
-            setup.scene.name
-        )?;
-        writeln!(w, "curve,nu,kappa,period,delta_s,V_um_per_s,K_over_W_per_m")?;
-        for (i, curve) in d.lpc.points.iter().enumerate() {
-            for p in curve {
-                writeln!(
-                    w,
-                    "{i},{:.15e},{:.15e},{:.15e},{:.15e},{:.12e},{:.12e}",
-                    p.nu,
-                    p.kappa,
-                    p.period,
-                    p.delta_s,
-                    u.velocity_um_s(p.nu),
-                    u.k_over_w(p.kappa)
-                )?;
-            }
-        }
-        w.flush()?;
-        files.push(path);
+        files.push(write_lpc_csv(stem, &setup.scene.name, &d.lpc, u)?);
     }
     Ok(files)
 }
@@ -290,21 +268,7 @@ fn to_json(r: &SceneResult) -> Value {
             v
         })
         .collect();
-    let lpc: Vec<Value> = r
-        .diagram
-        .lpc
-        .points
-        .iter()
-        .flatten()
-        .map(|p| {
-            json!({
-                "nu": p.nu, "kappa": p.kappa, "period": p.period, "delta_s": p.delta_s,
-                "V_um_per_s": u.velocity_um_s(p.nu),
-                "K_over_W_per_m": u.k_over_w(p.kappa),
-                "K_over_M_per_s2": u.k_over_m(p.kappa),
-            })
-        })
-        .collect();
+    let lpc = lpc_json(&r.diagram.lpc, u);
     json!({
         "scene": r.setup.scene.name,
         "model": r.setup.choice.kind.name(),

@@ -142,6 +142,9 @@ pub struct CycleBranch<'a, S: VectorField> {
     z: Vec<f64>,
     tangent: Vec<f64>,
     coll: Collocation<'a, S>,
+    /// The first orbit was corrected at its parameter (no orbit part in the
+    /// seed): its refinement keeps the parameter.
+    start_at_fixed_parameter: bool,
     ds: f64,
     steps: usize,
     done: bool,
@@ -242,6 +245,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             s[nz - 1] = 1.0;
             s
         });
+        let start_at_fixed_parameter = seed[..nz - 1].iter().all(|v| *v == 0.0);
         let w = ArcWeights::at(&z, settings.param_floor);
         let z0 = z.clone();
         newton_bordered(&coll, &mut z, &settings.corrector, &w.row(&seed), &z0)?;
@@ -256,6 +260,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             z,
             tangent,
             coll,
+            start_at_fixed_parameter,
             steps: 0,
             done: false,
             previous_mu: Vec::new(),

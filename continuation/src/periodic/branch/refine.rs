@@ -22,7 +22,7 @@ use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::Mesh;
-use crate::periodic::newton::{newton_bordered, ArcWeights};
+use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights};
 use crate::system::VectorField;
 
 /// Largest difference between two approximations of an orbit: of the
@@ -87,14 +87,19 @@ impl<S: VectorField> CycleBranch<'_, S> {
             self.adapt((2 * ntst).min(self.settings.ntst_max));
             // Corrected on the hyperplane through the orbit normal to the
             // branch: well posed also near a Hopf point or a fold, where the
-            // orbit at fixed parameter is ill-determined.
-            let w = ArcWeights::at(&self.z, self.settings.param_floor);
+            // orbit at fixed parameter is ill-determined. A first orbit that
+            // was corrected at its parameter stays there.
+            let row = if self.steps == 0 && self.start_at_fixed_parameter {
+                unit_row(self.z.len(), self.z.len() - 1)
+            } else {
+                ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
+            };
             let anchor = self.z.clone();
             let rep = newton_bordered(
                 &self.coll,
                 &mut self.z,
                 &self.settings.corrector,
-                &w.row(&self.tangent),
+                &row,
                 &anchor,
             )?;
             self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);

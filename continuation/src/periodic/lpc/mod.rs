@@ -187,8 +187,22 @@ impl<'a, S: VectorField> Augmented<'a, S> {
     ) -> Result<(NewtonReport, Evaluation), ContinuationError> {
         let dim = y.len();
         let (mut last_step, mut residual) = (f64::INFINITY, f64::INFINITY);
+        // A failure once Newton has moved off the start means it diverged.
+        let diverged = |it: usize, residual: f64, step: f64, e: ContinuationError| match it {
+            0 => e,
+            _ => ContinuationError::Newton {
+                context: " solving the fold-of-cycles system".into(),
+                iterations: it,
+                residual,
+                step,
+                hint: "start closer to the fold (a cycle of the branch next to it)",
+                reason: crate::error::NewtonFailure::SingularJacobian,
+            },
+        };
         for it in 0..=settings.max_iter {
-            let mut e = self.evaluate(y)?;
+            let mut e = self
+                .evaluate(y)
+                .map_err(|e| diverged(it, residual, last_step, e))?;
             if let Some((row, anchor)) = extra {
                 let r: f64 = (0..dim).map(|i| row[i] * (y[i] - anchor[i])).sum();
                 e.residual.push(r);
@@ -227,7 +241,9 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             }
             // Dense rows: the phase condition, g and the arclength condition.
             let dense: Vec<usize> = (nn..dim).collect();
-            let dy = SparseLu::with_dense_rows(dim, &e.triplets, &dense)?.solve(&e.residual)?;
+            let dy = SparseLu::with_dense_rows(dim, &e.triplets, &dense)
+                .and_then(|lu| lu.solve(&e.residual))
+                .map_err(|e| diverged(it, residual, last_step, e))?;
             last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
         }
