@@ -4,6 +4,7 @@
 //! long-time integration (a different method).
 
 use super::reference::reference_cycle;
+use crate::analysis::cycles::collocation_for;
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
 use crate::error::{Error, NumericalError};
 use crate::log_model::LogBlock;
@@ -83,6 +84,7 @@ impl CycleWork {
             ntst: NTST,
             ntst_max: NTST,
             degree: DEGREE,
+            points: collocation_for(kind),
             mesh_tol: f64::INFINITY,
             mesh_accept: f64::INFINITY,
             max_steps: CYCLES - 1,

@@ -139,7 +139,7 @@ impl Job {
             ),
             "cycle_branch_100_inertial" => (
                 JOB_NAMES[6],
-                "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, multipliers",
+                "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, Radau points, multipliers",
                 cycle_work(&["m=0.01"], 0.3, 0.05)?,
             ),
             other => {
