@@ -35,8 +35,9 @@ pub struct CyclesArgs {
     /// toward smaller stiffness.
     #[arg(long)]
     pub from_simulation: bool,
-    /// Largest number of cycles.
-    #[arg(long, default_value_t = 80)]
+    /// Largest number of cycles (per leg from a simulated orbit); the branch
+    /// usually ends first, at the requested range.
+    #[arg(long, default_value_t = 500)]
     pub max_steps: usize,
     /// Initial number of mesh intervals (grown automatically when needed).
     #[arg(long, default_value_t = 40)]
