@@ -95,10 +95,7 @@ pub fn lpc_curves(
     diagram: &StabilityDiagram,
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
-    let log = LogBlock {
-        kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::new(kind, params);
     let mut out = LpcCurves::default();
     let bautins: Vec<_> = diagram
         .special
@@ -153,10 +150,7 @@ pub fn lpc_curve_through(
     fold: &Cycle,
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
-    let log = LogBlock {
-        kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::new(kind, params);
     let (curve, stops) = trace_through(&log, fold, (lo, hi), &|_| false);
     LpcCurves {
         points: vec![curve],
