@@ -167,6 +167,11 @@ impl VectorField for VanDerPol {
 }
 
 fn vdp_period(ntst: usize, degree: usize, points: CollocationPoints) -> f64 {
+    vdp_cycle(ntst, degree, points).cycle.period
+}
+
+/// The van der Pol cycle at mu = 1, corrected on a fixed uniform mesh.
+fn vdp_cycle(ntst: usize, degree: usize, points: CollocationPoints) -> CyclePoint {
     let mesh = Mesh::uniform(ntst, degree, points);
     let mut u = Vec::new();
     for i in 0..ntst {
@@ -195,7 +200,25 @@ fn vdp_period(ntst: usize, degree: usize, points: CollocationPoints) -> f64 {
         (first.cycle.p[0] - 1.0).abs() < 1e-14,
         "the first orbit is corrected at fixed mu"
     );
-    first.cycle.period
+    first
+}
+
+#[test]
+fn liouville_and_the_floquet_pencil_agree_on_van_der_pol() {
+    // Two methods for the nontrivial multiplier of a planar cycle with no
+    // closed form: exp(int_0^T mu (1 - x^2) dt) by the collocation quadrature
+    // (what the branch reports) and the eigenvalue of the Floquet pencil.
+    let pt = vdp_cycle(80, 4, CollocationPoints::Gauss);
+    let c = &pt.cycle;
+    let smallest = |mu: &[Complex64]| mu.iter().map(|z| z.norm()).fold(f64::INFINITY, f64::min);
+    let liouville = smallest(&pt.multipliers);
+    let coll = Collocation::new(&VanDerPol, c, 0);
+    let pencil = smallest(&pencil_multipliers(&coll.linearize(&coll.unknowns(c)), 2).unwrap());
+    assert!(
+        (liouville / pencil - 1.0).abs() < 1e-9,
+        "Liouville {liouville} vs pencil {pencil}"
+    );
+    assert!(liouville > 1e-4 && liouville < 0.1, "{liouville}");
 }
 
 /// Observed orders of the period error of van der Pol (mu = 1) on uniform
