@@ -4,6 +4,7 @@
 use continuation::newton::NewtonSettings;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::lpc::locate_lpc;
+use continuation::periodic::mesh::CollocationPoints;
 use stickslip::analysis::cycles::hopf_start;
 use stickslip::analysis::diagram::stability_diagram;
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
@@ -35,6 +36,11 @@ const LOG: LogBlock = LogBlock {
 /// The fold on the branch of cycles born at the Hopf point of `p` (route 1:
 /// sign change of dp/ds, located by regula falsi) and the orbit before it.
 fn fold_on_branch(p: &Params) -> (CyclePoint, CyclePoint) {
+    fold_on_branch_with(p, CollocationPoints::Gauss)
+}
+
+/// [`fold_on_branch`] with the given collocation points.
+fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, CyclePoint) {
     let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, p).unwrap() else {
         panic!("no Hopf point at nu = {}", p.nu)
     };
@@ -44,10 +50,7 @@ fn fold_on_branch(p: &Params) -> (CyclePoint, CyclePoint) {
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
         param_floor: 1e-3 * h.kappa_c,
-        // Short steps: the orbit before the fold then lies within reach of
-        // Newton's method on the fold system (route 2 diverges from 1.3 %
-        // below the fold in kappa).
-        ds_max: 0.05,
+        points,
         ..Default::default()
     };
     let branch =
@@ -145,8 +148,9 @@ fn assert_holds_branch_folds(curve: &[LpcCurvePoint]) {
 #[test]
 fn the_curve_through_a_fold_found_on_a_branch_holds_the_other_folds() {
     // Started from the fold of the branch at nu = 90 (not from a Bautin
-    // point), on that orbit's own mesh.
-    let (fold, _) = fold_on_branch(&brockley(90.0));
+    // point), on that orbit's own mesh, with the Radau points `cycles` uses
+    // for the inertial block; checked against folds of Gauss branches.
+    let (fold, _) = fold_on_branch_with(&brockley(90.0), CollocationPoints::Radau);
     let curves = lpc_curve_through(
         ModelKind::Inertial,
         &brockley(90.0),

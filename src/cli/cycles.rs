@@ -363,8 +363,9 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
     };
     let stability = match setup.choice.kind {
         ModelKind::QuasiStatic => {
-            "stability from the nontrivial multiplier exp(int_0^T tr J dt) (Liouville's formula, \
-             exact in the plane); |mu_1 - 1| checks the Floquet pencil only"
+            "stability from the nontrivial multiplier exp(int_0^T tr J dt) (Liouville's formula \
+             in the plane, as accurate as the collocation quadrature); |mu_1 - 1| checks the \
+             Floquet pencil only"
         }
         ModelKind::Inertial => {
             "stability from the Floquet pencil; |mu_1 - 1| is its error at the trivial multiplier"

@@ -10,14 +10,17 @@ use serde_json::{json, Value};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The points of every curve as JSON objects (`lpc_curve`).
+/// The points of every curve as JSON objects (`lpc_curve`; `curve` numbers
+/// the curves as in the CSV).
 pub fn lpc_json(curves: &LpcCurves, u: &Units) -> Vec<Value> {
     curves
         .points
         .iter()
-        .flatten()
-        .map(|p| {
+        .enumerate()
+        .flat_map(|(i, curve)| curve.iter().map(move |p| (i, p)))
+        .map(|(i, p)| {
             json!({
+                "curve": i,
                 "nu": p.nu, "kappa": p.kappa, "period": p.period, "delta_s": p.delta_s,
                 "V_um_per_s": u.velocity_um_s(p.nu),
                 "K_over_W_per_m": u.k_over_w(p.kappa),

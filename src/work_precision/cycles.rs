@@ -197,9 +197,18 @@ fn solve(
             Mesh::uniform(ntst, fine.mesh.degree, fine.mesh.points)
         }
     };
-    // Corrected at fixed stiffness, with tangent and multipliers.
+    // Corrected at fixed stiffness, with tangent and multipliers, on the
+    // given mesh (no refinement: the mesh is the knob measured).
     let correct = |guess: Cycle| -> Result<Cycle, NumericalError> {
-        let settings = CycleSettings::default();
+        let settings = CycleSettings {
+            ntst,
+            ntst_max: ntst,
+            points: fine.mesh.points,
+            mesh_tol: f64::INFINITY,
+            mesh_accept: f64::INFINITY,
+            trivial_tol: f64::INFINITY,
+            ..CycleSettings::default()
+        };
         let mut branch =
             CycleBranch::from_cycle(log, guess, Param::Kappa as usize, None, settings)?;
         let pt = branch

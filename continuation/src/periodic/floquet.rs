@@ -19,8 +19,9 @@
 //! `exp(int_0^T tr J dt)`, and the trivial one is exactly 1, so the other is
 //! `exp(int_0^T tr J dt)` (Kuznetsov 1998, §1.5). Where perturbations grow
 //! by many decades during a slip, the pencil's eigenvalues carry rounding of
-//! `eps` times that growth; the trace integral does not, so stability of a
-//! planar cycle is always decided.
+//! `eps` times that growth; the trace integral does not (it is as accurate as
+//! the collocation quadrature), so stability of a planar cycle is decided
+//! even where the pencil's trivial multiplier is off by order 1.
 
 use super::bordered::{condense, reduce_pencil};
 use super::collocation::Linearization;
@@ -33,12 +34,36 @@ use num_complex::Complex64;
 /// pencil, except that in the plane (`n = 2`) the nontrivial one is
 /// `exp(int_0^T tr J dt)` (Liouville).
 pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, ContinuationError> {
+    multipliers_and_trivial(lin, n).map(|(mu, _)| mu)
+}
+
+/// [`multipliers`] and the index of the trivial one. In the plane the
+/// pencil's two eigenvalues are matched to the trivial multiplier 1 and to
+/// Liouville's `e^L`, `L = int_0^T tr J dt`, by the pairing that minimizes
+/// `|ln |mu_a|| + |ln |mu_b| - L|`; the one matched to `e^L` is replaced by
+/// it. Elsewhere the trivial multiplier is the one closest to 1.
+pub fn multipliers_and_trivial(
+    lin: &Linearization,
+    n: usize,
+) -> Result<(Vec<Complex64>, Option<usize>), ContinuationError> {
     let mut mu = pencil_multipliers(lin, n)?;
-    if let (2, Some(trivial)) = (n, trivial_index(&mu)) {
-        mu[1 - trivial] = Complex64::from(lin.trace_integral.exp());
-        mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
+    if n != 2 || mu.len() != 2 {
+        let trivial = trivial_index(&mu);
+        return Ok((mu, trivial));
     }
-    Ok(mu)
+    let l = lin.trace_integral;
+    let log_modulus = |z: Complex64| z.norm().ln();
+    let mismatch = |t: usize| log_modulus(mu[t]).abs() + (log_modulus(mu[1 - t]) - l).abs();
+    let trivial = if mismatch(0) <= mismatch(1) { 0 } else { 1 };
+    mu[1 - trivial] = Complex64::from(l.exp());
+    // Decreasing modulus, the trivial index following.
+    let trivial = if mu[1].norm() > mu[0].norm() {
+        mu.swap(0, 1);
+        1 - trivial
+    } else {
+        trivial
+    };
+    Ok((mu, Some(trivial)))
 }
 
 /// The eigenvalues of the condensed Floquet pencil, sorted by decreasing modulus.
@@ -82,10 +107,4 @@ pub fn trivial_index(mu: &[Complex64]) -> Option<usize> {
         .enumerate()
         .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
         .map(|(i, _)| i)
-}
-
-/// Distance of the trivial multiplier from 1: a check on the accuracy of
-/// the orbit and of the multipliers.
-pub fn trivial_multiplier_error(mu: &[Complex64]) -> f64 {
-    trivial_index(mu).map_or(f64::INFINITY, |i| (mu[i] - 1.0).norm())
 }

@@ -10,7 +10,7 @@ mod detect;
 mod refine;
 
 use super::cycle::Cycle;
-use super::floquet::{multipliers, trivial_index, trivial_multiplier_error};
+use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
 use super::newton::{correct_along, newton_bordered, tangent, ArcWeights};
 use crate::error::ContinuationError;
@@ -18,6 +18,9 @@ use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
 use crate::system::{jacobian, param_derivative, VectorField};
 use num_complex::Complex64;
+
+/// Steps during which a mesh size the multipliers needed bounds halving.
+const MULTIPLIER_MEMORY: usize = 5;
 
 /// Settings of a cycle branch.
 #[derive(Clone, Debug)]
@@ -34,6 +37,8 @@ pub struct CycleSettings {
     pub ds_max: f64,
     /// Step growth after an easy correction.
     pub growth: f64,
+    /// A correction is easy in at most this many Newton iterations. Default 3.
+    pub easy_iterations: usize,
     /// Largest number of orbits.
     pub max_steps: usize,
     /// Bounds of the parameter; the branch stops on them.
@@ -84,6 +89,7 @@ impl Default for CycleSettings {
             ds_min: 1e-12,
             ds_max: 0.5,
             growth: 1.3,
+            easy_iterations: 3,
             max_steps: 200,
             p_min: f64::NEG_INFINITY,
             p_max: f64::INFINITY,
@@ -158,6 +164,12 @@ pub struct CycleBranch<'a, S: VectorField> {
     /// Tolerance on the trivial multiplier in force: raised to the rounding
     /// floor of stiff orbits when refining no longer reduces its error.
     trivial_tol: f64,
+    /// Intervals the multipliers were last found to need (a doubling that
+    /// divided their error by 4) and the step it was found at: for the next
+    /// [`MULTIPLIER_MEMORY`] steps the mesh is not halved below it (the
+    /// need changes along the branch). Reset when their error turns out to
+    /// be rounding.
+    multiplier_ntst: (usize, usize),
 }
 
 impl<'a, S: VectorField> CycleBranch<'a, S> {
@@ -256,6 +268,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             k,
             ds: settings.ds,
             trivial_tol: settings.trivial_tol,
+            multiplier_ntst: (0, 0),
             settings,
             z,
             tangent,
@@ -291,7 +304,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                         let ds = self.ds;
                         self.z = z.clone();
                         self.tangent = t_new;
-                        if rep.iterations <= 5 {
+                        if rep.iterations <= self.settings.easy_iterations {
                             self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
                         }
                         return Ok((*rep, ds));
@@ -365,13 +378,19 @@ fn point_at<S: VectorField>(
     tangent: &[f64],
     newton: NewtonReport,
 ) -> Result<CyclePoint, ContinuationError> {
-    let mu = multipliers(&coll.linearize(z), coll.sys.dim())?;
-    let trivial_error = trivial_multiplier_error(&mu);
-    let trivial = trivial_index(&mu);
-    // Multipliers within 1e-9 of the unit circle (or within the trivial
-    // multiplier's error) count as neutral, not unstable: at a Hopf point or
-    // a fold of cycles one multiplier is 1 to rounding.
-    let neutral = trivial_error.max(1e-9);
+    let n = coll.sys.dim();
+    let (mu, trivial) = multipliers_and_trivial(&coll.linearize(z), n)?;
+    let trivial_error = trivial.map_or(f64::INFINITY, |t| (mu[t] - 1.0).norm());
+    // Multipliers within 1e-9 of the unit circle (or, from the pencil, within
+    // the trivial multiplier's error) count as neutral, not unstable: at a
+    // Hopf point or a fold of cycles one multiplier is 1 to rounding. In the
+    // plane the nontrivial multiplier comes from Liouville's formula, not
+    // from the pencil, and the pencil's error does not widen the band.
+    let neutral = if n == 2 {
+        1e-9
+    } else {
+        trivial_error.max(1e-9)
+    };
     let n_unstable = mu
         .iter()
         .enumerate()

@@ -15,7 +15,7 @@
 //! mesh ([`CycleBranch::mesh_size`]): the intervals a stretch of the branch
 //! needed are not carried along the rest of it.
 
-use super::{point_at, CycleBranch, CyclePoint};
+use super::{point_at, CycleBranch, CyclePoint, MULTIPLIER_MEMORY};
 use crate::error::ContinuationError;
 use crate::newton::NewtonReport;
 use crate::periodic::adapt::equidistribute;
@@ -95,29 +95,42 @@ impl<S: VectorField> CycleBranch<'_, S> {
                 ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
             };
             let anchor = self.z.clone();
-            let rep = newton_bordered(
+            let finer = newton_bordered(
                 &self.coll,
                 &mut self.z,
                 &self.settings.corrector,
                 &row,
                 &anchor,
-            )?;
-            self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-            let finer = self.point(rep)?;
-            if let Some((orbit, tangent)) = coarser {
-                if finer.trivial_error > 0.25 * pt.trivial_error {
+            )
+            .and_then(|rep| {
+                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+                self.point(rep)
+            });
+            let Some((orbit, tangent)) = coarser else {
+                pt = finer?;
+                continue;
+            };
+            match finer {
+                Ok(finer) if finer.trivial_error <= 0.25 * pt.trivial_error => {
+                    // The multipliers needed the intervals: halving stops here
+                    // until their error is found to be rounding.
+                    self.multiplier_ntst = (self.coll.mesh.ntst(), self.steps);
+                    pt = finer;
+                }
+                _ => {
                     // Twice the intervals did not help the multipliers (a
-                    // discretization error would fall by 2^(m+1) or more):
-                    // their error is the rounding floor of this orbit; accept
-                    // it from now on, on the mesh the orbit needs.
+                    // discretization error would fall by 2^(m+1) or more), or
+                    // the orbit could not be solved on them: their error is
+                    // the rounding floor of this orbit; accept it from now on,
+                    // on the mesh the orbit needs.
                     self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
+                    self.multiplier_ntst = (0, 0);
                     self.coll = Collocation::new(self.sys, &orbit, self.k);
                     self.z = self.coll.unknowns(&orbit);
                     self.tangent = tangent;
                     break;
                 }
             }
-            pt = finer;
         }
         // Past `trivial_limit`, stability is still decided while no other
         // multiplier lies within the trivial one's error of the unit circle
@@ -174,13 +187,17 @@ impl<S: VectorField> CycleBranch<'_, S> {
     /// Intervals for the next orbit: half the current mesh when its last
     /// (fresh) estimate is below `mesh_tol / (8 * 2^(m+1))` — halving raises
     /// the error by about `2^(m+1)`, which leaves a margin of 8 — and never
-    /// fewer than the initial `ntst`; else the current mesh.
+    /// fewer than the initial `ntst` or than the multipliers were found to
+    /// need in the last [`MULTIPLIER_MEMORY`] steps; else the current mesh.
     pub(super) fn mesh_size(&self) -> usize {
         let ntst = self.coll.mesh.ntst();
         let order = self.coll.mesh.degree as i32 + 1;
         let far_below = self.settings.mesh_tol / (8.0 * 2f64.powi(order));
         let fresh = self.since_estimate == 0 && self.last_ntst == ntst;
-        if fresh && self.last_estimate < far_below && ntst / 2 >= self.settings.ntst {
+        let (needed, since) = self.multiplier_ntst;
+        let remembered = self.steps < since + MULTIPLIER_MEMORY;
+        let least = self.settings.ntst.max(if remembered { needed } else { 0 });
+        if fresh && self.last_estimate < far_below && ntst / 2 >= least {
             ntst / 2
         } else {
             ntst

@@ -187,17 +187,26 @@ impl<'a, S: VectorField> Augmented<'a, S> {
     ) -> Result<(NewtonReport, Evaluation), ContinuationError> {
         let dim = y.len();
         let (mut last_step, mut residual) = (f64::INFINITY, f64::INFINITY);
-        // A failure once Newton has moved off the start means it diverged.
-        let diverged = |it: usize, residual: f64, step: f64, e: ContinuationError| match it {
-            0 => e,
-            _ => ContinuationError::Newton {
-                context: " solving the fold-of-cycles system".into(),
+        let failure = |it: usize, residual: f64, step: f64, reason, cause: String| {
+            ContinuationError::Newton {
+                context: format!(" solving the fold-of-cycles system{cause}"),
                 iterations: it,
                 residual,
                 step,
                 hint: "start closer to the fold (a cycle of the branch next to it)",
-                reason: crate::error::NewtonFailure::SingularJacobian,
-            },
+                reason,
+            }
+        };
+        // A failed solve once Newton has moved off the start: it diverged.
+        let diverged = |it: usize, residual: f64, step: f64, e: ContinuationError| match it {
+            0 => e,
+            _ => failure(
+                it,
+                residual,
+                step,
+                crate::error::NewtonFailure::SingularJacobian,
+                format!(" ({e})"),
+            ),
         };
         for it in 0..=settings.max_iter {
             let mut e = self
@@ -222,7 +231,13 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                 .fold(0.0f64, |a, v| a.max(v.abs()));
             let ymax = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             if !(residual.is_finite() && e.residual.iter().all(|v| v.is_finite())) {
-                break;
+                return Err(failure(
+                    it,
+                    residual,
+                    last_step,
+                    crate::error::NewtonFailure::NonFinite,
+                    String::new(),
+                ));
             }
             if last_step <= settings.step_tol * (1.0 + ymax)
                 && residual <= settings.residual_tol * (1.0 + ymax)
@@ -247,14 +262,13 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
         }
-        Err(ContinuationError::Newton {
-            context: " solving the fold-of-cycles system".into(),
-            iterations: settings.max_iter,
+        Err(failure(
+            settings.max_iter,
             residual,
-            step: last_step,
-            hint: "start closer to the fold (a cycle of the branch next to it)",
-            reason: crate::error::NewtonFailure::MaxIterations,
-        })
+            last_step,
+            crate::error::NewtonFailure::MaxIterations,
+            String::new(),
+        ))
     }
 }
 
