@@ -59,10 +59,14 @@ impl<S: VectorField> CycleBranch<'_, S> {
         (z0, t0): (&[f64], &[f64]),
         ds: f64,
     ) -> Result<(), ContinuationError> {
-        if self.previous_mu.is_empty() {
+        let n = self.sys.dim();
+        // In the plane neither can happen: the one nontrivial multiplier,
+        // exp(int_0^T tr J dt), is real and positive (and the pencil's
+        // trivial eigenvalue, possibly far from 1 on stiff planar cycles,
+        // must not flip the test functions).
+        if self.previous_mu.is_empty() || n < 3 {
             return Ok(());
         }
-        let n = self.sys.dim();
         let at = |z: &[f64]| multipliers(&coll0.linearize(z), n);
         let (pd0, pd1) = (
             period_doubling_test(&self.previous_mu),
