@@ -207,18 +207,36 @@ fn trace_through(
     let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
     let (mut curve, mut stops) = (Vec::new(), Vec::new());
     for (direction, (mut half, failure)) in [(-1.0, down), (1.0, up)] {
-        let end = half.last().map(|p| (p.nu, p.kappa));
-        match (failure, end) {
+        let largest = half.iter().fold(0.0f64, |a, p| a.max(p.delta_s));
+        match (failure, half.last()) {
             (Some(cause), None) => stops.push(format!(
                 "the fold-of-cycles curve did not start toward {} nu: {cause}",
                 if direction < 0.0 { "smaller" } else { "larger" }
             )),
-            (Some(cause), Some((nu, kappa))) if !at_bautin(nu) => stops.push(format!(
-                "the fold-of-cycles curve ends at nu = {nu:.6e}, kappa = {kappa:.6e}: {} \
-                     (the curve is traced on {ntst} mesh intervals; its cycles may have \
-                     become too stiff for them)",
-                cause.replace("p[1] along the fold of cycles", "nu")
-            )),
+            (Some(cause), Some(end)) if !at_bautin(end.nu) => {
+                // Folded cycles shrinking toward the end: a Bautin point,
+                // where the fold system degenerates; else, most likely, a
+                // mesh too coarse for stiffer cycles.
+                let why = if end.delta_s < 0.2 * largest {
+                    format!(
+                        "the folded cycles shrink there (Delta_s = {:.3e}, down from {largest:.3e}): \
+                         the curve ends at a Bautin point of the Hopf curve nearby, where the fold \
+                         system degenerates",
+                        end.delta_s
+                    )
+                } else {
+                    format!(
+                        "the curve is traced on {ntst} mesh intervals; its cycles may have become \
+                         too stiff for them"
+                    )
+                };
+                stops.push(format!(
+                    "the fold-of-cycles curve ends at nu = {:.6e}, kappa = {:.6e}: {} ({why})",
+                    end.nu,
+                    end.kappa,
+                    cause.replace("p[1] along the fold of cycles", "nu")
+                ));
+            }
             _ => {}
         }
         if direction < 0.0 {
