@@ -336,3 +336,54 @@ fn diagram_json_has_the_curve_of_folds_of_the_cutoff_scene() {
     assert!(dir.join("brockley-lpc-curve.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn cycles_lpc_curve_json_continues_the_fold_of_the_branch() {
+    // The light cutoff setting (nu = 90, m = 1e-3): subcritical onset, one
+    // fold of cycles on the branch (AUTO-07p: kappa = 0.48441890476), and
+    // the curve of folds through it down to the Bautin point (nu = 81.35).
+    let dir = std::env::temp_dir().join(format!("stickslip-cycles-lpc-{}", std::process::id()));
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        "brockley",
+        "--set",
+        "theta_c=0.0091666667",
+        "--set",
+        "nu=90",
+        "--set",
+        "m=1e-3",
+        "--lpc-curve",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["collocation"], "radau", "the inertial block");
+    let folds: Vec<f64> = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["kind"] == "lpc")
+        .map(|p| p["kappa"].as_f64().unwrap())
+        .collect();
+    assert_eq!(folds.len(), 1, "{folds:?}");
+    assert!((folds[0] / 0.48441890476 - 1.0).abs() < 1e-6, "{folds:?}");
+    let curve = v["lpc_curve"].as_array().unwrap();
+    for p in curve {
+        for k in ["curve", "nu", "kappa", "period", "delta_s"] {
+            assert!(p[k].is_number(), "curve point lacks {k}: {p}");
+        }
+    }
+    let nu = |p: &Value| p["nu"].as_f64().unwrap();
+    let lowest = curve.iter().map(nu).fold(f64::INFINITY, f64::min);
+    assert!((lowest / 81.35 - 1.0).abs() < 5e-3, "ends at nu = {lowest}");
+    assert!(curve.iter().map(nu).any(|n| n > 150.0), "crosses V_min");
+    let at_90 = curve
+        .iter()
+        .find(|p| (nu(p) - 90.0).abs() < 1e-9)
+        .expect("the fold itself");
+    assert!((at_90["kappa"].as_f64().unwrap() / folds[0] - 1.0).abs() < 1e-9);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -10,6 +10,7 @@ use crate::analysis::cycles::{along_branch, collocation_for, CycleRecord, CycleR
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
+use crate::params::Param;
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
@@ -51,7 +52,8 @@ pub struct CyclesArgs {
     #[arg(long, value_enum)]
     pub collocation: Option<Points>,
     /// Continue every fold of cycles (LPC) found on the branch in two
-    /// parameters, (kappa, nu), across the scene's velocity range: the
+    /// parameters, (kappa, nu), across the scene's velocity range (widened to
+    /// a factor 2 around the fold): the
     /// boundary of the hysteretic region. Writes -lpc-curve.csv and
     /// -lpc-curve.png/.svg, and `lpc_curve` in the JSON.
     #[arg(long)]
@@ -284,7 +286,11 @@ fn fold_curves(
         .flat_map(CycleRecord::special_points)
         .filter_map(|(kind, r)| (kind == "lpc").then_some(r.orbit.as_ref()).flatten());
     for fold in folds {
-        let c = lpc_curve_through(setup.choice.kind, &setup.params, fold, setup.scene.nu_range);
+        // The scene's velocity range, widened to a factor 2 around the fold.
+        let nu = fold.p[Param::Nu as usize];
+        let (lo, hi) = setup.scene.nu_range;
+        let range = (lo.min(0.5 * nu), hi.max(2.0 * nu));
+        let c = lpc_curve_through(setup.choice.kind, &setup.params, fold, range);
         curves.points.extend(c.points);
         curves.stops.extend(c.stops);
     }
