@@ -96,7 +96,13 @@ where
     Y::CoordDescType: ValueFormatter<f64>,
 {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    let mut chart = frame(&root, (&fig.title, &fig.x_label, &fig.y_label), xr, yr)?;
+    let mut chart = frame(
+        &root,
+        (&fig.title, &fig.x_label, &fig.y_label),
+        (fig.log_x, fig.log_y),
+        xr,
+        yr,
+    )?;
     let mut any_label = false;
     for s in &fig.series {
         let c = s.color;

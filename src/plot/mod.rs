@@ -64,6 +64,7 @@ pub type Chart<'a, DB, X, Y> = ChartContext<
 pub fn frame<'a, DB, X, Y>(
     root: &'a DrawingArea<DB, Shift>,
     (title, x_label, y_label): (&str, &str, &str),
+    (log_x, log_y): (bool, bool),
     xr: X,
     yr: Y,
 ) -> Result<Chart<'a, DB, X, Y>, String>
@@ -87,14 +88,30 @@ where
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
-        .x_label_formatter(&|v| tick_label(*v))
-        .y_label_formatter(&|v| tick_label(*v))
+        .x_label_formatter(&|v| axis_label(*v, log_x))
+        .y_label_formatter(&|v| axis_label(*v, log_y))
         .label_style((FONT, 16))
         .axis_desc_style((FONT, 19))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(e)?;
     Ok(chart)
+}
+
+/// Tick label on a linear or logarithmic axis: on a log axis only the ticks
+/// `1, 2, 5 x 10^k` are labelled (a log axis over less than two decades gets
+/// ticks at every integer multiple, whose labels would overlap).
+fn axis_label(v: f64, log: bool) -> String {
+    if !log || v <= 0.0 {
+        return tick_label(v);
+    }
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    let m = mantissa.round();
+    if (mantissa - m).abs() < 1e-6 && [1.0, 2.0, 5.0, 10.0].contains(&m) {
+        tick_label(v)
+    } else {
+        String::new()
+    }
 }
 
 /// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`.

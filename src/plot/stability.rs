@@ -121,6 +121,7 @@ fn draw<DB: DrawingBackend>(
     let mut chart = frame(
         &root,
         (&fig.title, &fig.x_label, &fig.y_label),
+        (true, true),
         (x0..x1).log_scale(),
         (y0..y1).log_scale(),
     )?;
