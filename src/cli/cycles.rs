@@ -4,7 +4,7 @@
 
 use super::cycle_start::Start;
 use super::files::with_suffix;
-use super::lpc_output::{lpc_json, write_lpc_csv};
+use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::cycles::{along_branch, collocation_for, CycleRecord, CycleRequest};
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
@@ -296,21 +296,8 @@ fn fold_curves(
     }
     let u = setup.scene.units;
     if !json {
-        for curve in &curves.points {
-            if let (Some(a), Some(b)) = (curve.first(), curve.last()) {
-                println!(
-                    "  fold-of-cycles curve: {} points from V = {:.6e} um/s (kappa = {:.6e}) to \
-                     V = {:.6e} um/s (kappa = {:.6e})",
-                    curve.len(),
-                    u.velocity_um_s(a.nu),
-                    a.kappa,
-                    u.velocity_um_s(b.nu),
-                    b.kappa
-                );
-            }
-        }
-        for stop in &curves.stops {
-            println!("  fold-of-cycles curve stopped: {stop}");
+        for line in lpc_summary(&curves, &u) {
+            println!("{line}");
         }
     }
     if curves.points.iter().all(Vec::is_empty) {

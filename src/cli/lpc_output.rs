@@ -30,6 +30,29 @@ pub fn lpc_json(curves: &LpcCurves, u: &Units) -> Vec<Value> {
         .collect()
 }
 
+/// The text lines of the summary: the extent of every curve and why an end
+/// stopped.
+pub fn lpc_summary(curves: &LpcCurves, u: &Units) -> Vec<String> {
+    let extents = curves.points.iter().filter_map(|curve| {
+        let (a, b) = (curve.first()?, curve.last()?);
+        Some(format!(
+            "  fold of cycles (LPC) curve: {} points from V = {:.6e} um/s (kappa = {:.6e}) to \
+             V = {:.6e} um/s (kappa = {:.6e}); below it stick-slip coexists with stable steady \
+             sliding (hysteresis) down to the Hopf curve, where there is one",
+            curve.len(),
+            u.velocity_um_s(a.nu),
+            a.kappa,
+            u.velocity_um_s(b.nu),
+            b.kappa
+        ))
+    });
+    let stops = curves
+        .stops
+        .iter()
+        .map(|stop| format!("  fold-of-cycles curve stopped: {stop}"));
+    extents.chain(stops).collect()
+}
+
 /// Writes `<stem>-lpc-curve.csv` (one row per fold, numbered by curve).
 pub fn write_lpc_csv(
     stem: &Path,

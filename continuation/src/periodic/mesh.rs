@@ -57,15 +57,17 @@ pub fn radau_right(m: usize) -> (Vec<f64>, Vec<f64>) {
     let mut nodes = Vec::with_capacity(m);
     for g in 0..grid - 1 {
         let (mut a, mut b) = (g as f64 / grid as f64, (g + 1) as f64 / grid as f64);
-        if q(a) * q(b) > 0.0 {
+        let mut qa = q(a);
+        if qa * q(b) > 0.0 {
             continue;
         }
         for _ in 0..80 {
             let c = 0.5 * (a + b);
-            if q(a) * q(c) <= 0.0 {
+            let qc = q(c);
+            if qa * qc <= 0.0 {
                 b = c;
             } else {
-                a = c;
+                (a, qa) = (c, qc);
             }
         }
         nodes.push(0.5 * (a + b));

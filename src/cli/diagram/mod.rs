@@ -5,7 +5,7 @@
 mod figures;
 
 use super::files::with_suffix;
-use super::lpc_output::{lpc_json, write_lpc_csv};
+use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::diagram::{stability_diagram, StabilityDiagram};
 use crate::appendix_c;
@@ -337,21 +337,8 @@ fn print_text(r: &SceneResult) {
             s.omega
         );
     }
-    for curve in &d.lpc.points {
-        if let (Some(a), Some(b)) = (curve.first(), curve.last()) {
-            println!(
-                "  fold of cycles (LPC) curve: {} points from V = {:.6e} um/s (kappa = {:.6e}) to V = {:.6e} um/s (kappa = {:.6e}); \
-                 stick-slip coexists with stable steady sliding (hysteresis) between it and the Hopf curve",
-                curve.len(),
-                u.velocity_um_s(a.nu),
-                a.kappa,
-                u.velocity_um_s(b.nu),
-                b.kappa
-            );
-        }
-    }
-    for stop in &d.lpc.stops {
-        println!("  fold-of-cycles curve stopped: {stop}");
+    for line in lpc_summary(&d.lpc, u) {
+        println!("{line}");
     }
     for f in &r.files {
         println!("  wrote {}", f.display());

@@ -206,27 +206,20 @@ impl<S: VectorField> CycleBranch<'_, S> {
 
     /// The branch's tangent moved onto `mesh` (unit length there).
     fn tangent_on(&self, mesh: &Mesh) -> Vec<f64> {
-        let t = self.moved_to(&self.tangent, mesh);
-        let norm = ArcWeights::at(&self.z, self.settings.param_floor)
-            .dot(&t, &t)
-            .sqrt();
-        t.iter().map(|v| v / norm).collect()
-    }
-
-    /// A vector of unknowns on the current mesh (orbit part interpolated)
-    /// moved onto `mesh`.
-    fn moved_to(&self, v: &[f64], mesh: &Mesh) -> Vec<f64> {
         let orbit = self.coll.cycle(&self.z);
         let nn = orbit.u.len();
-        let mut moved = Cycle {
-            u: v[..nn].to_vec(),
+        let mut t = Cycle {
+            u: self.tangent[..nn].to_vec(),
             period: 0.0,
             ..orbit
         }
         .remesh(mesh.clone())
         .u;
-        moved.extend_from_slice(&v[nn..]);
-        moved
+        t.extend_from_slice(&self.tangent[nn..]);
+        let norm = ArcWeights::at(&self.z, self.settings.param_floor)
+            .dot(&t, &t)
+            .sqrt();
+        t.iter().map(|v| v / norm).collect()
     }
 
     pub(super) fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
