@@ -99,9 +99,11 @@ pub struct HopfCurvePoint {
     pub omega: f64,
     /// Full parameter vector.
     pub p: Vec<f64>,
-    /// First Lyapunov coefficient (Kuznetsov's normalization) and its term scale.
+    /// First Lyapunov coefficient (Kuznetsov's normalization), its term
+    /// scale and the bound on its rounding error.
     pub l1: f64,
     pub l1_scale: f64,
+    pub l1_error_bound: f64,
     /// A Bautin point located between the previous point and this one.
     pub bautin: Option<Box<HopfCurvePoint>>,
 }
@@ -166,6 +168,7 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
             p,
             l1: nf.l1,
             l1_scale: nf.term_scale,
+            l1_error_bound: nf.l1_error_bound,
             bautin: None,
         })
     }
@@ -190,7 +193,7 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
                 .correct(&mut z, t0, None, &self.settings.locator)?;
             let pt = self.point_at(&z)?;
             let f = pt.l1;
-            let negligible = f.abs() <= 1e-13 * pt.l1_scale;
+            let negligible = f.abs() <= pt.l1_error_bound;
             best = Some(pt);
             if f * fb < 0.0 {
                 (a, fa) = (b, fb);
@@ -212,9 +215,9 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         let (z0, t0) = (self.stepper.z().clone(), self.stepper.tangent().clone());
         let step = self.stepper.step()?;
         let mut point = self.point_at(self.stepper.z())?;
-        // A sign change counts only where l1 is resolved at both ends (not
-        // rounding noise near a degenerate point).
-        let resolved = |p: &HopfCurvePoint| p.l1.abs() > 1e-12 * p.l1_scale;
+        // A sign change counts only where l1 exceeds its rounding-error bound
+        // at both ends (not rounding noise near a degenerate point).
+        let resolved = |p: &HopfCurvePoint| p.l1.abs() > p.l1_error_bound;
         if prev.l1 * point.l1 < 0.0 && resolved(&prev) && resolved(&point) {
             let b = self.locate_bautin(&z0, &t0, prev.l1, step.ds, point.l1)?;
             point.bautin = Some(Box::new(b));

@@ -20,9 +20,10 @@
 //! `l2 = Re G32 / (12 w)` with `G32 = 12 c2`).
 
 use crate::error::ContinuationError;
-use crate::linalg::{eigenpair_near, solve_complex};
+use crate::hopf_pencil::HopfPencil;
+use crate::normal_form::rounding_factor;
 use crate::system::{jacobian, Scalar, VectorField};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use num_complex::Complex64;
 use num_dual::{Dual, Dual64};
 use std::collections::BTreeMap;
@@ -40,6 +41,12 @@ pub struct HopfSeries {
     pub l1: f64,
     /// Second Lyapunov coefficient `Re(c2)/w`.
     pub l2: f64,
+    /// Bound on the rounding error of `l2`, built like
+    /// [`HopfNormalForm::l1_error_bound`](crate::normal_form::HopfNormalForm):
+    /// the size of the terms of the resonant fifth-order equation, times the
+    /// rounding factor and the worst condition number of the solves its
+    /// lower-order coefficients went through.
+    pub l2_error_bound: f64,
 }
 
 /// Scalars that carry one dual direction per nesting level: evaluating `f`
@@ -168,15 +175,14 @@ pub fn hopf_series<S: VectorField>(
     p: &[f64],
     omega: f64,
 ) -> Result<HopfSeries, ContinuationError> {
-    let omega = omega.abs();
     let n = x.len();
-    let a_mat = jacobian(sys, x, p);
-    let iw = Complex64::new(0.0, omega);
-    let (_, q) = eigenpair_near(&a_mat, iw)?;
-    let q = &q / Complex64::from(q.norm());
-    let (_, pt) = eigenpair_near(&a_mat.transpose(), -iw)?;
-    let padj = &pt / pt.dotc(&q).conj();
-    let ac = a_mat.map(Complex64::from);
+    let pencil = HopfPencil::new(&jacobian(sys, x, p), omega)?;
+    let omega = pencil.omega;
+    let q = pencil.q.clone();
+    // Worst componentwise condition of the solves so far, and the size of
+    // the terms of the last resonant right-hand side.
+    let mut cond = 1.0f64;
+    let mut size = 0.0;
     let mut a: BTreeMap<Key, DVector<Complex64>> = BTreeMap::new();
     a.insert((1, 0), q.clone());
     a.insert((0, 1), q.map(|z| z.conj()));
@@ -190,10 +196,13 @@ pub fn hopf_series<S: VectorField>(
             }
             let keys: Vec<Key> = a.keys().copied().collect();
             let mut rhs = DVector::from_element(n, Complex64::new(0.0, 0.0));
+            let mut rhs_size = DVector::<f64>::zeros(n);
             for r in 2..=d {
                 for t in tuples(&keys, r, (j, k)) {
                     let args: Vec<&DVector<Complex64>> = t.iter().map(|key| &a[key]).collect();
-                    rhs += form(sys, x, p, &args) / Complex64::from(factorial(r));
+                    let term = form(sys, x, p, &args) / Complex64::from(factorial(r));
+                    rhs_size += term.map(|z| z.norm());
+                    rhs += term;
                 }
             }
             // Known normal-form terms of order >= 3 acting on lower-order H.
@@ -201,39 +210,40 @@ pub fn hopf_series<S: VectorField>(
                 // H_z N: j' a_{j'k'} with j' - 1 + l = j, k' + m = k.
                 if j + 1 >= l && k >= m {
                     if let Some(ak) = a.get(&(j + 1 - l, k - m)) {
-                        rhs -= ak * (c * (j + 1 - l) as f64);
+                        let term = ak * (c * (j + 1 - l) as f64);
+                        rhs_size += term.map(|z| z.norm());
+                        rhs -= term;
                     }
                 }
                 // H_zbar Nbar: Nbar has conj(c) at monomial (m, l); k' a_{j'k'} with j' + m = j, k' - 1 + l = k.
                 if j >= m && k + 1 >= l {
                     if let Some(ak) = a.get(&(j - m, k + 1 - l)) {
-                        rhs -= ak * (c.conj() * (k + 1 - l) as f64);
+                        let term = ak * (c.conj() * (k + 1 - l) as f64);
+                        rhs_size += term.map(|z| z.norm());
+                        rhs -= term;
                     }
                 }
             }
-            let shift = DMatrix::<Complex64>::identity(n, n)
-                * Complex64::new(0.0, omega * (j as f64 - k as f64))
-                - &ac;
             let ajk = if j == k + 1 {
-                let c = padj.dotc(&rhs);
+                let (c, _) = pencil.project(&rhs);
+                size = pencil
+                    .p
+                    .iter()
+                    .zip(rhs_size.iter())
+                    .map(|(a, b)| a.norm() * b)
+                    .sum();
                 nf.insert((j, k), c);
                 if d == 5 {
                     break;
                 }
-                let mut m = DMatrix::<Complex64>::zeros(n + 1, n + 1);
-                m.view_mut((0, 0), (n, n)).copy_from(&shift);
-                m.view_mut((0, n), (n, 1)).copy_from(&q);
-                m.view_mut((n, 0), (1, n)).copy_from(&padj.adjoint());
-                let b = DVector::from_iterator(
-                    n + 1,
-                    (&rhs - &q * c)
-                        .iter()
-                        .copied()
-                        .chain([Complex64::new(0.0, 0.0)]),
-                );
-                solve_complex(m, &b)?.rows(0, n).into_owned()
+                let (ajk, kappa) = pencil.resolve_resonant(&rhs)?;
+                cond = cond.max(kappa);
+                ajk
             } else {
-                solve_complex(shift, &rhs)?
+                let sigma = Complex64::new(0.0, omega * (j as f64 - k as f64));
+                let (ajk, kappa) = pencil.resolve(sigma, &rhs)?;
+                cond = cond.max(kappa);
+                ajk
             };
             if j != k {
                 a.insert((k, j), ajk.map(|z| z.conj()));
@@ -249,5 +259,6 @@ pub fn hopf_series<S: VectorField>(
         c2,
         l1: c1.re / omega,
         l2: c2.re / omega,
+        l2_error_bound: (rounding_factor(n) * cond + pencil.eigen_error()) * size / omega,
     })
 }

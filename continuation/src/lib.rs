@@ -19,6 +19,7 @@ pub mod codim2;
 pub mod defining;
 pub mod error;
 pub mod events;
+pub mod hopf_pencil;
 pub mod hopf_series;
 pub mod integrate;
 pub mod linalg;

@@ -16,7 +16,8 @@
 //! peak-to-peak amplitude `4 |q_j| |z|`.
 
 use crate::error::ContinuationError;
-use crate::linalg::{eigenpair_near, solve_complex};
+use crate::hopf_pencil::HopfPencil;
+use crate::linalg::eigenpair_near;
 use crate::multilinear::At;
 use crate::system::{jacobian, param_derivative, second_derivative, JointDirection, VectorField};
 use nalgebra::{DMatrix, DVector};
@@ -38,53 +39,77 @@ pub struct HopfNormalForm {
     /// Sum of the moduli of the three terms of `c1`, divided by `w`: the scale
     /// against which a vanishing `l1` is judged.
     pub term_scale: f64,
+    /// Bound on the rounding error of `l1` (see [`hopf_normal_form`]): where
+    /// `|l1| <= l1_error_bound` its sign is not known.
+    pub l1_error_bound: f64,
 }
 
 impl HopfNormalForm {
-    /// Whether `|l1|` is at rounding level compared with its terms
-    /// (`|l1| <= rel_tol * term_scale`): a degenerate Hopf point.
-    pub fn is_degenerate(&self, rel_tol: f64) -> bool {
-        self.l1.abs() <= rel_tol * self.term_scale
+    /// Whether `|l1|` does not exceed its error bound: the sign of `l1` is
+    /// rounding, the Hopf point degenerate to working precision.
+    pub fn is_degenerate(&self) -> bool {
+        self.l1.abs() <= self.l1_error_bound
     }
 }
 
-fn dotc(a: &DVector<Complex64>, b: &DVector<Complex64>) -> Complex64 {
-    a.dotc(b)
+/// Factor on `eps` for the rounding of one derivative evaluation, product
+/// and sum of length `n`: a generous `8 n` (Higham's `gamma_n` is `n eps`
+/// for a dot product; derivatives by dual numbers add a few roundings per
+/// entry).
+pub(crate) fn rounding_factor(n: usize) -> f64 {
+    8.0 * n as f64 * f64::EPSILON
 }
 
-/// Computes `c1` and `l1` at the Hopf point `(x, p)` with frequency `omega`.
+/// Computes `c1` and `l1` at the Hopf point `(x, p)` with frequency `omega`,
+/// with a bound on the rounding error of `l1`.
+///
+/// The critical vectors and resolvents come from the row-equilibrated pencil
+/// ([`HopfPencil`]), so that rows of size `1/m` (small inertia) never enter a
+/// factorization. With `S_k = sum_i |p_i| |r_k,i|` the size of the `k`-th
+/// term before its own cancellation, `kappa_0`, `kappa_2` the componentwise
+/// condition numbers of the two resolvents and `e_q` the relative error of
+/// the critical vectors ([`HopfPencil::eigen_error`]),
+///
+/// ```text
+/// |error(c1)| <= (g (1 + kappa_0) + e_q) (S_1 + S_2 + S_3) + g (kappa_0 S_2 + kappa_2 S_3),   g = 8 n eps
+/// ```
+///
+/// and `l1_error_bound = |error(c1)| / w`: first-order rounding of every
+/// input of the cancelling sum, amplified by the solve it goes through; the
+/// term `g kappa_0` covers the rounding of the point itself (an equilibrium
+/// located to `eps kappa_0` moves every derivative by as much).
 pub fn hopf_normal_form<S: VectorField>(
     sys: &S,
     x: &[f64],
     p: &[f64],
     omega: f64,
 ) -> Result<HopfNormalForm, ContinuationError> {
-    let omega = omega.abs();
     let a = jacobian(sys, x, p);
-    let iw = Complex64::new(0.0, omega);
-    let (_, q) = eigenpair_near(&a, iw)?;
-    let (_, pt) = eigenpair_near(&a.transpose(), -iw)?;
-    let q = &q / Complex64::from(q.norm());
-    let s = dotc(&pt, &q);
-    let padj = pt / s.conj();
+    let pencil = HopfPencil::new(&a, omega)?;
+    let omega = pencil.omega;
+    let q = pencil.q.clone();
     let at = At { sys, x, p };
     let qb = q.map(|z| z.conj());
-    let ac = a.map(Complex64::from);
-    let n = x.len();
-    let eye = DMatrix::<Complex64>::identity(n, n);
-    let h11 = solve_complex(ac.clone(), &at.b(&q, &qb))?;
-    let h20 = solve_complex(eye * Complex64::new(0.0, 2.0 * omega) - &ac, &at.b(&q, &q))?;
-    let t1 = dotc(&padj, &at.c(&q, &q, &qb)) * 0.5;
-    let t2 = -dotc(&padj, &at.b(&q, &h11));
-    let t3 = dotc(&padj, &at.b(&qb, &h20)) * 0.5;
+    let (h11, kappa0) = pencil.resolve(Complex64::from(0.0), &at.b(&q, &qb))?;
+    let h11 = -h11;
+    let (h20, kappa2) = pencil.resolve(Complex64::new(0.0, 2.0 * omega), &at.b(&q, &q))?;
+    let (t1, s1) = pencil.project(&at.c(&q, &q, &qb));
+    let (t2, s2) = pencil.project(&at.b(&q, &h11));
+    let (t3, s3) = pencil.project(&at.b(&qb, &h20));
+    let (t1, t2, t3) = (t1 * 0.5, -t2, t3 * 0.5);
+    let (s1, s3) = (0.5 * s1, 0.5 * s3);
     let c1 = t1 + t2 + t3;
+    let g = rounding_factor(x.len());
+    let error = (g * (1.0 + kappa0) + pencil.eigen_error()) * (s1 + s2 + s3)
+        + g * (kappa0 * s2 + kappa2 * s3);
     Ok(HopfNormalForm {
         omega,
         q,
-        p: padj,
+        p: pencil.p,
         c1,
         l1: c1.re / omega,
         term_scale: (t1.norm() + t2.norm() + t3.norm()) / omega,
+        l1_error_bound: error / omega,
     })
 }
 
@@ -125,7 +150,16 @@ pub fn eigenvalue_derivative<S: VectorField>(
 ) -> Result<Complex64, ContinuationError> {
     let a = jacobian(sys, x, par);
     let fp = param_derivative(sys, x, par, k);
-    let xp = crate::linalg::solve(a, &(-fp))?;
+    // Rows equilibrated before the solve (rows of size 1/m, small inertia).
+    let d: Vec<f64> = (0..a.nrows())
+        .map(|i| match a.row(i).amax() {
+            s if s > 0.0 && s.is_finite() => 1.0 / s,
+            _ => 1.0,
+        })
+        .collect();
+    let a_eq = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| d[i] * a[(i, j)]);
+    let f_eq = DVector::from_fn(fp.len(), |i, _| -d[i] * fp[i]);
+    let xp = crate::linalg::solve(a_eq, &f_eq)?;
     let mut ek = vec![0.0; par.len()];
     ek[k] = 1.0;
     let mut dq = DVector::from_element(x.len(), Complex64::new(0.0, 0.0));
@@ -141,7 +175,7 @@ pub fn eigenvalue_derivative<S: VectorField>(
     ] {
         dq += second_derivative(sys, x, par, JointDirection::state(&v), dir).map(|t| c * t);
     }
-    Ok(dotc(&nf.p, &dq))
+    Ok(nf.p.dotc(&dq))
 }
 
 /// The cycle born at a Hopf point, to leading order in `p - p_c`.

@@ -8,7 +8,7 @@
 //! steady friction, `V_min` for the cutoff law — the end point is located on
 //! the friction law itself: `mu_phi(1/nu) = mu_v`.
 
-use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome, DEGENERACY_TOL};
+use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::lpc_curve::{lpc_curves, LpcCurves};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
@@ -27,6 +27,8 @@ pub struct CurvePoint {
     pub m: f64,
     pub omega: f64,
     pub l1: f64,
+    /// Bound on the rounding error of `l1`.
+    pub l1_error_bound: f64,
     pub criticality: Criticality,
     /// Steady state `(s, v, theta)`.
     pub state: [f64; 3],
@@ -45,6 +47,8 @@ pub struct SpecialPoint {
     /// Second Lyapunov coefficient at a Bautin point: `l2 < 0` means the
     /// subcritical side is bounded by a fold of cycles (hysteresis loop).
     pub l2: Option<f64>,
+    /// Bound on the rounding error of `l2`.
+    pub l2_error_bound: Option<f64>,
 }
 
 /// The Hopf curve of a scene and its special points.
@@ -56,16 +60,6 @@ pub struct StabilityDiagram {
     pub stop: &'static str,
     /// Curves of folds of cycles (empty without a subcritical onset).
     pub lpc: LpcCurves,
-}
-
-fn criticality_of(l1: f64, scale: f64) -> Criticality {
-    if l1.abs() <= DEGENERACY_TOL * scale {
-        Criticality::Degenerate
-    } else if l1 < 0.0 {
-        Criticality::Supercritical
-    } else {
-        Criticality::Subcritical
-    }
 }
 
 /// The first value of `second` on a log grid over `[lo, hi]` at which steady
@@ -165,7 +159,8 @@ pub fn hopf_curve(
             m: p.m,
             omega: pt.omega,
             l1: pt.l1,
-            criticality: criticality_of(pt.l1, pt.l1_scale),
+            l1_error_bound: pt.l1_error_bound,
+            criticality: Criticality::of(pt.l1, pt.l1_error_bound),
             state: full_state(kind, &p, &pt.x),
         }
     };
@@ -197,8 +192,11 @@ pub fn hopf_curve(
             let pt = pt.map_err(NumericalError::from)?;
             if let Some(b) = &pt.bautin {
                 let c = convert(b);
-                let l2 = hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?.l2;
-                special.push(SpecialPoint { kind: "bautin", nu: c.nu, kappa: c.kappa, omega: c.omega, m: c.m, l2: Some(l2) });
+                let series = hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?;
+                special.push(SpecialPoint {
+                    kind: "bautin", nu: c.nu, kappa: c.kappa, omega: c.omega, m: c.m,
+                    l2: Some(series.l2), l2_error_bound: Some(series.l2_error_bound),
+                });
             }
             points.push(convert(&pt));
         }
@@ -213,7 +211,7 @@ pub fn hopf_curve(
         };
         if stop == "kappa_c -> 0" && second == Param::Nu {
             if let Some(nu_end) = points.last().and_then(|p| friction_minimum(params, p.nu)) {
-                special.push(SpecialPoint { kind: "endpoint", nu: nu_end, kappa: 0.0, omega: 0.0, m: params.m, l2: None });
+                special.push(SpecialPoint { kind: "endpoint", nu: nu_end, kappa: 0.0, omega: 0.0, m: params.m, l2: None, l2_error_bound: None });
             }
         }
         Ok((points, special, stop))

@@ -8,14 +8,11 @@
 use crate::error::NumericalError;
 use crate::model::{full_state, steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
+use continuation::hopf_series::hopf_series;
 use continuation::linalg::{count_unstable, eigenvalues};
 use continuation::normal_form::{eigenvalue_derivative, hopf_normal_form, onset_law};
 use continuation::system::jacobian;
 use continuation::{Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings};
-
-/// `|l1|` below this fraction of the size of its terms counts as zero
-/// (rounding level is ~1e-16): the Hopf point is degenerate.
-pub const DEGENERACY_TOL: f64 = 1e-9;
 
 /// Sub- or supercritical onset, from the sign of `l1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,11 +21,24 @@ pub enum Criticality {
     Supercritical,
     /// `l1 > 0`: an unstable cycle surrounds stable sliding; the onset is hysteretic.
     Subcritical,
-    /// `l1 = 0` to rounding: the cubic terms do not decide (e.g. quasi-static plain RR law).
+    /// `|l1|` within its rounding-error bound: the cubic terms do not decide
+    /// (e.g. quasi-static plain RR law, where `l1 = 0` exactly).
     Degenerate,
 }
 
 impl Criticality {
+    /// The onset type from `l1` and the bound on its rounding error: the
+    /// sign of `l1` counts only where `|l1|` exceeds the bound.
+    pub fn of(l1: f64, error_bound: f64) -> Criticality {
+        if !(l1.abs() > error_bound) {
+            Criticality::Degenerate
+        } else if l1 < 0.0 {
+            Criticality::Supercritical
+        } else {
+            Criticality::Subcritical
+        }
+    }
+
     /// `supercritical`, `subcritical` or `degenerate`.
     pub fn name(self) -> &'static str {
         match self {
@@ -46,8 +56,10 @@ pub struct Onset {
     pub l1: f64,
     /// Cubic normal-form coefficient `c1` (`l1 = Re c1 / omega`).
     pub c1: Complex64,
-    /// Size of the terms `l1` is made of: the scale for "l1 = 0".
+    /// Size of the terms `l1` is made of.
     pub l1_scale: f64,
+    /// Bound on the rounding error of `l1`; `|l1|` below it is "degenerate".
+    pub l1_error_bound: f64,
     /// Sub-, supercritical or degenerate.
     pub criticality: Criticality,
     /// `d lambda / d kappa` of the critical eigenvalue (transversality).
@@ -82,32 +94,85 @@ pub struct HopfPoint {
 }
 
 /// The normal form of the Hopf point of `block` at state `x` (model
-/// coordinates, which are MODEL.md's) and parameters `p`.
+/// coordinates, which are MODEL.md's) and parameters `p`, located to within
+/// `kappa_error` in the stiffness.
+///
+/// The bound on `l1` adds, to the engine's rounding bound, the change of
+/// `l1` over the location error, `|dl1/dkappa| kappa_error`, the slope taken
+/// by a central difference over `1e-6 kappa` (the equilibrium does not move
+/// with `kappa`).
 pub fn onset_at(
     block: &DrivenBlock,
     x: &[f64],
     p: &[f64],
     omega: f64,
+    kappa_error: f64,
 ) -> Result<Onset, NumericalError> {
-    let nf = hopf_normal_form(block, x, p, omega)?;
-    let dl = eigenvalue_derivative(block, x, p, Param::Kappa as usize, &nf)?;
-    let degenerate = nf.is_degenerate(DEGENERACY_TOL);
-    let criticality = match () {
-        _ if degenerate => Criticality::Degenerate,
-        _ if nf.l1 < 0.0 => Criticality::Supercritical,
-        _ => Criticality::Subcritical,
+    let mut nf = hopf_normal_form(block, x, p, omega)?;
+    let k = Param::Kappa as usize;
+    let h = 1e-6 * p[k].abs();
+    let l1_at = |dk: f64| {
+        let mut q = p.to_vec();
+        q[k] += dk;
+        hopf_normal_form(block, x, &q, omega).map(|n| n.l1)
     };
+    let slope = (l1_at(h)? - l1_at(-h)?) / (2.0 * h);
+    nf.l1_error_bound += slope.abs() * kappa_error;
+    let dl = eigenvalue_derivative(block, x, p, k, &nf)?;
+    let criticality = Criticality::of(nf.l1, nf.l1_error_bound);
+    let degenerate = criticality == Criticality::Degenerate;
     let law = (!degenerate).then(|| onset_law(&nf, dl, 0));
     Ok(Onset {
         l1: nf.l1,
         c1: nf.c1,
         l1_scale: nf.term_scale,
+        l1_error_bound: nf.l1_error_bound,
         criticality,
         dlambda_dkappa: dl,
         amplitude_coefficient: law.map(|l| l.coefficient),
         side: law.map(|l| l.side),
         frequency_slope: law.map(|l| l.frequency_slope),
     })
+}
+
+/// The second Lyapunov coefficient at the Hopf point `h` of `params` and
+/// its error bound: the engine's rounding bound plus the change of `l2` over
+/// the location error of `kappa_c` (as for `l1` in [`onset_at`]).
+pub fn second_lyapunov(
+    kind: ModelKind,
+    params: &Params,
+    h: &HopfPoint,
+) -> Result<(f64, f64), NumericalError> {
+    let block = DrivenBlock::new(kind, params);
+    let mut p = *params;
+    p.kappa = h.kappa_c;
+    let x: Vec<f64> = match kind {
+        ModelKind::Inertial => h.state.to_vec(),
+        ModelKind::QuasiStatic => vec![h.state[0], h.state[2]],
+    };
+    let at = |dk: f64| {
+        let mut q = p;
+        q.kappa += dk;
+        hopf_series(&block, &x, &q.to_vec(), h.omega_c)
+    };
+    let s = at(0.0)?;
+    let dk = 1e-6 * p.kappa;
+    let slope = (at(dk)?.l2 - at(-dk)?.l2) / (2.0 * dk);
+    let bound = s.l2_error_bound + slope.abs() * location_error(kind, params, h.kappa_c);
+    Ok((s.l2, bound))
+}
+
+/// How far a located `kappa_c` may be from the exact one: its distance from
+/// the closed form of Appendix C (exact for this model at any inertia,
+/// MODEL.md), and at least the rounding of `kappa_c` itself. Where the Hopf
+/// system is ill-conditioned (small `omega`, e.g. near `V_min` of the cutoff
+/// law) this is well above rounding.
+fn location_error(kind: ModelKind, params: &Params, kappa: f64) -> f64 {
+    let exact = match kind {
+        ModelKind::Inertial => crate::appendix_c::critical_stiffness(params),
+        ModelKind::QuasiStatic => crate::appendix_c::critical_stiffness_quasi_static(params),
+    };
+    (kappa - exact).abs().max(4.0 * f64::EPSILON * kappa.abs())
 }
 
 /// What the search for the stick-slip onset found.
@@ -189,7 +254,13 @@ pub fn find_hopf_with(
                 newton_iterations: e.newton.iterations,
                 residual: e.newton.residual,
                 steps,
-                onset: onset_at(&block, &e.x, &e.p, omega)?,
+                onset: onset_at(
+                    &block,
+                    &e.x,
+                    &e.p,
+                    omega,
+                    location_error(kind, params, e.param()),
+                )?,
             }));
         }
         if point.n_unstable > 0 {

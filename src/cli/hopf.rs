@@ -89,6 +89,7 @@ fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
                 },
                 "l1": h.onset.l1,
                 "l1_term_scale": h.onset.l1_scale,
+                "l1_error_bound": h.onset.l1_error_bound,
                 "criticality": h.onset.criticality.name(),
                 "amplitude_coefficient": h.onset.amplitude_coefficient,
                 "onset": {
@@ -228,15 +229,18 @@ fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
     use crate::analysis::hopf::Criticality;
     println!();
     println!(
-        "Onset type: {} (first Lyapunov coefficient l1 = {:.10e}, MODEL.md convention)",
+        "Onset type: {} (first Lyapunov coefficient l1 = {:.10e} ± {:.1e}, docs/model.md convention)",
         o.criticality.name(),
-        o.l1
+        o.l1,
+        o.l1_error_bound
     );
     match (o.criticality, o.amplitude_coefficient, o.side) {
         (Criticality::Degenerate, ..) => println!(
-            "  l1 vanishes to rounding (|l1| <= 1e-9 x {:.2e}, the size of its terms): the cubic normal form \
-             does not decide. For the quasi-static Rice–Ruina law this is exact (Ranjith & Rice 1999): \
-             at kappa = kappa_c a whole family of cycles exists; add the ln² term (mu2) or inertia.",
+            "  degenerate within rounding: |l1| < {:.2e}, the bound on its rounding error (its terms are of \
+             size {:.2e}): the cubic normal form does not decide. For the quasi-static Rice–Ruina law this is \
+             exact (Ranjith & Rice 1999): at kappa = kappa_c a whole family of cycles exists; add the ln² term \
+             (mu2) or inertia.",
+            o.l1_error_bound,
             o.l1_scale
         ),
         (_, Some(c), Some(side)) => {

@@ -240,7 +240,7 @@ fn to_json(r: &SceneResult) -> Value {
             let mut at = *params;
             at.nu = p.nu;
             json!({
-                "nu": p.nu, "kappa": p.kappa, "omega": p.omega, "l1": p.l1,
+                "nu": p.nu, "kappa": p.kappa, "omega": p.omega, "l1": p.l1, "l1_error_bound": p.l1_error_bound,
                 "criticality": p.criticality.name(),
                 "kappa_appendix_c": appendix_c::critical_stiffness(&at),
                 "V_um_per_s": u.velocity_um_s(p.nu),
@@ -264,6 +264,7 @@ fn to_json(r: &SceneResult) -> Value {
             });
             if s.kind == "bautin" {
                 v["l2"] = json!(s.l2);
+                v["l2_error_bound"] = json!(s.l2_error_bound);
             }
             v
         })
@@ -326,7 +327,7 @@ fn print_text(r: &SceneResult) {
     }
     for s in &d.special {
         let l2 =
-            s.l2.map(|l2| format!(", l2 = {l2:.6e}"))
+            s.l2.map(|l2| format!(", l2 = {l2:.6e} ± {:.1e}", s.l2_error_bound.unwrap_or(0.0)))
                 .unwrap_or_default();
         println!(
             "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), kappa = {:.10e}, omega = {:.6e}{l2}",

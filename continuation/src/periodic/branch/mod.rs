@@ -185,7 +185,9 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         settings: CycleSettings,
     ) -> Result<Self, ContinuationError> {
         let nf = hopf_normal_form(sys, x0, p0, omega)?;
-        if nf.is_degenerate(1e-9) {
+        // The normal-form start needs |c1| well above rounding: the first
+        // orbit's parameter offset is `-Re(c1) r^2 / Re(lambda')`.
+        if nf.is_degenerate() || nf.l1.abs() <= 1e-9 * nf.term_scale {
             return Err(ContinuationError::DegenerateHopf {
                 l1: nf.l1,
                 scale: nf.term_scale,
