@@ -97,6 +97,123 @@ pub struct CycleRequest {
     pub collocation: Option<CollocationPoints>,
 }
 
+impl CycleRequest {
+    /// Widens `[kappa_min, kappa_max]` to include every stiffness of
+    /// `at_kappa` (with a margin of 1e-3 relative), so that the branch
+    /// continues until it reaches them, when it can.
+    pub fn cover_requested(&mut self) {
+        for &k in &self.at_kappa {
+            self.kappa_min = self.kappa_min.min(k * (1.0 - 1e-3));
+            self.kappa_max = self.kappa_max.max(k * (1.0 + 1e-3));
+        }
+    }
+}
+
+/// What became of one stiffness asked for (`--at-kappa`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RequestedPoint {
+    /// The stiffness asked for.
+    pub kappa: f64,
+    /// Cycles delivered at it (a branch that turns at folds can pass a
+    /// stiffness more than once).
+    pub delivered: usize,
+    /// Why no cycle was delivered (`None` when one was).
+    pub reason: Option<String>,
+}
+
+/// How the branch started and ended, for the reasons of [`requested_points`].
+#[derive(Clone, Copy, Debug)]
+pub struct BranchEnds<'a> {
+    /// The Hopf point's stiffness, when the branch was born there.
+    pub hopf_start: Option<f64>,
+    /// Why the continuation stopped (the legs' outcomes, in words).
+    pub stop: &'a str,
+    /// Why there is no branch at all, when there is none.
+    pub no_branch: Option<&'a str>,
+}
+
+/// For each stiffness in `requested`, the cycles of `records` delivered at it
+/// (user points within 1e-9 relative of it), or why there is none: beyond a
+/// fold of cycles where the branch turns back, on the side of the Hopf point
+/// where its cycles do not exist, or the branch stopped before reaching it.
+pub fn requested_points(
+    requested: &[f64],
+    records: &[CycleRecord],
+    ends: &BranchEnds,
+) -> Vec<RequestedPoint> {
+    // The extremes of the branch, and whether each is a fold of cycles.
+    let reached = records
+        .iter()
+        .filter(|c| !c.user_point)
+        .flat_map(|c| {
+            std::iter::once((c.kappa, false)).chain(c.lpc.as_deref().map(|l| (l.kappa, true)))
+        })
+        .fold(
+            None,
+            |acc: Option<((f64, bool), (f64, bool))>, (k, fold)| {
+                let (lo, hi) = acc.unwrap_or(((k, fold), (k, fold)));
+                Some((
+                    if k < lo.0 { (k, fold) } else { lo },
+                    if k > hi.0 { (k, fold) } else { hi },
+                ))
+            },
+        );
+    requested
+        .iter()
+        .map(|&target| {
+            let delivered = records
+                .iter()
+                .filter(|c| c.user_point && (c.kappa - target).abs() <= 1e-9 * target)
+                .count();
+            let reason = (delivered == 0).then(|| match reached {
+                None => ends
+                    .no_branch
+                    .map_or_else(|| format!("no cycle was computed ({})", ends.stop), str::to_string),
+                Some(((lo, lo_fold), (hi, hi_fold))) => {
+                    let (above, end, fold) = if target > hi {
+                        (true, hi, hi_fold)
+                    } else if target < lo {
+                        (false, lo, lo_fold)
+                    } else {
+                        return format!(
+                            "the branch spans kappa = {lo:.6e} .. {hi:.6e} but no cycle was located at \
+                             this stiffness ({})",
+                            ends.stop
+                        );
+                    };
+                    let side = if above { "above" } else { "below" };
+                    match ends.hopf_start {
+                        _ if fold => format!(
+                            "{} the fold of cycles at kappa = {end:.10e}: the branch turns back there, \
+                             none of its cycles has a {} stiffness",
+                            if above { "beyond" } else { "below" },
+                            if above { "larger" } else { "smaller" }
+                        ),
+                        Some(kc) if (above && target > kc && hi <= kc * (1.0 + 1e-9))
+                            || (!above && target < kc && lo >= kc * (1.0 - 1e-9)) =>
+                        {
+                            format!(
+                                "{side} kappa_c = {kc:.10e}, where no cycle exists on this side: the \
+                                 cycles born at the Hopf point exist for kappa {} kappa_c",
+                                if above { "<" } else { ">" }
+                            )
+                        }
+                        _ => format!(
+                            "the branch stopped at kappa = {end:.10e} before reaching it ({})",
+                            ends.stop
+                        ),
+                    }
+                }
+            });
+            RequestedPoint {
+                kappa: target,
+                delivered,
+                reason,
+            }
+        })
+        .collect()
+}
+
 /// The collocation points for cycles of `kind`:
 ///
 /// - inertial: Radau IIA. While the block sticks, its velocity relaxes onto

@@ -60,7 +60,109 @@ pub struct StabilityDiagram {
     pub stop: &'static str,
     /// Curves of folds of cycles (empty without a subcritical onset).
     pub lpc: LpcCurves,
+    /// Stretches `(nu_from, nu_to)` of the range where steady friction is
+    /// velocity strengthening (`mu_phi <= mu_v`): steady sliding is stable
+    /// for every stiffness there and the Hopf curve does not enter them.
+    pub strengthening: Vec<(f64, f64)>,
+    /// Why the curve is empty or partial, in words (e.g. velocity
+    /// strengthening over the whole range); `None` when it covers the range.
+    pub reason: Option<String>,
 }
+
+/// `mu_phi - mu_v` of steady sliding at `nu` (the friction law's slopes).
+fn weakening_at(params: &Params, nu: f64) -> f64 {
+    let mut p = *params;
+    p.nu = nu;
+    p.mu_phi() - p.mu_v()
+}
+
+/// The stretches of `[lo, hi]` in `nu` where steady friction is velocity
+/// strengthening or neutral, `mu_phi(1/nu) <= mu_v`, by the friction law's
+/// own slopes: sign changes of `mu_phi - mu_v` on a log grid of 400 points,
+/// each boundary bisected in `ln nu` to rounding.
+pub fn strengthening_intervals(params: &Params, (lo, hi): (f64, f64)) -> Vec<(f64, f64)> {
+    const GRID: usize = 400;
+    let strong = |nu: f64| weakening_at(params, nu) <= 0.0;
+    let nu_at = |i: usize| {
+        if i == GRID - 1 {
+            hi
+        } else {
+            lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64)
+        }
+    };
+    // The boundary between a and b (strong(a) != strong(b)), bisected in ln nu.
+    let boundary = |mut a: f64, mut b: f64| {
+        let sa = strong(a);
+        for _ in 0..200 {
+            let mid = (a.ln() + 0.5 * (b / a).ln()).exp();
+            if mid <= a.min(b) || mid >= a.max(b) {
+                break;
+            }
+            if strong(mid) == sa {
+                a = mid;
+            } else {
+                b = mid;
+            }
+        }
+        if sa {
+            a
+        } else {
+            b
+        }
+    };
+    let mut out = Vec::new();
+    let mut open = strong(lo).then_some(lo);
+    for i in 1..GRID {
+        let (a, b) = (nu_at(i - 1), nu_at(i));
+        match (open, strong(b)) {
+            (None, true) => open = Some(boundary(a, b)),
+            (Some(from), false) => {
+                out.push((from, boundary(a, b)));
+                open = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(from) = open {
+        out.push((from, hi));
+    }
+    out
+}
+
+/// The words for the velocity-strengthening stretches of the range `(lo, hi)`:
+/// `None` when there are none.
+fn strengthening_reason(
+    params: &Params,
+    (lo, hi): (f64, f64),
+    strong: &[(f64, f64)],
+) -> Option<String> {
+    let whole = matches!(strong, [(a, b)] if *a == lo && *b == hi);
+    if whole {
+        let (w_lo, w_hi) = (weakening_at(params, lo), weakening_at(params, hi));
+        return Some(format!(
+            "velocity strengthening: mu_phi <= mu_v over the whole range nu = {lo:.6e} .. {hi:.6e} \
+             (mu_phi - mu_v = {w_lo:.4e} at nu = {lo:.4e}, {w_hi:.4e} at nu = {hi:.4e}; slopes of the \
+             friction law at steady sliding): steady sliding is linearly stable for every stiffness, \
+             no Hopf point, no stability boundary to draw"
+        ));
+    }
+    if strong.is_empty() {
+        return None;
+    }
+    let parts: Vec<String> = strong
+        .iter()
+        .map(|(a, b)| format!("nu = {a:.6e} .. {b:.6e}"))
+        .collect();
+    Some(format!(
+        "velocity strengthening (mu_phi <= mu_v, slopes of the friction law at steady sliding) for {}: \
+         steady sliding is linearly stable for every stiffness there, no Hopf point; the Hopf curve \
+         covers the velocity-weakening part of the range",
+        parts.join(", ")
+    ))
+}
+
+/// Values of the second parameter tried for a first Hopf point.
+const FIRST_HOPF_GRID: usize = 41;
 
 /// The first value of `second` on a log grid over `[lo, hi]` at which steady
 /// sliding has a Hopf point, with that point.
@@ -70,7 +172,7 @@ fn first_hopf(
     second: Param,
     (lo, hi): (f64, f64),
 ) -> Result<Option<(Params, crate::analysis::hopf::HopfPoint)>, NumericalError> {
-    const GRID: usize = 41;
+    const GRID: usize = FIRST_HOPF_GRID;
     for i in 0..GRID {
         let mut p = *params;
         p.set(second, lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64));
@@ -119,6 +221,10 @@ pub fn stability_diagram(
 ) -> Result<StabilityDiagram, NumericalError> {
     let mut d = hopf_curve(kind, params, Param::Nu, range)?;
     d.lpc = lpc_curves(kind, params, &d, range);
+    d.strengthening = strengthening_intervals(params, range);
+    if let Some(why) = strengthening_reason(params, range, &d.strengthening) {
+        d.reason = Some(why);
+    }
     Ok(d)
 }
 
@@ -136,6 +242,13 @@ pub fn hopf_curve(
             special: Vec::new(),
             stop: "no Hopf point in the range",
             lpc: LpcCurves::default(),
+            strengthening: Vec::new(),
+            reason: Some(format!(
+                "no Hopf point found at any of the {FIRST_HOPF_GRID} values of {} tried in {:.6e} .. {:.6e}",
+                second.name(),
+                range.0,
+                range.1
+            )),
         });
     };
     let block = DrivenBlock::new(kind, params);
@@ -233,5 +346,7 @@ pub fn hopf_curve(
         special,
         stop,
         lpc: LpcCurves::default(),
+        strengthening: Vec::new(),
+        reason: None,
     })
 }

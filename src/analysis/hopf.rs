@@ -175,13 +175,37 @@ fn location_error(kind: ModelKind, params: &Params, kappa: f64) -> f64 {
     (kappa - exact).abs().max(4.0 * f64::EPSILON * kappa.abs())
 }
 
+/// Where the search for the onset stops, relative to its stable starting
+/// stiffness, when steady friction is velocity strengthening
+/// (`mu_phi <= mu_v`, the friction law's own slopes at the steady state).
+///
+/// As `kappa -> 0` the characteristic polynomial (Appendix C, C9) has a root
+/// going to zero with its constant coefficient `a0 = kappa nu`; rounding can
+/// push that root across zero near `1e-11` of the starting stiffness, which a
+/// continuation down to `1e-12` of it would report as a real eigenvalue
+/// crossing. With `mu_phi <= mu_v` no crossing exists for any `kappa > 0`:
+/// every coefficient of the cubic is positive and the Routh–Hurwitz
+/// determinant `a2 a1 - a3 a0 = (mu_v/nu)(kappa + mu_v - mu_phi) + m nu (mu_v - mu_phi)`
+/// is positive. So the continuation checks stability down to this floor and
+/// the verdict below it rests on that sign.
+pub const STRENGTHENING_FLOOR: f64 = 1e-8;
+
+/// Whether steady friction at `params.nu` is velocity strengthening, or
+/// neutral: `mu_phi <= mu_v` (the steady-state slopes of the friction law,
+/// MODEL.md). Then steady sliding is linearly stable for every stiffness.
+pub fn velocity_strengthening(params: &Params) -> bool {
+    params.mu_phi() <= params.mu_v()
+}
+
 /// What the search for the stick-slip onset found.
 #[derive(Clone, Debug)]
 pub enum HopfOutcome {
     /// Steady sliding loses stability at a Hopf point.
     Found(HopfPoint),
-    /// Steady sliding stays linearly stable down to `kappa_min` (e.g. for
-    /// velocity-strengthening friction, `B <= A`).
+    /// Steady sliding stays linearly stable down to `kappa_min`. For
+    /// velocity-strengthening friction ([`velocity_strengthening`]) the
+    /// search stops at [`STRENGTHENING_FLOOR`] of its starting stiffness and
+    /// the verdict holds for every `kappa > 0`.
     StableForAllStiffness { kappa_min: f64 },
 }
 
@@ -225,7 +249,13 @@ pub fn find_hopf_with(
     let k0 = stable_stiffness(&block, params)?;
     let mut p = *params;
     p.kappa = k0;
-    let kappa_min = 1e-12 * k0;
+    // Velocity strengthening: stable for every kappa > 0 (see STRENGTHENING_FLOOR);
+    // checked numerically down to a floor clear of the cubic's vanishing root.
+    let kappa_min = if velocity_strengthening(params) {
+        STRENGTHENING_FLOOR * k0
+    } else {
+        1e-12 * k0
+    };
     let settings = ContinuationSettings {
         ds: 0.02 * k0,
         ds_max: 0.1 * k0,

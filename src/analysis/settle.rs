@@ -119,6 +119,15 @@ pub enum SettleError {
 }
 
 impl SettleError {
+    /// The stiffness simulated.
+    pub fn kappa(&self) -> f64 {
+        match self {
+            SettleError::Decayed { kappa, .. }
+            | SettleError::NotSettled { kappa, .. }
+            | SettleError::Integration { kappa, .. } => *kappa,
+        }
+    }
+
     /// The outcome in a few words (a decay without the advice).
     pub fn summary(&self) -> String {
         match self {

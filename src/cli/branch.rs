@@ -2,9 +2,9 @@
 //! eigenvalues at every point and the located bifurcations. Rows are written
 //! as they are computed.
 
-use super::{describe_params, SceneArgs};
+use super::{describe_params, SceneArgs, Setup};
 use crate::analysis::branch::{trace, BranchRequest};
-use crate::analysis::hopf::stable_stiffness;
+use crate::analysis::hopf::{find_hopf, stable_stiffness, HopfOutcome};
 use crate::error::{Error, InputError};
 use crate::model::{full_state, DrivenBlock};
 use crate::params::{Param, Params};
@@ -59,6 +59,9 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         q
     })?;
     let kind = setup.choice.kind;
+    if param == Param::Nu && setup.params.kappa <= 0.0 {
+        return Err(no_stiffness(&setup).into());
+    }
     let from = match (args.from, param) {
         (Some(v), _) => v,
         (None, Param::Kappa) => {
@@ -72,16 +75,14 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         (None, _) => nu_hi,
     };
     for (name, v) in [("--from", from), ("--to", to)] {
-        let positive = if param == Param::Kappa {
-            v >= 0.0
-        } else {
-            v > 0.0
-        };
-        if !v.is_finite() || !positive {
+        // kappa = 0 is no end point: without a spring steady sliding has a
+        // zero eigenvalue (a0 = kappa nu in the characteristic polynomial).
+        if !(v.is_finite() && v > 0.0) {
             return Err(InputError::out_of_range(
                 name,
                 v,
-                "a finite value in the parameter's range (kappa >= 0, nu > 0)",
+                "a finite value > 0 (kappa = 0 has no isolated steady state: the spring holds \
+                 nothing; for kappa use e.g. 1e-3 of the start, as the default --to does)",
             )
             .into());
         }
@@ -160,6 +161,32 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         )?;
         Ok(())
     })
+}
+
+/// The refusal of a velocity branch without a stiffness, with `kappa_c` at
+/// the scene's velocity (located as by `stickslip hopf`) as a hint.
+fn no_stiffness(setup: &Setup) -> InputError {
+    let p = &setup.params;
+    let hint = match find_hopf(setup.choice.kind, p) {
+        Ok(HopfOutcome::Found(h)) => format!(
+            "; at the scene's velocity nu = {:.6e} steady sliding is stable above kappa_c = {:.6e} \
+             ({} model, as for this branch), e.g. --set kappa={:.4e} crosses the onset on the branch",
+            p.nu,
+            h.kappa_c,
+            setup.choice.kind.name(),
+            h.kappa_c
+        ),
+        Ok(HopfOutcome::StableForAllStiffness { .. }) => format!(
+            "; at the scene's velocity nu = {:.6e} steady sliding is stable for every stiffness",
+            p.nu
+        ),
+        Err(_) => String::new(),
+    };
+    InputError::Conflict(format!(
+        "branch --param nu needs a stiffness: kappa = 0 here (the scene gives no K), and without a \
+         spring steady sliding has a zero eigenvalue at every velocity (no isolated equilibrium to \
+         continue); give --set kappa=... (kappa = K D0/W){hint}"
+    ))
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -5,8 +5,9 @@ use super::Setup;
 use crate::analysis::cycles::{
     trace_cycles_from, trace_cycles_from_orbit, CycleRecord, CycleRequest,
 };
-use crate::analysis::hopf::{HopfOutcome, HopfPoint};
-use crate::analysis::orbit_start::{simulated_start, OrbitStart};
+use crate::analysis::hopf::{velocity_strengthening, HopfOutcome, HopfPoint};
+use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
+use crate::analysis::settle::SettleError;
 use crate::error::{Error, NumericalError};
 use serde_json::{json, Value};
 
@@ -17,6 +18,14 @@ pub enum Start {
         orbit: OrbitStart,
         /// The Hopf point, when there is one (the simulation was asked for).
         hopf: Option<HopfPoint>,
+    },
+    /// No branch: steady sliding is velocity strengthening (stable for every
+    /// stiffness, no Hopf point) and no simulation settled on a cycle.
+    NoCycle {
+        /// Why, in words: the friction slopes and each stiffness simulated.
+        reason: String,
+        /// The simulations tried.
+        tried: NoCycleFound,
     },
 }
 
@@ -36,8 +45,18 @@ impl Start {
             Some(h) if !from_simulation => Ok(Start::Hopf(h)),
             hopf => {
                 let kappa_c = hopf.as_ref().map(|h| h.kappa_c);
-                let orbit = simulated_start(setup.choice.kind, &setup.params, kappa_c)?;
-                Ok(Start::Simulation { orbit, hopf })
+                match simulated_start(setup.choice.kind, &setup.params, kappa_c) {
+                    Ok(orbit) => Ok(Start::Simulation { orbit, hopf }),
+                    // Linearly stable for every stiffness and no cycle by simulation:
+                    // an answer (an empty branch), not a failure.
+                    Err(tried) if hopf.is_none() && velocity_strengthening(&setup.params) => {
+                        Ok(Start::NoCycle {
+                            reason: no_cycle_reason(setup, &tried),
+                            tried,
+                        })
+                    }
+                    Err(e) => Err(e.into()),
+                }
             }
         }
     }
@@ -46,7 +65,28 @@ impl Start {
     pub fn kappa_c(&self) -> Option<f64> {
         match self {
             Start::Hopf(h) | Start::Simulation { hopf: Some(h), .. } => Some(h.kappa_c),
-            Start::Simulation { hopf: None, .. } => None,
+            Start::Simulation { hopf: None, .. } | Start::NoCycle { .. } => None,
+        }
+    }
+
+    /// Why there is no branch at all ([`Start::NoCycle`]).
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Start::NoCycle { reason, .. } => Some(reason),
+            _ => None,
+        }
+    }
+
+    /// Whether the search for a start was conclusive: false when a
+    /// simulation neither decayed nor settled (or failed), so a cycle may
+    /// have been missed.
+    pub fn conclusive(&self) -> bool {
+        match self {
+            Start::NoCycle { tried, .. } => tried
+                .tries
+                .iter()
+                .all(|t| matches!(t, SettleError::Decayed { .. })),
+            _ => true,
         }
     }
 
@@ -55,14 +95,17 @@ impl Start {
     pub fn reference_kappa(&self) -> f64 {
         match self {
             Start::Simulation { orbit, hopf: None } => orbit.params.kappa,
+            Start::NoCycle { tried, .. } => tried.tries.first().map_or(0.0, SettleError::kappa),
             _ => self.kappa_c().unwrap_or(0.0),
         }
     }
 
     /// What the text output says about the start (nothing for a Hopf start).
     pub fn describe(&self, setup: &Setup) -> Option<String> {
-        let Start::Simulation { orbit, hopf } = self else {
-            return None;
+        let (orbit, hopf) = match self {
+            Start::Simulation { orbit, hopf } => (orbit, hopf),
+            Start::NoCycle { reason, .. } => return Some(format!("no cycles: {reason}")),
+            Start::Hopf(_) => return None,
         };
         let kappa = orbit.params.kappa;
         let why = match hopf {
@@ -94,6 +137,12 @@ impl Start {
                 "period": orbit.orbit.period, "oscillations": orbit.orbit.periods,
                 "time": orbit.orbit.time,
             }),
+            Start::NoCycle { tried, .. } => json!({
+                "kind": "none",
+                "simulated": tried.tries.iter().map(|t| json!({
+                    "kappa": t.kappa(), "outcome": t.summary(),
+                })).collect::<Vec<_>>(),
+            }),
         }
     }
 
@@ -117,6 +166,32 @@ impl Start {
                     Err(e) => vec![("", Err(e))],
                 }
             }
+            Start::NoCycle { .. } => Vec::new(),
         }
     }
+}
+
+/// The words for [`Start::NoCycle`]: the friction slopes that make steady
+/// sliding stable for every stiffness, and what each simulation gave.
+fn no_cycle_reason(setup: &Setup, tried: &NoCycleFound) -> String {
+    let p = &setup.params;
+    let kappas: Vec<String> = tried
+        .tries
+        .iter()
+        .map(|t| format!("{:.3e}", t.kappa()))
+        .collect();
+    format!(
+        "steady sliding is stable and no stick-slip cycle was found by simulation at kappa = {} ({}); \
+         velocity strengthening at nu = {:.6e}: mu_phi - mu_v = {:.4e} <= 0 (mu_phi = {:.6e}, mu_v = {:.6e}, \
+         slopes of the friction law at steady sliding), so steady sliding is linearly stable for every \
+         stiffness and no cycle is born at a Hopf point. Finite-amplitude cycles coexisting with it, if \
+         any, were not reached from a stuck start: try --set kappa=... smaller, or --set nu=... closer to \
+         the friction minimum",
+        kappas.join(", "),
+        tried.tries.iter().map(SettleError::summary).collect::<Vec<_>>().join("; "),
+        p.nu,
+        p.mu_phi() - p.mu_v(),
+        p.mu_phi(),
+        p.mu_v(),
+    )
 }

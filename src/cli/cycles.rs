@@ -6,7 +6,10 @@ use super::cycle_start::Start;
 use super::files::with_suffix;
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
-use crate::analysis::cycles::{along_branch, collocation_for, CycleRecord, CycleRequest};
+use crate::analysis::cycles::{
+    along_branch, collocation_for, requested_points, BranchEnds, CycleRecord, CycleRequest, Leg,
+    RequestedPoint,
+};
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
@@ -137,7 +140,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point"
     )?;
     let kappa_ref = start.reference_kappa();
-    let req = CycleRequest {
+    let mut req = CycleRequest {
         kappa_min: args.kappa_fraction * kappa_ref,
         kappa_max: 10.0 * kappa_ref,
         max_steps: args.max_steps,
@@ -146,6 +149,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ntst_max: args.ntst_max,
         collocation: Some(points),
     };
+    // Requested stiffnesses outside the default range extend the branch to them.
+    req.cover_requested();
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress("continuing cycles");
@@ -224,7 +229,19 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let stop = outcomes
         .iter()
         .map(|(leg, outcome)| {
+            let on_leg = match *leg {
+                "toward larger stiffness" => Leg::Up,
+                "toward smaller stiffness" => Leg::Down,
+                _ => Leg::FromHopf,
+            };
+            let cycles_on_leg = records
+                .iter()
+                .filter(|c| !c.user_point && c.leg == on_leg)
+                .count();
             let why = match outcome {
+                Ok(_) if cycles_on_leg >= args.max_steps => {
+                    format!("step limit (--max-steps {})", args.max_steps)
+                }
                 Ok(_) => "end of the requested range".to_string(),
                 Err(e) => e.to_string(),
             };
@@ -236,6 +253,27 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         })
         .collect::<Vec<_>>()
         .join("; ");
+    let stop = match start.reason() {
+        Some(_) => {
+            "no branch: no Hopf point and no cycle found by simulation (see reason)".to_string()
+        }
+        None => stop,
+    };
+    let requested = requested_points(
+        &args.at_kappa,
+        &records,
+        &BranchEnds {
+            hopf_start: match &start {
+                Start::Hopf(h) => Some(h.kappa_c),
+                _ => None,
+            },
+            stop: &stop,
+            no_branch: start.reason(),
+        },
+    );
+    // Partial: a leg ended on an error, or the search for a start was inconclusive.
+    let complete = start.conclusive() && outcomes.iter().all(|(_, o)| o.is_ok());
+    write_requested_csv(&mut csv, &requested)?;
     if args.json {
         let v = json!({
             "scene": setup.scene.name,
@@ -250,16 +288,33 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 "v_min": l.v_min, "v_max": l.v_max,
             })).collect::<Vec<_>>(),
             "stop": stop,
+            "complete": complete,
+            "requested_points": requested.iter().map(requested_json).collect::<Vec<_>>(),
             "lpc_curve": lpc_json(&lpc.0, &setup.scene.units),
             "lpc_stops": lpc.0.stops,
             "files": files.iter().chain([&csv_path]).map(|f| f.display().to_string()).collect::<Vec<_>>(),
         });
+        let mut v = v;
+        if let Some(why) = start.reason() {
+            v["reason"] = json!(why);
+        }
         println!(
             "{}",
             serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
         );
     } else {
         println!("stopped: {stop}");
+        for r in &requested {
+            match &r.reason {
+                None => println!(
+                    "requested kappa = {:.10e}: delivered ({} cycle{})",
+                    r.kappa,
+                    r.delivered,
+                    if r.delivered == 1 { "" } else { "s" }
+                ),
+                Some(why) => println!("requested kappa = {:.10e}: not delivered: {why}", r.kappa),
+            }
+        }
         for f in files.iter().chain([&csv_path]) {
             println!("wrote {}", f.display());
         }
@@ -270,6 +325,31 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         Some(e) if records.len() < 2 => Err(e),
         _ => Ok(()),
     }
+}
+
+/// One requested stiffness as JSON: `kappa`, `delivered`, and `reason` when
+/// no cycle was delivered.
+fn requested_json(r: &RequestedPoint) -> Value {
+    let mut v = json!({"kappa": r.kappa, "delivered": r.delivered > 0, "cycles": r.delivered});
+    if let Some(why) = &r.reason {
+        v["reason"] = json!(why);
+    }
+    v
+}
+
+/// The requested stiffnesses without a cycle, as comment lines at the end of the CSV.
+fn write_requested_csv(csv: &mut impl Write, requested: &[RequestedPoint]) -> Result<(), Error> {
+    for r in requested {
+        if let Some(why) = &r.reason {
+            writeln!(
+                csv,
+                "# requested kappa = {:.15e} not delivered: {why}",
+                r.kappa
+            )?;
+        }
+    }
+    csv.flush()?;
+    Ok(())
 }
 
 /// The curves of folds of cycles through every fold on the branch, with

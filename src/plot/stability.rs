@@ -39,6 +39,9 @@ pub struct StabilityFigure {
     pub bistable: Vec<Vec<(f64, f64, Option<f64>)>>,
     /// x range of the axes.
     pub x_range: (f64, f64),
+    /// Lines of text written in the plot (e.g. "velocity strengthening: stable
+    /// for every stiffness" where there is no Hopf curve).
+    pub notes: Vec<String>,
 }
 
 const SUPER: RGBColor = RGBColor(31, 90, 180);
@@ -134,8 +137,22 @@ fn draw<DB: DrawingBackend>(
     chart
         .draw_series([Text::new("steady sliding stable", at(0.5, 0.93), centred)])
         .map_err(e)?;
+    if !fig.segments.is_empty() {
+        chart
+            .draw_series([Text::new("unstable: stick-slip", at(0.02, 0.06), left)])
+            .map_err(e)?;
+    }
+    let note_style = TextStyle::from((FONT, 18).into_font())
+        .color(&RGBColor(90, 140, 60))
+        .pos(Pos::new(HPos::Center, VPos::Center));
     chart
-        .draw_series([Text::new("unstable: stick-slip", at(0.02, 0.06), left)])
+        .draw_series(fig.notes.iter().enumerate().map(|(i, line)| {
+            Text::new(
+                line.clone(),
+                at(0.5, 0.5 - 0.06 * i as f64),
+                note_style.clone(),
+            )
+        }))
         .map_err(e)?;
     for (i, region) in fig.bistable.iter().enumerate() {
         let mut polygon: Vec<(f64, f64)> = region.iter().map(|&(x, hi, _)| (x, hi)).collect();
@@ -213,6 +230,16 @@ fn draw<DB: DrawingBackend>(
             .map_err(e)?
             .label(name)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2)));
+    }
+    let has_legend = !(fig.segments.is_empty()
+        && fig.reference.is_empty()
+        && fig.markers.is_empty()
+        && fig.vlines.is_empty()
+        && fig.bistable.is_empty()
+        && fig.lpc.is_empty());
+    if !has_legend {
+        root.present().map_err(e)?;
+        return Ok(());
     }
     chart
         .configure_series_labels()

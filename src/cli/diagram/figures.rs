@@ -17,6 +17,8 @@ struct Axes {
     x_label: String,
     y_label: String,
     title: String,
+    /// How a stretch `[a, b]` of x values reads in words (`V = a .. b µm/s`).
+    x_span: fn(f64, f64) -> String,
 }
 
 pub(super) fn write_figures(
@@ -50,6 +52,7 @@ pub(super) fn write_figures(
             x_label: "driving velocity V [µm/s]".into(),
             y_label: y_label.into(),
             title: format!("Stability diagram, {} ({model} model)", setup.scene.name),
+            x_span: |a, b| format!("V = {a:.4e} .. {b:.4e} µm/s"),
         },
         Axes {
             suffix: "-stability-dimensionless",
@@ -61,6 +64,7 @@ pub(super) fn write_figures(
                 "Stability diagram, {}: (κ, ν) ({model} model)",
                 setup.scene.name
             ),
+            x_span: |a, b| format!("ν = {a:.4e} .. {b:.4e}"),
         },
     ];
     for Axes {
@@ -70,6 +74,7 @@ pub(super) fn write_figures(
         x_label,
         y_label,
         title,
+        x_span,
     } in axes
     {
         let pts: Vec<_> = d
@@ -141,6 +146,7 @@ pub(super) fn write_figures(
             lpc,
             bistable,
             x_range: (fx(lo), fx(hi)),
+            notes: strengthening_notes(d, &|a, b| x_span(fx(a), fx(b))),
         };
         files.extend(
             render(&fig, &with_suffix(stem, suffix))
@@ -161,4 +167,24 @@ fn hopf_kappa_at(d: &StabilityDiagram, nu: f64) -> Option<f64> {
             let f = if f.is_finite() { f } else { 0.0 };
             (w[0].kappa.ln() + f * (w[1].kappa / w[0].kappa).ln()).exp()
         })
+}
+
+/// The plot's words on velocity strengthening: the whole range, or each
+/// stretch of it (in the axes' velocity unit).
+fn strengthening_notes(d: &StabilityDiagram, span: &dyn Fn(f64, f64) -> String) -> Vec<String> {
+    if d.points.is_empty() && !d.strengthening.is_empty() {
+        return vec![
+            "velocity strengthening over the whole range (μ_φ ≤ μ_v):".to_string(),
+            "steady sliding stable for every stiffness, no Hopf point".to_string(),
+        ];
+    }
+    d.strengthening
+        .iter()
+        .map(|&(a, b)| {
+            format!(
+                "velocity strengthening for {}: stable for every stiffness",
+                span(a, b)
+            )
+        })
+        .collect()
 }

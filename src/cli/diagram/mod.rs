@@ -199,6 +199,9 @@ fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<Pat
         setup.choice.kind.name(),
         setup.choice.reason
     )?;
+    if let Some(why) = &d.reason {
+        writeln!(w, "# {why}")?;
+    }
     writeln!(w, "nu,kappa,omega,l1,criticality,kappa_appendix_c,V_um_per_s,K_over_W_per_m,K_over_M_per_s2,frequency_hz")?;
     for p in &d.points {
         let mut at = setup.params;
@@ -270,7 +273,18 @@ fn to_json(r: &SceneResult) -> Value {
         })
         .collect();
     let lpc = lpc_json(&r.diagram.lpc, u);
-    json!({
+    let strengthening: Vec<Value> = r
+        .diagram
+        .strengthening
+        .iter()
+        .map(|&(a, b)| {
+            json!({
+                "nu_from": a, "nu_to": b,
+                "V_from_um_per_s": u.velocity_um_s(a), "V_to_um_per_s": u.velocity_um_s(b),
+            })
+        })
+        .collect();
+    let mut out = json!({
         "scene": r.setup.scene.name,
         "model": r.setup.choice.kind.name(),
         "model_reason": r.setup.choice.reason,
@@ -283,7 +297,12 @@ fn to_json(r: &SceneResult) -> Value {
         "lpc_stops": r.diagram.lpc.stops,
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
         "elapsed_s": r.seconds,
-    })
+        "velocity_strengthening": strengthening,
+    });
+    if let Some(why) = &r.diagram.reason {
+        out["reason"] = json!(why);
+    }
+    out
 }
 
 fn print_text(r: &SceneResult) {
@@ -303,6 +322,16 @@ fn print_text(r: &SceneResult) {
         d.points.len(),
         d.stop
     );
+    if let Some(why) = &d.reason {
+        println!("  {why}");
+    }
+    for &(a, b) in d.strengthening.iter().filter(|_| !d.points.is_empty()) {
+        println!(
+            "  velocity strengthening for V = {:.6e} .. {:.6e} um/s: steady sliding stable for every stiffness",
+            u.velocity_um_s(a),
+            u.velocity_um_s(b)
+        );
+    }
     if let (Some(a), Some(b)) = (d.points.first(), d.points.last()) {
         println!(
             "  kappa_c from {:.6e} (V = {:.4} um/s) to {:.6e} (V = {:.4} um/s)",

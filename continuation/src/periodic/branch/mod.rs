@@ -12,7 +12,7 @@ mod refine;
 use super::cycle::Cycle;
 use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
-use super::newton::{correct_along, newton_bordered, tangent, ArcWeights};
+use super::newton::{correct_along, newton_bordered, tangent, unit_row, ArcWeights};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
@@ -345,11 +345,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     ) -> Result<CyclePoint, ContinuationError> {
         let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
         let mut best = None;
-        let tight = NewtonSettings {
-            step_tol: 1e-13,
-            residual_tol: 1e-12,
-            max_iter: 15,
-        };
+        let tight = LOCATOR;
         let w = ArcWeights::at(z0, self.settings.param_floor);
         for _ in 0..60 {
             let sigma = b - fb * (b - a) / (fb - fa);
@@ -371,7 +367,44 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         best.error_estimate = self.error_estimate(&best.cycle);
         Ok(best)
     }
+
+    /// The located orbit `pt` solved again with the parameter fixed at
+    /// `target` (Newton on the collocation system bordered by `p_k = target`,
+    /// from `pt`): a user point then lies on the value asked for, not within
+    /// the locator's tolerance of it (about `1e-11` relative). `t0` orients
+    /// the tangent. Where that Newton fails — at a fold of cycles the orbit
+    /// at fixed parameter is ill-determined — `pt` is kept as located, with
+    /// its own parameter value.
+    fn pin(
+        &self,
+        coll: &Collocation<'a, S>,
+        pt: CyclePoint,
+        t0: &[f64],
+        target: f64,
+    ) -> Result<CyclePoint, ContinuationError> {
+        let mut z = coll.unknowns(&pt.cycle);
+        let nz = z.len();
+        z[nz - 1] = target;
+        let anchor = z.clone();
+        let Ok(rep) = newton_bordered(coll, &mut z, &LOCATOR, &unit_row(nz, nz - 1), &anchor)
+        else {
+            return Ok(pt);
+        };
+        let w = ArcWeights::at(&z, self.settings.param_floor);
+        let t = tangent(coll, &z, t0, &w)?;
+        let mut pinned = point_at(coll, &z, &t, rep)?;
+        pinned.error_estimate = self.error_estimate(&pinned.cycle);
+        Ok(pinned)
+    }
 }
+
+/// Newton settings of located points (folds, user points), tighter than the
+/// corrector's.
+const LOCATOR: NewtonSettings = NewtonSettings {
+    step_tol: 1e-13,
+    residual_tol: 1e-12,
+    max_iter: 15,
+};
 
 /// The orbit at `z` with its Floquet multipliers.
 fn point_at<S: VectorField>(
@@ -461,7 +494,7 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                             ds,
                             |z, _| Ok(z[nz - 1] - target),
                         )?;
-                        pt.user.push(user);
+                        pt.user.push(self.pin(&coll0, user, &t0, target)?);
                     }
                 }
                 Ok(pt)
