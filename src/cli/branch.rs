@@ -59,9 +59,6 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         q
     })?;
     let kind = setup.choice.kind;
-    if param == Param::Nu && setup.params.kappa <= 0.0 {
-        return Err(no_stiffness(&setup).into());
-    }
     let from = match (args.from, param) {
         (Some(v), _) => v,
         (None, Param::Kappa) => {
@@ -86,6 +83,9 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
             )
             .into());
         }
+    }
+    if param == Param::Nu && setup.params.kappa <= 0.0 {
+        return Err(no_stiffness(&setup).into());
     }
     if from == to {
         return Err(InputError::Conflict(format!(
