@@ -180,6 +180,21 @@ pub fn run(cli: Cli) -> Result<(), Error> {
     }
 }
 
+/// `v` with five significant digits: fixed notation between `1e-3` and
+/// `1e6`, scientific outside (a small velocity is never printed as `0.0000`).
+pub fn significant(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    if (1e-3..1e6).contains(&a) {
+        let decimals = (4 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
 /// Formats parameters as `name = value` pairs on one line.
 pub fn describe_params(p: &Params) -> String {
     p.named()
