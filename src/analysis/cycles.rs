@@ -43,6 +43,8 @@ pub struct CycleRecord {
     /// Floquet multipliers the pencil determined, by decreasing modulus
     /// (fewer than the dimension when it left some undetermined).
     pub multipliers: Vec<Complex64>,
+    /// Index of the trivial multiplier in `multipliers`, when determined.
+    pub trivial: Option<usize>,
     /// `min |mu - 1|`: rounding in the multipliers (amplified by the
     /// growth of perturbations along stiff cycles); `None` when the pencil
     /// did not determine the trivial multiplier ([`TRIVIAL_UNAVAILABLE`]).
@@ -183,6 +185,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
         v_min,
         v_max,
         multipliers: pt.multipliers.clone(),
+        trivial: pt.trivial,
         trivial_error: Some(pt.trivial_error).filter(|e| e.is_finite()),
         error_estimate: Some(pt.error_estimate).filter(|e| e.is_finite()),
         stability: pt.stability,

@@ -132,7 +132,7 @@ pub fn stability_diagram(
 }
 
 /// Steps of each run of the Hopf curve by default (`diagram --max-steps`).
-pub const DEFAULT_CURVE_STEPS: usize = 5000;
+pub const DEFAULT_CURVE_STEPS: usize = 50_000;
 
 /// [`stability_diagram`] with at most `max_steps` continuation steps in
 /// each direction along the Hopf curve.

@@ -94,6 +94,7 @@ fn record_json(c: &CycleRecord) -> Value {
         "kappa": c.kappa, "period": c.period, "delta_s": c.delta_s,
         "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
         "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
+        "trivial_multiplier_index": c.trivial,
         "trivial_multiplier_error": c.trivial_error, "error_estimate": c.error_estimate,
         "stable": match c.stability {
             Stability::Stable => Some(true),
@@ -133,10 +134,10 @@ fn stop_reason(outcomes: &[(&str, Result<BranchEnd, Error>)], max_steps: usize) 
             let why = match outcome {
                 Ok(BranchEnd::ParameterBound) => "end of the requested range".to_string(),
                 Ok(BranchEnd::MaxSteps) => format!(
-                    "step limit: {max_steps} cycles (--max-steps) before the end of the requested range"
+                    "step limit: {max_steps} continuation steps (--max-steps) taken; the range is not covered"
                 ),
                 Ok(BranchEnd::MaxPeriod) => {
-                    "period limit before the end of the requested range".to_string()
+                    "period limit reached; the range is not covered".to_string()
                 }
                 Err(e) => e.to_string(),
             };
