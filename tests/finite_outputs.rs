@@ -319,7 +319,7 @@ fn an_underflowing_velocity_is_written_from_its_logarithm_within_bounds() {
         // below the range of f64): its logarithm is log10_v.
         let (m, e) = cells[iv].split_once('e').expect("v in scientific notation");
         let (m, e): (f64, f64) = (m.parse().unwrap(), e.parse().unwrap());
-        assert!(m >= 1.0 && m < 10.0, "v = {}", cells[iv]);
+        assert!((1.0..10.0).contains(&m), "v = {}", cells[iv]);
         assert!(
             (m.log10() + e - log10_v).abs() < 1e-9 * log10_v.abs().max(1.0),
             "v = {} vs log10 v = {log10_v}",

@@ -80,7 +80,7 @@ impl Trajectory {
                 i += 1;
                 (i - 1) % 2 == 0
             });
-            if n % 2 == 0 {
+            if n.is_multiple_of(2) {
                 v.extend(last);
             }
         };

@@ -167,9 +167,9 @@ pub fn multiplier_error(n: usize, trivial_error: f64) -> f64 {
 /// A located fold of cycles is accepted when a nontrivial multiplier lies
 /// within `max(multiplier_error, FOLD_MULTIPLIER)` of 1: at a fold the
 /// branch's tangent is vertical because a second multiplier passes through
-/// 1. A sign change of `dp/ds` without it is the rounding of a branch that
-/// is vertical to the corrector's tolerance (a canard-like explosion of the
-/// amplitude at fixed stiffness), not a fold.
+/// one. A sign change of `dp/ds` without it is the rounding of a branch
+/// that is vertical to the corrector's tolerance (a canard-like explosion
+/// of the amplitude at fixed stiffness), not a fold.
 const FOLD_MULTIPLIER: f64 = 1e-3;
 
 /// Why a branch ended without an error.
