@@ -228,7 +228,7 @@ fn figure(
     let branch = |stable: bool| -> Vec<(f64, f64)> {
         ordered
             .iter()
-            .filter(|c| c.stable == stable)
+            .filter(|c| c.stability.is_stable() == stable)
             .map(|c| (c.kappa, c.delta_s))
             .collect()
     };

@@ -64,10 +64,14 @@ pub enum Error {
     Output(#[from] std::io::Error),
     #[error("interrupted (Ctrl-C) {0}; everything computed before is kept")]
     Interrupted(String),
+    /// Results were written but the request is incomplete (exit status 4).
+    #[error("partial results: {0}; everything computed is kept")]
+    Partial(String),
 }
 
 impl Error {
-    /// Exit status: 2 for bad input, 3 for a numerical failure, 1 for I/O,
+    /// Exit status: 2 for bad input, 3 for a numerical failure, 4 for
+    /// partial results (kept, but the request is incomplete), 1 for I/O,
     /// 130 after Ctrl-C.
     pub fn exit_code(&self) -> i32 {
         match self {
@@ -75,6 +79,7 @@ impl Error {
             Error::Numerical(_) => 3,
             Error::Output(_) => 1,
             Error::Interrupted(_) => 130,
+            Error::Partial(_) => 4,
         }
     }
 }

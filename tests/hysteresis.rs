@@ -87,7 +87,10 @@ fn steady_sliding_and_stick_slip_coexist_at_one_stiffness() {
         };
         let cycle = &branch(&p, &req)[0];
         assert_eq!(cycle.kappa, kappa);
-        assert!(cycle.stable, "nu = {nu}: the coexisting cycle is stable");
+        assert!(
+            cycle.stability.is_stable(),
+            "nu = {nu}: the coexisting cycle is stable"
+        );
         common::assert_reproduced_by_integration(
             ModelKind::Inertial,
             &p,
@@ -126,6 +129,6 @@ fn fold_of_cycles_of_the_subcritical_onset_matches_auto() {
     // Toward larger stiffness: stable cycles up to the fold, unstable past it.
     let up: Vec<&CycleRecord> = cycles.iter().filter(|c| c.leg == Leg::Up).collect();
     let fold = up.iter().position(|c| c.lpc.is_some()).unwrap();
-    assert!(fold > 1 && up[..fold].iter().all(|c| c.stable));
-    assert!(up.len() > fold + 1 && up[fold..].iter().all(|c| !c.stable));
+    assert!(fold > 1 && up[..fold].iter().all(|c| c.stability.is_stable()));
+    assert!(up.len() > fold + 1 && up[fold..].iter().all(|c| c.stability.is_unstable()));
 }

@@ -10,6 +10,7 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
+pub use continuation::periodic::branch::{BranchEnd, Stability};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
@@ -39,16 +40,21 @@ pub struct CycleRecord {
     /// Slowest and fastest slip velocity on the cycle (units of `V0`).
     pub v_min: f64,
     pub v_max: f64,
-    /// Floquet multipliers, by decreasing modulus.
+    /// Floquet multipliers the pencil determined, by decreasing modulus
+    /// (fewer than the dimension when it left some undetermined).
     pub multipliers: Vec<Complex64>,
+    /// Index of the trivial multiplier in `multipliers`, when determined.
+    pub trivial: Option<usize>,
     /// `min |mu - 1|`: rounding in the multipliers (amplified by the
-    /// growth of perturbations along stiff cycles).
-    pub trivial_error: f64,
+    /// growth of perturbations along stiff cycles); `None` when the pencil
+    /// did not determine the trivial multiplier ([`TRIVIAL_UNAVAILABLE`]).
+    pub trivial_error: Option<f64>,
     /// Estimated relative discretization error of the period and extremes
-    /// (comparison with the orbit on half the mesh).
-    pub error_estimate: f64,
-    /// No multiplier outside the unit circle but the trivial one.
-    pub stable: bool,
+    /// (comparison with the orbit on half the mesh); `None` when the orbit
+    /// could not be solved on half the mesh ([`ESTIMATE_UNAVAILABLE`]).
+    pub error_estimate: Option<f64>,
+    /// Stable, unstable, or undecidable within the multipliers' error.
+    pub stability: Stability,
     /// Mesh intervals used.
     pub ntst: usize,
     /// The orbit sampled over one period: `(t / T, s, v, theta)`.
@@ -70,7 +76,38 @@ pub struct CycleRecord {
     pub orbit: Option<Cycle>,
 }
 
+/// Why a cycle's trivial-multiplier error is not reported.
+pub const TRIVIAL_UNAVAILABLE: &str = "the Floquet pencil is singular to rounding \
+     (perturbations grow beyond 1/eps along the cycle) and does not determine the trivial multiplier";
+
+/// Why a cycle's discretization error estimate is not reported.
+pub const ESTIMATE_UNAVAILABLE: &str =
+    "the orbit could not be solved on half the mesh to compare with";
+
 impl CycleRecord {
+    /// Why the stability is not decided, or `None` when it is.
+    pub fn stability_reason(&self) -> Option<String> {
+        match self.stability {
+            Stability::Stable | Stability::Unstable => None,
+            Stability::Undecidable { modulus, error } => Some(format!(
+                "a nontrivial Floquet multiplier of modulus {modulus:.10} lies within its error \
+                 estimate {error:.1e} of the unit circle (10 |mu_trivial - 1|, see multiplier_error)"
+            )),
+            Stability::Undetermined { missing } => Some(format!(
+                "{missing} nontrivial Floquet multiplier(s) undetermined: {TRIVIAL_UNAVAILABLE}"
+            )),
+        }
+    }
+
+    /// `stable`, `unstable` or `undecidable`.
+    pub fn stability_word(&self) -> &'static str {
+        match self.stability {
+            Stability::Stable => "stable",
+            Stability::Unstable => "unstable",
+            _ => "undecidable",
+        }
+    }
+
     /// The bifurcations located since the previous cycle, with their kind
     /// (`lpc`, `pd`, `ns`).
     pub fn special_points(&self) -> impl Iterator<Item = (&'static str, &CycleRecord)> {
@@ -265,9 +302,10 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
         v_min,
         v_max,
         multipliers: pt.multipliers.clone(),
-        trivial_error: pt.trivial_error,
-        error_estimate: pt.error_estimate,
-        stable: pt.n_unstable == 0,
+        trivial: pt.trivial,
+        trivial_error: Some(pt.trivial_error).filter(|e| e.is_finite()),
+        error_estimate: Some(pt.error_estimate).filter(|e| e.is_finite()),
+        stability: pt.stability,
         ntst: c.mesh.ntst(),
         samples: c
             .samples(4)
@@ -321,14 +359,15 @@ pub fn no_onset() -> NumericalError {
     )
 }
 
-/// Traces the cycles born at the already located Hopf point `h` of `params`.
+/// Traces the cycles born at the already located Hopf point `h` of `params`;
+/// returns why the branch ended.
 pub fn trace_cycles_from(
     kind: ModelKind,
     params: &Params,
     h: &HopfPoint,
     req: &CycleRequest,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<(), crate::error::Error> {
+) -> Result<BranchEnd, crate::error::Error> {
     let log = LogBlock::new(kind, params);
     let (x0, p) = hopf_start(&log, params, h);
     let branch = CycleBranch::from_hopf(
@@ -355,20 +394,20 @@ pub const SAMPLED_NTST: usize = 200;
 /// stable sliding) and then toward decreasing stiffness ([`Leg::Down`]),
 /// each leg within `req`'s bounds and step limit. The starting cycle is
 /// handed to `sink` once. A leg that stops on a numerical failure does not
-/// prevent the other; the errors are returned per leg (`[up, down]`).
+/// prevent the other; how each leg ended is returned (`[up, down]`).
 pub fn trace_cycles_from_orbit(
     kind: ModelKind,
     params: &Params,
     orbit: &SettledOrbit,
     req: &CycleRequest,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<(), crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
     let log = LogBlock::new(kind, params);
     let ntst = req.ntst.max(SAMPLED_NTST);
     let guess = sampled_cycle(&log, params, orbit, ntst, 1e-10)
         .map_err(|e| NumericalError::Analysis(e.to_string()))?;
     let nz = guess.u.len() + 2;
-    let mut legs = [Ok(()), Ok(())];
+    let mut legs = [Ok(BranchEnd::ParameterBound), Ok(BranchEnd::ParameterBound)];
     for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
         // The last unknown is the stiffness: the seed orients the tangent.
         let mut seed = vec![0.0; nz];
@@ -417,19 +456,19 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
 }
 
 /// Hands the cycles of `branch` to `sink`, skipping the first `skip` (the
-/// starting cycle of a second leg). A failure after the cycles have shrunk
+/// starting cycle of a second leg); returns why the branch ended. A failure after the cycles have shrunk
 /// below [`SHRUNK`] of the largest `Delta_s` on the leg is reported as what
 /// it is: the branch reached steady sliding at a Hopf point, where the
 /// collocation system is singular (zero amplitude).
 fn follow(
     log: &LogBlock,
-    branch: CycleBranch<'_, LogBlock>,
+    mut branch: CycleBranch<'_, LogBlock>,
     leg: Leg,
     skip: usize,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<(), crate::error::Error> {
+) -> Result<BranchEnd, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
-    for pt in branch.skip(skip) {
+    for pt in branch.by_ref().skip(skip) {
         let pt = pt.map_err(|e| match last {
             Some((kappa, delta_s)) if delta_s < SHRUNK * largest => {
                 NumericalError::Analysis(format!(
@@ -445,7 +484,8 @@ fn follow(
         last = Some((rec.kappa, rec.delta_s));
         sink(&rec)?;
     }
-    Ok(())
+    // An iterator that ended without an error has a reason.
+    Ok(branch.end().unwrap_or(BranchEnd::ParameterBound))
 }
 
 /// The Hopf point `h` of `params` in the log variables of `log`: the state

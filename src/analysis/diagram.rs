@@ -56,8 +56,13 @@ pub struct SpecialPoint {
 pub struct StabilityDiagram {
     pub points: Vec<CurvePoint>,
     pub special: Vec<SpecialPoint>,
-    /// Why the continuation stopped (`bound` at the end of the velocity range).
+    /// Why the continuation stopped (`end of the range`, `kappa_c -> 0`,
+    /// `step limit`, ...); with a run below the starting point, the first
+    /// that did not end the curve.
     pub stop: &'static str,
+    /// Whether the curve covers the requested range (each run reached the
+    /// end of the range or the end of the curve, `kappa_c -> 0`).
+    pub complete: bool,
     /// Curves of folds of cycles (empty without a subcritical onset).
     pub lpc: LpcCurves,
     /// Stretches `(nu_from, nu_to)` of the range where steady friction is
@@ -219,7 +224,21 @@ pub fn stability_diagram(
     params: &Params,
     range: (f64, f64),
 ) -> Result<StabilityDiagram, NumericalError> {
-    let mut d = hopf_curve(kind, params, Param::Nu, range)?;
+    stability_diagram_with(kind, params, range, DEFAULT_CURVE_STEPS)
+}
+
+/// Steps of each run of the Hopf curve by default (`diagram --max-steps`).
+pub const DEFAULT_CURVE_STEPS: usize = 50_000;
+
+/// [`stability_diagram`] with at most `max_steps` continuation steps in
+/// each direction along the Hopf curve.
+pub fn stability_diagram_with(
+    kind: ModelKind,
+    params: &Params,
+    range: (f64, f64),
+    max_steps: usize,
+) -> Result<StabilityDiagram, NumericalError> {
+    let mut d = hopf_curve_with(kind, params, Param::Nu, range, max_steps)?;
     d.lpc = lpc_curves(kind, params, &d, range);
     d.strengthening = strengthening_intervals(params, range);
     if let Some(why) = strengthening_reason(params, range, &d.strengthening) {
@@ -236,11 +255,23 @@ pub fn hopf_curve(
     second: Param,
     range: (f64, f64),
 ) -> Result<StabilityDiagram, NumericalError> {
+    hopf_curve_with(kind, params, second, range, DEFAULT_CURVE_STEPS)
+}
+
+/// [`hopf_curve`] with at most `max_steps` steps in each direction.
+pub fn hopf_curve_with(
+    kind: ModelKind,
+    params: &Params,
+    second: Param,
+    range: (f64, f64),
+    max_steps: usize,
+) -> Result<StabilityDiagram, NumericalError> {
     let Some((p0, h0)) = first_hopf(kind, params, second, range)? else {
         return Ok(StabilityDiagram {
             points: Vec::new(),
             special: Vec::new(),
             stop: "no Hopf point in the range",
+            complete: true,
             lpc: LpcCurves::default(),
             strengthening: Vec::new(),
             reason: Some(format!(
@@ -290,7 +321,7 @@ pub fn hopf_curve(
                 // Arclength measured in (ln kappa, ln second): the state and omega get small weights.
                 weights: [vec![1e-6; x0.len() + 1], vec![1.0, 1.0]].concat(),
             },
-            max_steps: 5000,
+            max_steps,
             // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
             // the Hopf system degenerates (omega -> 0); the end point is then
             // located on the friction law.
@@ -329,12 +360,16 @@ pub fn hopf_curve(
         }
         Ok((points, special, stop))
     };
-    let (mut points, mut special, stop) = run(true)?;
+    let (mut points, mut special, mut stop) = run(true)?;
+    let ends = |stop: &str| stop == "end of the range" || stop == "kappa_c -> 0";
     // The grid search may have started above the bottom of the range: trace
     // the stretch below as well, and put it in front.
     let start = if second == Param::Nu { p0.nu } else { p0.m };
     if start > range.0 * (1.0 + 1e-12) {
-        let (mut below, below_special, _) = run(false)?;
+        let (mut below, below_special, below_stop) = run(false)?;
+        if ends(stop) && !ends(below_stop) {
+            stop = below_stop;
+        }
         below.reverse();
         below.pop();
         below.extend(points);
@@ -345,6 +380,7 @@ pub fn hopf_curve(
         points,
         special,
         stop,
+        complete: ends(stop),
         lpc: LpcCurves::default(),
         strengthening: Vec::new(),
         reason: None,

@@ -31,12 +31,15 @@ pub struct Sample {
     pub theta: f64,
     /// Slip `x(t) - x(0)` in units of `D0`, from `s = kappa (int nu dt - x)`.
     pub slip: f64,
+    /// `log10 v`, from the integrator's log variables: finite also where `v`
+    /// itself underflows to 0 (below `1e-308`, e.g. a long stick).
+    pub log10_v: f64,
 }
 
 impl Sample {
     /// Whether every field is a finite number.
     pub fn is_finite(&self) -> bool {
-        [self.t, self.s, self.v, self.theta, self.slip]
+        [self.t, self.s, self.v, self.theta, self.slip, self.log10_v]
             .iter()
             .all(|x| x.is_finite())
     }
@@ -51,6 +54,8 @@ pub struct Trajectory {
     pub theta: Vec<f64>,
     /// Slip `x(t) - x(0)` in units of `D0`, from `s = kappa (int nu dt - x)`.
     pub slip: Vec<f64>,
+    /// `log10 v` (see [`Sample::log10_v`]).
+    pub log10_v: Vec<f64>,
 }
 
 impl Trajectory {
@@ -61,6 +66,52 @@ impl Trajectory {
         self.v.push(p.v);
         self.theta.push(p.theta);
         self.slip.push(p.slip);
+        self.log10_v.push(p.log10_v);
+    }
+
+    /// Keeps every other sample (the first, third, ...) and the last one:
+    /// bounds the memory of a long run's figures ([`Trajectory::push_bounded`]).
+    pub fn thin(&mut self) {
+        let n = self.t.len();
+        let keep = |v: &mut Vec<f64>| {
+            let last = v.last().copied();
+            let mut i = 0;
+            v.retain(|_| {
+                i += 1;
+                (i - 1) % 2 == 0
+            });
+            if n.is_multiple_of(2) {
+                v.extend(last);
+            }
+        };
+        for v in [
+            &mut self.t,
+            &mut self.s,
+            &mut self.v,
+            &mut self.theta,
+            &mut self.slip,
+            &mut self.log10_v,
+        ] {
+            keep(v);
+        }
+    }
+
+    /// Appends the `count`-th sample of a run (counted from 0) so that at
+    /// most `cap` samples are kept (`cap >= 2`): every `stride`-th sample,
+    /// the stride doubling (and the kept samples thinned) each time `cap`
+    /// is reached. Returns the stride now in force. The kept samples stay
+    /// evenly spaced in the run's steps, whatever its length.
+    pub fn push_bounded(&mut self, p: &Sample, count: usize, stride: usize, cap: usize) -> usize {
+        if !count.is_multiple_of(stride) {
+            return stride;
+        }
+        self.push(p);
+        if self.t.len() >= cap.max(2) {
+            self.thin();
+            2 * stride
+        } else {
+            stride
+        }
     }
 }
 
@@ -206,6 +257,7 @@ impl Emitter<'_> {
             v,
             theta,
             slip,
+            log10_v: self.log.ln_velocity(y, pv) / std::f64::consts::LN_10,
         }
     }
 

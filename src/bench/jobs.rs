@@ -244,6 +244,7 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
             nu_range: None,
             out: dir.0.clone(),
             json: false,
+            max_steps: crate::analysis::diagram::DEFAULT_CURVE_STEPS,
         },
         stems,
         _dir: dir,

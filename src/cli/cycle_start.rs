@@ -3,7 +3,7 @@
 
 use super::Setup;
 use crate::analysis::cycles::{
-    trace_cycles_from, trace_cycles_from_orbit, CycleRecord, CycleRequest,
+    trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest,
 };
 use crate::analysis::hopf::{velocity_strengthening, HopfOutcome, HopfPoint};
 use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
@@ -148,12 +148,13 @@ impl Start {
 
     /// Traces the branch, handing each cycle to `sink`; returns how each leg
     /// ended, labelled (one leg from a Hopf point, two from a simulated orbit).
+    /// A leg that ended without an error says why ([`BranchEnd`]).
     pub fn trace(
         &self,
         setup: &Setup,
         req: &CycleRequest,
         mut sink: impl FnMut(&CycleRecord) -> Result<(), Error>,
-    ) -> Vec<(&'static str, Result<(), Error>)> {
+    ) -> Vec<(&'static str, Result<BranchEnd, Error>)> {
         let kind = setup.choice.kind;
         match self {
             Start::Hopf(h) => vec![("", trace_cycles_from(kind, &setup.params, h, req, sink))],

@@ -7,8 +7,8 @@ use super::files::with_suffix;
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::cycles::{
-    along_branch, collocation_for, requested_points, BranchEnds, CycleRecord, CycleRequest, Leg,
-    RequestedPoint,
+    along_branch, collocation_for, requested_points, BranchEnd, BranchEnds, CycleRecord,
+    CycleRequest, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
 };
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::error::{Error, InputError};
@@ -40,7 +40,8 @@ pub struct CyclesArgs {
     #[arg(long)]
     pub from_simulation: bool,
     /// Largest number of cycles (per leg from a simulated orbit); the branch
-    /// usually ends first, at the requested range.
+    /// usually ends first, at the requested range. Reaching it keeps the
+    /// cycles and exits with status 4 (partial).
     #[arg(long, default_value_t = 500)]
     pub max_steps: usize,
     /// Initial number of mesh intervals (grown automatically when needed).
@@ -89,14 +90,65 @@ impl From<Points> for CollocationPoints {
 }
 
 fn record_json(c: &CycleRecord) -> Value {
-    json!({
+    let mut v = json!({
         "kappa": c.kappa, "period": c.period, "delta_s": c.delta_s,
         "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
         "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
+        "trivial_multiplier_index": c.trivial,
         "trivial_multiplier_error": c.trivial_error, "error_estimate": c.error_estimate,
-        "stable": c.stable, "ntst": c.ntst,
+        "stable": match c.stability {
+            Stability::Stable => Some(true),
+            Stability::Unstable => Some(false),
+            _ => None,
+        },
+        "ntst": c.ntst,
         "user_point": c.user_point,
-    })
+    });
+    if c.trivial_error.is_none() {
+        v["trivial_multiplier_error_reason"] = json!(TRIVIAL_UNAVAILABLE);
+    }
+    if c.error_estimate.is_none() {
+        v["error_estimate_reason"] = json!(ESTIMATE_UNAVAILABLE);
+    }
+    if let Some(why) = c.stability_reason() {
+        v["stability_reason"] = json!(why);
+    }
+    v
+}
+
+/// `value` in the text output (`{:.1e}`), or `n/a (why)` when unavailable.
+fn or_na(value: Option<f64>, why: &str) -> String {
+    value.map_or_else(|| format!("n/a ({why})"), |v| format!("{v:.1e}"))
+}
+
+/// How the legs of the branch ended: `(complete, stop)`, complete when
+/// every leg reached the end of the requested range; the stop reason names
+/// the limit (`--max-steps`) or the failure of each leg.
+fn stop_reason(outcomes: &[(&str, Result<BranchEnd, Error>)], max_steps: usize) -> (bool, String) {
+    let complete = outcomes
+        .iter()
+        .all(|(_, o)| matches!(o, Ok(BranchEnd::ParameterBound)));
+    let reasons: Vec<String> = outcomes
+        .iter()
+        .map(|(leg, outcome)| {
+            let why = match outcome {
+                Ok(BranchEnd::ParameterBound) => "end of the requested range".to_string(),
+                Ok(BranchEnd::MaxSteps) => format!(
+                    "step limit: {max_steps} continuation steps (--max-steps) taken; the range is not covered"
+                ),
+                Ok(BranchEnd::MaxPeriod) => {
+                    "period limit reached; the range is not covered".to_string()
+                }
+                Err(e) => e.to_string(),
+            };
+            if leg.is_empty() {
+                why
+            } else {
+                format!("{leg}: {why}")
+            }
+        })
+        .collect();
+    (complete, reasons.join("; "))
 }
 
 /// Runs the command.
@@ -134,6 +186,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         setup.scene.name,
         setup.choice.reason,
         points_name(points)
+    )?;
+    writeln!(
+        csv,
+        "# stable: true, false, or undecidable (a nontrivial multiplier within its error of the unit circle); n/a: not available (see the JSON reasons)"
     )?;
     writeln!(
         csv,
@@ -184,15 +240,15 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         write_row(&mut csv, c)?;
         if !args.json {
             println!(
-                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {:.1e}  err {:.1e}  NTST {}",
+                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {}  err {}  NTST {}",
                 c.kappa,
                 c.period,
                 c.delta_s,
                 c.v_min,
                 c.v_max,
-                if c.stable { "stable" } else { "unstable" },
-                c.trivial_error,
-                c.error_estimate,
+                c.stability_word(),
+                or_na(c.trivial_error, "Floquet pencil singular to rounding"),
+                or_na(c.error_estimate, "no solution on half the mesh"),
                 c.ntst
             );
         }
@@ -226,33 +282,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         (LpcCurves::default(), Vec::new())
     };
     let files: Vec<PathBuf> = files.into_iter().chain(lpc.1).collect();
-    let stop = outcomes
-        .iter()
-        .map(|(leg, outcome)| {
-            let on_leg = match *leg {
-                "toward larger stiffness" => Leg::Up,
-                "toward smaller stiffness" => Leg::Down,
-                _ => Leg::FromHopf,
-            };
-            let cycles_on_leg = records
-                .iter()
-                .filter(|c| !c.user_point && c.leg == on_leg)
-                .count();
-            let why = match outcome {
-                Ok(_) if cycles_on_leg >= args.max_steps => {
-                    format!("step limit (--max-steps {})", args.max_steps)
-                }
-                Ok(_) => "end of the requested range".to_string(),
-                Err(e) => e.to_string(),
-            };
-            if leg.is_empty() {
-                why
-            } else {
-                format!("{leg}: {why}")
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("; ");
+    let (legs_complete, stop) = stop_reason(&outcomes, args.max_steps);
     let stop = match start.reason() {
         Some(_) => {
             "no branch: no Hopf point and no cycle found by simulation (see reason)".to_string()
@@ -271,8 +301,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             no_branch: start.reason(),
         },
     );
-    // Partial: a leg ended on an error, or the search for a start was inconclusive.
-    let complete = start.conclusive() && outcomes.iter().all(|(_, o)| o.is_ok());
+    // Partial: a leg ended short of its range, the search for a start was
+    // inconclusive, or a requested point was not delivered.
+    let complete = start.conclusive() && legs_complete && requested.iter().all(|r| r.delivered > 0);
     write_requested_csv(&mut csv, &requested)?;
     if args.json {
         let v = json!({
@@ -287,6 +318,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 "kind": kind, "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
                 "v_min": l.v_min, "v_max": l.v_max,
             })).collect::<Vec<_>>(),
+            "complete": complete,
             "stop": stop,
             "complete": complete,
             "requested_points": requested.iter().map(requested_json).collect::<Vec<_>>(),
@@ -323,6 +355,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     match errors.next() {
         Some(e @ Error::Interrupted(_)) => Err(e),
         Some(e) if records.len() < 2 => Err(e),
+        _ if !complete => Err(Error::Partial(format!(
+            "{} cycles written; stopped: {stop}",
+            records.len()
+        ))),
         _ => Ok(()),
     }
 }
@@ -458,7 +494,7 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
 fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
     writeln!(
         csv,
-        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{:.3e},{:.3e},{},{}",
+        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{},{},{},{}",
         c.kappa,
         c.period,
         c.delta_s,
@@ -466,9 +502,15 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
         c.s_max,
         c.v_min,
         c.v_max,
-        c.stable,
-        c.trivial_error,
-        c.error_estimate,
+        match c.stability {
+            Stability::Stable => "true",
+            Stability::Unstable => "false",
+            _ => "undecidable",
+        },
+        c.trivial_error
+            .map_or_else(|| "n/a".to_string(), |e| format!("{e:.3e}")),
+        c.error_estimate
+            .map_or_else(|| "n/a".to_string(), |e| format!("{e:.3e}")),
         c.ntst,
         c.user_point
     )?;
@@ -487,12 +529,23 @@ fn write_figures(
     let u = setup.scene.units;
     let blue = RGBColor(31, 90, 180);
     let red = RGBColor(200, 40, 40);
+    let grey = RGBColor(130, 130, 130);
+    // Stable cycles solid blue, unstable dashed red, undecidable dashed grey;
+    // each stretch starts at the last point of the one before.
+    let style = |c: &CycleRecord| match c.stability {
+        Stability::Stable => ("stable cycles", blue, false),
+        Stability::Unstable => ("unstable cycles", red, true),
+        _ => ("stability undecidable", grey, true),
+    };
     let by_stability = |f: &dyn Fn(&CycleRecord) -> f64| -> Vec<Series> {
         let mut out: Vec<Series> = Vec::new();
+        let mut labelled: Vec<&str> = Vec::new();
+        let mut current = None;
         for c in records {
             let pt = (u.k_over_w(c.kappa), f(c));
+            let (label, color, dashed) = style(c);
             match out.last_mut() {
-                Some(s) if s.dashed != c.stable => s.points.push(pt),
+                Some(s) if current == Some(label) => s.points.push(pt),
                 _ => {
                     let mut points = out
                         .last()
@@ -500,23 +553,14 @@ fn write_figures(
                         .into_iter()
                         .collect::<Vec<_>>();
                     points.push(pt);
-                    let label = if out.iter().any(|s| s.dashed != c.stable) {
-                        None
-                    } else {
-                        Some(
-                            if c.stable {
-                                "stable cycles"
-                            } else {
-                                "unstable cycles"
-                            }
-                            .to_string(),
-                        )
-                    };
+                    let label_text = (!labelled.contains(&label)).then(|| label.to_string());
+                    labelled.push(label);
+                    current = Some(label);
                     out.push(Series {
-                        label,
+                        label: label_text,
                         points,
-                        color: if c.stable { blue } else { red },
-                        dashed: !c.stable,
+                        color,
+                        dashed,
                         markers: false,
                     });
                 }

@@ -1,7 +1,8 @@
 //! The command line: `stickslip hopf`, `stickslip branch`, `stickslip scenes`.
 //!
 //! Human-readable text by default; `--json` / `--csv` for machines. Bad input
-//! exits with status 2, a numerical failure with status 3.
+//! exits with status 2, a numerical failure with status 3, partial results
+//! (kept, but the request incomplete) with status 4.
 
 pub mod bench;
 pub mod branch;
@@ -27,7 +28,17 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 /// Bifurcation analysis of frictional sliding: when does steady sliding of a
 /// spring-driven block turn into stick-slip?
 #[derive(Parser, Debug)]
-#[command(name = "stickslip", version, about, long_about = None)]
+#[command(
+    name = "stickslip",
+    version,
+    about,
+    long_about = None,
+    after_help = "Exit status: 0 everything requested was delivered; 1 cannot write output; \
+                  2 bad input (the message names the field); 3 numerical failure; \
+                  4 partial results (kept, but the request is incomplete: a step limit, or a \
+                  branch that failed after some results; the reason on stderr and, with \
+                  --json, complete: false and stop); 130 interrupted (results so far kept)."
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -177,6 +188,21 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
+    }
+}
+
+/// `v` with five significant digits: fixed notation between `1e-3` and
+/// `1e6`, scientific outside (a small velocity is never printed as `0.0000`).
+pub fn significant(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    if (1e-3..1e6).contains(&a) {
+        let decimals = (4 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.4e}")
     }
 }
 

@@ -31,6 +31,15 @@ pub struct SimulateArgs {
     /// Output directory.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// Most integrator steps (CSV rows) over the whole protocol; a run cut
+    /// short by it keeps its rows and figures and exits with status 4
+    /// (partial). Also bounds the CSV: about 100 bytes per row.
+    #[arg(long, default_value_t = 200_000)]
+    pub max_steps: usize,
+    /// Most points kept for the figures: a longer run is thinned evenly
+    /// (the CSV keeps every step).
+    #[arg(long, default_value_t = 20_000)]
+    pub plot_points: usize,
 }
 
 fn parse_protocol(text: &str, v0_um_s: f64, time_unit_s: f64) -> Result<Vec<Segment>, InputError> {
@@ -64,6 +73,14 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     }
     if !(args.perturb.is_finite() && args.perturb.abs() < 1.0) {
         return Err(InputError::out_of_range("--perturb", args.perturb, "|perturb| < 1").into());
+    }
+    if args.max_steps < 1 {
+        return Err(InputError::out_of_range("--max-steps", args.max_steps as f64, ">= 1").into());
+    }
+    if args.plot_points < 2 {
+        return Err(
+            InputError::out_of_range("--plot-points", args.plot_points as f64, ">= 2").into(),
+        );
     }
     let setup = args.scene.setup(|p| *p)?;
     let u = setup.scene.units;
@@ -104,6 +121,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     const TICKS: f64 = 10_000.0;
     let bar = super::interrupt::progress_bar(TICKS as u64, "simulating");
     let mut traj = Trajectory::default();
+    let (mut count, mut stride, mut step_limit) = (0usize, 1usize, false);
     let mut write_error = None;
     let run = simulate_with(
         setup.choice.kind,
@@ -117,7 +135,12 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                 write_error = Some(e);
                 return ControlFlow::Break(());
             }
-            traj.push(p);
+            stride = traj.push_bounded(p, count, stride, args.plot_points);
+            count += 1;
+            if count >= args.max_steps {
+                step_limit = true;
+                return ControlFlow::Break(());
+            }
             if !bar.is_hidden() {
                 bar.set_position((TICKS * p.t / t_end) as u64);
                 bar.set_message(format!(
@@ -146,19 +169,29 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     };
     println!("model: {}", setup.choice.reason);
     println!(
-        "{} steps over {:.6e} s",
-        traj.t.len(),
-        traj.t.last().copied().unwrap_or(0.0) * time_unit
+        "{count} steps over {:.6e} s{}",
+        traj.t.last().copied().unwrap_or(0.0) * time_unit,
+        if stride > 1 {
+            format!(" (figures: every {stride}th step, --plot-points)")
+        } else {
+            String::new()
+        }
     );
     for f in figs.iter().chain([&csv_path]) {
         println!("wrote {}", f.display());
     }
     match run {
+        Ok(end) if end.stopped && step_limit => Err(Error::Partial(format!(
+            "step limit: {} steps (--max-steps) at simulated time t = {:.6e} s of {:.6e} s",
+            count,
+            end.t * time_unit,
+            end.t_end * time_unit,
+        ))),
         Ok(end) if end.stopped => Err(Error::Interrupted(format!(
             "at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
             end.t * time_unit,
             end.t_end * time_unit,
-            traj.t.len()
+            count
         ))),
         Ok(_) => Ok(()),
         Err(e) => Err(e.into()),
@@ -176,7 +209,7 @@ struct Rows {
 impl Rows {
     fn create(path: &Path, time_unit: f64) -> std::io::Result<Rows> {
         let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-        writeln!(w, "t_s,t,s,v,theta,slip")?;
+        writeln!(w, "t_s,t,s,v,theta,slip,log10_v")?;
         w.flush()?;
         Ok(Rows {
             w,
@@ -188,13 +221,14 @@ impl Rows {
     fn push(&mut self, p: &Sample) -> std::io::Result<()> {
         // One write per row, so that a flush never splits it.
         let row = format!(
-            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+            "{:.12e},{:.12e},{:.12e},{},{:.12e},{:.12e},{:.12e}\n",
             p.t * self.time_unit,
             p.t,
             p.s,
-            p.v,
+            velocity_text(p),
             p.theta,
-            p.slip
+            p.slip,
+            p.log10_v
         );
         self.w.write_all(row.as_bytes())?;
         if self.flushed.elapsed() > Duration::from_millis(100) {
@@ -207,6 +241,25 @@ impl Rows {
         self.flushed = Instant::now();
         self.w.flush()
     }
+}
+
+/// `v` for the CSV: below the normal floating-point range (where `v`
+/// underflows or loses digits) it is written from `log10 v`, e.g.
+/// `3.162277660168e-400`, never as 0.
+fn velocity_text(p: &Sample) -> String {
+    if p.v >= f64::MIN_POSITIVE {
+        return format!("{:.12e}", p.v);
+    }
+    let e = p.log10_v.floor();
+    format!("{:.12}e{}", 10f64.powf(p.log10_v - e), e as i64)
+}
+
+/// Whether the velocities span more than a log axis can draw (some below
+/// `1e-300` µm/s): the figure then shows `log10 v` on a linear axis.
+fn velocity_beyond_log_axis(traj: &Trajectory, u: &crate::scene::Units) -> bool {
+    traj.log10_v
+        .iter()
+        .any(|l| l + (u.velocity_um_s(1.0)).log10() < -300.0)
 }
 
 fn figures(
@@ -223,7 +276,13 @@ fn figures(
         dashed: false,
         markers: false,
     };
-    let v_um: Vec<f64> = traj.v.iter().map(|v| u.velocity_um_s(*v)).collect();
+    let beyond = velocity_beyond_log_axis(traj, u);
+    let v_um: Vec<f64> = if beyond {
+        let shift = u.velocity_um_s(1.0).log10();
+        traj.log10_v.iter().map(|l| l + shift).collect()
+    } else {
+        traj.v.iter().map(|v| u.velocity_um_s(*v)).collect()
+    };
     let mut files = Vec::new();
     for (suffix, fig) in [
         (
@@ -240,12 +299,20 @@ fn figures(
         (
             "-velocity",
             LineFigure {
-                title: format!("Slip velocity, {name}"),
+                title: if beyond {
+                    format!("Slip velocity, {name} (below 1e-300 µm/s: log10 v on a linear axis)")
+                } else {
+                    format!("Slip velocity, {name}")
+                },
                 x_label: "time t [s]".into(),
-                y_label: "slip velocity v [µm/s]".into(),
+                y_label: if beyond {
+                    "log10 of slip velocity v [µm/s]".into()
+                } else {
+                    "slip velocity v [µm/s]".into()
+                },
                 log_x: false,
-                log_y: true,
-                series: vec![line(&v_um, "v(t)")],
+                log_y: !beyond,
+                series: vec![line(&v_um, if beyond { "log10 v(t)" } else { "v(t)" })],
             },
         ),
     ] {

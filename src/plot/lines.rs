@@ -28,14 +28,43 @@ pub struct LineFigure {
     pub series: Vec<Series>,
 }
 
+/// Smallest value a log axis draws: below it (and at or below 0) a point
+/// has no place on a log axis that plotters can lay out.
+const LOG_FLOOR: f64 = 1e-300;
+
+/// Whether `(x, y)` can be drawn on the figure's axes.
+fn drawable(fig: &LineFigure, (x, y): (f64, f64)) -> bool {
+    x.is_finite()
+        && y.is_finite()
+        && (!fig.log_x || x >= LOG_FLOOR)
+        && (!fig.log_y || y >= LOG_FLOOR)
+}
+
+/// The figure with the points its axes cannot draw (non-finite, or not
+/// above [`LOG_FLOOR`] on a log axis) left out, and a note in the title
+/// saying how many.
+fn drawable_only(fig: &LineFigure) -> LineFigure {
+    let mut out = fig.clone();
+    let mut dropped = 0;
+    for s in &mut out.series {
+        let before = s.points.len();
+        s.points.retain(|&p| drawable(fig, p));
+        dropped += before - s.points.len();
+    }
+    if dropped > 0 {
+        out.title = format!(
+            "{} ({dropped} points not drawn: non-finite, or <= {LOG_FLOOR:e} on a log axis)",
+            fig.title
+        );
+    }
+    out
+}
+
+/// The axis ranges of `fig` (whose points are all drawable), padded by 5 %;
+/// a constant series gets a range around its value (a factor 10 on a log
+/// axis, +-5 % or +-1 about 0 on a linear one), an empty figure `1 .. 10`.
 fn bounds(fig: &LineFigure) -> ((f64, f64), (f64, f64)) {
-    let pts = fig
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter())
-        .filter(|(x, y)| {
-            x.is_finite() && y.is_finite() && (!fig.log_x || *x > 0.0) && (!fig.log_y || *y > 0.0)
-        });
+    let pts = fig.series.iter().flat_map(|s| s.points.iter());
     let (mut x0, mut x1, mut y0, mut y1) = (
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -50,23 +79,39 @@ fn bounds(fig: &LineFigure) -> ((f64, f64), (f64, f64)) {
             return (1.0, 10.0);
         }
         if log {
-            let r = (hi / lo).max(1.0001).powf(0.05);
-            (lo / r, hi * r)
+            // At least a factor 10 (so that the axis has a labelled tick).
+            let mid = (lo * hi).sqrt();
+            let (lo, hi) = if hi / lo < 10.0 {
+                (mid / 10f64.sqrt(), mid * 10f64.sqrt())
+            } else {
+                (lo, hi)
+            };
+            let r = (hi / lo).powf(0.05);
+            ((lo / r).max(LOG_FLOOR), hi * r)
         } else {
-            let d = (hi - lo).max(1e-12 * hi.abs().max(1e-300));
-            (lo - 0.05 * d, hi + 0.05 * d)
+            let scale = hi.abs().max(lo.abs());
+            let d = hi - lo;
+            if d <= 1e-12 * scale || d == 0.0 {
+                let half = if scale > 0.0 { 0.05 * scale } else { 1.0 };
+                (lo - half, hi + half)
+            } else {
+                (lo - 0.05 * d, hi + 0.05 * d)
+            }
         }
     };
     (pad(x0, x1, fig.log_x), pad(y0, y1, fig.log_y))
 }
 
-/// Writes `stem.png` and `stem.svg`.
+/// Writes `stem.png` and `stem.svg`. Never fails on the data: points a
+/// log axis cannot draw are left out with a note in the title, and a
+/// constant series gets a sane range.
 pub fn render(fig: &LineFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    let fig = drawable_only(fig);
     render_both(
         stem,
         (1000, 650),
-        |a| draw_any(a, fig),
-        |a| draw_any(a, fig),
+        |a| draw_any(a, &fig),
+        |a| draw_any(a, &fig),
     )
 }
 
@@ -139,4 +184,65 @@ where
     }
     root.present().map_err(e)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn figure(points: Vec<(f64, f64)>, log_y: bool) -> LineFigure {
+        LineFigure {
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            log_x: false,
+            log_y,
+            series: vec![Series {
+                label: None,
+                points,
+                color: RGBColor(0, 0, 0),
+                dashed: false,
+                markers: false,
+            }],
+        }
+    }
+
+    #[test]
+    fn log_axis_drops_non_positive_points_with_a_note() {
+        let f = drawable_only(&figure(
+            vec![(0.0, 1.0), (1.0, 0.0), (2.0, 1e-320), (3.0, 5.0)],
+            true,
+        ));
+        assert_eq!(f.series[0].points, vec![(0.0, 1.0), (3.0, 5.0)]);
+        assert!(f.title.contains("2 points not drawn"), "{}", f.title);
+        let ((_, _), (y0, y1)) = bounds(&f);
+        assert!(y0 > 0.0 && y0 < 1.0 && y1 > 5.0, "{y0} {y1}");
+    }
+
+    #[test]
+    fn constant_series_get_a_range() {
+        let ((x0, x1), (y0, y1)) = bounds(&figure(vec![(2.0, 0.0), (2.0, 0.0)], false));
+        assert!(
+            (x0 - 1.9).abs() < 1e-12 && (x1 - 2.1).abs() < 1e-12,
+            "{x0} {x1}"
+        );
+        assert_eq!((y0, y1), (-1.0, 1.0));
+        let (_, (y0, y1)) = bounds(&figure(vec![(1.0, 3.0), (2.0, 3.0)], true));
+        assert!(y1 / y0 > 10.0 && y0 < 3.0 && y1 > 3.0, "{y0} {y1}");
+    }
+
+    #[test]
+    fn rendering_never_fails_on_degenerate_data() {
+        let dir = std::env::temp_dir().join(format!("stickslip-lines-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (points, log_y) in [
+            (vec![(0.0, 0.0), (1.0, 0.0)], true),
+            (vec![(0.0, 0.0), (1.0, 0.0)], false),
+            (vec![(0.0, 1e-310), (1.0, 1e300)], true),
+        ] {
+            let files = render(&figure(points, log_y), &dir.join("f")).unwrap();
+            assert_eq!(files.len(), 2);
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

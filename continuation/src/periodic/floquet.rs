@@ -41,13 +41,21 @@ pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, Cont
 /// pencil's two eigenvalues are matched to the trivial multiplier 1 and to
 /// Liouville's `e^L`, `L = int_0^T tr J dt`, by the pairing that minimizes
 /// `|ln |mu_a|| + |ln |mu_b| - L|`; the one matched to `e^L` is replaced by
-/// it. Elsewhere the trivial multiplier is the one closest to 1.
+/// it. Elsewhere the trivial multiplier is the one closest to 1. When the
+/// pencil leaves eigenvalues undetermined ([`pencil_multipliers`]) fewer
+/// than `n` multipliers are returned; in the plane then only `e^L`, with no
+/// trivial index.
 pub fn multipliers_and_trivial(
     lin: &Linearization,
     n: usize,
 ) -> Result<(Vec<Complex64>, Option<usize>), ContinuationError> {
     let mut mu = pencil_multipliers(lin, n)?;
-    if n != 2 || mu.len() != 2 {
+    if n == 2 && mu.len() < 2 {
+        // The pencil did not determine both: the nontrivial multiplier is
+        // still Liouville's, the trivial one is unknown.
+        return Ok((vec![Complex64::from(lin.trace_integral.exp())], None));
+    }
+    if n != 2 {
         let trivial = trivial_index(&mu);
         return Ok((mu, trivial));
     }
@@ -66,7 +74,19 @@ pub fn multipliers_and_trivial(
     Ok((mu, Some(trivial)))
 }
 
-/// The eigenvalues of the condensed Floquet pencil, sorted by decreasing modulus.
+/// The eigenvalues of the condensed Floquet pencil that it determines,
+/// sorted by decreasing modulus.
+///
+/// An eigenvalue `alpha / beta` of the pencil is left out when it is not
+/// determined: `beta = 0` (an infinite eigenvalue, which no monodromy
+/// matrix has) or `alpha` and `beta` both zero to rounding (the pencil is
+/// singular to rounding: on stiff cycles perturbations grow by more than
+/// `1 / eps` during the slip and both `A` and `B` lose rank). The result
+/// may then hold fewer than `n` multipliers; a quotient is never NaN or
+/// infinite. When the QZ iteration returns no eigenvalue at all (faer
+/// 0.24 returns `alpha = beta = 0` throughout for some well-conditioned
+/// 3 x 3 pencils), it is run again on the transposed pencil, which has the
+/// same eigenvalues.
 pub fn pencil_multipliers(
     lin: &Linearization,
     n: usize,
@@ -82,12 +102,22 @@ pub fn pencil_multipliers(
         })
         .collect();
     let (a, b) = reduce_pencil(chain)?;
-    let n = a.nrows();
     if a.iter().chain(b.iter()).any(|v| !v.is_finite()) {
         return Err(ContinuationError::Eigen(
             "non-finite entries in the condensed Floquet pencil".into(),
         ));
     }
+    let mut mu = qz_eigenvalues(&a, &b)?;
+    if mu.is_empty() {
+        mu = qz_eigenvalues(&a.transpose(), &b.transpose())?;
+    }
+    mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
+    Ok(mu)
+}
+
+/// The determined eigenvalues `mu` of `A y = mu (-B) y` (see [`pencil_multipliers`]).
+fn qz_eigenvalues(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Result<Vec<Complex64>, ContinuationError> {
+    let n = a.nrows();
     // The complex QZ path of faer (its real path mis-sizes a scratch buffer
     // for some 3 x 3 pencils in 0.24.4).
     let fa = faer::Mat::from_fn(n, n, |i, j| Complex64::from(a[(i, j)]));
@@ -96,9 +126,15 @@ pub fn pencil_multipliers(
         .generalized_eigen(&fb)
         .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
     let (sa, sb) = (ge.S_a(), ge.S_b());
-    let mut mu: Vec<Complex64> = (0..n).map(|i| sa[i] / sb[i]).collect();
-    mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
-    Ok(mu)
+    // Zero to rounding, relative to the size of each matrix.
+    let tiny =
+        |m: &DMatrix<f64>| 64.0 * f64::EPSILON * m.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+    let (tiny_a, tiny_b) = (tiny(a), tiny(b));
+    Ok((0..n)
+        .filter(|&i| sb[i].norm() > 0.0 && (sa[i].norm() > tiny_a || sb[i].norm() > tiny_b))
+        .map(|i| sa[i] / sb[i])
+        .filter(|z| z.is_finite())
+        .collect())
 }
 
 /// Index of the trivial multiplier of an autonomous system: the one closest to 1.

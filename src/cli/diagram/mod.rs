@@ -6,8 +6,8 @@ mod figures;
 
 use super::files::with_suffix;
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
-use super::{params_json, SceneArgs, Setup};
-use crate::analysis::diagram::{stability_diagram, StabilityDiagram};
+use super::{params_json, significant, SceneArgs, Setup};
+use crate::analysis::diagram::{stability_diagram_with, StabilityDiagram, DEFAULT_CURVE_STEPS};
 use crate::appendix_c;
 use crate::error::{Error, InputError, NumericalError};
 use clap::Args;
@@ -31,6 +31,11 @@ pub struct DiagramArgs {
     /// Print one JSON object (an array for several scenes) instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Most continuation steps along the Hopf curve in each direction. The
+    /// default covers the built-in scenes' ranges; a curve cut short by it
+    /// is kept and the command exits with status 4 (partial).
+    #[arg(long, default_value_t = DEFAULT_CURVE_STEPS)]
+    pub max_steps: usize,
 }
 
 fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
@@ -58,6 +63,8 @@ struct SceneResult {
     diagram: StabilityDiagram,
     files: Vec<PathBuf>,
     seconds: f64,
+    /// `--max-steps`, to name it in the stop reason.
+    max_steps: usize,
 }
 
 /// Runs the command.
@@ -99,10 +106,21 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
         .collect();
     bar.finish_and_clear();
     let (mut json_out, mut completed, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
+    let mut results_partial: Vec<String> = Vec::new();
     for (name, r) in names.iter().zip(results) {
         match r {
             Some(r) => {
                 let r = r?;
+                if !r.diagram.complete {
+                    results_partial.push(format!(
+                        "scene {}: ended at {} (V = {} um/s)",
+                        r.setup.scene.name,
+                        stop_text(&r),
+                        r.diagram.points.last().map_or("-".into(), |p| significant(
+                            r.setup.scene.units.velocity_um_s(p.nu)
+                        ))
+                    ));
+                }
                 if args.json {
                     json_out.push(to_json(&r));
                 }
@@ -123,7 +141,14 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
         );
     }
     if skipped.is_empty() {
-        return Ok(());
+        let partial: Vec<String> = results_partial;
+        if partial.is_empty() {
+            return Ok(());
+        }
+        return Err(Error::Partial(format!(
+            "the Hopf curve does not cover the requested range: {}",
+            partial.join("; ")
+        )));
     }
     let list = |v: &[&str]| {
         if v.is_empty() {
@@ -159,7 +184,8 @@ fn one_scene(
         q.nu = hi;
         q
     })?;
-    let diagram = stability_diagram(setup.choice.kind, &setup.params, (lo, hi))?;
+    let diagram =
+        stability_diagram_with(setup.choice.kind, &setup.params, (lo, hi), args.max_steps)?;
     if diagram.points.iter().any(|p| {
         !(p.kappa.is_finite() && p.nu.is_finite() && p.omega.is_finite() && p.l1.is_finite())
     }) {
@@ -177,6 +203,7 @@ fn one_scene(
         diagram,
         files,
         seconds: 0.0,
+        max_steps: args.max_steps,
     };
     let json_path = with_suffix(&stem, "-diagram.json");
     result.seconds = t0.elapsed().as_secs_f64();
@@ -292,7 +319,8 @@ fn to_json(r: &SceneResult) -> Value {
         "nu_range": [r.range.0, r.range.1],
         "hopf_curve": curve,
         "special_points": special,
-        "stop": r.diagram.stop,
+        "complete": r.diagram.complete,
+        "stop": stop_text(r),
         "lpc_curve": lpc,
         "lpc_stops": r.diagram.lpc.stops,
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
@@ -303,6 +331,18 @@ fn to_json(r: &SceneResult) -> Value {
         out["reason"] = json!(why);
     }
     out
+}
+
+/// The stop reason; a step limit names the option that raises it.
+fn stop_text(r: &SceneResult) -> String {
+    if r.diagram.stop == "step limit" {
+        format!(
+            "step limit ({} steps, --max-steps) before the end of the range",
+            r.max_steps
+        )
+    } else {
+        r.diagram.stop.to_string()
+    }
 }
 
 fn print_text(r: &SceneResult) {
@@ -316,11 +356,11 @@ fn print_text(r: &SceneResult) {
     );
     println!("model: {}", r.setup.choice.reason);
     println!(
-        "Hopf curve over V = {:.4} .. {:.4} um/s: {} points, ended at {}",
-        u.velocity_um_s(r.range.0),
-        u.velocity_um_s(r.range.1),
+        "Hopf curve over V = {} .. {} um/s: {} points, ended at {}",
+        significant(u.velocity_um_s(r.range.0)),
+        significant(u.velocity_um_s(r.range.1)),
         d.points.len(),
-        d.stop
+        stop_text(r)
     );
     if let Some(why) = &d.reason {
         println!("  {why}");
@@ -334,11 +374,11 @@ fn print_text(r: &SceneResult) {
     }
     if let (Some(a), Some(b)) = (d.points.first(), d.points.last()) {
         println!(
-            "  kappa_c from {:.6e} (V = {:.4} um/s) to {:.6e} (V = {:.4} um/s)",
+            "  kappa_c from {:.6e} (V = {} um/s) to {:.6e} (V = {} um/s)",
             a.kappa,
-            u.velocity_um_s(a.nu),
+            significant(u.velocity_um_s(a.nu)),
             b.kappa,
-            u.velocity_um_s(b.nu)
+            significant(u.velocity_um_s(b.nu))
         );
         // Relative to the largest kappa_c on the curve where kappa_c -> 0 (an end point).
         let scale = d.points.iter().map(|p| p.kappa.abs()).fold(0.0, f64::max);

@@ -112,21 +112,99 @@ impl Default for CycleSettings {
     }
 }
 
+/// Whether an orbit is stable, decided with the error of its multipliers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stability {
+    /// Every nontrivial multiplier inside the unit circle by more than its error.
+    Stable,
+    /// A nontrivial multiplier outside the unit circle by more than its error.
+    Unstable,
+    /// None is outside by more than its error, but the nontrivial
+    /// multiplier `modulus` lies within `error` of the unit circle.
+    Undecidable { modulus: f64, error: f64 },
+    /// The Floquet pencil left `missing` nontrivial multipliers undetermined
+    /// (singular to rounding, see [`super::floquet::pencil_multipliers`]).
+    Undetermined { missing: usize },
+}
+
+impl Stability {
+    /// Decided stable.
+    pub fn is_stable(&self) -> bool {
+        *self == Stability::Stable
+    }
+    /// Decided unstable.
+    pub fn is_unstable(&self) -> bool {
+        *self == Stability::Unstable
+    }
+}
+
+/// Error of the nontrivial Floquet multipliers of an orbit in dimension `n`
+/// whose trivial multiplier is off by `trivial_error`.
+///
+/// From the pencil (`n > 2`): ten times the distance of the computed
+/// trivial multiplier from 1, at least `1e-9`. That distance is a direct
+/// sample of the pencil's error (the exact value is 1); the nontrivial
+/// multipliers are eigenvalues of the same pencil and carry errors of the
+/// same order, but not the same: when one of them is near 1 as well (near a
+/// Hopf point or a fold of cycles) the two form a nearly double eigenvalue
+/// and split by the square root of the perturbation on either side of
+/// their exact values, so the nontrivial one can be off by more than the
+/// trivial one. The factor 10 covers that split; it is the band in which
+/// the branch already refused to decide stability past `trivial_limit`.
+/// The floor `1e-9` is the rounding of multipliers near 1 on smooth orbits.
+///
+/// In the plane the nontrivial multiplier is Liouville's `exp(int tr J)`,
+/// as accurate as the collocation quadrature, independent of the pencil:
+/// `1e-9`.
+pub fn multiplier_error(n: usize, trivial_error: f64) -> f64 {
+    if n == 2 {
+        1e-9
+    } else {
+        (10.0 * trivial_error).max(1e-9)
+    }
+}
+
+/// A located fold of cycles is accepted when a nontrivial multiplier lies
+/// within `max(multiplier_error, FOLD_MULTIPLIER)` of 1: at a fold the
+/// branch's tangent is vertical because a second multiplier passes through
+/// one. A sign change of `dp/ds` without it is the rounding of a branch
+/// that is vertical to the corrector's tolerance (a canard-like explosion
+/// of the amplitude at fixed stiffness), not a fold.
+const FOLD_MULTIPLIER: f64 = 1e-3;
+
+/// Why a branch ended without an error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BranchEnd {
+    /// The parameter reached `p_min` or `p_max`.
+    ParameterBound,
+    /// `max_steps` orbits were computed.
+    MaxSteps,
+    /// The period exceeded `max_period`.
+    MaxPeriod,
+}
+
 /// One orbit of the branch.
 #[derive(Clone, Debug)]
 pub struct CyclePoint {
     pub cycle: Cycle,
-    /// Floquet multipliers by decreasing modulus (including the trivial one).
+    /// Floquet multipliers by decreasing modulus (including the trivial one),
+    /// those the pencil determined ([`super::floquet::pencil_multipliers`]).
     pub multipliers: Vec<Complex64>,
+    /// Index of the trivial multiplier in `multipliers`, when determined.
+    pub trivial: Option<usize>,
     /// `min |mu - 1|`: rounding in the multipliers, amplified by the
-    /// orbit's transient growth (not a measure of the mesh).
+    /// orbit's transient growth (not a measure of the mesh). Infinite when
+    /// the pencil did not determine the trivial multiplier.
     pub trivial_error: f64,
     /// Estimated discretization error (relative) of the period and of the
     /// extremes of every component; while far below `mesh_tol` it is renewed
     /// every fifth orbit, and the last estimate is reported in between.
     pub error_estimate: f64,
-    /// Multipliers outside the unit circle, the trivial one excluded.
+    /// Multipliers outside the unit circle by more than their error
+    /// ([`multiplier_error`]), the trivial one excluded.
     pub n_unstable: usize,
+    /// Stability decided with the multipliers' error.
+    pub stability: Stability,
     pub newton: NewtonReport,
     /// `d p / d s` along the branch: its sign change marks a fold of cycles.
     pub dp_ds: f64,
@@ -154,6 +232,8 @@ pub struct CycleBranch<'a, S: VectorField> {
     ds: f64,
     steps: usize,
     done: bool,
+    /// Why the branch ended, once it has ended without an error.
+    end: Option<BranchEnd>,
     /// Floquet multipliers of the last orbit handed out (for the PD and NS tests).
     previous_mu: Vec<Complex64>,
     /// The last discretization error estimate, the mesh size it was made
@@ -278,11 +358,18 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             start_at_fixed_parameter,
             steps: 0,
             done: false,
+            end: None,
             previous_mu: Vec::new(),
             last_estimate: f64::INFINITY,
             last_ntst: 0,
             since_estimate: 0,
         })
+    }
+
+    /// Why the branch ended, after its last orbit was handed out without an
+    /// error (`None` while it goes on, or after an error).
+    pub fn end(&self) -> Option<BranchEnd> {
+        self.end
     }
 
     /// Takes one accepted step; returns the corrector's report and the step length.
@@ -406,6 +493,16 @@ const LOCATOR: NewtonSettings = NewtonSettings {
     max_iter: 15,
 };
 
+/// Whether the located orbit `lpc` is a fold of cycles: a nontrivial
+/// multiplier within `max(multiplier_error, FOLD_MULTIPLIER)` of 1.
+fn is_fold(lpc: &CyclePoint, n: usize) -> bool {
+    let band = multiplier_error(n, lpc.trivial_error).max(FOLD_MULTIPLIER);
+    lpc.multipliers
+        .iter()
+        .enumerate()
+        .any(|(i, z)| Some(i) != lpc.trivial && (*z - 1.0).norm() <= band)
+}
+
 /// The orbit at `z` with its Floquet multipliers.
 fn point_at<S: VectorField>(
     coll: &Collocation<S>,
@@ -416,27 +513,38 @@ fn point_at<S: VectorField>(
     let n = coll.sys.dim();
     let (mu, trivial) = multipliers_and_trivial(&coll.linearize(z), n)?;
     let trivial_error = trivial.map_or(f64::INFINITY, |t| (mu[t] - 1.0).norm());
-    // Multipliers within 1e-9 of the unit circle (or, from the pencil, within
-    // the trivial multiplier's error) count as neutral, not unstable: at a
-    // Hopf point or a fold of cycles one multiplier is 1 to rounding. In the
-    // plane the nontrivial multiplier comes from Liouville's formula, not
-    // from the pencil, and the pencil's error does not widen the band.
-    let neutral = if n == 2 {
-        1e-9
-    } else {
-        trivial_error.max(1e-9)
-    };
-    let n_unstable = mu
+    let error = multiplier_error(n, trivial_error);
+    let nontrivial: Vec<Complex64> = mu
         .iter()
         .enumerate()
-        .filter(|(i, z)| Some(*i) != trivial && z.norm() > 1.0 + neutral)
-        .count();
+        .filter(|(i, _)| Some(*i) != trivial)
+        .map(|(_, z)| *z)
+        .collect();
+    let n_unstable = nontrivial.iter().filter(|z| z.norm() > 1.0 + error).count();
+    let near = nontrivial
+        .iter()
+        .map(|z| z.norm())
+        .filter(|r| (r - 1.0).abs() <= error)
+        .max_by(|a, b| (a - 1.0).abs().total_cmp(&(b - 1.0).abs()));
+    let stability = if n_unstable > 0 {
+        Stability::Unstable
+    } else if nontrivial.len() + 1 < n {
+        Stability::Undetermined {
+            missing: n - 1 - nontrivial.len(),
+        }
+    } else if let Some(modulus) = near {
+        Stability::Undecidable { modulus, error }
+    } else {
+        Stability::Stable
+    };
     Ok(CyclePoint {
         cycle: coll.cycle(z),
         multipliers: mu,
+        trivial,
         trivial_error,
         error_estimate: 0.0,
         n_unstable,
+        stability,
         newton,
         dp_ds: tangent[tangent.len() - 1],
         lpc: None,
@@ -479,7 +587,9 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                         self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
                             Ok(t[nz - 1])
                         })?;
-                    pt.lpc = Some(Box::new(lpc));
+                    if is_fold(&lpc, self.sys.dim()) {
+                        pt.lpc = Some(Box::new(lpc));
+                    }
                 }
                 self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
                 // The mesh (hence the length of z) may have been refined since z0.
@@ -505,13 +615,16 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
             Ok(pt) => {
                 self.previous_mu.clone_from(&pt.multipliers);
                 let p = pt.cycle.p[self.k];
-                if self.steps > self.settings.max_steps
-                    || p <= self.settings.p_min
-                    || p >= self.settings.p_max
-                    || pt.cycle.period > self.settings.max_period
-                {
-                    self.done = true;
-                }
+                self.end = if p <= self.settings.p_min || p >= self.settings.p_max {
+                    Some(BranchEnd::ParameterBound)
+                } else if pt.cycle.period > self.settings.max_period {
+                    Some(BranchEnd::MaxPeriod)
+                } else if self.steps > self.settings.max_steps {
+                    Some(BranchEnd::MaxSteps)
+                } else {
+                    None
+                };
+                self.done = self.end.is_some();
                 Some(Ok(pt))
             }
             Err(e) => {

@@ -111,7 +111,10 @@ impl<S: VectorField> CycleBranch<'_, S> {
                 continue;
             };
             match finer {
-                Ok(finer) if finer.trivial_error <= 0.25 * pt.trivial_error => {
+                Ok(finer)
+                    if finer.trivial_error.is_finite()
+                        && finer.trivial_error <= 0.25 * pt.trivial_error =>
+                {
                     // The multipliers needed the intervals: halving stops here
                     // until their error is found to be rounding.
                     self.multiplier_ntst = (self.coll.mesh.ntst(), self.steps);
@@ -123,7 +126,11 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     // the orbit could not be solved on them: their error is
                     // the rounding floor of this orbit; accept it from now on,
                     // on the mesh the orbit needs.
-                    self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
+                    // (Not when the pencil left the trivial multiplier
+                    // undetermined: the tolerance would become infinite.)
+                    if pt.trivial_error.is_finite() {
+                        self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
+                    }
                     self.multiplier_ntst = (0, 0);
                     self.coll = Collocation::new(self.sys, &orbit, self.k);
                     self.z = self.coll.unknowns(&orbit);
@@ -135,10 +142,11 @@ impl<S: VectorField> CycleBranch<'_, S> {
         // Past `trivial_limit`, stability is still decided while no other
         // multiplier lies within the trivial one's error of the unit circle
         // (always in the plane, where the other multiplier is exact).
+        let error = super::multiplier_error(self.sys.dim(), pt.trivial_error);
         let near_circle = pt
             .multipliers
             .iter()
-            .filter(|z| (z.norm() - 1.0).abs() <= 10.0 * pt.trivial_error)
+            .filter(|z| (z.norm() - 1.0).abs() <= error)
             .count();
         if self.sys.dim() > 2
             && pt.trivial_error > self.settings.trivial_limit

@@ -1,0 +1,189 @@
+//! The exit status tells the truth: 0 only when everything requested was
+//! delivered, 4 ("partial") when results were kept but the request is
+//! incomplete, with the reason on stderr and in the JSON (`complete`,
+//! `stop`).
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn stickslip(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(args)
+        .output()
+        .expect("run stickslip");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("stickslip-partial-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn cycles_cut_by_the_step_limit_are_partial() {
+    let dir = out_dir("cycles");
+    let (code, out, err) = stickslip(&[
+        "cycles",
+        "--max-steps",
+        "3",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        err.contains("partial") && err.contains("--max-steps"),
+        "{err}"
+    );
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["complete"], false);
+    let stop = v["stop"].as_str().unwrap();
+    assert!(
+        stop.contains("step limit") && !stop.contains("end of the requested range"),
+        "{stop}"
+    );
+    // The first cycle and three steps, each kept in the CSV as well.
+    assert_eq!(v["cycles"].as_array().unwrap().len(), 4);
+    let csv = std::fs::read_to_string(dir.join("pmma-cycles.csv")).unwrap();
+    assert_eq!(csv.lines().filter(|l| !l.starts_with('#')).count(), 1 + 4);
+}
+
+#[test]
+fn cycles_that_reach_the_range_are_complete() {
+    let dir = out_dir("rr");
+    let (code, out, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        "pmma-rr",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["complete"], true);
+    assert_eq!(v["stop"], "end of the requested range");
+    // The last cycle lies beyond the requested end, kappa_fraction * kappa_c.
+    let kappa_c = v["kappa_c"].as_f64().unwrap();
+    let last = v["cycles"].as_array().unwrap().last().unwrap()["kappa"]
+        .as_f64()
+        .unwrap();
+    assert!(last <= 0.5 * kappa_c, "{last} vs kappa_c {kappa_c}");
+}
+
+#[test]
+fn a_hopf_curve_cut_by_the_step_limit_is_partial() {
+    let dir = out_dir("diagram");
+    let (code, out, err) = stickslip(&[
+        "diagram",
+        "--nu-range",
+        "1e-6:1e6",
+        "--max-steps",
+        "50",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("--max-steps"), "{err}");
+    assert!(out.contains("step limit (50 steps, --max-steps)"), "{out}");
+    // Small velocities with significant digits, never 0.0000.
+    assert!(
+        out.contains("V = 1.0000e-6 um/s") && !out.contains("0.0000 um/s"),
+        "{out}"
+    );
+    let (code, out, err) = stickslip(&[
+        "diagram",
+        "--nu-range",
+        "1e-6:1e6",
+        "--max-steps",
+        "50",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["complete"], false);
+    assert!(v["stop"].as_str().unwrap().contains("step limit"));
+}
+
+#[test]
+fn the_default_step_limit_covers_twelve_decades_of_velocity() {
+    let dir = out_dir("diagram-full");
+    let (code, out, err) = stickslip(&[
+        "diagram",
+        "--nu-range",
+        "1e-6:1e6",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["complete"], true);
+    let nus: Vec<f64> = v["hopf_curve"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["nu"].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = (nus[0], *nus.last().unwrap());
+    assert!(
+        (lo / 1e-6 - 1.0).abs() < 1e-9 && (hi / 1e6 - 1.0).abs() < 1e-9,
+        "{lo} .. {hi}"
+    );
+}
+
+#[test]
+fn a_simulation_cut_by_the_step_limit_is_partial() {
+    let dir = out_dir("sim");
+    let (code, out, err) = stickslip(&[
+        "simulate",
+        "--set",
+        "kappa=0.009",
+        "--max-steps",
+        "10",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        err.contains("step limit") && err.contains("--max-steps"),
+        "{err}"
+    );
+    assert!(out.contains("10 steps"), "{out}");
+    let csv = std::fs::read_to_string(dir.join("pmma-simulation.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 10);
+    // The whole default protocol is delivered without the limit.
+    let (code, _, err) = stickslip(&[
+        "simulate",
+        "--set",
+        "kappa=0.009",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn help_documents_status_4_and_the_limits() {
+    for (cmd, needle) in [
+        ("cycles", "status 4"),
+        ("diagram", "status 4"),
+        ("simulate", "status 4"),
+    ] {
+        let (code, out, _) = stickslip(&[cmd, "--help"]);
+        assert_eq!(code, 0);
+        assert!(
+            out.contains(needle) && out.contains("--max-steps"),
+            "{cmd}: {out}"
+        );
+    }
+}
