@@ -265,8 +265,10 @@ fn cycles_json_lands_on_the_requested_stiffnesses() {
         "--out",
         out,
     ]);
-    assert_eq!(code, 0, "{err}");
+    // 40 steps do not reach the end of the range: partial (status 4).
+    assert_eq!(code, 4, "{err}");
     let v: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["complete"], false);
     let cycles = v["cycles"].as_array().unwrap();
     for c in cycles {
         for k in [
@@ -276,10 +278,13 @@ fn cycles_json_lands_on_the_requested_stiffnesses() {
             "v_min",
             "v_max",
             "multipliers",
-            "stable",
         ] {
             assert!(!c[k].is_null(), "cycle lacks {k}");
         }
+        assert!(
+            c["stable"].is_boolean() || c["stability_reason"].is_string(),
+            "cycle lacks stable or its reason: {c}"
+        );
     }
     let users: Vec<f64> = cycles
         .iter()

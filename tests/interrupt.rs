@@ -156,7 +156,7 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     assert!(reached > 0.0 && reached < 3e5, "{err}");
     let csv = std::fs::read_to_string(&csv_path).unwrap();
     let mut rows = csv.lines();
-    assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip"));
+    assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip,log10_v"));
     let values: Vec<Vec<f64>> = rows
         .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
         .collect();
@@ -164,7 +164,7 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     assert!(
         values
             .iter()
-            .all(|r| r.len() == 6 && r.iter().all(|x| x.is_finite())),
+            .all(|r| r.len() == 7 && r.iter().all(|x| x.is_finite())),
         "complete rows, no NaN or infinity"
     );
     assert!(

@@ -182,14 +182,11 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
     writeln!(
         csv,
-        "# scene {}; model {}; collocation {}",
+        "# scene {}; model {}; collocation {}; stable: true, false, or undecidable (a nontrivial \
+         multiplier within its error of the unit circle); n/a: not available (the JSON gives the reason)",
         setup.scene.name,
         setup.choice.reason,
         points_name(points)
-    )?;
-    writeln!(
-        csv,
-        "# stable: true, false, or undecidable (a nontrivial multiplier within its error of the unit circle); n/a: not available (see the JSON reasons)"
     )?;
     writeln!(
         csv,
