@@ -173,11 +173,33 @@ fn a_simulation_cut_by_the_step_limit_is_partial() {
 }
 
 #[test]
+fn a_steady_branch_cut_by_the_step_limit_is_partial() {
+    let args = [
+        "branch",
+        "--param",
+        "kappa",
+        "--set",
+        "kappa=0.0105",
+        "--csv",
+    ];
+    let (code, out, err) = stickslip(&[&args[..], &["--max-steps", "3"]].concat());
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("--max-steps 3"), "{err}");
+    // The rows computed are kept: a header and the start and three steps.
+    let rows = out.lines().filter(|l| !l.starts_with('#')).count();
+    assert!(rows >= 4, "{out}");
+    let (code, full, err) = stickslip(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(full.lines().count() > out.lines().count());
+}
+
+#[test]
 fn help_documents_status_4_and_the_limits() {
     for (cmd, needle) in [
         ("cycles", "status 4"),
         ("diagram", "status 4"),
         ("simulate", "status 4"),
+        ("branch", "status 4"),
     ] {
         let (code, out, _) = stickslip(&[cmd, "--help"]);
         assert_eq!(code, 0);

@@ -20,12 +20,14 @@ pub struct BranchRequest {
 
 /// Traces steady sliding from `from` to `to`, handing each point to `sink`
 /// as soon as it is computed (so a failure keeps what was already written).
+/// Returns the parameter of the last point when it falls short of `to`
+/// (the step limit, or the branch turned), `None` when it reached `to`.
 pub fn trace(
     kind: ModelKind,
     params: &Params,
     req: &BranchRequest,
     mut sink: impl FnMut(&BranchPoint) -> Result<(), crate::error::Error>,
-) -> Result<(), crate::error::Error> {
+) -> Result<Option<f64>, crate::error::Error> {
     let block = DrivenBlock::new(kind, params);
     let mut p = *params;
     p.set(req.param, req.from);
@@ -49,8 +51,13 @@ pub fn trace(
     let x0 = steady_state(kind, &p);
     let branch = Branch::new(&block, &x0, &p.to_vec(), req.param as usize, settings)
         .map_err(NumericalError::from)?;
+    let mut last = req.from;
     for point in branch {
-        sink(&point.map_err(NumericalError::from)?)?;
+        let point = point.map_err(NumericalError::from)?;
+        last = point.p[req.param as usize];
+        sink(&point)?;
     }
-    Ok(())
+    // Signed distance still to go, relative to the span.
+    let to_go = (req.to - last) * (req.to - req.from).signum();
+    Ok((to_go > 1e-9 * span).then_some(last))
 }

@@ -33,7 +33,9 @@ pub struct BranchArgs {
     /// End value (default: kappa — 1e-3 of the start; nu — the top of the scene's velocity range).
     #[arg(long)]
     pub to: Option<f64>,
-    /// Largest number of continuation steps.
+    /// Largest number of continuation steps. A branch that ends before
+    /// `--to` (this limit, or a turn) keeps its rows and exits with status 4
+    /// (partial).
     #[arg(long, default_value_t = 2000)]
     pub max_steps: usize,
     /// Comma-separated values instead of an aligned table.
@@ -128,7 +130,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         max_steps: args.max_steps,
     };
     let params = setup.params;
-    trace(kind, &params, &req, |point| {
+    let short = trace(kind, &params, &req, |point| {
         for e in &point.events {
             let omega = match e.kind {
                 EventKind::Hopf { omega } => omega,
@@ -160,7 +162,16 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
             None,
         )?;
         Ok(())
-    })
+    })?;
+    match short {
+        None => Ok(()),
+        Some(last) => Err(Error::Partial(format!(
+            "the branch ended at {} = {last:.10e}, before --to {to:.6e}: the step limit \
+             (--max-steps {}) or a turn of the branch; raise --max-steps or check the range",
+            param.name(),
+            args.max_steps
+        ))),
+    }
 }
 
 /// The refusal of a velocity branch without a stiffness, with `kappa_c` at
