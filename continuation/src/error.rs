@@ -14,12 +14,24 @@ pub enum NewtonFailure {
     NonFinite,
 }
 
+/// `{:.3e}` of a finite value, `none` for a step that was never taken
+/// (infinite or NaN: the linear solve failed), so that no message prints
+/// `inf` or `NaN`.
+fn finite_or_none(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.3e}")
+    } else {
+        "none".to_string()
+    }
+}
+
 /// An engine failure, with the last good state and the numbers that explain it.
 #[derive(Debug, Error)]
 pub enum ContinuationError {
     #[error(
         "Newton did not converge{context} after {iterations} iterations \
-         (residual {residual:.3e}, last step {step:.3e}, {reason:?}); {hint}"
+         (residual {residual:.3e}, last step {}, {reason:?}); {hint}",
+        finite_or_none(*step)
     )]
     Newton {
         context: String,
