@@ -298,9 +298,11 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             no_branch: start.reason(),
         },
     );
-    // Partial: a leg ended short of its range, the search for a start was
-    // inconclusive, or a requested point was not delivered.
-    let complete = start.conclusive() && legs_complete && requested.iter().all(|r| r.delivered > 0);
+    // Partial: a leg ended short of its range, or the search for a start was
+    // inconclusive. A requested value the branch did not reach is then among
+    // what is missing; one where no cycle exists (above kappa_c, beyond a
+    // fold, no branch at all) is answered by its reason.
+    let complete = start.conclusive() && legs_complete;
     write_requested_csv(&mut csv, &requested)?;
     if args.json {
         let v = json!({
