@@ -1,20 +1,11 @@
 //! The command line as a user runs it: the public JSON of `hopf`, the
 //! branch table, and bad input (exit status 2, a message naming the field).
 
-use serde_json::Value;
-use std::process::Command;
+mod common;
 
-fn stickslip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
-        .args(args)
-        .output()
-        .expect("run stickslip");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use common::stickslip;
+
+use serde_json::Value;
 
 fn hopf_json(extra: &[&str]) -> Value {
     let mut args = vec!["hopf", "--json"];

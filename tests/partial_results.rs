@@ -3,32 +3,15 @@
 //! incomplete, with the reason on stderr and in the JSON (`complete`,
 //! `stop`).
 
+mod common;
+
+use common::{stickslip, temp_dir};
+
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::Command;
-
-fn stickslip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
-        .args(args)
-        .output()
-        .expect("run stickslip");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
-
-fn out_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("stickslip-partial-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 #[test]
 fn cycles_cut_by_the_step_limit_are_partial() {
-    let dir = out_dir("cycles");
+    let dir = temp_dir("cycles");
     let (code, out, err) = stickslip(&[
         "cycles",
         "--max-steps",
@@ -57,7 +40,7 @@ fn cycles_cut_by_the_step_limit_are_partial() {
 
 #[test]
 fn cycles_that_reach_the_range_are_complete() {
-    let dir = out_dir("rr");
+    let dir = temp_dir("rr");
     let (code, out, err) = stickslip(&[
         "cycles",
         "--scene",
@@ -80,7 +63,7 @@ fn cycles_that_reach_the_range_are_complete() {
 
 #[test]
 fn a_hopf_curve_cut_by_the_step_limit_is_partial() {
-    let dir = out_dir("diagram");
+    let dir = temp_dir("diagram");
     let (code, out, err) = stickslip(&[
         "diagram",
         "--nu-range",
@@ -116,7 +99,7 @@ fn a_hopf_curve_cut_by_the_step_limit_is_partial() {
 
 #[test]
 fn the_default_step_limit_covers_twelve_decades_of_velocity() {
-    let dir = out_dir("diagram-full");
+    let dir = temp_dir("diagram-full");
     let (code, out, err) = stickslip(&[
         "diagram",
         "--nu-range",
@@ -143,7 +126,7 @@ fn the_default_step_limit_covers_twelve_decades_of_velocity() {
 
 #[test]
 fn a_simulation_cut_by_the_step_limit_is_partial() {
-    let dir = out_dir("sim");
+    let dir = temp_dir("sim");
     let (code, out, err) = stickslip(&[
         "simulate",
         "--set",

@@ -4,32 +4,15 @@
 
 mod common;
 
+use common::{stickslip, temp_dir};
+
 use serde_json::Value;
-use std::process::Command;
 use stickslip::analysis::cycles::{trace_cycles, CycleRecord, CycleRequest};
 use stickslip::model::ModelKind;
-
-fn stickslip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
-        .args(args)
-        .output()
-        .expect("run stickslip");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
 
 /// `a` and `b` are equal or adjacent doubles.
 fn within_one_ulp(a: f64, b: f64) -> bool {
     a == b || a.next_up() == b || a.next_down() == b
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("stickslip-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 fn requested(v: &Value, kappa: f64) -> &Value {

@@ -6,29 +6,12 @@
 
 mod common;
 
+use common::{stickslip, temp_dir};
+
 use serde_json::Value;
-use std::process::Command;
 use stickslip::analysis::diagram::{stability_diagram, strengthening_intervals};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome, STRENGTHENING_FLOOR};
 use stickslip::model::ModelKind;
-
-fn stickslip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
-        .args(args)
-        .output()
-        .expect("run stickslip");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("stickslip-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// `mu_phi - mu_v = B - 2 mu2 ln nu - A` of the ln² law (MODEL.md), written out.
 fn weakening(a: f64, b: f64, mu2: f64, nu: f64) -> f64 {

@@ -43,3 +43,25 @@ pub fn pmma(m: f64, mu2: f64) -> Params {
         theta_c: None,
     }
 }
+
+/// Runs the `stickslip` binary with `args`: `(exit status, stdout, stderr)`.
+pub fn stickslip(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(args)
+        .output()
+        .expect("run stickslip");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// A fresh output folder for one test, `stickslip-NAME-PID` under the
+/// system's temporary folder (emptied if a previous run left it).
+pub fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("stickslip-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
