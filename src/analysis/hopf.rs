@@ -30,12 +30,11 @@ impl Criticality {
     /// The onset type from `l1` and the bound on its rounding error: the
     /// sign of `l1` counts only where `|l1|` exceeds the bound.
     pub fn of(l1: f64, error_bound: f64) -> Criticality {
-        if !(l1.abs() > error_bound) {
-            Criticality::Degenerate
-        } else if l1 < 0.0 {
-            Criticality::Supercritical
-        } else {
-            Criticality::Subcritical
+        // NaN in either compares as "not above": degenerate, never a sign.
+        match l1.abs().partial_cmp(&error_bound) {
+            Some(std::cmp::Ordering::Greater) if l1 < 0.0 => Criticality::Supercritical,
+            Some(std::cmp::Ordering::Greater) => Criticality::Subcritical,
+            _ => Criticality::Degenerate,
         }
     }
 
