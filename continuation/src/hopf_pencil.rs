@@ -87,14 +87,7 @@ impl HopfPencil {
             )));
         }
         let omega = omega.abs();
-        let d = DVector::from_fn(n, |i, _| {
-            let size = a.row(i).amax();
-            if size > 0.0 && size.is_finite() {
-                1.0 / size
-            } else {
-                1.0
-            }
-        });
+        let d = crate::linalg::row_equilibration(a);
         let g = DMatrix::from_fn(n, n, |i, j| Complex64::from(d[i] * a[(i, j)]));
         let iw = Complex64::new(0.0, omega);
         let k = DMatrix::from_fn(n, n, |i, j| {

@@ -87,7 +87,32 @@ fn with_evd<R>(
     })
 }
 
+/// The row equilibration of `a`: `d_i = 1 / max_j |a_ij|` (1 for a zero or
+/// non-finite row), so that `D a` has rows of unit size.
+pub fn row_equilibration(a: &DMatrix<f64>) -> DVector<f64> {
+    DVector::from_fn(a.nrows(), |i, _| match a.row(i).amax() {
+        s if s > 0.0 && s.is_finite() => 1.0 / s,
+        _ => 1.0,
+    })
+}
+
+/// Spread `max d_i / min d_i` of the row scales above which eigenvalues come
+/// from the equilibrated pencil rather than from `a` itself.
+const ROW_SPREAD_FOR_PENCIL: f64 = 1e6;
+
 /// Eigenvalues of a real square matrix, sorted by decreasing real part.
+///
+/// A matrix whose rows differ in size by more than a factor
+/// `ROW_SPREAD_FOR_PENCIL` (a small coefficient in front of a derivative:
+/// rows of size `1/m`) is treated as the pencil `(D a, D)`, `D` its row
+/// equilibration ([`row_equilibration`]), by the QZ algorithm: the
+/// eigenvalues are the same, but a backward-stable step perturbs the
+/// unit-size rows of `D a` and the entries of `D` instead of `a`'s largest
+/// entries, so that the slow eigenvalues keep their accuracy instead of
+/// carrying errors of order `eps / m`. QZ reports a mode faster than about
+/// `1/eps` times the slow ones as infinite (`beta` deflated to zero); such
+/// modes are taken from `a` itself, whose eigenvalues of largest modulus
+/// are accurate relative to their own size.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, ContinuationError> {
     let n = a.nrows();
     let mut ev = with_evd(a, false, |w| {
@@ -95,6 +120,27 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, ContinuationError
             .map(|i| Complex64::new(w.s_re[i], w.s_im[i]))
             .collect::<Vec<_>>()
     })?;
+    let d = row_equilibration(a);
+    if d.max() / d.min() > ROW_SPREAD_FOR_PENCIL {
+        let g = faer::Mat::<f64>::from_fn(n, n, |i, j| d[i] * a[(i, j)]);
+        let b = faer::Mat::<f64>::from_fn(n, n, |i, j| if i == j { d[i] } else { 0.0 });
+        let gevd = g
+            .generalized_eigen(&b)
+            .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
+        let (alpha, beta) = (gevd.S_a(), gevd.S_b());
+        let ratio = |i: usize| {
+            let (al, be) = (alpha[i], beta[i]);
+            Complex64::new(al.re, al.im) / Complex64::new(be.re, be.im)
+        };
+        let finite: Vec<Complex64> = (0..n)
+            .map(ratio)
+            .filter(|z| z.re.is_finite() && z.im.is_finite())
+            .collect();
+        // The fastest modes of `a` stand in for the infinite ones.
+        ev.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
+        ev.truncate(n - finite.len());
+        ev.extend(finite);
+    }
     ev.sort_by(|x, y| y.re.total_cmp(&x.re).then(y.im.total_cmp(&x.im)));
     Ok(ev)
 }
@@ -245,6 +291,31 @@ impl SparseLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `m x'' + c x' + k x = 0` as a first-order system: eigenvalues
+    /// `(-c +- sqrt(c^2 - 4 m k)) / (2m)`, the slow one computed without
+    /// cancellation as `-2k / (c + sqrt(c^2 - 4 m k))`. At `m = 1e-14` the
+    /// plain eigenvalue routine gets the slow one wrong by about
+    /// `eps / m = 2e-2`; the pencil gets both to rounding.
+    #[test]
+    fn stiff_rows_keep_their_slow_eigenvalues_accurate() {
+        for m in [1e-8f64, 1e-14, 1e-20] {
+            let (c, k) = (1.5f64, 0.75f64);
+            let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -k / m, -c / m]);
+            let root = (c * c - 4.0 * m * k).sqrt();
+            let slow = -2.0 * k / (c + root);
+            let fast = -(c + root) / (2.0 * m);
+            let ev = eigenvalues(&a).unwrap();
+            assert!(
+                (ev[0].re / slow - 1.0).abs() < 1e-14 && ev[0].im == 0.0,
+                "m = {m}: {ev:?}"
+            );
+            assert!(
+                (ev[1].re / fast - 1.0).abs() < 1e-12 && ev[1].im == 0.0,
+                "m = {m}: {ev:?}"
+            );
+        }
+    }
 
     #[test]
     fn eigenvalues_of_a_rotation_with_decay() {

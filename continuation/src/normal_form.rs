@@ -151,12 +151,7 @@ pub fn eigenvalue_derivative<S: VectorField>(
     let a = jacobian(sys, x, par);
     let fp = param_derivative(sys, x, par, k);
     // Rows equilibrated before the solve (rows of size 1/m, small inertia).
-    let d: Vec<f64> = (0..a.nrows())
-        .map(|i| match a.row(i).amax() {
-            s if s > 0.0 && s.is_finite() => 1.0 / s,
-            _ => 1.0,
-        })
-        .collect();
+    let d = crate::linalg::row_equilibration(&a);
     let a_eq = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| d[i] * a[(i, j)]);
     let f_eq = DVector::from_fn(fp.len(), |i, _| -d[i] * fp[i]);
     let xp = crate::linalg::solve(a_eq, &f_eq)?;

@@ -8,9 +8,13 @@
 use crate::error::NumericalError;
 use crate::model::{full_state, steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
+use continuation::double_double::DoubleDouble;
+use continuation::hopf_extended::hopf_normal_form_extended;
 use continuation::hopf_series::hopf_series;
 use continuation::linalg::{count_unstable, eigenvalues};
-use continuation::normal_form::{eigenvalue_derivative, hopf_normal_form, onset_law};
+use continuation::normal_form::{
+    eigenvalue_derivative, hopf_normal_form, onset_law, HopfNormalForm,
+};
 use continuation::system::jacobian;
 use continuation::{Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings};
 
@@ -51,7 +55,7 @@ impl Criticality {
 /// The normal form at the onset and what it predicts for the emerging cycle.
 #[derive(Clone, Debug)]
 pub struct Onset {
-    /// First Lyapunov coefficient in MODEL.md's coordinates and normalization.
+    /// First Lyapunov coefficient in docs/model.md's coordinates and normalization.
     pub l1: f64,
     /// Cubic normal-form coefficient `c1` (`l1 = Re c1 / omega`).
     pub c1: Complex64,
@@ -59,6 +63,8 @@ pub struct Onset {
     pub l1_scale: f64,
     /// Bound on the rounding error of `l1`; `|l1|` below it is "degenerate".
     pub l1_error_bound: f64,
+    /// The arithmetic `l1` was computed in.
+    pub arithmetic: Arithmetic,
     /// Sub-, supercritical or degenerate.
     pub criticality: Criticality,
     /// `d lambda / d kappa` of the critical eigenvalue (transversality).
@@ -92,14 +98,45 @@ pub struct HopfPoint {
     pub onset: Onset,
 }
 
+/// The arithmetic a normal-form coefficient was computed in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arithmetic {
+    /// `f64` throughout.
+    Double,
+    /// The Hopf point and the normal form recomputed in double-double
+    /// ([`continuation::hopf_extended`]), where `f64` left fewer than
+    /// [`EXTENDED_DIGITS`] digits.
+    DoubleDouble,
+}
+
+impl Arithmetic {
+    /// `double` or `double-double` (the name used in JSON).
+    pub fn name(self) -> &'static str {
+        match self {
+            Arithmetic::Double => "double",
+            Arithmetic::DoubleDouble => "double-double",
+        }
+    }
+}
+
+/// Significant digits of `l1` below which the normal form is recomputed in
+/// double-double: the `f64` bound above `10^-8 |l1|`.
+pub const EXTENDED_DIGITS: i32 = 8;
+
 /// The normal form of the Hopf point of `block` at state `x` (model
-/// coordinates, which are MODEL.md's) and parameters `p`, located to within
-/// `kappa_error` in the stiffness.
+/// coordinates, which are docs/model.md's) and parameters `p`, located to
+/// within `kappa_error` in the stiffness.
 ///
 /// The bound on `l1` adds, to the engine's rounding bound, the change of
 /// `l1` over the location error, `|dl1/dkappa| kappa_error`, the slope taken
 /// by a central difference over `1e-6 kappa` (the equilibrium does not move
-/// with `kappa`).
+/// with `kappa`). Where that bound leaves fewer than [`EXTENDED_DIGITS`]
+/// digits (small inertia on the plain Rice–Ruina law: `l1 ~ m` under terms
+/// of order one), the point and the normal form are recomputed in
+/// double-double and the location error is that of its Newton refinement.
+/// The double-double result is kept only where it agrees with the `f64` one
+/// within the `f64` bound; its bound adds the rounding of the parameters
+/// themselves ([`input_rounding`]), which `f64` rounding hides.
 pub fn onset_at(
     block: &DrivenBlock,
     x: &[f64],
@@ -107,7 +144,7 @@ pub fn onset_at(
     omega: f64,
     kappa_error: f64,
 ) -> Result<Onset, NumericalError> {
-    let mut nf = hopf_normal_form(block, x, p, omega)?;
+    let nf64 = hopf_normal_form(block, x, p, omega)?;
     let k = Param::Kappa as usize;
     let h = 1e-6 * p[k].abs();
     let l1_at = |dk: f64| {
@@ -115,8 +152,28 @@ pub fn onset_at(
         q[k] += dk;
         hopf_normal_form(block, x, &q, omega).map(|n| n.l1)
     };
-    let slope = (l1_at(h)? - l1_at(-h)?) / (2.0 * h);
-    nf.l1_error_bound += slope.abs() * kappa_error;
+    let slope = ((l1_at(h)? - l1_at(-h)?) / (2.0 * h)).abs();
+    let bound64 = nf64.l1_error_bound + slope * kappa_error;
+    let extended = (bound64 > 10f64.powi(-EXTENDED_DIGITS) * nf64.l1.abs())
+        .then(|| hopf_normal_form_extended(block, x, p, k, &nf64).ok())
+        .flatten()
+        .map(|ext| {
+            let location = ext
+                .param_step
+                .max(4.0 * DoubleDouble::EPSILON * ext.param.hi().abs());
+            let mut nf = ext.normal_form;
+            nf.l1_error_bound += slope * location + input_rounding(block, x, p, &nf64);
+            nf
+        })
+        .filter(|nf| (nf.l1 - nf64.l1).abs() <= bound64 + nf.l1_error_bound);
+    let (nf, arithmetic) = match extended {
+        Some(nf) => (nf, Arithmetic::DoubleDouble),
+        None => {
+            let mut nf = nf64;
+            nf.l1_error_bound = bound64;
+            (nf, Arithmetic::Double)
+        }
+    };
     let dl = eigenvalue_derivative(block, x, p, k, &nf)?;
     let criticality = Criticality::of(nf.l1, nf.l1_error_bound);
     let degenerate = criticality == Criticality::Degenerate;
@@ -126,12 +183,42 @@ pub fn onset_at(
         c1: nf.c1,
         l1_scale: nf.term_scale,
         l1_error_bound: nf.l1_error_bound,
+        arithmetic,
         criticality,
         dlambda_dkappa: dl,
         amplitude_coefficient: law.map(|l| l.coefficient),
         side: law.map(|l| l.side),
         frequency_slope: law.map(|l| l.frequency_slope),
     })
+}
+
+/// The change of `l1` from the rounding of the scene's parameters to `f64`
+/// (a decimal `A = 0.012` is stored to within `eps/2` relative):
+/// `sum_i |dl1/dp_i| |p_i| eps/2` over the given parameters, the stiffness
+/// excepted (it is solved for). The slopes are double-double central
+/// differences over `1e-6 p_i`, each at its own refined Hopf point. Only the
+/// double-double path needs it: in `f64` the rounding bound is far larger.
+/// A slope that cannot be computed counts as `|l1| / |p_i|` per unit
+/// relative change (a power law of degree one).
+fn input_rounding(block: &DrivenBlock, x: &[f64], p: &[f64], nf64: &HopfNormalForm) -> f64 {
+    let k = Param::Kappa as usize;
+    let l1_at = |i: usize, factor: f64| {
+        let mut q = p.to_vec();
+        q[i] *= factor;
+        hopf_normal_form_extended(block, x, &q, k, nf64).map(|e| e.normal_form.l1)
+    };
+    let h = 1e-6;
+    (0..p.len())
+        .filter(|&i| i != k && p[i] != 0.0 && p[i].is_finite())
+        .map(|i| {
+            // d l1 / d ln p_i
+            let slope = match (l1_at(i, 1.0 + h), l1_at(i, 1.0 - h)) {
+                (Ok(up), Ok(down)) => ((up - down) / (2.0 * h)).abs(),
+                _ => nf64.l1.abs(),
+            };
+            slope * 0.5 * f64::EPSILON
+        })
+        .sum()
 }
 
 /// The second Lyapunov coefficient at the Hopf point `h` of `params` and
@@ -163,7 +250,7 @@ pub fn second_lyapunov(
 
 /// How far a located `kappa_c` may be from the exact one: its distance from
 /// the closed form of Appendix C (exact for this model at any inertia,
-/// MODEL.md), and at least the rounding of `kappa_c` itself. Where the Hopf
+/// docs/model.md), and at least the rounding of `kappa_c` itself. Where the Hopf
 /// system is ill-conditioned (small `omega`, e.g. near `V_min` of the cutoff
 /// law) this is well above rounding.
 fn location_error(kind: ModelKind, params: &Params, kappa: f64) -> f64 {
@@ -191,7 +278,7 @@ pub const STRENGTHENING_FLOOR: f64 = 1e-8;
 
 /// Whether steady friction at `params.nu` is velocity strengthening, or
 /// neutral: `mu_phi <= mu_v` (the steady-state slopes of the friction law,
-/// MODEL.md). Then steady sliding is linearly stable for every stiffness.
+/// docs/model.md). Then steady sliding is linearly stable for every stiffness.
 pub fn velocity_strengthening(params: &Params) -> bool {
     params.mu_phi() <= params.mu_v()
 }

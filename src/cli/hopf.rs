@@ -90,6 +90,7 @@ fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
                 "l1": h.onset.l1,
                 "l1_term_scale": h.onset.l1_scale,
                 "l1_error_bound": h.onset.l1_error_bound,
+                "l1_arithmetic": h.onset.arithmetic.name(),
                 "criticality": h.onset.criticality.name(),
                 "amplitude_coefficient": h.onset.amplitude_coefficient,
                 "onset": {
@@ -229,10 +230,14 @@ fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
     use crate::analysis::hopf::Criticality;
     println!();
     println!(
-        "Onset type: {} (first Lyapunov coefficient l1 = {:.10e} ± {:.1e}, docs/model.md convention)",
+        "Onset type: {} (first Lyapunov coefficient l1 = {:.10e} ± {:.1e}, docs/model.md convention{})",
         o.criticality.name(),
         o.l1,
-        o.l1_error_bound
+        o.l1_error_bound,
+        match o.arithmetic {
+            crate::analysis::hopf::Arithmetic::Double => "",
+            crate::analysis::hopf::Arithmetic::DoubleDouble => "; computed in double-double, f64 could not resolve it",
+        }
     );
     match (o.criticality, o.amplitude_coefficient, o.side) {
         (Criticality::Degenerate, ..) => println!(

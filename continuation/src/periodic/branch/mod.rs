@@ -485,6 +485,18 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 }
 
+impl<S: VectorField> CycleBranch<'_, S> {
+    /// How well the corrector fixes an orbit's parameter: its step tolerance,
+    /// `step_tol (1 + |z|)` (the Newton test, [`crate::newton`]). A sign change
+    /// of `dp/ds` whose parameter excursion stays below it is noise, not a
+    /// fold: near a nearly degenerate Hopf point (`l1` close to zero) the
+    /// branch is flat in the parameter to far below this resolution.
+    fn parameter_resolution(&self, z: &[f64]) -> f64 {
+        let size = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        self.settings.corrector.step_tol * (1.0 + size)
+    }
+}
+
 /// Newton settings of located points (folds, user points), tighter than the
 /// corrector's.
 const LOCATOR: NewtonSettings = NewtonSettings {
@@ -587,7 +599,11 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                         self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
                             Ok(t[nz - 1])
                         })?;
-                    if is_fold(&lpc, self.sys.dim()) {
+                    let p_fold = lpc.cycle.p[self.k];
+                    let excursion = (p_fold - z0[nz - 1])
+                        .abs()
+                        .max((p_fold - pt.cycle.p[self.k]).abs());
+                    if is_fold(&lpc, self.sys.dim()) && excursion > self.parameter_resolution(&z0) {
                         pt.lpc = Some(Box::new(lpc));
                     }
                 }
