@@ -21,6 +21,8 @@ use stickslip::analysis::cycles::{
     along_branch, trace_cycles_from_orbit, CycleRecord, CycleRequest,
 };
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use stickslip::analysis::orbit_inertia::InertiaWatch;
 use stickslip::analysis::settle::{settle, stuck_start, SettleSettings};
 use stickslip::analysis::simulate::{simulate, Segment};
 use stickslip::model::ModelKind;
@@ -160,7 +162,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         collocation: None,
     };
     let mut cycles: Vec<CycleRecord> = Vec::new();
-    let legs = trace_cycles_from_orbit(KIND, &p, &orbit, &req, |c| {
+    let watch = InertiaWatch::new(&p, DEFAULT_INERTIA_THRESHOLD, false);
+    let legs = trace_cycles_from_orbit(KIND, &p, &orbit, &req, &watch, |c: &CycleRecord| {
         cycles.push(c.clone());
         Ok(())
     })?;

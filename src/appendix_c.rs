@@ -1,5 +1,5 @@
 //! Closed forms of the seed's Appendix C (linear stability of steady sliding),
-//! in MODEL.md's dimensionless units. They are the reference the continuation
+//! in docs/model.md's dimensionless units. They are the reference the continuation
 //! results are compared with; the analyses never use them to get their answers.
 
 use crate::params::Params;
@@ -27,7 +27,7 @@ pub fn critical_frequency(p: &Params) -> Option<f64> {
 /// inertial block at steady sliding, `a3 l^3 + a2 l^2 + a1 l + a0 = 0`:
 /// `m l^3 + (mu_v/nu + m nu) l^2 + (kappa + mu_v - mu_phi) l + kappa nu`.
 ///
-/// This is seed eq. C9 with `i Omega = l` (growth rate) in MODEL.md units; at
+/// This is seed eq. C9 with `i Omega = l` (growth rate) in docs/model.md units; at
 /// `m = 0` it reduces to the quasi-static quadratic.
 pub fn characteristic_polynomial(p: &Params) -> [f64; 4] {
     let (mu_v, mu_phi, nu, m, kappa) = (p.mu_v(), p.mu_phi(), p.nu, p.m, p.kappa);
@@ -35,7 +35,7 @@ pub fn characteristic_polynomial(p: &Params) -> [f64; 4] {
 }
 
 /// Large-stiffness roots of the characteristic cubic (corrected seed eq. C10,
-/// MODEL.md): one real root `-> -nu` and a pair
+/// docs/model.md): one real root `-> -nu` and a pair
 /// `-> -mu_v/(2 m nu) +- i sqrt(kappa/m)`. Returns `(real, upper)`, the upper
 /// member of the pair having positive imaginary part. Requires `m > 0`.
 ///

@@ -1,4 +1,4 @@
-//! Rate-and-state friction laws of MODEL.md (seed eqs. RR1–RR3, C3).
+//! Rate-and-state friction laws of docs/model.md (seed eqs. RR1–RR3, C3).
 //!
 //! ```text
 //! mu(v, theta) = mu0 + A ln v + ageing(theta)
@@ -21,7 +21,7 @@ pub enum Ageing<T> {
     Cutoff { b: T, theta_c: T },
 }
 
-/// A friction law `mu(v, theta)`, dimensionless (MODEL.md).
+/// A friction law `mu(v, theta)`, dimensionless (docs/model.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionLaw<T> {
     /// Friction coefficient at `v = 1`, `theta = 1`.
@@ -83,7 +83,7 @@ impl<T: Scalar> FrictionLaw<T> {
 
 impl FrictionLaw<f64> {
     /// Velocity of minimal steady friction for the cutoff law,
-    /// `V_min = (B - A) / (A theta_c)` in units of `V0` (MODEL.md); `None` for
+    /// `V_min = (B - A) / (A theta_c)` in units of `V0` (docs/model.md); `None` for
     /// the logarithmic ageing forms or when `B <= A` (no weakening range).
     pub fn v_min(&self) -> Option<f64> {
         match self.ageing {

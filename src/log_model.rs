@@ -1,7 +1,7 @@
 //! The driven block in logarithmic variables, for periodic orbits.
 //!
 //! Stick-slip cycles span many decades of slip velocity and age within one
-//! period; in `w = ln v` and `phi = ln theta` they stay smooth. With MODEL.md's
+//! period; in `w = ln v` and `phi = ln theta` they stay smooth. With docs/model.md's
 //! equations:
 //!
 //! ```text
@@ -11,7 +11,7 @@
 //! ```
 //!
 //! and quasi-statically `(s, phi)` with `w = (s - mu0 - ageing(e^phi)) / A`.
-//! Orbits are reported back in MODEL.md's variables (`v = e^w`,
+//! Orbits are reported back in docs/model.md's variables (`v = e^w`,
 //! `theta = e^phi`); the spring force `s`, the period and the multipliers do
 //! not depend on the choice of variables.
 
@@ -70,7 +70,7 @@ impl LogBlock {
         }
     }
 
-    /// A state in MODEL.md's variables `(s, v, theta)` as this model's state.
+    /// A state in docs/model.md's variables `(s, v, theta)` as this model's state.
     pub fn from_model(&self, s: f64, v: f64, theta: f64) -> Vec<f64> {
         match self.kind {
             ModelKind::Inertial => vec![s, v.ln(), theta.ln()],

@@ -1,4 +1,4 @@
-//! The driven block of MODEL.md (seed §II.D.2, eqs. RR4, C1–C2), dimensionless.
+//! The driven block of docs/model.md (seed §II.D.2, eqs. RR4, C1–C2), dimensionless.
 //!
 //! Inertial model, state `(s, v, theta)`:
 //! ```text
@@ -281,7 +281,7 @@ mod tests {
 
     #[test]
     fn inertial_jacobian_matches_the_linearisation_of_appendix_c() {
-        // Linearising at steady sliding (seed eqs. C6–C7 in MODEL.md units):
+        // Linearising at steady sliding (seed eqs. C6–C7 in docs/model.md units):
         // J = [[0, -kappa, 0], [1/m, -mu_v/(m nu), -mu_phi nu/m], [0, -1/nu, -nu]].
         let p = params();
         let j = jacobian(

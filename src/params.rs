@@ -1,4 +1,4 @@
-//! Dimensionless parameters of MODEL.md and their validation.
+//! Dimensionless parameters of docs/model.md and their validation.
 //!
 //! | name | definition | meaning |
 //! |---|---|---|
@@ -73,7 +73,7 @@ impl Param {
     }
 }
 
-/// The dimensionless parameter set of MODEL.md.
+/// The dimensionless parameter set of docs/model.md.
 ///
 /// `theta_c = Some(..)` selects the cutoff ageing form `B ln(1 + theta/theta_c)`;
 /// `None` selects `B ln theta + mu2 (ln theta)^2`.

@@ -1,5 +1,5 @@
 //! Scenes: physical experiments in laboratory units, read from TOML and
-//! converted to the dimensionless [`Params`] of MODEL.md:
+//! converted to the dimensionless [`Params`] of docs/model.md:
 //!
 //! ```text
 //! nu = V / V0,   kappa = K D0 / W,   m = M V0^2 / (W D0),   theta_c = tau V0 / D0,

@@ -12,6 +12,8 @@
 mod common;
 
 use stickslip::analysis::cycles::{trace_cycles_from_orbit, CycleRecord, CycleRequest, Leg};
+use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use stickslip::analysis::orbit_inertia::InertiaWatch;
 use stickslip::analysis::settle::{settle, stuck_start, SettleError, SettleSettings};
 use stickslip::appendix_c::critical_stiffness;
 use stickslip::model::ModelKind;
@@ -39,7 +41,8 @@ fn branch(p: &Params, req: &CycleRequest) -> Vec<CycleRecord> {
     let kind = ModelKind::Inertial;
     let orbit = settle(kind, p, stuck_start(p), &SettleSettings::for_params(p)).unwrap();
     let mut out = Vec::new();
-    let legs = trace_cycles_from_orbit(kind, p, &orbit, req, |c| {
+    let watch = InertiaWatch::new(p, DEFAULT_INERTIA_THRESHOLD, false);
+    let legs = trace_cycles_from_orbit(kind, p, &orbit, req, &watch, |c: &CycleRecord| {
         out.push(c.clone());
         Ok(())
     })

@@ -4,6 +4,8 @@
 //! both ways from it.
 
 use crate::analysis::hopf::{find_hopf, HopfOutcome, HopfPoint};
+use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use crate::analysis::orbit_inertia::{inertial_guess, inertial_imbalance, InertiaWatch};
 use crate::analysis::sampled_cycle::sampled_cycle;
 use crate::analysis::settle::SettledOrbit;
 use crate::error::NumericalError;
@@ -27,7 +29,7 @@ pub enum Leg {
     Down,
 }
 
-/// One stick-slip cycle in MODEL.md's variables.
+/// One stick-slip cycle in docs/model.md's variables.
 #[derive(Clone, Debug)]
 pub struct CycleRecord {
     pub kappa: f64,
@@ -57,6 +59,11 @@ pub struct CycleRecord {
     pub stability: Stability,
     /// Mesh intervals used.
     pub ntst: usize,
+    /// The model the cycle was computed with.
+    pub model: ModelKind,
+    /// How much inertia matters on this orbit: `chi = max m |dv/dt| / A`
+    /// with the scene's `m` ([`super::orbit_inertia`]).
+    pub inertial_imbalance: f64,
     /// The orbit sampled over one period: `(t / T, s, v, theta)`.
     pub samples: Vec<[f64; 4]>,
     /// A fold of cycles (LPC) located between the previous cycle and this one.
@@ -275,7 +282,7 @@ pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
         .collect()
 }
 
-fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
+fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> CycleRecord {
     let c = &pt.cycle;
     let (s_min, s_max) = c.range(0);
     let (v_min, v_max) = match log.kind {
@@ -307,6 +314,8 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
         error_estimate: Some(pt.error_estimate).filter(|e| e.is_finite()),
         stability: pt.stability,
         ntst: c.mesh.ntst(),
+        model: log.kind,
+        inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
         samples: c
             .samples(4)
             .iter()
@@ -318,17 +327,17 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
         lpc: pt.lpc.as_ref().map(|l| {
             Box::new(CycleRecord {
                 orbit: Some(l.cycle.clone()),
-                ..record(log, l, leg)
+                ..record(log, l, leg, watch)
             })
         }),
-        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l, leg))),
-        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l, leg))),
+        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l, leg, watch))),
+        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l, leg, watch))),
         user: pt
             .user
             .iter()
             .map(|u| CycleRecord {
                 user_point: true,
-                ..record(log, u, leg)
+                ..record(log, u, leg, watch)
             })
             .collect(),
         user_point: false,
@@ -339,6 +348,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
 
 /// Traces the cycles born at the Hopf point of `params` (in `kappa`), handing
 /// each to `sink` as it is computed. Returns the Hopf point it started from.
+/// The model is kept along the branch (no switch; see [`trace_cycles_from`]).
 pub fn trace_cycles(
     kind: ModelKind,
     params: &Params,
@@ -348,7 +358,8 @@ pub fn trace_cycles(
     let HopfOutcome::Found(h) = find_hopf(kind, params)? else {
         return Err(no_onset().into());
     };
-    trace_cycles_from(kind, params, &h, req, sink)?;
+    let watch = InertiaWatch::new(params, DEFAULT_INERTIA_THRESHOLD, false);
+    trace_cycles_from(kind, params, &h, req, &watch, sink)?;
     Ok(h)
 }
 
@@ -360,12 +371,14 @@ pub fn no_onset() -> NumericalError {
 }
 
 /// Traces the cycles born at the already located Hopf point `h` of `params`;
-/// returns why the branch ended.
+/// returns why the branch ended. A quasi-static branch hands over to the
+/// inertial model where `watch` says so ([`follow_switching`]).
 pub fn trace_cycles_from(
     kind: ModelKind,
     params: &Params,
     h: &HopfPoint,
     req: &CycleRequest,
+    watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<BranchEnd, crate::error::Error> {
     let log = LogBlock::new(kind, params);
@@ -379,7 +392,7 @@ pub fn trace_cycles_from(
         settings(kind, req, req.ntst),
     )
     .map_err(NumericalError::from)?;
-    follow(&log, branch, Leg::FromHopf, 0, &mut sink)
+    follow_switching(&log, branch, Leg::FromHopf, 0, req, watch, &mut sink)
 }
 
 /// Mesh intervals of the first cycle sampled from a simulation: stick-slip
@@ -400,6 +413,7 @@ pub fn trace_cycles_from_orbit(
     params: &Params,
     orbit: &SettledOrbit,
     req: &CycleRequest,
+    watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
     let log = LogBlock::new(kind, params);
@@ -420,7 +434,7 @@ pub fn trace_cycles_from_orbit(
             settings(kind, req, ntst),
         )
         .map_err(|e| NumericalError::from(e).into())
-        .and_then(|branch| follow(&log, branch, leg, i, &mut sink));
+        .and_then(|branch| follow_switching(&log, branch, leg, i, req, watch, &mut sink));
         match outcome {
             Err(e @ crate::error::Error::Interrupted(_)) => return Err(e),
             other => legs[i] = other,
@@ -455,8 +469,71 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
     }
 }
 
+/// How [`follow`] ended: the branch's own end, or a quasi-static orbit on
+/// which inertia stopped being negligible.
+enum FollowEnd {
+    End(BranchEnd),
+    /// Hand over to the inertial model from `cycle`, continuing in the
+    /// direction of `dp_ds`'s sign.
+    Switch {
+        cycle: Box<Cycle>,
+        dp_ds: f64,
+    },
+}
+
+/// [`follow`], and where a quasi-static branch hands over: the last
+/// quasi-static orbit is corrected in the inertial model at the same
+/// stiffness ([`inertial_guess`]) and the branch continues from it, with
+/// Radau collocation unless `req` fixes the points.
+fn follow_switching(
+    log: &LogBlock,
+    branch: CycleBranch<'_, LogBlock>,
+    leg: Leg,
+    skip: usize,
+    req: &CycleRequest,
+    watch: &InertiaWatch,
+    sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<BranchEnd, crate::error::Error> {
+    let (cycle, dp_ds) = match follow(log, branch, leg, skip, watch, sink)? {
+        FollowEnd::End(end) => return Ok(end),
+        FollowEnd::Switch { cycle, dp_ds } => (cycle, dp_ds),
+    };
+    let inertial = LogBlock {
+        kind: ModelKind::Inertial,
+        ..*log
+    };
+    let guess = inertial_guess(log, &cycle, watch.m);
+    let mut seed = vec![0.0; guess.u.len() + 2];
+    seed[guess.u.len() + 1] = dp_ds.signum();
+    let ntst = guess.mesh.ntst();
+    let branch = CycleBranch::from_cycle(
+        &inertial,
+        guess,
+        Param::Kappa as usize,
+        Some(seed),
+        settings(ModelKind::Inertial, req, ntst),
+    )
+    .map_err(|e| {
+        NumericalError::Analysis(format!(
+            "switching to the inertial model at kappa = {:.6e}: the quasi-static orbit did not \
+             correct to an inertial one ({e}); try --model quasi-static or --model inertial",
+            cycle.p[Param::Kappa as usize]
+        ))
+    })?;
+    let watch = InertiaWatch {
+        switch: false,
+        ..*watch
+    };
+    match follow(&inertial, branch, leg, 0, &watch, sink)? {
+        FollowEnd::End(end) => Ok(end),
+        FollowEnd::Switch { .. } => unreachable!("an inertial branch does not switch"),
+    }
+}
+
 /// Hands the cycles of `branch` to `sink`, skipping the first `skip` (the
-/// starting cycle of a second leg); returns why the branch ended. A failure after the cycles have shrunk
+/// starting cycle of a second leg); returns why the branch ended, or the
+/// quasi-static orbit at which `watch` hands over to the inertial model (that
+/// orbit is handed to `sink` too). A failure after the cycles have shrunk
 /// below [`SHRUNK`] of the largest `Delta_s` on the leg is reported as what
 /// it is: the branch reached steady sliding at a Hopf point, where the
 /// collocation system is singular (zero amplitude).
@@ -465,8 +542,9 @@ fn follow(
     mut branch: CycleBranch<'_, LogBlock>,
     leg: Leg,
     skip: usize,
+    watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<FollowEnd, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
     for pt in branch.by_ref().skip(skip) {
         let pt = pt.map_err(|e| match last {
@@ -479,13 +557,24 @@ fn follow(
             }
             _ => NumericalError::from(e),
         })?;
-        let rec = record(log, &pt, leg);
+        let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
         last = Some((rec.kappa, rec.delta_s));
         sink(&rec)?;
+        if watch.switch
+            && log.kind == ModelKind::QuasiStatic
+            && rec.inertial_imbalance > watch.threshold
+        {
+            return Ok(FollowEnd::Switch {
+                cycle: Box::new(pt.cycle),
+                dp_ds: pt.dp_ds,
+            });
+        }
     }
     // An iterator that ended without an error has a reason.
-    Ok(branch.end().unwrap_or(BranchEnd::ParameterBound))
+    Ok(FollowEnd::End(
+        branch.end().unwrap_or(BranchEnd::ParameterBound),
+    ))
 }
 
 /// The Hopf point `h` of `params` in the log variables of `log`: the state

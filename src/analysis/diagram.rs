@@ -18,7 +18,7 @@ use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
 use continuation::hopf_series::hopf_series;
 use continuation::{LogParameters, NewtonSettings};
 
-/// One point of the Hopf curve, in MODEL.md's variables.
+/// One point of the Hopf curve, in docs/model.md's variables.
 #[derive(Clone, Debug)]
 pub struct CurvePoint {
     pub nu: f64,

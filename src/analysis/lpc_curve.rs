@@ -21,7 +21,7 @@ use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
 /// Mesh intervals of the cycles along a curve of folds.
 const LPC_NTST: usize = 30;
 
-/// A fold of cycles in MODEL.md's variables.
+/// A fold of cycles in docs/model.md's variables.
 #[derive(Clone, Debug)]
 pub struct LpcCurvePoint {
     pub nu: f64,

@@ -7,6 +7,7 @@ pub mod diagram;
 pub mod hopf;
 pub mod lpc_curve;
 pub mod model_choice;
+pub mod orbit_inertia;
 pub mod orbit_start;
 pub mod sampled_cycle;
 pub mod settle;

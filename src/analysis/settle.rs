@@ -139,7 +139,7 @@ impl SettleError {
     }
 }
 
-/// Steady sliding in MODEL.md's variables and the scale of `s`.
+/// Steady sliding in docs/model.md's variables and the scale of `s`.
 struct Steady {
     s: f64,
     ln_v: f64,
@@ -184,7 +184,7 @@ fn step_bound(kind: ModelKind, params: &Params) -> f64 {
     }
 }
 
-/// Integrates the block at `params` from `start` (MODEL.md's `(s, v, theta)`)
+/// Integrates the block at `params` from `start` (docs/model.md's `(s, v, theta)`)
 /// until the return map on `v = nu` (upward) settles; see the module docs.
 pub fn settle(
     kind: ModelKind,

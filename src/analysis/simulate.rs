@@ -6,6 +6,7 @@
 //! produces it (so a caller can write rows as they come, show progress and
 //! stop early); [`simulate`] collects them into a [`Trajectory`].
 
+use crate::analysis::orbit_inertia::{inertial_state, state_imbalance, InertiaWatch};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -22,7 +23,7 @@ pub struct Segment {
     pub duration: f64,
 }
 
-/// One point of a simulated trajectory in MODEL.md's variables.
+/// One point of a simulated trajectory in docs/model.md's variables.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
     pub t: f64,
@@ -34,6 +35,8 @@ pub struct Sample {
     /// `log10 v`, from the integrator's log variables: finite also where `v`
     /// itself underflows to 0 (below `1e-308`, e.g. a long stick).
     pub log10_v: f64,
+    /// The model that computed the sample.
+    pub model: ModelKind,
 }
 
 impl Sample {
@@ -45,7 +48,7 @@ impl Sample {
     }
 }
 
-/// A simulated trajectory in MODEL.md's variables.
+/// A simulated trajectory in docs/model.md's variables.
 #[derive(Clone, Debug, Default)]
 pub struct Trajectory {
     pub t: Vec<f64>,
@@ -125,6 +128,8 @@ pub struct RunEnd {
     pub t_end: f64,
     /// Whether the sink stopped the run before the end.
     pub stopped: bool,
+    /// Where the run changed to the inertial model, if it did.
+    pub switch: Option<SimulationSwitch>,
 }
 
 /// Integrates from the state `(s, v, theta)` through the protocol, recording
@@ -151,7 +156,8 @@ pub fn simulate(
 /// order, each time once). `sink` returning `ControlFlow::Break(())` stops the
 /// integration there ([`RunEnd::stopped`]). A sample with a non-finite value
 /// is never handed over: the run fails at it. On failure the sink has
-/// received everything up to the last good step.
+/// received everything up to the last good step. The model is kept
+/// throughout ([`simulate_watched`] may change it).
 pub fn simulate_with(
     kind: ModelKind,
     params: &Params,
@@ -159,6 +165,26 @@ pub fn simulate_with(
     protocol: &[Segment],
     rtol: f64,
     grid: Option<&[f64]>,
+    sink: impl FnMut(&Sample) -> ControlFlow<()>,
+) -> Result<RunEnd, NumericalError> {
+    simulate_watched(kind, params, start, protocol, rtol, grid, None, sink)
+}
+
+/// [`simulate_with`], and a quasi-static run hands over to the inertial
+/// model where `watch` says so: at the end of the first step whose state
+/// has `m |dv/dt| / A` above the threshold
+/// ([`super::orbit_inertia::state_imbalance`]), the run goes on from that
+/// state (its velocity slaved, [`inertial_state`]) with the scene's inertia.
+/// [`RunEnd::switch`] says where.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_watched(
+    kind: ModelKind,
+    params: &Params,
+    start: [f64; 3],
+    protocol: &[Segment],
+    rtol: f64,
+    grid: Option<&[f64]>,
+    watch: Option<&InertiaWatch>,
     mut sink: impl FnMut(&Sample) -> ControlFlow<()>,
 ) -> Result<RunEnd, NumericalError> {
     if let Some(g) = grid {
@@ -168,47 +194,82 @@ pub fn simulate_with(
             ));
         }
     }
-    let log = LogBlock::new(kind, params);
+    let mut params = *params;
     let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
-    let mut x = log.from_model(start[0], start[1], start[2]);
     let mut out = Emitter {
-        log: &log,
+        log: LogBlock::new(kind, &params),
         start_s: start[0],
         kappa: params.kappa,
         grid: grid.map(|g| (g, 0)),
         last: None,
         bad: None,
     };
+    let mut x = out.log.from_model(start[0], start[1], start[2]);
     let (mut t0, mut pulled) = (0.0, 0.0);
     let first_nu = protocol.first().map_or(params.nu, |seg| seg.nu);
-    let mut p0 = *params;
+    let mut p0 = params;
     p0.nu = first_nu;
     if out.start(&x, &p0.to_vec(), &mut sink).is_break() {
         return out.finish(t0, t_end, true);
     }
+    let mut switch = None;
     for seg in protocol {
-        let mut p = *params;
-        p.nu = seg.nu;
-        let pv = p.to_vec();
-        let settings = Settings {
-            rtol,
-            atol: rtol * 1e-3,
-            ..Settings::default()
-        };
         let t1 = t0 + seg.duration;
         let drive = Drive {
             t0,
             nu: seg.nu,
             pulled,
         };
-        let sol = Radau5::new(&log, &pv, settings).solve_with(t0, &x, t1, Output::Final, |step| {
-            out.step(step, &pv, drive, &mut sink)
-        });
+        let settings = Settings {
+            rtol,
+            atol: rtol * 1e-3,
+            ..Settings::default()
+        };
+        // The segment, resumed once in the inertial model if the watch hands over.
+        let sol = loop {
+            let mut p = params;
+            p.nu = seg.nu;
+            let pv = p.to_vec();
+            let log = out.log;
+            let watching = watch.filter(|w| w.switch && log.kind == ModelKind::QuasiStatic);
+            let mut hand_over = None;
+            let sol = Radau5::new(&log, &pv, settings.clone()).solve_with(
+                t0,
+                &x,
+                t1,
+                Output::Final,
+                |step| {
+                    let flow = out.step(step, &pv, drive, &mut sink);
+                    if let Some(w) = watching.filter(|_| flow.is_continue()) {
+                        let chi = state_imbalance(&log, step.x, &pv, w.m, w.a);
+                        if chi > w.threshold {
+                            hand_over = Some((step.t, chi, inertial_state(&log, step.x, &pv)));
+                            return ControlFlow::Break(());
+                        }
+                    }
+                    flow
+                },
+            );
+            match (hand_over, watching) {
+                (Some((t, chi, state)), Some(w)) => {
+                    params.m = w.m;
+                    out.log = LogBlock::new(ModelKind::Inertial, &params);
+                    x = state.to_vec();
+                    t0 = t;
+                    switch = Some(SimulationSwitch { t, chi });
+                }
+                _ => break sol,
+            }
+        };
         if let Some(bad) = out.bad.take() {
             return Err(bad);
         }
         match sol.outcome {
-            Outcome::ObserverStop => return out.finish(sol.t_final, t_end, true),
+            Outcome::ObserverStop => {
+                return out
+                    .finish(sol.t_final, t_end, true)
+                    .map(|e| RunEnd { switch, ..e })
+            }
             Outcome::Failed(e) => {
                 return Err(NumericalError::Analysis(format!(
                     "simulation at nu = {}: {e}",
@@ -221,7 +282,16 @@ pub fn simulate_with(
         t0 = sol.t_final;
         x = sol.x_final;
     }
-    out.finish(t0, t_end, false)
+    out.finish(t0, t_end, false).map(|e| RunEnd { switch, ..e })
+}
+
+/// Where a quasi-static simulation handed over to the inertial model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulationSwitch {
+    /// The time (units `D0/V0`).
+    pub t: f64,
+    /// `m |dv/dt| / A` at that state.
+    pub chi: f64,
 }
 
 /// The drive of the current segment: its start, velocity, and the spring
@@ -236,7 +306,8 @@ struct Drive {
 /// Turns integrator states into samples for the sink: at the step ends or at
 /// the grid times, each time once, checked finite.
 struct Emitter<'a> {
-    log: &'a LogBlock,
+    /// The model integrated (it may change once, quasi-static to inertial).
+    log: LogBlock,
     start_s: f64,
     kappa: f64,
     /// The output times and the index of the next one.
@@ -258,6 +329,7 @@ impl Emitter<'_> {
             theta,
             slip,
             log10_v: self.log.ln_velocity(y, pv) / std::f64::consts::LN_10,
+            model: self.log.kind,
         }
     }
 
@@ -339,6 +411,7 @@ impl Emitter<'_> {
                 t: if stopped { self.last.unwrap_or(t) } else { t },
                 t_end,
                 stopped,
+                switch: None,
             }),
         }
     }

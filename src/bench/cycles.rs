@@ -32,7 +32,7 @@ pub(super) struct CycleWork {
     settings: CycleSettings,
 }
 
-/// The last cycle of a run, in MODEL.md's variables.
+/// The last cycle of a run, in docs/model.md's variables.
 #[derive(Clone, Debug)]
 pub struct LastCycle {
     pub kind: ModelKind,

@@ -6,6 +6,7 @@ use crate::analysis::cycles::{
     trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest,
 };
 use crate::analysis::hopf::{velocity_strengthening, HopfOutcome, HopfPoint};
+use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
 use crate::analysis::settle::SettleError;
 use crate::error::{Error, NumericalError};
@@ -148,18 +149,31 @@ impl Start {
 
     /// Traces the branch, handing each cycle to `sink`; returns how each leg
     /// ended, labelled (one leg from a Hopf point, two from a simulated orbit).
+    /// A quasi-static branch hands over to the inertial model where `watch`
+    /// says so.
     /// A leg that ended without an error says why ([`BranchEnd`]).
     pub fn trace(
         &self,
         setup: &Setup,
         req: &CycleRequest,
+        watch: &InertiaWatch,
         mut sink: impl FnMut(&CycleRecord) -> Result<(), Error>,
     ) -> Vec<(&'static str, Result<BranchEnd, Error>)> {
         let kind = setup.choice.kind;
         match self {
-            Start::Hopf(h) => vec![("", trace_cycles_from(kind, &setup.params, h, req, sink))],
+            Start::Hopf(h) => vec![(
+                "",
+                trace_cycles_from(kind, &setup.params, h, req, watch, sink),
+            )],
             Start::Simulation { orbit, .. } => {
-                match trace_cycles_from_orbit(kind, &orbit.params, &orbit.orbit, req, &mut sink) {
+                match trace_cycles_from_orbit(
+                    kind,
+                    &orbit.params,
+                    &orbit.orbit,
+                    req,
+                    watch,
+                    &mut sink,
+                ) {
                     Ok([up, down]) => vec![
                         ("toward larger stiffness", up),
                         ("toward smaller stiffness", down),

@@ -11,6 +11,7 @@ use crate::analysis::cycles::{
     CycleRequest, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
 };
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
+use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Param;
@@ -103,6 +104,8 @@ fn record_json(c: &CycleRecord) -> Value {
         },
         "ntst": c.ntst,
         "user_point": c.user_point,
+        "model": c.model.name(),
+        "inertial_imbalance": c.inertial_imbalance,
     });
     if c.trivial_error.is_none() {
         v["trivial_multiplier_error_reason"] = json!(TRIVIAL_UNAVAILABLE);
@@ -190,7 +193,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     )?;
     writeln!(
         csv,
-        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point"
+        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point,model,inertial_imbalance"
     )?;
     let kappa_ref = start.reference_kappa();
     let mut req = CycleRequest {
@@ -200,14 +203,18 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ntst: args.ntst,
         at_kappa: args.at_kappa.clone(),
         ntst_max: args.ntst_max,
-        collocation: Some(points),
+        // Each model's own points unless forced (the branch may change model).
+        collocation: args.collocation.map(Into::into),
     };
+    let threshold = args.scene.inertia_threshold;
+    let watch = InertiaWatch::new(&setup.scene_params, threshold, args.scene.model.is_none());
+    let mut switch: Option<ModelSwitch> = None;
     // Requested stiffnesses outside the default range extend the branch to them.
     req.cover_requested();
     let mut records: Vec<CycleRecord> = Vec::new();
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress("continuing cycles");
-    let outcomes = start.trace(&setup, &req, |c| {
+    let outcomes = start.trace(&setup, &req, &watch, |c| {
         if super::interrupt::interrupted() {
             return Err(Error::Interrupted(match records.last() {
                 Some(r) => format!(
@@ -224,6 +231,17 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             c.kappa,
             c.ntst
         ));
+        if let Some(prev) = records.last().filter(|p| p.model != c.model) {
+            let sw = ModelSwitch {
+                kappa: c.kappa,
+                inertial_imbalance: prev.inertial_imbalance,
+                threshold,
+            };
+            if !args.json {
+                println!("{}", sw.describe());
+            }
+            switch = Some(sw);
+        }
         for u in &c.user {
             write_row(&mut csv, u)?;
             if !args.json {
@@ -267,6 +285,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         Ok(())
     });
     bar.finish_and_clear();
+    if let Some(warning) = validity_warning(&records, &setup, &watch, args.scene.model.is_some()) {
+        eprintln!("warning: {warning}");
+    }
     // Whatever was computed is kept and drawn, even when the branch stopped on an error.
     let files = if records.is_empty() {
         Vec::new()
@@ -319,7 +340,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             })).collect::<Vec<_>>(),
             "complete": complete,
             "stop": stop,
-            "complete": complete,
+            "model_switch": switch.as_ref().map(|s| json!({
+                "kappa": s.kappa, "inertial_imbalance": s.inertial_imbalance, "threshold": s.threshold,
+                "from": "quasi-static", "to": "inertial", "reason": s.describe(),
+            })),
             "requested_points": requested.iter().map(requested_json).collect::<Vec<_>>(),
             "lpc_curve": lpc_json(&lpc.0, &setup.scene.units),
             "lpc_stops": lpc.0.stops,
@@ -360,6 +384,71 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ))),
         _ => Ok(()),
     }
+}
+
+/// Where a quasi-static branch handed over to the inertial model.
+struct ModelSwitch {
+    /// The stiffness of the last quasi-static and the first inertial cycle.
+    kappa: f64,
+    /// `chi` on the last quasi-static cycle.
+    inertial_imbalance: f64,
+    threshold: f64,
+}
+
+impl ModelSwitch {
+    fn describe(&self) -> String {
+        format!(
+            "switching to the inertial model at kappa = {:.8e}: on the last quasi-static cycle \
+             inertia would shift ln v by chi = max m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); \
+             the same orbit, corrected with the scene's inertia, continues the branch",
+            self.kappa, self.inertial_imbalance, self.threshold
+        )
+    }
+}
+
+/// Under `--model`, where the forced model is outside its validity: a
+/// quasi-static model on cycles whose `chi` exceeds the threshold, or an
+/// inertial one where inertia is negligible on every cycle.
+fn validity_warning(
+    records: &[CycleRecord],
+    setup: &Setup,
+    watch: &InertiaWatch,
+    forced: bool,
+) -> Option<String> {
+    if !forced || records.is_empty() || setup.scene_params.m <= 0.0 {
+        return None;
+    }
+    let outside: Vec<&CycleRecord> = records
+        .iter()
+        .filter(|c| c.model == ModelKind::QuasiStatic && c.inertial_imbalance > watch.threshold)
+        .collect();
+    if let (Some(first), Some(last)) = (outside.first(), outside.last()) {
+        return Some(format!(
+            "--model quasi-static is outside its validity on {} of {} cycles (kappa = {:.6e} .. {:.6e}): \
+             there the scene's inertia would shift ln v by chi = max m |dv/dt| / A up to {:.3e} > {:.0e}; \
+             without --model the branch switches to the inertial model",
+            outside.len(),
+            records.len(),
+            first.kappa,
+            last.kappa,
+            outside.iter().map(|c| c.inertial_imbalance).fold(0.0, f64::max),
+            watch.threshold
+        ));
+    }
+    let largest = records
+        .iter()
+        .map(|c| c.inertial_imbalance)
+        .fold(0.0, f64::max);
+    (setup.choice.kind == ModelKind::Inertial
+        && largest < watch.threshold
+        && setup.choice.inertia_ratio < watch.threshold)
+        .then(|| {
+            format!(
+                "inertia is negligible on every cycle (chi = max m |dv/dt| / A <= {largest:.3e} < {:.0e}, \
+                 inertia ratio at onset {:.3e}): the quasi-static model would give the same cycles",
+                watch.threshold, setup.choice.inertia_ratio
+            )
+        })
 }
 
 /// One requested stiffness as JSON: `kappa`, `delivered`, and `reason` when
@@ -493,7 +582,7 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
 fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
     writeln!(
         csv,
-        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{},{},{},{}",
+        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{},{},{},{},{},{:.3e}",
         c.kappa,
         c.period,
         c.delta_s,
@@ -511,7 +600,9 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
         c.error_estimate
             .map_or_else(|| "n/a".to_string(), |e| format!("{e:.3e}")),
         c.ntst,
-        c.user_point
+        c.user_point,
+        c.model.name(),
+        c.inertial_imbalance
     )?;
     csv.flush()?;
     Ok(())
@@ -567,11 +658,43 @@ fn write_figures(
         }
         out
     };
-    let title = format!(
-        "Stick-slip cycles, {} ({} model)",
-        setup.scene.name,
-        setup.choice.kind.name()
-    );
+    // Where the branch handed over from the quasi-static to the inertial model.
+    let switch = records
+        .windows(2)
+        .find(|w| w[0].model != w[1].model)
+        .map(|w| w[1].kappa);
+    let title = match switch {
+        Some(k) => format!(
+            "Stick-slip cycles, {} (quasi-static → inertial model at K/W = {:.4e} 1/m)",
+            setup.scene.name,
+            u.k_over_w(k)
+        ),
+        None => format!(
+            "Stick-slip cycles, {} ({} model)",
+            setup.scene.name,
+            records
+                .first()
+                .map_or(setup.choice.kind, |c| c.model)
+                .name()
+        ),
+    };
+    // A vertical dashed line at the switch, over the data's range.
+    let with_switch = |mut series: Vec<Series>| -> Vec<Series> {
+        if let Some(k) = switch {
+            let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+            let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                (a.min(y), b.max(y))
+            });
+            series.push(Series {
+                label: Some("quasi-static → inertial model".into()),
+                points: vec![(u.k_over_w(k), lo), (u.k_over_w(k), hi)],
+                color: RGBColor(20, 140, 60),
+                dashed: true,
+                markers: false,
+            });
+        }
+        series
+    };
     let figures = [
         (
             "-amplitude",
@@ -581,7 +704,7 @@ fn write_figures(
                 y_label: "peak-to-peak spring force Δs = Δ(K x)/W".into(),
                 log_x: false,
                 log_y: false,
-                series: by_stability(&|c| c.delta_s),
+                series: with_switch(by_stability(&|c| c.delta_s)),
             },
         ),
         (
@@ -592,7 +715,7 @@ fn write_figures(
                 y_label: "period [s]".into(),
                 log_x: false,
                 log_y: false,
-                series: by_stability(&|c| c.period * u.d0 / u.v0),
+                series: with_switch(by_stability(&|c| c.period * u.d0 / u.v0)),
             },
         ),
     ];

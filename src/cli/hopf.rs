@@ -135,7 +135,7 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
         shown.kappa = h.kappa_c;
     }
     println!(
-        "parameters (dimensionless, MODEL.md; kappa at onset): {}",
+        "parameters (dimensionless, docs/model.md; kappa at onset): {}",
         describe_params(&shown)
     );
     println!(

@@ -1,5 +1,5 @@
 //! Curves of folds of cycles (the hysteresis boundary) as CSV and JSON, in
-//! MODEL.md's variables and physical units: shared by `diagram` (curves from
+//! docs/model.md's variables and physical units: shared by `diagram` (curves from
 //! Bautin points) and `cycles --lpc-curve` (curves through the folds of a
 //! branch).
 

@@ -68,7 +68,7 @@ pub struct SceneArgs {
     /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file.
     #[arg(long, default_value = scene::DEFAULT_SCENE)]
     pub scene: String,
-    /// Override a dimensionless parameter of MODEL.md: kappa, nu, m, A, B, mu0, mu2, theta_c.
+    /// Override a dimensionless parameter of docs/model.md: kappa, nu, m, A, B, mu0, mu2, theta_c.
     /// Setting theta_c selects the cutoff ageing form, mu2 the ln² form. Repeatable.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
@@ -215,7 +215,7 @@ pub fn describe_params(p: &Params) -> String {
         .join(", ")
 }
 
-/// Parameters as a JSON object (names of MODEL.md).
+/// Parameters as a JSON object (names of docs/model.md).
 pub fn params_json(p: &Params) -> serde_json::Value {
     serde_json::Value::Object(
         p.named()

@@ -4,7 +4,9 @@
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
 
 use super::SceneArgs;
-use crate::analysis::simulate::{simulate_with, Sample, Segment, Trajectory};
+use crate::analysis::model_choice::{choose_model, params_for};
+use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::analysis::simulate::{simulate_watched, Sample, Segment, Trajectory};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
@@ -82,7 +84,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             InputError::out_of_range("--plot-points", args.plot_points as f64, ">= 2").into(),
         );
     }
-    let setup = args.scene.setup(|p| *p)?;
+    let mut setup = args.scene.setup(|p| *p)?;
     let u = setup.scene.units;
     let time_unit = u.d0 / u.v0;
     let protocol = match &args.protocol {
@@ -92,6 +94,27 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             duration: 40.0 / setup.params.nu,
         }],
     };
+    // The model for the fastest pulling velocity of the protocol.
+    let top = protocol
+        .iter()
+        .map(|seg| seg.nu)
+        .fold(setup.scene_params.nu, f64::max);
+    if args.scene.model.is_none() {
+        let mut at_top = setup.scene_params;
+        at_top.nu = top;
+        setup.choice = choose_model(&at_top, None, args.scene.inertia_threshold);
+        setup.choice.reason = format!(
+            "{} (at the protocol's fastest pulling velocity, {:.4e} um/s)",
+            setup.choice.reason,
+            u.velocity_um_s(top)
+        );
+        setup.params = params_for(setup.choice.kind, &setup.scene_params);
+    }
+    let watch = InertiaWatch::new(
+        &setup.scene_params,
+        args.scene.inertia_threshold,
+        args.scene.model.is_none(),
+    );
     let nu0 = protocol[0].nu;
     if nu0 <= 0.0 {
         return Err(InputError::Conflict(
@@ -123,13 +146,14 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let mut traj = Trajectory::default();
     let (mut count, mut stride, mut step_limit) = (0usize, 1usize, false);
     let mut write_error = None;
-    let run = simulate_with(
+    let run = simulate_watched(
         setup.choice.kind,
         &setup.params,
         start,
         &protocol,
         args.rtol,
         None,
+        Some(&watch),
         |p| {
             if let Err(e) = rows.push(p) {
                 write_error = Some(e);
@@ -162,12 +186,22 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         return Err(e.into());
     }
     // Whatever was computed is kept and drawn, also after Ctrl-C or a failure.
+    let switch = run.as_ref().ok().and_then(|end| end.switch);
     let figs = if traj.t.len() >= 2 {
-        figures(&setup.scene.name, &traj, &u, &stem)?
+        figures(&setup.scene.name, &traj, &u, &stem, switch.map(|s| s.t))?
     } else {
         Vec::new()
     };
     println!("model: {}", setup.choice.reason);
+    if let Some(sw) = switch {
+        println!(
+            "switched to the inertial model at t = {:.6e} s: there inertia would shift ln v by \
+             m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); the rows say which model (column model)",
+            sw.t * time_unit,
+            sw.chi,
+            watch.threshold
+        );
+    }
     println!(
         "{count} steps over {:.6e} s{}",
         traj.t.last().copied().unwrap_or(0.0) * time_unit,
@@ -209,7 +243,7 @@ struct Rows {
 impl Rows {
     fn create(path: &Path, time_unit: f64) -> std::io::Result<Rows> {
         let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-        writeln!(w, "t_s,t,s,v,theta,slip,log10_v")?;
+        writeln!(w, "t_s,t,s,v,theta,slip,log10_v,model")?;
         w.flush()?;
         Ok(Rows {
             w,
@@ -221,14 +255,15 @@ impl Rows {
     fn push(&mut self, p: &Sample) -> std::io::Result<()> {
         // One write per row, so that a flush never splits it.
         let row = format!(
-            "{:.12e},{:.12e},{:.12e},{},{:.12e},{:.12e},{:.12e}\n",
+            "{:.12e},{:.12e},{:.12e},{},{:.12e},{:.12e},{:.12e},{}\n",
             p.t * self.time_unit,
             p.t,
             p.s,
             velocity_text(p),
             p.theta,
             p.slip,
-            p.log10_v
+            p.log10_v,
+            p.model.name()
         );
         self.w.write_all(row.as_bytes())?;
         if self.flushed.elapsed() > Duration::from_millis(100) {
@@ -267,6 +302,7 @@ fn figures(
     traj: &Trajectory,
     u: &crate::scene::Units,
     stem: &std::path::Path,
+    switch: Option<f64>,
 ) -> Result<Vec<PathBuf>, Error> {
     let t: Vec<f64> = traj.t.iter().map(|t| t * u.d0 / u.v0).collect();
     let line = |y: &[f64], label: &str| Series {
@@ -283,6 +319,25 @@ fn figures(
     } else {
         traj.v.iter().map(|v| u.velocity_um_s(*v)).collect()
     };
+    // A vertical dashed line where the run changed to the inertial model.
+    let with_switch = |mut series: Vec<Series>| -> Vec<Series> {
+        if let Some(ts) = switch {
+            let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+            let (lo, hi) = ys
+                .filter(|y| y.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                    (a.min(y), b.max(y))
+                });
+            series.push(Series {
+                label: Some("quasi-static → inertial model".into()),
+                points: vec![(ts * u.d0 / u.v0, lo), (ts * u.d0 / u.v0, hi)],
+                color: RGBColor(20, 140, 60),
+                dashed: true,
+                markers: false,
+            });
+        }
+        series
+    };
     let mut files = Vec::new();
     for (suffix, fig) in [
         (
@@ -293,7 +348,7 @@ fn figures(
                 y_label: "spring force s = K(Vt - x)/W".into(),
                 log_x: false,
                 log_y: false,
-                series: vec![line(&traj.s, "s(t)")],
+                series: with_switch(vec![line(&traj.s, "s(t)")]),
             },
         ),
         (
@@ -312,7 +367,10 @@ fn figures(
                 },
                 log_x: false,
                 log_y: !beyond,
-                series: vec![line(&v_um, if beyond { "log10 v(t)" } else { "v(t)" })],
+                series: with_switch(vec![line(
+                    &v_um,
+                    if beyond { "log10 v(t)" } else { "v(t)" },
+                )]),
             },
         ),
     ] {
