@@ -333,3 +333,41 @@ fn an_underflowing_velocity_is_written_from_its_logarithm_within_bounds() {
         assert!(std::fs::metadata(dir.join(format!("pmma-simulation{fig}"))).is_ok());
     }
 }
+
+/// The granite rig's stability diagram (m = 2e-11 at 1 um/s, 2e-7 at
+/// 100 um/s): l1 ~ m is resolved in double-double along the curve's onset
+/// and judged against its bound along the curve, so no Bautin point (there
+/// were 11, from rounding) and every criticality subcritical (l1 > 0 for
+/// the plain RR law with small inertia).
+#[test]
+fn the_granite_diagram_has_no_spurious_bautin_points() {
+    let dir = out_dir("granite-diagram");
+    let scene = dir.join("granite.toml");
+    std::fs::write(&scene, GRANITE).unwrap();
+    let (code, out, err) = run_bounded(
+        &[
+            "diagram",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--json",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        60,
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_no_nan_or_inf(&out, "diagram --json");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        v["special_points"].as_array().unwrap().len(),
+        0,
+        "{}",
+        v["special_points"]
+    );
+    let curve = v["hopf_curve"].as_array().unwrap();
+    assert!(curve.len() > 20);
+    assert!(
+        curve.iter().all(|p| p["criticality"] != "supercritical"),
+        "a supercritical point on the granite curve"
+    );
+}

@@ -96,50 +96,54 @@ pub fn row_equilibration(a: &DMatrix<f64>) -> DVector<f64> {
     })
 }
 
-/// Spread `max d_i / min d_i` of the row scales above which eigenvalues come
-/// from the equilibrated pencil rather than from `a` itself.
+/// Spread `max d_i / min d_i` of the row scales above which the slow
+/// eigenvalues come from the inverse rather than from `a` itself.
 const ROW_SPREAD_FOR_PENCIL: f64 = 1e6;
 
 /// Eigenvalues of a real square matrix, sorted by decreasing real part.
 ///
 /// A matrix whose rows differ in size by more than a factor
 /// `ROW_SPREAD_FOR_PENCIL` (a small coefficient in front of a derivative:
-/// rows of size `1/m`) is treated as the pencil `(D a, D)`, `D` its row
-/// equilibration ([`row_equilibration`]), by the QZ algorithm: the
-/// eigenvalues are the same, but a backward-stable step perturbs the
-/// unit-size rows of `D a` and the entries of `D` instead of `a`'s largest
-/// entries, so that the slow eigenvalues keep their accuracy instead of
-/// carrying errors of order `eps / m`. QZ reports a mode faster than about
-/// `1/eps` times the slow ones as infinite (`beta` deflated to zero); such
-/// modes are taken from `a` itself, whose eigenvalues of largest modulus
-/// are accurate relative to their own size.
+/// rows of size `1/m`) has eigenvalues of very different sizes, and a
+/// backward-stable eigenvalue routine gives each an absolute error of order
+/// `eps |a|`: the slow ones, of order one, then carry errors `eps / m`. So
+/// the slow ones come from the inverse instead, `a^-1 = (D a)^-1 D` with `D`
+/// the row equilibration ([`row_equilibration`]): `D a` has rows of unit
+/// size and is well conditioned where the stiffness comes from the scaling,
+/// and `a^-1` has the slow eigenvalues as its largest ones, `1/lambda`, each
+/// with an error of order `eps |a^-1|` — relative `eps` for the slowest. An
+/// eigenvalue is taken from `a^-1` when that is the smaller error,
+/// `|lambda|^2 eps |a^-1| < eps |a|`, from `a` itself otherwise (the fast
+/// ones, accurate relative to their own size there). A singular `D a` (a
+/// zero eigenvalue) leaves the plain eigenvalues.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, ContinuationError> {
     let n = a.nrows();
-    let mut ev = with_evd(a, false, |w| {
-        (0..n)
-            .map(|i| Complex64::new(w.s_re[i], w.s_im[i]))
-            .collect::<Vec<_>>()
-    })?;
+    let plain = |m: &DMatrix<f64>| {
+        with_evd(m, false, |w| {
+            (0..n)
+                .map(|i| Complex64::new(w.s_re[i], w.s_im[i]))
+                .collect::<Vec<_>>()
+        })
+    };
+    let mut ev = plain(a)?;
     let d = row_equilibration(a);
     if d.max() / d.min() > ROW_SPREAD_FOR_PENCIL {
-        let g = faer::Mat::<f64>::from_fn(n, n, |i, j| d[i] * a[(i, j)]);
-        let b = faer::Mat::<f64>::from_fn(n, n, |i, j| if i == j { d[i] } else { 0.0 });
-        let gevd = g
-            .generalized_eigen(&b)
-            .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
-        let (alpha, beta) = (gevd.S_a(), gevd.S_b());
-        let ratio = |i: usize| {
-            let (al, be) = (alpha[i], beta[i]);
-            Complex64::new(al.re, al.im) / Complex64::new(be.re, be.im)
-        };
-        let finite: Vec<Complex64> = (0..n)
-            .map(ratio)
-            .filter(|z| z.re.is_finite() && z.im.is_finite())
-            .collect();
-        // The fastest modes of `a` stand in for the infinite ones.
-        ev.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
-        ev.truncate(n - finite.len());
-        ev.extend(finite);
+        let g = DMatrix::from_fn(n, n, |i, j| d[i] * a[(i, j)]);
+        let inverse = g
+            .lu()
+            .solve(&DMatrix::from_diagonal(&d))
+            .filter(|x| x.iter().all(|v| v.is_finite()));
+        if let Some(x) = inverse {
+            let split = (a.amax() / x.amax()).sqrt();
+            let slow: Vec<Complex64> = plain(&x)?
+                .into_iter()
+                .filter(|mu| mu.norm() > 1.0 / split)
+                .map(|mu| mu.inv())
+                .collect();
+            ev.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
+            ev.truncate(n - slow.len());
+            ev.extend(slow);
+        }
     }
     ev.sort_by(|x, y| y.re.total_cmp(&x.re).then(y.im.total_cmp(&x.im)));
     Ok(ev)
@@ -296,7 +300,8 @@ mod tests {
     /// `(-c +- sqrt(c^2 - 4 m k)) / (2m)`, the slow one computed without
     /// cancellation as `-2k / (c + sqrt(c^2 - 4 m k))`. At `m = 1e-14` the
     /// plain eigenvalue routine gets the slow one wrong by about
-    /// `eps / m = 2e-2`; the pencil gets both to rounding.
+    /// `eps / m = 2e-2`; from the inverse it is right to rounding, and the
+    /// fast one from the matrix itself.
     #[test]
     fn stiff_rows_keep_their_slow_eigenvalues_accurate() {
         for m in [1e-8f64, 1e-14, 1e-20] {
