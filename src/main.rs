@@ -12,6 +12,21 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = Cli::parse();
+    // `println!` panics when standard output cannot be written (a full disk,
+    // `> /dev/full`): that is an output error (status 1), not a crash.
+    std::panic::set_hook(Box::new(|info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.starts_with("failed printing to stdout") {
+            eprintln!("stickslip: cannot write output: standard output: {message}");
+            std::process::exit(1);
+        }
+        eprintln!("stickslip: internal error (please report): {info}");
+    }));
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

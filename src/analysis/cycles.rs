@@ -98,7 +98,7 @@ impl CycleRecord {
             Stability::Stable | Stability::Unstable => None,
             Stability::Undecidable { modulus, error } => Some(format!(
                 "a nontrivial Floquet multiplier of modulus {modulus:.10} lies within its error \
-                 estimate {error:.1e} of the unit circle (10 |mu_trivial - 1|, see multiplier_error)"
+                 estimate {error:.1e} of the unit circle (10 |mu_trivial - 1|, see trivial_multiplier_error)"
             )),
             Stability::Undetermined { missing } => Some(format!(
                 "{missing} nontrivial Floquet multiplier(s) undetermined: {TRIVIAL_UNAVAILABLE}"

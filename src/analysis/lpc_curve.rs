@@ -38,6 +38,10 @@ pub struct LpcCurvePoint {
 pub struct LpcCurves {
     pub points: Vec<Vec<LpcCurvePoint>>,
     pub stops: Vec<String>,
+    /// Whether a curve stopped short of the range for a reason other than
+    /// its expected end at a Bautin point (a failed start, stiff cycles):
+    /// the request is then incomplete.
+    pub incomplete: bool,
 }
 
 fn record(c: &Cycle) -> LpcCurvePoint {
@@ -129,13 +133,15 @@ pub fn lpc_curves(
             Err(e) => {
                 out.stops
                     .push(format!("no fold of cycles near nu = {:.6e}: {e}", start.nu));
+                out.incomplete = true;
                 continue;
             }
         };
-        let (curve, stops) = trace_through(&log, &fold, (lo, hi), &|nu| {
+        let (curve, stops, short) = trace_through(&log, &fold, (lo, hi), &|nu| {
             bautins.iter().any(|b| near(nu, b.nu))
         });
         out.stops.extend(stops);
+        out.incomplete |= short;
         out.points.push(curve);
     }
     out
@@ -151,10 +157,11 @@ pub fn lpc_curve_through(
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
     let log = LogBlock::new(kind, params);
-    let (curve, stops) = trace_through(&log, fold, (lo, hi), &|_| false);
+    let (curve, stops, incomplete) = trace_through(&log, fold, (lo, hi), &|_| false);
     LpcCurves {
         points: vec![curve],
         stops,
+        incomplete,
     }
 }
 
@@ -167,7 +174,7 @@ fn trace_through(
     fold: &Cycle,
     (lo, hi): (f64, f64),
     at_bautin: &(dyn Fn(f64) -> bool + Sync),
-) -> (Vec<LpcCurvePoint>, Vec<String>) {
+) -> (Vec<LpcCurvePoint>, Vec<String>, bool) {
     let ntst = fold.mesh.ntst();
     let trace = |direction: f64| {
         let settings = LpcCurveSettings {
@@ -205,19 +212,24 @@ fn trace_through(
         (half, failure)
     };
     let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
-    let (mut curve, mut stops) = (Vec::new(), Vec::new());
+    let (mut curve, mut stops, mut short) = (Vec::new(), Vec::new(), false);
     for (direction, (mut half, failure)) in [(-1.0, down), (1.0, up)] {
         let largest = half.iter().fold(0.0f64, |a, p| a.max(p.delta_s));
         match (failure, half.last()) {
-            (Some(cause), None) => stops.push(format!(
-                "the fold-of-cycles curve did not start toward {} nu: {cause}",
-                if direction < 0.0 { "smaller" } else { "larger" }
-            )),
+            (Some(cause), None) => {
+                short = true;
+                stops.push(format!(
+                    "the fold-of-cycles curve did not start toward {} nu: {cause}",
+                    if direction < 0.0 { "smaller" } else { "larger" }
+                ))
+            }
             (Some(cause), Some(end)) if !at_bautin(end.nu) => {
                 // Folded cycles shrinking toward the end: a Bautin point,
                 // where the fold system degenerates; else, most likely, a
                 // mesh too coarse for stiffer cycles.
-                let why = if end.delta_s < 0.2 * largest {
+                let shrinking = end.delta_s < 0.2 * largest;
+                short |= !shrinking;
+                let why = if shrinking {
                     format!(
                         "the folded cycles shrink there (Delta_s = {:.3e}, down from {largest:.3e}): \
                          the curve ends at a Bautin point of the Hopf curve nearby, where the fold \
@@ -245,5 +257,5 @@ fn trace_through(
         }
         curve.extend(half);
     }
-    (curve, stops)
+    (curve, stops, short)
 }

@@ -167,26 +167,51 @@ pub fn simulate_with(
     grid: Option<&[f64]>,
     sink: impl FnMut(&Sample) -> ControlFlow<()>,
 ) -> Result<RunEnd, NumericalError> {
-    simulate_watched(kind, params, start, protocol, rtol, grid, None, sink)
+    let options = RunOptions {
+        rtol,
+        ..RunOptions::default()
+    };
+    simulate_watched(kind, params, start, protocol, grid, &options, sink)
 }
 
-/// [`simulate_with`], and a quasi-static run hands over to the inertial
-/// model where `watch` says so: at the end of the first step whose state
+/// How a simulation runs: the integrator's tolerance and step limit, and the
+/// model watch.
+#[derive(Clone, Copy, Debug)]
+pub struct RunOptions<'a> {
+    /// Relative tolerance of the integrator (absolute: `1e-3 rtol`).
+    pub rtol: f64,
+    /// Most integrator steps per protocol segment.
+    pub max_steps: usize,
+    /// Hand a quasi-static run over to the inertial model where it says so.
+    pub watch: Option<&'a InertiaWatch>,
+}
+
+impl Default for RunOptions<'_> {
+    fn default() -> Self {
+        RunOptions {
+            rtol: 1e-8,
+            max_steps: 100_000,
+            watch: None,
+        }
+    }
+}
+
+/// [`simulate_with`] with the step limit of `options`, and a quasi-static
+/// run hands over to the inertial model where `options.watch` says so: at the end of the first step whose state
 /// has `m |dv/dt| / A` above the threshold
 /// ([`super::orbit_inertia::state_imbalance`]), the run goes on from that
 /// state (its velocity slaved, [`inertial_state`]) with the scene's inertia.
 /// [`RunEnd::switch`] says where.
-#[allow(clippy::too_many_arguments)]
 pub fn simulate_watched(
     kind: ModelKind,
     params: &Params,
     start: [f64; 3],
     protocol: &[Segment],
-    rtol: f64,
     grid: Option<&[f64]>,
-    watch: Option<&InertiaWatch>,
+    options: &RunOptions,
     mut sink: impl FnMut(&Sample) -> ControlFlow<()>,
 ) -> Result<RunEnd, NumericalError> {
+    let (rtol, watch) = (options.rtol, options.watch);
     if let Some(g) = grid {
         if g.iter().any(|t| !t.is_finite()) || g.windows(2).any(|w| w[1] < w[0]) {
             return Err(NumericalError::Analysis(
@@ -223,6 +248,7 @@ pub fn simulate_watched(
         let settings = Settings {
             rtol,
             atol: rtol * 1e-3,
+            max_steps: options.max_steps,
             ..Settings::default()
         };
         // The segment, resumed once in the inertial model if the watch hands over.

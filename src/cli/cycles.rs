@@ -40,9 +40,10 @@ pub struct CyclesArgs {
     /// toward smaller stiffness.
     #[arg(long)]
     pub from_simulation: bool,
-    /// Largest number of cycles (per leg from a simulated orbit); the branch
-    /// usually ends first, at the requested range. Reaching it keeps the
-    /// cycles and exits with status 4 (partial).
+    /// Largest number of continuation steps, i.e. cycles after the first
+    /// (per leg from a simulated orbit); the branch usually ends first, at
+    /// the requested range. Reaching it keeps the cycles and exits with
+    /// status 4 (partial).
     #[arg(long, default_value_t = 500)]
     pub max_steps: usize,
     /// Initial number of mesh intervals (grown automatically when needed).
@@ -166,6 +167,14 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     }
     if args.ntst < 4 {
         return Err(InputError::out_of_range("--ntst", args.ntst as f64, ">= 4").into());
+    }
+    if args.ntst_max < args.ntst {
+        return Err(InputError::out_of_range(
+            "--ntst-max",
+            args.ntst_max as f64,
+            &format!(">= --ntst ({})", args.ntst),
+        )
+        .into());
     }
     let mut setup = args.scene.setup(|p| *p)?;
     let onset = super::onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;

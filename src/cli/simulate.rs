@@ -6,7 +6,7 @@
 use super::SceneArgs;
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
-use crate::analysis::simulate::{simulate_watched, Sample, Segment, Trajectory};
+use crate::analysis::simulate::{simulate_watched, RunOptions, Sample, Segment, Trajectory};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, LineFigure, Series};
 use clap::Args;
@@ -146,14 +146,19 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let mut traj = Trajectory::default();
     let (mut count, mut stride, mut step_limit) = (0usize, 1usize, false);
     let mut write_error = None;
+    // The integrator's own limit above --max-steps, which the rows enforce (status 4).
+    let options = RunOptions {
+        rtol: args.rtol,
+        max_steps: args.max_steps + 1,
+        watch: Some(&watch),
+    };
     let run = simulate_watched(
         setup.choice.kind,
         &setup.params,
         start,
         &protocol,
-        args.rtol,
         None,
-        Some(&watch),
+        &options,
         |p| {
             if let Err(e) = rows.push(p) {
                 write_error = Some(e);

@@ -1,7 +1,7 @@
 //! Generic line figures (PNG and SVG): several labelled series on linear or
 //! logarithmic axes. Cycle diagrams, orbits and time series use it.
 
-use super::{frame, render_both, PlotError, FONT};
+use super::{frame, render_both, Axis, PlotError, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -102,11 +102,60 @@ fn bounds(fig: &LineFigure) -> ((f64, f64), (f64, f64)) {
     (pad(x0, x1, fig.log_x), pad(y0, y1, fig.log_y))
 }
 
+/// Columns of the min/max decimation: about the plot's width in pixels.
+const COLUMNS: usize = 1000;
+
+/// The points of a dense line `points` (x in drawing order) reduced to at
+/// most four per column of the x range `(x0, x1)` (split into [`COLUMNS`],
+/// evenly in `ln x` on a log axis): the first, lowest, highest and last
+/// point of each column, in their order. A line through them covers every
+/// pixel the full line covers, with the same extremes: a spike one sample
+/// wide is drawn to its tip (thinning every k-th sample would cut it).
+fn decimated(points: &[(f64, f64)], (x0, x1): (f64, f64), log_x: bool) -> Vec<(f64, f64)> {
+    if points.len() <= 4 * COLUMNS {
+        return points.to_vec();
+    }
+    let map = |x: f64| if log_x { x.ln() } else { x };
+    let (a, b) = (map(x0), map(x1));
+    let column = |x: f64| (((map(x) - a) / (b - a) * COLUMNS as f64) as usize).min(COLUMNS - 1);
+    let mut out = Vec::with_capacity(4 * COLUMNS);
+    let mut start = 0;
+    while start < points.len() {
+        let col = column(points[start].0);
+        let mut end = start + 1;
+        while end < points.len() && column(points[end].0) == col {
+            end += 1;
+        }
+        let run = &points[start..end];
+        let by_y = |f: fn(f64, f64) -> bool| {
+            (0..run.len())
+                .reduce(|i, j| if f(run[j].1, run[i].1) { j } else { i })
+                .unwrap_or(0)
+        };
+        let mut keep = [0, by_y(|a, b| a < b), by_y(|a, b| a > b), run.len() - 1];
+        keep.sort_unstable();
+        let mut last = None;
+        for k in keep {
+            if last != Some(k) {
+                out.push(run[k]);
+                last = Some(k);
+            }
+        }
+        start = end;
+    }
+    out
+}
+
 /// Writes `stem.png` and `stem.svg`. Never fails on the data: points a
 /// log axis cannot draw are left out with a note in the title, and a
-/// constant series gets a sane range.
+/// constant series gets a sane range. Dense lines are drawn from their
+/// min/max decimation ([`decimated`]).
 pub fn render(fig: &LineFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-    let fig = drawable_only(fig);
+    let mut fig = drawable_only(fig);
+    let (xr, _) = bounds(&fig);
+    for s in fig.series.iter_mut().filter(|s| !s.markers) {
+        s.points = decimated(&s.points, xr, fig.log_x);
+    }
     render_both(
         stem,
         (1000, 650),
@@ -120,17 +169,19 @@ fn draw_any<DB: DrawingBackend>(
     fig: &LineFigure,
 ) -> Result<(), String> {
     let ((x0, x1), (y0, y1)) = bounds(fig);
+    let axes = (Axis::over(x0, x1, fig.log_x), Axis::over(y0, y1, fig.log_y));
     match (fig.log_x, fig.log_y) {
-        (false, false) => draw(root, fig, x0..x1, y0..y1),
-        (true, false) => draw(root, fig, (x0..x1).log_scale(), y0..y1),
-        (false, true) => draw(root, fig, x0..x1, (y0..y1).log_scale()),
-        (true, true) => draw(root, fig, (x0..x1).log_scale(), (y0..y1).log_scale()),
+        (false, false) => draw(root, fig, axes, x0..x1, y0..y1),
+        (true, false) => draw(root, fig, axes, (x0..x1).log_scale(), y0..y1),
+        (false, true) => draw(root, fig, axes, x0..x1, (y0..y1).log_scale()),
+        (true, true) => draw(root, fig, axes, (x0..x1).log_scale(), (y0..y1).log_scale()),
     }
 }
 
 fn draw<DB: DrawingBackend, X, Y>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     fig: &LineFigure,
+    axes: (Axis, Axis),
     xr: X,
     yr: Y,
 ) -> Result<(), String>
@@ -144,7 +195,7 @@ where
     let mut chart = frame(
         &root,
         (&fig.title, &fig.x_label, &fig.y_label),
-        (fig.log_x, fig.log_y),
+        axes,
         xr,
         yr,
     )?;
@@ -229,6 +280,35 @@ mod tests {
         assert_eq!((y0, y1), (-1.0, 1.0));
         let (_, (y0, y1)) = bounds(&figure(vec![(1.0, 3.0), (2.0, 3.0)], true));
         assert!(y1 / y0 > 10.0 && y0 < 3.0 && y1 > 3.0, "{y0} {y1}");
+    }
+
+    /// A spike train of a million samples, one sample wide each: the
+    /// decimated line keeps every tip and the overall extremes, in order, with
+    /// at most four points per column.
+    #[test]
+    fn decimation_keeps_every_spike_tip() {
+        let n = 1_000_000;
+        let points: Vec<(f64, f64)> = (0..n)
+            .map(|i| {
+                (
+                    i as f64,
+                    if i % 10_000 == 5_000 {
+                        1e6 + i as f64
+                    } else {
+                        1.0 + (i % 7) as f64
+                    },
+                )
+            })
+            .collect();
+        let d = decimated(&points, (0.0, (n - 1) as f64), false);
+        assert!(d.len() <= 4 * COLUMNS);
+        let tips: Vec<&(f64, f64)> = d.iter().filter(|p| p.1 >= 1e6).collect();
+        assert_eq!(tips.len(), n / 10_000);
+        assert!(tips.iter().all(|p| p.0 as usize % 10_000 == 5_000));
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0));
+        let lowest = d.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        assert_eq!(lowest, 1.0);
+        assert_eq!((d[0], *d.last().unwrap()), (points[0], points[n - 1]));
     }
 
     #[test]

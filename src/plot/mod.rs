@@ -59,12 +59,44 @@ pub type Chart<'a, DB, X, Y> = ChartContext<
     Cartesian2d<<X as AsRangedCoord>::CoordDescType, <Y as AsRangedCoord>::CoordDescType>,
 >;
 
+/// An axis of a figure, with what its tick labels need to know.
+#[derive(Clone, Copy, Debug)]
+pub enum Axis {
+    /// Linear over a range of length `span`.
+    Linear { span: f64 },
+    /// Logarithmic over `decades` decades.
+    Log { decades: f64 },
+}
+
+impl Axis {
+    /// The axis over `lo .. hi`, logarithmic when `log`.
+    pub fn over(lo: f64, hi: f64, log: bool) -> Axis {
+        if log {
+            Axis::Log {
+                decades: (hi / lo).log10().abs(),
+            }
+        } else {
+            Axis::Linear {
+                span: (hi - lo).abs(),
+            }
+        }
+    }
+
+    /// The label of the tick at `v`.
+    pub fn label(self, v: f64) -> String {
+        match self {
+            Axis::Linear { span } => tick_label_step(v, span / 10.0),
+            Axis::Log { decades } => log_tick_label(v, decades),
+        }
+    }
+}
+
 /// A chart on `root` with the common frame of every figure: title, margins,
-/// labelled axes with [`tick_label`] ticks, light grid.
+/// labelled axes ([`Axis::label`]), light grid.
 pub fn frame<'a, DB, X, Y>(
     root: &'a DrawingArea<DB, Shift>,
     (title, x_label, y_label): (&str, &str, &str),
-    (log_x, log_y): (bool, bool),
+    (x_axis, y_axis): (Axis, Axis),
     xr: X,
     yr: Y,
 ) -> Result<Chart<'a, DB, X, Y>, String>
@@ -88,8 +120,8 @@ where
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
-        .x_label_formatter(&|v| axis_label(*v, log_x))
-        .y_label_formatter(&|v| axis_label(*v, log_y))
+        .x_label_formatter(&|v| x_axis.label(*v))
+        .y_label_formatter(&|v| y_axis.label(*v))
         .label_style((FONT, 16))
         .axis_desc_style((FONT, 19))
         .light_line_style(RGBColor(235, 235, 235))
@@ -98,45 +130,70 @@ where
     Ok(chart)
 }
 
-/// Tick label on a linear or logarithmic axis: on a log axis only the ticks
-/// `1, 2, 5 x 10^k` are labelled (a log axis over less than two decades gets
-/// ticks at every integer multiple, whose labels would overlap).
-fn axis_label(v: f64, log: bool) -> String {
-    if !log || v <= 0.0 {
+/// Tick label on a logarithmic axis over `decades` decades: the ticks
+/// `1, 2, 5 x 10^k`, and every integer multiple `1 .. 9 x 10^k` when the
+/// axis spans less than a decade and a half (else no tick would be
+/// labelled, or the curve could not be read off).
+fn log_tick_label(v: f64, decades: f64) -> String {
+    if v <= 0.0 {
         return tick_label(v);
     }
     let mantissa = v / 10f64.powf(v.log10().floor());
     let m = mantissa.round();
-    if (mantissa - m).abs() < 1e-6 && [1.0, 2.0, 5.0, 10.0].contains(&m) {
-        tick_label(v)
+    let labelled = if decades < 1.5 {
+        (1.0..=10.0).contains(&m)
+    } else {
+        [1.0, 2.0, 5.0, 10.0].contains(&m)
+    };
+    if (mantissa - m).abs() < 1e-6 && labelled {
+        let e = v.log10().round() as i32;
+        tick_label_step(v, 10f64.powi(e - 1))
     } else {
         String::new()
     }
 }
 
-/// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`.
+/// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`, with
+/// one digit more than the default three decimals would show.
 pub fn tick_label(v: f64) -> String {
+    tick_label_step(
+        v,
+        10f64.powi((v.abs().max(1e-300).log10().floor() as i32) - 1),
+    )
+}
+
+/// Tick label with as many digits as ticks `step` apart need to differ:
+/// `0` for a value within `1e-9 step` of zero (no `-1.1e-16`), plain digits
+/// within `[1e-2, 1e4)`, else mantissa and exponent (`2.55e4`), trailing
+/// zeros dropped.
+pub fn tick_label_step(v: f64, step: f64) -> String {
     let a = v.abs();
-    if a < 1e-300 {
-        "0".to_string()
-    } else if (1e-2..1e4).contains(&a) {
-        let s = format!("{v:.3}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    if a < 1e-300 || a <= 1e-9 * step.abs() {
+        return "0".to_string();
+    }
+    let k = step.abs().max(1e-300).log10().floor() as i32;
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if (1e-2..1e4).contains(&a) {
+        let d = (1 - k).max(0) as usize;
+        trim(format!("{v:.d$}"))
     } else {
         let e = a.log10().floor() as i32;
+        let d = (e - k + 1).clamp(0, 15) as usize;
         let m = v / 10f64.powi(e);
-        if (m - m.round()).abs() < 1e-9 {
-            format!("{}e{e}", m.round())
-        } else {
-            format!("{m:.1}e{e}")
-        }
+        format!("{}e{e}", trim(format!("{m:.d$}")))
     }
 }
 
 /// An error writing a figure (the path and what went wrong).
 #[cfg(test)]
 mod tests {
-    use super::tick_label;
+    use super::{tick_label, tick_label_step, Axis};
 
     #[test]
     fn tick_labels_are_short_and_finite() {
@@ -145,6 +202,30 @@ mod tests {
         assert_eq!(tick_label(1e5), "1e5");
         assert_eq!(tick_label(-3e-4), "-3e-4");
         assert_eq!(tick_label(2.5e-5), "2.5e-5");
+    }
+
+    /// Ticks of a short range differ (seen: "0.462" five times, "2.5e4"
+    /// three times); a tick at rounding distance from 0 reads 0.
+    #[test]
+    fn ticks_of_a_short_range_are_distinct() {
+        for (lo, step, n) in [
+            (0.4620, 0.0002, 6),
+            (2.50e4, 250.0, 5),
+            (2.7e4, 20.0, 8),
+            (1e-6, 2e-9, 5),
+        ] {
+            let labels: Vec<String> = (0..n)
+                .map(|i| tick_label_step(lo + i as f64 * step, step))
+                .collect();
+            let mut unique = labels.clone();
+            unique.dedup();
+            assert_eq!(unique.len(), n, "{labels:?}");
+        }
+        assert_eq!(tick_label_step(-1.1e-16, 0.05), "0");
+        // A log axis within one decade labels every integer multiple.
+        let axis = Axis::over(6e6, 3e7, true);
+        assert_eq!(axis.label(8e6), "8e6");
+        assert_eq!(Axis::over(1e-3, 1e3, true).label(8e0), "");
     }
 }
 

@@ -2,7 +2,7 @@
 //! parts drawn differently, the Appendix C curve overlaid, special points
 //! marked, stable and unstable regions labelled.
 
-use super::{frame, render_both, PlotError, FONT};
+use super::{frame, render_both, Axis, PlotError, FONT};
 use crate::analysis::hopf::Criticality;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -124,7 +124,7 @@ fn draw<DB: DrawingBackend>(
     let mut chart = frame(
         &root,
         (&fig.title, &fig.x_label, &fig.y_label),
-        (true, true),
+        (Axis::over(x0, x1, true), Axis::over(y0, y1, true)),
         (x0..x1).log_scale(),
         (y0..y1).log_scale(),
     )?;

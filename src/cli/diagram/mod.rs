@@ -146,7 +146,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
             return Ok(());
         }
         return Err(Error::Partial(format!(
-            "the Hopf curve does not cover the requested range: {}",
+            "the diagram does not cover the requested range: {}",
             partial.join("; ")
         )));
     }
@@ -335,13 +335,20 @@ fn to_json(r: &SceneResult) -> Value {
 
 /// The stop reason; a step limit names the option that raises it.
 fn stop_text(r: &SceneResult) -> String {
-    if r.diagram.stop == "step limit" {
+    let hopf = if r.diagram.stop == "step limit" {
         format!(
             "step limit ({} steps, --max-steps) before the end of the range",
             r.max_steps
         )
     } else {
         r.diagram.stop.to_string()
+    };
+    if r.diagram.lpc.incomplete {
+        format!(
+            "{hopf}; a fold-of-cycles curve stopped short of the range (lpc_stops says where and why)"
+        )
+    } else {
+        hopf
     }
 }
 
