@@ -189,3 +189,50 @@ fn samples_stream_in_order_and_the_sink_can_stop_the_run() {
     let (end, seen) = run(Some(&grid), 3);
     assert!(end.stopped && end.t == 10.0 && seen.len() == 3, "{end:?}");
 }
+
+#[test]
+fn a_stop_after_a_long_run_is_resolved_in_the_segment_own_time() {
+    // Inertial PMMA block (m = 0.01) on a stiff spring stopped at t = 1e4:
+    // it comes to rest within about 1e-11 time units, steps below the
+    // rounding level of the absolute time there (10 eps t = 2.2e-11), which
+    // failed with a step size underflow. Each segment is integrated from 0.
+    let p = Params {
+        m: 0.01,
+        ..law(0.0)
+    };
+    let protocol = [
+        Segment {
+            nu: 1.0,
+            duration: 1e4,
+        },
+        Segment {
+            nu: 0.0,
+            duration: 100.0,
+        },
+        Segment {
+            nu: 1.0,
+            duration: 10.0,
+        },
+    ];
+    let traj = simulate(
+        ModelKind::Inertial,
+        &p,
+        steady(&p, 1.0),
+        &protocol,
+        1e-8,
+        None,
+    )
+    .unwrap();
+    assert_eq!(traj.t.last().copied(), Some(1e4 + 110.0));
+    let stopped = traj
+        .t
+        .iter()
+        .zip(&traj.v)
+        .filter(|(t, _)| (1e4 + 1.0..1e4 + 100.0).contains(*t))
+        .map(|(_, v)| *v)
+        .fold(0.0f64, f64::max);
+    assert!(
+        stopped < 1e-3,
+        "fastest slip during the stop: v = {stopped:e}"
+    );
+}

@@ -187,22 +187,31 @@ impl<G: DefiningSystem> Stepper<G> {
         })
     }
 
-    /// Takes one step that the corrector accepts.
+    /// The first bound that `z` lies beyond, with the value to land on.
+    fn beyond(&self, z: &DVector<f64>) -> Option<(Bound, f64)> {
+        self.bounds.iter().copied().find_map(|b| {
+            let v = z[b.index];
+            let target = if v < b.min {
+                b.min
+            } else if v > b.max {
+                b.max
+            } else {
+                return None;
+            };
+            Some((b, target))
+        })
+    }
+
+    /// Takes one step that the corrector accepts. A step whose prediction
+    /// crosses a bound, or whose corrected point lies beyond one (the
+    /// corrector moves across the tangent), is retaken to land on the bound.
     pub fn step(&mut self) -> Result<Step, ContinuationError> {
+        // A bound the last corrected point overshot: the step is retaken onto it.
+        let mut overshot: Option<(Bound, f64)> = None;
         loop {
             let mut ds = self.ds;
             let mut z_new = &self.z + &self.tangent * ds;
-            let crossed = self.bounds.iter().copied().find_map(|b| {
-                let v = z_new[b.index];
-                let target = if v < b.min {
-                    b.min
-                } else if v > b.max {
-                    b.max
-                } else {
-                    return None;
-                };
-                Some((b, target))
-            });
+            let crossed = overshot.take().or_else(|| self.beyond(&z_new));
             if let Some((b, target)) = crossed {
                 ds = (target - self.z[b.index]) / self.tangent[b.index];
                 z_new = &self.z + &self.tangent * ds;
@@ -217,7 +226,7 @@ impl<G: DefiningSystem> Stepper<G> {
                 &self.control.corrector,
                 &mut dgs,
             );
-            let accepted = match &attempt {
+            let mut accepted = match &attempt {
                 Ok(report) => {
                     // The corrector's last evaluation was at `z_new`: its `DG` is reused.
                     let t_new = tangent_from(&dgs, &self.tangent, &self.control)?;
@@ -227,6 +236,19 @@ impl<G: DefiningSystem> Stepper<G> {
                 }
                 Err(_) => None,
             };
+            let over = match (&accepted, crossed) {
+                (Some(_), None) => self.beyond(&z_new),
+                _ => None,
+            };
+            if let Some((b, target)) = over {
+                // Retaken onto the bound when the tangent leads there; else shorter.
+                let landing = (target - self.z[b.index]) / self.tangent[b.index];
+                if landing.is_finite() && landing * ds > 0.0 {
+                    overshot = over;
+                    continue;
+                }
+                accepted = None;
+            }
             if let Some((report, t_new)) = accepted {
                 self.system.accept(&z_new)?;
                 self.z = z_new;
@@ -292,4 +314,69 @@ fn tangent_from(
     } else {
         t
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit circle `x^2 + y^2 = 1` in `z = (x, y)`.
+    struct Circle;
+
+    impl DefiningSystem for Circle {
+        fn n_equations(&self) -> usize {
+            1
+        }
+        fn n_unknowns(&self) -> usize {
+            2
+        }
+        fn eval(&self, z: &DVector<f64>, g: &mut DVector<f64>, dg: &mut DMatrix<f64>) {
+            g[0] = z[0] * z[0] + z[1] * z[1] - 1.0;
+            dg[(0, 0)] = 2.0 * z[0];
+            dg[(0, 1)] = 2.0 * z[1];
+        }
+    }
+
+    #[test]
+    fn a_corrected_point_beyond_a_bound_is_retaken_onto_it() {
+        // Counterclockwise from angle a: the predictor leaves the circle and
+        // the corrector pulls it in radially, to x_pred / sqrt(1 + ds^2). A
+        // bound on x between the two is crossed by the corrector alone (the
+        // diagram's Hopf curve ended 2.6e-4 beyond the top of its range so).
+        let (a, ds) = (0.3f64, 0.2);
+        let x_pred = a.cos() - ds * a.sin();
+        let x_corr = x_pred / (1.0 + ds * ds).sqrt();
+        let x_min = 0.5 * (x_pred + x_corr);
+        let control = StepControl {
+            ds,
+            ds_min: 1e-8,
+            ds_max: ds,
+            growth: 1.0,
+            min_tangent_cos: 0.5,
+            corrector: NewtonSettings::default(),
+            weights: Vec::new(),
+        };
+        let z0 = DVector::from_vec(vec![a.cos(), a.sin()]);
+        let seed = DVector::from_vec(vec![-a.sin(), a.cos()]);
+        let bounds = vec![Bound {
+            index: 0,
+            min: x_min,
+            max: f64::INFINITY,
+        }];
+        let mut stepper = Stepper::new(Circle, z0, &seed, control, bounds).unwrap();
+        let step = stepper.step().unwrap();
+        let z = stepper.z();
+        assert!(
+            step.bound.is_some(),
+            "landed at x = {} (bound {x_min})",
+            z[0]
+        );
+        assert_eq!(z[0], x_min);
+        assert!((z[0].hypot(z[1]) - 1.0).abs() < 1e-12, "{z}");
+        assert!(
+            step.ds > ds,
+            "the landing step {} is longer than the prediction",
+            step.ds
+        );
+    }
 }

@@ -14,14 +14,30 @@ pub enum NewtonFailure {
     NonFinite,
 }
 
-/// `{:.3e}` of a finite value, `none` for a step that was never taken
-/// (infinite or NaN: the linear solve failed), so that no message prints
-/// `inf` or `NaN`.
-fn finite_or_none(v: f64) -> String {
+/// `{:.3e}` of a finite value, `otherwise` for a value that is not (a step
+/// never taken because the linear solve failed, a residual that overflowed),
+/// so that no message prints `inf` or `NaN`.
+fn finite_or(v: f64, otherwise: &str) -> String {
     if v.is_finite() {
         format!("{v:.3e}")
     } else {
-        "none".to_string()
+        otherwise.to_string()
+    }
+}
+
+/// Why the multipliers of [`ContinuationError::FloquetIllConditioned`]
+/// cannot decide: the trivial multiplier's error, or, when the pencil left it
+/// undetermined (`trivial_error` infinite), that fact instead of `inf`.
+fn trivial_multiplier_off(trivial_error: f64) -> String {
+    if trivial_error.is_finite() {
+        format!(
+            "the trivial multiplier is off by {trivial_error:.2e} and another multiplier is that \
+             close to the unit circle"
+        )
+    } else {
+        "the Floquet pencil is singular to rounding and does not determine the trivial \
+         multiplier (the eigenvalue 1)"
+            .to_string()
     }
 }
 
@@ -30,8 +46,9 @@ fn finite_or_none(v: f64) -> String {
 pub enum ContinuationError {
     #[error(
         "Newton did not converge{context} after {iterations} iterations \
-         (residual {residual:.3e}, last step {}, {reason:?}); {hint}",
-        finite_or_none(*step)
+         (residual {}, last step {}, {reason:?}); {hint}",
+        finite_or(*residual, "beyond the floating-point range"),
+        finite_or(*step, "none")
     )]
     Newton {
         context: String,
@@ -68,23 +85,31 @@ pub enum ContinuationError {
     DegenerateHopf { l1: f64, scale: f64 },
     #[error(
         "the periodic orbit at p = {param:.10e} is no longer resolved: its estimated discretization \
-         error is {error:.2e} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; the cycle \
-         has become too stiff for this mesh — raise the interval limit (`cycles --ntst-max`), or stop here"
+         error is {} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; the cycle \
+         has become too stiff for this mesh — raise the interval limit (`cycles --ntst-max`), or stop here",
+        finite_or(*error, "unknown (the orbit could not be solved on half the mesh)")
     )]
     Unresolved {
         ntst: usize,
+        /// Estimated discretization error; infinite when the orbit could
+        /// not be solved on half the mesh to compare with.
         error: f64,
         tol: f64,
         param: f64,
     },
     #[error(
         "the Floquet multipliers of the periodic orbit at p = {param:.10e} can no longer decide its \
-         stability: the trivial multiplier is off by {trivial_error:.2e} and another multiplier is \
-         that close to the unit circle; perturbations grow by so many decades along the orbit that \
+         stability: {}; perturbations grow by so many decades along the orbit that \
          rounding dominates (the orbit itself is resolved); judge stability by simulation \
-         (`stickslip simulate`) from here on"
+         (`stickslip simulate`) from here on",
+        trivial_multiplier_off(*trivial_error)
     )]
-    FloquetIllConditioned { param: f64, trivial_error: f64 },
+    FloquetIllConditioned {
+        param: f64,
+        /// Distance of the computed trivial multiplier from 1; infinite when
+        /// the Floquet pencil did not determine it.
+        trivial_error: f64,
+    },
     #[error(
         "the located point p = {found:.10e} is not the crossing bracketed by [{from:.10e}, {to:.10e}] \
          (outside it, or with a vanishing frequency): Newton converged to another solution"
@@ -108,4 +133,61 @@ pub enum ContinuationError {
         to: f64,
         cause: Box<ContinuationError>,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The words of `text` that spell a non-finite number.
+    fn non_finite_words(text: &str) -> Vec<&str> {
+        text.split(|c: char| !c.is_ascii_alphanumeric())
+            .filter(|w| w.eq_ignore_ascii_case("nan") || w.eq_ignore_ascii_case("inf"))
+            .collect()
+    }
+
+    #[test]
+    fn messages_with_non_finite_numbers_say_what_they_mean() {
+        // Each seen by the property test (tests/property_edges.rs) as `inf`.
+        let newton = ContinuationError::Newton {
+            context: " correcting a periodic orbit".into(),
+            iterations: 1,
+            residual: f64::INFINITY,
+            step: 3.784e6,
+            reason: NewtonFailure::NonFinite,
+            hint: "use log variables or a smaller step",
+        }
+        .to_string();
+        assert!(
+            newton.contains("residual beyond the floating-point range"),
+            "{newton}"
+        );
+        let floquet = ContinuationError::FloquetIllConditioned {
+            param: 289.9,
+            trivial_error: f64::INFINITY,
+        }
+        .to_string();
+        assert!(
+            floquet.contains("does not determine the trivial multiplier"),
+            "{floquet}"
+        );
+        let unresolved = ContinuationError::Unresolved {
+            ntst: 640,
+            error: f64::INFINITY,
+            tol: 1e-6,
+            param: 0.01,
+        }
+        .to_string();
+        assert!(unresolved.contains("error is unknown"), "{unresolved}");
+        for text in [newton, floquet, unresolved] {
+            assert!(non_finite_words(&text).is_empty(), "{text}");
+        }
+        // Finite values are printed as numbers.
+        let floquet = ContinuationError::FloquetIllConditioned {
+            param: 289.9,
+            trivial_error: 0.25,
+        }
+        .to_string();
+        assert!(floquet.contains("off by 2.50e-1"), "{floquet}");
+    }
 }

@@ -46,6 +46,33 @@ impl Sample {
             .iter()
             .all(|x| x.is_finite())
     }
+
+    /// The fields that are not finite numbers, in words (never `inf` or
+    /// `NaN`): a velocity beyond the range is given by its `log10`, which the
+    /// log variables still hold.
+    pub fn out_of_range(&self) -> Vec<String> {
+        let fields = [
+            ("t", self.t),
+            ("s", self.s),
+            ("v", self.v),
+            ("theta", self.theta),
+            ("slip", self.slip),
+            ("log10 v", self.log10_v),
+        ];
+        fields
+            .iter()
+            .filter(|(_, x)| !x.is_finite())
+            .map(|&(name, x)| match (name, x.is_nan()) {
+                ("v", false) if self.log10_v.is_finite() => format!(
+                    "v = 10^{:.4} V0, beyond the floating-point range",
+                    self.log10_v
+                ),
+                (_, true) => format!("{name} is not a number"),
+                (_, false) if x > 0.0 => format!("{name} is above the floating-point range"),
+                (_, false) => format!("{name} is below the floating-point range (negative)"),
+            })
+            .collect()
+    }
 }
 
 /// A simulated trajectory in docs/model.md's variables.
@@ -251,8 +278,12 @@ pub fn simulate_watched(
             max_steps: options.max_steps,
             ..Settings::default()
         };
-        // The segment, resumed once in the inertial model if the watch hands over.
-        let sol = loop {
+        // Each segment in its own time, from 0: the transient after a jump of
+        // the drive can need steps far below the rounding level of the
+        // absolute time (`eps t`) reached by then. The segment is resumed
+        // once, in the inertial model, if the watch hands over.
+        let mut local = 0.0;
+        let (sol, log, pv) = loop {
             let mut p = params;
             p.nu = seg.nu;
             let pv = p.to_vec();
@@ -260,9 +291,9 @@ pub fn simulate_watched(
             let watching = watch.filter(|w| w.switch && log.kind == ModelKind::QuasiStatic);
             let mut hand_over = None;
             let sol = Radau5::new(&log, &pv, settings.clone()).solve_with(
-                t0,
+                local,
                 &x,
-                t1,
+                seg.duration,
                 Output::Final,
                 |step| {
                     let flow = out.step(step, &pv, drive, &mut sink);
@@ -281,10 +312,13 @@ pub fn simulate_watched(
                     params.m = w.m;
                     out.log = LogBlock::new(ModelKind::Inertial, &params);
                     x = state.to_vec();
-                    t0 = t;
-                    switch = Some(SimulationSwitch { t, chi });
+                    local = t;
+                    switch = Some(SimulationSwitch {
+                        t: drive.t0 + t,
+                        chi,
+                    });
                 }
-                _ => break sol,
+                _ => break (sol, log, pv),
             }
         };
         if let Some(bad) = out.bad.take() {
@@ -293,19 +327,36 @@ pub fn simulate_watched(
         match sol.outcome {
             Outcome::ObserverStop => {
                 return out
-                    .finish(sol.t_final, t_end, true)
+                    .finish(t0 + sol.t_final, t_end, true)
                     .map(|e| RunEnd { switch, ..e })
             }
             Outcome::Failed(e) => {
+                // Failing at once from the initial state: say where it was.
+                let start = if t0 == 0.0 && sol.t_final == 0.0 {
+                    format!(
+                        "; no step was taken from the initial state, whose slip velocity is \
+                         v = 10^{:.4} V0: {START_HINT}",
+                        log.ln_velocity(&x, &pv) / std::f64::consts::LN_10
+                    )
+                } else {
+                    String::new()
+                };
+                let segment = if t0 > 0.0 {
+                    format!(
+                        " (the segment from t = {t0:.10e}; the integrator counts time from there)"
+                    )
+                } else {
+                    String::new()
+                };
                 return Err(NumericalError::Analysis(format!(
-                    "simulation at nu = {}: {e}",
+                    "simulation at nu = {}{segment}: {e}{start}",
                     seg.nu
-                )))
+                )));
             }
             Outcome::ReachedEnd | Outcome::TerminalEvent { .. } => {}
         }
         pulled += seg.nu * seg.duration;
-        t0 = sol.t_final;
+        t0 = t1;
         x = sol.x_final;
     }
     out.finish(t0, t_end, false).map(|e| RunEnd { switch, ..e })
@@ -319,6 +370,11 @@ pub struct SimulationSwitch {
     /// `m |dv/dt| / A` at that state.
     pub chi: f64,
 }
+
+/// What to try when the initial state is the trouble.
+const START_HINT: &str = "for `simulate` it is steady sliding with the age perturbed by \
+     --perturb, which in the quasi-static model changes the slip velocity by a factor of about \
+     (1 + perturb)^(-mu_phi/A); try a smaller |--perturb|";
 
 /// The drive of the current segment: its start, velocity, and the spring
 /// end's displacement before it.
@@ -369,10 +425,15 @@ impl Emitter<'_> {
             return ControlFlow::Continue(());
         }
         if !p.is_finite() {
+            let hint = if p.t == 0.0 {
+                format!("this is the initial state: {START_HINT}")
+            } else {
+                "try a tighter --rtol or a shorter protocol".to_string()
+            };
             self.bad = Some(NumericalError::Analysis(format!(
-                "simulation: non-finite state at t = {:e} (s = {:e}, v = {:e}, theta = {:e}); \
-                 try a tighter --rtol or a shorter protocol",
-                p.t, p.s, p.v, p.theta
+                "simulation: the state leaves the floating-point range at t = {:e} ({}); {hint}",
+                p.t,
+                p.out_of_range().join(", ")
             )));
             return ControlFlow::Break(());
         }
@@ -414,14 +475,16 @@ impl Emitter<'_> {
         drive: Drive,
         sink: &mut impl FnMut(&Sample) -> ControlFlow<()>,
     ) -> ControlFlow<()> {
+        // The integrator counts time from the start of the segment.
+        let t = drive.t0 + step.t;
         let Some((g, mut pos)) = self.grid else {
-            let p = self.sample(step.t, step.x, pv, drive);
+            let p = self.sample(t, step.x, pv, drive);
             return self.emit(p, sink);
         };
         let mut y = vec![0.0; step.x.len()];
         let mut flow = ControlFlow::Continue(());
-        while flow.is_continue() && pos < g.len() && g[pos] <= step.t {
-            step.eval(g[pos], &mut y);
+        while flow.is_continue() && pos < g.len() && g[pos] <= t {
+            step.eval(g[pos] - drive.t0, &mut y);
             let p = self.sample(g[pos], &y, pv, drive);
             pos += 1;
             flow = self.emit(p, sink);

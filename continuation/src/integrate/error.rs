@@ -25,8 +25,22 @@ impl fmt::Display for NewtonTrouble {
                 write!(f, "diverging, contraction factor {theta:.3}")
             }
             NewtonTrouble::MaxIterations => write!(f, "iteration limit reached"),
-            NewtonTrouble::NonFinite => write!(f, "f was NaN or infinite at a stage value"),
+            NewtonTrouble::NonFinite => write!(
+                f,
+                "f was not finite at a stage value (beyond the floating-point range)"
+            ),
         }
+    }
+}
+
+/// A value that is not finite, in words (no message prints `inf` or `NaN`).
+fn non_finite(value: f64) -> &'static str {
+    if value.is_nan() {
+        "is not a number"
+    } else if value > 0.0 {
+        "is above the floating-point range"
+    } else {
+        "is below the floating-point range (negative)"
     }
 }
 
@@ -43,8 +57,9 @@ pub enum IntegrateError {
     },
     /// The initial state has a NaN or infinite component.
     #[error(
-        "non-finite initial state x[{index}] = {value} at t = {t:.10e}; \
-         the integrator needs finite initial values — check how x0 was computed"
+        "non-finite initial state: x[{index}] {} at t = {t:.10e}; \
+         the integrator needs finite initial values — check how x0 was computed",
+        non_finite(*value)
     )]
     NonFiniteState {
         /// The initial time.
@@ -112,10 +127,12 @@ pub enum IntegrateError {
         /// The last cause.
         cause: NewtonTrouble,
     },
-    /// The iteration matrix `gamma/h I - J` (or its complex partner) was singular.
+    /// The iteration matrix `gamma/h I - J` (or its complex partner) was
+    /// singular, or overflowed while it was factored.
     #[error(
-        "the iteration matrix (gamma/h) I - J was singular {count} times at t = {t:.10e}, \
-         h = {h:.3e}; the Jacobian may hold NaN/inf or the problem may be ill-posed \
+        "the iteration matrix (gamma/h) I - J was singular or overflowed while factored {count} \
+         times at t = {t:.10e}, h = {h:.3e}; the Jacobian's entries may be near the end of the \
+         floating-point range at this state, or the problem may be ill-posed \
          (a differential-algebraic system?) — check the Jacobian at this state"
     )]
     SingularMatrix {
@@ -141,8 +158,9 @@ pub enum IntegrateError {
     },
     /// An event function returned NaN or infinity.
     #[error(
-        "event function {index} returned {value} at t = {t:.10e} (h = {h:.3e}); \
-         event functions must be finite along the solution"
+        "event function {index} returned a value that {} at t = {t:.10e} (h = {h:.3e}); \
+         event functions must be finite along the solution",
+        non_finite(*value)
     )]
     NonFiniteEvent {
         /// Which event function.
@@ -154,4 +172,50 @@ pub enum IntegrateError {
         /// The value returned.
         value: f64,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_values_are_named_in_words() {
+        let messages = [
+            IntegrateError::NonFiniteState {
+                t: 0.0,
+                index: 1,
+                value: f64::INFINITY,
+            }
+            .to_string(),
+            IntegrateError::NonFiniteEvent {
+                index: 0,
+                t: 1.0,
+                h: 0.1,
+                value: f64::NAN,
+            }
+            .to_string(),
+            IntegrateError::NewtonFailed {
+                t: 1.0,
+                h: 1e-9,
+                failures: 20,
+                cause: NewtonTrouble::NonFinite,
+            }
+            .to_string(),
+            IntegrateError::SingularMatrix {
+                t: 0.0,
+                h: 6.25e-8,
+                count: 5,
+            }
+            .to_string(),
+        ];
+        for text in &messages {
+            let words: Vec<&str> = text
+                .split(|c: char| !c.is_ascii_alphanumeric())
+                .filter(|w| w.eq_ignore_ascii_case("nan") || w.eq_ignore_ascii_case("inf"))
+                .collect();
+            assert!(words.is_empty(), "{text}");
+        }
+        assert!(messages[0].contains("x[1] is above the floating-point range"));
+        assert!(messages[1].contains("event function 0 returned a value that is not a number"));
+    }
 }

@@ -1,0 +1,674 @@
+//! Property test: arbitrary scenes through the analyses behind `hopf`,
+//! `diagram`, `cycles` and `simulate`, called as the CLI calls them. Each
+//! result holds only finite numbers (every field of the result structs,
+//! walked through their `Debug` form; the JSON of the cycles' start), or it
+//! is a typed error whose message is not empty and names no `NaN` or `inf`;
+//! a panic is a failure. Not asserted: that an answer exists or agrees with
+//! Appendix C — a typed numerical failure passes (the classes seen are listed
+//! in docs/hard-cases.md).
+//!
+//! Drawn (log-uniform where a range spans decades): `m` 1e-14 … 1e3, `A` and
+//! `B` 1e-6 … 0.1 independently (so `A >= B`, velocity strengthening, about
+//! half the time), `nu` 1e-6 … 1e6, `kappa` 1e-9 … 1e3, `mu0` 0 … 1; the
+//! friction law: plain Rice–Ruina, with the ln² term (`mu2` -1e-2 … -1e-8 or
+//! 1e-8 … 1), or with the cutoff (`theta_c` 1e-9 … 1e9); the model: chosen
+//! from the inertia ratio as the CLI does, or forced inertial or quasi-static.
+//! The parameters go through `--set` strings and [`SceneArgs::setup`], the
+//! CLI's own validation and model choice.
+//!
+//! Every call is short and every loop has a limit: the diagram over a range of
+//! at most a factor e^2 in `nu` with `--max-steps 15`; the cycles with
+//! `--max-steps 1..=8` per leg and at most 640 mesh intervals (without a Hopf
+//! point the CLI's search for a simulated orbit runs first, within its own
+//! limits: seven stiffnesses, each at most 10 000 oscillations); the
+//! simulation for a protocol of one to three segments (drive jumps and stops)
+//! of at most 40 memory times each, cut at 3000 steps. The wall time of each
+//! case is measured only to report it (`-- --nocapture` prints the count of
+//! each outcome and the slowest cases), never asserted.
+//!
+//! Cases per property: hopf 1024, diagram 256, cycles 64, simulate 1024
+//! (about 40 s in all on one core of a shared machine, most of it cycles);
+//! `PROPTEST_CASES` sets all four. The seed is fixed (CI draws the same scenes
+//! every run); `PROPTEST_RNG_SEED` draws others. Failures are not persisted to
+//! files: a failing case is printed, shrunk, and the shrunk cases of the
+//! failures found so far are checked by `the_cases_found_stay_fixed`.
+//!
+//! ```sh
+//! cargo test --release --test property_edges
+//! PROPTEST_CASES=1000 PROPTEST_RNG_SEED=7 cargo test --release --test property_edges -- --nocapture --test-threads=1
+//! ```
+
+use proptest::prelude::*;
+use proptest::test_runner::{contextualize_config, Config, RngSeed, TestCaseError, TestRunner};
+use std::cell::RefCell;
+use std::fmt::Debug;
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+use stickslip::analysis::cycles::{CycleRecord, CycleRequest};
+use stickslip::analysis::diagram::stability_diagram_with;
+use stickslip::analysis::hopf::HopfOutcome;
+use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use stickslip::analysis::orbit_inertia::InertiaWatch;
+use stickslip::analysis::simulate::{simulate_with, Segment};
+use stickslip::appendix_c;
+use stickslip::cli::cycle_start::Start;
+use stickslip::cli::{onset_with_degeneracy_resolved, ModelArg, SceneArgs, Setup};
+use stickslip::params::Params;
+
+/// The seed unless `PROPTEST_RNG_SEED` says otherwise.
+const SEED: u64 = 20_240_611;
+
+/// The ageing term of the friction law.
+#[derive(Clone, Copy, Debug)]
+enum Law {
+    RiceRuina,
+    Ln2 { mu2: f64 },
+    Cutoff { theta_c: f64 },
+}
+
+/// One drawn scene: dimensionless parameters of MODEL.md and the model.
+#[derive(Clone, Debug)]
+struct Case {
+    m: f64,
+    a: f64,
+    b: f64,
+    nu: f64,
+    kappa: f64,
+    mu0: f64,
+    law: Law,
+    /// `None`: chosen from the inertia ratio (no `--model`).
+    model: Option<ModelArg>,
+}
+
+impl Case {
+    /// The `--set` overrides of this scene (on the built-in PMMA scene).
+    fn overrides(&self) -> Vec<String> {
+        let mut set = vec![
+            format!("m={:e}", self.m),
+            format!("A={:e}", self.a),
+            format!("B={:e}", self.b),
+            format!("nu={:e}", self.nu),
+            format!("kappa={:e}", self.kappa),
+            format!("mu0={:e}", self.mu0),
+        ];
+        set.push(match self.law {
+            Law::RiceRuina => "mu2=0".into(),
+            Law::Ln2 { mu2 } => format!("mu2={mu2:e}"),
+            Law::Cutoff { theta_c } => format!("theta_c={theta_c:e}"),
+        });
+        set
+    }
+
+    fn scene_args(&self) -> SceneArgs {
+        SceneArgs {
+            scene: "pmma".into(),
+            set: self.overrides(),
+            model: self.model,
+            inertia_threshold: DEFAULT_INERTIA_THRESHOLD,
+        }
+    }
+}
+
+/// `10^e` with `e` uniform in `[log10 lo, log10 hi]`.
+fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (lo.log10()..=hi.log10()).prop_map(|e| 10f64.powf(e))
+}
+
+fn law() -> impl Strategy<Value = Law> {
+    prop_oneof![
+        Just(Law::RiceRuina),
+        log_uniform(1e-8, 1e-2).prop_map(|x| Law::Ln2 { mu2: -x }),
+        log_uniform(1e-8, 1.0).prop_map(|mu2| Law::Ln2 { mu2 }),
+        log_uniform(1e-9, 1e9).prop_map(|theta_c| Law::Cutoff { theta_c }),
+    ]
+}
+
+fn model() -> impl Strategy<Value = Option<ModelArg>> {
+    prop_oneof![
+        Just(None),
+        Just(Some(ModelArg::Inertial)),
+        Just(Some(ModelArg::QuasiStatic)),
+    ]
+}
+
+fn case() -> impl Strategy<Value = Case> {
+    (
+        log_uniform(1e-14, 1e3),
+        log_uniform(1e-6, 0.1),
+        log_uniform(1e-6, 0.1),
+        log_uniform(1e-6, 1e6),
+        log_uniform(1e-9, 1e3),
+        0.0..=1.0,
+        law(),
+        model(),
+    )
+        .prop_map(|(m, a, b, nu, kappa, mu0, law, model)| Case {
+            m,
+            a,
+            b,
+            nu,
+            kappa,
+            mu0,
+            law,
+            model,
+        })
+}
+
+/// The words of `text` that spell a non-finite number (`NaN`, `inf`, as
+/// Rust formats them, in either case).
+fn non_finite_words(text: &str) -> Vec<&str> {
+    text.split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|w| w.eq_ignore_ascii_case("nan") || w.eq_ignore_ascii_case("inf"))
+        .collect()
+}
+
+/// Every number in `value`'s `Debug` form is finite: a generic walk over
+/// every field of a result (nested structs, vectors, options, complex numbers).
+fn check_finite(what: &str, value: &impl Debug) -> Result<(), TestCaseError> {
+    let text = format!("{value:?}");
+    let bad = non_finite_words(&text);
+    prop_assert!(
+        bad.is_empty(),
+        "{what} holds non-finite numbers ({bad:?}): {text}"
+    );
+    Ok(())
+}
+
+/// Every number in a JSON value is finite, and no number is null (serde_json
+/// writes a non-finite `f64` as null).
+fn check_json(what: &str, value: &serde_json::Value) -> Result<(), TestCaseError> {
+    use serde_json::Value;
+    match value {
+        Value::Null => Err(TestCaseError::fail(format!(
+            "{what}: null where a value is expected"
+        ))),
+        Value::Number(n) => {
+            prop_assert!(
+                n.as_f64().is_some_and(f64::is_finite),
+                "{what}: non-finite number {n}"
+            );
+            Ok(())
+        }
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .try_for_each(|(i, v)| check_json(&format!("{what}[{i}]"), v)),
+        Value::Object(fields) => fields
+            .iter()
+            .try_for_each(|(k, v)| check_json(&format!("{what}.{k}"), v)),
+        Value::Bool(_) | Value::String(_) => Ok(()),
+    }
+}
+
+/// What a case ended in, counted in the report (`-- --nocapture`).
+type Verdict = Result<&'static str, TestCaseError>;
+
+/// A typed error: its message is not empty and names no non-finite number.
+fn check_error(what: &str, e: &impl std::fmt::Display) -> Result<(), TestCaseError> {
+    let text = e.to_string();
+    prop_assert!(
+        !text.trim().is_empty(),
+        "{what}: an error without a message"
+    );
+    let bad = non_finite_words(&text);
+    prop_assert!(
+        bad.is_empty(),
+        "{what}: the error message names non-finite numbers ({bad:?}): {text}"
+    );
+    Ok(())
+}
+
+/// The CLI's setup of `case`; a bad-input refusal is an answer (checked as
+/// an error): `Err(Ok("bad input"))` then.
+fn setup(case: &Case, at: impl Fn(&Params) -> Params) -> Result<Setup, Verdict> {
+    case.scene_args()
+        .setup(at)
+        .map_err(|e| check_error("setup", &e).map(|()| "bad input"))
+}
+
+/// Wall time and verdict of each case of one property, reported at the end.
+struct Report {
+    property: &'static str,
+    cases: RefCell<Vec<(Duration, &'static str, String)>>,
+}
+
+impl Report {
+    fn new(property: &'static str) -> Self {
+        Report {
+            property,
+            cases: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// Runs `f` on `case`, recording its wall time and verdict.
+    fn time<X: Debug>(&self, case: &Case, extra: &X, f: impl FnOnce() -> Verdict) -> Verdict {
+        let t0 = Instant::now();
+        let out = f();
+        let verdict = *out.as_ref().unwrap_or(&"failed");
+        self.cases
+            .borrow_mut()
+            .push((t0.elapsed(), verdict, format!("{case:?} {extra:?}")));
+        out
+    }
+
+    /// Prints the total time, the count of each verdict and the slowest cases.
+    fn print(&self) {
+        let mut cases = self.cases.borrow_mut();
+        let total: Duration = cases.iter().map(|c| c.0).sum();
+        let mut verdicts: Vec<(&str, usize)> = Vec::new();
+        for (_, v, _) in cases.iter() {
+            match verdicts.iter_mut().find(|(w, _)| w == v) {
+                Some((_, n)) => *n += 1,
+                None => verdicts.push((v, 1)),
+            }
+        }
+        cases.sort_by_key(|c| std::cmp::Reverse(c.0));
+        eprintln!(
+            "{}: {} case runs (shrinking included) in {:.2} s; {}",
+            self.property,
+            cases.len(),
+            total.as_secs_f64(),
+            verdicts
+                .iter()
+                .map(|(v, n)| format!("{v}: {n}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        for (t, v, case) in cases.iter().take(3) {
+            eprintln!("  {:.3} s  {v}  {case}", t.as_secs_f64());
+        }
+    }
+}
+
+/// Runs `property` on `cases` drawn scenes (or `PROPTEST_CASES`), each with
+/// a draw of `extra` (what the command adds to the scene: a range, a step
+/// limit, a protocol); a failure panics with the shrunk case.
+fn run<T: Debug + Clone>(
+    name: &'static str,
+    cases: u32,
+    extra: impl Strategy<Value = T>,
+    property: impl Fn(&Case, &T) -> Verdict,
+) {
+    let config = contextualize_config(Config {
+        cases,
+        failure_persistence: None,
+        rng_seed: RngSeed::Fixed(SEED),
+        max_shrink_iters: 256,
+        ..Config::default()
+    });
+    let report = Report::new(name);
+    let result = TestRunner::new(config).run(&(case(), extra), |(c, x)| {
+        report.time(&c, &x, || property(&c, &x)).map(|_| ())
+    });
+    report.print();
+    if let Err(e) = result {
+        panic!("{name}: {e}");
+    }
+}
+
+/// `hopf`: the onset, with the inertia deciding a degenerate quasi-static
+/// onset as the CLI does, and the Appendix C values printed next to it.
+fn hopf(case: &Case, _: &()) -> Verdict {
+    let mut setup = match setup(case, |p| *p) {
+        Ok(s) => s,
+        Err(verdict) => return verdict,
+    };
+    let outcome = match onset_with_degeneracy_resolved(&mut setup, case.model.is_some()) {
+        Ok(o) => o,
+        Err(e) => return check_error("hopf", &e).map(|()| "numerical error"),
+    };
+    check_finite("hopf outcome", &outcome)?;
+    let mut at = setup.params;
+    check_finite("mu_v, mu_phi", &(at.mu_v(), at.mu_phi()))?;
+    if let HopfOutcome::Found(h) = &outcome {
+        at.kappa = h.kappa_c;
+        prop_assert!(h.kappa_c > 0.0 && h.omega_c > 0.0, "{h:?}");
+        let kappa_ref = appendix_c::critical_stiffness(&at);
+        let omega_ref = appendix_c::critical_frequency(&at);
+        prop_assert!(
+            kappa_ref.is_finite() && kappa_ref != 0.0,
+            "Appendix C kappa_c = {kappa_ref} at a Hopf point"
+        );
+        prop_assert!(
+            omega_ref.is_some_and(f64::is_finite),
+            "Appendix C omega_c = {omega_ref:?} at a Hopf point"
+        );
+    } else {
+        check_finite("Appendix C", &appendix_c::critical_stiffness(&at))?;
+    }
+    Ok(match outcome {
+        HopfOutcome::Found(_) => "hopf point",
+        HopfOutcome::StableForAllStiffness { .. } => "stable for every stiffness",
+    })
+}
+
+/// Steps of the Hopf curve each way (`diagram --max-steps`).
+const DIAGRAM_STEPS: usize = 15;
+
+/// `diagram` over `nu .. nu e^width`, the model chosen at the top of the
+/// range as the CLI does: finite, and the curve within the range.
+fn diagram(case: &Case, width: &f64) -> Verdict {
+    let (lo, hi) = (case.nu, case.nu * width.exp());
+    let setup = match setup(case, |p| Params { nu: hi, ..*p }) {
+        Ok(s) => s,
+        Err(verdict) => return verdict,
+    };
+    let d = match stability_diagram_with(setup.choice.kind, &setup.params, (lo, hi), DIAGRAM_STEPS)
+    {
+        Ok(d) => d,
+        Err(e) => return check_error("diagram", &e).map(|()| "numerical error"),
+    };
+    check_finite("diagram", &d)?;
+    // The curve is continued in ln nu: its end is the range's to the rounding
+    // of exp(ln nu).
+    let (lo_r, hi_r) = (lo * (1.0 - 1e-12), hi * (1.0 + 1e-12));
+    for p in &d.points {
+        prop_assert!(
+            p.kappa > 0.0 && p.nu >= lo_r && p.nu <= hi_r,
+            "curve point outside nu = {lo:e} .. {hi:e} or with kappa <= 0: {p:?}"
+        );
+        let mut at = setup.params;
+        at.nu = p.nu;
+        check_finite(
+            "Appendix C along the curve",
+            &appendix_c::critical_stiffness(&at),
+        )?;
+    }
+    Ok(match (d.points.is_empty(), d.complete) {
+        (true, _) => "no Hopf curve",
+        (false, true) => "curve over the range",
+        (false, false) => "partial curve",
+    })
+}
+
+/// `cycles` with `--max-steps max_steps` (per leg) and `--ntst-max 640`:
+/// the start (Hopf point, simulated orbit, or none) and every cycle finite.
+fn cycles(case: &Case, max_steps: &usize) -> Verdict {
+    let max_steps = *max_steps;
+    let mut setup = match setup(case, |p| *p) {
+        Ok(s) => s,
+        Err(verdict) => return verdict,
+    };
+    let onset = match onset_with_degeneracy_resolved(&mut setup, case.model.is_some()) {
+        Ok(o) => o,
+        Err(e) => return check_error("cycles: onset", &e).map(|()| "onset error"),
+    };
+    let start = match Start::choose(&setup, onset, false) {
+        Ok(s) => s,
+        Err(e) => return check_error("cycles: start", &e).map(|()| "start error"),
+    };
+    check_json("cycles: start", &start.json())?;
+    let kappa_ref = start.reference_kappa();
+    prop_assert!(
+        kappa_ref.is_finite() && kappa_ref >= 0.0,
+        "kappa_ref = {kappa_ref}"
+    );
+    // As the CLI builds it.
+    let req = CycleRequest {
+        kappa_min: 0.5 * kappa_ref,
+        kappa_max: 10.0 * kappa_ref,
+        max_steps,
+        ntst: 40,
+        at_kappa: Vec::new(),
+        ntst_max: 640,
+        // Each model's own points (the branch may change model).
+        collocation: None,
+    };
+    let watch = InertiaWatch::new(
+        &setup.scene_params,
+        DEFAULT_INERTIA_THRESHOLD,
+        case.model.is_none(),
+    );
+    let mut records: Vec<CycleRecord> = Vec::new();
+    let outcomes = start.trace(&setup, &req, &watch, |c: &CycleRecord| {
+        records.push(c.clone());
+        Ok(())
+    });
+    for (leg, outcome) in &outcomes {
+        if let Err(e) = outcome {
+            check_error(&format!("cycles leg '{leg}'"), e)?;
+        }
+    }
+    prop_assert!(
+        records.len() <= 2 * (max_steps + 1),
+        "{} cycles from {max_steps} steps per leg",
+        records.len()
+    );
+    for r in &records {
+        check_finite("cycle", r)?;
+    }
+    let failed = outcomes.iter().any(|(_, o)| o.is_err());
+    Ok(match (records.is_empty(), failed) {
+        (true, false) => "no cycles",
+        (true, true) => "branch error",
+        (false, false) => "cycles",
+        (false, true) => "cycles, then an error",
+    })
+}
+
+/// Steps after which the simulation is stopped (`simulate --max-steps`).
+const SIMULATE_STEPS: usize = 3000;
+
+/// A `simulate` request: `--protocol`, `--perturb`, `--rtol`.
+#[derive(Clone, Debug)]
+struct Protocol {
+    /// Duration of the first segment, at the scene's `nu`, in memory times `1/nu`.
+    first: f64,
+    /// Later segments: `(velocity / nu, or 0 to stop; duration in memory
+    /// times of the segment's velocity, of nu when it stops)`.
+    later: Vec<(f64, f64)>,
+    perturb: f64,
+    rtol: f64,
+}
+
+fn protocol() -> impl Strategy<Value = Protocol> {
+    let later = prop::collection::vec(
+        (
+            prop_oneof![Just(0.0), log_uniform(1e-2, 1e2)],
+            1.0f64..=40.0,
+        ),
+        0..=2,
+    );
+    (
+        1.0f64..=40.0,
+        later,
+        -0.9f64..=0.9,
+        log_uniform(1e-10, 1e-4),
+    )
+        .prop_map(|(first, later, perturb, rtol)| Protocol {
+            first,
+            later,
+            perturb,
+            rtol,
+        })
+}
+
+/// `simulate`: every sample handed over is finite, and so is the end.
+fn simulate(case: &Case, request: &Protocol) -> Verdict {
+    let setup = match setup(case, |p| *p) {
+        Ok(s) => s,
+        Err(verdict) => return verdict,
+    };
+    let nu0 = setup.params.nu;
+    let mut protocol = vec![Segment {
+        nu: nu0,
+        duration: request.first / nu0,
+    }];
+    protocol.extend(request.later.iter().map(|&(f, d)| Segment {
+        nu: f * nu0,
+        duration: d / if f > 0.0 { f * nu0 } else { nu0 },
+    }));
+    // The CLI's start: steady sliding at nu0 with the age perturbed.
+    let s0 = setup.params.friction().steady(nu0);
+    let start = [s0, nu0, (1.0 + request.perturb) / nu0];
+    let (mut count, mut bad) = (0usize, None);
+    let run = simulate_with(
+        setup.choice.kind,
+        &setup.params,
+        start,
+        &protocol,
+        request.rtol,
+        None,
+        |p| {
+            if !p.is_finite() && bad.is_none() {
+                bad = Some(*p);
+            }
+            count += 1;
+            if count >= SIMULATE_STEPS {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    );
+    prop_assert!(bad.is_none(), "non-finite sample handed over: {bad:?}");
+    match run {
+        Ok(end) if end.stopped => check_finite("simulation end", &end).map(|()| "step limit"),
+        Ok(end) => check_finite("simulation end", &end).map(|()| "whole protocol"),
+        Err(e) => check_error("simulate", &e).map(|()| "numerical error"),
+    }
+}
+
+#[test]
+fn hopf_is_finite_or_a_typed_error() {
+    run("hopf", 1024, Just(()), hopf);
+}
+
+#[test]
+fn diagram_is_finite_or_a_typed_error() {
+    run("diagram", 256, 0.1f64..=2.0, diagram);
+}
+
+#[test]
+fn cycles_are_finite_or_a_typed_error() {
+    run("cycles", 64, 1usize..=8, cycles);
+}
+
+#[test]
+fn simulate_is_finite_or_a_typed_error() {
+    run("simulate", 1024, protocol(), simulate);
+}
+
+/// The shrunk cases of the failures this test found (docs/hard-cases.md),
+/// checked whatever the seed.
+#[test]
+fn the_cases_found_stay_fixed() {
+    let pmma = |m, a, b, nu, kappa, mu0, law, model| Case {
+        m,
+        a,
+        b,
+        nu,
+        kappa,
+        mu0,
+        law,
+        model,
+    };
+    let verdicts: Vec<(&str, Verdict)> = vec![
+        (
+            "cycles: Floquet pencil without a trivial multiplier ('off by inf')",
+            cycles(
+                &pmma(
+                    753.8069592225617,
+                    0.0009649686931774679,
+                    0.1,
+                    0.020960465550282432,
+                    1.0,
+                    0.010474624686067273,
+                    Law::Ln2 {
+                        mu2: 0.09614657367293634,
+                    },
+                    None,
+                ),
+                &1,
+            ),
+        ),
+        (
+            "cycles: Newton residual overflowing ('residual inf')",
+            cycles(
+                &pmma(
+                    49.96007150009387,
+                    0.02063440012177147,
+                    0.0020721630647431988,
+                    8603.506540987795,
+                    301.6417642338407,
+                    0.0,
+                    Law::RiceRuina,
+                    None,
+                ),
+                &1,
+            ),
+        ),
+        (
+            "diagram: Hopf curve corrected past the top of the range",
+            diagram(
+                &pmma(
+                    1.0,
+                    0.0003106939605360484,
+                    0.00013043642349540806,
+                    0.0016234750613652589,
+                    1.0,
+                    0.0,
+                    Law::Ln2 {
+                        mu2: 9.485800885076854e-5,
+                    },
+                    Some(ModelArg::QuasiStatic),
+                ),
+                &0.3789182401163461,
+            ),
+        ),
+    ];
+    let quasi_static_start = |b| {
+        pmma(
+            1.0,
+            1.9383065062360587e-5,
+            b,
+            1.0,
+            1.0,
+            0.0,
+            Law::RiceRuina,
+            Some(ModelArg::QuasiStatic),
+        )
+    };
+    let perturbed = Protocol {
+        first: 1.0,
+        later: Vec::new(),
+        perturb: -0.13258959853182814,
+        rtol: 1e-4,
+    };
+    let verdicts = verdicts.into_iter().chain([
+        (
+            "simulate: quasi-static start beyond the floating-point range ('v = inf')",
+            simulate(&quasi_static_start(0.1), &perturbed),
+        ),
+        (
+            "simulate: quasi-static start at the edge of the range ('NaN/inf' in the advice)",
+            simulate(&quasi_static_start(0.09028184003918337), &perturbed),
+        ),
+        (
+            "simulate: the stage equations not finite ('NaN or infinite')",
+            simulate(
+                &pmma(
+                    6.828755915094742e-11,
+                    3.789162871595244e-6,
+                    0.010568681368706194,
+                    629.4367445302228,
+                    7.87873791664691e-7,
+                    0.0,
+                    Law::Cutoff { theta_c: 1.0 },
+                    None,
+                ),
+                &Protocol {
+                    first: 1.0,
+                    later: vec![(0.011123666169879623, 1.0)],
+                    perturb: 0.0,
+                    rtol: 1e-4,
+                },
+            ),
+        ),
+    ]);
+    for (what, verdict) in verdicts {
+        if let Err(e) = verdict {
+            panic!("{what}: {e}");
+        }
+    }
+}
