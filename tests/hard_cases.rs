@@ -276,3 +276,24 @@ fn stiff_stick_slip_cycles_are_resolved_and_match_integration() {
     }
     common::assert_reproduced_by_integration(ModelKind::Inertial, &p, last, "stiff cycle");
 }
+
+/// A huge ln² coefficient at `nu = 1`, where it does not enter the linear
+/// problem (`mu_phi = B - 2 mu2 ln nu = B`): the onset is the plain law's,
+/// `kappa_c = B - A`. The search's starting stiffness comes from the slopes,
+/// not from `mu2` itself (with `mu2 = 1e10` it started at 4e10 and its
+/// floor, 1e-12 of that, lay above `kappa_c`: "no Hopf point").
+#[test]
+fn a_huge_ln2_coefficient_that_does_not_act_leaves_the_onset_alone() {
+    for mu2 in [1e-3, 1e4, 1e10] {
+        let p = common::pmma(0.0, mu2);
+        let HopfOutcome::Found(h) = find_hopf(ModelKind::QuasiStatic, &p).unwrap() else {
+            panic!("mu2 = {mu2}: no Hopf point")
+        };
+        let exact = appendix_c::critical_stiffness_quasi_static(&p);
+        assert!(
+            (h.kappa_c / exact - 1.0).abs() < 1e-10,
+            "mu2 = {mu2}: {} vs {exact}",
+            h.kappa_c
+        );
+    }
+}

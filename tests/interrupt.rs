@@ -156,9 +156,17 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     assert!(reached > 0.0 && reached < 3e5, "{err}");
     let csv = std::fs::read_to_string(&csv_path).unwrap();
     let mut rows = csv.lines();
-    assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip,log10_v"));
+    assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip,log10_v,model"));
+    // The numeric columns; the last one names the model of the row.
     let values: Vec<Vec<f64>> = rows
-        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .map(|l| {
+            let (numbers, model) = l.rsplit_once(',').unwrap();
+            assert!(model == "quasi-static" || model == "inertial", "{l}");
+            numbers
+                .split(',')
+                .map(|x| x.parse::<f64>().unwrap())
+                .collect()
+        })
         .collect();
     assert!(values.len() >= 50, "{} rows", values.len());
     assert!(

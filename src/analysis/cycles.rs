@@ -478,6 +478,9 @@ enum FollowEnd {
     Switch {
         cycle: Box<Cycle>,
         dp_ds: f64,
+        /// The quasi-static orbit before it (its `chi` below the threshold),
+        /// to hand over from when `cycle` is already too far from inertial.
+        previous: Option<Box<Cycle>>,
     },
 }
 
@@ -494,32 +497,54 @@ fn follow_switching(
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<BranchEnd, crate::error::Error> {
-    let (cycle, dp_ds) = match follow(log, branch, leg, skip, watch, sink)? {
+    let (cycle, dp_ds, previous) = match follow(log, branch, leg, skip, watch, sink)? {
         FollowEnd::End(end) => return Ok(end),
-        FollowEnd::Switch { cycle, dp_ds } => (cycle, dp_ds),
+        FollowEnd::Switch {
+            cycle,
+            dp_ds,
+            previous,
+        } => (cycle, dp_ds, previous),
     };
     let inertial = LogBlock {
         kind: ModelKind::Inertial,
         ..*log
     };
-    let guess = inertial_guess(log, &cycle, watch.m);
-    let mut seed = vec![0.0; guess.u.len() + 2];
-    seed[guess.u.len() + 1] = dp_ds.signum();
-    let ntst = guess.mesh.ntst();
-    let branch = CycleBranch::from_cycle(
-        &inertial,
-        guess,
-        Param::Kappa as usize,
-        Some(seed),
-        settings(ModelKind::Inertial, req, ntst),
-    )
-    .map_err(|e| {
-        NumericalError::Analysis(format!(
+    // From the orbit where chi first exceeds the threshold, corrected at its
+    // stiffness. Where the branch is nearly vertical in the stiffness (a
+    // canard-like growth of the slip: chi jumps by decades in one step),
+    // inertia shifts that growth in kappa and no inertial orbit of that
+    // size exists at the same stiffness: then corrected at its period,
+    // continuing toward longer periods (deeper stick-slip); last, the orbit
+    // before it.
+    let start = |from: &Cycle, unknown: usize, sign: f64| {
+        let guess = inertial_guess(log, from, watch.m);
+        let nz = guess.u.len() + 2;
+        let mut seed = vec![0.0; nz];
+        seed[nz - unknown] = sign;
+        let ntst = guess.mesh.ntst();
+        CycleBranch::from_cycle(
+            &inertial,
+            guess,
+            Param::Kappa as usize,
+            Some(seed),
+            settings(ModelKind::Inertial, req, ntst),
+        )
+    };
+    const KAPPA: usize = 1;
+    const PERIOD: usize = 2;
+    let branch = start(&cycle, KAPPA, dp_ds.signum())
+        .or_else(|_| start(&cycle, PERIOD, 1.0))
+        .or_else(|e| match &previous {
+            Some(before) => start(before, KAPPA, dp_ds.signum()),
+            None => Err(e),
+        })
+        .map_err(|e| {
+            NumericalError::Analysis(format!(
             "switching to the inertial model at kappa = {:.6e}: the quasi-static orbit did not \
              correct to an inertial one ({e}); try --model quasi-static or --model inertial",
             cycle.p[Param::Kappa as usize]
         ))
-    })?;
+        })?;
     let watch = InertiaWatch {
         switch: false,
         ..*watch
@@ -546,6 +571,7 @@ fn follow(
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<FollowEnd, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
+    let mut previous: Option<Box<Cycle>> = None;
     for pt in branch.by_ref().skip(skip) {
         let pt = pt.map_err(|e| match last {
             Some((kappa, delta_s)) if delta_s < SHRUNK * largest => {
@@ -568,8 +594,10 @@ fn follow(
             return Ok(FollowEnd::Switch {
                 cycle: Box::new(pt.cycle),
                 dp_ds: pt.dp_ds,
+                previous,
             });
         }
+        previous = Some(Box::new(pt.cycle));
     }
     // An iterator that ended without an error has a reason.
     Ok(FollowEnd::End(

@@ -240,11 +240,6 @@ pub fn stability_diagram_with(
 ) -> Result<StabilityDiagram, NumericalError> {
     let mut d = hopf_curve_with(kind, params, Param::Nu, range, max_steps)?;
     d.lpc = lpc_curves(kind, params, &d, range);
-    // A fold-of-cycles curve cut short (not at its Bautin point) leaves the
-    // hysteresis boundary incomplete: the diagram is partial.
-    if d.lpc.incomplete {
-        d.complete = false;
-    }
     d.strengthening = strengthening_intervals(params, range);
     if let Some(why) = strengthening_reason(params, range, &d.strengthening) {
         d.reason = Some(why);

@@ -296,13 +296,15 @@ pub enum HopfOutcome {
 }
 
 /// A stiffness at which steady sliding is linearly stable, found by doubling
-/// from the scale of the friction law's steady-state slopes
-/// (`|mu_phi| + |mu_v|`, times the inertia factor of eq. C11). Errors when none is
+/// from a bound on the friction law's steady-state slopes (times the inertia
+/// factor of eq. C11). Errors when none is
 /// found (the steady state is unstable at every stiffness tried).
 pub fn stable_stiffness(block: &DrivenBlock, params: &Params) -> Result<f64, NumericalError> {
-    // The friction law's own slopes at the steady state: kappa_c of
-    // Appendix C is (mu_phi - mu_v)(1 + m nu^2 / mu_v) without a cutoff.
-    let scale = (params.mu_phi().abs() + params.mu_v().abs()) * (1.0 + params.inertia_ratio());
+    // A bound on the friction law's steady-state slopes, |mu_phi| + mu_v <=
+    // B + 2 |mu2| |ln nu| + A (ln^2 law: mu_phi = B - 2 mu2 ln nu; cutoff:
+    // mu_phi <= B): kappa_c of Appendix C is (mu_phi - mu_v)(1 + m nu^2 / mu_v).
+    let scale = (params.b + params.a + 2.0 * params.mu2.abs() * params.nu.ln().abs())
+        * (1.0 + params.inertia_ratio());
     let x = steady_state(block.kind(), params);
     let mut kappa = 4.0 * scale;
     for _ in 0..60 {

@@ -51,7 +51,11 @@ pub(super) fn write_figures(
             fy: y_of,
             x_label: "driving velocity V [µm/s]".into(),
             y_label: y_label.into(),
-            title: format!("Stability diagram, {} ({model} model)", setup.scene.name),
+            title: format!(
+                "Stability diagram, {} ({model} model){}",
+                setup.scene.name,
+                short_fold_curve_note(d)
+            ),
             x_span: |a, b| format!("V = {a:.4e} .. {b:.4e} µm/s"),
         },
         Axes {
@@ -61,8 +65,9 @@ pub(super) fn write_figures(
             x_label: "ν = V / V0".into(),
             y_label: "κ = K D0 / W".into(),
             title: format!(
-                "Stability diagram, {}: (κ, ν) ({model} model)",
-                setup.scene.name
+                "Stability diagram, {}: (κ, ν) ({model} model){}",
+                setup.scene.name,
+                short_fold_curve_note(d)
             ),
             x_span: |a, b| format!("ν = {a:.4e} .. {b:.4e}"),
         },
@@ -187,4 +192,15 @@ fn strengthening_notes(d: &StabilityDiagram, span: &dyn Fn(f64, f64) -> String) 
             )
         })
         .collect()
+}
+
+/// A title note when a fold-of-cycles curve stopped short of the range (a
+/// failure away from its Bautin point, `lpc_stops` in the JSON): the
+/// hysteresis boundary is drawn only as far as it was computed.
+fn short_fold_curve_note(d: &StabilityDiagram) -> &'static str {
+    if d.lpc.incomplete {
+        " — fold-of-cycles curve incomplete (see lpc_stops)"
+    } else {
+        ""
+    }
 }

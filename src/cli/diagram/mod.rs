@@ -146,7 +146,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
             return Ok(());
         }
         return Err(Error::Partial(format!(
-            "the diagram does not cover the requested range: {}",
+            "the Hopf curve does not cover the requested range: {}",
             partial.join("; ")
         )));
     }
@@ -323,6 +323,7 @@ fn to_json(r: &SceneResult) -> Value {
         "stop": stop_text(r),
         "lpc_curve": lpc,
         "lpc_stops": r.diagram.lpc.stops,
+        "lpc_complete": !r.diagram.lpc.incomplete,
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
         "elapsed_s": r.seconds,
         "velocity_strengthening": strengthening,
@@ -335,20 +336,13 @@ fn to_json(r: &SceneResult) -> Value {
 
 /// The stop reason; a step limit names the option that raises it.
 fn stop_text(r: &SceneResult) -> String {
-    let hopf = if r.diagram.stop == "step limit" {
+    if r.diagram.stop == "step limit" {
         format!(
             "step limit ({} steps, --max-steps) before the end of the range",
             r.max_steps
         )
     } else {
         r.diagram.stop.to_string()
-    };
-    if r.diagram.lpc.incomplete {
-        format!(
-            "{hopf}; a fold-of-cycles curve stopped short of the range (lpc_stops says where and why)"
-        )
-    } else {
-        hopf
     }
 }
 

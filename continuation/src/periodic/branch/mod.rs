@@ -486,14 +486,14 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
 }
 
 impl<S: VectorField> CycleBranch<'_, S> {
-    /// How well the corrector fixes an orbit's parameter: its step tolerance,
-    /// `step_tol (1 + |z|)` (the Newton test, [`crate::newton`]). A sign change
-    /// of `dp/ds` whose parameter excursion stays below it is noise, not a
-    /// fold: near a nearly degenerate Hopf point (`l1` close to zero) the
-    /// branch is flat in the parameter to far below this resolution.
+    /// How well the corrector fixes an orbit's parameter, relative to the
+    /// parameter itself: `step_tol |p|`. A sign change of `dp/ds` whose
+    /// parameter excursion stays below it is noise, not a fold: near a
+    /// nearly degenerate Hopf point (`l1` close to zero) the branch is flat
+    /// in the parameter far below this resolution (granite rig: excursions of
+    /// 4e-12 relative, against real folds at 1e-7 and more).
     fn parameter_resolution(&self, z: &[f64]) -> f64 {
-        let size = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        self.settings.corrector.step_tol * (1.0 + size)
+        self.settings.corrector.step_tol * z[z.len() - 1].abs()
     }
 }
 
