@@ -264,3 +264,46 @@ fn a_hopf_region_starting_inside_the_range_is_traced_from_its_start() {
         );
     }
 }
+
+/// Along the Hopf curve the first Lyapunov coefficient is as exact as at a
+/// single Hopf point: plain RR law with `m = 1e-12` (terms of order one,
+/// `l1 = 2.6e-11`), where `f64` leaves a few digits and the curve point is
+/// recomputed in double-double. Reference: `docs/reference/m_sweep.csv`
+/// (90 digits), row `RR A=0.012 nu=1 m=1e-12`.
+#[test]
+fn curve_points_resolve_l1_at_small_inertia() {
+    let p = Params {
+        kappa: 0.0,
+        nu: 1.0,
+        m: 1e-12,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.5,
+        mu2: 0.0,
+        theta_c: None,
+    };
+    let d = stability_diagram(ModelKind::Inertial, &p, (1.0, 1.5)).unwrap();
+    let first = d.points.first().unwrap();
+    assert!(
+        (first.nu - 1.0).abs() < 1e-12,
+        "starts at nu = {}",
+        first.nu
+    );
+    let reference = 2.6212992234022181164e-11;
+    let err = (first.l1 - reference).abs();
+    assert!(
+        err <= first.l1_error_bound,
+        "l1 = {:e}, error {err:e}, bound {:e}",
+        first.l1,
+        first.l1_error_bound
+    );
+    assert!(
+        first.l1_error_bound < 1e-12 * reference,
+        "bound {:e}",
+        first.l1_error_bound
+    );
+    assert!(d
+        .points
+        .iter()
+        .all(|q| q.criticality == Criticality::Subcritical));
+}

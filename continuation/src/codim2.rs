@@ -9,6 +9,7 @@
 use crate::arclength::{Bound, StepControl, Stepper};
 use crate::defining::{FoldSystem, FreeParams, HopfSystem};
 use crate::error::ContinuationError;
+use crate::hopf_extended::hopf_normal_form_extended;
 use crate::newton::NewtonSettings;
 use crate::normal_form::hopf_normal_form;
 use crate::system::VectorField;
@@ -161,7 +162,19 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         let n = self.sys.dim();
         let x = z.as_slice()[..n].to_vec();
         let p = self.stepper.system.params.with(&z.as_slice()[n + 1..]);
-        let nf = hopf_normal_form(self.sys, &x, &p, z[n])?;
+        let mut nf = hopf_normal_form(self.sys, &x, &p, z[n])?;
+        // Where f64 leaves fewer than eight digits (terms cancelling far
+        // below their size, e.g. small inertia), double-double, refined on
+        // the curve in its first parameter; kept where it agrees.
+        if nf.l1_error_bound > 1e-8 * nf.l1.abs() {
+            let a = self.stepper.system.params.free[0];
+            if let Ok(ext) = hopf_normal_form_extended(self.sys, &x, &p, a, &nf) {
+                let ext = ext.normal_form;
+                if (ext.l1 - nf.l1).abs() <= nf.l1_error_bound + ext.l1_error_bound {
+                    nf = ext;
+                }
+            }
+        }
         Ok(HopfCurvePoint {
             x,
             omega: z[n].abs(),
