@@ -291,8 +291,12 @@ fn curve_points_resolve_l1_at_small_inertia() {
     );
     let reference = 2.6212992234022181164e-11;
     let err = (first.l1 - reference).abs();
+    // The curve's bound is for the parameters as stored in f64; the
+    // reference is at the decimal ones (A = 0.012), whose rounding moves l1
+    // by about an ulp (the `hopf` onset adds that term, the curve does not).
+    let ulp = f64::EPSILON * reference;
     assert!(
-        err <= first.l1_error_bound,
+        err <= first.l1_error_bound + 2.0 * ulp,
         "l1 = {:e}, error {err:e}, bound {:e}",
         first.l1,
         first.l1_error_bound
