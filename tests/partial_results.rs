@@ -38,6 +38,40 @@ fn cycles_cut_by_the_step_limit_are_partial() {
     assert_eq!(csv.lines().filter(|l| !l.starts_with('#')).count(), 1 + 4);
 }
 
+/// A branch that fails after many cycles (here a stiff branch that outgrows
+/// a small mesh limit, as `cycles --set nu=1e-6` outgrows its Floquet
+/// pencil) keeps them and says so: status 4, `complete: false`, the failure
+/// as the stop reason (it said "numerical failure" with status 0).
+#[test]
+fn cycles_that_fail_after_some_are_partial() {
+    let dir = temp_dir("cycles-failure");
+    let (code, out, err) = stickslip(&[
+        "cycles",
+        "--set",
+        "m=0.01",
+        "--kappa-fraction",
+        "0.01",
+        "--ntst-max",
+        "80",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        err.contains("partial") && err.contains("numerical failure"),
+        "{err}"
+    );
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["complete"], false);
+    let stop = v["stop"].as_str().unwrap();
+    assert!(
+        stop.contains("no longer resolved") && stop.contains("80 mesh intervals"),
+        "{stop}"
+    );
+    assert!(v["cycles"].as_array().unwrap().len() > 10);
+}
+
 #[test]
 fn cycles_that_reach_the_range_are_complete() {
     let dir = temp_dir("rr");
