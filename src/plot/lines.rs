@@ -146,6 +146,40 @@ fn decimated(points: &[(f64, f64)], (x0, x1): (f64, f64), log_x: bool) -> Vec<(f
     out
 }
 
+/// The corner of the plot where the legend hides the fewest points: the
+/// points (log-aware) falling in each corner box of 35 % x 30 % of the axes,
+/// counted; ties go to the upper right, then upper left.
+fn emptiest_corner(fig: &LineFigure) -> SeriesLabelPosition {
+    let ((x0, x1), (y0, y1)) = bounds(fig);
+    let unit = |v: f64, lo: f64, hi: f64, log: bool| {
+        if log {
+            (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let corners = [
+        (SeriesLabelPosition::UpperRight, (0.65, 1.0), (0.7, 1.0)),
+        (SeriesLabelPosition::UpperLeft, (0.0, 0.35), (0.7, 1.0)),
+        (SeriesLabelPosition::LowerRight, (0.65, 1.0), (0.0, 0.3)),
+        (SeriesLabelPosition::LowerLeft, (0.0, 0.35), (0.0, 0.3)),
+    ];
+    let count = |(xa, xb): (f64, f64), (ya, yb): (f64, f64)| {
+        fig.series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|&&(x, y)| {
+                let (u, w) = (unit(x, x0, x1, fig.log_x), unit(y, y0, y1, fig.log_y));
+                (xa..=xb).contains(&u) && (ya..=yb).contains(&w)
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|(_, xs, ys)| count(*xs, *ys))
+        .map_or(SeriesLabelPosition::UpperRight, |c| c.0)
+}
+
 /// Writes `stem.png` and `stem.svg`. Never fails on the data: points a
 /// log axis cannot draw are left out with a note in the title, and a
 /// constant series gets a sane range. Dense lines are drawn from their
@@ -202,7 +236,11 @@ where
     let mut any_label = false;
     for s in &fig.series {
         let c = s.color;
-        let style = c.stroke_width(2);
+        // plotters draws a wide line as a polygon that degenerates on
+        // (nearly) vertical pixel steps, the spikes of a dense series: those
+        // get a one-pixel line, whose drawing is exact.
+        let dense = s.points.len() > COLUMNS;
+        let style = c.stroke_width(if dense { 1 } else { 2 });
         let drawn = if s.markers {
             chart
                 .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, c.filled())))
@@ -226,7 +264,7 @@ where
     if any_label {
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(emptiest_corner(fig))
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
             .label_font((FONT, 14))
@@ -285,6 +323,16 @@ mod tests {
     /// A spike train of a million samples, one sample wide each: the
     /// decimated line keeps every tip and the overall extremes, in order, with
     /// at most four points per column.
+    /// A curve through the upper right leaves the legend elsewhere.
+    #[test]
+    fn legend_goes_to_the_emptiest_corner() {
+        let fig = figure((0..100).map(|i| (i as f64, i as f64)).collect(), false);
+        assert!(matches!(
+            emptiest_corner(&fig),
+            SeriesLabelPosition::UpperLeft
+        ));
+    }
+
     #[test]
     fn decimation_keeps_every_spike_tip() {
         let n = 1_000_000;
