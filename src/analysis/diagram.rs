@@ -318,8 +318,11 @@ pub fn hopf_curve_with(
                 growth: 1.5,
                 min_tangent_cos: 0.97,
                 corrector: NewtonSettings { max_iter: 8, ..NewtonSettings::default() },
-                // Arclength measured in (ln kappa, ln second): the state and omega get small weights.
-                weights: [vec![1e-6; x0.len() + 1], vec![1.0, 1.0]].concat(),
+                // Arclength measured in (ln kappa, ln second): the state and
+                // omega get weights small enough that a state spanning decades
+                // (theta = 1/nu is 1e6 at nu = 1e-6) does not take over the step
+                // (with 1e-6 a decade at nu = 1e-6 took 9000 points).
+                weights: [vec![1e-16; x0.len() + 1], vec![1.0, 1.0]].concat(),
             },
             max_steps,
             // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
