@@ -111,7 +111,9 @@ fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
                     "kappa_c": null,
                     "omega_c": null,
                     "kappa_min_checked": kappa_min,
-                    "appendix_c": { "kappa_c": kappa_ref },
+                    // Eq. C11 gives a stiffness only where steady friction
+                    // weakens (mu_phi > mu_v); else no onset, not a negative one.
+                    "appendix_c": { "kappa_c": (kappa_ref > 0.0).then_some(kappa_ref) },
                 }),
             );
         }
