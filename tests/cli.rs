@@ -79,6 +79,8 @@ fn velocity_strengthening_is_stable_for_all_stiffness() {
     let v = hopf_json(&["--set", "B=0.005"]);
     assert_eq!(v["status"], "stable_for_all_stiffness");
     assert!(v["kappa_c"].is_null());
+    // No negative "critical stiffness" from eq. C11 either.
+    assert!(v["appendix_c"]["kappa_c"].is_null(), "{}", v["appendix_c"]);
 }
 
 #[test]
