@@ -193,25 +193,29 @@ V = 10.0
 V_range = [0.1, 1000.0]
 "#;
 
-#[test]
-fn no_cycle_with_a_multiplier_outside_the_unit_circle_is_stable() {
-    let dir = out_dir("granite");
+/// `stickslip CMD --scene granite.toml --json` in a fresh folder `dir`:
+/// exit 0, no NaN or inf, the parsed JSON.
+fn granite_json(cmd: &str, dir: &str) -> Value {
+    let dir = out_dir(dir);
     let scene = dir.join("granite.toml");
     std::fs::write(&scene, GRANITE).unwrap();
-    let (code, out, err) = run_bounded(
-        &[
-            "cycles",
-            "--scene",
-            scene.to_str().unwrap(),
-            "--json",
-            "--out",
-            dir.to_str().unwrap(),
-        ],
-        60,
-    );
+    let args = [
+        cmd,
+        "--scene",
+        scene.to_str().unwrap(),
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    let (code, out, err) = run_bounded(&args, 60);
     assert_eq!(code, 0, "{err}");
-    assert_no_nan_or_inf(&out, "cycles --json");
-    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_no_nan_or_inf(&out, &format!("{cmd} --json"));
+    serde_json::from_str(&out).unwrap()
+}
+
+#[test]
+fn no_cycle_with_a_multiplier_outside_the_unit_circle_is_stable() {
+    let v = granite_json("cycles", "granite");
     assert_eq!(v["model"], "inertial");
     let undecidable = check_stability_against_multipliers(&v);
     assert!(undecidable > 0);
@@ -341,23 +345,7 @@ fn an_underflowing_velocity_is_written_from_its_logarithm_within_bounds() {
 /// the plain RR law with small inertia).
 #[test]
 fn the_granite_diagram_has_no_spurious_bautin_points() {
-    let dir = out_dir("granite-diagram");
-    let scene = dir.join("granite.toml");
-    std::fs::write(&scene, GRANITE).unwrap();
-    let (code, out, err) = run_bounded(
-        &[
-            "diagram",
-            "--scene",
-            scene.to_str().unwrap(),
-            "--json",
-            "--out",
-            dir.to_str().unwrap(),
-        ],
-        60,
-    );
-    assert_eq!(code, 0, "{err}");
-    assert_no_nan_or_inf(&out, "diagram --json");
-    let v: Value = serde_json::from_str(&out).unwrap();
+    let v = granite_json("diagram", "granite-diagram");
     assert_eq!(
         v["special_points"].as_array().unwrap().len(),
         0,

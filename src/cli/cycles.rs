@@ -15,7 +15,7 @@ use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Param;
-use crate::plot::lines::{render, LineFigure, Series};
+use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
@@ -690,17 +690,8 @@ fn write_figures(
     // A vertical dashed line at the switch, over the data's range.
     let with_switch = |mut series: Vec<Series>| -> Vec<Series> {
         if let Some(k) = switch {
-            let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
-            let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-                (a.min(y), b.max(y))
-            });
-            series.push(Series {
-                label: Some("quasi-static → inertial model".into()),
-                points: vec![(u.k_over_w(k), lo), (u.k_over_w(k), hi)],
-                color: RGBColor(20, 140, 60),
-                dashed: true,
-                markers: false,
-            });
+            let (color, label) = SWITCH_MARKER;
+            series.push(vertical_marker(&series, u.k_over_w(k), label, color));
         }
         series
     };

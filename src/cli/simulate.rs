@@ -8,7 +8,7 @@ use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::simulate::{simulate_watched, RunOptions, Sample, Segment, Trajectory};
 use crate::error::{Error, InputError};
-use crate::plot::lines::{render, LineFigure, Series};
+use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
 use clap::Args;
 use plotters::style::RGBColor;
 use std::io::Write;
@@ -327,19 +327,8 @@ fn figures(
     // A vertical dashed line where the run changed to the inertial model.
     let with_switch = |mut series: Vec<Series>| -> Vec<Series> {
         if let Some(ts) = switch {
-            let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
-            let (lo, hi) = ys
-                .filter(|y| y.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-                    (a.min(y), b.max(y))
-                });
-            series.push(Series {
-                label: Some("quasi-static → inertial model".into()),
-                points: vec![(ts * u.d0 / u.v0, lo), (ts * u.d0 / u.v0, hi)],
-                color: RGBColor(20, 140, 60),
-                dashed: true,
-                markers: false,
-            });
+            let (color, label) = SWITCH_MARKER;
+            series.push(vertical_marker(&series, ts * u.d0 / u.v0, label, color));
         }
         series
     };

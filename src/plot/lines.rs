@@ -28,6 +28,30 @@ pub struct LineFigure {
     pub series: Vec<Series>,
 }
 
+/// A vertical dashed line at `x` over the vertical extent of `series`
+/// (finite values), labelled: a marker such as a change of model.
+pub fn vertical_marker(series: &[Series], x: f64, label: &str, color: RGBColor) -> Series {
+    let (lo, hi) = series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .filter(|y| y.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+            (a.min(y), b.max(y))
+        });
+    Series {
+        label: Some(label.into()),
+        points: vec![(x, lo), (x, hi)],
+        color,
+        dashed: true,
+        markers: false,
+    }
+}
+
+/// Colour and label of the marker where an analysis changes from the
+/// quasi-static to the inertial model.
+pub const SWITCH_MARKER: (RGBColor, &str) =
+    (RGBColor(20, 140, 60), "quasi-static → inertial model");
+
 /// Smallest value a log axis draws: below it (and at or below 0) a point
 /// has no place on a log axis that plotters can lay out.
 const LOG_FLOOR: f64 = 1e-300;
