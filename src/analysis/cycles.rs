@@ -277,22 +277,12 @@ pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
 
 fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg) -> CycleRecord {
     let c = &pt.cycle;
-    let (s_min, s_max) = c.range(0);
-    let (v_min, v_max) = match log.kind {
-        ModelKind::Inertial => {
-            let (lo, hi) = c.range(1);
-            (lo.exp(), hi.exp())
-        }
-        ModelKind::QuasiStatic => {
-            let vs: Vec<f64> = c
-                .samples(8)
-                .iter()
-                .map(|(_, x)| log.to_model(x, &c.p)[1])
-                .collect();
-            vs.iter()
-                .fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)))
-        }
-    };
+    // Extremes to the accuracy of the mesh points (`Cycle::range_of`); the
+    // velocity through its logarithm (a state of the inertial block, slaved
+    // to s and theta in the quasi-static one).
+    let (s_min, s_max) = c.range(log, 0);
+    let (ln_v_min, ln_v_max) = c.range_of(log, |x| log.ln_velocity(x, &c.p));
+    let (v_min, v_max) = (ln_v_min.exp(), ln_v_max.exp());
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],
         period: c.period,

@@ -40,8 +40,8 @@ pub struct LpcCurves {
     pub stops: Vec<String>,
 }
 
-fn record(c: &Cycle) -> LpcCurvePoint {
-    let (lo, hi) = c.range(0);
+fn record(log: &LogBlock, c: &Cycle) -> LpcCurvePoint {
+    let (lo, hi) = c.range(log, 0);
     LpcCurvePoint {
         nu: c.p[Param::Nu as usize],
         kappa: c.p[Param::Kappa as usize],
@@ -192,7 +192,7 @@ fn trace_through(
             Ok(points) => {
                 for pt in points {
                     match pt {
-                        Ok(pt) => half.push(record(&pt.cycle)),
+                        Ok(pt) => half.push(record(log, &pt.cycle)),
                         Err(e) => {
                             failure = Some(e.to_string());
                             break;

@@ -127,7 +127,7 @@ impl CycleWork {
     }
 
     fn summary(&self, c: &Cycle) -> LastCycle {
-        let (lo, hi) = c.range(0);
+        let (lo, hi) = c.range(&self.log, 0);
         let mut params = self.params;
         params.kappa = c.p[Param::Kappa as usize];
         LastCycle {

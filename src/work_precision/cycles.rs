@@ -226,7 +226,7 @@ fn solve(
     let run = || correct(fine.remesh(mesh_for(&orbit)));
     let solved = run()?;
     let seconds = time_it(run);
-    let (lo, hi) = solved.range(0);
+    let (lo, hi) = solved.range(log, 0);
     Ok((seconds, solved.period, hi - lo))
 }
 
