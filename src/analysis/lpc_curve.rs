@@ -141,16 +141,17 @@ pub fn lpc_curves(
     out
 }
 
-/// The curve of folds of cycles through the fold `fold` (an orbit of `log`
-/// at a fold in `kappa`, e.g. one located on a cycle branch), continued in
-/// `(kappa, nu)` both ways within `nu` in `(lo, hi)` on the fold's own mesh.
+/// The curve of folds of cycles through the fold `fold` (an orbit at a fold
+/// in `kappa` in the variables of [`LogBlock::centered`] for `kind` and
+/// `params`, as the cycle branches give it), continued in `(kappa, nu)`
+/// both ways within `nu` in `(lo, hi)` on the fold's own mesh.
 pub fn lpc_curve_through(
     kind: ModelKind,
     params: &Params,
     fold: &Cycle,
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
-    let log = LogBlock::new(kind, params);
+    let log = LogBlock::centered(kind, params);
     let (curve, stops) = trace_through(&log, fold, (lo, hi), &|_| false);
     LpcCurves {
         points: vec![curve],

@@ -83,10 +83,7 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
 fn prepare(case: &Case) -> Result<(LogBlock, Cycle, ReferenceCycle), Error> {
     let mut params = crate::scene::load(crate::scene::DEFAULT_SCENE)?.params;
     params.m = case.m;
-    let log = LogBlock {
-        kind: case.kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::centered(case.kind, &params);
     let fine = resolved_orbit(&log, &params, case.fraction)?;
     let mut at = params;
     at.kappa = fine.p[Param::Kappa as usize];

@@ -72,7 +72,8 @@ pub struct CycleSettings {
     /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
     pub start_amplitude: f64,
     /// Largest acceptable estimate of an orbit's discretization error
-    /// (relative, see `refine`) before the mesh is refined. Default `1e-8`.
+    /// (relative to the period and the amplitudes, see `refine`) before the
+    /// mesh is refined. Default `1e-8`.
     pub mesh_tol: f64,
     /// Most mesh intervals the refinement may use. Default 400.
     pub ntst_max: usize,
@@ -215,9 +216,10 @@ pub struct CyclePoint {
     /// orbit's transient growth (not a measure of the mesh). Infinite when
     /// the pencil did not determine the trivial multiplier.
     pub trivial_error: f64,
-    /// Estimated discretization error (relative) of the period and of the
-    /// extremes of every component; while far below `mesh_tol` it is renewed
-    /// every fifth orbit, and the last estimate is reported in between.
+    /// Estimated discretization error of the period (relative) and of the
+    /// extremes of every observable (relative to its amplitude), at the
+    /// orbit's own parameter (see `refine`); while far below `mesh_tol` it is
+    /// renewed every fifth orbit, and the last estimate is reported in between.
     pub error_estimate: f64,
     /// Multipliers outside the unit circle by more than their error
     /// ([`multiplier_error`]), the trivial one excluded.
