@@ -90,9 +90,12 @@ impl VectorField for LogBlock {
             ModelKind::Inertial => x[1],
             ModelKind::QuasiStatic => gap0 / law.a,
         };
-        out[0] = kappa * ((nu - ew_o) - x_w.exp_m1() * ew_o);
-        out[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - x_w.exp_m1() * ew_o + (ephi_o - ew_o);
+        // v - e^w_o = e^w_o expm1(x_w)
+        let dv = x_w.exp_m1() * ew_o;
+        out[0] = kappa * ((nu - ew_o) - dv);
+        out[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
         if self.kind == ModelKind::Inertial {
+            // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
             out[1] = (gap0 - law.a * x_w) / (p[Param::M as usize] * v);
         }

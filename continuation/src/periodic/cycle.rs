@@ -78,19 +78,30 @@ impl Cycle {
     pub fn range_of<S: VectorField>(&self, sys: &S, g: impl Fn(&[f64]) -> f64) -> (f64, f64) {
         let per = 8;
         let ntst = self.mesh.ntst();
-        let taus: Vec<(usize, usize)> = (0..ntst)
-            .flat_map(|i| (0..per).map(move |s| (i, s)))
+        let m = self.mesh.degree;
+        // The samples at the same local positions s / per of every interval.
+        let basis: Vec<_> = (0..per)
+            .map(|s| lagrange_values(m, s as f64 / per as f64))
             .collect();
-        let tau = |(i, s): (usize, usize)| {
-            self.mesh.t[i] + (self.mesh.t[i + 1] - self.mesh.t[i]) * s as f64 / per as f64
-        };
-        let values: Vec<f64> = taus.iter().map(|&k| g(&self.state_at(tau(k)))).collect();
+        let mut x = vec![0.0; self.n];
+        let mut values = Vec::with_capacity(ntst * per);
+        for i in 0..ntst {
+            for b in &basis {
+                x.fill(0.0);
+                for (l, bl) in b.iter().enumerate() {
+                    for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
+                        *xj += bl * uj;
+                    }
+                }
+                values.push(g(&x));
+            }
+        }
         let stepper = Stepper::new(sys, self);
         let pick = |sign: f64| {
-            let best = (0..taus.len())
+            let best = (0..values.len())
                 .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
                 .unwrap_or(0);
-            let (i, s) = taus[best];
+            let (i, s) = (best / per, best % per);
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
             let f = |i: usize, delta: f64| sign * g(&stepper.state(i, delta));
             // The samples next to the best one bracket the extreme; at the
