@@ -278,7 +278,7 @@ class Settings:
         self.newton_tol = 10.0 ** (-(dps - 12)) if dps else 1e-12
 
 
-def return_map(block, z, st, scale, record=False, t_max=None):
+def return_map(block, z, st, scale):
     """Integrates from the section point z (w = 0 crossing upward) to the next
     upward crossing. Returns (z', T, extremes) with extremes = (y_min, w_min,
     w_max, t_ymin)."""
@@ -329,8 +329,6 @@ def return_map(block, z, st, scale, record=False, t_max=None):
                 return zr, t + r, (y_min, w_lo, w_hi, t_ymin)
         x = [poly(c, h) for c in state]
         t = t + h
-        if t_max is not None and t > t_max:
-            raise RuntimeError("no return within t_max")
 
 
 def solve_lin(J, r, ar):
@@ -352,7 +350,7 @@ def solve_lin(J, r, ar):
     return xs
 
 
-def shoot(block, z, st, scale, fd_step, max_iter=30, verbose=False, iterations=None):
+def shoot(block, z, st, scale, fd_step, max_iter=30, iterations=None):
     """Newton on P(z) - z (until converged, or exactly `iterations` steps).
     Returns (z, T, extremes, dP/dz)."""
     ar = block.ar
@@ -374,8 +372,6 @@ def shoot(block, z, st, scale, fd_step, max_iter=30, verbose=False, iterations=N
         dzs = solve_lin(J, [-f for f in F], ar)
         size = max(abs(dzs[i]) / zsc[i] for i in range(n))
         z = [z[i] + dzs[i] for i in range(n)]
-        if verbose:
-            print(f"    newton {it}: |dz|/scale = {float(size):.3e}", flush=True)
         # at 40 digits the amplitude near onset keeps about 30 (conditioning 1/(1 - mu))
         converged = size < st.newton_tol or (iterations is not None and it + 1 == iterations)
         # double precision: stop when the step no longer shrinks
