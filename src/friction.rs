@@ -49,6 +49,25 @@ impl<T: Scalar> FrictionLaw<T> {
         }
     }
 
+    /// The change of the ageing term when `ln theta` moves from `ln_theta0`
+    /// by `d`, `ageing(e^(ln_theta0 + d)) - ageing(e^ln_theta0)`, written so
+    /// that no two large terms cancel (it is as accurate, relatively, as `d`
+    /// is small):
+    ///
+    /// ```text
+    /// B d + mu2 d (2 ln_theta0 + d)                            (logarithmic forms)
+    /// B ln_1p( e^ln_theta0 expm1(d) / (theta_c + e^ln_theta0) )   (cutoff)
+    /// ```
+    pub fn ageing_change(&self, ln_theta0: T, d: T) -> T {
+        match self.ageing {
+            Ageing::Log { b, mu2 } => b * d + mu2 * d * (ln_theta0 * 2.0 + d),
+            Ageing::Cutoff { b, theta_c } => {
+                let theta0 = ln_theta0.exp();
+                b * (theta0 * d.exp_m1() / (theta_c + theta0)).ln_1p()
+            }
+        }
+    }
+
     /// `mu_phi = d mu / d ln theta` at age `theta` (seed, Appendix C):
     /// `B + 2 mu2 ln theta`, or `B theta / (theta + theta_c)` with the cutoff.
     pub fn mu_phi(&self, theta: T) -> T {
@@ -130,6 +149,45 @@ mod tests {
                 assert!(
                     (fd - exact).abs() <= 1e-8 * exact.abs().max(1e-3),
                     "{fd} vs {exact}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn ageing_change_is_the_difference_of_ageing_terms() {
+        // Against the plain difference where it does not cancel (d of order
+        // one), and for small d against d * mu_phi(theta0) + d^2/2 * the
+        // second log-derivative (d = 1e-9: the plain difference would keep
+        // only 7 digits there).
+        for law in [
+            ln2_law(),
+            FrictionLaw {
+                mu0: 0.6,
+                a: 0.012,
+                ageing: Ageing::Cutoff {
+                    b: 0.023,
+                    theta_c: 0.3,
+                },
+            },
+        ] {
+            for ln0 in [-3.0f64, 0.0, 2.5] {
+                for d in [-1.5, 0.7] {
+                    let plain = law.ageing_term((ln0 + d).exp()) - law.ageing_term(ln0.exp());
+                    assert!(
+                        (law.ageing_change(ln0, d) - plain).abs() < 1e-14,
+                        "{ln0} {d}"
+                    );
+                }
+                let d = 1e-9;
+                let h: f64 = 1e-4;
+                let second =
+                    (law.mu_phi((ln0 + h).exp()) - law.mu_phi((ln0 - h).exp())) / (2.0 * h);
+                let taylor = d * law.mu_phi(ln0.exp()) + 0.5 * d * d * second;
+                assert!(
+                    (law.ageing_change(ln0, d) / taylor - 1.0).abs() < 1e-14,
+                    "{ln0}: {} vs {taylor}",
+                    law.ageing_change(ln0, d)
                 );
             }
         }

@@ -11,20 +11,45 @@
 //! ```
 //!
 //! and quasi-statically `(s, phi)` with `w = (s - mu0 - ageing(e^phi)) / A`.
-//! Orbits are reported back in docs/model.md's variables (`v = e^w`,
-//! `theta = e^phi`); the spring force `s`, the period and the multipliers do
-//! not depend on the choice of variables.
+//!
+//! The state is measured from an origin `(s_o, w_o, phi_o)`
+//! ([`LogBlock::origin`]): `x = (s - s_o, w - w_o, phi - phi_o)` (quasi-static
+//! `(s - s_o, phi - phi_o)`). With the origin at steady sliding
+//! ([`LogBlock::centered`]) a small cycle is a small state, and the right-hand
+//! side is evaluated without cancelling large terms:
+//!
+//! ```text
+//! ds/dt   = kappa ((nu - e^w_o) - e^w_o expm1(x_w))
+//! dw/dt   = (x_s + c - A x_w - ageing_change(phi_o, x_phi)) / (m e^w)
+//! dphi/dt = (e^-phi_o - e^w_o) + e^-phi_o expm1(-x_phi) - e^w_o expm1(x_w)
+//! c       = s_o - mu0 - A w_o - ageing(e^phi_o)
+//! ```
+//!
+//! ([`FrictionLaw::ageing_change`]; quasi-statically
+//! `x_w = (x_s + c - ageing_change(phi_o, x_phi)) / A`). `c` and the
+//! bracketed constants vanish at steady sliding; near onset a cycle of
+//! amplitude `a` is then resolved relative to `a`, not to `mu0` and `ln nu`,
+//! which matters because the amplitude at fixed stiffness is
+//! ill-conditioned there (a relative error `delta` in the right-hand side
+//! moves `Delta_s` by about `delta / (2 (kappa_c - kappa) / kappa_c)`).
+//! Orbits are reported back in docs/model.md's variables (`s = s_o + x_s`,
+//! `v = e^(w_o + x_w)`, `theta = e^(phi_o + x_phi)`); the period and the
+//! multipliers do not depend on the choice of variables.
 
+use crate::friction::FrictionLaw;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params, N_PARAMS};
 use continuation::{Scalar, VectorField};
 
-/// The inertial or quasi-static block in `(s, ln v, ln theta)` / `(s, ln theta)`.
+/// The inertial or quasi-static block in `(s, ln v, ln theta)` / `(s, ln theta)`
+/// measured from `origin`.
 #[derive(Clone, Copy, Debug)]
 pub struct LogBlock {
     pub kind: ModelKind,
     /// Cutoff ageing form.
     pub cutoff: bool,
+    /// The point `(s_o, ln v_o, ln theta_o)` the state is measured from.
+    pub origin: [f64; 3],
 }
 
 impl VectorField for LogBlock {
@@ -37,69 +62,119 @@ impl VectorField for LogBlock {
     fn n_params(&self) -> usize {
         N_PARAMS
     }
+    /// The spring force (measured from `s_o`: the same differences and
+    /// amplitude, without rounding against `s_o`) and the logarithm of the
+    /// slip velocity, whose extremes a cycle reports (`s_min`, `s_max`,
+    /// `v_min`, `v_max`).
+    fn n_observables(&self) -> usize {
+        2
+    }
+
+    fn observable(&self, k: usize, x: &[f64], p: &[f64]) -> f64 {
+        match k {
+            0 => x[0],
+            _ => self.ln_velocity(x, p),
+        }
+    }
+
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         crate::model::count_eval::<D>();
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
-        match self.kind {
-            ModelKind::Inertial => {
-                let (s, w, phi) = (x[0], x[1], x[2]);
-                let v = w.exp();
-                let mu = law.mu0 + law.a * w + law.ageing_term(phi.exp());
-                out[0] = kappa * (nu - v);
-                out[1] = (s - mu) / (p[Param::M as usize] * v);
-                out[2] = (-phi).exp() - v;
-            }
-            ModelKind::QuasiStatic => {
-                let (s, phi) = (x[0], x[1]);
-                let w = (s - law.mu0 - law.ageing_term(phi.exp())) / law.a;
-                let v = w.exp();
-                out[0] = kappa * (nu - v);
-                out[1] = (-phi).exp() - v;
-            }
+        let [_, w_o, phi_o] = self.origin;
+        let (ew_o, ephi_o) = (w_o.exp(), (-phi_o).exp());
+        let (x_s, x_phi) = (x[0], x[self.dim() - 1]);
+        // s - mu(v, theta) = x_s + gap0 - A x_w, and quasi-statically 0.
+        let gap0 = self.offset(&law) - law.ageing_change(D::from(phi_o), x_phi) + x_s;
+        let x_w = match self.kind {
+            ModelKind::Inertial => x[1],
+            ModelKind::QuasiStatic => gap0 / law.a,
+        };
+        // v - e^w_o = e^w_o expm1(x_w)
+        let dv = x_w.exp_m1() * ew_o;
+        out[0] = kappa * ((nu - ew_o) - dv);
+        out[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
+        if self.kind == ModelKind::Inertial {
+            // v itself from its logarithm: relatively exact also at 1e-13.
+            let v = (x_w + w_o).exp();
+            out[1] = (gap0 - law.a * x_w) / (p[Param::M as usize] * v);
         }
     }
 }
 
 impl LogBlock {
-    /// The block of `kind` with the ageing form of `params`.
+    /// The block of `kind` with the ageing form of `params`, in the log
+    /// variables themselves (origin 0), as the simulations integrate it.
     pub fn new(kind: ModelKind, params: &Params) -> Self {
         LogBlock {
             kind,
             cutoff: params.theta_c.is_some(),
+            origin: [0.0; 3],
         }
+    }
+
+    /// The block measured from steady sliding of `params`,
+    /// `(mu(nu, 1/nu), ln nu, -ln nu)`: the variables of the cycle branches,
+    /// where a cycle near onset is a small oscillation about that point.
+    pub fn centered(kind: ModelKind, params: &Params) -> Self {
+        let law = friction_from(params.theta_c.is_some(), &params.to_vec());
+        let ln_nu = params.nu.ln();
+        LogBlock {
+            origin: [law.steady(params.nu), ln_nu, -ln_nu],
+            ..LogBlock::new(kind, params)
+        }
+    }
+
+    /// `c = s_o - mu0 - A w_o - ageing(e^phi_o)`: the friction gap `s - mu`
+    /// at the origin (zero at steady sliding, up to rounding).
+    fn offset<D: Scalar>(&self, law: &FrictionLaw<D>) -> D {
+        let [s_o, w_o, phi_o] = self.origin;
+        -law.mu0 - law.a * w_o - law.ageing_term(D::from(phi_o.exp())) + s_o
     }
 
     /// A state in docs/model.md's variables `(s, v, theta)` as this model's state.
     pub fn from_model(&self, s: f64, v: f64, theta: f64) -> Vec<f64> {
+        let [s_o, w_o, phi_o] = self.origin;
         match self.kind {
-            ModelKind::Inertial => vec![s, v.ln(), theta.ln()],
-            ModelKind::QuasiStatic => vec![s, theta.ln()],
+            ModelKind::Inertial => vec![s - s_o, v.ln() - w_o, theta.ln() - phi_o],
+            ModelKind::QuasiStatic => vec![s - s_o, theta.ln() - phi_o],
         }
     }
 
-    /// `ln v` of this model's state: the state's second entry when inertial,
-    /// `(s - mu0 - ageing(theta)) / A` when quasi-static.
+    /// `ln v` of this model's state: `w_o` plus the state's second entry when
+    /// inertial, `w_o + (x_s + c - ageing_change(phi_o, x_phi)) / A` when
+    /// quasi-static.
     pub fn ln_velocity(&self, x: &[f64], p: &[f64]) -> f64 {
+        let [_, w_o, phi_o] = self.origin;
         match self.kind {
-            ModelKind::Inertial => x[1],
+            ModelKind::Inertial => w_o + x[1],
             ModelKind::QuasiStatic => {
                 let law = friction_from(self.cutoff, p);
-                (x[0] - law.mu0 - law.ageing_term(x[1].exp())) / law.a
+                w_o + (x[0] + self.offset(&law) - law.ageing_change(phi_o, x[1])) / law.a
             }
         }
+    }
+
+    /// The spring force `s = s_o + x_s` of this model's state.
+    pub fn spring_force(&self, x: &[f64]) -> f64 {
+        self.origin[0] + x[0]
     }
 
     /// This model's state as `(s, v, theta)` (the slaved velocity when quasi-static).
     pub fn to_model(&self, x: &[f64], p: &[f64]) -> [f64; 3] {
-        match self.kind {
-            ModelKind::Inertial => [x[0], x[1].exp(), x[2].exp()],
-            ModelKind::QuasiStatic => {
-                let law = friction_from(self.cutoff, p);
-                let theta = x[1].exp();
-                [x[0], law.slip_velocity(x[0], theta), theta]
-            }
-        }
+        let phi = self.origin[2] + x[self.dim() - 1];
+        [
+            self.spring_force(x),
+            self.ln_velocity(x, p).exp(),
+            phi.exp(),
+        ]
+    }
+
+    /// The state `x` of `other` (the same block measured from another
+    /// origin) in this block's variables.
+    pub fn from_other(&self, other: &LogBlock, x: &[f64], p: &[f64]) -> Vec<f64> {
+        let [s, v, theta] = other.to_model(x, p);
+        self.from_model(s, v, theta)
     }
 }
 
@@ -112,7 +187,68 @@ mod tests {
 
     #[test]
     fn log_model_is_the_model_in_other_variables() {
-        // x_log' = (dx_log/dx) x': w' = v'/v, phi' = theta'/theta.
+        // x_log' = (dx_log/dx) x': w' = v'/v, phi' = theta'/theta, from either
+        // origin, for both ageing forms.
+        let ln2 = Params {
+            kappa: 0.02,
+            nu: 3.0,
+            m: 0.1,
+            a: 0.01,
+            b: 0.02,
+            mu0: 0.6,
+            mu2: 5e-4,
+            theta_c: None,
+        };
+        let cutoff = Params {
+            mu2: 0.0,
+            theta_c: Some(0.4),
+            ..ln2
+        };
+        for p in [ln2, cutoff] {
+            for kind in [ModelKind::Inertial, ModelKind::QuasiStatic] {
+                for log in [LogBlock::new(kind, &p), LogBlock::centered(kind, &p)] {
+                    let lin = DrivenBlock::new(kind, &p);
+                    let (s, theta) = (0.55, 2.3);
+                    // The quasi-static velocity is slaved to s and theta.
+                    let v = match kind {
+                        ModelKind::Inertial => 0.7,
+                        ModelKind::QuasiStatic => {
+                            friction_from(p.theta_c.is_some(), &p.to_vec()).slip_velocity(s, theta)
+                        }
+                    };
+                    let xl = log.from_model(s, v, theta);
+                    let fl = eval(&log, &xl, &p.to_vec());
+                    let xm: Vec<f64> = match kind {
+                        ModelKind::Inertial => vec![s, v, theta],
+                        ModelKind::QuasiStatic => vec![s, theta],
+                    };
+                    let fm = eval(&lin, &xm, &p.to_vec());
+                    let m = log.to_model(&xl, &p.to_vec());
+                    match kind {
+                        ModelKind::Inertial => {
+                            assert!((fl[1] - fm[1] / v).abs() < 1e-12 * fl[1].abs().max(1.0));
+                            assert!((fl[2] - fm[2] / theta).abs() < 1e-13);
+                        }
+                        ModelKind::QuasiStatic => {
+                            assert!((fl[1] - fm[1] / theta).abs() < 1e-13)
+                        }
+                    }
+                    assert!((fl[0] - fm[0]).abs() < 1e-15);
+                    assert!((m[0] - s).abs() < 1e-15);
+                    assert!((m[1] / v - 1.0).abs() < 1e-13);
+                    assert!((m[2] / theta - 1.0).abs() < 1e-13);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn steady_sliding_is_the_origin_of_the_centered_block() {
+        // The vector field vanishes there up to rounding, and a small
+        // deviation changes it by a small amount, resolved relative to the
+        // deviation: against the Jacobian at the origin for deviations of
+        // 1e-12 (with the log variables themselves, nu - e^w and
+        // e^-phi - e^w would lose all but 4 digits of it).
         let p = Params {
             kappa: 0.02,
             nu: 3.0,
@@ -124,29 +260,22 @@ mod tests {
             theta_c: None,
         };
         for kind in [ModelKind::Inertial, ModelKind::QuasiStatic] {
-            let log = LogBlock {
-                kind,
-                cutoff: false,
-            };
-            let lin = DrivenBlock::new(kind, &p);
-            let (s, v, theta) = (0.55, 0.7, 2.3);
-            let xl = log.from_model(s, v, theta);
-            let fl = eval(&log, &xl, &p.to_vec());
-            let xm: Vec<f64> = match kind {
-                ModelKind::Inertial => vec![s, v, theta],
-                ModelKind::QuasiStatic => vec![s, theta],
-            };
-            let fm = eval(&lin, &xm, &p.to_vec());
-            let m = log.to_model(&xl, &p.to_vec());
-            match kind {
-                ModelKind::Inertial => {
-                    assert!((fl[1] - fm[1] / v).abs() < 1e-12 * fl[1].abs().max(1.0));
-                    assert!((fl[2] - fm[2] / theta).abs() < 1e-13);
-                }
-                ModelKind::QuasiStatic => assert!((fl[1] - fm[1] / theta).abs() < 1e-13),
+            let log = LogBlock::centered(kind, &p);
+            let n = log.dim();
+            let zero = vec![0.0; n];
+            let f0 = eval(&log, &zero, &p.to_vec());
+            assert!(f0.iter().all(|v| v.abs() < 1e-14), "{f0:?}");
+            let jac = continuation::system::jacobian(&log, &zero, &p.to_vec());
+            let dx: Vec<f64> = (0..n).map(|j| 1e-12 * (j as f64 + 1.0)).collect();
+            let f = eval(&log, &dx, &p.to_vec());
+            for i in 0..n {
+                let lin: f64 = (0..n).map(|j| jac[(i, j)] * dx[j]).sum();
+                let change = f[i] - f0[i];
+                assert!(
+                    (change - lin).abs() < 1e-9 * lin.abs(),
+                    "{i}: {change} vs {lin}"
+                );
             }
-            assert!((fl[0] - fm[0]).abs() < 1e-15);
-            assert!((m[2] - theta).abs() < 1e-13);
         }
     }
 }

@@ -5,7 +5,7 @@ use continuation::newton::NewtonSettings;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::lpc::locate_lpc;
 use continuation::periodic::mesh::CollocationPoints;
-use stickslip::analysis::cycles::hopf_start;
+use stickslip::analysis::cycles::{hopf_start, start_amplitude};
 use stickslip::analysis::diagram::stability_diagram;
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
 use stickslip::analysis::lpc_curve::{lpc_curve_through, LpcCurvePoint};
@@ -28,10 +28,11 @@ fn brockley(nu: f64) -> Params {
     }
 }
 
-const LOG: LogBlock = LogBlock {
-    kind: ModelKind::Inertial,
-    cutoff: true,
-};
+/// The inertial block of `p` in the variables of the cycle branches
+/// (measured from steady sliding), those `lpc_curve_through` takes its fold in.
+fn log(p: &Params) -> LogBlock {
+    LogBlock::centered(ModelKind::Inertial, p)
+}
 
 /// The fold on the branch of cycles born at the Hopf point of `p` (route 1:
 /// sign change of dp/ds, located by regula falsi) and the orbit before it.
@@ -44,17 +45,19 @@ fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, Cy
     let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, p).unwrap() else {
         panic!("no Hopf point at nu = {}", p.nu)
     };
-    let (x0, pv) = hopf_start(&LOG, p, &h);
+    let log = log(p);
+    let (x0, pv) = hopf_start(&log, p, &h);
     let settings = CycleSettings {
         ntst: 40,
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
         param_floor: 1e-3 * h.kappa_c,
         points,
+        start_amplitude: start_amplitude(&log),
         ..Default::default()
     };
     let branch =
-        CycleBranch::from_hopf(&LOG, &x0, h.omega_c, &pv, Param::Kappa as usize, settings).unwrap();
+        CycleBranch::from_hopf(&log, &x0, h.omega_c, &pv, Param::Kappa as usize, settings).unwrap();
     let mut previous = None;
     for pt in branch {
         let pt = pt.unwrap();
@@ -76,10 +79,15 @@ fn fold_of_cycles_by_two_routes_and_against_auto() {
         residual_tol: 1e-10,
         max_iter: 20,
     };
-    let route2 = locate_lpc(&LOG, &before.cycle, Param::Kappa as usize, &newton)
-        .unwrap()
-        .cycle
-        .p[Param::Kappa as usize];
+    let route2 = locate_lpc(
+        &log(&brockley(90.0)),
+        &before.cycle,
+        Param::Kappa as usize,
+        &newton,
+    )
+    .unwrap()
+    .cycle
+    .p[Param::Kappa as usize];
     assert!(
         ((route1 - route2) / route1).abs() < 1e-8,
         "route 1: {route1}, route 2: {route2}"

@@ -30,6 +30,20 @@ pub trait VectorField {
     /// Writes `f(x, p)` into `out` (length [`dim`](Self::dim)).
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]);
 
+    /// Number of observables: the scalar functions of the state whose
+    /// extremes along a periodic orbit are reported, and whose accuracy the
+    /// cycle branches control (with the period). Default: the components
+    /// of the state.
+    fn n_observables(&self) -> usize {
+        self.dim()
+    }
+
+    /// Observable `k` (below [`n_observables`](Self::n_observables)) at
+    /// `(x, p)`. Default: the component `x_k`.
+    fn observable(&self, k: usize, x: &[f64], _p: &[f64]) -> f64 {
+        x[k]
+    }
+
     /// Writes the Jacobian `J_ij = d f_i / d x_j` into `jac`. The default
     /// differentiates [`rhs`](Self::rhs) with dual numbers, one column per
     /// evaluation; a system may override it with a hand-written one.

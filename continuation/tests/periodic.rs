@@ -48,7 +48,7 @@ fn stuart_landau_cycles_radius_period_and_multipliers() {
         let pt = pt.unwrap();
         let c = &pt.cycle;
         let beta = c.p[0];
-        let (lo, hi) = c.range(0);
+        let (lo, hi) = c.range(&sys, 0);
         let period = 2.0 * std::f64::consts::PI / (2.0 + 0.5 * beta);
         assert!(
             (c.period / period - 1.0).abs() < 1e-9,
@@ -110,7 +110,7 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
     let mut last_r2 = 0.0;
     for pt in branch {
         let pt = pt.unwrap();
-        let (lo, hi) = pt.cycle.range(0);
+        let (lo, hi) = pt.cycle.range(&sys, 0);
         let r2 = (0.5 * (hi - lo)).powi(2);
         let beta = pt.cycle.p[0];
         assert!(
@@ -141,7 +141,7 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
     );
     assert_eq!(lpcs.len(), 1);
     let lpc = &lpcs[0];
-    let (lo, hi) = lpc.cycle.range(0);
+    let (lo, hi) = lpc.cycle.range(&sys, 0);
     assert!(
         (lpc.cycle.p[0] + 0.25).abs() < 1e-10,
         "LPC at beta = {}",
@@ -283,7 +283,7 @@ fn user_points_land_exactly_on_the_requested_parameters() {
             "landed at {}",
             u.cycle.p[0]
         );
-        let (lo, hi) = u.cycle.range(0);
+        let (lo, hi) = u.cycle.range(&sys, 0);
         assert!((0.5 * (hi - lo) / f64::sqrt(beta) - 1.0).abs() < 1e-8);
     }
 }
@@ -355,7 +355,7 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
         second.p[0]
     );
     assert!((first.p[0] - second.p[0]).abs() < 1e-8 * exact.abs());
-    let (lo, hi) = second.range(0);
+    let (lo, hi) = second.range(&sys, 0);
     assert!(((0.5 * (hi - lo)).powi(2) - alpha / 2.0).abs() < 1e-6);
     // The curve of folds, both ways: on beta = -alpha^2/4 up to alpha = 2, and
     // down to the Bautin point, where the cycles shrink to nothing.
@@ -377,7 +377,7 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
                 "alpha = {a}: beta = {beta} vs {}",
                 -a * a / 4.0
             );
-            let (lo, hi) = c.range(0);
+            let (lo, hi) = c.range(&sys, 0);
             assert!(
                 ((0.5 * (hi - lo)).powi(2) - a / 2.0).abs() < 1e-5,
                 "radius at alpha = {a}"
@@ -500,4 +500,69 @@ fn undecidable_stability_is_a_typed_error() {
             .collect();
     let err = outcome.expect_err("stability is undecidable").to_string();
     assert!(err.contains("can no longer decide its stability"), "{err}");
+}
+
+/// Largest `x` on the van der Pol cycle at `mu = 1`, by shooting in 30-digit
+/// arithmetic (mpmath's Taylor integrator `odefun`, Newton on the return map
+/// to the section `y = 0`): 2.0086198608748431365.
+const VDP_AMPLITUDE: f64 = 2.008_619_860_874_843;
+
+#[test]
+fn extremes_converge_at_the_order_of_the_mesh_points() {
+    // Read off the collocation polynomials, the largest x of the van der Pol
+    // cycle converges at O(h^(m+1)) only (and irregularly: it depends on
+    // where in its interval the extreme falls); `Cycle::range` (one
+    // collocation step from the mesh point before the extreme) at the order
+    // of the mesh points, 2m with Gauss and 2m - 1 with Radau points.
+    for (points, order) in [
+        (CollocationPoints::Gauss, 8.0),
+        (CollocationPoints::Radau, 7.0),
+    ] {
+        let errors = |n: usize| {
+            let c = vdp_cycle(n, 4, points).cycle;
+            let (lo, hi) = c.range(&VanDerPol, 0);
+            let poly = c
+                .samples(64)
+                .iter()
+                .map(|(_, x)| x[0])
+                .fold(f64::NEG_INFINITY, f64::max);
+            (
+                (hi - VDP_AMPLITUDE).abs().max((lo + VDP_AMPLITUDE).abs()),
+                (poly - VDP_AMPLITUDE).abs(),
+            )
+        };
+        let ((r40, _), (r80, p80)) = (errors(40), errors(80));
+        let observed = (r40 / r80).log2();
+        assert!(
+            (observed - order).abs() < 0.6,
+            "{points:?}: observed order {observed} ({r40:e}, {r80:e})"
+        );
+        assert!(
+            p80 > 10.0 * r80,
+            "{points:?}: polynomial {p80:e}, range {r80:e}"
+        );
+    }
+}
+
+#[test]
+fn a_step_over_a_whole_interval_is_the_orbits_own() {
+    // `Cycle::step_from_node` solves the collocation equations of one
+    // interval from its first mesh point: over the whole interval they are
+    // the orbit's, and the step ends on the next mesh point.
+    for points in [CollocationPoints::Gauss, CollocationPoints::Radau] {
+        let c = vdp_cycle(30, 4, points).cycle;
+        for i in [0, 7, 29] {
+            let h = c.mesh.t[i + 1] - c.mesh.t[i];
+            let end = c.step_from_node(&VanDerPol, i, h);
+            let next = c.node(c.mesh.node(i + 1, 0));
+            for j in 0..2 {
+                assert!(
+                    (end[j] - next[j]).abs() < 1e-13,
+                    "{points:?}, interval {i}: {} vs {}",
+                    end[j],
+                    next[j]
+                );
+            }
+        }
+    }
 }

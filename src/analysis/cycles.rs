@@ -16,7 +16,7 @@ pub use continuation::periodic::branch::{BranchEnd, Stability};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
-use continuation::Complex64;
+use continuation::{Complex64, VectorField};
 
 /// Which continuation a cycle comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,7 +51,9 @@ pub struct CycleRecord {
     /// growth of perturbations along stiff cycles); `None` when the pencil
     /// did not determine the trivial multiplier ([`TRIVIAL_UNAVAILABLE`]).
     pub trivial_error: Option<f64>,
-    /// Estimated relative discretization error of the period and extremes
+    /// Estimated discretization error of the period (relative) and of the
+    /// extremes of `s` and `ln v` (relative to their amplitudes,
+    /// `Delta_s` and `ln(v_max / v_min)`), at this cycle's stiffness
     /// (comparison with the orbit on half the mesh); `None` when the orbit
     /// could not be solved on half the mesh ([`ESTIMATE_UNAVAILABLE`]).
     pub error_estimate: Option<f64>,
@@ -78,8 +80,10 @@ pub struct CycleRecord {
     pub user_point: bool,
     /// The continuation it belongs to.
     pub leg: Leg,
-    /// For a fold of cycles: its orbit in the model's log variables, to
-    /// continue the fold in two parameters ([`crate::analysis::lpc_curve::lpc_curve_through`]).
+    /// For a fold of cycles: its orbit in the variables of
+    /// [`LogBlock::centered`] (log variables measured from steady sliding),
+    /// to continue the fold in two parameters
+    /// ([`crate::analysis::lpc_curve::lpc_curve_through`]).
     pub orbit: Option<Cycle>,
 }
 
@@ -284,26 +288,16 @@ pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
 
 fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> CycleRecord {
     let c = &pt.cycle;
-    let (s_min, s_max) = c.range(0);
-    let (v_min, v_max) = match log.kind {
-        ModelKind::Inertial => {
-            let (lo, hi) = c.range(1);
-            (lo.exp(), hi.exp())
-        }
-        ModelKind::QuasiStatic => {
-            let vs: Vec<f64> = c
-                .samples(8)
-                .iter()
-                .map(|(_, x)| log.to_model(x, &c.p)[1])
-                .collect();
-            vs.iter()
-                .fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)))
-        }
-    };
+    // Extremes of the observables (the spring force from the origin, ln v)
+    // to the accuracy of the mesh points (`Cycle::range_of`).
+    let (x_min, x_max) = c.range_of(log, |x| log.observable(0, x, &c.p));
+    let (s_min, s_max) = (log.origin[0] + x_min, log.origin[0] + x_max);
+    let (ln_v_min, ln_v_max) = c.range_of(log, |x| log.observable(1, x, &c.p));
+    let (v_min, v_max) = (ln_v_min.exp(), ln_v_max.exp());
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],
         period: c.period,
-        delta_s: s_max - s_min,
+        delta_s: x_max - x_min,
         s_min,
         s_max,
         v_min,
@@ -381,7 +375,7 @@ pub fn trace_cycles_from(
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<BranchEnd, crate::error::Error> {
-    let log = LogBlock::new(kind, params);
+    let log = LogBlock::centered(kind, params);
     let (x0, p) = hopf_start(&log, params, h);
     let branch = CycleBranch::from_hopf(
         &log,
@@ -389,7 +383,10 @@ pub fn trace_cycles_from(
         h.omega_c,
         &p,
         Param::Kappa as usize,
-        settings(kind, req, req.ntst),
+        CycleSettings {
+            start_amplitude: start_amplitude(&log),
+            ..settings(kind, req, req.ntst)
+        },
     )
     .map_err(NumericalError::from)?;
     follow_switching(&log, branch, Leg::FromHopf, 0, req, watch, &mut sink)
@@ -416,7 +413,7 @@ pub fn trace_cycles_from_orbit(
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
-    let log = LogBlock::new(kind, params);
+    let log = LogBlock::centered(kind, params);
     let ntst = req.ntst.max(SAMPLED_NTST);
     let guess = sampled_cycle(&log, params, orbit, ntst, 1e-10)
         .map_err(|e| NumericalError::Analysis(e.to_string()))?;
@@ -443,6 +440,15 @@ pub fn trace_cycles_from_orbit(
     Ok(legs)
 }
 
+/// Relative amplitude of the first cycle off the Hopf point
+/// ([`CycleSettings::start_amplitude`], relative to `1 + |x0|`) in the
+/// variables of `log`: `1e-3 (1 + max |origin|)`, so that the first cycle is
+/// the engine's default `1e-3 (1 + |x*|)` of steady sliding `x*` in the log
+/// variables themselves, whatever the origin the state is measured from.
+pub fn start_amplitude(log: &LogBlock) -> f64 {
+    1e-3 * (1.0 + log.origin.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+}
+
 /// Continuation settings for `req`, starting on `ntst` intervals.
 fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
     CycleSettings {
@@ -463,7 +469,11 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
         ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
-        mesh_tol: 1e-7,
+        // Relative to the amplitudes, at the cycle's stiffness: with it the
+        // period and Delta_s agree with an independent reference to 2e-10 from
+        // (kappa_c - kappa)/kappa_c = 1e-5 to 0.5 (tests/onset_accuracy.rs,
+        // docs/cycles.md); 1e-7 left errors up to 3e-9.
+        mesh_tol: 1e-9,
         mesh_accept: 1e-4,
         ..Default::default()
     }

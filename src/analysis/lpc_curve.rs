@@ -44,8 +44,8 @@ pub struct LpcCurves {
     pub incomplete: bool,
 }
 
-fn record(c: &Cycle) -> LpcCurvePoint {
-    let (lo, hi) = c.range(0);
+fn record(log: &LogBlock, c: &Cycle) -> LpcCurvePoint {
+    let (lo, hi) = c.range(log, 0);
     LpcCurvePoint {
         nu: c.p[Param::Nu as usize],
         kappa: c.p[Param::Kappa as usize],
@@ -147,16 +147,17 @@ pub fn lpc_curves(
     out
 }
 
-/// The curve of folds of cycles through the fold `fold` (an orbit of `log`
-/// at a fold in `kappa`, e.g. one located on a cycle branch), continued in
-/// `(kappa, nu)` both ways within `nu` in `(lo, hi)` on the fold's own mesh.
+/// The curve of folds of cycles through the fold `fold` (an orbit at a fold
+/// in `kappa` in the variables of [`LogBlock::centered`] for `kind` and
+/// `params`, as the cycle branches give it), continued in `(kappa, nu)`
+/// both ways within `nu` in `(lo, hi)` on the fold's own mesh.
 pub fn lpc_curve_through(
     kind: ModelKind,
     params: &Params,
     fold: &Cycle,
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
-    let log = LogBlock::new(kind, params);
+    let log = LogBlock::centered(kind, params);
     let (curve, stops, incomplete) = trace_through(&log, fold, (lo, hi), &|_| false);
     LpcCurves {
         points: vec![curve],
@@ -199,7 +200,7 @@ fn trace_through(
             Ok(points) => {
                 for pt in points {
                     match pt {
-                        Ok(pt) => half.push(record(&pt.cycle)),
+                        Ok(pt) => half.push(record(log, &pt.cycle)),
                         Err(e) => {
                             failure = Some(e.to_string());
                             break;

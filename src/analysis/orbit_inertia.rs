@@ -72,10 +72,12 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64, a: f64) -> 
 }
 
 /// The quasi-static state `x = (s, ln theta)` as the inertial one
-/// `(s, ln v, ln theta)`, `ln v` from the quasi-static slaving (exact in
-/// the log variable, also where `v` itself underflows).
+/// `(s, ln v, ln theta)`, both measured from the origin of `quasi_static`,
+/// `ln v` from the quasi-static slaving (exact in the log variable, also
+/// where `v` itself underflows).
 pub fn inertial_state(quasi_static: &LogBlock, x: &[f64], p: &[f64]) -> [f64; 3] {
-    [x[0], quasi_static.ln_velocity(x, p), x[1]]
+    let w_o = quasi_static.origin[1];
+    [x[0], quasi_static.ln_velocity(x, p) - w_o, x[1]]
 }
 
 /// The quasi-static orbit `cycle` (state `(s, ln theta)`) as a first guess

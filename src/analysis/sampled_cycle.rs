@@ -20,12 +20,14 @@ use continuation::integrate::{Output, Radau5, Settings, Solution};
 use continuation::periodic::adapt::equidistribute;
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::Mesh;
+use continuation::VectorField;
 
 /// Collocation degree of the sampled cycle (the engine's default).
 pub const DEGREE: usize = 4;
 
 /// The orbit as a [`Cycle`] of `ntst` intervals (degree [`DEGREE`]) in the
-/// log variables of `log`, integrated at relative tolerance `rtol`.
+/// variables of `log`, integrated at relative tolerance `rtol` in those of
+/// the simulation that settled it ([`LogBlock::new`]).
 pub fn sampled_cycle(
     log: &LogBlock,
     params: &Params,
@@ -34,6 +36,7 @@ pub fn sampled_cycle(
     rtol: f64,
 ) -> Result<Cycle, SettleError> {
     let pv = params.to_vec();
+    let simulated = LogBlock::new(log.kind, params);
     let period = orbit.period;
     let integrate = |output: Output| -> Result<Solution, SettleError> {
         let settings = Settings {
@@ -41,7 +44,7 @@ pub fn sampled_cycle(
             atol: rtol * 1e-3,
             ..Settings::default()
         };
-        Radau5::new(log, &pv, settings)
+        Radau5::new(&simulated, &pv, settings)
             .solve(0.0, &orbit.section, period, output)
             .into_result()
             .map_err(|e| SettleError::Integration {
@@ -52,12 +55,19 @@ pub fn sampled_cycle(
     };
     let steps = integrate(Output::Steps)?.t;
     let first = sample(&integrate, step_mesh(&steps, period, ntst), period, params)?;
-    sample(
+    let second = sample(
         &integrate,
         equidistribute(&first, ntst).mesh,
         period,
         params,
-    )
+    )?;
+    let n = log.dim();
+    let u = second
+        .u
+        .chunks(second.n)
+        .flat_map(|x| log.from_other(&simulated, x, &pv))
+        .collect();
+    Ok(Cycle { u, n, ..second })
 }
 
 /// Mesh points at equal shares of the accepted steps `t` (from 0 to `period`).

@@ -4,7 +4,7 @@
 //! long-time integration (a different method).
 
 use super::reference::reference_cycle;
-use crate::analysis::cycles::collocation_for;
+use crate::analysis::cycles::{collocation_for, start_amplitude};
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
 use crate::error::{Error, NumericalError};
 use crate::log_model::LogBlock;
@@ -72,10 +72,7 @@ impl CycleWork {
         let HopfOutcome::Found(h) = find_hopf(kind, params)? else {
             return Err(crate::analysis::cycles::no_onset().into());
         };
-        let log = LogBlock {
-            kind,
-            cutoff: params.theta_c.is_some(),
-        };
+        let log = LogBlock::centered(kind, params);
         let mut at = *params;
         at.kappa = h.kappa_c;
         let kappa_min = fraction * h.kappa_c;
@@ -92,6 +89,7 @@ impl CycleWork {
             ds: 1e-3,
             ds_max,
             param_floor: 0.5 * kappa_min,
+            start_amplitude: start_amplitude(&log),
             ..Default::default()
         };
         Ok(CycleWork {
@@ -127,7 +125,7 @@ impl CycleWork {
     }
 
     fn summary(&self, c: &Cycle) -> LastCycle {
-        let (lo, hi) = c.range(0);
+        let (lo, hi) = c.range(&self.log, 0);
         let mut params = self.params;
         params.kappa = c.p[Param::Kappa as usize];
         LastCycle {

@@ -83,10 +83,7 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
 fn prepare(case: &Case) -> Result<(LogBlock, Cycle, ReferenceCycle), Error> {
     let mut params = crate::scene::load(crate::scene::DEFAULT_SCENE)?.params;
     params.m = case.m;
-    let log = LogBlock {
-        kind: case.kind,
-        cutoff: params.theta_c.is_some(),
-    };
+    let log = LogBlock::centered(case.kind, &params);
     let fine = resolved_orbit(&log, &params, case.fraction)?;
     let mut at = params;
     at.kappa = fine.p[Param::Kappa as usize];
@@ -226,7 +223,7 @@ fn solve(
     let run = || correct(fine.remesh(mesh_for(&orbit)));
     let solved = run()?;
     let seconds = time_it(run);
-    let (lo, hi) = solved.range(0);
+    let (lo, hi) = solved.range(log, 0);
     Ok((seconds, solved.period, hi - lo))
 }
 

@@ -124,12 +124,21 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 x.fill(0.0);
                 dx.fill(0.0);
                 row_sums.fill(0.0);
-                for l in 0..=m {
+                // Relative to the interval's first node (the basis sums to 1,
+                // its derivatives to 0): the derivative is then rounded
+                // relative to the change across the interval, not to the
+                // values themselves.
+                let v0 = node(self.mesh.node(i, 0));
+                for l in 1..=m {
                     let v = node(self.mesh.node(i, l));
                     for j in 0..n {
-                        x[j] += self.mesh.basis[kk][l] * v[j];
-                        dx[j] += self.mesh.dbasis[kk][l] * v[j];
+                        let d = v[j] - v0[j];
+                        x[j] += self.mesh.basis[kk][l] * d;
+                        dx[j] += self.mesh.dbasis[kk][l] * d;
                     }
+                }
+                for j in 0..n {
+                    x[j] += v0[j];
                 }
                 let f = eval(self.sys, &x, &p);
                 let jac = jacobian(self.sys, &x, &p);

@@ -1,6 +1,8 @@
 //! A periodic orbit on a collocation mesh: node values, period, parameters.
 
 use super::mesh::{lagrange_values, Mesh};
+use crate::system::{eval, jacobian, VectorField};
+use nalgebra::{DMatrix, DVector};
 
 /// A periodic orbit `x(t)`, `t` in `[0, T]`, as piecewise polynomials on a
 /// [`Mesh`] of normalized time `tau = t / T`.
@@ -55,32 +57,89 @@ impl Cycle {
         out
     }
 
-    /// Minimum and maximum of component `j` over the orbit: the extreme
-    /// samples (8 per interval) refined by golden-section search on the
-    /// piecewise polynomial between their neighbours.
-    pub fn range(&self, j: usize) -> (f64, f64) {
+    /// Least and greatest value of component `j` over the orbit, to the
+    /// accuracy of the mesh-point values: see [`Cycle::range_of`].
+    pub fn range<S: VectorField>(&self, sys: &S, j: usize) -> (f64, f64) {
+        self.range_of(sys, |x| x[j])
+    }
+
+    /// Least and greatest value of the observable `g(x)` over the orbit of
+    /// `sys`.
+    ///
+    /// Between mesh points the collocation polynomials are accurate to
+    /// `O(h^(m+1))` only; at the mesh points the orbit is superconvergent
+    /// (`O(h^(2m))` with Gauss points, `O(h^(2m-1))` with Radau points, like
+    /// the period). An extreme is therefore not read off the polynomial: it
+    /// is bracketed by the extreme of 8 samples per interval, and then
+    /// maximised (Brent) over the value of [`Cycle::step_from_node`] — one
+    /// collocation step of the same points from the mesh point before it, whose
+    /// end value carries the mesh point's accuracy plus a local error
+    /// `O(delta^(2m+1))` (Gauss) or `O(delta^(2m))` (Radau).
+    pub fn range_of<S: VectorField>(&self, sys: &S, g: impl Fn(&[f64]) -> f64) -> (f64, f64) {
         let per = 8;
-        let taus: Vec<f64> = (0..self.mesh.ntst())
-            .flat_map(|i| {
-                let (a, b) = (self.mesh.t[i], self.mesh.t[i + 1]);
-                (0..per).map(move |s| a + (b - a) * s as f64 / per as f64)
-            })
+        let ntst = self.mesh.ntst();
+        let m = self.mesh.degree;
+        // The samples at the same local positions s / per of every interval.
+        let basis: Vec<_> = (0..per)
+            .map(|s| lagrange_values(m, s as f64 / per as f64))
             .collect();
-        let values: Vec<f64> = taus.iter().map(|&t| self.value_at(t, j)).collect();
-        let k = taus.len();
+        let mut x = vec![0.0; self.n];
+        let mut values = Vec::with_capacity(ntst * per);
+        for i in 0..ntst {
+            for b in &basis {
+                x.fill(0.0);
+                for (l, bl) in b.iter().enumerate() {
+                    for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
+                        *xj += bl * uj;
+                    }
+                }
+                values.push(g(&x));
+            }
+        }
+        let stepper = Stepper::new(sys, self);
         let pick = |sign: f64| {
-            let i = (0..k)
+            let best = (0..values.len())
                 .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
                 .unwrap_or(0);
-            let lo = if i == 0 {
-                taus[k - 1] - 1.0
+            let (i, s) = (best / per, best % per);
+            let h = self.mesh.t[i + 1] - self.mesh.t[i];
+            let f = |i: usize, delta: f64| sign * g(&stepper.state(i, delta));
+            // The samples next to the best one bracket the extreme; at the
+            // start of an interval the bracket reaches into the one before.
+            let inside = brent_max(
+                |d| f(i, d),
+                h * s.saturating_sub(1) as f64 / per as f64,
+                h * (s + 1) as f64 / per as f64,
+            );
+            let value = if s == 0 {
+                let before = (i + ntst - 1) % ntst;
+                let hb = self.mesh.t[before + 1] - self.mesh.t[before];
+                inside.max(brent_max(
+                    |d| f(before, d),
+                    hb * (per - 1) as f64 / per as f64,
+                    hb,
+                ))
             } else {
-                taus[i - 1]
+                inside
             };
-            let hi = if i + 1 == k { 1.0 } else { taus[i + 1] };
-            sign * golden_max(|tau| sign * self.value_at(tau.rem_euclid(1.0), j), lo, hi)
+            sign * value
         };
         (pick(-1.0), pick(1.0))
+    }
+
+    /// The state at normalized time `t_i + delta` (`0 <= delta <= h_i`) by
+    /// one collocation step from mesh point `i`: with the collocation points
+    /// `c_k` of the mesh, the stages `X_k = u_i + delta T sum_l a_kl f(X_l)`,
+    /// `a_kl = int_0^c_k L_l` (the Lagrange basis on the `c_k`), solved by
+    /// Newton's method from the orbit's polynomial, and the end value
+    /// `u_i + delta T sum_l b_l f(X_l)` (`b_l` the quadrature weights),
+    /// evaluated as the value at 1 of the polynomial through `(0, u_i)` and
+    /// the `(c_k, X_k)`, which it equals.
+    /// Over the whole interval (`delta = h_i`) this is the orbit's own
+    /// collocation step. Where Newton's method does not converge, the
+    /// polynomial's value.
+    pub fn step_from_node<S: VectorField>(&self, sys: &S, i: usize, delta: f64) -> Vec<f64> {
+        Stepper::new(sys, self).state(i, delta)
     }
 
     /// Moves the orbit onto another mesh (same degree) by evaluating its polynomials.
@@ -101,24 +160,192 @@ impl Cycle {
     }
 }
 
-/// Maximum of a unimodal `f` on `[a, b]` by golden-section search.
-fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..80 {
-        if fc > fd {
-            (b, d, fd) = (d, c, fc);
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            (a, c, fc) = (c, d, fd);
-            d = a + g * (b - a);
-            fd = f(d);
+/// One collocation step from a mesh point of an orbit ([`Cycle::step_from_node`]).
+struct Stepper<'a, S: VectorField> {
+    sys: &'a S,
+    cycle: &'a Cycle,
+    /// `a_kl = int_0^c_k L_l(s) ds`, row-major `m x m`.
+    a: Vec<f64>,
+    /// The Lagrange basis on the nodes `0, c_1, .., c_m`, at 1.
+    end: Vec<f64>,
+}
+
+impl<'a, S: VectorField> Stepper<'a, S> {
+    fn new(sys: &'a S, cycle: &'a Cycle) -> Self {
+        let c = &cycle.mesh.nodes;
+        let m = c.len();
+        // sum_l a_kl c_l^q = c_k^(q+1) / (q+1), q = 0..m-1: the step integrates
+        // polynomials of degree m-1 exactly from 0 to c_k.
+        let vander = DMatrix::from_fn(m, m, |q, l| c[l].powi(q as i32));
+        let lu = vander.lu();
+        let mut a = vec![0.0; m * m];
+        for k in 0..m {
+            let rhs = DVector::from_fn(m, |q, _| c[k].powi(q as i32 + 1) / (q as f64 + 1.0));
+            if let Some(row) = lu.solve(&rhs) {
+                a[k * m..(k + 1) * m].copy_from_slice(row.as_slice());
+            }
         }
-        if (b - a).abs() < 1e-14 {
+        let nodes: Vec<f64> = std::iter::once(0.0).chain(c.iter().copied()).collect();
+        let end = (0..=m)
+            .map(|j| {
+                (0..=m)
+                    .filter(|&q| q != j)
+                    .map(|q| (1.0 - nodes[q]) / (nodes[j] - nodes[q]))
+                    .product()
+            })
+            .collect();
+        Stepper { sys, cycle, a, end }
+    }
+
+    fn state(&self, i: usize, delta: f64) -> Vec<f64> {
+        let cyc = self.cycle;
+        let (n, c) = (cyc.n, &cyc.mesh.nodes);
+        let m = c.len();
+        let t0 = cyc.mesh.t[i];
+        let x0 = cyc.node(cyc.mesh.node(i, 0)).to_vec();
+        let polynomial = || cyc.state_at(t0 + delta);
+        if delta == 0.0 {
+            return x0;
+        }
+        let ht = delta * cyc.period;
+        let mut stages: Vec<f64> = (0..m)
+            .flat_map(|k| cyc.state_at(t0 + c[k] * delta))
+            .collect();
+        let mut fs = vec![0.0; m * n];
+        let (mut converged, mut last) = (false, f64::INFINITY);
+        for _ in 0..12 {
+            let mut jac = DMatrix::<f64>::identity(m * n, m * n);
+            for l in 0..m {
+                let x = &stages[l * n..(l + 1) * n];
+                fs[l * n..(l + 1) * n].copy_from_slice(eval(self.sys, x, &cyc.p).as_slice());
+                let jl = jacobian(self.sys, x, &cyc.p);
+                for k in 0..m {
+                    let w = ht * self.a[k * m + l];
+                    for r in 0..n {
+                        for s in 0..n {
+                            jac[(k * n + r, l * n + s)] -= w * jl[(r, s)];
+                        }
+                    }
+                }
+            }
+            let residual = DVector::from_fn(m * n, |kr, _| {
+                let (k, r) = (kr / n, kr % n);
+                stages[kr]
+                    - x0[r]
+                    - ht * (0..m)
+                        .map(|l| self.a[k * m + l] * fs[l * n + r])
+                        .sum::<f64>()
+            });
+            let Some(dx) = jac.lu().solve(&residual) else {
+                break;
+            };
+            // Quadratic convergence from the polynomial (accurate to
+            // O(h^(m+1))) reaches rounding in two or three iterations; a
+            // step that no longer halves is rounding.
+            let size = stages
+                .iter()
+                .zip(dx.iter())
+                .fold(0.0f64, |a, (x, d)| a.max(d.abs() / (1.0 + x.abs())));
+            if !size.is_finite() {
+                break;
+            }
+            for (x, d) in stages.iter_mut().zip(dx.iter()) {
+                *x -= d;
+            }
+            converged = size <= 1e-10;
+            if size <= 4.0 * f64::EPSILON || (size <= 1e-10 && size > 0.5 * last) {
+                break;
+            }
+            last = size;
+        }
+        if !converged {
+            return polynomial();
+        }
+        // The step's polynomial through (0, u_i) and the stages (c_k, X_k),
+        // at 1: equal in exact arithmetic to the quadrature
+        // u_i + delta T sum_l b_l f(X_l), but without multiplying the stages'
+        // rounding by the stiffness (rates of 1e12 while the block sticks;
+        // with Radau points, c_m = 1, it is the last stage).
+        (0..n)
+            .map(|r| {
+                self.end[0] * x0[r]
+                    + (0..m)
+                        .map(|k| self.end[k + 1] * stages[k * n + r])
+                        .sum::<f64>()
+            })
+            .collect()
+    }
+}
+
+/// Largest value of `f` on `[a, b]` by Brent's method (golden section with
+/// parabolic interpolation; Brent 1973, ch. 5), to a relative tolerance of
+/// `1e-10` in the abscissa: near a maximum `f` is flat, so the value is then
+/// exact to rounding.
+fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let g = 0.5 * (3.0 - 5f64.sqrt());
+    let neg = |x: f64| -f(x);
+    let (mut x, mut w, mut v) = (a + g * (b - a), a + g * (b - a), a + g * (b - a));
+    let mut fx = neg(x);
+    let (mut fw, mut fv) = (fx, fx);
+    let (mut d, mut e) = (0.0f64, 0.0f64);
+    // Also the ends: the extreme may sit on the bracket's edge (a mesh point).
+    let (fa, fb) = (neg(a), neg(b));
+    for _ in 0..100 {
+        let xm = 0.5 * (a + b);
+        let tol1 = 1e-10 * x.abs().max((b - a).abs()).max(f64::MIN_POSITIVE);
+        let tol2 = 2.0 * tol1;
+        if (x - xm).abs() <= tol2 - 0.5 * (b - a) {
             break;
         }
+        let mut golden = true;
+        if e.abs() > tol1 {
+            let r = (x - w) * (fx - fv);
+            let mut q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < tol2 || b - u < tol2 {
+                    d = tol1.copysign(xm - x);
+                }
+                golden = false;
+            }
+        }
+        if golden {
+            e = if x >= xm { a - x } else { b - x };
+            d = g * e;
+        }
+        let u = if d.abs() >= tol1 {
+            x + d
+        } else {
+            x + tol1.copysign(d)
+        };
+        let fu = neg(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
     }
-    fc.max(fd)
+    -(fx.min(fa).min(fb))
 }

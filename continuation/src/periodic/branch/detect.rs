@@ -11,7 +11,7 @@
 //! Each sign change is located on the branch like a fold (regula falsi on
 //! the arclength, each trial corrected onto the branch).
 
-use super::{CycleBranch, CyclePoint};
+use super::{CycleBranch, CyclePoint, Reading};
 use crate::error::ContinuationError;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::floquet::{multipliers, trivial_index};
@@ -73,16 +73,22 @@ impl<S: VectorField> CycleBranch<'_, S> {
             period_doubling_test(&pt.multipliers),
         );
         if pd0 * pd1 < 0.0 {
-            let pd = self.locate(coll0, z0, t0, (pd0, pd1), ds, |z, _| {
-                Ok(period_doubling_test(&at(z)?))
-            })?;
+            let pd = self.estimated(
+                self.locate(coll0, z0, t0, (pd0, pd1), ds, |z, _| {
+                    Ok(period_doubling_test(&at(z)?))
+                })?,
+                Reading::AtParameter,
+            );
             pt.pd = Some(Box::new(pd));
         }
         let (ns0, ns1) = (torus_test(&self.previous_mu), torus_test(&pt.multipliers));
         if ns0 * ns1 < 0.0 {
-            let ns = self.locate(coll0, z0, t0, (ns0, ns1), ds, |z, _| {
-                Ok(torus_test(&at(z)?))
-            })?;
+            let ns = self.estimated(
+                self.locate(coll0, z0, t0, (ns0, ns1), ds, |z, _| {
+                    Ok(torus_test(&at(z)?))
+                })?,
+                Reading::AtParameter,
+            );
             if has_complex_pair_on_circle(&ns.multipliers, 1e-6) {
                 pt.ns = Some(Box::new(ns));
             }

@@ -9,6 +9,7 @@ use super::collocation::Collocation;
 mod detect;
 mod refine;
 
+use super::adapt::equidistribute;
 use super::cycle::Cycle;
 use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
@@ -21,6 +22,24 @@ use num_complex::Complex64;
 
 /// Steps during which a mesh size the multipliers needed bounds halving.
 const MULTIPLIER_MEMORY: usize = 5;
+
+/// Steps during which an orbit's error estimate found to be its rounding
+/// floor (refining did not reduce it) raises the mesh tolerance to twice
+/// that floor.
+const ORBIT_FLOOR_MEMORY: usize = 5;
+
+/// How the quantities of an orbit are read, for its error estimate
+/// (`refine`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Reading {
+    /// At its own parameter value: its period and extremes as functions of
+    /// the parameter (the orbits of the branch, user points, period
+    /// doublings and torus bifurcations).
+    AtParameter,
+    /// As a point whose parameter value is one of its coordinates: a fold of
+    /// cycles, where the orbits at fixed parameter are not isolated.
+    Point,
+}
 
 /// Settings of a cycle branch.
 #[derive(Clone, Debug)]
@@ -53,7 +72,8 @@ pub struct CycleSettings {
     /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
     pub start_amplitude: f64,
     /// Largest acceptable estimate of an orbit's discretization error
-    /// (relative, see `refine`) before the mesh is refined. Default `1e-8`.
+    /// (relative to the period and the amplitudes, see `refine`) before the
+    /// mesh is refined. Default `1e-8`.
     pub mesh_tol: f64,
     /// Most mesh intervals the refinement may use. Default 400.
     pub ntst_max: usize,
@@ -196,9 +216,10 @@ pub struct CyclePoint {
     /// orbit's transient growth (not a measure of the mesh). Infinite when
     /// the pencil did not determine the trivial multiplier.
     pub trivial_error: f64,
-    /// Estimated discretization error (relative) of the period and of the
-    /// extremes of every component; while far below `mesh_tol` it is renewed
-    /// every fifth orbit, and the last estimate is reported in between.
+    /// Estimated discretization error of the period (relative) and of the
+    /// extremes of every observable (relative to its amplitude), at the
+    /// orbit's own parameter (see `refine`); while far below `mesh_tol` it is
+    /// renewed every fifth orbit, and the last estimate is reported in between.
     pub error_estimate: f64,
     /// Multipliers outside the unit circle by more than their error
     /// ([`multiplier_error`]), the trivial one excluded.
@@ -244,6 +265,10 @@ pub struct CycleBranch<'a, S: VectorField> {
     /// Tolerance on the trivial multiplier in force: raised to the rounding
     /// floor of stiff orbits when refining no longer reduces its error.
     trivial_tol: f64,
+    /// The rounding floor of the error estimate last found (twice the
+    /// estimate a doubling of the mesh did not reduce) and the step it was
+    /// found at (see `refine`).
+    orbit_floor: (f64, usize),
     /// Intervals the multipliers were last found to need (a doubling that
     /// divided their error by 4) and the step it was found at: for the next
     /// [`MULTIPLIER_MEMORY`] steps the mesh is not halved below it (the
@@ -351,6 +376,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             ds: settings.ds,
             trivial_tol: settings.trivial_tol,
             multiplier_ntst: (0, 0),
+            orbit_floor: (0.0, 0),
             settings,
             z,
             tangent,
@@ -420,6 +446,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     /// (tangent `t0`, where `f = f0`) and the orbit `ds` further (`f = f1`):
     /// regula falsi (Illinois) on the arclength, each trial corrected onto
     /// the branch. Folds of cycles use `f = dp/ds`; user points `f = p - p_user`.
+    /// Returns the orbit (without error estimate) and the branch's tangent there.
     #[allow(clippy::too_many_arguments)]
     fn locate(
         &self,
@@ -429,7 +456,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         (f0, f1): (f64, f64),
         ds: f64,
         f: impl Fn(&[f64], &[f64]) -> Result<f64, ContinuationError>,
-    ) -> Result<CyclePoint, ContinuationError> {
+    ) -> Result<(CyclePoint, Vec<f64>), ContinuationError> {
         let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
         let mut best = None;
         let tight = LOCATOR;
@@ -439,7 +466,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &tight)?;
             let t = tangent(coll, &z, t0, &w)?;
             let fz = f(&z, &t)?;
-            best = Some(point_at(coll, &z, &t, rep)?);
+            best = Some((point_at(coll, &z, &t, rep)?, t));
             if fz * fb < 0.0 {
                 (a, fa) = (b, fb);
             } else {
@@ -450,38 +477,61 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                 break;
             }
         }
-        let mut best: CyclePoint = best.ok_or(ContinuationError::Singular)?;
-        best.error_estimate = self.error_estimate(&best.cycle);
-        Ok(best)
+        best.ok_or(ContinuationError::Singular)
     }
 
-    /// The located orbit `pt` solved again with the parameter fixed at
-    /// `target` (Newton on the collocation system bordered by `p_k = target`,
-    /// from `pt`): a user point then lies on the value asked for, not within
-    /// the locator's tolerance of it (about `1e-11` relative). `t0` orients
-    /// the tangent. Where that Newton fails — at a fold of cycles the orbit
-    /// at fixed parameter is ill-determined — `pt` is kept as located, with
-    /// its own parameter value.
+    /// A located orbit with its error estimate, read as `reading`.
+    fn estimated(&self, (mut pt, t): (CyclePoint, Vec<f64>), reading: Reading) -> CyclePoint {
+        pt.error_estimate = self.error_estimate(&pt.cycle, &t, reading);
+        pt
+    }
+
+    /// The located orbit `pt` (tangent `t` there) solved again with the
+    /// parameter fixed at `target` (Newton on the collocation system bordered
+    /// by `p_k = target`, from `pt`): a user point then lies on the value
+    /// asked for, not within the locator's tolerance of it (about `1e-11`
+    /// relative). `t0` orients the tangent. Like the orbits of the branch,
+    /// it is then put on a mesh fine enough for `mesh_tol` (doubled up to
+    /// `ntst_max` while the error estimate exceeds it and doubling divides
+    /// it by 4 or more; see `refine`). Where that Newton fails — at a fold
+    /// of cycles the orbit at fixed parameter is ill-determined — `pt` is
+    /// kept as located, with its own parameter value.
     fn pin(
         &self,
         coll: &Collocation<'a, S>,
-        pt: CyclePoint,
+        (pt, t): (CyclePoint, Vec<f64>),
         t0: &[f64],
         target: f64,
     ) -> Result<CyclePoint, ContinuationError> {
-        let mut z = coll.unknowns(&pt.cycle);
-        let nz = z.len();
-        z[nz - 1] = target;
-        let anchor = z.clone();
-        let Ok(rep) = newton_bordered(coll, &mut z, &LOCATOR, &unit_row(nz, nz - 1), &anchor)
-        else {
-            return Ok(pt);
+        let solve = |coll: &Collocation<'a, S>, orbit: &Cycle| {
+            let mut z = coll.unknowns(orbit);
+            let nz = z.len();
+            z[nz - 1] = target;
+            let anchor = z.clone();
+            let rep = newton_bordered(coll, &mut z, &LOCATOR, &unit_row(nz, nz - 1), &anchor)?;
+            let w = ArcWeights::at(&z, self.settings.param_floor);
+            let t = tangent(coll, &z, t0, &w)?;
+            let mut pinned = point_at(coll, &z, &t, rep)?;
+            pinned.error_estimate = self.error_estimate(&pinned.cycle, &t, Reading::AtParameter);
+            Ok::<_, ContinuationError>(pinned)
         };
-        let w = ArcWeights::at(&z, self.settings.param_floor);
-        let t = tangent(coll, &z, t0, &w)?;
-        let mut pinned = point_at(coll, &z, &t, rep)?;
-        pinned.error_estimate = self.error_estimate(&pinned.cycle);
-        Ok(pinned)
+        let Ok(mut pinned) = solve(coll, &pt.cycle) else {
+            return Ok(self.estimated((pt, t), Reading::AtParameter));
+        };
+        loop {
+            let ntst = pinned.cycle.mesh.ntst();
+            if pinned.error_estimate <= self.settings.mesh_tol || ntst >= self.settings.ntst_max {
+                return Ok(pinned);
+            }
+            let finer = equidistribute(&pinned.cycle, (2 * ntst).min(self.settings.ntst_max));
+            match solve(&Collocation::new(self.sys, &finer, self.k), &finer) {
+                Ok(finer) if finer.error_estimate <= 0.25 * pinned.error_estimate => {
+                    pinned = finer;
+                }
+                // The rounding floor, or no solution on the finer mesh.
+                _ => return Ok(pinned),
+            }
+        }
     }
 }
 
@@ -595,10 +645,12 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 let mut pt = self.refined_point(rep)?;
                 let nz = z0.len();
                 if t0[nz - 1] * pt.dp_ds < 0.0 {
-                    let lpc =
+                    let lpc = self.estimated(
                         self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
                             Ok(t[nz - 1])
-                        })?;
+                        })?,
+                        Reading::Point,
+                    );
                     let p_fold = lpc.cycle.p[self.k];
                     let excursion = (p_fold - z0[nz - 1])
                         .abs()

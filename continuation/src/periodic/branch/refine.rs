@@ -15,7 +15,7 @@
 //! mesh ([`CycleBranch::mesh_size`]): the intervals a stretch of the branch
 //! needed are not carried along the rest of it.
 
-use super::{point_at, CycleBranch, CyclePoint, MULTIPLIER_MEMORY};
+use super::{point_at, CycleBranch, CyclePoint, Reading, MULTIPLIER_MEMORY, ORBIT_FLOOR_MEMORY};
 use crate::error::ContinuationError;
 use crate::newton::NewtonReport;
 use crate::periodic::adapt::equidistribute;
@@ -25,16 +25,20 @@ use crate::periodic::mesh::Mesh;
 use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights};
 use crate::system::VectorField;
 
-/// Largest difference between two approximations of an orbit: of the
-/// periods (relative) and of the least and greatest value of every
-/// component (relative to `1 + |value|`).
-fn difference(a: &Cycle, b: &Cycle) -> f64 {
+/// Largest difference between two approximations `a` (the finer) and `b`
+/// of an orbit of `sys`: of the periods, relative, and of the least and
+/// greatest value of every observable of `sys` ([`VectorField::observable`],
+/// by [`Cycle::range_of`]), relative to that observable's amplitude on `a`
+/// (`max - min`) — what a user reads as the size of the orbit, not the size
+/// of the values (near a Hopf point the values sit far from zero and the
+/// amplitude is small).
+fn difference<S: VectorField>(sys: &S, a: &Cycle, b: &Cycle) -> f64 {
     let mut d = ((a.period - b.period) / a.period).abs();
-    for j in 0..a.n {
-        let ((a_lo, a_hi), (b_lo, b_hi)) = (a.range(j), b.range(j));
-        d = d
-            .max((a_lo - b_lo).abs() / (1.0 + a_lo.abs()))
-            .max((a_hi - b_hi).abs() / (1.0 + a_hi.abs()));
+    for k in 0..sys.n_observables() {
+        let (a_lo, a_hi) = a.range_of(sys, |x| sys.observable(k, x, &a.p));
+        let (b_lo, b_hi) = b.range_of(sys, |x| sys.observable(k, x, &b.p));
+        let amplitude = (a_hi - a_lo).max(f64::MIN_POSITIVE);
+        d = d.max((a_lo - b_lo).abs().max((a_hi - b_hi).abs()) / amplitude);
     }
     d
 }
@@ -42,29 +46,40 @@ fn difference(a: &Cycle, b: &Cycle) -> f64 {
 impl<S: VectorField> CycleBranch<'_, S> {
     /// The current orbit, on a mesh fine enough for `mesh_tol` (and for
     /// `trivial_tol` while refining helps the multipliers): otherwise the mesh
-    /// doubles (up to `ntst_max`) and the orbit is corrected on it.
+    /// doubles (up to `ntst_max`) and the orbit is corrected on it. A
+    /// doubling that does not divide the orbit's error estimate by 4 (a
+    /// discretization error falls by `2^(m+1)` or more) shows that the
+    /// estimate is the rounding floor of the orbit (near a Hopf point the
+    /// amplitude at fixed parameter is ill-conditioned, and rounding in the
+    /// collocation equations moves it by more than the tolerance): the orbit
+    /// stays on the coarser mesh, and for [`ORBIT_FLOOR_MEMORY`] steps
+    /// estimates up to twice that floor are accepted without trying again.
     pub(super) fn refined_point(
         &mut self,
         rep: NewtonReport,
     ) -> Result<CyclePoint, ContinuationError> {
         let mut pt = self.point(rep)?;
+        // Far below the tolerance the estimate is renewed every fifth orbit
+        // only (it costs a solve on the coarse mesh); in between the last
+        // one is reported.
+        let fresh = self.last_estimate > 0.1 * self.settings.mesh_tol
+            || self.since_estimate >= 4
+            || self.last_ntst != self.coll.mesh.ntst();
+        if fresh {
+            self.renew_estimate(&pt.cycle);
+        } else {
+            self.since_estimate += 1;
+        }
+        let (floor, since) = self.orbit_floor;
+        let orbit_tol = if self.steps < since + ORBIT_FLOOR_MEMORY {
+            self.settings.mesh_tol.max(floor)
+        } else {
+            self.settings.mesh_tol
+        };
         loop {
-            // Far below the tolerance the estimate is renewed every fifth orbit
-            // only (it costs a solve on the coarse mesh); in between the last
-            // one is reported.
-            let fresh = self.last_estimate > 0.1 * self.settings.mesh_tol
-                || self.since_estimate >= 4
-                || self.last_ntst != self.coll.mesh.ntst();
-            if fresh {
-                self.last_estimate = self.error_estimate(&pt.cycle);
-                self.last_ntst = self.coll.mesh.ntst();
-                self.since_estimate = 0;
-            } else {
-                self.since_estimate += 1;
-            }
             pt.error_estimate = self.last_estimate;
             let ntst = self.coll.mesh.ntst();
-            let orbit_resolved = pt.error_estimate <= self.settings.mesh_tol;
+            let orbit_resolved = pt.error_estimate <= orbit_tol;
             if orbit_resolved && pt.trivial_error <= self.trivial_tol {
                 break;
             }
@@ -81,9 +96,8 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     param: self.z[self.z.len() - 1],
                 });
             }
-            // Kept while the orbit is resolved and only the multipliers ask
-            // for more intervals: if they do not improve, the coarser mesh stays.
-            let coarser = orbit_resolved.then(|| (self.coll.cycle(&self.z), self.tangent.clone()));
+            // If twice the intervals do not help, the coarser mesh stays.
+            let coarser = (self.coll.cycle(&self.z), self.tangent.clone());
             self.adapt((2 * ntst).min(self.settings.ntst_max));
             // Corrected on the hyperplane through the orbit normal to the
             // branch: well posed also near a Hopf point or a fold, where the
@@ -106,10 +120,23 @@ impl<S: VectorField> CycleBranch<'_, S> {
                 self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
                 self.point(rep)
             });
-            let Some((orbit, tangent)) = coarser else {
-                pt = finer?;
-                continue;
-            };
+            let coarse_estimate = pt.error_estimate;
+            if !orbit_resolved {
+                // The orbit asked for the intervals.
+                let finer = finer?;
+                self.renew_estimate(&finer.cycle);
+                if self.last_estimate <= 0.25 * coarse_estimate {
+                    pt = finer;
+                    continue;
+                }
+                // Rounding floor: back to the coarser mesh.
+                self.orbit_floor = (2.0 * coarse_estimate, self.steps);
+                self.restore(coarser);
+                self.last_estimate = coarse_estimate;
+                self.last_ntst = ntst;
+                pt.error_estimate = coarse_estimate;
+                break;
+            }
             match finer {
                 Ok(finer)
                     if finer.trivial_error.is_finite()
@@ -118,6 +145,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     // The multipliers needed the intervals: halving stops here
                     // until their error is found to be rounding.
                     self.multiplier_ntst = (self.coll.mesh.ntst(), self.steps);
+                    self.renew_estimate(&finer.cycle);
                     pt = finer;
                 }
                 _ => {
@@ -132,9 +160,8 @@ impl<S: VectorField> CycleBranch<'_, S> {
                         self.trivial_tol = self.trivial_tol.max(2.0 * pt.trivial_error);
                     }
                     self.multiplier_ntst = (0, 0);
-                    self.coll = Collocation::new(self.sys, &orbit, self.k);
-                    self.z = self.coll.unknowns(&orbit);
-                    self.tangent = tangent;
+                    self.restore(coarser);
+                    self.last_ntst = ntst;
                     break;
                 }
             }
@@ -161,12 +188,29 @@ impl<S: VectorField> CycleBranch<'_, S> {
     }
 
     /// Error estimate of `orbit` (the branch's current orbit, or one located
-    /// near it): its difference from the same orbit solved on an
-    /// equidistributed mesh of half as many intervals (on the hyperplane
-    /// normal to the branch), divided by `2^(m+1) - 1` (Richardson: the
-    /// collocation error between mesh points is `O(h^(m+1))`). Infinite when
-    /// the coarse mesh cannot carry the orbit.
-    pub(super) fn error_estimate(&self, orbit: &Cycle) -> f64 {
+    /// near it, with the branch's unit tangent `tangent` there on the
+    /// orbit's mesh): its difference ([`difference`]) from the same orbit
+    /// solved on an equidistributed mesh of half as many intervals, divided
+    /// by `2^(m+1) - 1` (Richardson: the collocation error between mesh
+    /// points is `O(h^(m+1))`; the period and the extremes, read at the mesh
+    /// points' accuracy, converge faster, so this overestimates their error).
+    /// Infinite when the coarse mesh cannot carry the orbit.
+    ///
+    /// The coarse orbit is solved on the hyperplane through `orbit` normal to
+    /// the branch (well posed also near a Hopf point or a fold, where the
+    /// orbit at fixed parameter is ill-determined), so it lies at a slightly
+    /// different parameter `p_c`. Read [`Reading::AtParameter`], the
+    /// comparison is at the orbit's own parameter `p`: the coarse orbit is
+    /// moved along the branch to first order, `z_c + (p - p_c) t / t_p`. Near
+    /// a Hopf point that is most of the error: the period and extremes of
+    /// the orbits hardly differ on the hyperplane, but the parameter does
+    /// (the discretization shifts the Hopf point by `O(h^(2m))`), and the
+    /// amplitude at a given parameter, `~ sqrt(p_c - p)`, changes by
+    /// `delta p / (2 (p_c - p))` relative: at `(p_c - p) / p_c = 1e-5` a
+    /// relative shift of the Hopf point of `1e-9` is an error of `5e-5` in
+    /// the amplitude. Read [`Reading::Point`], the parameter is compared as
+    /// one more coordinate, relative.
+    pub(super) fn error_estimate(&self, orbit: &Cycle, tangent: &[f64], reading: Reading) -> f64 {
         let ntst = orbit.mesh.ntst();
         if ntst < 4 {
             return f64::INFINITY;
@@ -175,21 +219,54 @@ impl<S: VectorField> CycleBranch<'_, S> {
         let coll = Collocation::new(self.sys, &coarse, self.k);
         let mut z = coll.unknowns(&coarse);
         let anchor = z.clone();
-        let tangent = self.tangent_on(&coarse.mesh);
+        let tangent = self.tangent_on(&orbit.mesh, tangent, &coarse.mesh, &z);
         let w = ArcWeights::at(&z, self.settings.param_floor);
-        match newton_bordered(
+        if newton_bordered(
             &coll,
             &mut z,
             &self.settings.corrector,
             &w.row(&tangent),
             &anchor,
-        ) {
-            Ok(_) => {
-                let order = orbit.mesh.degree as i32 + 1;
-                difference(orbit, &coll.cycle(&z)) / (2f64.powi(order) - 1.0)
-            }
-            Err(_) => f64::INFINITY,
+        )
+        .is_err()
+        {
+            return f64::INFINITY;
         }
+        let order = orbit.mesh.degree as i32 + 1;
+        let nz = z.len();
+        let p = orbit.p[self.k];
+        let d = match reading {
+            Reading::AtParameter => {
+                let shift = (p - z[nz - 1]) / tangent[nz - 1];
+                for (zi, ti) in z.iter_mut().zip(&tangent) {
+                    *zi += shift * ti;
+                }
+                difference(self.sys, orbit, &coll.cycle(&z))
+            }
+            Reading::Point => difference(self.sys, orbit, &coll.cycle(&z))
+                .max(((p - z[nz - 1]) / p.abs().max(self.settings.param_floor)).abs()),
+        };
+        if d.is_finite() {
+            d / (2f64.powi(order) - 1.0)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Renews the error estimate of the branch's current orbit `orbit` (on
+    /// the current mesh, read at its parameter).
+    fn renew_estimate(&mut self, orbit: &Cycle) {
+        let tangent = self.tangent.clone();
+        self.last_estimate = self.error_estimate(orbit, &tangent, Reading::AtParameter);
+        self.last_ntst = self.coll.mesh.ntst();
+        self.since_estimate = 0;
+    }
+
+    /// Puts the branch back on an orbit and tangent kept before a refinement.
+    fn restore(&mut self, (orbit, tangent): (Cycle, Vec<f64>)) {
+        self.coll = Collocation::new(self.sys, &orbit, self.k);
+        self.z = self.coll.unknowns(&orbit);
+        self.tangent = tangent;
     }
 
     /// Intervals for the next orbit: half the current mesh when its last
@@ -212,19 +289,22 @@ impl<S: VectorField> CycleBranch<'_, S> {
         }
     }
 
-    /// The branch's tangent moved onto `mesh` (unit length there).
-    fn tangent_on(&self, mesh: &Mesh) -> Vec<f64> {
-        let orbit = self.coll.cycle(&self.z);
-        let nn = orbit.u.len();
+    /// The tangent `tangent`, given on `from`, moved onto `mesh` (unit
+    /// length there, in the arclength weights at the unknowns `z`).
+    fn tangent_on(&self, from: &Mesh, tangent: &[f64], mesh: &Mesh, z: &[f64]) -> Vec<f64> {
+        let n = self.sys.dim();
+        let nn = from.n_nodes() * n;
         let mut t = Cycle {
-            u: self.tangent[..nn].to_vec(),
+            mesh: from.clone(),
+            u: tangent[..nn].to_vec(),
             period: 0.0,
-            ..orbit
+            p: Vec::new(),
+            n,
         }
         .remesh(mesh.clone())
         .u;
-        t.extend_from_slice(&self.tangent[nn..]);
-        let norm = ArcWeights::at(&self.z, self.settings.param_floor)
+        t.extend_from_slice(&tangent[nn..]);
+        let norm = ArcWeights::at(z, self.settings.param_floor)
             .dot(&t, &t)
             .sqrt();
         t.iter().map(|v| v / norm).collect()
@@ -237,8 +317,10 @@ impl<S: VectorField> CycleBranch<'_, S> {
     /// Moves the orbit and tangent onto an equidistributing mesh of `ntst` intervals.
     pub(super) fn adapt(&mut self, ntst: usize) {
         let new = equidistribute(&self.coll.cycle(&self.z), ntst);
-        self.tangent = self.tangent_on(&new.mesh);
-        self.coll = Collocation::new(self.sys, &new, self.k);
-        self.z = self.coll.unknowns(&new);
+        let coll = Collocation::new(self.sys, &new, self.k);
+        let z = coll.unknowns(&new);
+        self.tangent = self.tangent_on(&self.coll.mesh, &self.tangent, &new.mesh, &z);
+        self.coll = coll;
+        self.z = z;
     }
 }

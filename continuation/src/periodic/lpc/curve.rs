@@ -234,7 +234,7 @@ impl<S: VectorField> Iterator for LpcCurve<'_, S> {
                 let p2 = pt.cycle.p[self.k2];
                 let amplitude = (0..pt.cycle.n)
                     .map(|j| {
-                        let (lo, hi) = pt.cycle.range(j);
+                        let (lo, hi) = pt.cycle.range(self.sys, j);
                         hi - lo
                     })
                     .fold(0.0, f64::max);
