@@ -547,6 +547,58 @@ impl<S: VectorField> CycleBranch<'_, S> {
     }
 }
 
+/// How often a step that failed is taken again from the previous orbit on a
+/// finer mesh ([`CycleBranch::stepped_point`]).
+const REFINEMENT_RETRIES: usize = 3;
+
+/// Where a step started: the collocation system, the orbit's unknowns and
+/// the tangent.
+type StepStart<'a, S> = (Collocation<'a, S>, Vec<f64>, Vec<f64>);
+
+impl<'a, S: VectorField> CycleBranch<'a, S> {
+    /// One step from the current orbit, on the mesh it is given
+    /// ([`Self::mesh_size`], re-equidistributed every `adapt_every` steps),
+    /// and the orbit reached, refined as it needs; returns it with the step
+    /// length and where the step started. On stiff orbits the interpolation
+    /// onto a new mesh (or of a step's result onto a finer one) can be a
+    /// guess Newton's method diverges from: the step is then taken again from
+    /// the converged orbit moved onto twice its intervals, with half the
+    /// first step length, up to [`REFINEMENT_RETRIES`] times.
+    fn stepped_point(&mut self) -> Result<(CyclePoint, f64, StepStart<'a, S>), ContinuationError> {
+        let converged = (self.coll.cycle(&self.z), self.tangent.clone());
+        let ds = self.ds;
+        let mut ntst = self.mesh_size();
+        let mut retries = 0;
+        loop {
+            if retries > 0
+                || ntst != self.coll.mesh.ntst()
+                || (self.settings.adapt_every > 0
+                    && self.steps.is_multiple_of(self.settings.adapt_every))
+            {
+                self.adapt(ntst);
+            }
+            let (z0, t0) = (self.z.clone(), self.tangent.clone());
+            let coll0 = Collocation::new(self.sys, &self.coll.cycle(&z0), self.k);
+            let attempt = self.step().and_then(|(rep, ds)| {
+                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+                Ok((self.refined_point(rep)?, ds))
+            });
+            match attempt {
+                Ok((pt, ds)) => return Ok((pt, ds, (coll0, z0, t0))),
+                Err(ContinuationError::Newton { .. } | ContinuationError::StepTooSmall { .. })
+                    if retries < REFINEMENT_RETRIES =>
+                {
+                    retries += 1;
+                    self.restore(converged.clone());
+                    ntst = (2 * converged.0.mesh.ntst()).min(self.settings.ntst_max);
+                    self.ds = ds * 0.5f64.powi(retries as i32);
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+}
+
 /// Newton settings of located points (folds, user points), tighter than the
 /// corrector's.
 const LOCATOR: NewtonSettings = NewtonSettings {
@@ -631,52 +683,44 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                 step: 0.0,
             })
         } else {
-            let ntst = self.mesh_size();
-            if ntst != self.coll.mesh.ntst()
-                || (self.settings.adapt_every > 0
-                    && self.steps.is_multiple_of(self.settings.adapt_every))
-            {
-                self.adapt(ntst);
-            }
-            let (z0, t0) = (self.z.clone(), self.tangent.clone());
-            let coll0 = Collocation::new(self.sys, &self.coll.cycle(&z0), self.k);
-            self.step().and_then(|(rep, ds)| {
-                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                let mut pt = self.refined_point(rep)?;
-                let nz = z0.len();
-                if t0[nz - 1] * pt.dp_ds < 0.0 {
-                    let lpc = self.estimated(
-                        self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
-                            Ok(t[nz - 1])
-                        })?,
-                        Reading::Point,
-                    );
-                    let p_fold = lpc.cycle.p[self.k];
-                    let excursion = (p_fold - z0[nz - 1])
-                        .abs()
-                        .max((p_fold - pt.cycle.p[self.k]).abs());
-                    if is_fold(&lpc, self.sys.dim()) && excursion > self.parameter_resolution(&z0) {
-                        pt.lpc = Some(Box::new(lpc));
+            self.stepped_point()
+                .and_then(|(mut pt, ds, (coll0, z0, t0))| {
+                    let nz = z0.len();
+                    if t0[nz - 1] * pt.dp_ds < 0.0 {
+                        let lpc = self.estimated(
+                            self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
+                                Ok(t[nz - 1])
+                            })?,
+                            Reading::Point,
+                        );
+                        let p_fold = lpc.cycle.p[self.k];
+                        let excursion = (p_fold - z0[nz - 1])
+                            .abs()
+                            .max((p_fold - pt.cycle.p[self.k]).abs());
+                        if is_fold(&lpc, self.sys.dim())
+                            && excursion > self.parameter_resolution(&z0)
+                        {
+                            pt.lpc = Some(Box::new(lpc));
+                        }
                     }
-                }
-                self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
-                // The mesh (hence the length of z) may have been refined since z0.
-                let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
-                for &target in &self.settings.user_points {
-                    if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
-                        let user = self.locate(
-                            &coll0,
-                            &z0,
-                            &t0,
-                            (p0 - target, p1 - target),
-                            ds,
-                            |z, _| Ok(z[nz - 1] - target),
-                        )?;
-                        pt.user.push(self.pin(&coll0, user, &t0, target)?);
+                    self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
+                    // The mesh (hence the length of z) may have been refined since z0.
+                    let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
+                    for &target in &self.settings.user_points {
+                        if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
+                            let user = self.locate(
+                                &coll0,
+                                &z0,
+                                &t0,
+                                (p0 - target, p1 - target),
+                                ds,
+                                |z, _| Ok(z[nz - 1] - target),
+                            )?;
+                            pt.user.push(self.pin(&coll0, user, &t0, target)?);
+                        }
                     }
-                }
-                Ok(pt)
-            })
+                    Ok(pt)
+                })
         };
         self.steps += 1;
         match result {

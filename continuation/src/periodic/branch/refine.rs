@@ -263,7 +263,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
     }
 
     /// Puts the branch back on an orbit and tangent kept before a refinement.
-    fn restore(&mut self, (orbit, tangent): (Cycle, Vec<f64>)) {
+    pub(super) fn restore(&mut self, (orbit, tangent): (Cycle, Vec<f64>)) {
         self.coll = Collocation::new(self.sys, &orbit, self.k);
         self.z = self.coll.unknowns(&orbit);
         self.tangent = tangent;
