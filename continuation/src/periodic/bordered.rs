@@ -1,322 +1,590 @@
-//! Structured solution of the linearized collocation system: condensation of
-//! the interior nodes interval by interval, then orthogonal cyclic reduction
-//! of the mesh nodes, with the dense rows (phase condition, arclength or
-//! fixed-parameter condition) carried through every elimination — the
-//! strategy of AUTO's collocation solver (Doedel, Keller & Kernévez 1991,
-//! "Numerical analysis and control of bifurcation problems (II)", §5), here
-//! with Householder QR at every step instead of Gaussian elimination.
+//! Structured factorization of the linearized collocation system:
+//! condensation of the interior nodes interval by interval, then orthogonal
+//! cyclic reduction of the mesh nodes, with the dense rows (phase condition,
+//! arclength or fixed-parameter condition, test functions) carried through
+//! every elimination — the strategy of AUTO's collocation solver (Doedel,
+//! Keller & Kernévez 1991, "Numerical analysis and control of bifurcation
+//! problems (II)", §5), here with Householder QR at every step instead of
+//! Gaussian elimination.
 //!
-//! Every relation is kept homogeneous: the right-hand side is one more column
-//! multiplying the constant 1, so `A y_left + B y_right + E [x; 1] = 0` with
-//! `x` the border unknowns (period, parameter). The Floquet pencil is the
-//! special case without border columns (see [`super::floquet`]).
+//! The system has `N = NTST m n` node unknowns `y` and `k` border unknowns
+//! `x` (period, parameters, ...):
 //!
-//! Cost: `O(NTST (m n)^3)` flops in small dense blocks, no fill-in, no
-//! symbolic analysis; the same reduction yields the Floquet multipliers.
+//! ```text
+//! [ C  E ] [ y ]   [ r_C ]      C: collocation rows on the nodes (block cyclic)
+//! [ D  G ] [ x ] = [ r_D ]      E: border columns, D, G: k dense rows
+//! ```
+//!
+//! The reduction ([`CyclicReduction`]) depends on `C` alone: row operations
+//! `R` (a row equilibration and an orthogonal transformation per interval,
+//! then one per eliminated node) make `R C` block upper triangular up to a
+//! last `n x n` relation of node 0 with itself, the Floquet pencil. A
+//! bordered system ([`Bordered`]) applies `R` to `E` and eliminates the
+//! eliminated unknowns from the dense rows with multipliers `Lambda`, which
+//! leaves the `(n + k)`-square system of node 0 and `x`. So
+//! `(I - Lambda) R J P = U` is block upper triangular (`P` orders the
+//! unknowns by elimination) and both `J z = r` (apply `R`, `Lambda`, back
+//! substitution) and `J^T w = r` (forward substitution with `U^T`, then
+//! `Lambda^T` and `R^T` in reverse order) are solved from one factorization.
+//! Several bordered systems share the reduction of `C`.
+//!
+//! Cost: `O(NTST (m n)^3)` flops in small dense blocks for the reduction,
+//! `O(NTST (m n)^2 k)` for the borders, no fill-in, no symbolic analysis.
 
+use super::collocation::Linearization;
 use crate::error::ContinuationError;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut, Dyn, FullPivLU};
+use std::ops::Range;
 
-/// `a y_left + b y_right + e [x; 1] = 0`: `n` equations relating two mesh
-/// nodes (consecutive ones after condensation; farther apart after reduction).
+/// Householder QR of a block with at least as many rows as columns,
+/// `Q^T a = [r; 0]` with `Q = H_0 H_1 ... H_{c-1}`, `H_j = I - 2 v_j v_j^T`
+/// (Golub & Van Loan, *Matrix Computations*, §5.2), the reflectors kept to
+/// apply `Q^T` and `Q` to other columns.
 #[derive(Clone, Debug)]
-pub struct Relation {
-    pub left: usize,
-    pub right: usize,
-    pub a: DMatrix<f64>,
-    pub b: DMatrix<f64>,
-    pub e: DMatrix<f64>,
-}
-
-/// `r y_node + x y_left + z y_right + w [x; 1] = 0` with `r` upper
-/// triangular: how an eliminated node is recovered.
-struct Elimination {
-    node: usize,
-    left: usize,
-    right: usize,
+struct Householder {
+    /// Unit reflector `v_j` in rows `j..` of column `j`.
+    v: DMatrix<f64>,
+    /// The upper triangular factor (`c x c`).
     r: DMatrix<f64>,
-    x: DMatrix<f64>,
-    z: DMatrix<f64>,
-    w: DMatrix<f64>,
 }
 
-/// Dense rows (`k` of them) as they are carried through the eliminations:
-/// `sum_j y[j] y_j + e [x; 1] = 0`, `y[j]` of size `k x n`.
-pub struct DenseRows {
-    pub y: Vec<DMatrix<f64>>,
-    pub e: DMatrix<f64>,
-}
+impl Householder {
+    fn zeros(rows: usize, cols: usize) -> Self {
+        Householder {
+            v: DMatrix::zeros(rows, cols),
+            r: DMatrix::zeros(cols, cols),
+        }
+    }
 
-impl DenseRows {
-    /// Substitutes the eliminated node `el.node` into the rows:
-    /// `y_node = -r^{-1} (x y_left + z y_right + w [x; 1])`.
-    fn substitute(&mut self, el: &Elimination) -> Result<(), ContinuationError> {
-        let d = std::mem::replace(&mut self.y[el.node], DMatrix::zeros(0, 0));
-        // lambda = d r^{-1}, from r^T lambda^T = d^T.
-        let lambda =
-            el.r.transpose()
-                .solve_lower_triangular(&d.transpose())
-                .ok_or(ContinuationError::Singular)?
-                .transpose();
-        self.y[el.left] -= &lambda * &el.x;
-        self.y[el.right] -= &lambda * &el.z;
-        self.e -= &lambda * &el.w;
-        self.y[el.node] = DMatrix::zeros(d.nrows(), d.ncols());
-        Ok(())
+    /// Factors the block held in `self.v` (overwritten by the reflectors).
+    fn factor(&mut self) {
+        let (rows, cols) = self.v.shape();
+        self.r.fill(0.0);
+        let data = self.v.as_mut_slice();
+        for j in 0..cols {
+            let (left, right) = data.split_at_mut((j + 1) * rows);
+            let v = &mut left[j * rows + j..];
+            let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+            // v = x - alpha e_1 with alpha of the sign opposite to x_1: no cancellation.
+            let alpha = if v[0] >= 0.0 { -norm } else { norm };
+            v[0] -= alpha;
+            let size = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+            if size > 0.0 {
+                v.iter_mut().for_each(|a| *a /= size);
+            }
+            self.r[(j, j)] = alpha;
+            for c in j + 1..cols {
+                let col = &mut right[(c - j - 1) * rows..(c - j) * rows];
+                reflect(v, &mut col[j..]);
+                self.r[(j, c)] = col[j];
+            }
+        }
+    }
+
+    /// `x <- Q^T x` (`x` has as many entries as the block has rows).
+    fn apply_qt(&self, x: &mut [f64]) {
+        for j in 0..self.v.ncols() {
+            reflect(self.reflector(j), &mut x[j..]);
+        }
+    }
+
+    /// `x <- Q x`.
+    fn apply_q(&self, x: &mut [f64]) {
+        for j in (0..self.v.ncols()).rev() {
+            reflect(self.reflector(j), &mut x[j..]);
+        }
+    }
+
+    fn reflector(&self, j: usize) -> &[f64] {
+        let rows = self.v.nrows();
+        &self.v.as_slice()[j * rows + j..(j + 1) * rows]
     }
 }
 
-/// QR of the columns `pivot` of `block`, applied to the other columns:
-/// returns `(r, top, bottom)` where `top` (as many rows as `pivot` has
-/// columns) still involves the pivot unknowns through `r` and `bottom` is
-/// free of them.
-fn split(
-    pivot: DMatrix<f64>,
-    mut rest: DMatrix<f64>,
-) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
-    let k = pivot.ncols();
-    let qr = pivot.qr();
-    qr.q_tr_mul(&mut rest);
-    let r = qr.r();
-    let bottom = rest.rows(k, rest.nrows() - k).into_owned();
-    let top = rest.rows(0, k).into_owned();
-    (r, top, bottom)
+/// `x <- (I - 2 v v^T) x`.
+fn reflect(v: &[f64], x: &mut [f64]) {
+    let dot: f64 = v.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
+    let f = 2.0 * dot;
+    x.iter_mut().zip(v).for_each(|(a, b)| *a -= f * b);
 }
 
-/// The interior unknowns of one interval, condensed out: its local matrix
-/// (`m n` rows; columns: the `m + 1` nodes, then the border and right-hand
-/// side columns) becomes a [`Relation`] between its end nodes plus the
-/// rows that recover the interior. `i` is the interval, `nodes` the number
-/// of mesh nodes (the last interval ends on node 0).
-pub struct Condensed {
-    pub relation: Relation,
-    /// `r w + top [y_i; y_{i+1}; x; 1] = 0` for the interior `w`.
-    r: DMatrix<f64>,
+/// The condensation of one interval: row equilibration `s` (on stiff
+/// stretches of an orbit one component's rows carry entries like
+/// `h T A/(m v) ~ 1e12` next to O(1) ones, and reflections mixing them would
+/// lose the small ones; scaling an equation changes neither the solution nor
+/// the Floquet multipliers), then `Q^T` from the QR of the interior columns:
+/// the first `(m - 1) n` rows, `r w + top [y_i; y_{i+1}] + ...`, recover the
+/// interior `w`; the last `n` are the interval's relation `a y_i + b y_{i+1}`.
+#[derive(Clone, Debug)]
+struct Interval {
+    scale: Vec<f64>,
+    qr: Householder,
     top: DMatrix<f64>,
 }
 
-/// Condenses interval `i` (of `nodes` mesh nodes): `local` holds its
-/// `m n` rows on the `m + 1` nodes' columns, `border` the same rows on the
-/// border columns (and the right-hand side column, if any).
-pub fn condense(
-    local: nalgebra::DMatrixView<f64>,
-    border: &DMatrix<f64>,
-    n: usize,
-    i: usize,
-    nodes: usize,
-) -> Condensed {
-    let m = local.ncols() / n - 1;
-    let ne = border.ncols();
-    let mut ends = DMatrix::zeros(local.nrows(), 2 * n + ne);
-    ends.columns_mut(0, n).copy_from(&local.columns(0, n));
-    ends.columns_mut(n, n).copy_from(&local.columns(m * n, n));
-    ends.columns_mut(2 * n, ne).copy_from(border);
-    let mut interior = local.columns(n, (m - 1) * n).into_owned();
-    // Row equilibration: on stiff stretches of an orbit one component's rows
-    // carry entries like h T A/(m v) ~ 1e12 next to O(1) ones, and Householder
-    // reflections mixing them would lose the small ones. Scaling an equation
-    // changes neither the solution nor the Floquet multipliers.
-    for row in 0..local.nrows() {
-        let size = local.row(row).iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        if size > 0.0 && size.is_finite() {
-            ends.row_mut(row).scale_mut(1.0 / size);
-            interior.row_mut(row).scale_mut(1.0 / size);
-        }
-    }
-    let (r, top, bottom) = if m > 1 {
-        split(interior, ends)
-    } else {
-        (DMatrix::zeros(0, 0), DMatrix::zeros(0, ends.ncols()), ends)
-    };
-    Condensed {
-        relation: Relation {
-            left: i,
-            right: (i + 1) % nodes,
-            a: bottom.columns(0, n).into_owned(),
-            b: bottom.columns(n, n).into_owned(),
-            e: bottom.columns(2 * n, ne).into_owned(),
-        },
-        r,
-        top,
-    }
+/// The elimination of node `node`, shared by the relation held in the rows
+/// of interval `upper` (its right node) and that of `lower` (its left): `Q^T`
+/// from the QR of `[b_upper; a_lower]` turns them into
+/// `r y_node + x y_left + z y_right + ...` (kept in `upper`'s rows) and the
+/// relation of `left` with `right` (in `lower`'s rows).
+#[derive(Clone, Debug)]
+struct NodeElimination {
+    node: usize,
+    left: usize,
+    right: usize,
+    upper: usize,
+    lower: usize,
+    qr: Householder,
+    x: DMatrix<f64>,
+    z: DMatrix<f64>,
 }
 
-/// Dense rows given on every node value (`ntst m n` columns, node-major),
-/// then on the border unknowns and minus their right-hand side, with the
-/// interior nodes of every interval eliminated through its condensation.
-pub fn dense_rows(
-    rows: &DMatrix<f64>,
-    condensed: &[Condensed],
+/// The reduction `R` of the collocation rows on the mesh nodes (see the
+/// module documentation): mesh node `i` is the first node of interval `i`.
+#[derive(Clone, Debug)]
+pub struct CyclicReduction {
     n: usize,
     m: usize,
-) -> Result<DenseRows, ContinuationError> {
-    let ntst = condensed.len();
-    let k = rows.nrows();
-    let nn = ntst * m * n;
-    let ne = rows.ncols() - nn;
-    let mut d = DenseRows {
-        y: (0..ntst)
-            .map(|i| rows.columns(i * m * n, n).into_owned())
-            .collect(),
-        e: rows.columns(nn, ne).into_owned(),
-    };
-    if m > 1 {
-        for (i, c) in condensed.iter().enumerate() {
-            let interior = rows.columns(i * m * n + n, (m - 1) * n);
-            // lambda = d_w r^{-1}; d_w w = -lambda top [y_i; y_{i+1}; x; 1].
-            let lambda =
-                c.r.transpose()
-                    .solve_lower_triangular(&interior.transpose())
-                    .ok_or(ContinuationError::Singular)?
-                    .transpose();
-            let update = &lambda * &c.top;
-            d.y[i] -= update.columns(0, n);
-            d.y[(i + 1) % ntst] -= update.columns(n, n);
-            d.e -= update.columns(2 * n, ne);
+    intervals: Vec<Interval>,
+    eliminations: Vec<NodeElimination>,
+    /// The relation `a y_left + b y_right` held in each interval's last `n`
+    /// rows (of node 0 with itself, in interval `last`, at the end).
+    a: Vec<DMatrix<f64>>,
+    b: Vec<DMatrix<f64>>,
+    last: usize,
+}
+
+impl CyclicReduction {
+    /// The reduction of `lin`'s collocation rows (state dimension `n`).
+    pub fn new(lin: &Linearization, n: usize) -> Self {
+        let mut reduction = CyclicReduction {
+            n,
+            m: 0,
+            intervals: Vec::new(),
+            eliminations: Vec::new(),
+            a: Vec::new(),
+            b: Vec::new(),
+            last: 0,
+        };
+        reduction.factor(lin);
+        reduction
+    }
+
+    /// Recomputes the reduction for `lin` (same state dimension), reusing
+    /// the storage when the mesh has the same shape.
+    pub fn factor(&mut self, lin: &Linearization) {
+        let n = self.n;
+        let ntst = lin.local.len();
+        let mn = lin.local[0].nrows();
+        let m = mn / n;
+        if self.m != m || self.intervals.len() != ntst {
+            self.m = m;
+            self.intervals = vec![
+                Interval {
+                    scale: vec![0.0; mn],
+                    qr: Householder::zeros(mn, (m - 1) * n),
+                    top: DMatrix::zeros((m - 1) * n, 2 * n),
+                };
+                ntst
+            ];
+            self.eliminations = vec![
+                NodeElimination {
+                    node: 0,
+                    left: 0,
+                    right: 0,
+                    upper: 0,
+                    lower: 0,
+                    qr: Householder::zeros(2 * n, n),
+                    x: DMatrix::zeros(n, n),
+                    z: DMatrix::zeros(n, n),
+                };
+                ntst - 1
+            ];
+            self.a = vec![DMatrix::zeros(n, n); ntst];
+            self.b = vec![DMatrix::zeros(n, n); ntst];
+        }
+        let mut ends = DMatrix::zeros(mn, 2 * n);
+        for (i, (iv, block)) in self.intervals.iter_mut().zip(&lin.local).enumerate() {
+            for r in 0..mn {
+                let size = (0..(m + 1) * n).fold(0.0f64, |a, c| a.max(block[(r, c)].abs()));
+                iv.scale[r] = if size > 0.0 && size.is_finite() {
+                    1.0 / size
+                } else {
+                    1.0
+                };
+                for c in 0..n {
+                    ends[(r, c)] = iv.scale[r] * block[(r, c)];
+                    ends[(r, n + c)] = iv.scale[r] * block[(r, m * n + c)];
+                }
+                for c in 0..(m - 1) * n {
+                    iv.qr.v[(r, c)] = iv.scale[r] * block[(r, n + c)];
+                }
+            }
+            iv.qr.factor();
+            for c in 0..2 * n {
+                iv.qr
+                    .apply_qt(&mut ends.as_mut_slice()[c * mn..(c + 1) * mn]);
+            }
+            iv.top.copy_from(&ends.rows(0, (m - 1) * n));
+            self.a[i].copy_from(&ends.view(((m - 1) * n, 0), (n, n)));
+            self.b[i].copy_from(&ends.view(((m - 1) * n, n), (n, n)));
+        }
+        // Orthogonal cyclic reduction: (interval holding the relation, left, right).
+        let mut chain: Vec<(usize, usize, usize)> =
+            (0..ntst).map(|i| (i, i, (i + 1) % ntst)).collect();
+        let mut rest = DMatrix::zeros(2 * n, 2 * n);
+        let mut count = 0;
+        while chain.len() > 1 {
+            let mut next = Vec::with_capacity(chain.len().div_ceil(2));
+            for pair in chain.chunks(2) {
+                let &[(upper, left, node), (lower, _, right)] = pair else {
+                    next.push(pair[0]);
+                    continue;
+                };
+                let el = &mut self.eliminations[count];
+                count += 1;
+                (el.node, el.left, el.right, el.upper, el.lower) =
+                    (node, left, right, upper, lower);
+                el.qr.v.rows_mut(0, n).copy_from(&self.b[upper]);
+                el.qr.v.rows_mut(n, n).copy_from(&self.a[lower]);
+                el.qr.factor();
+                rest.fill(0.0);
+                rest.view_mut((0, 0), (n, n)).copy_from(&self.a[upper]);
+                rest.view_mut((n, n), (n, n)).copy_from(&self.b[lower]);
+                for c in 0..2 * n {
+                    el.qr
+                        .apply_qt(&mut rest.as_mut_slice()[c * 2 * n..(c + 1) * 2 * n]);
+                }
+                el.x.copy_from(&rest.view((0, 0), (n, n)));
+                el.z.copy_from(&rest.view((0, n), (n, n)));
+                self.a[lower].copy_from(&rest.view((n, 0), (n, n)));
+                self.b[lower].copy_from(&rest.view((n, n), (n, n)));
+                next.push((lower, left, right));
+            }
+            chain = next;
+        }
+        self.last = chain[0].0;
+    }
+
+    /// The last relation `a y_0 + b y_N = 0` (`y_N = y_0` for the orbit): the
+    /// Floquet pencil `a y = mu (-b) y`.
+    pub fn pencil(&self) -> (&DMatrix<f64>, &DMatrix<f64>) {
+        (&self.a[self.last], &self.b[self.last])
+    }
+
+    fn mn(&self) -> usize {
+        self.m * self.n
+    }
+
+    /// Rows (and interior unknowns) of interval `i` recovering its interior.
+    fn top_rows(&self, i: usize) -> Range<usize> {
+        i * self.mn()..i * self.mn() + (self.m - 1) * self.n
+    }
+
+    /// Rows holding interval `i`'s relation (or an elimination, once used).
+    fn relation_rows(&self, i: usize) -> Range<usize> {
+        (i + 1) * self.mn() - self.n..(i + 1) * self.mn()
+    }
+
+    /// Unknowns of mesh node `i`.
+    fn node(&self, i: usize) -> Range<usize> {
+        i * self.mn()..i * self.mn() + self.n
+    }
+
+    /// `x <- R x` on the collocation rows.
+    fn apply_r(&self, x: &mut [f64]) {
+        let mn = self.mn();
+        for (i, iv) in self.intervals.iter().enumerate() {
+            let rows = &mut x[i * mn..(i + 1) * mn];
+            rows.iter_mut().zip(&iv.scale).for_each(|(a, s)| *a *= s);
+            iv.qr.apply_qt(rows);
+        }
+        let mut pair = vec![0.0; 2 * self.n];
+        for el in &self.eliminations {
+            self.gather(x, el, &mut pair);
+            el.qr.apply_qt(&mut pair);
+            self.scatter(&pair, el, x);
         }
     }
-    debug_assert_eq!(d.e.nrows(), k);
-    Ok(d)
+
+    /// `x <- R^T x` on the collocation rows.
+    fn apply_rt(&self, x: &mut [f64]) {
+        let mut pair = vec![0.0; 2 * self.n];
+        for el in self.eliminations.iter().rev() {
+            self.gather(x, el, &mut pair);
+            el.qr.apply_q(&mut pair);
+            self.scatter(&pair, el, x);
+        }
+        let mn = self.mn();
+        for (i, iv) in self.intervals.iter().enumerate() {
+            let rows = &mut x[i * mn..(i + 1) * mn];
+            iv.qr.apply_q(rows);
+            rows.iter_mut().zip(&iv.scale).for_each(|(a, s)| *a *= s);
+        }
+    }
+
+    fn gather(&self, x: &[f64], el: &NodeElimination, pair: &mut [f64]) {
+        let n = self.n;
+        pair[..n].copy_from_slice(&x[self.relation_rows(el.upper)]);
+        pair[n..].copy_from_slice(&x[self.relation_rows(el.lower)]);
+    }
+
+    fn scatter(&self, pair: &[f64], el: &NodeElimination, x: &mut [f64]) {
+        let n = self.n;
+        x[self.relation_rows(el.upper)].copy_from_slice(&pair[..n]);
+        x[self.relation_rows(el.lower)].copy_from_slice(&pair[n..]);
+    }
 }
 
-/// Eliminates the node shared by `first` (its right) and `second` (its left).
-fn combine(first: &Relation, second: &Relation) -> (Relation, Elimination) {
-    let n = first.a.nrows();
-    let ne = first.e.ncols();
-    let mut pivot = DMatrix::zeros(2 * n, n);
-    pivot.rows_mut(0, n).copy_from(&first.b);
-    pivot.rows_mut(n, n).copy_from(&second.a);
-    let mut rest = DMatrix::zeros(2 * n, 2 * n + ne);
-    rest.view_mut((0, 0), (n, n)).copy_from(&first.a);
-    rest.view_mut((n, n), (n, n)).copy_from(&second.b);
-    rest.view_mut((0, 2 * n), (n, ne)).copy_from(&first.e);
-    rest.view_mut((n, 2 * n), (n, ne)).copy_from(&second.e);
-    let (r, top, bottom) = split(pivot, rest);
-    let relation = Relation {
-        left: first.left,
-        right: second.right,
-        a: bottom.columns(0, n).into_owned(),
-        b: bottom.columns(n, n).into_owned(),
-        e: bottom.columns(2 * n, ne).into_owned(),
-    };
-    let elimination = Elimination {
-        node: first.right,
-        left: first.left,
-        right: second.right,
-        r,
-        x: top.columns(0, n).into_owned(),
-        z: top.columns(n, n).into_owned(),
-        w: top.columns(2 * n, ne).into_owned(),
-    };
-    (relation, elimination)
+/// The collocation system bordered by `k` columns and `k` dense rows,
+/// factored on a [`CyclicReduction`]: solves with the matrix and with its
+/// transpose.
+pub struct Bordered<'a> {
+    reduction: &'a CyclicReduction,
+    /// `R E`: the border columns transformed (`N x k`).
+    columns: DMatrix<f64>,
+    /// `Lambda^T`, the dense rows' multipliers, per interval (`(m - 1) n x k`)
+    /// and per node elimination (`n x k`).
+    interior: Vec<DMatrix<f64>>,
+    nodes: Vec<DMatrix<f64>>,
+    /// The final system in `(y_0, x)` and its LU.
+    last: DMatrix<f64>,
+    lu: FullPivLU<f64, Dyn, Dyn>,
 }
 
-/// Orthogonal cyclic reduction of a closed chain of relations down to one
-/// relation of node 0 with itself; `dense` rows (if any) follow every
-/// elimination. Returns the final relation and the eliminations in order.
-fn reduce(
-    mut chain: Vec<Relation>,
-    mut dense: Option<&mut DenseRows>,
-) -> Result<(Relation, Vec<Elimination>), ContinuationError> {
-    let mut eliminations = Vec::with_capacity(chain.len());
-    while chain.len() > 1 {
-        let mut next = Vec::with_capacity(chain.len().div_ceil(2));
-        let mut pairs = chain.into_iter();
-        while let Some(first) = pairs.next() {
-            match pairs.next() {
-                Some(second) => {
-                    let (relation, el) = combine(&first, &second);
-                    if let Some(d) = dense.as_deref_mut() {
-                        d.substitute(&el)?;
-                    }
-                    eliminations.push(el);
-                    next.push(relation);
-                }
-                None => next.push(first),
+impl<'a> Bordered<'a> {
+    /// The system `[C E; D G]` with `C` reduced in `reduction`, `columns`
+    /// `= E` (`N x k`) and `rows` `= [D G]` (`k x (N + k)`).
+    pub fn new(
+        reduction: &'a CyclicReduction,
+        mut columns: DMatrix<f64>,
+        mut rows: DMatrix<f64>,
+    ) -> Result<Self, ContinuationError> {
+        let (n, mn) = (reduction.n, reduction.mn());
+        let ntst = reduction.intervals.len();
+        let nn = ntst * mn;
+        let k = columns.ncols();
+        if columns.nrows() != nn || rows.shape() != (k, nn + k) {
+            return Err(ContinuationError::Sparse(format!(
+                "{} dense rows for {k} border columns",
+                rows.nrows()
+            )));
+        }
+        for c in 0..k {
+            reduction.apply_r(&mut columns.as_mut_slice()[c * nn..(c + 1) * nn]);
+        }
+        // Eliminates the unknowns `cols` (pivot `r`) from the dense rows:
+        // `rows -= lambda (r y_cols + ...)` with `lambda = rows_cols r^{-1}`;
+        // returns `lambda^T`.
+        let multipliers = |rows: &DMatrix<f64>, cols: Range<usize>, r: &DMatrix<f64>| {
+            let mut lt = rows.columns(cols.start, cols.len()).transpose();
+            r.tr_solve_upper_triangular_mut(&mut lt)
+                .then_some(lt)
+                .ok_or(ContinuationError::Singular)
+        };
+        let mut interior = Vec::with_capacity(ntst);
+        if reduction.m > 1 {
+            for (i, iv) in reduction.intervals.iter().enumerate() {
+                let top = reduction.top_rows(i);
+                let lt = multipliers(&rows, top.start + n..top.end + n, &iv.qr.r)?;
+                let next = (i + 1) % ntst;
+                rows.columns_mut(i * mn, n)
+                    .gemm_tr(-1.0, &lt, &iv.top.columns(0, n), 1.0);
+                rows.columns_mut(next * mn, n)
+                    .gemm_tr(-1.0, &lt, &iv.top.columns(n, n), 1.0);
+                rows.columns_mut(nn, k).gemm_tr(
+                    -1.0,
+                    &lt,
+                    &columns.rows(top.start, top.len()),
+                    1.0,
+                );
+                interior.push(lt);
             }
         }
-        chain = next;
-    }
-    let last = chain.pop().ok_or(ContinuationError::Singular)?;
-    Ok((last, eliminations))
-}
-
-/// The closed chain reduced to `a y_0 + b y_N = 0` (no border columns):
-/// the Floquet pencil `a y = mu (-b) y`.
-pub fn reduce_pencil(
-    chain: Vec<Relation>,
-) -> Result<(DMatrix<f64>, DMatrix<f64>), ContinuationError> {
-    let (last, _) = reduce(chain, None)?;
-    Ok((last.a, last.b))
-}
-
-/// Solves the bordered collocation system from its condensed intervals
-/// (border columns `[x | -rhs]`) and its `nx` dense rows (from
-/// [`dense_rows`]). Returns the node values (node-major, `ntst m n`)
-/// followed by the `nx` border unknowns.
-pub fn solve(
-    condensed: Vec<Condensed>,
-    mut dense: DenseRows,
-    n: usize,
-    m: usize,
-) -> Result<Vec<f64>, ContinuationError> {
-    let ntst = condensed.len();
-    let ne = dense.e.ncols();
-    let nx = ne.saturating_sub(1);
-    if ne == 0 || dense.e.nrows() != nx {
-        return Err(ContinuationError::Sparse(format!(
-            "{} dense rows for {nx} border unknowns",
-            dense.e.nrows()
-        )));
-    }
-    let (interiors, chain): (Vec<_>, Vec<_>) = condensed
-        .into_iter()
-        .map(|c| ((c.r, c.top), c.relation))
-        .unzip();
-    let (last, eliminations) = reduce(chain, Some(&mut dense))?;
-    // Final system in (y_0, x): [a + b, e_x; d_0, d_x] [y_0; x] = -[e_1; d_1].
-    let dim = n + nx;
-    let mut f = DMatrix::zeros(dim, dim);
-    f.view_mut((0, 0), (n, n)).copy_from(&(&last.a + &last.b));
-    f.view_mut((0, n), (n, nx))
-        .copy_from(&last.e.columns(0, nx));
-    f.view_mut((n, 0), (nx, n)).copy_from(&dense.y[0]);
-    f.view_mut((n, n), (nx, nx))
-        .copy_from(&dense.e.columns(0, nx));
-    let mut g = nalgebra::DVector::zeros(dim);
-    g.rows_mut(0, n).copy_from(&(-last.e.column(nx)));
-    g.rows_mut(n, nx).copy_from(&(-dense.e.column(nx)));
-    let sol = f
-        .full_piv_lu()
-        .solve(&g)
-        .ok_or(ContinuationError::Singular)?;
-    let mut aug = nalgebra::DVector::from_element(nx + 1, 1.0);
-    aug.rows_mut(0, nx).copy_from(&sol.rows(n, nx));
-    let mut y = vec![nalgebra::DVector::zeros(n); ntst];
-    y[0] = sol.rows(0, n).into_owned();
-    for el in eliminations.iter().rev() {
-        let rhs = -(&el.x * &y[el.left] + &el.z * &y[el.right] + &el.w * &aug);
-        y[el.node] =
-            el.r.solve_upper_triangular(&rhs)
-                .ok_or(ContinuationError::Singular)?;
-    }
-    let mut out = vec![0.0; ntst * m * n + nx];
-    for (i, (r, top)) in interiors.iter().enumerate() {
-        out[i * m * n..i * m * n + n].copy_from_slice(y[i].as_slice());
-        if m > 1 {
-            let mut ends = nalgebra::DVector::zeros(2 * n + ne);
-            ends.rows_mut(0, n).copy_from(&y[i]);
-            ends.rows_mut(n, n).copy_from(&y[(i + 1) % ntst]);
-            ends.rows_mut(2 * n, ne).copy_from(&aug);
-            let w = r
-                .solve_upper_triangular(&(-(top * ends)))
-                .ok_or(ContinuationError::Singular)?;
-            out[i * m * n + n..(i + 1) * m * n].copy_from_slice(w.as_slice());
+        let mut nodes = Vec::with_capacity(ntst);
+        for el in &reduction.eliminations {
+            let lt = multipliers(&rows, reduction.node(el.node), &el.qr.r)?;
+            rows.columns_mut(el.left * mn, n)
+                .gemm_tr(-1.0, &lt, &el.x, 1.0);
+            rows.columns_mut(el.right * mn, n)
+                .gemm_tr(-1.0, &lt, &el.z, 1.0);
+            let w = reduction.relation_rows(el.upper);
+            rows.columns_mut(nn, k)
+                .gemm_tr(-1.0, &lt, &columns.rows(w.start, n), 1.0);
+            nodes.push(lt);
         }
+        // Final system in (y_0, x): [a + b, R E; D_0, G].
+        let (a, b) = reduction.pencil();
+        let mut last = DMatrix::zeros(n + k, n + k);
+        last.view_mut((0, 0), (n, n)).copy_from(&(a + b));
+        let f = reduction.relation_rows(reduction.last);
+        last.view_mut((0, n), (n, k))
+            .copy_from(&columns.rows(f.start, n));
+        last.view_mut((n, 0), (k, n)).copy_from(&rows.columns(0, n));
+        last.view_mut((n, n), (k, k))
+            .copy_from(&rows.columns(nn, k));
+        let lu = last.clone().full_piv_lu();
+        Ok(Bordered {
+            reduction,
+            columns,
+            interior,
+            nodes,
+            last,
+            lu,
+        })
     }
-    out[ntst * m * n..].copy_from_slice(aug.rows(0, nx).as_slice());
-    if out.iter().all(|v| v.is_finite()) {
-        Ok(out)
+
+    fn dim(&self) -> usize {
+        self.columns.nrows() + self.columns.ncols()
+    }
+
+    /// Solves `J z = rhs` (`rhs`: the collocation rows, then the dense rows;
+    /// `z`: the node values, node-major, then the `k` border unknowns).
+    pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        let red = self.reduction;
+        let (n, nn, k) = (red.n, self.columns.nrows(), self.columns.ncols());
+        let mut c = rhs.to_vec();
+        red.apply_r(&mut c[..nn]);
+        let mut g = DVector::zeros(n + k);
+        g.rows_mut(0, n)
+            .copy_from_slice(&c[red.relation_rows(red.last)]);
+        g.rows_mut(n, k).copy_from_slice(&c[nn..]);
+        let dense = |g: &mut DVector<f64>, lt: &DMatrix<f64>, rows: Range<usize>| {
+            g.rows_mut(n, k).gemv_tr(
+                -1.0,
+                lt,
+                &DVectorView::from_slice(&c[rows.clone()], rows.len()),
+                1.0,
+            );
+        };
+        for (i, lt) in self.interior.iter().enumerate() {
+            dense(&mut g, lt, red.top_rows(i));
+        }
+        for (el, lt) in red.eliminations.iter().zip(&self.nodes) {
+            dense(&mut g, lt, red.relation_rows(el.upper));
+        }
+        let sol = self.lu.solve(&g).ok_or(ContinuationError::Singular)?;
+        let x = sol.rows(n, k);
+        let mut z = vec![0.0; nn + k];
+        z[..n].copy_from_slice(sol.rows(0, n).as_slice());
+        z[nn..].copy_from_slice(x.as_slice());
+        // r y = c - (x y_left + z y_right + (R E) x), eliminations in reverse.
+        let mut y = DVector::zeros(n);
+        for el in red.eliminations.iter().rev() {
+            let rows = red.relation_rows(el.upper);
+            y.copy_from_slice(&c[rows.clone()]);
+            let node = |i: usize| DVectorView::from_slice(&z[red.node(i)], n);
+            y.gemv(-1.0, &el.x, &node(el.left), 1.0);
+            y.gemv(-1.0, &el.z, &node(el.right), 1.0);
+            y.gemv(-1.0, &self.columns.rows(rows.start, n), &x, 1.0);
+            if !el.qr.r.solve_upper_triangular_mut(&mut y) {
+                return Err(ContinuationError::Singular);
+            }
+            z[red.node(el.node)].copy_from_slice(y.as_slice());
+        }
+        if red.m > 1 {
+            let ntst = red.intervals.len();
+            let mut w = DVector::zeros((red.m - 1) * n);
+            for (i, iv) in red.intervals.iter().enumerate() {
+                let rows = red.top_rows(i);
+                w.copy_from_slice(&c[rows.clone()]);
+                let node = |i: usize| DVectorView::from_slice(&z[red.node(i)], n);
+                w.gemv(-1.0, &iv.top.columns(0, n), &node(i), 1.0);
+                w.gemv(-1.0, &iv.top.columns(n, n), &node((i + 1) % ntst), 1.0);
+                w.gemv(-1.0, &self.columns.rows(rows.start, rows.len()), &x, 1.0);
+                if !iv.qr.r.solve_upper_triangular_mut(&mut w) {
+                    return Err(ContinuationError::Singular);
+                }
+                z[rows.start + n..rows.end + n].copy_from_slice(w.as_slice());
+            }
+        }
+        finite(z)
+    }
+
+    /// Solves `J^T w = rhs` (`rhs` indexed by the unknowns, `w` by the
+    /// equations: collocation rows, then dense rows).
+    pub fn solve_transpose(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        let red = self.reduction;
+        let (n, nn, k) = (red.n, self.columns.nrows(), self.columns.ncols());
+        let ntst = red.intervals.len();
+        let mut t = rhs.to_vec();
+        let mut s = vec![0.0; self.dim()];
+        // U^T s = P^T rhs, unknowns in the order of elimination: the columns
+        // of an eliminated group hold its pivot and rows eliminated before it.
+        let push =
+            |t: &mut [f64], range: Range<usize>, m: nalgebra::DMatrixView<f64>, s: &[f64]| {
+                let mut target = DVectorViewMut::from_slice(&mut t[range.clone()], range.len());
+                target.gemv_tr(-1.0, &m, &DVectorView::from_slice(s, s.len()), 1.0);
+            };
+        if red.m > 1 {
+            for (i, iv) in red.intervals.iter().enumerate() {
+                let rows = red.top_rows(i);
+                let mut st = DVector::from_column_slice(&t[rows.start + n..rows.end + n]);
+                if !iv.qr.r.tr_solve_upper_triangular_mut(&mut st) {
+                    return Err(ContinuationError::Singular);
+                }
+                push(&mut t, red.node(i), iv.top.columns(0, n), st.as_slice());
+                push(
+                    &mut t,
+                    red.node((i + 1) % ntst),
+                    iv.top.columns(n, n),
+                    st.as_slice(),
+                );
+                push(
+                    &mut t,
+                    nn..nn + k,
+                    self.columns.rows(rows.start, rows.len()),
+                    st.as_slice(),
+                );
+                s[rows].copy_from_slice(st.as_slice());
+            }
+        }
+        for el in &red.eliminations {
+            let rows = red.relation_rows(el.upper);
+            let mut su = DVector::from_column_slice(&t[red.node(el.node)]);
+            if !el.qr.r.tr_solve_upper_triangular_mut(&mut su) {
+                return Err(ContinuationError::Singular);
+            }
+            push(&mut t, red.node(el.left), el.x.as_view(), su.as_slice());
+            push(&mut t, red.node(el.right), el.z.as_view(), su.as_slice());
+            push(
+                &mut t,
+                nn..nn + k,
+                self.columns.rows(rows.start, n),
+                su.as_slice(),
+            );
+            s[rows].copy_from_slice(su.as_slice());
+        }
+        let mut g = DVector::zeros(n + k);
+        g.rows_mut(0, n).copy_from_slice(&t[..n]);
+        g.rows_mut(n, k).copy_from_slice(&t[nn..]);
+        let sol = self
+            .last
+            .transpose()
+            .full_piv_lu()
+            .solve(&g)
+            .ok_or(ContinuationError::Singular)?;
+        s[red.relation_rows(red.last)].copy_from_slice(sol.rows(0, n).as_slice());
+        s[nn..].copy_from_slice(sol.rows(n, k).as_slice());
+        // w = R^T (I - Lambda)^T s.
+        let sd = sol.rows(n, k);
+        let mut lambda = |rows: Range<usize>, lt: &DMatrix<f64>| {
+            DVectorViewMut::from_slice(&mut s[rows.clone()], rows.len()).gemv(-1.0, lt, &sd, 1.0);
+        };
+        for (i, lt) in self.interior.iter().enumerate() {
+            lambda(red.top_rows(i), lt);
+        }
+        for (el, lt) in red.eliminations.iter().zip(&self.nodes) {
+            lambda(red.relation_rows(el.upper), lt);
+        }
+        red.apply_rt(&mut s[..nn]);
+        finite(s)
+    }
+}
+
+fn finite(x: Vec<f64>) -> Result<Vec<f64>, ContinuationError> {
+    if x.iter().all(|v| v.is_finite()) {
+        Ok(x)
     } else {
         Err(ContinuationError::Singular)
     }
@@ -325,7 +593,6 @@ pub fn solve(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::periodic::collocation::Linearization;
     use crate::periodic::newton::solve_bordered;
 
     /// A small deterministic pseudo-random sequence in (-1, 1).
@@ -336,56 +603,78 @@ mod tests {
         ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
     }
 
+    /// A random collocation-shaped system with `k` border columns and `k`
+    /// dense rows (the first one the phase condition, on the nodes only):
+    /// its linearization and the assembled matrix.
+    fn random_system(
+        seed: &mut u64,
+        (n, m, ntst, k): (usize, usize, usize, usize),
+    ) -> (Linearization, DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
+        let mn = m * n;
+        let nn = ntst * mn;
+        let dim = nn + k;
+        // Interval blocks: `m n` rows on the `m + 1` nodes, then T and p.
+        let locals: Vec<DMatrix<f64>> = (0..ntst)
+            .map(|_| {
+                DMatrix::from_fn(mn, (m + 1) * n + 2, |r, c| {
+                    // Diagonally weighted so the assembled matrix is well conditioned.
+                    let d = if c == r + n / 2 { 4.0 } else { 0.0 };
+                    d + noise(seed)
+                })
+            })
+            .collect();
+        let mut dense = DMatrix::from_fn(k, dim, |_, _| noise(seed));
+        dense.view_mut((0, nn), (1, k)).fill(0.0);
+        let lin = Linearization {
+            residual: Vec::new(),
+            local: locals,
+            phase: dense.row(0).columns(0, nn).iter().copied().collect(),
+            term_scale: 0.0,
+            trace_integral: 0.0,
+        };
+        // Border columns: T and p (as many as there are), then random ones.
+        let mut columns = DMatrix::from_fn(nn, k, |_, _| noise(seed));
+        let j = k.min(2);
+        columns
+            .columns_mut(0, j)
+            .copy_from(&lin.border_columns().columns(0, j));
+        let mut full = DMatrix::zeros(dim, dim);
+        for (i, b) in lin.local.iter().enumerate() {
+            for r in 0..mn {
+                for l in 0..=m {
+                    let node = (i * m + l) % (ntst * m);
+                    for c in 0..n {
+                        full[(i * mn + r, node * n + c)] += b[(r, l * n + c)];
+                    }
+                }
+            }
+        }
+        full.view_mut((0, nn), (nn, k)).copy_from(&columns);
+        full.rows_mut(nn, k).copy_from(&dense);
+        (lin, columns, dense, full)
+    }
+
+    const SHAPES: [(usize, usize, usize); 6] = [
+        (2, 1, 2),
+        (3, 4, 5),
+        (2, 3, 8),
+        (3, 2, 7),
+        (3, 4, 1),
+        (2, 4, 3),
+    ];
+
     #[test]
     fn condensed_cyclic_solve_matches_a_dense_solve() {
         let mut seed = 7;
-        for (n, m, ntst) in [(2, 1, 2), (3, 4, 5), (2, 3, 8), (3, 2, 7)] {
-            let mn = m * n;
-            let nn = ntst * mn;
-            let dim = nn + 2;
-            // Interval blocks: `m n` rows on the `m + 1` nodes and 2 border columns.
-            let locals: Vec<DMatrix<f64>> = (0..ntst)
-                .map(|_| {
-                    DMatrix::from_fn(mn, (m + 1) * n + 2, |r, c| {
-                        // Diagonally weighted so the assembled matrix is well conditioned.
-                        let d = if c == r + n / 2 { 4.0 } else { 0.0 };
-                        d + noise(&mut seed)
-                    })
-                })
-                .collect();
-            // Dense rows: the phase condition (nodes only) and an arbitrary row.
-            let mut dense = DMatrix::from_fn(2, dim, |_, _| noise(&mut seed));
-            dense[(0, nn)] = 0.0;
-            dense[(0, nn + 1)] = 0.0;
+        for (n, m, ntst) in SHAPES {
+            let (lin, _, dense, full) = random_system(&mut seed, (n, m, ntst, 2));
+            let dim = full.nrows();
             let rhs: Vec<f64> = (0..dim).map(|_| noise(&mut seed)).collect();
-            // The assembled system.
-            let mut full = DMatrix::zeros(dim, dim);
-            for (i, b) in locals.iter().enumerate() {
-                for r in 0..mn {
-                    for l in 0..=m {
-                        let node = (i * m + l) % (ntst * m);
-                        for c in 0..n {
-                            full[(i * mn + r, node * n + c)] += b[(r, l * n + c)];
-                        }
-                    }
-                    full[(i * mn + r, nn)] = b[(r, (m + 1) * n)];
-                    full[(i * mn + r, nn + 1)] = b[(r, (m + 1) * n + 1)];
-                }
-            }
-            full.rows_mut(nn, 2).copy_from(&dense);
             let reference = full
-                .clone()
                 .full_piv_lu()
-                .solve(&nalgebra::DVector::from_column_slice(&rhs))
+                .solve(&DVector::from_column_slice(&rhs))
                 .unwrap();
             // The structured solve, as Newton's method calls it.
-            let lin = Linearization {
-                residual: Vec::new(),
-                local: locals,
-                phase: dense.row(0).columns(0, nn).iter().copied().collect(),
-                term_scale: 0.0,
-                trace_integral: 0.0,
-            };
             let extra: Vec<f64> = dense.row(1).iter().copied().collect();
             let x = solve_bordered(&lin, n, &extra, &rhs).unwrap();
             let scale = reference.amax();
@@ -394,6 +683,35 @@ mod tests {
                     (a - b).abs() < 1e-12 * scale,
                     "n {n} m {m} ntst {ntst}: {a} vs {b}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn bordered_solves_with_the_matrix_and_its_transpose() {
+        let mut seed = 11;
+        for (n, m, ntst) in SHAPES {
+            for k in [1, 2, 3, 4] {
+                let (lin, columns, dense, full) = random_system(&mut seed, (n, m, ntst, k));
+                let dim = full.nrows();
+                let rhs: Vec<f64> = (0..dim).map(|_| noise(&mut seed)).collect();
+                let b = DVector::from_column_slice(&rhs);
+                let reference = full.clone().full_piv_lu().solve(&b).unwrap();
+                let adjoint = full.transpose().full_piv_lu().solve(&b).unwrap();
+                let reduction = CyclicReduction::new(&lin, n);
+                let sys = Bordered::new(&reduction, columns, dense).unwrap();
+                for (x, reference) in [
+                    (sys.solve(&rhs).unwrap(), reference),
+                    (sys.solve_transpose(&rhs).unwrap(), adjoint),
+                ] {
+                    let scale = reference.amax();
+                    for (a, b) in x.iter().zip(reference.iter()) {
+                        assert!(
+                            (a - b).abs() < 1e-12 * scale,
+                            "n {n} m {m} ntst {ntst} k {k}: {a} vs {b}"
+                        );
+                    }
+                }
             }
         }
     }

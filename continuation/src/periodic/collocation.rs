@@ -47,6 +47,22 @@ pub struct Linearization {
     pub trace_integral: f64,
 }
 
+impl Linearization {
+    /// The border columns `dF/dT`, `dF/dp_k` of the collocation rows
+    /// (interval-major, `N x 2`).
+    pub fn border_columns(&self) -> DMatrix<f64> {
+        let mn = self.local[0].nrows();
+        let nodes = self.local[0].ncols() - 2;
+        let mut columns = DMatrix::zeros(self.local.len() * mn, 2);
+        for (i, block) in self.local.iter().enumerate() {
+            columns
+                .rows_mut(i * mn, mn)
+                .copy_from(&block.columns(nodes, 2));
+        }
+        columns
+    }
+}
+
 impl<'a, S: VectorField> Collocation<'a, S> {
     /// The system on `reference`'s mesh, with `reference` as the phase reference.
     pub fn new(sys: &'a S, reference: &Cycle, k: usize) -> Self {

@@ -23,7 +23,7 @@
 //! the collocation quadrature), so stability of a planar cycle is decided
 //! even where the pencil's trivial multiplier is off by order 1.
 
-use super::bordered::{condense, reduce_pencil};
+use super::bordered::CyclicReduction;
 use super::collocation::Linearization;
 use crate::error::ContinuationError;
 use nalgebra::DMatrix;
@@ -91,23 +91,14 @@ pub fn pencil_multipliers(
     lin: &Linearization,
     n: usize,
 ) -> Result<Vec<Complex64>, ContinuationError> {
-    let ntst = lin.local.len();
-    let chain = lin
-        .local
-        .iter()
-        .enumerate()
-        .map(|(i, block)| {
-            let nodes = block.columns(0, block.ncols() - 2);
-            condense(nodes, &DMatrix::zeros(block.nrows(), 0), n, i, ntst).relation
-        })
-        .collect();
-    let (a, b) = reduce_pencil(chain)?;
+    let reduction = CyclicReduction::new(lin, n);
+    let (a, b) = reduction.pencil();
     if a.iter().chain(b.iter()).any(|v| !v.is_finite()) {
         return Err(ContinuationError::Eigen(
             "non-finite entries in the condensed Floquet pencil".into(),
         ));
     }
-    let mut mu = qz_eigenvalues(&a, &b)?;
+    let mut mu = qz_eigenvalues(a, b)?;
     if mu.is_empty() {
         mu = qz_eigenvalues(&a.transpose(), &b.transpose())?;
     }

@@ -3,7 +3,7 @@
 //! pseudo-arclength condition), solved by condensation and cyclic reduction
 //! ([`super::bordered`]).
 
-use super::bordered::{condense, dense_rows, solve};
+use super::bordered::{Bordered, CyclicReduction};
 use super::collocation::{Collocation, Linearization};
 use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{NewtonReport, NewtonSettings};
@@ -70,43 +70,20 @@ pub fn unit_row(nz: usize, k: usize) -> Vec<f64> {
 }
 
 /// Solves `J x = rhs` where `J` is the collocation Jacobian `lin` (state
-/// dimension `n`) bordered by the row `extra`.
+/// dimension `n`; border columns `T`, `p`) bordered by the phase condition
+/// and the row `extra`.
 pub fn solve_bordered(
     lin: &Linearization,
     n: usize,
     extra: &[f64],
     rhs: &[f64],
 ) -> Result<Vec<f64>, ContinuationError> {
-    let ntst = lin.local.len();
-    let mn = lin.local[0].nrows();
-    let m = mn / n;
-    let nn = ntst * mn;
-    let condensed: Vec<_> = lin
-        .local
-        .iter()
-        .enumerate()
-        .map(|(i, block)| {
-            let mut border = DMatrix::zeros(mn, 3);
-            border
-                .columns_mut(0, 2)
-                .copy_from(&block.columns((m + 1) * n, 2));
-            for r in 0..mn {
-                border[(r, 2)] = -rhs[i * mn + r];
-            }
-            condense(block.columns(0, (m + 1) * n), &border, n, i, ntst)
-        })
-        .collect();
-    let mut rows = DMatrix::zeros(2, nn + 3);
-    for (c, v) in lin.phase.iter().enumerate() {
-        rows[(0, c)] = *v;
-    }
-    for (c, v) in extra.iter().enumerate() {
-        rows[(1, c)] = *v;
-    }
-    rows[(0, nn + 2)] = -rhs[nn];
-    rows[(1, nn + 2)] = -rhs[nn + 1];
-    let dense = dense_rows(&rows, &condensed, n, m)?;
-    solve(condensed, dense, n, m)
+    let nn = lin.phase.len();
+    let mut rows = DMatrix::zeros(2, nn + 2);
+    rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
+    rows.row_mut(1).copy_from_slice(extra);
+    let reduction = CyclicReduction::new(lin, n);
+    Bordered::new(&reduction, lin.border_columns(), rows)?.solve(rhs)
 }
 
 /// Newton's method on the collocation system plus the linear equation

@@ -1,14 +1,12 @@
 //! Curves of folds of cycles in two parameters by pseudo-arclength on the
 //! minimally augmented system.
 
-use super::{Augmented, LpcPoint};
+use super::{Augmented, Evaluation, LpcPoint};
 use crate::error::ContinuationError;
-use crate::linalg::SparseLu;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::cycle::Cycle;
 use crate::system::VectorField;
-use faer::sparse::Triplet;
 
 /// Settings of a curve of folds of cycles. The engine defaults take absolute
 /// steps in parameters below 1 (`param_floor`); for parameters spanning
@@ -88,58 +86,23 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         let mut fix_p2 = vec![0.0; y.len()];
         *fix_p2.last_mut().unwrap_or(&mut 0.0) = 1.0;
         let anchor = y.clone();
-        let (_, e) = aug.newton(&mut y, Some((&fix_p2, &anchor)), &settings.corrector)?;
+        let (_, mut e) = aug.newton(&mut y, Some((&fix_p2, &anchor)), &settings.corrector)?;
         aug.update_borders(&e);
         let mut seed = vec![0.0; y.len()];
         *seed.last_mut().unwrap_or(&mut 0.0) = direction.signum();
-        let mut curve = LpcCurve {
+        let tangent = tangent_at(&mut e, &weights(&y, &settings), &seed)?;
+        Ok(LpcCurve {
             sys,
             k1,
             k2,
             aug,
             y,
-            tangent: seed,
+            tangent,
             ds: settings.ds,
             settings,
             steps: 0,
             done: false,
-        };
-        curve.tangent = curve.tangent_at(&curve.y.clone(), &curve.tangent.clone())?;
-        Ok(curve)
-    }
-
-    /// Arclength weights: `1/N` on the orbit, relative on `T`, `p1`, `p2`.
-    fn weights(&self) -> Vec<f64> {
-        let d = self.y.len();
-        let nn = d - 3;
-        let rel = |v: f64, floor: f64| 1.0 / v.abs().max(floor).powi(2);
-        (0..d)
-            .map(|i| match i.checked_sub(nn) {
-                None => 1.0 / nn as f64,
-                Some(0) => rel(self.y[i], f64::MIN_POSITIVE.sqrt()),
-                Some(1) => rel(self.y[i], self.settings.param_floor[0]),
-                Some(_) => rel(self.y[i], self.settings.param_floor[1]),
-            })
-            .collect()
-    }
-
-    /// The unit tangent at `y`, oriented along `reference`.
-    fn tangent_at(&mut self, y: &[f64], reference: &[f64]) -> Result<Vec<f64>, ContinuationError> {
-        let w = self.weights();
-        let d = y.len();
-        let mut e = self.aug.evaluate(y)?;
-        e.triplets.extend(
-            (0..d)
-                .filter(|&i| reference[i] != 0.0)
-                .map(|i| Triplet::new(d - 1, i, w[i] * reference[i])),
-        );
-        let mut rhs = vec![0.0; d];
-        rhs[d - 1] = 1.0;
-        // Dense rows: the phase condition, g and the normalization.
-        let dense: Vec<usize> = (d - 3..d).collect();
-        let t = SparseLu::with_dense_rows(d, &e.triplets, &dense)?.solve(&rhs)?;
-        let norm = (0..d).map(|i| w[i] * t[i] * t[i]).sum::<f64>().sqrt();
-        Ok(t.iter().map(|v| v / norm).collect())
+        })
     }
 
     /// Re-equidistributes the mesh (same size) and rebuilds the bordering vectors.
@@ -165,7 +128,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         if self.steps.is_multiple_of(5) {
             self.adapt()?;
         }
-        let w = self.weights();
+        let w = weights(&self.y, &self.settings);
         let d = self.y.len();
         loop {
             let pred: Vec<f64> = (0..d)
@@ -176,9 +139,9 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             let attempt = self
                 .aug
                 .newton(&mut y, Some((&row, &pred)), &self.settings.corrector);
-            if let Ok((rep, e)) = attempt {
-                let reference = self.tangent.clone();
-                let t = self.tangent_at(&y, &reference);
+            if let Ok((rep, mut e)) = attempt {
+                let reference = &self.tangent;
+                let t = tangent_at(&mut e, &w, reference);
                 if let Some(t) = t
                     .ok()
                     .filter(|t| (0..d).map(|i| w[i] * t[i] * reference[i]).sum::<f64>() > 0.8)
@@ -207,6 +170,43 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             }
         }
     }
+}
+
+/// Arclength weights at `y`: `1/N` on the orbit, relative on `T`, `p1`, `p2`.
+fn weights(y: &[f64], settings: &LpcCurveSettings) -> Vec<f64> {
+    let d = y.len();
+    let nn = d - 3;
+    let rel = |v: f64, floor: f64| 1.0 / v.abs().max(floor).powi(2);
+    (0..d)
+        .map(|i| match i.checked_sub(nn) {
+            None => 1.0 / nn as f64,
+            Some(0) => rel(y[i], f64::MIN_POSITIVE.sqrt()),
+            Some(1) => rel(y[i], settings.param_floor[0]),
+            Some(_) => rel(y[i], settings.param_floor[1]),
+        })
+        .collect()
+}
+
+/// The unit tangent (weights `w`) at the point of the evaluation `e`,
+/// oriented along `reference`: `J t = e_last` with the Jacobian of
+/// `(F, g)` closed by the row `w reference`.
+fn tangent_at(
+    e: &mut Evaluation,
+    w: &[f64],
+    reference: &[f64],
+) -> Result<Vec<f64>, ContinuationError> {
+    let d = reference.len();
+    let last = e.rows.nrows() - 1;
+    e.rows
+        .row_mut(last)
+        .iter_mut()
+        .enumerate()
+        .for_each(|(i, r)| *r = w[i] * reference[i]);
+    let mut rhs = vec![0.0; d];
+    rhs[d - 1] = 1.0;
+    let t = e.solve(&rhs)?;
+    let norm = (0..d).map(|i| w[i] * t[i] * t[i]).sum::<f64>().sqrt();
+    Ok(t.iter().map(|v| v / norm).collect())
 }
 
 impl<S: VectorField> Iterator for LpcCurve<'_, S> {

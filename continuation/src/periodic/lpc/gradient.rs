@@ -1,46 +1,11 @@
 //! The derivatives the fold-of-cycles system needs beyond the collocation
-//! Jacobian: its triplet form, the column of a second parameter, and the
-//! gradient of `psi^T A v` from exact second derivatives of the vector field.
+//! Jacobian: the column of a second parameter, and the gradient of
+//! `psi^T A v` from exact second derivatives of the vector field.
 
-use crate::periodic::collocation::{Collocation, Linearization};
+use crate::periodic::collocation::Collocation;
 use crate::system::{
     jacobian, param_derivative, second_derivative_into, JointDirection, VectorField,
 };
-use faer::sparse::Triplet;
-
-/// Triplets of the collocation and phase rows on `(u, T, p_k)` (columns
-/// `0..nn`, `nn`, `nn + 1`).
-pub(super) fn jacobian_triplets(
-    lin: &Linearization,
-    n: usize,
-    nodes: &dyn Fn(usize, usize) -> usize,
-) -> Vec<Triplet<usize, usize, f64>> {
-    let mn = lin.local[0].nrows();
-    let m = mn / n;
-    let nn = lin.phase.len();
-    let mut t = Vec::with_capacity(lin.local.len() * mn * ((m + 1) * n + 2) + nn);
-    for (i, block) in lin.local.iter().enumerate() {
-        for r in 0..mn {
-            let row = i * mn + r;
-            for l in 0..=m {
-                let col0 = nodes(i, l) * n;
-                for c in 0..n {
-                    t.push(Triplet::new(row, col0 + c, block[(r, l * n + c)]));
-                }
-            }
-            t.push(Triplet::new(row, nn, block[(r, (m + 1) * n)]));
-            t.push(Triplet::new(row, nn + 1, block[(r, (m + 1) * n + 1)]));
-        }
-    }
-    t.extend(
-        lin.phase
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| **v != 0.0)
-            .map(|(c, v)| Triplet::new(nn, c, *v)),
-    );
-    t
-}
 
 /// The gradient of `phi = psi^T A v` over `(u, T, p1[, p2])` and, with a
 /// second parameter `k2`, the column `dF/dp2`. On the collocation row of

@@ -24,14 +24,15 @@ mod gradient;
 
 pub use curve::{LpcCurve, LpcCurveSettings};
 
+use super::bordered::{Bordered, CyclicReduction};
 use super::collocation::Collocation;
 use super::cycle::Cycle;
 use crate::error::ContinuationError;
-use crate::linalg::SparseLu;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::system::VectorField;
-use faer::sparse::Triplet;
-use gradient::{adjoint_gradient, jacobian_triplets};
+use gradient::adjoint_gradient;
+use nalgebra::DMatrix;
+
 /// The minimally augmented system on one mesh, with its bordering vectors.
 struct Augmented<'a, S: VectorField> {
     coll: Collocation<'a, S>,
@@ -41,12 +42,26 @@ struct Augmented<'a, S: VectorField> {
     c: Vec<f64>,
 }
 
-/// `F` and `g` at a point, the Newton matrix rows (triplets) and the null vectors.
+/// `F` and `g` at a point, their Jacobian (the collocation rows reduced,
+/// border columns and dense rows) and the null vectors.
 struct Evaluation {
     residual: Vec<f64>,
-    triplets: Vec<Triplet<usize, usize, f64>>,
+    reduction: CyclicReduction,
+    /// The Jacobian's border columns on the collocation rows: `dF/dT`,
+    /// `dF/dp1` and, for curves, `dF/dp2`.
+    columns: DMatrix<f64>,
+    /// Its dense rows: the phase condition, `dg`, and for curves a last row
+    /// left to the linear equation that closes the system.
+    rows: DMatrix<f64>,
     v: Vec<f64>,
     psi: Vec<f64>,
+}
+
+impl Evaluation {
+    /// Solves `J x = rhs` with the Jacobian of `(F, g)` and the last dense row.
+    fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        Bordered::new(&self.reduction, self.columns.clone(), self.rows.clone())?.solve(rhs)
+    }
 }
 
 impl<'a, S: VectorField> Augmented<'a, S> {
@@ -64,18 +79,13 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         if let Some(k) = k2 {
             y.push(orbit.p[k]);
         }
-        let lin = coll.linearize(&y[..nn + 2]);
-        // dF/dp1: the last column of every interval's block (the phase row has none).
-        let mut b: Vec<f64> = lin
-            .local
+        // dF/dp1 (the phase row has none).
+        let mut b: Vec<f64> = coll
+            .linearize(&y[..nn + 2])
+            .border_columns()
+            .column(1)
             .iter()
-            .flat_map(|block| {
-                block
-                    .column(block.ncols() - 1)
-                    .iter()
-                    .copied()
-                    .collect::<Vec<_>>()
-            })
+            .copied()
             .collect();
         b.push(0.0);
         let mut aug = Augmented {
@@ -105,7 +115,12 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         self.b = unit(&e.psi);
     }
 
-    /// `(F, g)` at `y = (u, T, p1[, p2])`, the Jacobian rows of both, and `v`, `psi`.
+    /// `(F, g)` at `y = (u, T, p1[, p2])`, the Jacobian of both, and `v`, `psi`.
+    ///
+    /// `(v, g)` and `(psi, gamma)` solve the bordered system and its transpose
+    /// on one structured factorization (`b` a border column, `c^T` a dense
+    /// row, next to `dF/dT` and the phase condition); the Newton matrix
+    /// shares its reduction of the collocation rows.
     fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
         let n = self.coll.sys.dim();
         let nn = self.nn();
@@ -114,54 +129,47 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         }
         let z = &y[..nn + 2];
         let lin = self.coll.linearize(z);
-        let mesh = &self.coll.mesh;
-        let mut triplets = jacobian_triplets(&lin, n, &|i, l| mesh.node(i, l));
-        let mut bordered: Vec<_> = triplets.iter().filter(|t| t.col <= nn).copied().collect();
-        bordered.extend(
-            self.b
-                .iter()
-                .enumerate()
-                .map(|(r, v)| Triplet::new(r, nn + 1, *v)),
-        );
-        bordered.extend(
-            self.c
-                .iter()
-                .enumerate()
-                .map(|(c, v)| Triplet::new(nn + 1, c, *v)),
-        );
-        // Dense rows: the phase condition and c.
-        let lu = SparseLu::with_dense_rows(nn + 2, &bordered, &[nn, nn + 1])?;
+        let reduction = CyclicReduction::new(&lin, n);
+        let border = lin.border_columns();
+        let mut columns = DMatrix::zeros(nn, 2);
+        columns.column_mut(0).copy_from(&border.column(0));
+        columns.column_mut(1).copy_from_slice(&self.b[..nn]);
+        let mut rows = DMatrix::zeros(2, nn + 2);
+        rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
+        rows[(0, nn + 1)] = self.b[nn];
+        rows.view_mut((1, 0), (1, nn + 1)).copy_from_slice(&self.c);
+        let bordered = Bordered::new(&reduction, columns, rows)?;
         let mut e = vec![0.0; nn + 2];
         e[nn + 1] = 1.0;
-        let vg = lu.solve(&e)?;
-        let psi = lu.solve_transpose(&e)?;
+        let vg = bordered.solve(&e)?;
+        let psi = bordered.solve_transpose(&e)?;
         let (v, psi) = (vg[..nn + 1].to_vec(), psi[..nn + 1].to_vec());
         let (grad, fp2) = adjoint_gradient(&self.coll, z, &v, &psi, self.k2);
+        let k = grad.len() - nn;
+        let mut columns = DMatrix::zeros(nn, k);
+        columns.columns_mut(0, 2).copy_from(&border);
         if self.k2.is_some() {
-            triplets.extend(
-                fp2.iter()
-                    .enumerate()
-                    .filter(|(_, v)| **v != 0.0)
-                    .map(|(r, v)| Triplet::new(r, nn + 2, *v)),
-            );
+            columns.column_mut(2).copy_from_slice(&fp2[..nn]);
         }
         // g's row: dg = -grad(phi), scaled to unit size (the scale of g is
-        // arbitrary; a row much larger than the others would attract the
-        // pivots of the sparse LU and fill it in).
+        // arbitrary, set by the bordering vectors).
         let scale = grad
             .iter()
             .fold(0.0f64, |a, v| a.max(v.abs()))
             .max(f64::MIN_POSITIVE);
-        triplets.extend(
-            grad.iter()
-                .enumerate()
-                .map(|(c, v)| Triplet::new(nn + 1, c, -v / scale)),
-        );
+        let mut rows = DMatrix::zeros(k, nn + k);
+        rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
+        rows.row_mut(1)
+            .iter_mut()
+            .zip(&grad)
+            .for_each(|(r, g)| *r = -g / scale);
         let mut residual = lin.residual;
         residual.push(vg[nn + 1] / scale);
         Ok(Evaluation {
             residual,
-            triplets,
+            reduction,
+            columns,
+            rows,
             v,
             psi,
         })
@@ -215,12 +223,8 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             if let Some((row, anchor)) = extra {
                 let r: f64 = (0..dim).map(|i| row[i] * (y[i] - anchor[i])).sum();
                 e.residual.push(r);
-                e.triplets.extend(
-                    row.iter()
-                        .enumerate()
-                        .filter(|(_, v)| **v != 0.0)
-                        .map(|(c, v)| Triplet::new(dim - 1, c, *v)),
-                );
+                let last = e.rows.nrows() - 1;
+                e.rows.row_mut(last).copy_from_slice(row);
             }
             // The test function g is judged by the step it causes (its own
             // scale is arbitrary: set by the bordering vectors); F by its residual.
@@ -254,10 +258,8 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             if it == settings.max_iter {
                 break;
             }
-            // Dense rows: the phase condition, g and the arclength condition.
-            let dense: Vec<usize> = (nn..dim).collect();
-            let dy = SparseLu::with_dense_rows(dim, &e.triplets, &dense)
-                .and_then(|lu| lu.solve(&e.residual))
+            let dy = e
+                .solve(&e.residual)
                 .map_err(|e| diverged(it, residual, last_step, e))?;
             last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
