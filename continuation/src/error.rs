@@ -12,6 +12,10 @@ pub enum NewtonFailure {
     SingularJacobian,
     /// A residual or an iterate was NaN or infinite.
     NonFinite,
+    /// The step stopped shrinking above the tolerance (within `1e3` of it):
+    /// the rounding floor of an ill-conditioned system, which smaller
+    /// continuation steps do not lower.
+    Stalled,
 }
 
 /// `{:.3e}` of a finite value, `otherwise` for a value that is not (a step

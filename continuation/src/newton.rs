@@ -64,7 +64,9 @@ where
         residual,
         step,
         hint: match reason {
-            NewtonFailure::MaxIterations => "reduce the step size or improve the initial guess",
+            NewtonFailure::MaxIterations | NewtonFailure::Stalled => {
+                "reduce the step size or improve the initial guess"
+            }
             NewtonFailure::SingularJacobian => {
                 "the point may be a bifurcation of higher codimension; perturb a parameter"
             }

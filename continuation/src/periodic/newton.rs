@@ -164,7 +164,9 @@ fn newton_error(
         residual,
         step,
         hint: match reason {
-            NewtonFailure::MaxIterations => "reduce the step size or refine the mesh (more NTST)",
+            NewtonFailure::MaxIterations | NewtonFailure::Stalled => {
+                "reduce the step size or refine the mesh (more NTST)"
+            }
             NewtonFailure::SingularJacobian => {
                 "the orbit may be at a fold or period doubling; perturb the parameter"
             }

@@ -2,7 +2,7 @@
 //! minimally augmented system.
 
 use super::{Augmented, Evaluation, LpcPoint};
-use crate::error::ContinuationError;
+use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::cycle::Cycle;
@@ -25,7 +25,8 @@ pub struct LpcCurveSettings {
     /// Smallest scales of the parameters in the arclength weights.
     pub param_floor: [f64; 2],
     /// The curve stops where the orbit's amplitude (largest range of a
-    /// component) falls below this: it ends on a Bautin point there.
+    /// component over the mesh nodes) falls below this: it ends on a Bautin
+    /// point there.
     pub min_amplitude: f64,
     /// Newton's method on the augmented system (the test function `g` is
     /// judged by the step it causes, `F` by its residual).
@@ -139,6 +140,17 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             let attempt = self
                 .aug
                 .newton(&mut y, Some((&row, &pred)), &self.settings.corrector);
+            // At the rounding floor of the fold system smaller steps do not
+            // help: the curve ends (near a Bautin point).
+            if let Err(
+                e @ ContinuationError::Newton {
+                    reason: NewtonFailure::Stalled,
+                    ..
+                },
+            ) = attempt
+            {
+                return Err(e);
+            }
             if let Ok((rep, mut e)) = attempt {
                 let reference = &self.tangent;
                 let t = tangent_at(&mut e, &w, reference);
@@ -149,7 +161,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
                     self.aug.update_borders(&e);
                     self.y = y;
                     self.tangent = t;
-                    if rep.iterations <= 3 {
+                    if rep.iterations <= 4 {
                         self.ds = (self.ds * 1.3).min(self.settings.ds_max);
                     }
                     return Ok(LpcPoint {
@@ -232,9 +244,14 @@ impl<S: VectorField> Iterator for LpcCurve<'_, S> {
         match &result {
             Ok(pt) => {
                 let p2 = pt.cycle.p[self.k2];
-                let amplitude = (0..pt.cycle.n)
+                let c = &pt.cycle;
+                let amplitude = (0..c.n)
                     .map(|j| {
-                        let (lo, hi) = pt.cycle.range(self.sys, j);
+                        let (lo, hi) =
+                            c.u.chunks(c.n)
+                                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                                    (lo.min(x[j]), hi.max(x[j]))
+                                });
                         hi - lo
                     })
                     .fold(0.0, f64::max);

@@ -27,7 +27,7 @@ pub use curve::{LpcCurve, LpcCurveSettings};
 use super::bordered::{Bordered, CyclicReduction};
 use super::collocation::Collocation;
 use super::cycle::Cycle;
-use crate::error::ContinuationError;
+use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::system::VectorField;
 use gradient::adjoint_gradient;
@@ -194,14 +194,21 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         settings: &NewtonSettings,
     ) -> Result<(NewtonReport, Evaluation), ContinuationError> {
         let dim = y.len();
-        let (mut last_step, mut residual) = (f64::INFINITY, f64::INFINITY);
+        let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
+        let mut residual = f64::INFINITY;
         let failure = |it: usize, residual: f64, step: f64, reason, cause: String| {
             ContinuationError::Newton {
                 context: format!(" solving the fold-of-cycles system{cause}"),
                 iterations: it,
                 residual,
                 step,
-                hint: "start closer to the fold (a cycle of the branch next to it)",
+                hint: match reason {
+                    NewtonFailure::Stalled => {
+                        "the fold is ill-conditioned here (the fold system degenerates at a \
+                         Bautin point)"
+                    }
+                    _ => "start closer to the fold (a cycle of the branch next to it)",
+                },
                 reason,
             }
         };
@@ -212,7 +219,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                 it,
                 residual,
                 step,
-                crate::error::NewtonFailure::SingularJacobian,
+                NewtonFailure::SingularJacobian,
                 format!(" ({e})"),
             ),
         };
@@ -239,13 +246,13 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                     it,
                     residual,
                     last_step,
-                    crate::error::NewtonFailure::NonFinite,
+                    NewtonFailure::NonFinite,
                     String::new(),
                 ));
             }
-            if last_step <= settings.step_tol * (1.0 + ymax)
-                && residual <= settings.residual_tol * (1.0 + ymax)
-            {
+            let tol = settings.step_tol * (1.0 + ymax);
+            let small_residual = residual <= settings.residual_tol * (1.0 + ymax);
+            if last_step <= tol && small_residual {
                 return Ok((
                     NewtonReport {
                         iterations: it,
@@ -255,12 +262,26 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                     e,
                 ));
             }
+            // A step that no longer shrinks within 1e3 of the tolerance, the
+            // residual within its own: the rounding floor of the system (near
+            // a Bautin point, where the fold system degenerates), which more
+            // iterations do not lower.
+            if small_residual && last_step <= 1e3 * tol && last_step > 0.5 * previous_step {
+                return Err(failure(
+                    it,
+                    residual,
+                    last_step,
+                    NewtonFailure::Stalled,
+                    String::new(),
+                ));
+            }
             if it == settings.max_iter {
                 break;
             }
             let dy = e
                 .solve(&e.residual)
                 .map_err(|e| diverged(it, residual, last_step, e))?;
+            previous_step = last_step;
             last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
         }
@@ -268,7 +289,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             settings.max_iter,
             residual,
             last_step,
-            crate::error::NewtonFailure::MaxIterations,
+            NewtonFailure::MaxIterations,
             String::new(),
         ))
     }
