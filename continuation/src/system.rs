@@ -147,6 +147,38 @@ pub fn second_derivative_into<S: VectorField>(
     w: JointDirection,
     out: &mut [f64],
 ) {
+    let res = hyper_dual(sys, x, p, u, w);
+    for (o, d) in out.iter_mut().zip(&res) {
+        *o = d.eps1eps2;
+    }
+}
+
+/// The first derivatives `D f(x, p)[u]`, `D f(x, p)[w]` and the second
+/// `D^2 f(x, p)[u, w]` over the joint space, from one evaluation in
+/// hyper-dual numbers (its three derivative parts), written into `du`, `dw`
+/// and `duw` (length `dim`).
+pub fn derivatives_into<S: VectorField>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    u: JointDirection,
+    w: JointDirection,
+    (du, dw, duw): (&mut [f64], &mut [f64], &mut [f64]),
+) {
+    let res = hyper_dual(sys, x, p, u, w);
+    for (i, d) in res.iter().enumerate() {
+        (du[i], dw[i], duw[i]) = (d.eps1, d.eps2, d.eps1eps2);
+    }
+}
+
+/// `f(x + t u + s w)` in hyper-dual numbers (`eps1` along `u`, `eps2` along `w`).
+fn hyper_dual<S: VectorField>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    u: JointDirection,
+    w: JointDirection,
+) -> Buf<HyperDual64> {
     let comp = |d: &[f64], i: usize| d.get(i).copied().unwrap_or(0.0);
     let xd: Buf<HyperDual64> = (0..x.len())
         .map(|i| HyperDual64::new(x[i], comp(u.x, i), comp(w.x, i), 0.0))
@@ -156,9 +188,7 @@ pub fn second_derivative_into<S: VectorField>(
         .collect();
     let mut res: Buf<HyperDual64> = SmallVec::from_elem(HyperDual64::from(0.0), sys.dim());
     sys.rhs(&xd, &pd, &mut res);
-    for (o, d) in out.iter_mut().zip(&res) {
-        *o = d.eps1eps2;
-    }
+    res
 }
 
 /// A system whose parameters `indices` are given by their logarithms:

@@ -14,12 +14,18 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
+use continuation::error::ContinuationError;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
 
-/// Mesh intervals of the cycles along a curve of folds.
+/// Mesh intervals of the cycles a curve of folds starts on.
 const LPC_NTST: usize = 30;
+
+/// Largest estimated discretization error of a fold along a curve of folds
+/// (relative, of `kappa` and the period): the mesh follows it, from 4 up to
+/// 8 times the start's intervals.
+const LPC_MESH_TOL: f64 = 1e-8;
 
 /// A fold of cycles in docs/model.md's variables.
 #[derive(Clone, Debug)]
@@ -70,6 +76,7 @@ fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> 
         p_min: 0.5 * h.kappa_c,
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
+        ds: 1e-2,
         ds_max: 0.2,
         param_floor: 1e-3 * h.kappa_c,
         mesh_tol: f64::INFINITY,
@@ -81,7 +88,8 @@ fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> 
     let branch = CycleBranch::from_hopf(log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
         .map_err(NumericalError::from)?;
     for pt in branch {
-        if let Some(lpc) = pt.map_err(NumericalError::from)?.lpc {
+        let pt = pt.map_err(NumericalError::from)?;
+        if let Some(lpc) = pt.lpc {
             return Ok(lpc.cycle);
         }
     }
@@ -184,12 +192,17 @@ fn trace_through(
             param_floor: [1e-9, lo],
             min_amplitude: 1e-3,
             max_steps: 300,
+            ds: 0.05,
             ds_max: 0.2,
             ds_min: 1e-5,
+            mesh_tol: LPC_MESH_TOL,
+            ntst_min: 4,
+            ntst_max: 8 * ntst,
             ..Default::default()
         };
         let mut half = Vec::new();
         let mut failure = None;
+        let mut last_ntst = ntst;
         match LpcCurve::new(
             log,
             fold,
@@ -200,21 +213,24 @@ fn trace_through(
             Ok(points) => {
                 for pt in points {
                     match pt {
-                        Ok(pt) => half.push(record(log, &pt.cycle)),
+                        Ok(pt) => {
+                            last_ntst = pt.cycle.mesh.ntst();
+                            half.push(record(log, &pt.cycle));
+                        }
                         Err(e) => {
-                            failure = Some(e.to_string());
+                            failure = Some(e);
                             break;
                         }
                     }
                 }
             }
-            Err(e) => failure = Some(e.to_string()),
+            Err(e) => failure = Some(e),
         }
-        (half, failure)
+        (half, failure, last_ntst)
     };
     let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
     let (mut curve, mut stops, mut short) = (Vec::new(), Vec::new(), false);
-    for (direction, (mut half, failure)) in [(-1.0, down), (1.0, up)] {
+    for (direction, (mut half, failure, last_ntst)) in [(-1.0, down), (1.0, up)] {
         let largest = half.iter().fold(0.0f64, |a, p| a.max(p.delta_s));
         match (failure, half.last()) {
             (Some(cause), None) => {
@@ -226,28 +242,43 @@ fn trace_through(
             }
             (Some(cause), Some(end)) if !at_bautin(end.nu) => {
                 // Folded cycles shrinking toward the end: a Bautin point,
-                // where the fold system degenerates; else, most likely, a
-                // mesh too coarse for stiffer cycles.
+                // where the fold system degenerates; else, most likely,
+                // cycles too stiff for the mesh.
                 let shrinking = end.delta_s < 0.2 * largest;
                 short |= !shrinking;
-                let why = if shrinking {
-                    format!(
-                        "the folded cycles shrink there (Delta_s = {:.3e}, down from {largest:.3e}): \
-                         the curve ends at a Bautin point of the Hopf curve nearby, where the fold \
-                         system degenerates",
-                        end.delta_s
-                    )
-                } else {
-                    format!(
-                        "the curve is traced on {ntst} mesh intervals; its cycles may have become \
-                         too stiff for them"
-                    )
+                let (cause, why) = match cause {
+                    ContinuationError::Unresolved {
+                        ntst, error, tol, ..
+                    } => (
+                        format!(
+                            "the next fold is no longer resolved: its estimated discretization \
+                             error is {error:.3e} (tolerance {tol:.0e}) with {ntst} mesh \
+                             intervals, the limit"
+                        ),
+                        "its cycles have become too stiff for the mesh".to_string(),
+                    ),
+                    cause => (
+                        cause
+                            .to_string()
+                            .replace("p[1] along the fold of cycles", "nu"),
+                        if shrinking {
+                            format!(
+                                "the folded cycles shrink there (Delta_s = {:.3e}, down from \
+                                 {largest:.3e}): the curve ends at a Bautin point of the Hopf \
+                                 curve nearby, where the fold system degenerates",
+                                end.delta_s
+                            )
+                        } else {
+                            format!(
+                                "the curve is traced on {last_ntst} mesh intervals there; its \
+                                 cycles may have become too stiff for them"
+                            )
+                        },
+                    ),
                 };
                 stops.push(format!(
-                    "the fold-of-cycles curve ends at nu = {:.6e}, kappa = {:.6e}: {} ({why})",
-                    end.nu,
-                    end.kappa,
-                    cause.replace("p[1] along the fold of cycles", "nu")
+                    "the fold-of-cycles curve ends at nu = {:.6e}, kappa = {:.6e}: {cause} ({why})",
+                    end.nu, end.kappa,
                 ));
             }
             _ => {}

@@ -6,6 +6,8 @@ use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::cycle::Cycle;
+use crate::periodic::mesh::CollocationPoints;
+use crate::periodic::newton::unit_row;
 use crate::system::VectorField;
 
 /// Settings of a curve of folds of cycles. The engine defaults take absolute
@@ -31,6 +33,19 @@ pub struct LpcCurveSettings {
     /// Newton's method on the augmented system (the test function `g` is
     /// judged by the step it causes, `F` by its residual).
     pub corrector: NewtonSettings,
+    /// Largest acceptable estimate of a fold's discretization error: the
+    /// relative difference of `p1` (scale at least `param_floor[0]`) and of
+    /// the period between the fold on the mesh and on half of it, at the
+    /// same `p2`, over `2^q - 1`, `q` the order of the mesh-point values
+    /// (`2m` with Gauss points, `2m - 1` with Radau points). It is checked
+    /// whenever the mesh is re-equidistributed (every fifth fold): above it
+    /// the mesh doubles, up to `ntst_max` (beyond, the curve stops); below
+    /// `mesh_tol / (8 * 2^q)` it halves (halving raises the error by about
+    /// `2^q`, which leaves a margin of 8), down to `ntst_min`. Default
+    /// infinite: the start's mesh size throughout, no estimate.
+    pub mesh_tol: f64,
+    pub ntst_min: usize,
+    pub ntst_max: usize,
 }
 
 impl Default for LpcCurveSettings {
@@ -49,6 +64,9 @@ impl Default for LpcCurveSettings {
                 residual_tol: 1e-9,
                 max_iter: 8,
             },
+            mesh_tol: f64::INFINITY,
+            ntst_min: 4,
+            ntst_max: 400,
         }
     }
 }
@@ -87,7 +105,8 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         let mut fix_p2 = vec![0.0; y.len()];
         *fix_p2.last_mut().unwrap_or(&mut 0.0) = 1.0;
         let anchor = y.clone();
-        let (_, mut e) = aug.newton(&mut y, Some((&fix_p2, &anchor)), &settings.corrector)?;
+        let (_, mut e) =
+            aug.newton(&mut y, Some((&fix_p2, &anchor)), &settings.corrector, false)?;
         aug.update_borders(&e);
         let mut seed = vec![0.0; y.len()];
         *seed.last_mut().unwrap_or(&mut 0.0) = direction.signum();
@@ -106,26 +125,118 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         })
     }
 
-    /// Re-equidistributes the mesh (same size) and rebuilds the bordering vectors.
+    /// Re-equidistributes the mesh and, under a finite `mesh_tol`, sizes it
+    /// by the fold's error estimate (see [`LpcCurveSettings::mesh_tol`]),
+    /// the fold corrected on the new mesh at the same `p2`; the bordering
+    /// vectors are rebuilt there.
     fn adapt(&mut self) -> Result<(), ContinuationError> {
         let orbit = self.aug.cycle(&self.y);
-        let new = equidistribute(&orbit, orbit.mesh.ntst());
-        let nn = orbit.u.len();
-        let dir = Cycle {
-            u: self.tangent[..nn].to_vec(),
-            ..orbit.clone()
+        let ntst = orbit.mesh.ntst();
+        let tol = self.settings.mesh_tol;
+        if tol.is_finite() {
+            // p1 and the period are read at the mesh points, where the
+            // collocation solution converges at order 2m (Gauss points) or
+            // 2m - 1 (Radau points), like the period.
+            let m = orbit.mesh.degree as i32;
+            let order = match orbit.mesh.points {
+                CollocationPoints::Gauss => 2 * m,
+                CollocationPoints::Radau => 2 * m - 1,
+            };
+            let coarse = self.fold_on(&orbit, ntst / 2);
+            let mut estimate = coarse
+                .as_ref()
+                .map_or(f64::INFINITY, |(_, y)| self.difference(&self.y, y, order));
+            if estimate <= tol / (8.0 * 2f64.powi(order)) && ntst / 2 >= self.settings.ntst_min {
+                if let Ok((aug, y)) = coarse {
+                    self.move_to(aug, y);
+                    return Ok(());
+                }
+            }
+            let (mut at, mut previous) = (orbit.clone(), self.y.clone());
+            while estimate > tol {
+                let fine = 2 * at.mesh.ntst();
+                if fine > self.settings.ntst_max {
+                    return Err(ContinuationError::Unresolved {
+                        ntst: at.mesh.ntst(),
+                        error: estimate,
+                        tol,
+                        param: self.y[self.y.len() - 1],
+                    });
+                }
+                let (aug, y) = self.fold_on(&at, fine)?;
+                estimate = self.difference(&y, &previous, order);
+                if estimate <= tol {
+                    self.move_to(aug, y);
+                    return Ok(());
+                }
+                at = aug.cycle(&y);
+                previous = y;
+            }
         }
-        .remesh(new.mesh.clone());
-        self.aug = Augmented::new(self.sys, &new, self.k1, Some(self.k2))?;
-        self.y = self.aug.coll.unknowns(&new);
-        self.y.push(new.p[self.k2]);
-        let mut t = dir.u;
-        t.extend_from_slice(&self.tangent[nn..]);
-        self.tangent = t;
+        let new = equidistribute(&orbit, ntst);
+        let aug = Augmented::new(self.sys, &new, self.k1, Some(self.k2))?;
+        let mut y = aug.coll.unknowns(&new);
+        y.push(new.p[self.k2]);
+        self.move_to(aug, y);
         Ok(())
     }
 
-    fn step(&mut self) -> Result<LpcPoint, ContinuationError> {
+    /// The fold at the current `p2` on an equidistributing mesh of `ntst`
+    /// intervals for `orbit`.
+    fn fold_on(
+        &self,
+        orbit: &Cycle,
+        ntst: usize,
+    ) -> Result<(Augmented<'a, S>, Vec<f64>), ContinuationError> {
+        if ntst < 2 {
+            return Err(ContinuationError::Singular);
+        }
+        let new = equidistribute(orbit, ntst);
+        let mut aug = Augmented::new(self.sys, &new, self.k1, Some(self.k2))?;
+        let mut y = aug.coll.unknowns(&new);
+        y.push(new.p[self.k2]);
+        let anchor = y.clone();
+        let fix_p2 = unit_row(y.len(), y.len() - 1);
+        let (_, e) = aug.newton(
+            &mut y,
+            Some((&fix_p2, &anchor)),
+            &self.settings.corrector,
+            false,
+        )?;
+        aug.update_borders(&e);
+        Ok((aug, y))
+    }
+
+    /// The error estimate of the fold `fine` from the same fold `coarse` on
+    /// half the mesh (see [`LpcCurveSettings::mesh_tol`]).
+    fn difference(&self, fine: &[f64], coarse: &[f64], order: i32) -> f64 {
+        let (d, e) = (fine.len(), coarse.len());
+        let p1 = fine[d - 2].abs().max(self.settings.param_floor[0]);
+        let dp1 = ((fine[d - 2] - coarse[e - 2]) / p1).abs();
+        let dt = ((fine[d - 3] - coarse[e - 3]) / fine[d - 3]).abs();
+        dp1.max(dt) / (2f64.powi(order) - 1.0)
+    }
+
+    /// Continues from the fold `y` of the system `aug` (on another mesh),
+    /// the tangent moved onto that mesh.
+    fn move_to(&mut self, aug: Augmented<'a, S>, y: Vec<f64>) {
+        let orbit = self.aug.cycle(&self.y);
+        let nn = orbit.u.len();
+        let mut t = Cycle {
+            u: self.tangent[..nn].to_vec(),
+            ..orbit
+        }
+        .remesh(aug.coll.mesh.clone())
+        .u;
+        t.extend_from_slice(&self.tangent[nn..]);
+        self.tangent = t;
+        self.aug = aug;
+        self.y = y;
+    }
+
+    /// The next fold, or `None` where the curve has passed through a Bautin
+    /// point (see [`passed_bautin`]).
+    fn step(&mut self) -> Result<Option<LpcPoint>, ContinuationError> {
         if self.steps.is_multiple_of(5) {
             self.adapt()?;
         }
@@ -137,9 +248,9 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
                 .collect();
             let row: Vec<f64> = (0..d).map(|i| w[i] * self.tangent[i]).collect();
             let mut y = pred.clone();
-            let attempt = self
-                .aug
-                .newton(&mut y, Some((&row, &pred)), &self.settings.corrector);
+            let attempt =
+                self.aug
+                    .newton(&mut y, Some((&row, &pred)), &self.settings.corrector, true);
             // At the rounding floor of the fold system smaller steps do not
             // help: the curve ends (near a Bautin point).
             if let Err(
@@ -158,16 +269,20 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
                     .ok()
                     .filter(|t| (0..d).map(|i| w[i] * t[i] * reference[i]).sum::<f64>() > 0.8)
                 {
+                    let n = self.aug.coll.sys.dim();
+                    if passed_bautin(&self.y[..d - 3], &y[..d - 3], n) {
+                        return Ok(None);
+                    }
                     self.aug.update_borders(&e);
                     self.y = y;
                     self.tangent = t;
                     if rep.iterations <= 4 {
                         self.ds = (self.ds * 1.3).min(self.settings.ds_max);
                     }
-                    return Ok(LpcPoint {
+                    return Ok(Some(LpcPoint {
                         cycle: self.aug.cycle(&self.y),
                         newton: rep,
-                    });
+                    }));
                 }
             }
             self.ds *= 0.5;
@@ -221,6 +336,29 @@ fn tangent_at(
     Ok(t.iter().map(|v| v / norm).collect())
 }
 
+/// Whether the orbit `u` has come through zero amplitude from `previous`
+/// (node values on the same mesh, state dimension `n`): their deviations from
+/// their means point opposite ways. Where the folded cycles shrink to nothing
+/// the curve of folds ends on the Hopf curve (a Bautin point); continued
+/// through it, the amplitude changes sign and the curve comes back along the
+/// same folds, the orbits shifted by half a period.
+fn passed_bautin(previous: &[f64], u: &[f64], n: usize) -> bool {
+    let mean = |u: &[f64]| {
+        let count = (u.len() / n) as f64;
+        (0..n)
+            .map(|j| u.iter().skip(j).step_by(n).sum::<f64>() / count)
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (mean(previous), mean(u));
+    let overlap: f64 = previous
+        .iter()
+        .zip(u)
+        .enumerate()
+        .map(|(i, (p, v))| (p - a[i % n]) * (v - b[i % n]))
+        .sum();
+    overlap < 0.0
+}
+
 impl<S: VectorField> Iterator for LpcCurve<'_, S> {
     type Item = Result<LpcPoint, ContinuationError>;
 
@@ -238,7 +376,14 @@ impl<S: VectorField> Iterator for LpcCurve<'_, S> {
                 },
             })
         } else {
-            self.step()
+            match self.step() {
+                Ok(Some(pt)) => Ok(pt),
+                Ok(None) => {
+                    self.done = true;
+                    return None;
+                }
+                Err(e) => Err(e),
+            }
         };
         self.steps += 1;
         match &result {

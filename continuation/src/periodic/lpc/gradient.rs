@@ -1,11 +1,10 @@
 //! The derivatives the fold-of-cycles system needs beyond the collocation
 //! Jacobian: the column of a second parameter, and the gradient of
-//! `psi^T A v` from exact second derivatives of the vector field.
+//! `psi^T A v` from exact second derivatives of the vector field (hyper-dual
+//! evaluations, which give the first derivatives it needs as well).
 
 use crate::periodic::collocation::Collocation;
-use crate::system::{
-    jacobian, param_derivative, second_derivative_into, JointDirection, VectorField,
-};
+use crate::system::{derivatives_into, JointDirection, VectorField};
 
 /// The gradient of `phi = psi^T A v` over `(u, T, p1[, p2])` and, with a
 /// second parameter `k2`, the column `dF/dp2`. On the collocation row of
@@ -28,7 +27,7 @@ pub(super) fn adjoint_gradient<S: VectorField>(
     let mut fp2 = vec![0.0; nn + 1];
     let (mut x, mut vx, mut unit, mut pdir) =
         (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; p.len()]);
-    let mut d2 = vec![0.0; n];
+    let (mut d2, mut jv, mut first) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     for i in 0..coll.mesh.ntst() {
         let h = coll.mesh.t[i + 1] - coll.mesh.t[i];
         for kk in 0..m {
@@ -43,47 +42,43 @@ pub(super) fn adjoint_gradient<S: VectorField>(
             }
             let row = (i * m + kk) * n;
             let psi_k = &psi[row..row + n];
-            let jac = jacobian(sys, &x, &p);
             let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
-            // d phi / d x_j, spread to the interval's nodes by the basis.
+            // d phi / d x_j, spread to the interval's nodes by the basis; each
+            // evaluation also gives J v_x and the column J e_j.
             for j in 0..n {
                 unit.fill(0.0);
                 unit[j] = 1.0;
-                second_derivative_into(
+                derivatives_into(
                     sys,
                     &x,
                     &p,
                     JointDirection::state(&vx),
                     JointDirection::state(&unit),
-                    &mut d2,
+                    (&mut jv, &mut first, &mut d2),
                 );
-                let jt_psi: f64 = (0..n).map(|r| jac[(r, j)] * psi_k[r]).sum();
-                let dphi = -h * period * dot(psi_k, &d2) - h * v_t * jt_psi;
+                let dphi = -h * period * dot(psi_k, &d2) - h * v_t * dot(psi_k, &first);
                 for l in 0..=m {
                     grad[coll.mesh.node(i, l) * n + j] += coll.mesh.basis[kk][l] * dphi;
                 }
             }
-            let jv: Vec<f64> = (0..n)
-                .map(|r| (0..n).map(|c| jac[(r, c)] * vx[c]).sum())
-                .collect();
             grad[nn] -= h * dot(psi_k, &jv);
             let params = std::iter::once((coll.k, nn + 1)).chain(k2.map(|k| (k, nn + 2)));
             for (k, col) in params {
                 pdir.fill(0.0);
                 pdir[k] = 1.0;
-                second_derivative_into(
+                // The first derivative along p_k is dF/dp_k.
+                derivatives_into(
                     sys,
                     &x,
                     &p,
                     JointDirection::state(&vx),
                     JointDirection { x: &[], p: &pdir },
-                    &mut d2,
+                    (&mut jv, &mut first, &mut d2),
                 );
-                let fp = param_derivative(sys, &x, &p, k);
-                grad[col] -= h * period * dot(psi_k, &d2) + h * v_t * dot(psi_k, fp.as_slice());
+                grad[col] -= h * period * dot(psi_k, &d2) + h * v_t * dot(psi_k, &first);
                 if Some(k) == k2 {
                     for j in 0..n {
-                        fp2[row + j] = -h * period * fp[j];
+                        fp2[row + j] = -h * period * first[j];
                     }
                 }
             }

@@ -186,12 +186,17 @@ impl<'a, S: VectorField> Augmented<'a, S> {
     }
 
     /// Newton's method on `(F, g)` plus, for curves, the linear equation
-    /// `<row, y - anchor> = 0`.
+    /// `<row, y - anchor> = 0`. With `stop_at_floor`, a step that stops
+    /// shrinking within 1e3 of the tolerance (the residual within its own)
+    /// ends it with [`NewtonFailure::Stalled`]: the rounding floor of the
+    /// system, which more iterations do not lower (near a Bautin point, where
+    /// the fold system degenerates); otherwise it iterates on.
     fn newton(
         &mut self,
         y: &mut [f64],
         extra: Option<(&[f64], &[f64])>,
         settings: &NewtonSettings,
+        stop_at_floor: bool,
     ) -> Result<(NewtonReport, Evaluation), ContinuationError> {
         let dim = y.len();
         let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
@@ -262,11 +267,11 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                     e,
                 ));
             }
-            // A step that no longer shrinks within 1e3 of the tolerance, the
-            // residual within its own: the rounding floor of the system (near
-            // a Bautin point, where the fold system degenerates), which more
-            // iterations do not lower.
-            if small_residual && last_step <= 1e3 * tol && last_step > 0.5 * previous_step {
+            if stop_at_floor
+                && small_residual
+                && last_step <= 1e3 * tol
+                && last_step > 0.5 * previous_step
+            {
                 return Err(failure(
                     it,
                     residual,
@@ -313,7 +318,7 @@ pub fn locate_lpc<S: VectorField>(
 ) -> Result<LpcPoint, ContinuationError> {
     let mut aug = Augmented::new(sys, orbit, k1, None)?;
     let mut y = aug.coll.unknowns(orbit);
-    let (newton, _) = aug.newton(&mut y, None, settings)?;
+    let (newton, _) = aug.newton(&mut y, None, settings, false)?;
     Ok(LpcPoint {
         cycle: aug.cycle(&y),
         newton,
