@@ -85,8 +85,9 @@ pub fn multipliers_and_trivial(
 /// may then hold fewer than `n` multipliers; a quotient is never NaN or
 /// infinite. When the QZ iteration returns no eigenvalue at all (faer
 /// 0.24 returns `alpha = beta = 0` throughout for some well-conditioned
-/// 3 x 3 pencils), it is run again on the transposed pencil, which has the
-/// same eigenvalues.
+/// 3 x 3 pencils, such as those of a fold, with a double multiplier 1), it
+/// is run again on the transposed pencil, which has the same eigenvalues,
+/// and then on the pencil with `a` and `-b` exchanged (reciprocal ones).
 pub fn pencil_multipliers(
     lin: &Linearization,
     n: usize,
@@ -101,6 +102,14 @@ pub fn pencil_multipliers(
     let mut mu = qz_eigenvalues(a, b)?;
     if mu.is_empty() {
         mu = qz_eigenvalues(&a.transpose(), &b.transpose())?;
+    }
+    if mu.is_empty() {
+        // The roles exchanged: -b y = (1 / mu) a y.
+        mu = qz_eigenvalues(&-b, &-a)?
+            .into_iter()
+            .filter(|z| z.norm() > 0.0)
+            .map(|z| z.inv())
+            .collect();
     }
     mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
     Ok(mu)
