@@ -147,10 +147,11 @@ pub fn second_derivative_into<S: VectorField>(
     w: JointDirection,
     out: &mut [f64],
 ) {
-    let res = hyper_dual(sys, x, p, u, w);
-    for (o, d) in out.iter_mut().zip(&res) {
-        *o = d.eps1eps2;
-    }
+    hyper_dual(sys, x, p, u, w, |res| {
+        for (o, d) in out.iter_mut().zip(res) {
+            *o = d.eps1eps2;
+        }
+    });
 }
 
 /// The first derivatives `D f(x, p)[u]`, `D f(x, p)[w]` and the second
@@ -165,20 +166,23 @@ pub fn derivatives_into<S: VectorField>(
     w: JointDirection,
     (du, dw, duw): (&mut [f64], &mut [f64], &mut [f64]),
 ) {
-    let res = hyper_dual(sys, x, p, u, w);
-    for (i, d) in res.iter().enumerate() {
-        (du[i], dw[i], duw[i]) = (d.eps1, d.eps2, d.eps1eps2);
-    }
+    hyper_dual(sys, x, p, u, w, |res| {
+        for (i, d) in res.iter().enumerate() {
+            (du[i], dw[i], duw[i]) = (d.eps1, d.eps2, d.eps1eps2);
+        }
+    });
 }
 
-/// `f(x + t u + s w)` in hyper-dual numbers (`eps1` along `u`, `eps2` along `w`).
+/// `f(x + t u + s w)` in hyper-dual numbers (`eps1` along `u`, `eps2` along
+/// `w`), handed to `read`.
 fn hyper_dual<S: VectorField>(
     sys: &S,
     x: &[f64],
     p: &[f64],
     u: JointDirection,
     w: JointDirection,
-) -> Buf<HyperDual64> {
+    read: impl FnOnce(&[HyperDual64]),
+) {
     let comp = |d: &[f64], i: usize| d.get(i).copied().unwrap_or(0.0);
     let xd: Buf<HyperDual64> = (0..x.len())
         .map(|i| HyperDual64::new(x[i], comp(u.x, i), comp(w.x, i), 0.0))
@@ -188,7 +192,7 @@ fn hyper_dual<S: VectorField>(
         .collect();
     let mut res: Buf<HyperDual64> = SmallVec::from_elem(HyperDual64::from(0.0), sys.dim());
     sys.rhs(&xd, &pd, &mut res);
-    res
+    read(&res);
 }
 
 /// A system whose parameters `indices` are given by their logarithms:

@@ -76,7 +76,7 @@ fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> 
         p_min: 0.5 * h.kappa_c,
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
-        ds: 1e-2,
+        ds: 0.05,
         ds_max: 0.2,
         param_floor: 1e-3 * h.kappa_c,
         mesh_tol: f64::INFINITY,

@@ -205,20 +205,35 @@ impl CyclicReduction {
         }
         let mut ends = DMatrix::zeros(mn, 2 * n);
         for (i, (iv, block)) in self.intervals.iter_mut().zip(&lin.local).enumerate() {
-            for r in 0..mn {
-                let size = (0..(m + 1) * n).fold(0.0f64, |a, c| a.max(block[(r, c)].abs()));
-                iv.scale[r] = if size > 0.0 && size.is_finite() {
-                    1.0 / size
+            // Column-major: column c of the block is data[c mn..(c + 1) mn].
+            let data = block.as_slice();
+            let column = |c: usize| &data[c * mn..(c + 1) * mn];
+            iv.scale.fill(0.0);
+            for c in 0..(m + 1) * n {
+                for (s, v) in iv.scale.iter_mut().zip(column(c)) {
+                    *s = s.max(v.abs());
+                }
+            }
+            for s in iv.scale.iter_mut() {
+                *s = if *s > 0.0 && s.is_finite() {
+                    1.0 / *s
                 } else {
                     1.0
                 };
-                for c in 0..n {
-                    ends[(r, c)] = iv.scale[r] * block[(r, c)];
-                    ends[(r, n + c)] = iv.scale[r] * block[(r, m * n + c)];
+            }
+            let scaled = |target: &mut [f64], c: usize| {
+                for ((t, v), s) in target.iter_mut().zip(column(c)).zip(&iv.scale) {
+                    *t = s * v;
                 }
-                for c in 0..(m - 1) * n {
-                    iv.qr.v[(r, c)] = iv.scale[r] * block[(r, n + c)];
-                }
+            };
+            let ends_data = ends.as_mut_slice();
+            for c in 0..n {
+                scaled(&mut ends_data[c * mn..(c + 1) * mn], c);
+                scaled(&mut ends_data[(n + c) * mn..(n + c + 1) * mn], m * n + c);
+            }
+            let interior = iv.qr.v.as_mut_slice();
+            for c in 0..(m - 1) * n {
+                scaled(&mut interior[c * mn..(c + 1) * mn], n + c);
             }
             iv.qr.factor();
             for c in 0..2 * n {

@@ -274,6 +274,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
                         return Ok(None);
                     }
                     self.aug.update_borders(&e);
+                    self.aug.recycle(e);
                     self.y = y;
                     self.tangent = t;
                     if rep.iterations <= 4 {

@@ -40,6 +40,8 @@ struct Augmented<'a, S: VectorField> {
     k2: Option<usize>,
     b: Vec<f64>,
     c: Vec<f64>,
+    /// The storage of a reduction no longer used, for the next evaluation.
+    spare: Option<CyclicReduction>,
 }
 
 /// `F` and `g` at a point, their Jacobian (the collocation rows reduced,
@@ -93,12 +95,19 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             k2,
             b,
             c: vec![1.0; nn + 1],
+            spare: None,
         };
         for _ in 0..2 {
             let e = aug.evaluate(&y)?;
             aug.update_borders(&e);
+            aug.recycle(e);
         }
         Ok(aug)
+    }
+
+    /// Keeps the storage of an evaluation done with.
+    fn recycle(&mut self, e: Evaluation) {
+        self.spare = Some(e.reduction);
     }
 
     fn nn(&self) -> usize {
@@ -129,7 +138,13 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         }
         let z = &y[..nn + 2];
         let lin = self.coll.linearize(z);
-        let reduction = CyclicReduction::new(&lin, n);
+        let reduction = match self.spare.take() {
+            Some(mut reduction) => {
+                reduction.factor(&lin);
+                reduction
+            }
+            None => CyclicReduction::new(&lin, n),
+        };
         let border = lin.border_columns();
         let mut columns = DMatrix::zeros(nn, 2);
         columns.column_mut(0).copy_from(&border.column(0));
@@ -288,6 +303,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                 .map_err(|e| diverged(it, residual, last_step, e))?;
             previous_step = last_step;
             last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            self.recycle(e);
             y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
         }
         Err(failure(
