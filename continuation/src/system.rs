@@ -19,8 +19,9 @@ pub(crate) type Buf<D> = SmallVec<[D; 8]>;
 pub trait Scalar: DualNum<Primitive = f64> + Copy {}
 impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
 
-/// A parameter-dependent vector field `x' = f(x, p)`.
-pub trait VectorField {
+/// A parameter-dependent vector field `x' = f(x, p)`. `Sync`: a field is
+/// evaluated from several threads at once (collocation intervals in parallel).
+pub trait VectorField: Sync {
     /// Dimension `n` of the state `x`.
     fn dim(&self) -> usize;
 
