@@ -215,9 +215,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             for j in 0..n {
                 out.phase_residual += w * x[j] * dref[j];
             }
-            for l in 0..=m {
-                for j in 0..n {
-                    out.phase[l * n + j] += w * self.mesh.basis[kk][l] * dref[j];
+            for (l, row) in out.phase.chunks_exact_mut(n).enumerate() {
+                let wb = w * self.mesh.basis[kk][l];
+                for (entry, d) in row.iter_mut().zip(dref) {
+                    *entry += wb * d;
                 }
             }
         }
