@@ -444,7 +444,8 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
 
     /// Locates the zero of a test function `f(z, tangent)` between `z0`
     /// (tangent `t0`, where `f = f0`) and the orbit `ds` further (`f = f1`):
-    /// regula falsi (Illinois) on the arclength, each trial corrected onto
+    /// regula falsi (Illinois, [`crate::root::illinois`]) on the arclength,
+    /// each trial corrected onto
     /// the branch. Folds of cycles use `f = dp/ds`; user points `f = p - p_user`.
     /// Returns the orbit (without error estimate) and the branch's tangent there.
     #[allow(clippy::too_many_arguments)]
@@ -457,26 +458,21 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         ds: f64,
         f: impl Fn(&[f64], &[f64]) -> Result<f64, ContinuationError>,
     ) -> Result<(CyclePoint, Vec<f64>), ContinuationError> {
-        let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
         let mut best = None;
-        let tight = LOCATOR;
         let w = ArcWeights::at(z0, self.settings.param_floor);
-        for _ in 0..60 {
-            let sigma = b - fb * (b - a) / (fb - fa);
-            let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &tight)?;
-            let t = tangent(coll, &z, t0, &w)?;
-            let fz = f(&z, &t)?;
-            best = Some((point_at(coll, &z, &t, rep)?, t));
-            if fz * fb < 0.0 {
-                (a, fa) = (b, fb);
-            } else {
-                fa *= 0.5;
-            }
-            (b, fb) = (sigma, fz);
-            if (b - a).abs() <= 1e-12 * ds.abs() || fz == 0.0 {
-                break;
-            }
-        }
+        crate::root::illinois(
+            |sigma| {
+                let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &LOCATOR)?;
+                let t = tangent(coll, &z, t0, &w)?;
+                let fz = f(&z, &t)?;
+                best = Some((point_at(coll, &z, &t, rep)?, t));
+                Ok(fz)
+            },
+            (0.0, f0),
+            (ds, f1),
+            1e-12 * ds.abs(),
+            60,
+        )?;
         best.ok_or(ContinuationError::Singular)
     }
 
