@@ -62,6 +62,9 @@ impl VectorField for LogBlock {
     fn n_params(&self) -> usize {
         N_PARAMS
     }
+    fn param_name(&self, k: usize) -> String {
+        Param::ALL[k].name().into()
+    }
     /// The spring force (measured from `s_o`: the same differences and
     /// amplitude, without rounding against `s_o`) and the logarithm of the
     /// slip velocity, whose extremes a cycle reports (`s_min`, `s_max`,

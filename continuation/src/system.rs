@@ -28,6 +28,11 @@ pub trait VectorField: Sync {
     /// Number of entries of the parameter vector `p`.
     fn n_params(&self) -> usize;
 
+    /// Name of parameter `k` in messages; `p[k]` unless the field names it.
+    fn param_name(&self, k: usize) -> String {
+        format!("p[{k}]")
+    }
+
     /// Writes `f(x, p)` into `out` (length [`dim`](Self::dim)).
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]);
 
@@ -198,6 +203,14 @@ impl<S: VectorField> VectorField for LogParameters<'_, S> {
     }
     fn n_params(&self) -> usize {
         self.inner.n_params()
+    }
+    fn param_name(&self, k: usize) -> String {
+        let name = self.inner.param_name(k);
+        if self.indices.contains(&k) {
+            format!("ln {name}")
+        } else {
+            name
+        }
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         let mut q: Buf<D> = SmallVec::from_slice(p);

@@ -429,7 +429,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             self.ds *= 0.5;
             if self.ds < self.settings.ds_min {
                 return Err(ContinuationError::StepTooSmall {
-                    param_name: format!("p[{}]", self.k),
+                    param_name: self.sys.param_name(self.k),
                     param: self.z[nz - 1],
                     ds: self.ds,
                     ds_min: self.settings.ds_min,
