@@ -81,6 +81,14 @@ fn velocity_strengthening_is_stable_for_all_stiffness() {
     assert!(v["kappa_c"].is_null());
     // No negative "critical stiffness" from eq. C11 either.
     assert!(v["appendix_c"]["kappa_c"].is_null(), "{}", v["appendix_c"]);
+    // Nor a stiffness of zero among the parameters, in the JSON or the text.
+    assert!(v["params"]["kappa"].is_null(), "{}", v["params"]);
+    let (code, text, err) = stickslip(&["hopf", "--set", "B=0.005"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("no onset, hence no kappa") && !text.contains("kappa = 0"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -64,6 +64,10 @@ fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
         "mu_v": p.mu_v(),
         "mu_phi": p.mu_phi(),
     });
+    if !matches!(outcome, HopfOutcome::Found(_)) {
+        // No onset: the stiffness is what was searched for, not a parameter.
+        out["params"]["kappa"] = serde_json::Value::Null;
+    }
     let kappa_ref = appendix_c::critical_stiffness(p);
     match outcome {
         HopfOutcome::Found(h) => {
@@ -133,13 +137,18 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
     println!("scene: {} — {}", setup.scene.name, setup.scene.description);
     println!("model: {}", setup.choice.reason);
     let mut shown = *p;
-    if let HopfOutcome::Found(h) = outcome {
+    let listed = if let HopfOutcome::Found(h) = outcome {
         shown.kappa = h.kappa_c;
-    }
-    println!(
-        "parameters (dimensionless, docs/model.md; kappa at onset): {}",
-        describe_params(&shown)
-    );
+        format!("kappa at onset): {}", describe_params(&shown))
+    } else {
+        let without_kappa = describe_params(&shown)
+            .split(", ")
+            .filter(|entry| !entry.starts_with("kappa ="))
+            .collect::<Vec<_>>()
+            .join(", ");
+        format!("no onset, hence no kappa): {without_kappa}")
+    };
+    println!("parameters (dimensionless, docs/model.md; {listed}");
     println!(
         "steady sliding at V = {:.4e} um/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
         units.velocity_um_s(p.nu),
