@@ -36,7 +36,11 @@ impl InputError {
     pub fn out_of_range(field: &str, value: f64, expected: &str) -> Self {
         InputError::OutOfRange {
             field: field.to_string(),
-            value: format!("{value}"),
+            value: if value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
+                format!("{value:e}")
+            } else {
+                format!("{value}")
+            },
             expected: expected.to_string(),
         }
     }

@@ -198,7 +198,7 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
     };
     let nu_range = (lo / v0, hi / v0);
     let derived = [
-        ("W = M g", load),
+        (if given_load.is_some() { "W" } else { "W = M g" }, load),
         ("kappa = K D0 / W", params.kappa),
         ("nu = V / V0", params.nu),
         ("m = M V0^2 / (W D0)", params.m),
@@ -207,12 +207,15 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
         ("V_range[1] / V0", nu_range.1),
     ];
     for (what, x) in derived {
-        let ok = x.is_finite() && (x > 0.0 || !what.starts_with('V'));
+        let (least, most) = crate::params::MAGNITUDE_RANGE;
+        let ok = x.is_finite()
+            && (x > 0.0 || !what.starts_with('V'))
+            && (x == 0.0 || (least..=most).contains(&x.abs()));
         require(
             ok,
             what,
             x,
-            "a finite (positive) number: the scene's units are too extreme",
+            "a finite (positive) number of magnitude 1e-100 to 1e100: the scene's units are too extreme",
         )?;
     }
     params.validate()?;

@@ -146,6 +146,9 @@ fn bad_input_exits_2_naming_the_field() {
         (vec!["hopf", "--scene", "/nonexistent/scene.toml"], "scene"),
         (vec!["branch", "--param", "nu", "--from=-1"], "--from"),
         (vec!["hopf", "--set", "m=0", "--model", "inertial"], "m = 0"),
+        // Beyond what products like m nu^2 / A keep within the float range.
+        (vec!["hopf", "--set", "A=1e-300"], "A = 1e-300"),
+        (vec!["cycles", "--set", "theta_c=1e200"], "theta_c = 1e200"),
     ] {
         let (code, out, err) = stickslip(&args);
         assert_eq!(code, 2, "{args:?}: {out}{err}");
@@ -155,6 +158,17 @@ fn bad_input_exits_2_naming_the_field() {
         );
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+    // A scene whose units make the dimensionless inertia overflow-prone.
+    let dir = common::temp_dir("extreme_units");
+    let scene = dir.join("tiny_load.toml");
+    std::fs::write(
+        &scene,
+        "name = \"tiny\"\nA = 0.01\nB = 0.015\nmu0 = 0.6\nM = 10.0\nW = 1e-300\nV = 1.0\nV_range = [0.1, 10.0]\n",
+    )
+    .unwrap();
+    let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("W = 1e-300"), "{err}");
 }
 
 #[test]
