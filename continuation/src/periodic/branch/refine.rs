@@ -90,6 +90,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     break;
                 }
                 return Err(ContinuationError::Unresolved {
+                    param_name: self.sys.param_name(self.k),
                     ntst,
                     error: pt.error_estimate,
                     tol: self.settings.mesh_accept,
@@ -180,6 +181,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
             return Err(ContinuationError::FloquetIllConditioned {
+                param_name: self.sys.param_name(self.k),
                 param: self.z[self.z.len() - 1],
                 trivial_error: pt.trivial_error,
             });
