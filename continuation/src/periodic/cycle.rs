@@ -242,7 +242,9 @@ impl<'a, S: VectorField> Stepper<'a, S> {
         let mut fs = vec![0.0; m * n];
         let mut residual = DVector::zeros(m * n);
         let mut lu = self.stage_jacobian(&stages, ht);
-        let (mut converged, mut last) = (false, f64::INFINITY);
+        // `fresh`: the Jacobian was computed at the iterate the last
+        // correction started from (full Newton there).
+        let (mut converged, mut last, mut fresh) = (false, f64::INFINITY, true);
         for _ in 0..16 {
             for l in 0..m {
                 let f = eval(self.sys, &stages[l * n..(l + 1) * n], &cyc.p);
@@ -258,9 +260,7 @@ impl<'a, S: VectorField> Stepper<'a, S> {
                 }
             }
             let dx = lu.solve(&residual)?;
-            // From the polynomial, rounding is reached in a few iterations;
-            // a correction that no longer halves is rounding (or, with a
-            // stale Jacobian, a reason to renew it).
+            // From the polynomial, rounding is reached in a few iterations.
             let size = stages
                 .iter()
                 .zip(dx.iter())
@@ -273,10 +273,13 @@ impl<'a, S: VectorField> Stepper<'a, S> {
             }
             converged = size <= 1e-10;
             let stalled = size > 0.5 * last;
-            if size <= 4.0 * f64::EPSILON || (converged && stalled) {
+            // A Newton correction that no longer halves is rounding; a
+            // chord correction that does not is a reason to renew.
+            if size <= 4.0 * f64::EPSILON || (converged && stalled && fresh) {
                 break;
             }
-            if stalled {
+            fresh = stalled;
+            if fresh {
                 lu = self.stage_jacobian(&stages, ht);
             }
             last = size;
@@ -311,16 +314,13 @@ impl<'a, S: VectorField> Stepper<'a, S> {
     }
 }
 
-/// Abscissa tolerance of [`brent_max`], relative: `sqrt(eps)`, below which
-/// the value at a smooth maximum no longer changes in `f64`.
-const TOL_X: f64 = 1.5e-8;
-
 /// Largest value of `f` on `[a, b]` by Brent's method (golden section with
-/// parabolic interpolation; Brent 1973, ch. 5), to a tolerance of
-/// [`TOL_X`] relative to the bracket in the abscissa: near a maximum `f` is
-/// flat (`f* - f ~ f'' dx^2 / 2`), so the value is then exact to rounding.
+/// parabolic interpolation; Brent 1973, ch. 5), to a relative tolerance of
+/// `1e-10` in the abscissa: near a maximum `f` is flat, so the value is then
+/// exact to rounding. (Not `sqrt(eps)`: the slip of a stiff orbit can be
+/// as narrow as 1e-8 of its mesh interval, and its peak velocity was then
+/// off by 1e-7.)
 fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let width = b - a;
     let g = 0.5 * (3.0 - 5f64.sqrt());
     let neg = |x: f64| -f(x);
     let (mut x, mut w, mut v) = (a + g * (b - a), a + g * (b - a), a + g * (b - a));
@@ -331,7 +331,7 @@ fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     let (fa, fb) = (neg(a), neg(b));
     for _ in 0..100 {
         let xm = 0.5 * (a + b);
-        let tol1 = TOL_X * x.abs().max(width).max(f64::MIN_POSITIVE);
+        let tol1 = 1e-10 * x.abs().max((b - a).abs()).max(f64::MIN_POSITIVE);
         let tol2 = 2.0 * tol1;
         if (x - xm).abs() <= tol2 - 0.5 * (b - a) {
             break;
