@@ -407,3 +407,22 @@ fn cycles_lpc_curve_json_continues_the_fold_of_the_branch() {
     assert!((at_90["kappa"].as_f64().unwrap() / folds[0] - 1.0).abs() < 1e-9);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A folder that cannot be created: exit status 1, and the message names it.
+#[test]
+fn unwritable_output_folder_is_named() {
+    for args in [
+        vec!["diagram"],
+        vec!["cycles", "--kappa-fraction", "0.9"],
+        vec!["simulate", "--set", "kappa=0.009"],
+    ] {
+        let mut full = args.clone();
+        full.extend(["--out", "/proc/no-such-folder/out"]);
+        let (code, _, err) = stickslip(&full);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(
+            err.contains("cannot write output: /proc/no-such-folder/out:"),
+            "{args:?}: {err}"
+        );
+    }
+}
