@@ -41,7 +41,7 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
 
 /// Writes `work-precision.csv` and the figures into `out`.
 pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, Error> {
-    crate::cli::files::create_dir(&out)?;
+    crate::cli::files::create_dir(out)?;
     let csv_path = out.join("work-precision.csv");
     let mut csv = crate::cli::files::create_file(&csv_path)?;
     writeln!(csv, "job,method,knob,seconds,relative_error")?;
