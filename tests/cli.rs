@@ -426,3 +426,13 @@ fn unwritable_output_folder_is_named() {
         );
     }
 }
+
+/// `hopf` searches the stiffness: a given one is reported as unused.
+#[test]
+fn hopf_says_a_given_stiffness_is_not_used() {
+    let (code, _, err) = stickslip(&["hopf", "--set", "kappa=0.5"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("kappa = 5e-1 (--set) is not used"), "{err}");
+    let (_, _, err) = stickslip(&["hopf"]);
+    assert!(!err.contains("is not used"), "{err}");
+}

@@ -25,6 +25,18 @@ fn rel_diff(a: f64, b: f64) -> f64 {
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
+    let kappa_set = args
+        .scene
+        .set
+        .iter()
+        .any(|s| s.split('=').next().is_some_and(|n| n.trim() == "kappa"));
+    if kappa_set || setup.scene.stiffness_given {
+        eprintln!(
+            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({}) is not used",
+            setup.scene_params.kappa,
+            if kappa_set { "--set" } else { "the scene's K" }
+        );
+    }
     let outcome = onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
     if let HopfOutcome::Found(h) = &outcome {
         let values = [h.kappa_c, h.omega_c].into_iter().chain(h.state);
