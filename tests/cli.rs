@@ -436,3 +436,13 @@ fn hopf_says_a_given_stiffness_is_not_used() {
     let (_, _, err) = stickslip(&["hopf"]);
     assert!(!err.contains("is not used"), "{err}");
 }
+
+/// The normal-form example amplitude gets a caveat where it exceeds mu0.
+#[test]
+fn hopf_flags_an_example_amplitude_beyond_mu0() {
+    let (code, out, err) = stickslip(&["hopf", "--set", "mu0=0.01"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("more than mu0 = 1.000e-2"), "{out}");
+    let (_, out, _) = stickslip(&["hopf"]);
+    assert!(!out.contains("more than mu0"), "{out}");
+}

@@ -241,7 +241,7 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
         "f_c [Hz]",
         units.frequency_hz(h.omega_c)
     );
-    print_onset(&h.onset, h.kappa_c);
+    print_onset(&h.onset, h.kappa_c, p.mu0);
     println!(
         "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
          after {} continuation steps from a stable stiffness",
@@ -249,7 +249,7 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
     );
 }
 
-fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
+fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64, mu0: f64) {
     use crate::analysis::hopf::Criticality;
     println!();
     println!(
@@ -282,7 +282,14 @@ fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
                 "  peak-to-peak spring force: Delta_s ~ C sqrt|kappa - kappa_c|, C = {c:.10e} \
                  (Delta(K x / W) in units of the friction coefficient)"
             );
-            println!("  e.g. 1 % from onset: Delta_s ~ {:.4e}", c * (0.01 * kappa_c).sqrt());
+            let example = c * (0.01 * kappa_c).sqrt();
+            println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}");
+            if example > mu0.abs() {
+                println!(
+                    "  (more than mu0 = {mu0:.3e}, the friction level itself: far beyond what the expansion \
+                     near onset can promise; `stickslip cycles` computes the cycles themselves)"
+                );
+            }
             if let Some(fs) = o.frequency_slope {
                 println!("  frequency shift on the cycle: d Omega / d kappa = {fs:.6e} (units V0/D0)");
             }
