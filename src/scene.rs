@@ -81,6 +81,28 @@ pub struct Scene {
     pub nu_range: (f64, f64),
 }
 
+/// Memory lengths `D0` a scene may give without a warning, in micrometres:
+/// measured values are of order 0.1 to 10 um (the seed review's systems
+/// and the built-in scenes), so a value far outside this band is most
+/// likely in the wrong unit (metres).
+pub const PLAUSIBLE_D0_UM: (f64, f64) = (1e-3, 1e3);
+
+impl Scene {
+    /// Warnings about values that are valid but implausible (most likely a
+    /// unit mistake), one sentence each, naming the key.
+    pub fn implausible(&self) -> Vec<String> {
+        let d0_um = self.units.d0 * 1e6;
+        let (lo, hi) = PLAUSIBLE_D0_UM;
+        let mut out = Vec::new();
+        if !(lo..=hi).contains(&d0_um) {
+            out.push(format!(
+                "D0 = {d0_um:e} um is outside the usual {lo:e} to {hi:e} um (D0 is in micrometres, not metres)"
+            ));
+        }
+        out
+    }
+}
+
 /// The scene used when none is named.
 pub const DEFAULT_SCENE: &str = "pmma";
 

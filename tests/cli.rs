@@ -446,3 +446,20 @@ fn hopf_flags_an_example_amplitude_beyond_mu0() {
     let (_, out, _) = stickslip(&["hopf"]);
     assert!(!out.contains("more than mu0"), "{out}");
 }
+
+/// A memory length given in metres by mistake is accepted with a warning.
+#[test]
+fn implausible_memory_length_is_warned_about() {
+    let dir = common::temp_dir("d0_in_metres");
+    let scene = dir.join("metres.toml");
+    std::fs::write(
+        &scene,
+        "name = \"metres\"\nA = 0.01\nB = 0.015\nmu0 = 0.6\nD0 = 5e-6\nM = 10.0\nV = 1.0\nV_range = [0.1, 10.0]\n",
+    )
+    .unwrap();
+    let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("warning: scene metres: D0 = 5e-6 um"), "{err}");
+    let (_, _, err) = stickslip(&["hopf"]);
+    assert!(!err.contains("warning"), "{err}");
+}

@@ -125,6 +125,9 @@ impl SceneArgs {
             .into());
         }
         let scene = scene::load(&self.scene)?;
+        for warning in scene.implausible() {
+            eprintln!("warning: scene {}: {warning}", scene.name);
+        }
         let mut scene_params = scene.params;
         scene_params.apply_overrides(&self.set)?;
         let choice = choose_model(
