@@ -83,10 +83,11 @@ pub fn multipliers_and_trivial(
 /// singular to rounding: on stiff cycles perturbations grow by more than
 /// `1 / eps` during the slip and both `A` and `B` lose rank). The result
 /// may then hold fewer than `n` multipliers; a quotient is never NaN or
-/// infinite. When the QZ iteration returns no eigenvalue at all (faer
-/// 0.24 returns `alpha = beta = 0` throughout for some well-conditioned
-/// 3 x 3 pencils), it is run again on the transposed pencil, which has the
-/// same eigenvalues.
+/// infinite. When the QZ iteration leaves eigenvalues out (faer 0.24
+/// returns `alpha = beta = 0` for some well-conditioned 3 x 3 pencils:
+/// all of them, or, near a fold of cycles, two of three), it is run again
+/// on the transposed pencil, which has the same eigenvalues, and the run
+/// that determines more of them is kept.
 pub fn pencil_multipliers(
     lin: &Linearization,
     n: usize,
@@ -108,8 +109,11 @@ pub fn pencil_multipliers(
         ));
     }
     let mut mu = qz_eigenvalues(&a, &b)?;
-    if mu.is_empty() {
-        mu = qz_eigenvalues(&a.transpose(), &b.transpose())?;
+    if mu.len() < n {
+        let transposed = qz_eigenvalues(&a.transpose(), &b.transpose())?;
+        if transposed.len() > mu.len() {
+            mu = transposed;
+        }
     }
     mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
     Ok(mu)
