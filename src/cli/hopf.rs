@@ -1,10 +1,14 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::{describe_params, onset_with_degeneracy_resolved, params_json, SceneArgs, Setup};
+use super::{
+    describe_params, describe_params_except, onset_with_degeneracy_resolved, params_json,
+    SceneArgs, Setup,
+};
 use crate::analysis::hopf::{HopfOutcome, HopfPoint};
 use crate::appendix_c;
 use crate::error::{Error, NumericalError};
 use crate::model::ModelKind;
+use crate::params::Param;
 use clap::Args;
 use serde_json::json;
 
@@ -25,11 +29,10 @@ fn rel_diff(a: f64, b: f64) -> f64 {
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
-    let kappa_set = args
-        .scene
-        .set
-        .iter()
-        .any(|s| s.split('=').next().is_some_and(|n| n.trim() == "kappa"));
+    let kappa_set = args.scene.set.iter().any(|s| {
+        s.split_once('=')
+            .is_some_and(|(name, _)| Param::parse(name.trim()).is_ok_and(|p| p == Param::Kappa))
+    });
     if kappa_set || setup.scene.stiffness_given {
         eprintln!(
             "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({}) is not used",
@@ -153,12 +156,10 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
         shown.kappa = h.kappa_c;
         format!("kappa at onset): {}", describe_params(&shown))
     } else {
-        let without_kappa = describe_params(&shown)
-            .split(", ")
-            .filter(|entry| !entry.starts_with("kappa ="))
-            .collect::<Vec<_>>()
-            .join(", ");
-        format!("no onset, hence no kappa): {without_kappa}")
+        format!(
+            "no onset, hence no kappa): {}",
+            describe_params_except(&shown, Some(Param::Kappa))
+        )
     };
     println!("parameters (dimensionless, docs/model.md; {listed}");
     println!(

@@ -16,6 +16,7 @@ use super::mesh::Mesh;
 use crate::system::{eval, jacobian, param_derivative, VectorField};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
+use smallvec::SmallVec;
 
 /// The collocation system of one mesh, with the phase reference.
 pub struct Collocation<'a, S: VectorField> {
@@ -165,7 +166,8 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             trace_integral: 0.0,
             phase_residual: 0.0,
         };
-        let (mut x, mut dx, mut row_sums) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let zeros = || SmallVec::<[f64; 8]>::from_elem(0.0, n);
+        let (mut x, mut dx, mut row_sums) = (zeros(), zeros(), zeros());
         let block = &mut out.block;
         for kk in 0..m {
             let row0 = kk * n;
