@@ -36,7 +36,11 @@ impl InputError {
     pub fn out_of_range(field: &str, value: f64, expected: &str) -> Self {
         InputError::OutOfRange {
             field: field.to_string(),
-            value: format!("{value}"),
+            value: if value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
+                format!("{value:e}")
+            } else {
+                format!("{value}")
+            },
             expected: expected.to_string(),
         }
     }
@@ -45,12 +49,24 @@ impl InputError {
 /// A numerical method that did not deliver, with what was reached and what to try.
 #[derive(Debug, Error)]
 pub enum NumericalError {
-    #[error(transparent)]
+    /// The engine's message, and what to do about it with this program.
+    #[error("{engine}{remedy}", engine = .0, remedy = remedy(.0))]
     Continuation(#[from] continuation::ContinuationError),
     #[error(transparent)]
     NoCycle(#[from] crate::analysis::orbit_start::NoCycleFound),
     #[error("{0}")]
     Analysis(String),
+}
+
+/// The command-line remedy for an engine failure, appended to its message
+/// (the engine names none: it knows no command line).
+fn remedy(e: &continuation::ContinuationError) -> &'static str {
+    use continuation::ContinuationError as E;
+    match e {
+        E::Unresolved { .. } => " (`cycles --ntst-max`)",
+        E::FloquetIllConditioned { .. } => " (`stickslip simulate`)",
+        _ => "",
+    }
 }
 
 /// Anything the command line reports; decides the exit status.

@@ -127,20 +127,21 @@ mod tests {
         }
     }
 
+    fn cutoff_law() -> FrictionLaw<f64> {
+        FrictionLaw {
+            mu0: 0.6,
+            a: 0.012,
+            ageing: Ageing::Cutoff {
+                b: 0.023,
+                theta_c: 0.3,
+            },
+        }
+    }
+
     #[test]
     fn mu_phi_is_the_log_derivative_of_ageing() {
         // Central difference in ln(theta) with an O(h^2) error, h = 1e-4.
-        for law in [
-            ln2_law(),
-            FrictionLaw {
-                mu0: 0.6,
-                a: 0.012,
-                ageing: Ageing::Cutoff {
-                    b: 0.023,
-                    theta_c: 0.3,
-                },
-            },
-        ] {
+        for law in [ln2_law(), cutoff_law()] {
             for theta in [1e-3, 0.7, 5.0, 1e3] {
                 let h: f64 = 1e-4;
                 let fd = (law.ageing_term(theta * h.exp()) - law.ageing_term(theta * (-h).exp()))
@@ -160,17 +161,7 @@ mod tests {
         // one), and for small d against d * mu_phi(theta0) + d^2/2 * the
         // second log-derivative (d = 1e-9: the plain difference would keep
         // only 7 digits there).
-        for law in [
-            ln2_law(),
-            FrictionLaw {
-                mu0: 0.6,
-                a: 0.012,
-                ageing: Ageing::Cutoff {
-                    b: 0.023,
-                    theta_c: 0.3,
-                },
-            },
-        ] {
+        for law in [ln2_law(), cutoff_law()] {
             for ln0 in [-3.0f64, 0.0, 2.5] {
                 for d in [-1.5, 0.7] {
                     let plain = law.ageing_term((ln0 + d).exp()) - law.ageing_term(ln0.exp());

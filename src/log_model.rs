@@ -62,6 +62,9 @@ impl VectorField for LogBlock {
     fn n_params(&self) -> usize {
         N_PARAMS
     }
+    fn param_name(&self, k: usize) -> String {
+        Param::ALL[k].name().into()
+    }
     /// The spring force (measured from `s_o`: the same differences and
     /// amplitude, without rounding against `s_o`) and the logarithm of the
     /// slip velocity, whose extremes a cycle reports (`s_min`, `s_max`,
@@ -185,11 +188,8 @@ mod tests {
     use crate::params::Params;
     use continuation::system::eval;
 
-    #[test]
-    fn log_model_is_the_model_in_other_variables() {
-        // x_log' = (dx_log/dx) x': w' = v'/v, phi' = theta'/theta, from either
-        // origin, for both ageing forms.
-        let ln2 = Params {
+    fn ln2_params() -> Params {
+        Params {
             kappa: 0.02,
             nu: 3.0,
             m: 0.1,
@@ -198,7 +198,14 @@ mod tests {
             mu0: 0.6,
             mu2: 5e-4,
             theta_c: None,
-        };
+        }
+    }
+
+    #[test]
+    fn log_model_is_the_model_in_other_variables() {
+        // x_log' = (dx_log/dx) x': w' = v'/v, phi' = theta'/theta, from either
+        // origin, for both ageing forms.
+        let ln2 = ln2_params();
         let cutoff = Params {
             mu2: 0.0,
             theta_c: Some(0.4),
@@ -249,16 +256,7 @@ mod tests {
         // deviation: against the Jacobian at the origin for deviations of
         // 1e-12 (with the log variables themselves, nu - e^w and
         // e^-phi - e^w would lose all but 4 digits of it).
-        let p = Params {
-            kappa: 0.02,
-            nu: 3.0,
-            m: 0.1,
-            a: 0.01,
-            b: 0.02,
-            mu0: 0.6,
-            mu2: 5e-4,
-            theta_c: None,
-        };
+        let p = ln2_params();
         for kind in [ModelKind::Inertial, ModelKind::QuasiStatic] {
             let log = LogBlock::centered(kind, &p);
             let n = log.dim();

@@ -107,6 +107,9 @@ impl VectorField for InertialBlock {
     fn n_params(&self) -> usize {
         N_PARAMS
     }
+    fn param_name(&self, k: usize) -> String {
+        Param::ALL[k].name().into()
+    }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         count_eval::<D>();
         let law = friction_from(self.cutoff, p);
@@ -135,6 +138,9 @@ impl VectorField for QuasiStaticBlock {
     }
     fn n_params(&self) -> usize {
         N_PARAMS
+    }
+    fn param_name(&self, k: usize) -> String {
+        Param::ALL[k].name().into()
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         count_eval::<D>();
@@ -182,6 +188,9 @@ impl VectorField for DrivenBlock {
     }
     fn n_params(&self) -> usize {
         N_PARAMS
+    }
+    fn param_name(&self, k: usize) -> String {
+        Param::ALL[k].name().into()
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         match self {

@@ -25,6 +25,10 @@ pub enum Param {
     ThetaC = 7,
 }
 
+/// Magnitudes a nonzero dimensionless parameter may have
+/// ([`Params::validate`]).
+pub const MAGNITUDE_RANGE: (f64, f64) = (1e-100, 1e100);
+
 /// Number of entries in the engine's parameter vector.
 pub const N_PARAMS: usize = 8;
 
@@ -187,6 +191,21 @@ impl Params {
                 self.b,
                 ">= 0 (ageing strengthens the interface)",
             ));
+        }
+        // Products such as m nu^2 / A, and the stiffness scale built from
+        // them, must stay within the floating-point range.
+        let sizes = Param::ALL
+            .iter()
+            .map(|&p| (p.name(), self.get(p)))
+            .chain(self.theta_c.map(|tc| ("theta_c", tc)));
+        for (name, v) in sizes {
+            if v != 0.0 && !(MAGNITUDE_RANGE.0..=MAGNITUDE_RANGE.1).contains(&v.abs()) {
+                return Err(InputError::out_of_range(
+                    name,
+                    v,
+                    "0 or of magnitude 1e-100 to 1e100 (dimensionless: rate-and-state values are of order 1e-3 to 1)",
+                ));
+            }
         }
         Ok(())
     }

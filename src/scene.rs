@@ -81,6 +81,28 @@ pub struct Scene {
     pub nu_range: (f64, f64),
 }
 
+/// Memory lengths `D0` a scene may give without a warning, in micrometres:
+/// measured values are of order 0.1 to 10 um (the seed review's systems
+/// and the built-in scenes), so a value far outside this band is most
+/// likely in the wrong unit (metres).
+pub const PLAUSIBLE_D0_UM: (f64, f64) = (1e-3, 1e3);
+
+impl Scene {
+    /// Warnings about values that are valid but implausible (most likely a
+    /// unit mistake), one sentence each, naming the key.
+    pub fn implausible(&self) -> Vec<String> {
+        let d0_um = self.units.d0 * 1e6;
+        let (lo, hi) = PLAUSIBLE_D0_UM;
+        let mut out = Vec::new();
+        if !(lo..=hi).contains(&d0_um) {
+            out.push(format!(
+                "D0 = {d0_um:e} um is outside the usual {lo:e} to {hi:e} um (D0 is in micrometres, not metres)"
+            ));
+        }
+        out
+    }
+}
+
 /// The scene used when none is named.
 pub const DEFAULT_SCENE: &str = "pmma";
 
@@ -198,7 +220,7 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
     };
     let nu_range = (lo / v0, hi / v0);
     let derived = [
-        ("W = M g", load),
+        (if given_load.is_some() { "W" } else { "W = M g" }, load),
         ("kappa = K D0 / W", params.kappa),
         ("nu = V / V0", params.nu),
         ("m = M V0^2 / (W D0)", params.m),
@@ -207,12 +229,15 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
         ("V_range[1] / V0", nu_range.1),
     ];
     for (what, x) in derived {
-        let ok = x.is_finite() && (x > 0.0 || !what.starts_with('V'));
+        let (least, most) = crate::params::MAGNITUDE_RANGE;
+        let ok = x.is_finite()
+            && (x > 0.0 || !what.starts_with('V'))
+            && (x == 0.0 || (least..=most).contains(&x.abs()));
         require(
             ok,
             what,
             x,
-            "a finite (positive) number: the scene's units are too extreme",
+            "a finite (positive) number of magnitude 1e-100 to 1e100: the scene's units are too extreme",
         )?;
     }
     params.validate()?;

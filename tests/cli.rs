@@ -81,6 +81,14 @@ fn velocity_strengthening_is_stable_for_all_stiffness() {
     assert!(v["kappa_c"].is_null());
     // No negative "critical stiffness" from eq. C11 either.
     assert!(v["appendix_c"]["kappa_c"].is_null(), "{}", v["appendix_c"]);
+    // Nor a stiffness of zero among the parameters, in the JSON or the text.
+    assert!(v["params"]["kappa"].is_null(), "{}", v["params"]);
+    let (code, text, err) = stickslip(&["hopf", "--set", "B=0.005"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("no onset, hence no kappa") && !text.contains("kappa = 0"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -138,6 +146,9 @@ fn bad_input_exits_2_naming_the_field() {
         (vec!["hopf", "--scene", "/nonexistent/scene.toml"], "scene"),
         (vec!["branch", "--param", "nu", "--from=-1"], "--from"),
         (vec!["hopf", "--set", "m=0", "--model", "inertial"], "m = 0"),
+        // Beyond what products like m nu^2 / A keep within the float range.
+        (vec!["hopf", "--set", "A=1e-300"], "A = 1e-300"),
+        (vec!["cycles", "--set", "theta_c=1e200"], "theta_c = 1e200"),
     ] {
         let (code, out, err) = stickslip(&args);
         assert_eq!(code, 2, "{args:?}: {out}{err}");
@@ -147,6 +158,17 @@ fn bad_input_exits_2_naming_the_field() {
         );
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+    // A scene whose units make the dimensionless inertia overflow-prone.
+    let dir = common::temp_dir("extreme_units");
+    let scene = dir.join("tiny_load.toml");
+    std::fs::write(
+        &scene,
+        "name = \"tiny\"\nA = 0.01\nB = 0.015\nmu0 = 0.6\nM = 10.0\nW = 1e-300\nV = 1.0\nV_range = [0.1, 10.0]\n",
+    )
+    .unwrap();
+    let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("W = 1e-300"), "{err}");
 }
 
 #[test]
@@ -384,4 +406,60 @@ fn cycles_lpc_curve_json_continues_the_fold_of_the_branch() {
         .expect("the fold itself");
     assert!((at_90["kappa"].as_f64().unwrap() / folds[0] - 1.0).abs() < 1e-9);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A folder that cannot be created: exit status 1, and the message names it.
+#[test]
+fn unwritable_output_folder_is_named() {
+    for args in [
+        vec!["diagram"],
+        vec!["cycles", "--kappa-fraction", "0.9"],
+        vec!["simulate", "--set", "kappa=0.009"],
+    ] {
+        let mut full = args.clone();
+        full.extend(["--out", "/proc/no-such-folder/out"]);
+        let (code, _, err) = stickslip(&full);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(
+            err.contains("cannot write output: /proc/no-such-folder/out:"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// `hopf` searches the stiffness: a given one is reported as unused.
+#[test]
+fn hopf_says_a_given_stiffness_is_not_used() {
+    let (code, _, err) = stickslip(&["hopf", "--set", "kappa=0.5"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("kappa = 5e-1 (--set) is not used"), "{err}");
+    let (_, _, err) = stickslip(&["hopf"]);
+    assert!(!err.contains("is not used"), "{err}");
+}
+
+/// The normal-form example amplitude gets a caveat where it exceeds mu0.
+#[test]
+fn hopf_flags_an_example_amplitude_beyond_mu0() {
+    let (code, out, err) = stickslip(&["hopf", "--set", "mu0=0.01"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("more than mu0 = 1.000e-2"), "{out}");
+    let (_, out, _) = stickslip(&["hopf"]);
+    assert!(!out.contains("more than mu0"), "{out}");
+}
+
+/// A memory length given in metres by mistake is accepted with a warning.
+#[test]
+fn implausible_memory_length_is_warned_about() {
+    let dir = common::temp_dir("d0_in_metres");
+    let scene = dir.join("metres.toml");
+    std::fs::write(
+        &scene,
+        "name = \"metres\"\nA = 0.01\nB = 0.015\nmu0 = 0.6\nD0 = 5e-6\nM = 10.0\nV = 1.0\nV_range = [0.1, 10.0]\n",
+    )
+    .unwrap();
+    let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("warning: scene metres: D0 = 5e-6 um"), "{err}");
+    let (_, _, err) = stickslip(&["hopf"]);
+    assert!(!err.contains("warning"), "{err}");
 }

@@ -243,7 +243,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
         };
         let wrap = |kind: &'static str, e: ContinuationError| ContinuationError::Location {
             kind,
-            param_name: format!("p[{k}]"),
+            param_name: self.sys.param_name(k),
             from: prev.param(),
             to: cur.param(),
             cause: Box::new(e),
@@ -306,7 +306,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
                 ContinuationError::StepTooSmall {
                     ds, ds_min, cause, ..
                 } => ContinuationError::StepTooSmall {
-                    param_name: format!("p[{}]", self.k),
+                    param_name: self.sys.param_name(self.k),
                     param: prev.param(),
                     ds,
                     ds_min,
@@ -322,7 +322,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
             if let Some(x) = values.clone().find(|v| !v.is_finite()) {
                 return Err(ContinuationError::NonFinite {
                     what: format!("{x}"),
-                    param_name: format!("p[{}]", self.k),
+                    param_name: self.sys.param_name(self.k),
                     param: point.param(),
                 });
             }

@@ -188,7 +188,8 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
 
     /// Locates `l1 = 0` between `z0` (tangent `t0`) and the current point,
     /// `ds` apart along `t0`, by the Illinois variant of regula falsi on the
-    /// arclength `sigma`; each trial point is corrected onto the curve.
+    /// arclength `sigma` ([`crate::root::illinois`]); each trial point is
+    /// corrected onto the curve.
     fn locate_bautin(
         &self,
         z0: &DVector<f64>,
@@ -197,27 +198,27 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         ds: f64,
         l1_1: f64,
     ) -> Result<HopfCurvePoint, ContinuationError> {
-        let (mut a, mut fa, mut b, mut fb) = (0.0, l1_0, ds, l1_1);
         let mut best = None;
-        for _ in 0..100 {
-            let sigma = b - fb * (b - a) / (fb - fa);
-            let mut z = z0 + t0 * sigma;
-            self.stepper
-                .correct(&mut z, t0, None, &self.settings.locator)?;
-            let pt = self.point_at(&z)?;
-            let f = pt.l1;
-            let negligible = f.abs() <= pt.l1_error_bound;
-            best = Some(pt);
-            if f * fb < 0.0 {
-                (a, fa) = (b, fb);
-            } else {
-                fa *= 0.5;
-            }
-            (b, fb) = (sigma, f);
-            if negligible || (b - a).abs() <= 1e-13 * ds.abs() {
-                break;
-            }
-        }
+        crate::root::illinois(
+            |sigma| {
+                let mut z = z0 + t0 * sigma;
+                self.stepper
+                    .correct(&mut z, t0, None, &self.settings.locator)?;
+                let pt = self.point_at(&z)?;
+                // Within its rounding bound l1 is zero as far as it is known.
+                let l1 = if pt.l1.abs() <= pt.l1_error_bound {
+                    0.0
+                } else {
+                    pt.l1
+                };
+                best = Some(pt);
+                Ok(l1)
+            },
+            (0.0, l1_0),
+            (ds, l1_1),
+            1e-13 * ds.abs(),
+            100,
+        )?;
         best.ok_or(ContinuationError::Singular)
     }
 

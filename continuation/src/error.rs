@@ -88,12 +88,13 @@ pub enum ContinuationError {
     )]
     DegenerateHopf { l1: f64, scale: f64 },
     #[error(
-        "the periodic orbit at p = {param:.10e} is no longer resolved: its estimated discretization \
+        "the periodic orbit at {param_name} = {param:.10e} is no longer resolved: its estimated discretization \
          error is {} (tolerance {tol:.0e}) with {ntst} mesh intervals, the limit; the cycle \
-         has become too stiff for this mesh — raise the interval limit (`cycles --ntst-max`), or stop here",
+         has become too stiff for this mesh — raise the interval limit, or stop here",
         finite_or(*error, "unknown (the orbit could not be solved on half the mesh)")
     )]
     Unresolved {
+        param_name: String,
         ntst: usize,
         /// Estimated discretization error; infinite when the orbit could
         /// not be solved on half the mesh to compare with.
@@ -102,13 +103,14 @@ pub enum ContinuationError {
         param: f64,
     },
     #[error(
-        "the Floquet multipliers of the periodic orbit at p = {param:.10e} can no longer decide its \
+        "the Floquet multipliers of the periodic orbit at {param_name} = {param:.10e} can no longer decide its \
          stability: {}; perturbations grow by so many decades along the orbit that \
-         rounding dominates (the orbit itself is resolved); judge stability by simulation \
-         (`stickslip simulate`) from here on",
+         rounding dominates (the orbit itself is resolved); judge stability by time integration \
+         from here on",
         trivial_multiplier_off(*trivial_error)
     )]
     FloquetIllConditioned {
+        param_name: String,
         param: f64,
         /// Distance of the computed trivial multiplier from 1; infinite when
         /// the Floquet pencil did not determine it.
@@ -167,6 +169,7 @@ mod tests {
             "{newton}"
         );
         let floquet = ContinuationError::FloquetIllConditioned {
+            param_name: "p[0]".into(),
             param: 289.9,
             trivial_error: f64::INFINITY,
         }
@@ -176,6 +179,7 @@ mod tests {
             "{floquet}"
         );
         let unresolved = ContinuationError::Unresolved {
+            param_name: "p[0]".into(),
             ntst: 640,
             error: f64::INFINITY,
             tol: 1e-6,
@@ -188,6 +192,7 @@ mod tests {
         }
         // Finite values are printed as numbers.
         let floquet = ContinuationError::FloquetIllConditioned {
+            param_name: "p[0]".into(),
             param: 289.9,
             trivial_error: 0.25,
         }

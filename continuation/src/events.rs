@@ -106,8 +106,13 @@ pub fn is_complex_pair(pair: (Complex64, Complex64)) -> bool {
     a.im.abs() > 1e-8 * scale && (a.im + b.im).abs() <= 1e-6 * scale
 }
 
-fn context(kind: &str, k: &[usize], value: &[f64]) -> String {
-    format!(" locating the {kind} point (free parameters {k:?} = {value:?})")
+/// " locating the Hopf point (from kappa = 1.05e-2)": the starting value of
+/// the free parameter, named by the field.
+fn context<S: VectorField>(sys: &S, kind: &str, k: usize, value: f64) -> String {
+    format!(
+        " locating the {kind} point (from {} = {value:e})",
+        sys.param_name(k)
+    )
 }
 
 /// Newton's method on a square defining system, from `z`.
@@ -145,7 +150,7 @@ pub fn locate_hopf<S: VectorField>(
         free: vec![k],
     };
     let system = HopfSystem::new(sys, params, &z)?;
-    let report = solve_square(&system, &mut z, settings, &context("Hopf", &[k], &[p0[k]]))?;
+    let report = solve_square(&system, &mut z, settings, &context(sys, "Hopf", k, p0[k]))?;
     let x = z.as_slice()[..n].to_vec();
     let p = system.params.with(&[z[n + 1]]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
@@ -175,7 +180,7 @@ pub fn locate_fold<S: VectorField>(
         free: vec![k],
     };
     let system = FoldSystem::new(sys, params, &z)?;
-    let report = solve_square(&system, &mut z, settings, &context("fold", &[k], &[p0[k]]))?;
+    let report = solve_square(&system, &mut z, settings, &context(sys, "fold", k, p0[k]))?;
     let x = z.as_slice()[..n].to_vec();
     let p = system.params.with(&[z[n]]);
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;

@@ -29,6 +29,7 @@ pub mod multilinear;
 pub mod newton;
 pub mod normal_form;
 pub mod periodic;
+pub mod root;
 pub mod system;
 
 pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};

@@ -19,13 +19,19 @@ pub(crate) type Buf<D> = SmallVec<[D; 8]>;
 pub trait Scalar: DualNum<Primitive = f64> + Copy {}
 impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
 
-/// A parameter-dependent vector field `x' = f(x, p)`.
-pub trait VectorField {
+/// A parameter-dependent vector field `x' = f(x, p)`. `Sync`: a field is
+/// evaluated from several threads at once (collocation intervals in parallel).
+pub trait VectorField: Sync {
     /// Dimension `n` of the state `x`.
     fn dim(&self) -> usize;
 
     /// Number of entries of the parameter vector `p`.
     fn n_params(&self) -> usize;
+
+    /// Name of parameter `k` in messages; `p[k]` unless the field names it.
+    fn param_name(&self, k: usize) -> String {
+        format!("p[{k}]")
+    }
 
     /// Writes `f(x, p)` into `out` (length [`dim`](Self::dim)).
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]);
@@ -231,6 +237,14 @@ impl<S: VectorField> VectorField for LogParameters<'_, S> {
     }
     fn n_params(&self) -> usize {
         self.inner.n_params()
+    }
+    fn param_name(&self, k: usize) -> String {
+        let name = self.inner.param_name(k);
+        if self.indices.contains(&k) {
+            format!("ln {name}")
+        } else {
+            name
+        }
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         let mut q: Buf<D> = SmallVec::from_slice(p);

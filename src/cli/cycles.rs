@@ -188,10 +188,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if !args.json {
         println!("{}", numerics(points, args.collocation.is_some(), &setup));
     }
-    std::fs::create_dir_all(&args.out)?;
+    crate::cli::files::create_dir(&args.out)?;
     let stem = with_suffix(&super::files::stem(&args.out, &setup.scene.name), "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
-    let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
+    let mut csv = crate::cli::files::create_file(&csv_path)?;
     writeln!(
         csv,
         "# scene {}; model {}; collocation {}; stable: true, false, or undecidable (a nontrivial \

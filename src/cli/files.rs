@@ -1,6 +1,31 @@
-//! Output file names: `<out>/<scene>-<what>.<ext>`.
+//! Output files: names `<out>/<scene>-<what>.<ext>`, and their creation
+//! with errors that name the path.
 
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+
+/// `e` with the path it concerns in front of its message.
+pub fn at_path(path: &Path, e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
+/// Creates the output folder `dir` (and its parents).
+pub fn create_dir(dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| at_path(dir, e))
+}
+
+/// Creates (or truncates) the file `path` for buffered writing.
+pub fn create_file(path: &Path) -> std::io::Result<BufWriter<File>> {
+    File::create(path)
+        .map(BufWriter::new)
+        .map_err(|e| at_path(path, e))
+}
+
+/// Writes `contents` to the file `path`.
+pub fn write(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
+    std::fs::write(path, contents).map_err(|e| at_path(path, e))
+}
 
 /// `<out>/<scene>`, with every character of the scene name that is not a
 /// letter, digit, `-` or `_` replaced by `_` (a scene name never leaves `out`).
@@ -32,6 +57,15 @@ pub fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn write_errors_name_the_path() {
+        let path = Path::new("/nonexistent-folder/x/y.csv");
+        let e = create_file(path).unwrap_err().to_string();
+        assert!(e.starts_with("/nonexistent-folder/x/y.csv: "), "{e}");
+        let e = write(path, "a").unwrap_err().to_string();
+        assert!(e.contains("/nonexistent-folder/x/y.csv"), "{e}");
+    }
 
     #[test]
     fn scene_names_stay_inside_the_output_folder() {

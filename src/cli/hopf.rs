@@ -1,10 +1,14 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::{describe_params, onset_with_degeneracy_resolved, params_json, SceneArgs, Setup};
+use super::{
+    describe_params, describe_params_except, onset_with_degeneracy_resolved, params_json,
+    SceneArgs, Setup,
+};
 use crate::analysis::hopf::{HopfOutcome, HopfPoint};
 use crate::appendix_c;
 use crate::error::{Error, NumericalError};
 use crate::model::ModelKind;
+use crate::params::Param;
 use clap::Args;
 use serde_json::json;
 
@@ -25,6 +29,17 @@ fn rel_diff(a: f64, b: f64) -> f64 {
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
+    let kappa_set = args.scene.set.iter().any(|s| {
+        s.split_once('=')
+            .is_some_and(|(name, _)| Param::parse(name.trim()).is_ok_and(|p| p == Param::Kappa))
+    });
+    if kappa_set || setup.scene.stiffness_given {
+        eprintln!(
+            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({}) is not used",
+            setup.scene_params.kappa,
+            if kappa_set { "--set" } else { "the scene's K" }
+        );
+    }
     let outcome = onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
     if let HopfOutcome::Found(h) = &outcome {
         let values = [h.kappa_c, h.omega_c].into_iter().chain(h.state);
@@ -64,6 +79,10 @@ fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
         "mu_v": p.mu_v(),
         "mu_phi": p.mu_phi(),
     });
+    if !matches!(outcome, HopfOutcome::Found(_)) {
+        // No onset: the stiffness is what was searched for, not a parameter.
+        out["params"]["kappa"] = serde_json::Value::Null;
+    }
     let kappa_ref = appendix_c::critical_stiffness(p);
     match outcome {
         HopfOutcome::Found(h) => {
@@ -133,13 +152,16 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
     println!("scene: {} — {}", setup.scene.name, setup.scene.description);
     println!("model: {}", setup.choice.reason);
     let mut shown = *p;
-    if let HopfOutcome::Found(h) = outcome {
+    let listed = if let HopfOutcome::Found(h) = outcome {
         shown.kappa = h.kappa_c;
-    }
-    println!(
-        "parameters (dimensionless, docs/model.md; kappa at onset): {}",
-        describe_params(&shown)
-    );
+        format!("kappa at onset): {}", describe_params(&shown))
+    } else {
+        format!(
+            "no onset, hence no kappa): {}",
+            describe_params_except(&shown, Some(Param::Kappa))
+        )
+    };
+    println!("parameters (dimensionless, docs/model.md; {listed}");
     println!(
         "steady sliding at V = {:.4e} um/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
         units.velocity_um_s(p.nu),
@@ -220,7 +242,7 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
         "f_c [Hz]",
         units.frequency_hz(h.omega_c)
     );
-    print_onset(&h.onset, h.kappa_c);
+    print_onset(&h.onset, h.kappa_c, p.mu0);
     println!(
         "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
          after {} continuation steps from a stable stiffness",
@@ -228,7 +250,7 @@ fn print_hopf(setup: &Setup, h: &HopfPoint) {
     );
 }
 
-fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
+fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64, mu0: f64) {
     use crate::analysis::hopf::Criticality;
     println!();
     println!(
@@ -261,7 +283,14 @@ fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64) {
                 "  peak-to-peak spring force: Delta_s ~ C sqrt|kappa - kappa_c|, C = {c:.10e} \
                  (Delta(K x / W) in units of the friction coefficient)"
             );
-            println!("  e.g. 1 % from onset: Delta_s ~ {:.4e}", c * (0.01 * kappa_c).sqrt());
+            let example = c * (0.01 * kappa_c).sqrt();
+            println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}");
+            if example > mu0.abs() {
+                println!(
+                    "  (more than mu0 = {mu0:.3e}, the friction level itself: far beyond what the expansion \
+                     near onset can promise; `stickslip cycles` computes the cycles themselves)"
+                );
+            }
             if let Some(fs) = o.frequency_slope {
                 println!("  frequency shift on the cycle: d Omega / d kappa = {fs:.6e} (units V0/D0)");
             }

@@ -61,7 +61,7 @@ pub fn write_lpc_csv(
     u: &Units,
 ) -> std::io::Result<PathBuf> {
     let path = with_suffix(stem, "-lpc-curve.csv");
-    let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
+    let mut w = crate::cli::files::create_file(&path)?;
     writeln!(
         w,
         "# folds of cycles (LPC) of scene {scene}: the hysteresis boundary"

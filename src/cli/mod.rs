@@ -21,7 +21,7 @@ use crate::analysis::model_choice::{
 };
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
-use crate::params::Params;
+use crate::params::{Param, Params};
 use crate::scene::{self, Scene};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
@@ -125,6 +125,9 @@ impl SceneArgs {
             .into());
         }
         let scene = scene::load(&self.scene)?;
+        for warning in scene.implausible() {
+            eprintln!("warning: scene {}: {warning}", scene.name);
+        }
         let mut scene_params = scene.params;
         scene_params.apply_overrides(&self.set)?;
         let choice = choose_model(
@@ -215,8 +218,15 @@ pub fn significant(v: f64) -> String {
 
 /// Formats parameters as `name = value` pairs on one line.
 pub fn describe_params(p: &Params) -> String {
+    describe_params_except(p, None)
+}
+
+/// [`describe_params`] without the parameter `left_out`.
+pub fn describe_params_except(p: &Params, left_out: Option<Param>) -> String {
+    let left_out = left_out.map(Param::name);
     p.named()
         .iter()
+        .filter(|(n, _)| Some(*n) != left_out)
         .map(|(n, v)| format!("{n} = {v:.6e}"))
         .collect::<Vec<_>>()
         .join(", ")

@@ -132,7 +132,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     start_params.nu = nu0;
     let s0 = start_params.friction().steady(nu0);
     let start = [s0, nu0, (1.0 + args.perturb) / nu0];
-    std::fs::create_dir_all(&args.out)?;
+    crate::cli::files::create_dir(&args.out)?;
     let stem = super::files::with_suffix(
         &super::files::stem(&args.out, &setup.scene.name),
         "-simulation",
@@ -247,7 +247,7 @@ struct Rows {
 
 impl Rows {
     fn create(path: &Path, time_unit: f64) -> std::io::Result<Rows> {
-        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+        let mut w = crate::cli::files::create_file(path)?;
         writeln!(w, "t_s,t,s,v,theta,slip,log10_v,model")?;
         w.flush()?;
         Ok(Rows {

@@ -1,5 +1,5 @@
 //! Event functions `g(t, x)` and the location of their zeros on the dense
-//! output by the Illinois variant of regula falsi.
+//! output by the Illinois variant of regula falsi ([`crate::root`]).
 //!
 //! After each accepted step `[t_prev, t_new]` every event function is
 //! evaluated at the step end (and at `event_samples - 1` interior points of
@@ -106,72 +106,9 @@ pub struct Crossing {
     pub rising: bool,
 }
 
-/// Narrows a bracket `[a, b]` with `fa`, `fb` of opposite signs (or `fb == 0`)
-/// to width `tol` by the Illinois method and returns its end on the side of
-/// `b` (past the sign change, if `a` is the earlier time). `a` may be larger
-/// than `b` (backward integration).
-pub(crate) fn illinois(
-    mut f: impl FnMut(f64) -> f64,
-    (mut a, mut fa): (f64, f64),
-    (mut b, mut fb): (f64, f64),
-    tol: f64,
-) -> f64 {
-    // +1: the last update moved `a`; -1: it moved `b`.
-    let mut side = 0i8;
-    for _ in 0..200 {
-        if fb == 0.0 || (b - a).abs() <= tol {
-            return b;
-        }
-        let mut c = (a * fb - b * fa) / (fb - fa);
-        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        if !(c > lo && c < hi) {
-            c = 0.5 * (a + b);
-            if !(c > lo && c < hi) {
-                return b; // adjacent floating-point numbers
-            }
-        }
-        let fc = f(c);
-        if !fc.is_finite() {
-            return b;
-        }
-        if fc == 0.0 {
-            return c;
-        }
-        if (fc > 0.0) == (fb > 0.0) {
-            b = c;
-            fb = fc;
-            if side == -1 {
-                fa *= 0.5;
-            }
-            side = -1;
-        } else {
-            a = c;
-            fa = fc;
-            if side == 1 {
-                fb *= 0.5;
-            }
-            side = 1;
-        }
-    }
-    b
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn illinois_finds_roots_from_either_side() {
-        let f = |t: f64| t.cos() - t;
-        let root = 0.739_085_133_215_160_6;
-        let r = illinois(f, (0.0, f(0.0)), (1.0, f(1.0)), 1e-14);
-        assert!((r - root).abs() < 2e-14, "{r}");
-        let r = illinois(f, (1.0, f(1.0)), (0.0, f(0.0)), 1e-14);
-        assert!((r - root).abs() < 2e-14, "{r}");
-        let g = |t: f64| (t - 0.3).powi(3);
-        let r = illinois(g, (0.0, g(0.0)), (2.0, g(2.0)), 1e-13);
-        assert!((r - 0.3).abs() < 1e-13, "{r}");
-    }
 
     #[test]
     fn direction_filter() {

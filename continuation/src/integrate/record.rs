@@ -1,9 +1,11 @@
 //! What happens after an accepted step: event location on the dense output,
 //! the output grid or step record, and the observer.
 
-use super::events::{illinois, Crossing, EventFunction};
+use super::events::{Crossing, EventFunction};
 use super::step::Dense;
 use super::{IntegrateError, Outcome, Output, Settings, Solution, StepView};
+use crate::root::illinois;
+use std::convert::Infallible;
 use std::ops::ControlFlow;
 
 /// Output and event bookkeeping of one integration, allocated once.
@@ -171,15 +173,20 @@ impl Recorder {
                     let scale = tb.abs().max(ta.abs());
                     let tol =
                         (settings.event_tol * scale.max(h.abs())).max(4.0 * f64::EPSILON * scale);
-                    let tc = illinois(
+                    // The end past the sign change (on the side of tb).
+                    let tc = match illinois(
                         |s| {
                             dense.eval(s, xe);
-                            ev.value(s, xe)
+                            Ok::<_, Infallible>(ev.value(s, xe))
                         },
                         (ta, ga),
                         (tb, gb),
                         tol,
-                    );
+                        200,
+                    ) {
+                        Ok(bracket) => bracket.end_signed_like(gb),
+                        Err(never) => match never {},
+                    };
                     self.found.push((tc, index, rising));
                 }
                 (ta, ga) = (tb, gb);

@@ -15,6 +15,8 @@ use super::cycle::Cycle;
 use super::mesh::Mesh;
 use crate::system::{eval, jacobian, param_derivative, VectorField};
 use nalgebra::DMatrix;
+use rayon::prelude::*;
+use smallvec::SmallVec;
 
 /// The collocation system of one mesh, with the phase reference.
 pub struct Collocation<'a, S: VectorField> {
@@ -117,82 +119,43 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         z
     }
 
-    /// Residual and Jacobian at `z`.
+    /// Residual and Jacobian at `z`. The intervals are independent and are
+    /// linearized in parallel (rayon) on meshes of at least
+    /// [`PARALLEL_INTERVALS`] intervals.
     pub fn linearize(&self, z: &[f64]) -> Linearization {
         let n = self.sys.dim();
-        let m = self.mesh.degree;
         let nn = self.mesh.n_nodes() * n;
-        let (period, mut p) = (z[nn], self.p.clone());
+        let ntst = self.mesh.ntst();
+        let mut p = self.p.clone();
         p[self.k] = z[nn + 1];
-        let node = |g: usize| &z[g * n..(g + 1) * n];
-        let mut residual = vec![0.0; nn + 1];
+        let pieces: Vec<IntervalLinearization> = if ntst >= PARALLEL_INTERVALS {
+            (0..ntst)
+                .into_par_iter()
+                .with_min_len(PARALLEL_INTERVALS / 2)
+                .map(|i| self.interval(i, z, &p))
+                .collect()
+        } else {
+            (0..ntst).map(|i| self.interval(i, z, &p)).collect()
+        };
+        let m = self.mesh.degree;
+        let mut residual = Vec::with_capacity(nn + 1);
         let mut phase = vec![0.0; nn];
-        let mut local = Vec::with_capacity(self.mesh.ntst());
-        let (mut x, mut dx) = (vec![0.0; n], vec![0.0; n]);
-        let mut term_scale = 0.0f64;
-        let mut row_sums = vec![0.0; n];
-        let mut trace_integral = 0.0;
-        for i in 0..self.mesh.ntst() {
-            let h = self.mesh.t[i + 1] - self.mesh.t[i];
-            let mut block = DMatrix::zeros(m * n, (m + 1) * n + 2);
-            for kk in 0..m {
-                let row0 = kk * n;
-                x.fill(0.0);
-                dx.fill(0.0);
-                row_sums.fill(0.0);
-                // Relative to the interval's first node (the basis sums to 1,
-                // its derivatives to 0): the derivative is then rounded
-                // relative to the change across the interval, not to the
-                // values themselves.
-                let v0 = node(self.mesh.node(i, 0));
-                for l in 1..=m {
-                    let v = node(self.mesh.node(i, l));
-                    for j in 0..n {
-                        let d = v[j] - v0[j];
-                        x[j] += self.mesh.basis[kk][l] * d;
-                        dx[j] += self.mesh.dbasis[kk][l] * d;
-                    }
-                }
+        let (mut term_scale, mut trace_integral, mut phase_residual) = (0.0f64, 0.0, 0.0);
+        let mut local = Vec::with_capacity(ntst);
+        for (i, piece) in pieces.into_iter().enumerate() {
+            residual.extend_from_slice(&piece.residual);
+            for l in 0..=m {
+                let col0 = self.mesh.node(i, l) * n;
                 for j in 0..n {
-                    x[j] += v0[j];
-                }
-                let f = eval(self.sys, &x, &p);
-                let jac = jacobian(self.sys, &x, &p);
-                let fp = param_derivative(self.sys, &x, &p, self.k);
-                for j in 0..n {
-                    residual[(i * m + kk) * n + j] = dx[j] - h * period * f[j];
-                    term_scale = term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
-                    block[(row0 + j, (m + 1) * n)] = -h * f[j];
-                    block[(row0 + j, (m + 1) * n + 1)] = -h * period * fp[j];
-                }
-                for l in 0..=m {
-                    let (b, db) = (self.mesh.basis[kk][l], self.mesh.dbasis[kk][l]);
-                    let v = node(self.mesh.node(i, l));
-                    for r in 0..n {
-                        for c in 0..n {
-                            let entry =
-                                if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
-                            block[(row0 + r, l * n + c)] = entry;
-                            row_sums[r] += entry.abs() * v[c].abs();
-                        }
-                    }
-                }
-                term_scale = row_sums.iter().fold(term_scale, |a, v| a.max(*v));
-                let w = h * self.mesh.weights[kk];
-                trace_integral += w * period * (0..n).map(|j| jac[(j, j)]).sum::<f64>();
-                let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
-                for j in 0..n {
-                    residual[nn] += w * x[j] * dref[j];
-                }
-                for l in 0..=m {
-                    let col0 = self.mesh.node(i, l) * n;
-                    for j in 0..n {
-                        phase[col0 + j] += w * self.mesh.basis[kk][l] * dref[j];
-                    }
+                    phase[col0 + j] += piece.phase[l * n + j];
                 }
             }
-            local.push(block);
+            term_scale = term_scale.max(piece.term_scale);
+            trace_integral += piece.trace_integral;
+            phase_residual += piece.phase_residual;
+            local.push(piece.block);
         }
+        residual.push(phase_residual);
         Linearization {
             residual,
             local,
@@ -201,4 +164,98 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             trace_integral,
         }
     }
+
+    /// The collocation equations of interval `i` at `z` (parameters `p`),
+    /// linearized: [`Linearization`]'s parts for that interval.
+    fn interval(&self, i: usize, z: &[f64], p: &[f64]) -> IntervalLinearization {
+        let n = self.sys.dim();
+        let m = self.mesh.degree;
+        let nn = self.mesh.n_nodes() * n;
+        let period = z[nn];
+        let node = |g: usize| &z[g * n..(g + 1) * n];
+        let h = self.mesh.t[i + 1] - self.mesh.t[i];
+        let mut out = IntervalLinearization {
+            block: DMatrix::zeros(m * n, (m + 1) * n + 2),
+            residual: vec![0.0; m * n],
+            phase: vec![0.0; (m + 1) * n],
+            term_scale: 0.0,
+            trace_integral: 0.0,
+            phase_residual: 0.0,
+        };
+        let zeros = || SmallVec::<[f64; 8]>::from_elem(0.0, n);
+        let (mut x, mut dx, mut row_sums) = (zeros(), zeros(), zeros());
+        let block = &mut out.block;
+        for kk in 0..m {
+            let row0 = kk * n;
+            x.fill(0.0);
+            dx.fill(0.0);
+            row_sums.fill(0.0);
+            // Relative to the interval's first node (the basis sums to 1,
+            // its derivatives to 0): the derivative is then rounded
+            // relative to the change across the interval, not to the
+            // values themselves.
+            let v0 = node(self.mesh.node(i, 0));
+            for l in 1..=m {
+                let v = node(self.mesh.node(i, l));
+                for j in 0..n {
+                    let d = v[j] - v0[j];
+                    x[j] += self.mesh.basis[kk][l] * d;
+                    dx[j] += self.mesh.dbasis[kk][l] * d;
+                }
+            }
+            for j in 0..n {
+                x[j] += v0[j];
+            }
+            let f = eval(self.sys, &x, p);
+            let jac = jacobian(self.sys, &x, p);
+            let fp = param_derivative(self.sys, &x, p, self.k);
+            for j in 0..n {
+                out.residual[row0 + j] = dx[j] - h * period * f[j];
+                out.term_scale = out.term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
+                block[(row0 + j, (m + 1) * n)] = -h * f[j];
+                block[(row0 + j, (m + 1) * n + 1)] = -h * period * fp[j];
+            }
+            for l in 0..=m {
+                let (b, db) = (self.mesh.basis[kk][l], self.mesh.dbasis[kk][l]);
+                let v = node(self.mesh.node(i, l));
+                for r in 0..n {
+                    for c in 0..n {
+                        let entry = if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
+                        block[(row0 + r, l * n + c)] = entry;
+                        row_sums[r] += entry.abs() * v[c].abs();
+                    }
+                }
+            }
+            out.term_scale = row_sums.iter().fold(out.term_scale, |a, v| a.max(*v));
+            let w = h * self.mesh.weights[kk];
+            out.trace_integral += w * period * (0..n).map(|j| jac[(j, j)]).sum::<f64>();
+            let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
+            for j in 0..n {
+                out.phase_residual += w * x[j] * dref[j];
+            }
+            for (l, row) in out.phase.chunks_exact_mut(n).enumerate() {
+                let wb = w * self.mesh.basis[kk][l];
+                for (entry, d) in row.iter_mut().zip(dref) {
+                    *entry += wb * d;
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Meshes of at least this many intervals are linearized in parallel: below,
+/// an interval's work (a few microseconds) does not pay for the threads.
+pub const PARALLEL_INTERVALS: usize = 64;
+
+/// One interval's part of a [`Linearization`]: its block, its `m n`
+/// residuals, its phase-row entries on its `m + 1` nodes, and its terms of
+/// the phase residual, the term scale and the trace integral.
+struct IntervalLinearization {
+    block: DMatrix<f64>,
+    residual: Vec<f64>,
+    phase: Vec<f64>,
+    term_scale: f64,
+    trace_integral: f64,
+    phase_residual: f64,
 }

@@ -2,7 +2,7 @@
 
 use super::mesh::{lagrange_values, Mesh};
 use crate::system::{eval, jacobian, VectorField};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Dyn};
 
 /// A periodic orbit `x(t)`, `t` in `[0, T]`, as piecewise polynomials on a
 /// [`Mesh`] of normalized time `tau = t / T`.
@@ -197,70 +197,107 @@ impl<'a, S: VectorField> Stepper<'a, S> {
         Stepper { sys, cycle, a, end }
     }
 
-    fn state(&self, i: usize, delta: f64) -> Vec<f64> {
-        let cyc = self.cycle;
-        let (n, c) = (cyc.n, &cyc.mesh.nodes);
-        let m = c.len();
-        let t0 = cyc.mesh.t[i];
-        let x0 = cyc.node(cyc.mesh.node(i, 0)).to_vec();
-        let polynomial = || cyc.state_at(t0 + delta);
-        if delta == 0.0 {
-            return x0;
-        }
-        let ht = delta * cyc.period;
-        let mut stages: Vec<f64> = (0..m)
-            .flat_map(|k| cyc.state_at(t0 + c[k] * delta))
-            .collect();
-        let mut fs = vec![0.0; m * n];
-        let (mut converged, mut last) = (false, f64::INFINITY);
-        for _ in 0..12 {
-            let mut jac = DMatrix::<f64>::identity(m * n, m * n);
-            for l in 0..m {
-                let x = &stages[l * n..(l + 1) * n];
-                fs[l * n..(l + 1) * n].copy_from_slice(eval(self.sys, x, &cyc.p).as_slice());
-                let jl = jacobian(self.sys, x, &cyc.p);
-                for k in 0..m {
-                    let w = ht * self.a[k * m + l];
-                    for r in 0..n {
-                        for s in 0..n {
-                            jac[(k * n + r, l * n + s)] -= w * jl[(r, s)];
-                        }
+    /// The stages' Jacobian `I - delta T (a_kl J(X_l))` at the stages `stages`
+    /// (`n` per stage), factored.
+    fn stage_jacobian(&self, stages: &[f64], ht: f64) -> nalgebra::LU<f64, Dyn, Dyn> {
+        let (n, m) = (self.cycle.n, self.cycle.mesh.degree);
+        let mut jac = DMatrix::<f64>::identity(m * n, m * n);
+        for l in 0..m {
+            let jl = jacobian(self.sys, &stages[l * n..(l + 1) * n], &self.cycle.p);
+            for k in 0..m {
+                let w = ht * self.a[k * m + l];
+                for r in 0..n {
+                    for s in 0..n {
+                        jac[(k * n + r, l * n + s)] -= w * jl[(r, s)];
                     }
                 }
             }
-            let residual = DVector::from_fn(m * n, |kr, _| {
-                let (k, r) = (kr / n, kr % n);
-                stages[kr]
-                    - x0[r]
-                    - ht * (0..m)
-                        .map(|l| self.a[k * m + l] * fs[l * n + r])
-                        .sum::<f64>()
-            });
-            let Some(dx) = jac.lu().solve(&residual) else {
-                break;
-            };
-            // Quadratic convergence from the polynomial (accurate to
-            // O(h^(m+1))) reaches rounding in two or three iterations; a
-            // step that no longer halves is rounding.
+        }
+        jac.lu()
+    }
+
+    /// The stages `X_k` of the step of length `delta` from mesh point `i`
+    /// (module documentation of [`Cycle::step_from_node`]), by chord
+    /// iterations from the interval's polynomial: the Jacobian of the start
+    /// (accurate to `O(h^(m+1))`) is kept while each correction at least
+    /// halves, and renewed otherwise. `None` where they do not converge.
+    fn stages(&self, i: usize, delta: f64, x0: &[f64]) -> Option<Vec<f64>> {
+        let cyc = self.cycle;
+        let (n, c) = (cyc.n, &cyc.mesh.nodes);
+        let m = c.len();
+        let h = cyc.mesh.t[i + 1] - cyc.mesh.t[i];
+        let ht = delta * cyc.period;
+        let mut stages = vec![0.0; m * n];
+        for (k, ck) in c.iter().enumerate() {
+            let basis = lagrange_values(m, ck * delta / h);
+            for (l, bl) in basis.iter().enumerate() {
+                for (x, u) in stages[k * n..(k + 1) * n]
+                    .iter_mut()
+                    .zip(cyc.node(cyc.mesh.node(i, l)))
+                {
+                    *x += bl * u;
+                }
+            }
+        }
+        let mut fs = vec![0.0; m * n];
+        let mut residual = DVector::zeros(m * n);
+        let mut lu = self.stage_jacobian(&stages, ht);
+        // `fresh`: the Jacobian was computed at the iterate the last
+        // correction started from (full Newton there).
+        let (mut converged, mut last, mut fresh) = (false, f64::INFINITY, true);
+        for _ in 0..16 {
+            for l in 0..m {
+                let f = eval(self.sys, &stages[l * n..(l + 1) * n], &cyc.p);
+                fs[l * n..(l + 1) * n].copy_from_slice(f.as_slice());
+            }
+            for k in 0..m {
+                for r in 0..n {
+                    residual[k * n + r] = stages[k * n + r]
+                        - x0[r]
+                        - ht * (0..m)
+                            .map(|l| self.a[k * m + l] * fs[l * n + r])
+                            .sum::<f64>();
+                }
+            }
+            let dx = lu.solve(&residual)?;
+            // From the polynomial, rounding is reached in a few iterations.
             let size = stages
                 .iter()
                 .zip(dx.iter())
                 .fold(0.0f64, |a, (x, d)| a.max(d.abs() / (1.0 + x.abs())));
             if !size.is_finite() {
-                break;
+                return None;
             }
             for (x, d) in stages.iter_mut().zip(dx.iter()) {
                 *x -= d;
             }
             converged = size <= 1e-10;
-            if size <= 4.0 * f64::EPSILON || (size <= 1e-10 && size > 0.5 * last) {
+            let stalled = size > 0.5 * last;
+            // A Newton correction that no longer halves is rounding; a
+            // chord correction that does not is a reason to renew.
+            if size <= 4.0 * f64::EPSILON || (converged && stalled && fresh) {
                 break;
+            }
+            fresh = stalled;
+            if fresh {
+                lu = self.stage_jacobian(&stages, ht);
             }
             last = size;
         }
-        if !converged {
-            return polynomial();
+        converged.then_some(stages)
+    }
+
+    fn state(&self, i: usize, delta: f64) -> Vec<f64> {
+        let cyc = self.cycle;
+        let n = cyc.n;
+        let m = cyc.mesh.degree;
+        let x0 = cyc.node(cyc.mesh.node(i, 0)).to_vec();
+        if delta == 0.0 {
+            return x0;
         }
+        let Some(stages) = self.stages(i, delta, &x0) else {
+            return cyc.state_at(cyc.mesh.t[i] + delta);
+        };
         // The step's polynomial through (0, u_i) and the stages (c_k, X_k),
         // at 1: equal in exact arithmetic to the quadrature
         // u_i + delta T sum_l b_l f(X_l), but without multiplying the stages'
@@ -280,7 +317,9 @@ impl<'a, S: VectorField> Stepper<'a, S> {
 /// Largest value of `f` on `[a, b]` by Brent's method (golden section with
 /// parabolic interpolation; Brent 1973, ch. 5), to a relative tolerance of
 /// `1e-10` in the abscissa: near a maximum `f` is flat, so the value is then
-/// exact to rounding.
+/// exact to rounding. (Not `sqrt(eps)`: the slip of a stiff orbit can be
+/// as narrow as 1e-8 of its mesh interval, and its peak velocity was then
+/// off by 1e-7.)
 fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     let g = 0.5 * (3.0 - 5f64.sqrt());
     let neg = |x: f64| -f(x);

@@ -83,11 +83,12 @@ pub fn multipliers_and_trivial(
 /// singular to rounding: on stiff cycles perturbations grow by more than
 /// `1 / eps` during the slip and both `A` and `B` lose rank). The result
 /// may then hold fewer than `n` multipliers; a quotient is never NaN or
-/// infinite. When the QZ iteration returns no eigenvalue at all (faer
-/// 0.24 returns `alpha = beta = 0` throughout for some well-conditioned
-/// 3 x 3 pencils, such as those of a fold, with a double multiplier 1), it
-/// is run again on the transposed pencil, which has the same eigenvalues,
-/// and then on the pencil with `a` and `-b` exchanged (reciprocal ones).
+/// infinite. When the QZ iteration leaves eigenvalues out (faer 0.24
+/// returns `alpha = beta = 0` for some well-conditioned 3 x 3 pencils:
+/// all of them, or, near a fold of cycles with its double multiplier 1,
+/// two of three), it is run again on the transposed pencil, which has the
+/// same eigenvalues, and then on the pencil with `a` and `-b` exchanged
+/// (reciprocal eigenvalues); the run that determines most of them is kept.
 pub fn pencil_multipliers(
     lin: &Linearization,
     n: usize,
@@ -100,16 +101,22 @@ pub fn pencil_multipliers(
         ));
     }
     let mut mu = qz_eigenvalues(a, b)?;
-    if mu.is_empty() {
-        mu = qz_eigenvalues(&a.transpose(), &b.transpose())?;
+    if mu.len() < n {
+        let transposed = qz_eigenvalues(&a.transpose(), &b.transpose())?;
+        if transposed.len() > mu.len() {
+            mu = transposed;
+        }
     }
-    if mu.is_empty() {
+    if mu.len() < n {
         // The roles exchanged: -b y = (1 / mu) a y.
-        mu = qz_eigenvalues(&-b, &-a)?
+        let reciprocal: Vec<Complex64> = qz_eigenvalues(&-b, &-a)?
             .into_iter()
             .filter(|z| z.norm() > 0.0)
             .map(|z| z.inv())
             .collect();
+        if reciprocal.len() > mu.len() {
+            mu = reciprocal;
+        }
     }
     mu.sort_by(|x, y| y.norm().total_cmp(&x.norm()));
     Ok(mu)

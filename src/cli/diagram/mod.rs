@@ -83,7 +83,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
         }
     }
     let range = args.nu_range.as_deref().map(parse_range).transpose()?;
-    std::fs::create_dir_all(&args.out)?;
+    crate::cli::files::create_dir(&args.out)?;
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress(&format!("{} scene(s)", names.len()));
     let finished = std::sync::atomic::AtomicUsize::new(0);
@@ -207,7 +207,7 @@ fn one_scene(
     };
     let json_path = with_suffix(&stem, "-diagram.json");
     result.seconds = t0.elapsed().as_secs_f64();
-    std::fs::write(
+    crate::cli::files::write(
         &json_path,
         serde_json::to_string_pretty(&to_json(&result)).map_err(std::io::Error::other)?,
     )?;
@@ -217,7 +217,7 @@ fn one_scene(
 
 fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<PathBuf>, Error> {
     let path = with_suffix(stem, "-hopf-curve.csv");
-    let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
+    let mut w = crate::cli::files::create_file(&path)?;
     let u = &setup.scene.units;
     writeln!(
         w,

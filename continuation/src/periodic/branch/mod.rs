@@ -429,7 +429,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             self.ds *= 0.5;
             if self.ds < self.settings.ds_min {
                 return Err(ContinuationError::StepTooSmall {
-                    param_name: format!("p[{}]", self.k),
+                    param_name: self.sys.param_name(self.k),
                     param: self.z[nz - 1],
                     ds: self.ds,
                     ds_min: self.settings.ds_min,
@@ -444,7 +444,8 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
 
     /// Locates the zero of a test function `f(z, tangent)` between `z0`
     /// (tangent `t0`, where `f = f0`) and the orbit `ds` further (`f = f1`):
-    /// regula falsi (Illinois) on the arclength, each trial corrected onto
+    /// regula falsi (Illinois, [`crate::root::illinois`]) on the arclength,
+    /// each trial corrected onto
     /// the branch. Folds of cycles use `f = dp/ds`; user points `f = p - p_user`.
     /// Returns the orbit (without error estimate) and the branch's tangent there.
     #[allow(clippy::too_many_arguments)]
@@ -457,26 +458,21 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         ds: f64,
         f: impl Fn(&[f64], &[f64]) -> Result<f64, ContinuationError>,
     ) -> Result<(CyclePoint, Vec<f64>), ContinuationError> {
-        let (mut a, mut fa, mut b, mut fb) = (0.0, f0, ds, f1);
         let mut best = None;
-        let tight = LOCATOR;
         let w = ArcWeights::at(z0, self.settings.param_floor);
-        for _ in 0..60 {
-            let sigma = b - fb * (b - a) / (fb - fa);
-            let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &tight)?;
-            let t = tangent(coll, &z, t0, &w)?;
-            let fz = f(&z, &t)?;
-            best = Some((point_at(coll, &z, &t, rep)?, t));
-            if fz * fb < 0.0 {
-                (a, fa) = (b, fb);
-            } else {
-                fa *= 0.5;
-            }
-            (b, fb) = (sigma, fz);
-            if (b - a).abs() <= 1e-12 * ds.abs() || fz == 0.0 {
-                break;
-            }
-        }
+        crate::root::illinois(
+            |sigma| {
+                let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &LOCATOR)?;
+                let t = tangent(coll, &z, t0, &w)?;
+                let fz = f(&z, &t)?;
+                best = Some((point_at(coll, &z, &t, rep)?, t));
+                Ok(fz)
+            },
+            (0.0, f0),
+            (ds, f1),
+            1e-12 * ds.abs(),
+            60,
+        )?;
         best.ok_or(ContinuationError::Singular)
     }
 
@@ -551,19 +547,41 @@ impl<S: VectorField> CycleBranch<'_, S> {
 /// finer mesh ([`CycleBranch::stepped_point`]).
 const REFINEMENT_RETRIES: usize = 3;
 
+/// Newton iterations allowed to correct an orbit moved onto a finer mesh
+/// before a retried step (three times the corrector's default).
+const REMESH_ITERATIONS: usize = 30;
+
 /// Where a step started: the collocation system, the orbit's unknowns and
 /// the tangent.
 type StepStart<'a, S> = (Collocation<'a, S>, Vec<f64>, Vec<f64>);
 
 impl<'a, S: VectorField> CycleBranch<'a, S> {
+    /// Corrects the orbit just moved onto a finer mesh (up to
+    /// [`REMESH_ITERATIONS`] Newton iterations) and recomputes its tangent
+    /// there: on stiff orbits the interpolated orbit can lie farther from the
+    /// solution than the corrector's iterations reach (on the stiff branch of
+    /// `tests/hard_cases.rs`, 11 iterations from a residual of 2e2), and the
+    /// interpolated tangent can be off by more than a step may turn.
+    fn settle(&mut self) -> Result<(), ContinuationError> {
+        let patient = NewtonSettings {
+            max_iter: REMESH_ITERATIONS,
+            ..self.settings.corrector
+        };
+        self.correct_on_mesh(&patient)?;
+        let w = ArcWeights::at(&self.z, self.settings.param_floor);
+        self.tangent = tangent(&self.coll, &self.z, &self.tangent, &w)?;
+        Ok(())
+    }
+
     /// One step from the current orbit, on the mesh it is given
     /// ([`Self::mesh_size`], re-equidistributed every `adapt_every` steps),
     /// and the orbit reached, refined as it needs; returns it with the step
     /// length and where the step started. On stiff orbits the interpolation
     /// onto a new mesh (or of a step's result onto a finer one) can be a
     /// guess Newton's method diverges from: the step is then taken again from
-    /// the converged orbit moved onto twice its intervals, with half the
-    /// first step length, up to [`REFINEMENT_RETRIES`] times.
+    /// the converged orbit moved onto twice its intervals and corrected there
+    /// (up to [`REMESH_ITERATIONS`] Newton iterations), with half the first
+    /// step length, up to [`REFINEMENT_RETRIES`] times.
     fn stepped_point(&mut self) -> Result<(CyclePoint, f64, StepStart<'a, S>), ContinuationError> {
         let converged = (self.coll.cycle(&self.z), self.tangent.clone());
         let ds = self.ds;
@@ -577,14 +595,19 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             {
                 self.adapt(ntst);
             }
-            let (z0, t0) = (self.z.clone(), self.tangent.clone());
-            let coll0 = Collocation::new(self.sys, &self.coll.cycle(&z0), self.k);
-            let attempt = self.step().and_then(|(rep, ds)| {
+            let settled = if retries > 0 { self.settle() } else { Ok(()) };
+            let attempt = settled.and_then(|()| {
+                let start = (
+                    Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k),
+                    self.z.clone(),
+                    self.tangent.clone(),
+                );
+                let (rep, ds) = self.step()?;
                 self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                Ok((self.refined_point(rep)?, ds))
+                Ok((self.refined_point(rep)?, ds, start))
             });
             match attempt {
-                Ok((pt, ds)) => return Ok((pt, ds, (coll0, z0, t0))),
+                Ok(stepped) => return Ok(stepped),
                 Err(ContinuationError::Newton { .. } | ContinuationError::StepTooSmall { .. })
                     if retries < REFINEMENT_RETRIES =>
                 {

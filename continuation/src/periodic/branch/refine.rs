@@ -17,7 +17,7 @@
 
 use super::{point_at, CycleBranch, CyclePoint, Reading, MULTIPLIER_MEMORY, ORBIT_FLOOR_MEMORY};
 use crate::error::ContinuationError;
-use crate::newton::NewtonReport;
+use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::cycle::Cycle;
@@ -90,6 +90,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     break;
                 }
                 return Err(ContinuationError::Unresolved {
+                    param_name: self.sys.param_name(self.k),
                     ntst,
                     error: pt.error_estimate,
                     tol: self.settings.mesh_accept,
@@ -99,27 +100,10 @@ impl<S: VectorField> CycleBranch<'_, S> {
             // If twice the intervals do not help, the coarser mesh stays.
             let coarser = (self.coll.cycle(&self.z), self.tangent.clone());
             self.adapt((2 * ntst).min(self.settings.ntst_max));
-            // Corrected on the hyperplane through the orbit normal to the
-            // branch: well posed also near a Hopf point or a fold, where the
-            // orbit at fixed parameter is ill-determined. A first orbit that
-            // was corrected at its parameter stays there.
-            let row = if self.steps == 0 && self.start_at_fixed_parameter {
-                unit_row(self.z.len(), self.z.len() - 1)
-            } else {
-                ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
-            };
-            let anchor = self.z.clone();
-            let finer = newton_bordered(
-                &self.coll,
-                &mut self.z,
-                &self.settings.corrector,
-                &row,
-                &anchor,
-            )
-            .and_then(|rep| {
-                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                self.point(rep)
-            });
+            let corrector = self.settings.corrector;
+            let finer = self
+                .correct_on_mesh(&corrector)
+                .and_then(|rep| self.point(rep));
             let coarse_estimate = pt.error_estimate;
             if !orbit_resolved {
                 // The orbit asked for the intervals.
@@ -180,11 +164,32 @@ impl<S: VectorField> CycleBranch<'_, S> {
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
             return Err(ContinuationError::FloquetIllConditioned {
+                param_name: self.sys.param_name(self.k),
                 param: self.z[self.z.len() - 1],
                 trivial_error: pt.trivial_error,
             });
         }
         Ok(pt)
+    }
+
+    /// Corrects the current orbit, just moved onto a new mesh, on the
+    /// hyperplane through it normal to the branch: well posed also near a
+    /// Hopf point or a fold, where the orbit at fixed parameter is
+    /// ill-determined. A first orbit that was corrected at its parameter
+    /// stays there. The corrected orbit becomes the phase reference.
+    pub(super) fn correct_on_mesh(
+        &mut self,
+        settings: &NewtonSettings,
+    ) -> Result<NewtonReport, ContinuationError> {
+        let row = if self.steps == 0 && self.start_at_fixed_parameter {
+            unit_row(self.z.len(), self.z.len() - 1)
+        } else {
+            ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
+        };
+        let anchor = self.z.clone();
+        let rep = newton_bordered(&self.coll, &mut self.z, settings, &row, &anchor)?;
+        self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+        Ok(rep)
     }
 
     /// Error estimate of `orbit` (the branch's current orbit, or one located

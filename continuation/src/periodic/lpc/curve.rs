@@ -157,6 +157,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
                 let fine = 2 * at.mesh.ntst();
                 if fine > self.settings.ntst_max {
                     return Err(ContinuationError::Unresolved {
+                        param_name: self.sys.param_name(self.k2),
                         ntst: at.mesh.ntst(),
                         error: estimate,
                         tol,
@@ -289,7 +290,10 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             self.ds *= 0.5;
             if self.ds < self.settings.ds_min {
                 return Err(ContinuationError::StepTooSmall {
-                    param_name: format!("p[{}] along the fold of cycles", self.k2),
+                    param_name: format!(
+                        "{} along the fold of cycles",
+                        self.sys.param_name(self.k2)
+                    ),
                     param: self.y[d - 1],
                     ds: self.ds,
                     ds_min: self.settings.ds_min,
