@@ -463,3 +463,65 @@ fn implausible_memory_length_is_warned_about() {
     let (_, _, err) = stickslip(&["hopf"]);
     assert!(!err.contains("warning"), "{err}");
 }
+
+/// `simulate --every N` writes from each run of N steps at most six rows,
+/// among them the extremes: the fastest slip and the lowest spring force of
+/// the full-resolution run are in the decimated CSV to the digit.
+#[test]
+fn simulate_every_keeps_the_extremes_of_the_full_run() {
+    let dir = std::env::temp_dir().join(format!("stickslip-every-{}", std::process::id()));
+    let run = |every: &str, sub: &str| {
+        let out = dir.join(sub);
+        let (code, _, err) = stickslip(&[
+            "simulate",
+            "--set",
+            "kappa=0.009",
+            "--protocol",
+            "1:200",
+            "--every",
+            every,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let text = std::fs::read_to_string(out.join("pmma-simulation.csv")).unwrap();
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').take(7).map(|x| x.parse().unwrap()).collect())
+            .collect();
+        rows
+    };
+    let full = run("1", "full");
+    let thin = run("50", "thin");
+    assert!(
+        thin.len() * 50 <= full.len() * 6 + 6 * 50,
+        "{} of {}",
+        thin.len(),
+        full.len()
+    );
+    assert!(
+        thin.len() * 25 >= full.len(),
+        "{} of {}",
+        thin.len(),
+        full.len()
+    );
+    let column = |rows: &[Vec<f64>], k: usize, f: fn(f64, f64) -> f64, init: f64| {
+        rows.iter().map(|r| r[k]).fold(init, f)
+    };
+    // Columns: t_s, t, s, v, theta, slip, log10_v.
+    for (k, f, init) in [
+        (6, f64::max as fn(f64, f64) -> f64, f64::NEG_INFINITY),
+        (6, f64::min, f64::INFINITY),
+        (2, f64::min, f64::INFINITY),
+        (2, f64::max, f64::NEG_INFINITY),
+    ] {
+        assert_eq!(
+            column(&thin, k, f, init),
+            column(&full, k, f, init),
+            "column {k}"
+        );
+    }
+    assert_eq!(thin.last().unwrap()[0], full.last().unwrap()[0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

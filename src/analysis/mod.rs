@@ -3,6 +3,7 @@
 
 pub mod branch;
 pub mod cycles;
+pub mod decimate;
 pub mod diagram;
 pub mod hopf;
 pub mod lpc_curve;

@@ -98,51 +98,6 @@ impl Trajectory {
         self.slip.push(p.slip);
         self.log10_v.push(p.log10_v);
     }
-
-    /// Keeps every other sample (the first, third, ...) and the last one:
-    /// bounds the memory of a long run's figures ([`Trajectory::push_bounded`]).
-    pub fn thin(&mut self) {
-        let n = self.t.len();
-        let keep = |v: &mut Vec<f64>| {
-            let last = v.last().copied();
-            let mut i = 0;
-            v.retain(|_| {
-                i += 1;
-                (i - 1) % 2 == 0
-            });
-            if n.is_multiple_of(2) {
-                v.extend(last);
-            }
-        };
-        for v in [
-            &mut self.t,
-            &mut self.s,
-            &mut self.v,
-            &mut self.theta,
-            &mut self.slip,
-            &mut self.log10_v,
-        ] {
-            keep(v);
-        }
-    }
-
-    /// Appends the `count`-th sample of a run (counted from 0) so that at
-    /// most `cap` samples are kept (`cap >= 2`): every `stride`-th sample,
-    /// the stride doubling (and the kept samples thinned) each time `cap`
-    /// is reached. Returns the stride now in force. The kept samples stay
-    /// evenly spaced in the run's steps, whatever its length.
-    pub fn push_bounded(&mut self, p: &Sample, count: usize, stride: usize, cap: usize) -> usize {
-        if !count.is_multiple_of(stride) {
-            return stride;
-        }
-        self.push(p);
-        if self.t.len() >= cap.max(2) {
-            self.thin();
-            2 * stride
-        } else {
-            stride
-        }
-    }
 }
 
 /// How a run of [`simulate_with`] ended (failures are errors).

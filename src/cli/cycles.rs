@@ -15,7 +15,10 @@ use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Param;
-use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
+use crate::plot::lines::{
+    render, render_family, vertical_marker, Colorbar, LineFigure, Series, SWITCH_MARKER,
+};
+use crate::plot::PlotError;
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
@@ -617,6 +620,24 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
     Ok(())
 }
 
+/// Cycles drawn in the orbit and time-series figures (evenly along the
+/// branch, and its last one).
+const FAMILY_SIZE: usize = 10;
+
+/// Marker colours of the bifurcations of cycles on amplitude and period plots.
+const FOLD_COLOR: RGBColor = RGBColor(150, 60, 150);
+const PD_COLOR: RGBColor = RGBColor(230, 140, 20);
+const NS_COLOR: RGBColor = RGBColor(20, 150, 150);
+
+/// Legend text of a bifurcation of cycles of kind `lpc`, `pd` or `ns`.
+fn special_point_label(kind: &str) -> &'static str {
+    match kind {
+        "lpc" => "fold of cycles (LPC)",
+        "pd" => "period doubling",
+        _ => "torus (Neimark-Sacker)",
+    }
+}
+
 /// Maps a cycle's sample `(t/T, s, v, theta)` to a plotted point.
 type SamplePoint<'a> = dyn Fn(&CycleRecord, &[f64; 4]) -> (f64, f64) + 'a;
 
@@ -687,11 +708,29 @@ fn write_figures(
                 .name()
         ),
     };
-    // A vertical dashed line at the switch, over the data's range.
-    let with_switch = |mut series: Vec<Series>| -> Vec<Series> {
+    // A vertical dashed line at the switch, over the data's range, and the
+    // bifurcations located on the branch as markers.
+    let with_marks = |mut series: Vec<Series>, f: &dyn Fn(&CycleRecord) -> f64| -> Vec<Series> {
         if let Some(k) = switch {
             let (color, label) = SWITCH_MARKER;
             series.push(vertical_marker(&series, u.k_over_w(k), label, color));
+        }
+        for (kind, color) in [("lpc", FOLD_COLOR), ("pd", PD_COLOR), ("ns", NS_COLOR)] {
+            let points: Vec<(f64, f64)> = records
+                .iter()
+                .flat_map(|c| c.special_points())
+                .filter(|(k, _)| *k == kind)
+                .map(|(_, c)| (u.k_over_w(c.kappa), f(c)))
+                .collect();
+            if !points.is_empty() {
+                series.push(Series {
+                    label: Some(special_point_label(kind).into()),
+                    points,
+                    color,
+                    dashed: false,
+                    markers: true,
+                });
+            }
         }
         series
     };
@@ -704,7 +743,7 @@ fn write_figures(
                 y_label: "peak-to-peak spring force Δs = Δ(K x)/W".into(),
                 log_x: false,
                 log_y: false,
-                series: with_switch(by_stability(&|c| c.delta_s)),
+                series: with_marks(by_stability(&|c| c.delta_s), &|c| c.delta_s),
             },
         ),
         (
@@ -715,32 +754,34 @@ fn write_figures(
                 y_label: "period [s]".into(),
                 log_x: false,
                 log_y: false,
-                series: with_switch(by_stability(&|c| c.period * u.d0 / u.v0)),
+                series: with_marks(by_stability(&|c| c.period * u.d0 / u.v0), &|c| {
+                    c.period * u.d0 / u.v0
+                }),
             },
         ),
     ];
     let picks: Vec<&CycleRecord> = {
-        let step = (records.len() / 6).max(1);
-        records.iter().step_by(step).copied().collect()
+        let step = records.len().div_ceil(FAMILY_SIZE).max(1);
+        let mut picks: Vec<&CycleRecord> = records.iter().step_by(step).copied().collect();
+        // The last cycle (the end of the branch) is always shown.
+        if let Some(&last) = records.last() {
+            if !picks.last().is_some_and(|p| std::ptr::eq(*p, last)) {
+                picks.push(last);
+            }
+        }
+        picks
     };
-    let shade = |i: usize| {
-        let f = i as f64 / picks.len().max(1) as f64;
-        RGBColor(
-            (30.0 + 180.0 * f) as u8,
-            (90.0 - 50.0 * f) as u8,
-            (180.0 - 140.0 * f) as u8,
-        )
-    };
-    // One curve per picked cycle, mapping each sample (t/T, s, v, theta) to a point.
+    let bar = Colorbar::over("K/W [1/m]", picks.iter().map(|c| u.k_over_w(c.kappa)));
+    // One curve per picked cycle, mapping each sample (t/T, s, v, theta) to
+    // a point, coloured by its stiffness; unstable cycles dashed.
     let per_cycle = |point: &SamplePoint| -> Vec<Series> {
         picks
             .iter()
-            .enumerate()
-            .map(|(i, c)| Series {
-                label: Some(format!("K/W = {:.4e} 1/m", u.k_over_w(c.kappa))),
+            .map(|c| Series {
+                label: None,
                 points: c.samples.iter().map(|p| point(c, p)).collect(),
-                color: shade(i),
-                dashed: false,
+                color: bar.color(u.k_over_w(c.kappa)),
+                dashed: c.stability != Stability::Stable,
                 markers: false,
             })
             .collect()
@@ -761,15 +802,13 @@ fn write_figures(
         log_y: false,
         series: per_cycle(&|c, p| (p[0] * c.period * u.d0 / u.v0, p[1])),
     };
+    let plot_error = |e: PlotError| Error::Output(std::io::Error::other(e.to_string()));
     let mut files = Vec::new();
-    for (suffix, fig) in figures
-        .iter()
-        .chain([("-orbits", orbit), ("-time-series", series)].iter())
-    {
-        files.extend(
-            render(fig, &with_suffix(stem, suffix))
-                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
-        );
+    for (suffix, fig) in &figures {
+        files.extend(render(fig, &with_suffix(stem, suffix)).map_err(plot_error)?);
+    }
+    for (suffix, fig) in [("-orbits", orbit), ("-time-series", series)] {
+        files.extend(render_family(&fig, &bar, &with_suffix(stem, suffix)).map_err(plot_error)?);
     }
     Ok(files)
 }

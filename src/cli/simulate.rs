@@ -4,6 +4,7 @@
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
 
 use super::SceneArgs;
+use crate::analysis::decimate::{Buckets, Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::simulate::{simulate_watched, RunOptions, Sample, Segment, Trajectory};
@@ -38,10 +39,16 @@ pub struct SimulateArgs {
     /// (partial). Also bounds the CSV: about 100 bytes per row.
     #[arg(long, default_value_t = 200_000)]
     pub max_steps: usize,
-    /// Most points kept for the figures: a longer run is thinned evenly
-    /// (the CSV keeps every step).
+    /// Most points kept for the figures: a longer run is decimated keeping
+    /// the extremes of s and v of every stretch of steps, so that no slip
+    /// loses its tip (the CSV keeps every step, or see --every).
     #[arg(long, default_value_t = 20_000)]
     pub plot_points: usize,
+    /// Decimate the CSV: from each run of N integrator steps keep its first
+    /// and last rows and those of its least and greatest s and v (2 to 6
+    /// rows per N steps; slips keep their tips). 1 keeps every step.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub every: usize,
 }
 
 fn parse_protocol(text: &str, v0_um_s: f64, time_unit_s: f64) -> Result<Vec<Segment>, InputError> {
@@ -79,10 +86,16 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     if args.max_steps < 1 {
         return Err(InputError::out_of_range("--max-steps", args.max_steps as f64, ">= 1").into());
     }
-    if args.plot_points < 2 {
-        return Err(
-            InputError::out_of_range("--plot-points", args.plot_points as f64, ">= 2").into(),
-        );
+    if args.plot_points < ENVELOPE_MIN_CAP {
+        return Err(InputError::out_of_range(
+            "--plot-points",
+            args.plot_points as f64,
+            &format!(">= {ENVELOPE_MIN_CAP}"),
+        )
+        .into());
+    }
+    if args.every < 1 {
+        return Err(InputError::out_of_range("--every", args.every as f64, ">= 1").into());
     }
     let mut setup = args.scene.setup(|p| *p)?;
     let u = setup.scene.units;
@@ -143,8 +156,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
     const TICKS: f64 = 10_000.0;
     let bar = super::interrupt::progress_bar(TICKS as u64, "simulating");
-    let mut traj = Trajectory::default();
-    let (mut count, mut stride, mut step_limit) = (0usize, 1usize, false);
+    let mut envelope = Envelope::new(args.plot_points);
+    let mut csv_buckets = Buckets::new(args.every);
+    let (mut count, mut step_limit) = (0usize, false);
     let mut write_error = None;
     // The integrator's own limit above --max-steps, which the rows enforce (status 4).
     let options = RunOptions {
@@ -160,11 +174,11 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         None,
         &options,
         |p| {
-            if let Err(e) = rows.push(p) {
+            if let Err(e) = csv_buckets.push(p, |q| rows.push(q)) {
                 write_error = Some(e);
                 return ControlFlow::Break(());
             }
-            stride = traj.push_bounded(p, count, stride, args.plot_points);
+            envelope.push(p);
             count += 1;
             if count >= args.max_steps {
                 step_limit = true;
@@ -186,14 +200,26 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         },
     );
     bar.finish_and_clear();
+    if write_error.is_none() {
+        write_error = csv_buckets.finish(|q| rows.push(q)).err();
+    }
     rows.flush()?;
+    let stride = envelope.stride();
+    let traj = envelope.into_trajectory();
     if let Some(e) = write_error {
         return Err(e.into());
     }
     // Whatever was computed is kept and drawn, also after Ctrl-C or a failure.
     let switch = run.as_ref().ok().and_then(|end| end.switch);
     let figs = if traj.t.len() >= 2 {
-        figures(&setup.scene.name, &traj, &u, &stem, switch.map(|s| s.t))?
+        figures(
+            &setup.scene.name,
+            &traj,
+            &protocol,
+            &u,
+            &stem,
+            switch.map(|s| s.t),
+        )?
     } else {
         Vec::new()
     };
@@ -211,7 +237,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         "{count} steps over {:.6e} s{}",
         traj.t.last().copied().unwrap_or(0.0) * time_unit,
         if stride > 1 {
-            format!(" (figures: every {stride}th step, --plot-points)")
+            format!(" (figures: the extremes of every {stride} steps, --plot-points)")
         } else {
             String::new()
         }
@@ -302,9 +328,32 @@ fn velocity_beyond_log_axis(traj: &Trajectory, u: &crate::scene::Units) -> bool 
         .any(|l| l + (u.velocity_um_s(1.0)).log10() < -300.0)
 }
 
+/// The pulling velocity of `protocol` over the run's time span `t_last`
+/// (dimensionless): one level per segment, from its start to its end, in
+/// seconds and µm/s.
+fn protocol_levels(
+    protocol: &[Segment],
+    t_last: f64,
+    u: &crate::scene::Units,
+) -> Vec<[(f64, f64); 2]> {
+    let mut out = Vec::new();
+    let mut t = 0.0;
+    for seg in protocol {
+        if t > t_last {
+            break;
+        }
+        let end = (t + seg.duration).min(t_last);
+        let v = u.velocity_um_s(seg.nu);
+        out.push([(t * u.d0 / u.v0, v), (end * u.d0 / u.v0, v)]);
+        t += seg.duration;
+    }
+    out
+}
+
 fn figures(
     name: &str,
     traj: &Trajectory,
+    protocol: &[Segment],
     u: &crate::scene::Units,
     stem: &std::path::Path,
     switch: Option<f64>,
@@ -361,10 +410,27 @@ fn figures(
                 },
                 log_x: false,
                 log_y: !beyond,
-                series: with_switch(vec![line(
-                    &v_um,
-                    if beyond { "log10 v(t)" } else { "v(t)" },
-                )]),
+                series: with_switch({
+                    let mut series = vec![line(&v_um, if beyond { "log10 v(t)" } else { "v(t)" })];
+                    // The pulling velocity (a stop, V = 0, has no place on a log axis).
+                    let t_last = traj.t.last().copied().unwrap_or(0.0);
+                    let levels = protocol_levels(protocol, t_last, u)
+                        .into_iter()
+                        .filter(|[(_, v), _]| *v > 0.0);
+                    for (i, level) in levels.enumerate() {
+                        series.push(Series {
+                            label: (i == 0).then(|| "pulling velocity V(t)".into()),
+                            points: level
+                                .iter()
+                                .map(|&(t, v)| (t, if beyond { v.log10() } else { v }))
+                                .collect(),
+                            color: RGBColor(110, 110, 110),
+                            dashed: true,
+                            markers: false,
+                        });
+                    }
+                    series
+                }),
             },
         ),
     ] {

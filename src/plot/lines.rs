@@ -1,7 +1,8 @@
 //! Generic line figures (PNG and SVG): several labelled series on linear or
 //! logarithmic axes. Cycle diagrams, orbits and time series use it.
 
-use super::{frame, render_both, Axis, PlotError, FONT};
+use super::colormap::{viridis, LINE_END};
+use super::{frame, render_both, Axis, Chart, PlotError, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -26,6 +27,45 @@ pub struct LineFigure {
     pub log_x: bool,
     pub log_y: bool,
     pub series: Vec<Series>,
+}
+
+/// The colour scale of a family of curves (one per value of a parameter,
+/// such as cycles at successive stiffnesses), drawn as a bar beside the
+/// plot instead of a legend entry per curve.
+#[derive(Clone, Debug)]
+pub struct Colorbar {
+    /// What the colour shows, with its unit.
+    pub label: String,
+    /// The values at the two ends of the scale.
+    pub range: (f64, f64),
+}
+
+impl Colorbar {
+    /// The scale over the finite `values` (`0 .. 1` when there are none).
+    pub fn over(label: &str, values: impl IntoIterator<Item = f64>) -> Colorbar {
+        let (lo, hi) = values
+            .into_iter()
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+        Colorbar {
+            label: label.into(),
+            range: if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) },
+        }
+    }
+
+    /// The colour of `value`: viridis over the scale (the middle of it for
+    /// a scale of one value).
+    pub fn color(&self, value: f64) -> RGBColor {
+        let (lo, hi) = self.range;
+        let t = if hi > lo {
+            (value - lo) / (hi - lo)
+        } else {
+            0.5
+        };
+        viridis(t * LINE_END)
+    }
 }
 
 /// A vertical dashed line at `x` over the vertical extent of `series`
@@ -170,76 +210,325 @@ fn decimated(points: &[(f64, f64)], (x0, x1): (f64, f64), log_x: bool) -> Vec<(f
     out
 }
 
-/// The corner of the plot where the legend hides the fewest points: the
-/// points (log-aware) falling in each corner box of 35 % x 30 % of the axes,
-/// counted; ties go to the upper right, then upper left.
-fn emptiest_corner(fig: &LineFigure) -> SeriesLabelPosition {
-    let ((x0, x1), (y0, y1)) = bounds(fig);
-    let unit = |v: f64, lo: f64, hi: f64, log: bool| {
-        if log {
-            (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
-        } else {
-            (v - lo) / (hi - lo)
-        }
-    };
-    let corners = [
-        (SeriesLabelPosition::UpperRight, (0.65, 1.0), (0.7, 1.0)),
-        (SeriesLabelPosition::UpperLeft, (0.0, 0.35), (0.7, 1.0)),
-        (SeriesLabelPosition::LowerRight, (0.65, 1.0), (0.0, 0.3)),
-        (SeriesLabelPosition::LowerLeft, (0.0, 0.35), (0.0, 0.3)),
-    ];
-    let count = |(xa, xb): (f64, f64), (ya, yb): (f64, f64)| {
-        fig.series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|&&(x, y)| {
-                let (u, w) = (unit(x, x0, x1, fig.log_x), unit(y, y0, y1, fig.log_y));
-                (xa..=xb).contains(&u) && (ya..=yb).contains(&w)
-            })
-            .count()
-    };
-    corners
-        .into_iter()
-        .min_by_key(|(_, xs, ys)| count(*xs, *ys))
-        .map_or(SeriesLabelPosition::UpperRight, |c| c.0)
+/// Whether the points of a line run in order of increasing `x` (a time
+/// series or a branch) rather than around a closed orbit.
+fn monotonic_in_x(points: &[(f64, f64)]) -> bool {
+    points.windows(2).all(|w| w[1].0 >= w[0].0)
 }
+
+/// A curve that is not a function of `x` (an orbit) reduced to the points
+/// at least half a pixel apart on a plot of `pixels` over `ranges`: the
+/// drawn line differs from the full one by less than half a pixel.
+fn thinned(
+    points: &[(f64, f64)],
+    ranges: ((f64, f64), (f64, f64)),
+    (log_x, log_y): (bool, bool),
+    pixels: (f64, f64),
+) -> Vec<(f64, f64)> {
+    let ((x0, x1), (y0, y1)) = ranges;
+    let to_px = |(x, y): (f64, f64)| {
+        (
+            unit(x, x0, x1, log_x) * pixels.0,
+            unit(y, y0, y1, log_y) * pixels.1,
+        )
+    };
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(points.len().min(4 * COLUMNS));
+    let mut last = None;
+    for (i, &p) in points.iter().enumerate() {
+        let q = to_px(p);
+        let far = last.is_none_or(|(a, b): (f64, f64)| (q.0 - a).hypot(q.1 - b) >= 0.5);
+        if far || i + 1 == points.len() {
+            out.push(p);
+            last = Some(q);
+        }
+    }
+    out
+}
+
+/// Where `v` lies between `lo` and `hi` on a linear or logarithmic axis (0 to 1).
+fn unit(v: f64, lo: f64, hi: f64, log: bool) -> f64 {
+    if log {
+        (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
+    } else {
+        (v - lo) / (hi - lo)
+    }
+}
+
+/// Size of the plotting area of a figure `width` x 650 pixels (the frame's
+/// margins, caption and label areas taken off).
+fn plot_pixels(width: u32) -> (f64, f64) {
+    (
+        width as f64 - 2.0 * 18.0 - 85.0,
+        650.0 - 2.0 * 18.0 - 55.0 - 30.0,
+    )
+}
+
+/// The legend's size as a fraction of the plotting area `pixels`: rows of
+/// 20 pixels, labels of at most 8 pixels a character in the 14-pixel font,
+/// a swatch, and padding (an upper bound of what plotters draws).
+fn legend_fraction(fig: &LineFigure, pixels: (f64, f64)) -> (f64, f64) {
+    let labels: Vec<&String> = fig.series.iter().filter_map(|s| s.label.as_ref()).collect();
+    let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    let width = 8.0 * chars as f64 + 60.0;
+    let height = 20.0 * labels.len() as f64 + 20.0;
+    (width / pixels.0, height / pixels.1)
+}
+
+/// How a line figure is laid out: the axis ranges and the legend's corner.
+#[derive(Clone, Debug)]
+struct Layout {
+    x: (f64, f64),
+    y: (f64, f64),
+    legend: SeriesLabelPosition,
+}
+
+/// A box of the plotting area in unit coordinates: `(x span, y span)`.
+type UnitBox = ((f64, f64), (f64, f64));
+
+/// Corners of the plotting area as `(position, box)` in unit
+/// coordinates, for a legend of size `(w, h)` (fractions of the area).
+fn corners((w, h): (f64, f64)) -> [(SeriesLabelPosition, UnitBox); 4] {
+    [
+        (
+            SeriesLabelPosition::UpperRight,
+            ((1.0 - w, 1.0), (1.0 - h, 1.0)),
+        ),
+        (SeriesLabelPosition::UpperLeft, ((0.0, w), (1.0 - h, 1.0))),
+        (SeriesLabelPosition::LowerRight, ((1.0 - w, 1.0), (0.0, h))),
+        (SeriesLabelPosition::LowerLeft, ((0.0, w), (0.0, h))),
+    ]
+}
+
+/// How much of every series (its points, and its lines sampled at 1 % of
+/// the axes) falls in the box `xs` x `ys` (unit coordinates) of a figure
+/// drawn over `ranges`.
+fn occupancy(fig: &LineFigure, ranges: ((f64, f64), (f64, f64)), (xs, ys): UnitBox) -> usize {
+    let ((x0, x1), (y0, y1)) = ranges;
+    let inside = |(u, w): (f64, f64)| (xs.0..=xs.1).contains(&u) && (ys.0..=ys.1).contains(&w);
+    let mut count = 0;
+    for s in &fig.series {
+        let pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .map(|&(x, y)| (unit(x, x0, x1, fig.log_x), unit(y, y0, y1, fig.log_y)))
+            .collect();
+        count += pts.iter().filter(|&&p| inside(p)).count();
+        if !s.markers {
+            for w in pts.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let n = (((b.0 - a.0).hypot(b.1 - a.1) / 0.01).ceil() as usize).min(100);
+                count += (1..n)
+                    .map(|k| k as f64 / n as f64)
+                    .filter(|t| inside((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))))
+                    .count();
+            }
+        }
+    }
+    count
+}
+
+/// The axis ranges ([`bounds`]) and the corner where the legend covers no
+/// data: the emptiest corner (ties go to the upper right, then upper left);
+/// if every corner holds data, the y axis is extended upward by the legend's
+/// height so that the upper corner is free.
+fn layout(fig: &LineFigure, pixels: (f64, f64)) -> Layout {
+    let (x, y) = bounds(fig);
+    let size = legend_fraction(fig, pixels);
+    let counts = corners(size).map(|(pos, b)| (pos, occupancy(fig, (x, y), b)));
+    let best = counts
+        .iter()
+        .min_by_key(|c| c.1)
+        .map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone());
+    if counts.iter().any(|c| c.1 == 0) || !fig.series.iter().any(|s| s.label.is_some()) {
+        return Layout { x, y, legend: best };
+    }
+    // Data below a fraction `1 - h` of the extended axis (with 2 % to spare).
+    let keep = (1.0 - size.1 - 0.02).max(0.3);
+    let top = if fig.log_y {
+        y.0 * (y.1 / y.0).powf(1.0 / keep)
+    } else {
+        y.0 + (y.1 - y.0) / keep
+    };
+    let y = (y.0, top);
+    let upper = corners(size)[..2]
+        .iter()
+        .min_by_key(|(_, b)| occupancy(fig, (x, y), *b))
+        .map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone());
+    Layout {
+        x,
+        y,
+        legend: upper,
+    }
+}
+
+/// Width of the colour bar beside a family's plot, in pixels.
+const COLORBAR_WIDTH: u32 = 140;
 
 /// Writes `stem.png` and `stem.svg`. Never fails on the data: points a
 /// log axis cannot draw are left out with a note in the title, and a
 /// constant series gets a sane range. Dense lines are drawn from their
-/// min/max decimation ([`decimated`]).
+/// min/max decimation ([`decimated`]), orbits from the points half a pixel
+/// apart ([`thinned`]); the legend goes where it covers no data
+/// ([`layout`]).
 pub fn render(fig: &LineFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    render_with(fig, None, stem)
+}
+
+/// [`render`] for a family of curves coloured by `bar` ([`Colorbar::color`]),
+/// with the colour bar beside the plot.
+pub fn render_family(
+    fig: &LineFigure,
+    bar: &Colorbar,
+    stem: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    render_with(fig, Some(bar), stem)
+}
+
+fn render_with(
+    fig: &LineFigure,
+    bar: Option<&Colorbar>,
+    stem: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
     let mut fig = drawable_only(fig);
-    let (xr, _) = bounds(&fig);
+    let width = 1000;
+    let pixels = plot_pixels(width - bar.map_or(0, |_| COLORBAR_WIDTH));
+    let ranges = bounds(&fig);
     for s in fig.series.iter_mut().filter(|s| !s.markers) {
-        s.points = decimated(&s.points, xr, fig.log_x);
+        s.points = if monotonic_in_x(&s.points) {
+            decimated(&s.points, ranges.0, fig.log_x)
+        } else {
+            thinned(&s.points, ranges, (fig.log_x, fig.log_y), pixels)
+        };
     }
+    let layout = layout(&fig, pixels);
     render_both(
         stem,
-        (1000, 650),
-        |a| draw_any(a, &fig),
-        |a| draw_any(a, &fig),
+        (width, 650),
+        |a| draw_any(a, &fig, &layout, bar),
+        |a| draw_any(a, &fig, &layout, bar),
     )
 }
 
 fn draw_any<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     fig: &LineFigure,
+    layout: &Layout,
+    bar: Option<&Colorbar>,
 ) -> Result<(), String> {
-    let ((x0, x1), (y0, y1)) = bounds(fig);
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let root = match bar {
+        Some(bar) => {
+            let width = root.dim_in_pixel().0;
+            let (main, side) = root.split_horizontally(width - COLORBAR_WIDTH);
+            draw_colorbar(&side, bar)?;
+            main
+        }
+        None => root,
+    };
+    let ((x0, x1), (y0, y1)) = (layout.x, layout.y);
     let axes = (Axis::over(x0, x1, fig.log_x), Axis::over(y0, y1, fig.log_y));
+    let legend = layout.legend.clone();
     match (fig.log_x, fig.log_y) {
-        (false, false) => draw(root, fig, axes, x0..x1, y0..y1),
-        (true, false) => draw(root, fig, axes, (x0..x1).log_scale(), y0..y1),
-        (false, true) => draw(root, fig, axes, x0..x1, (y0..y1).log_scale()),
-        (true, true) => draw(root, fig, axes, (x0..x1).log_scale(), (y0..y1).log_scale()),
+        (false, false) => draw(root, fig, axes, legend, x0..x1, y0..y1),
+        (true, false) => draw(root, fig, axes, legend, (x0..x1).log_scale(), y0..y1),
+        (false, true) => draw(root, fig, axes, legend, x0..x1, (y0..y1).log_scale()),
+        (true, true) => draw(
+            root,
+            fig,
+            axes,
+            legend,
+            (x0..x1).log_scale(),
+            (y0..y1).log_scale(),
+        ),
     }
+}
+
+/// The colour bar of a family: the scale as a strip of 200 colours with
+/// the values labelled, aligned with the plotting area beside it.
+fn draw_colorbar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    bar: &Colorbar,
+) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let (lo, hi) = bar.range;
+    let (lo, hi) = if hi > lo {
+        (lo, hi)
+    } else {
+        let half = if lo != 0.0 { 0.05 * lo.abs() } else { 1.0 };
+        (lo - half, hi + half)
+    };
+    let axis = Axis::over(lo, hi, false);
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(18 + 30)
+        .margin_bottom(18 + 55)
+        .margin_right(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .disable_y_mesh()
+        .disable_x_axis()
+        .y_desc(bar.label.as_str())
+        .y_label_formatter(&|v| axis.label(*v))
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 19))
+        .draw()
+        .map_err(e)?;
+    let n = 200;
+    chart
+        .draw_series((0..n).map(|i| {
+            let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+            let color = viridis((a + b) / 2.0 * LINE_END);
+            Rectangle::new(
+                [(0.0, lo + a * (hi - lo)), (1.0, lo + b * (hi - lo))],
+                color.filled(),
+            )
+        }))
+        .map_err(e)?;
+    Ok(())
+}
+
+/// A solid line two pixels wide through `points`, drawn as one-pixel lines
+/// offset by a pixel right and down: plotters draws a wide line as a polygon
+/// that degenerates on (nearly) vertical pixel steps, such as the slips of a
+/// stick-slip time series (spikes went missing, stray lines left the frame),
+/// while its one-pixel lines are exact.
+fn thick_line<DB: DrawingBackend, X, Y>(
+    chart: &Chart<'_, DB, X, Y>,
+    points: &[(f64, f64)],
+    color: RGBColor,
+) -> Result<(), String>
+where
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let plot = chart.plotting_area();
+    let (bx, by) = plot.get_base_pixel();
+    let pixels: Vec<(i32, i32)> = points
+        .iter()
+        .map(|p| {
+            let (x, y) = plot.map_coordinate(p);
+            (x - bx, y - by)
+        })
+        .collect();
+    let area = plot.strip_coord_spec();
+    for (dx, dy) in [(0, 0), (1, 0), (0, 1)] {
+        let shifted: Vec<(i32, i32)> = pixels.iter().map(|&(x, y)| (x + dx, y + dy)).collect();
+        area.draw(&PathElement::new(shifted, color.stroke_width(1)))
+            .map_err(e)?;
+    }
+    Ok(())
 }
 
 fn draw<DB: DrawingBackend, X, Y>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     fig: &LineFigure,
     axes: (Axis, Axis),
+    legend: SeriesLabelPosition,
     xr: X,
     yr: Y,
 ) -> Result<(), String>
@@ -260,35 +549,48 @@ where
     let mut any_label = false;
     for s in &fig.series {
         let c = s.color;
-        // plotters draws a wide line as a polygon that degenerates on
-        // (nearly) vertical pixel steps, the spikes of a dense series: those
-        // get a one-pixel line, whose drawing is exact.
-        let dense = s.points.len() > COLUMNS;
-        let style = c.stroke_width(if dense { 1 } else { 2 });
         let drawn = if s.markers {
             chart
-                .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                .draw_series(s.points.iter().map(|&p| {
+                    EmptyElement::at(p)
+                        + Circle::new((0, 0), 6, c.filled())
+                        + Circle::new((0, 0), 6, BLACK.stroke_width(1))
+                }))
                 .map_err(e)?
         } else if s.dashed {
             chart
-                .draw_series(DashedLineSeries::new(s.points.clone(), 8, 5, style))
+                .draw_series(DashedLineSeries::new(
+                    s.points.clone(),
+                    8,
+                    5,
+                    c.stroke_width(2),
+                ))
                 .map_err(e)?
         } else {
+            thick_line::<DB, X, Y>(&chart, &s.points, c)?;
+            // Nothing more to draw: the series only carries the legend entry.
             chart
-                .draw_series(LineSeries::new(s.points.clone(), style))
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
                 .map_err(e)?
         };
         if let Some(label) = &s.label {
             any_label = true;
+            let (path, radius) = if s.markers {
+                (vec![], 5)
+            } else {
+                (vec![(0, 0), (22, 0)], 0)
+            };
             drawn.label(label).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(2))
+                EmptyElement::at((x, y))
+                    + PathElement::new(path.clone(), c.stroke_width(2))
+                    + Circle::new((11, 0), radius, c.filled())
             });
         }
     }
     if any_label {
         chart
             .configure_series_labels()
-            .position(emptiest_corner(fig))
+            .position(legend)
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
             .label_font((FONT, 14))
@@ -350,9 +652,10 @@ mod tests {
     /// A curve through the upper right leaves the legend elsewhere.
     #[test]
     fn legend_goes_to_the_emptiest_corner() {
-        let fig = figure((0..100).map(|i| (i as f64, i as f64)).collect(), false);
+        let mut fig = figure((0..100).map(|i| (i as f64, i as f64)).collect(), false);
+        fig.series[0].label = Some("a line".into());
         assert!(matches!(
-            emptiest_corner(&fig),
+            layout(&fig, plot_pixels(1000)).legend,
             SeriesLabelPosition::UpperLeft
         ));
     }
