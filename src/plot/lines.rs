@@ -2,7 +2,7 @@
 //! logarithmic axes. Cycle diagrams, orbits and time series use it.
 
 use super::colormap::{viridis, LINE_END};
-use super::{frame, render_both, Axis, Chart, PlotError, FONT};
+use super::{frame, log_axis, render_both, Axis, Chart, PlotError, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -125,7 +125,7 @@ fn drawable_only(fig: &LineFigure) -> LineFigure {
 }
 
 /// The axis ranges of `fig` (whose points are all drawable), padded by 5 %;
-/// a constant series gets a range around its value (a factor 10 on a log
+/// a constant series gets a range around its value (a factor 1.5 on a log
 /// axis, +-5 % or +-1 about 0 on a linear one), an empty figure `1 .. 10`.
 fn bounds(fig: &LineFigure) -> ((f64, f64), (f64, f64)) {
     let pts = fig.series.iter().flat_map(|s| s.points.iter());
@@ -143,10 +143,10 @@ fn bounds(fig: &LineFigure) -> ((f64, f64), (f64, f64)) {
             return (1.0, 10.0);
         }
         if log {
-            // At least a factor 10 (so that the axis has a labelled tick).
+            // At least a factor 1.5 (a constant series gets a range about it).
             let mid = (lo * hi).sqrt();
-            let (lo, hi) = if hi / lo < 10.0 {
-                (mid / 10f64.sqrt(), mid * 10f64.sqrt())
+            let (lo, hi) = if hi / lo < 1.5 {
+                (mid / 1.5f64.sqrt(), mid * 1.5f64.sqrt())
             } else {
                 (lo, hi)
             };
@@ -431,16 +431,9 @@ fn draw_any<DB: DrawingBackend>(
     let legend = layout.legend.clone();
     match (fig.log_x, fig.log_y) {
         (false, false) => draw(root, fig, axes, legend, x0..x1, y0..y1),
-        (true, false) => draw(root, fig, axes, legend, (x0..x1).log_scale(), y0..y1),
-        (false, true) => draw(root, fig, axes, legend, x0..x1, (y0..y1).log_scale()),
-        (true, true) => draw(
-            root,
-            fig,
-            axes,
-            legend,
-            (x0..x1).log_scale(),
-            (y0..y1).log_scale(),
-        ),
+        (true, false) => draw(root, fig, axes, legend, log_axis(x0, x1), y0..y1),
+        (false, true) => draw(root, fig, axes, legend, x0..x1, log_axis(y0, y1)),
+        (true, true) => draw(root, fig, axes, legend, log_axis(x0, x1), log_axis(y0, y1)),
     }
 }
 
@@ -643,7 +636,7 @@ mod tests {
         );
         assert_eq!((y0, y1), (-1.0, 1.0));
         let (_, (y0, y1)) = bounds(&figure(vec![(1.0, 3.0), (2.0, 3.0)], true));
-        assert!(y1 / y0 > 10.0 && y0 < 3.0 && y1 > 3.0, "{y0} {y1}");
+        assert!(y1 / y0 > 1.5 && y0 < 3.0 && y1 > 3.0, "{y0} {y1}");
     }
 
     /// A spike train of a million samples, one sample wide each: the
@@ -658,6 +651,59 @@ mod tests {
             layout(&fig, plot_pixels(1000)).legend,
             SeriesLabelPosition::UpperLeft
         ));
+    }
+
+    /// On awkward data (a constant series, a curve through every corner, a
+    /// family of 40 cycles, a million-sample spike train) the legend's box
+    /// holds no point and no line sample of the data.
+    #[test]
+    fn legends_never_cover_data() {
+        let labelled = |points: Vec<(f64, f64)>, log_y: bool| {
+            let mut f = figure(points, log_y);
+            f.series[0].label = Some("a fairly long legend entry".into());
+            f
+        };
+        let zigzag: Vec<(f64, f64)> = (0..400)
+            .map(|i| (i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }))
+            .collect();
+        let mut family = figure(Vec::new(), true);
+        for k in 0..40 {
+            let r = 0.1 + k as f64 * 0.02;
+            family.series.push(Series {
+                label: (k == 0).then(|| "switch".to_string()),
+                points: (0..=200)
+                    .map(|i| {
+                        let a = i as f64 / 200.0 * std::f64::consts::TAU;
+                        (0.5 + r * a.cos(), (3.0 * r * a.sin()).exp())
+                    })
+                    .collect(),
+                color: RGBColor(0, 0, 0),
+                dashed: false,
+                markers: false,
+            });
+        }
+        let spikes = labelled(
+            (0..1_000_000)
+                .map(|i| (i as f64, if i % 10_000 == 5_000 { 1e6 } else { 1.0 }))
+                .collect(),
+            true,
+        );
+        for fig in [
+            labelled(vec![(0.0, 3.0), (1.0, 3.0)], false),
+            labelled(zigzag, false),
+            family,
+            spikes,
+        ] {
+            let px = plot_pixels(1000);
+            let l = layout(&fig, px);
+            let (_, b) = corners(legend_fraction(&fig, px))
+                .into_iter()
+                .find(|(pos, _)| format!("{pos:?}") == format!("{:?}", l.legend))
+                .unwrap();
+            assert_eq!(occupancy(&fig, (l.x, l.y), b), 0, "{:?}", l.legend);
+            let (x, y) = bounds(&fig);
+            assert!(l.x == x && l.y.0 == y.0 && l.y.1 >= y.1);
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@ pub mod colormap;
 pub mod lines;
 pub mod stability;
 
+use plotters::coord::combinators::{BindKeyPoints, IntoLogRange, LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::{
@@ -83,11 +84,16 @@ impl Axis {
         }
     }
 
-    /// The label of the tick at `v`.
+    /// The label of the tick at `v`: on a linear axis with the digits a
+    /// tenth of its span needs; on a log axis (ticks of [`log_ticks`]) with
+    /// up to three significant digits, trailing zeros dropped.
     pub fn label(self, v: f64) -> String {
         match self {
             Axis::Linear { span } => tick_label_step(v, span / 10.0),
-            Axis::Log { decades } => log_tick_label(v, decades),
+            Axis::Log { decades } if decades > 0.0 && v > 0.0 => {
+                tick_label_step(v, 10f64.powf(v.log10().floor() - 2.0))
+            }
+            Axis::Log { .. } => tick_label(v),
         }
     }
 }
@@ -131,27 +137,69 @@ where
     Ok(chart)
 }
 
-/// Tick label on a logarithmic axis over `decades` decades: the ticks
-/// `1, 2, 5 x 10^k`, and every integer multiple `1 .. 9 x 10^k` when the
-/// axis spans less than a decade and a half (else no tick would be
-/// labelled, or the curve could not be read off).
-fn log_tick_label(v: f64, decades: f64) -> String {
-    if v <= 0.0 {
-        return tick_label(v);
+/// Tick values of a logarithmic axis over `lo .. hi` (positive): labelled
+/// ones and grid lines. Labelled: the powers of ten (every k-th beyond ten
+/// of them) over more than six decades; `1, 2, 5 x 10^k` over more than a
+/// decade and a half; every `1 .. 9 x 10^k` over less; and where that
+/// leaves fewer than three in the range (a few percent of variation, within
+/// one decade), evenly spaced values of a round step. Grid lines at every
+/// `1 .. 9 x 10^k` up to six decades. plotters' own key points start at a
+/// power of ten and leave an axis within one decade without any.
+pub fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    if !(lo > 0.0 && hi.is_finite()) {
+        return (Vec::new(), Vec::new());
     }
-    let mantissa = v / 10f64.powf(v.log10().floor());
-    let m = mantissa.round();
-    let labelled = if decades < 1.5 {
-        (1.0..=10.0).contains(&m)
-    } else {
-        [1.0, 2.0, 5.0, 10.0].contains(&m)
+    let decades = (hi / lo).log10();
+    let multiples = |set: &[f64]| -> Vec<f64> {
+        let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        (k0..=k1)
+            .flat_map(|k| set.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(|v| *v >= lo * (1.0 - 1e-12) && *v <= hi * (1.0 + 1e-12))
+            .collect()
     };
-    if (mantissa - m).abs() < 1e-6 && labelled {
-        let e = v.log10().round() as i32;
-        tick_label_step(v, 10f64.powi(e - 1))
+    let all: Vec<f64> = (1..=9).map(f64::from).collect();
+    let light = if decades <= 6.0 {
+        multiples(&all)
     } else {
-        String::new()
+        multiples(&[1.0])
+    };
+    let bold = if decades > 6.0 {
+        let powers = multiples(&[1.0]);
+        let every = powers.len().div_ceil(10).max(1);
+        powers.into_iter().step_by(every).collect()
+    } else if decades > 1.5 {
+        multiples(&[1.0, 2.0, 5.0])
+    } else {
+        multiples(&all)
+    };
+    if bold.len() >= 3 {
+        return (bold, light);
     }
+    let step = round_step((hi - lo) / 4.0);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    ((first..=last).map(|i| i as f64 * step).collect(), light)
+}
+
+/// The round number `1, 2, 2.5 or 5 x 10^k` nearest above `x` (positive).
+fn round_step(x: f64) -> f64 {
+    let k = x.log10().floor();
+    let unit = 10f64.powf(k);
+    [1.0, 2.0, 2.5, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * unit)
+        .find(|s| *s >= x * (1.0 - 1e-12))
+        .unwrap_or(10.0 * unit)
+}
+
+/// A logarithmic axis over `lo .. hi` with the key points of [`log_ticks`].
+pub fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
+    let (bold, light) = log_ticks(lo, hi);
+    (lo..hi)
+        .log_scale()
+        .with_key_points(bold)
+        .with_light_points(light)
 }
 
 /// Tick label: `0`, plain digits within `[1e-2, 1e4)`, else `a.b e k`, with
@@ -194,7 +242,7 @@ pub fn tick_label_step(v: f64, step: f64) -> String {
 /// An error writing a figure (the path and what went wrong).
 #[cfg(test)]
 mod tests {
-    use super::{tick_label, tick_label_step, Axis};
+    use super::{log_ticks, tick_label, tick_label_step, Axis};
 
     #[test]
     fn tick_labels_are_short_and_finite() {
@@ -226,7 +274,30 @@ mod tests {
         // A log axis within one decade labels every integer multiple.
         let axis = Axis::over(6e6, 3e7, true);
         assert_eq!(axis.label(8e6), "8e6");
-        assert_eq!(Axis::over(1e-3, 1e3, true).label(8e0), "");
+        assert_eq!(axis.label(2.35e5), "2.35e5");
+    }
+
+    /// Every log axis has at least three labelled ticks, in range, distinct
+    /// once formatted: over twelve decades, two, a factor 1.7, and 3 %.
+    #[test]
+    fn log_axes_always_have_labelled_ticks() {
+        for (lo, hi, expect) in [
+            (1e-3, 1e9, vec![1e-3, 1e-1, 1e1, 1e3, 1e5, 1e7, 1e9]),
+            (1e-3, 1e-1, vec![1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 1e-1]),
+            (1.7e5, 4e5, vec![2e5, 3e5, 4e5]),
+            (2.30e5, 2.37e5, vec![2.3e5, 2.32e5, 2.34e5, 2.36e5]),
+        ] {
+            let (bold, light) = log_ticks(lo, hi);
+            assert_eq!(bold.len(), expect.len(), "{lo} {hi}: {bold:?}");
+            for (b, e) in bold.iter().zip(&expect) {
+                assert!((b / e - 1.0).abs() < 1e-12, "{lo} {hi}: {bold:?}");
+            }
+            assert!(light.iter().all(|v| *v >= lo * 0.999 && *v <= hi * 1.001));
+            let axis = Axis::over(lo, hi, true);
+            let mut labels: Vec<String> = bold.iter().map(|v| axis.label(*v)).collect();
+            labels.dedup();
+            assert_eq!(labels.len(), bold.len(), "{labels:?}");
+        }
     }
 }
 

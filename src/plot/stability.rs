@@ -2,7 +2,7 @@
 //! parts drawn differently, the Appendix C curve overlaid, special points
 //! marked, stable and unstable regions labelled.
 
-use super::{frame, render_both, Axis, PlotError, FONT};
+use super::{frame, log_axis, render_both, Axis, PlotError, FONT};
 use crate::analysis::hopf::Criticality;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -39,15 +39,24 @@ pub struct StabilityFigure {
     pub bistable: Vec<Vec<(f64, f64, Option<f64>)>>,
     /// x range of the axes.
     pub x_range: (f64, f64),
-    /// Lines of text written in the plot (e.g. "velocity strengthening: stable
-    /// for every stiffness" where there is no Hopf curve).
-    pub notes: Vec<String>,
+    /// Text written in the plot (e.g. "velocity strengthening: stable for
+    /// every stiffness" where there is no Hopf curve).
+    pub notes: Vec<Note>,
+}
+
+/// A note written in the plot, over the x span it is about (in the axis
+/// unit) or, without one, across the plot.
+#[derive(Clone, Debug)]
+pub struct Note {
+    pub text: String,
+    pub span: Option<(f64, f64)>,
 }
 
 const SUPER: RGBColor = RGBColor(31, 90, 180);
 const SUB: RGBColor = RGBColor(200, 40, 40);
 const DEGEN: RGBColor = RGBColor(120, 120, 120);
 const FOLD: RGBColor = RGBColor(150, 60, 150);
+const STRENGTHENING: RGBColor = RGBColor(90, 140, 60);
 
 fn color(c: Criticality) -> RGBColor {
     match c {
@@ -87,173 +96,607 @@ pub fn segments(points: &[(f64, f64, Criticality)]) -> Vec<Segment> {
     out
 }
 
-/// Writes `stem.png` and `stem.svg`; returns their paths.
-pub fn render(fig: &StabilityFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-    render_both(stem, (1000, 700), |a| draw(a, fig), |a| draw(a, fig))
+/// Width of the figure and height of its main panel, in pixels.
+const WIDTH: u32 = 1000;
+const MAIN_HEIGHT: u32 = 620;
+/// Height of the panel magnifying a thin hysteretic band.
+const BAND_HEIGHT: u32 = 210;
+/// Height of one legend row (two entries side by side).
+const LEGEND_ROW: u32 = 24;
+/// A hysteretic band thinner than this many pixels in the main panel gets a
+/// panel of its own.
+const THIN_BAND_PX: f64 = 8.0;
+
+/// What a legend entry shows beside its text.
+#[derive(Clone, Copy, Debug)]
+enum Swatch {
+    Line { color: RGBColor, dashed: bool },
+    Fill(RGBColor),
+    Circle,
+    Triangle,
 }
 
+/// The legend of `fig`, in drawing order.
+fn legend(fig: &StabilityFigure) -> Vec<(String, Swatch)> {
+    let mut out = Vec::new();
+    if !fig.bistable.is_empty() {
+        out.push((
+            "bistable: stick-slip coexists with steady sliding".to_string(),
+            Swatch::Fill(FOLD),
+        ));
+    }
+    if !fig.lpc.is_empty() {
+        out.push((
+            "fold of cycles (LPC): hysteresis boundary".to_string(),
+            Swatch::Line {
+                color: FOLD,
+                dashed: false,
+            },
+        ));
+    }
+    let mut seen = Vec::new();
+    for s in &fig.segments {
+        if !seen.contains(&s.criticality) {
+            seen.push(s.criticality);
+            out.push((
+                label(s.criticality).to_string(),
+                Swatch::Line {
+                    color: color(s.criticality),
+                    dashed: s.criticality == Criticality::Subcritical,
+                },
+            ));
+        }
+    }
+    if !fig.reference.is_empty() {
+        out.push((fig.reference_label.clone(), Swatch::Circle));
+    }
+    let mut names: Vec<&str> = Vec::new();
+    for (name, _, _) in &fig.markers {
+        if !names.contains(&name.as_str()) {
+            names.push(name);
+            out.push((name.clone(), Swatch::Triangle));
+        }
+    }
+    for (name, _) in &fig.vlines {
+        if !names.contains(&name.as_str()) {
+            names.push(name);
+            out.push((
+                name.clone(),
+                Swatch::Line {
+                    color: STRENGTHENING,
+                    dashed: true,
+                },
+            ));
+        }
+    }
+    out
+}
+
+/// The relative width `K_fold / K_c - 1` of each hysteretic region along
+/// its velocities (where the region has a lower bound on the Hopf curve).
+fn band_widths(fig: &StabilityFigure) -> Vec<Vec<(f64, f64)>> {
+    fig.bistable
+        .iter()
+        .map(|region| {
+            region
+                .iter()
+                .filter_map(|&(x, hi, lo)| lo.map(|lo| (x, (hi / lo - 1.0).max(0.0))))
+                .collect::<Vec<_>>()
+        })
+        .filter(|r| r.len() >= 2)
+        .collect()
+}
+
+/// Whether the hysteretic band is too thin to be seen in the main panel
+/// over `(y0, y1)`: at most [`THIN_BAND_PX`] pixels wide anywhere.
+fn band_is_thin(fig: &StabilityFigure, (y0, y1): (f64, f64)) -> bool {
+    let widths = band_widths(fig);
+    let widest = widths.iter().flatten().map(|p| p.1).fold(0.0f64, f64::max);
+    let px = (1.0 + widest).ln() / (y1 / y0).ln() * MAIN_HEIGHT as f64;
+    !widths.is_empty() && px < THIN_BAND_PX
+}
+
+/// Writes `stem.png` and `stem.svg`; returns their paths. The figure is the
+/// main panel, a panel magnifying the hysteretic band when it is too thin to
+/// see ([`band_is_thin`]), and the legend below them (outside the data).
+pub fn render(fig: &StabilityFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    let rows = legend(fig).len().div_ceil(2) as u32;
+    let band = band_is_thin(fig, y_range(fig));
+    let height = MAIN_HEIGHT + if band { BAND_HEIGHT } else { 0 } + rows * LEGEND_ROW + 16;
+    render_both(
+        stem,
+        (WIDTH, height),
+        |a| draw(a, fig, band),
+        |a| draw(a, fig, band),
+    )
+}
+
+/// The y range of the main panel: the curves with room above and below for
+/// the region labels (a quarter of their log span, at least a factor 1.35),
+/// at most four decades below the top (a curve that plunges to
+/// `kappa_c -> 0` is cut there).
 fn y_range(fig: &StabilityFigure) -> (f64, f64) {
     let ys = fig
         .segments
         .iter()
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .chain(fig.reference.iter().map(|p| p.1))
-        .chain(fig.lpc.iter().flatten().map(|p| p.1));
+        .chain(fig.lpc.iter().flatten().map(|p| p.1))
+        .chain(fig.markers.iter().map(|m| m.2));
     let (lo, hi) = ys
-        .filter(|y| *y > 0.0)
+        .filter(|y| *y > 0.0 && y.is_finite())
         .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
     if !lo.is_finite() {
         return (1e-3, 1.0);
     }
-    // At least a decade with room for the region labels; at most four decades
-    // below the top (a curve that plunges to kappa_c -> 0 is cut there).
     let lo = lo.max(hi * 1e-4);
-    let mid = (lo * hi).sqrt();
-    let half = (hi / lo).sqrt().max(10f64.sqrt()) * 1.8;
-    (mid / half, mid * half)
+    let room = (hi / lo).powf(0.25).max(1.35);
+    (lo / room, hi * room)
+}
+
+/// Unit coordinates (0 to 1 across the axes) of the curves of `fig` on the
+/// log-log axes `x`, `y`: the Hopf segments and the fold curves, and every
+/// vertical line as a line across the whole height.
+fn curves_in_unit(fig: &StabilityFigure, x: (f64, f64), y: (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    let u = |(px, py): (f64, f64)| {
+        (
+            (px / x.0).ln() / (x.1 / x.0).ln(),
+            (py / y.0).ln() / (y.1 / y.0).ln(),
+        )
+    };
+    let mut out: Vec<Vec<(f64, f64)>> = fig
+        .segments
+        .iter()
+        .map(|s| s.points.iter().map(|&p| u(p)).collect())
+        .chain(fig.lpc.iter().map(|c| c.iter().map(|&p| u(p)).collect()))
+        .collect();
+    for &(_, vx) in &fig.vlines {
+        let ux = u((vx, y.0)).0;
+        out.push(vec![(ux, -1.0), (ux, 2.0)]);
+    }
+    out
+}
+
+/// The vertical extent `(lowest, highest)` of `curves` (unit coordinates)
+/// over the unit x span `xs`, sampling each segment; `None` where no curve
+/// passes.
+fn extent_over(curves: &[Vec<(f64, f64)>], xs: (f64, f64)) -> Option<(f64, f64)> {
+    let mut range: Option<(f64, f64)> = None;
+    let mut add = |y: f64| {
+        range = Some(range.map_or((y, y), |(a, b)| (a.min(y), b.max(y))));
+    };
+    for c in curves {
+        if let [only] = c.as_slice() {
+            if (xs.0..=xs.1).contains(&only.0) {
+                add(only.1);
+            }
+        }
+        for w in c.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            for k in 0..=20 {
+                let t = k as f64 / 20.0;
+                let (px, py) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+                if (xs.0..=xs.1).contains(&px) {
+                    add(py);
+                }
+            }
+            // A segment that spans the whole box without a sample inside.
+            if a.0.min(b.0) <= xs.0 && a.0.max(b.0) >= xs.1 {
+                add(a.1);
+                add(b.1);
+            }
+        }
+    }
+    range
+}
+
+/// Where a region label of `size` (unit fractions) goes, centred at one of
+/// `centres` (unit x, tried in order): the first where it fits between the
+/// curves and the `above` (top) or bottom edge, half-way between them;
+/// else the first centre at the edge.
+fn place_label(
+    curves: &[Vec<(f64, f64)>],
+    size: (f64, f64),
+    centres: &[f64],
+    above: bool,
+) -> (f64, f64) {
+    let gap = 0.02;
+    for &cx in centres {
+        let xs = (cx - size.0 / 2.0, cx + size.0 / 2.0);
+        if xs.0 < 0.0 || xs.1 > 1.0 {
+            continue;
+        }
+        match (extent_over(curves, xs), above) {
+            (None, true) => return (cx, 1.0 - size.1),
+            (None, false) => return (cx, size.1),
+            (Some((_, top)), true) if top + size.1 + 2.0 * gap < 1.0 => {
+                return (cx, ((top + 1.0) / 2.0).max(top + gap + size.1 / 2.0));
+            }
+            (Some((bottom, _)), false) if bottom - size.1 - 2.0 * gap > 0.0 => {
+                return (cx, (bottom / 2.0).min(bottom - gap - size.1 / 2.0));
+            }
+            _ => {}
+        }
+    }
+    let cx = centres.first().copied().unwrap_or(0.5);
+    (cx, if above { 1.0 - size.1 } else { size.1 })
+}
+
+/// Width of a region label in unit fractions of the plotting area (20-pixel
+/// font, at most 11 pixels a character) and its height.
+fn label_size(text: &str, plot: (f64, f64)) -> (f64, f64) {
+    (11.0 * text.chars().count() as f64 / plot.0, 28.0 / plot.1)
+}
+
+/// `text` broken at spaces into lines of at most `width` characters (a
+/// longer word stands on its own line).
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     fig: &StabilityFigure,
+    band: bool,
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let (main, rest) = root.split_vertically(MAIN_HEIGHT);
+    let (band_area, legend_area) = rest.split_vertically(if band { BAND_HEIGHT } else { 0 });
     let (y0, y1) = y_range(fig);
     // A little room at both ends so the end ticks and markers show.
     let (x0, x1) = (fig.x_range.0 / 1.12, fig.x_range.1 * 1.12);
     let mut chart = frame(
-        &root,
+        &main,
         (&fig.title, &fig.x_label, &fig.y_label),
         (Axis::over(x0, x1, true), Axis::over(y0, y1, true)),
-        (x0..x1).log_scale(),
-        (y0..y1).log_scale(),
+        log_axis(x0, x1),
+        log_axis(y0, y1),
     )?;
-    // Region labels: steady sliding is stable at high stiffness (top) and, past a
-    // friction minimum, at high velocity; stick-slip lives at low stiffness (bottom left).
-    let at = |fx: f64, fy: f64| (x0 * (x1 / x0).powf(fx), y0 * (y1 / y0).powf(fy));
-    let text = TextStyle::from((FONT, 20).into_font()).color(&RGBColor(60, 60, 60));
-    let centred = text.pos(Pos::new(HPos::Center, VPos::Center));
-    let left = text.pos(Pos::new(HPos::Left, VPos::Center));
-    chart
-        .draw_series([Text::new("steady sliding stable", at(0.5, 0.93), centred)])
-        .map_err(e)?;
-    if !fig.segments.is_empty() {
-        chart
-            .draw_series([Text::new("unstable: stick-slip", at(0.02, 0.06), left)])
-            .map_err(e)?;
-    }
-    let note_style = TextStyle::from((FONT, 18).into_font())
-        .color(&RGBColor(90, 140, 60))
-        .pos(Pos::new(HPos::Center, VPos::Center));
-    chart
-        .draw_series(fig.notes.iter().enumerate().map(|(i, line)| {
-            Text::new(
-                line.clone(),
-                at(0.5, 0.5 - 0.06 * i as f64),
-                note_style.clone(),
-            )
-        }))
-        .map_err(e)?;
-    for (i, region) in fig.bistable.iter().enumerate() {
+    let plot_px = {
+        let (w, h) = chart.plotting_area().dim_in_pixel();
+        (w as f64, h as f64)
+    };
+    let at = |(fx, fy): (f64, f64)| (x0 * (x1 / x0).powf(fx), y0 * (y1 / y0).powf(fy));
+    for region in &fig.bistable {
         let mut polygon: Vec<(f64, f64)> = region.iter().map(|&(x, hi, _)| (x, hi)).collect();
         polygon.extend(region.iter().rev().map(|&(x, _, lo)| (x, lo.unwrap_or(y0))));
-        let series = chart
+        chart
             .draw_series([Polygon::new(polygon, FOLD.mix(0.18).filled())])
             .map_err(e)?;
-        if i == 0 {
-            series
-                .label("bistable: stick-slip coexists with steady sliding")
-                .legend(|(x, y)| {
-                    Rectangle::new([(x, y - 6), (x + 24, y + 6)], FOLD.mix(0.18).filled())
-                });
-        }
     }
-    for (i, curve) in fig.lpc.iter().enumerate() {
-        let series = chart
+    for curve in &fig.lpc {
+        chart
             .draw_series(LineSeries::new(curve.clone(), FOLD.stroke_width(3)))
             .map_err(e)?;
-        if i == 0 {
-            series
-                .label("fold of cycles (LPC): hysteresis boundary")
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], FOLD.stroke_width(3)));
-        }
     }
-    let mut labelled = Vec::new();
     for s in &fig.segments {
-        let c = color(s.criticality);
-        let style = c.stroke_width(3);
-        let series = if s.criticality == Criticality::Subcritical {
+        let style = color(s.criticality).stroke_width(3);
+        if s.criticality == Criticality::Subcritical {
             chart.draw_series(DashedLineSeries::new(s.points.clone(), 10, 6, style))
         } else {
             chart.draw_series(LineSeries::new(s.points.clone(), style))
         }
         .map_err(e)?;
-        if !labelled.contains(&s.criticality) {
-            labelled.push(s.criticality);
-            series.label(label(s.criticality)).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
-            });
-        }
     }
-    if !fig.reference.is_empty() {
-        chart
-            .draw_series(
-                fig.reference
-                    .iter()
-                    .map(|&p| Circle::new(p, 4, BLACK.stroke_width(1))),
-            )
-            .map_err(e)?
-            .label(&fig.reference_label)
-            .legend(|(x, y)| Circle::new((x + 12, y), 4, BLACK.stroke_width(1)));
-    }
-    let mut marker_labels: Vec<&str> = Vec::new();
-    for (name, x, y) in &fig.markers {
-        let series = chart
-            .draw_series([TriangleMarker::new((*x, *y), 9, BLACK.filled())])
-            .map_err(e)?;
-        if !marker_labels.contains(&name.as_str()) {
-            marker_labels.push(name);
-            series
-                .label(name)
-                .legend(|(x, y)| TriangleMarker::new((x + 12, y), 7, BLACK.filled()));
-        }
-    }
-    for (name, x) in &fig.vlines {
-        let c = RGBColor(90, 140, 60);
+    chart
+        .draw_series(
+            fig.reference
+                .iter()
+                .map(|&p| Circle::new(p, 4, BLACK.stroke_width(1))),
+        )
+        .map_err(e)?;
+    chart
+        .draw_series(
+            fig.markers
+                .iter()
+                .map(|(_, x, y)| TriangleMarker::new((*x, *y), 9, BLACK.filled())),
+        )
+        .map_err(e)?;
+    for (_, x) in &fig.vlines {
         chart
             .draw_series(DashedLineSeries::new(
                 vec![(*x, y0), (*x, y1)],
                 8,
                 6,
-                c.stroke_width(2),
+                STRENGTHENING.stroke_width(2),
             ))
-            .map_err(e)?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2)));
+            .map_err(e)?;
     }
-    let has_legend = !(fig.segments.is_empty()
-        && fig.reference.is_empty()
-        && fig.markers.is_empty()
-        && fig.vlines.is_empty()
-        && fig.bistable.is_empty()
-        && fig.lpc.is_empty());
-    if !has_legend {
-        root.present().map_err(e)?;
-        return Ok(());
-    }
+    // Region labels: steady sliding is stable above the curves (and, past a
+    // friction minimum, at high velocity); stick-slip lives below them.
+    let curves = curves_in_unit(fig, (x0, x1), (y0, y1));
+    let text = TextStyle::from((FONT, 20).into_font()).color(&RGBColor(60, 60, 60));
+    let centred = text.pos(Pos::new(HPos::Center, VPos::Center));
+    let stable = "steady sliding stable";
+    let spot = place_label(
+        &curves,
+        label_size(stable, plot_px),
+        &[0.5, 0.3, 0.7, 0.2, 0.8, 0.15, 0.85],
+        true,
+    );
     chart
-        .configure_series_labels()
-        // With a hysteretic region the lower right is taken by it.
-        .position(if fig.lpc.is_empty() {
-            SeriesLabelPosition::LowerRight
-        } else {
-            SeriesLabelPosition::UpperRight
-        })
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font((FONT, 15))
-        .draw()
+        .draw_series([Text::new(stable, at(spot), centred.clone())])
         .map_err(e)?;
+    if !fig.segments.is_empty() {
+        let unstable = "unstable: stick-slip";
+        let spot = place_label(
+            &curves,
+            label_size(unstable, plot_px),
+            &[0.15, 0.3, 0.5, 0.7, 0.85],
+            false,
+        );
+        chart
+            .draw_series([Text::new(unstable, at(spot), centred)])
+            .map_err(e)?;
+    }
+    let note_style = TextStyle::from((FONT, 18).into_font())
+        .color(&STRENGTHENING)
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    let unit_x = |x: f64| (x / x0).ln() / (x1 / x0).ln();
+    for note in &fig.notes {
+        let (a, b) = note.span.map_or((0.05, 0.95), |(a, b)| {
+            (unit_x(a).clamp(0.0, 1.0), unit_x(b).clamp(0.0, 1.0))
+        });
+        // Lines as wide as the span allows (10 pixels a character, at least 18).
+        let chars = (((b - a) * plot_px.0 / 10.0) as usize).max(18);
+        let lines = wrap(&note.text, chars);
+        let widest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+        let size = (
+            (10.0 * widest as f64 / plot_px.0).min(1.0),
+            24.0 * lines.len() as f64 / plot_px.1,
+        );
+        let centres: Vec<f64> = [0.5, 0.35, 0.65, 0.25, 0.75]
+            .iter()
+            .map(|f| a + f * (b - a))
+            .collect();
+        let fits = |above: bool| {
+            let spot = place_label(&curves, size, &centres, above);
+            let xs = (spot.0 - size.0 / 2.0, spot.0 + size.0 / 2.0);
+            let clear = extent_over(&curves, xs)
+                .is_none_or(|(lo, hi)| spot.1 - size.1 / 2.0 > hi || spot.1 + size.1 / 2.0 < lo);
+            clear.then_some(spot)
+        };
+        let spot = fits(true)
+            .or_else(|| fits(false))
+            .unwrap_or(((a + b) / 2.0, 0.5));
+        let line_h = 24.0 / plot_px.1;
+        let top = spot.1 + line_h * (lines.len() as f64 - 1.0) / 2.0;
+        chart
+            .draw_series(lines.iter().enumerate().map(|(i, line)| {
+                Text::new(
+                    line.clone(),
+                    at((spot.0, top - line_h * i as f64)),
+                    note_style.clone(),
+                )
+            }))
+            .map_err(e)?;
+    }
+    if band {
+        draw_band(&band_area, fig, (x0, x1))?;
+    }
+    draw_legend(&legend_area, &legend(fig))?;
     root.present().map_err(e)?;
     Ok(())
+}
+
+/// The panel magnifying a thin hysteretic band: its relative width
+/// `K_fold / K_c - 1` in percent against velocity, on the main panel's x axis.
+fn draw_band<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fig: &StabilityFigure,
+    (x0, x1): (f64, f64),
+) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let widths = band_widths(fig);
+    let top = widths
+        .iter()
+        .flatten()
+        .map(|p| 100.0 * p.1)
+        .fold(0.0f64, f64::max);
+    let top = if top > 0.0 { 1.15 * top } else { 1.0 };
+    let mut chart = ChartBuilder::on(area)
+        .margin_left(18)
+        .margin_right(18)
+        .margin_top(30)
+        .x_label_area_size(45)
+        .y_label_area_size(85)
+        .build_cartesian_2d(log_axis(x0, x1), 0.0..top)
+        .map_err(e)?;
+    let (xa, ya) = (Axis::over(x0, x1, true), Axis::over(0.0, top, false));
+    chart
+        .configure_mesh()
+        .x_desc(fig.x_label.as_str())
+        .y_desc("band width [%]")
+        .x_label_formatter(&|v| xa.label(*v))
+        .y_label_formatter(&|v| ya.label(*v))
+        .label_style((FONT, 15))
+        .axis_desc_style((FONT, 17))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(e)?;
+    for w in &widths {
+        let mut polygon: Vec<(f64, f64)> = w.iter().map(|&(x, r)| (x, 100.0 * r)).collect();
+        polygon.extend(w.iter().rev().map(|&(x, _)| (x, 0.0)));
+        chart
+            .draw_series([Polygon::new(polygon, FOLD.mix(0.18).filled())])
+            .map_err(e)?;
+        chart
+            .draw_series(LineSeries::new(
+                w.iter().map(|&(x, r)| (x, 100.0 * r)),
+                FOLD.stroke_width(2),
+            ))
+            .map_err(e)?;
+    }
+    let text = TextStyle::from((FONT, 16).into_font())
+        .color(&RGBColor(60, 60, 60))
+        .pos(Pos::new(HPos::Left, VPos::Top));
+    area.draw(&Text::new(
+        "hysteretic band magnified: fold-of-cycles stiffness over critical stiffness, minus 1",
+        (110, 6),
+        text,
+    ))
+    .map_err(e)?;
+    Ok(())
+}
+
+/// The legend below the panels, two entries a row.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[(String, Swatch)],
+) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let text = TextStyle::from((FONT, 15).into_font())
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, (label, swatch)) in entries.iter().enumerate() {
+        let x = 103 + (i as i32 % 2) * 440;
+        let y = 12 + (i as i32 / 2) * LEGEND_ROW as i32;
+        match *swatch {
+            Swatch::Line { color, dashed } => {
+                let style = color.stroke_width(3);
+                if dashed {
+                    area.draw(&PathElement::new(vec![(x, y), (x + 10, y)], style))
+                        .map_err(e)?;
+                    area.draw(&PathElement::new(vec![(x + 16, y), (x + 28, y)], style))
+                        .map_err(e)?;
+                } else {
+                    area.draw(&PathElement::new(vec![(x, y), (x + 28, y)], style))
+                        .map_err(e)?;
+                }
+            }
+            Swatch::Fill(color) => {
+                area.draw(&Rectangle::new(
+                    [(x, y - 7), (x + 28, y + 7)],
+                    color.mix(0.18).filled(),
+                ))
+                .map_err(e)?;
+            }
+            Swatch::Circle => {
+                area.draw(&Circle::new((x + 14, y), 4, BLACK.stroke_width(1)))
+                    .map_err(e)?;
+            }
+            Swatch::Triangle => {
+                area.draw(&TriangleMarker::new((x + 14, y), 8, BLACK.filled()))
+                    .map_err(e)?;
+            }
+        }
+        area.draw(&Text::new(label.clone(), (x + 38, y), text.clone()))
+            .map_err(e)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn figure(points: Vec<(f64, f64)>) -> StabilityFigure {
+        StabilityFigure {
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            segments: vec![Segment {
+                points,
+                criticality: Criticality::Supercritical,
+            }],
+            reference: Vec::new(),
+            reference_label: "ref".into(),
+            markers: Vec::new(),
+            vlines: Vec::new(),
+            lpc: Vec::new(),
+            bistable: Vec::new(),
+            x_range: (0.1, 100.0),
+            notes: Vec::new(),
+        }
+    }
+
+    /// A region label goes above (or below) every curve over its width,
+    /// also where the curve rises to the top at the preferred centre.
+    #[test]
+    fn region_labels_clear_the_curves() {
+        let curves = vec![
+            (0..=100)
+                .map(|i| {
+                    let x = i as f64 / 100.0;
+                    (x, 0.3 + 0.6 * (-((x - 0.5) / 0.1).powi(2)).exp())
+                })
+                .collect::<Vec<_>>(),
+            vec![(0.8, -1.0), (0.8, 2.0)],
+        ];
+        let size = (0.2, 0.06);
+        for above in [true, false] {
+            let (cx, cy) = place_label(&curves, size, &[0.5, 0.3, 0.7, 0.2, 0.9], above);
+            let (lo, hi) = extent_over(&curves, (cx - 0.1, cx + 0.1)).unwrap();
+            assert!(
+                if above {
+                    cy - size.1 / 2.0 > hi
+                } else {
+                    cy + size.1 / 2.0 < lo
+                },
+                "{above}: ({cx}, {cy}) against {lo}..{hi}"
+            );
+            assert!((cx - 0.8).abs() > 0.1, "{cx} over the vertical line");
+        }
+    }
+
+    /// The magnifying panel appears exactly when the band is a few pixels
+    /// wide: 0.25 % over a factor 2 of stiffness is, 50 % is not.
+    #[test]
+    fn a_thin_hysteretic_band_gets_its_own_panel() {
+        for (width, thin) in [(2.5e-3, true), (0.5, false)] {
+            let mut fig = figure(vec![(1.0, 1.0), (10.0, 2.0)]);
+            fig.bistable = vec![vec![
+                (2.0, 1.2 * (1.0 + width), Some(1.2)),
+                (5.0, 1.6 * (1.0 + width), Some(1.6)),
+            ]];
+            fig.lpc = vec![vec![(2.0, 1.2 * (1.0 + width)), (5.0, 1.6 * (1.0 + width))]];
+            assert_eq!(band_is_thin(&fig, y_range(&fig)), thin, "{width}");
+        }
+    }
+
+    #[test]
+    fn rendering_never_fails_on_awkward_diagrams() {
+        let dir = std::env::temp_dir().join(format!("stickslip-stab-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut thin = figure(vec![(0.1, 2.4e5), (30.0, 2.3e5), (100.0, 2.6e5)]);
+        thin.bistable = vec![vec![
+            (30.0, 2.3e5 * 1.002, Some(2.3e5)),
+            (60.0, 2.4e5 * 1.001, Some(2.4e5)),
+        ]];
+        thin.lpc = vec![vec![(30.0, 2.3e5 * 1.002), (60.0, 2.4e5 * 1.001)]];
+        thin.markers = vec![("Bautin (l1 = 0)".into(), 30.0, 2.3e5)];
+        let mut empty = figure(Vec::new());
+        empty.segments.clear();
+        empty.notes = vec![Note {
+            text: "velocity strengthening over the whole range: stable for every stiffness".into(),
+            span: None,
+        }];
+        let mut plunge = figure(vec![(0.1, 1e5), (10.0, 1e3), (16.0, 1e-30)]);
+        plunge.vlines = vec![("κ_c → 0".into(), 16.0)];
+        plunge.notes = vec![Note {
+            text: "velocity strengthening for V = 16 .. 100 µm/s: stable for every stiffness"
+                .into(),
+            span: Some((16.0, 100.0)),
+        }];
+        for (i, fig) in [thin, empty, plunge, figure(vec![(1.0, 5.0)])]
+            .iter()
+            .enumerate()
+        {
+            let files = render(fig, &dir.join(format!("f{i}"))).unwrap();
+            assert_eq!(files.len(), 2);
+            assert!(std::fs::metadata(&files[0]).unwrap().len() > 1000);
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

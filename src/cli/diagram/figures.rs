@@ -6,7 +6,7 @@ use super::super::Setup;
 use crate::analysis::diagram::StabilityDiagram;
 use crate::appendix_c;
 use crate::error::Error;
-use crate::plot::stability::{render, segments, StabilityFigure};
+use crate::plot::stability::{render, segments, Note, StabilityFigure};
 use std::path::{Path, PathBuf};
 
 /// One pair of axes: how `(nu, kappa)` map to the plotted coordinates.
@@ -125,8 +125,16 @@ pub(super) fn write_figures(
                 c.iter()
                     .map(|p| {
                         // Below the Hopf curve steady sliding is unstable: the
-                        // region ends there (where the curve exists at this velocity).
-                        let lower = hopf_kappa_at(d, p.nu).map(|k| fy(k.min(p.kappa)));
+                        // region ends there (where the curve exists at this
+                        // velocity), at kappa_c of Appendix C (the Hopf
+                        // condition in closed form, which the computed curve
+                        // matches to rounding; interpolating that curve was
+                        // off by 5e-5 relative, as much as the band's width
+                        // near a Bautin point).
+                        let mut at = setup.params;
+                        at.nu = p.nu;
+                        let kappa_c = appendix_c::critical_stiffness(&at);
+                        let lower = (kappa_c > 0.0).then(|| fy(kappa_c.min(p.kappa)));
                         (fx(p.nu), fy(p.kappa), lower)
                     })
                     .collect()
@@ -151,7 +159,7 @@ pub(super) fn write_figures(
             lpc,
             bistable,
             x_range: (fx(lo), fx(hi)),
-            notes: strengthening_notes(d, &|a, b| x_span(fx(a), fx(b))),
+            notes: strengthening_notes(d, &fx, &x_span),
         };
         files.extend(
             render(&fig, &with_suffix(stem, suffix))
@@ -161,35 +169,29 @@ pub(super) fn write_figures(
     Ok(files)
 }
 
-/// `kappa_c` of the Hopf curve at `nu`, interpolated linearly in
-/// `(ln nu, ln kappa)`; `None` outside the curve or where `kappa_c -> 0`.
-fn hopf_kappa_at(d: &StabilityDiagram, nu: f64) -> Option<f64> {
-    d.points
-        .windows(2)
-        .find(|w| (w[0].nu - nu) * (w[1].nu - nu) <= 0.0 && w[0].kappa > 0.0 && w[1].kappa > 0.0)
-        .map(|w| {
-            let f = (nu / w[0].nu).ln() / (w[1].nu / w[0].nu).ln();
-            let f = if f.is_finite() { f } else { 0.0 };
-            (w[0].kappa.ln() + f * (w[1].kappa / w[0].kappa).ln()).exp()
-        })
-}
-
 /// The plot's words on velocity strengthening: the whole range, or each
-/// stretch of it (in the axes' velocity unit).
-fn strengthening_notes(d: &StabilityDiagram, span: &dyn Fn(f64, f64) -> String) -> Vec<String> {
+/// stretch of it (over its velocities `fx`, in words by `span`).
+fn strengthening_notes(
+    d: &StabilityDiagram,
+    fx: &dyn Fn(f64) -> f64,
+    span: &dyn Fn(f64, f64) -> String,
+) -> Vec<Note> {
     if d.points.is_empty() && !d.strengthening.is_empty() {
-        return vec![
-            "velocity strengthening over the whole range (μ_φ ≤ μ_v):".to_string(),
-            "steady sliding stable for every stiffness, no Hopf point".to_string(),
-        ];
+        return vec![Note {
+            text: "velocity strengthening over the whole range (μ_φ ≤ μ_v): steady sliding \
+                   stable for every stiffness, no Hopf point"
+                .to_string(),
+            span: None,
+        }];
     }
     d.strengthening
         .iter()
-        .map(|&(a, b)| {
-            format!(
+        .map(|&(a, b)| Note {
+            text: format!(
                 "velocity strengthening for {}: stable for every stiffness",
-                span(a, b)
-            )
+                span(fx(a), fx(b))
+            ),
+            span: Some((fx(a), fx(b))),
         })
         .collect()
 }
