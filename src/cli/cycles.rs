@@ -12,6 +12,7 @@ use crate::analysis::cycles::{
 };
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::appendix_c;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Param;
@@ -525,7 +526,7 @@ fn fold_curves(
             "Folds of cycles (hysteresis boundary), {}: stick-slip coexists with steady sliding below",
             setup.scene.name
         ),
-        x_label: "driving velocity V [um/s]".into(),
+        x_label: "driving velocity V [µm/s]".into(),
         y_label: "K/W [1/m]".into(),
         log_x: true,
         log_y: true,
@@ -539,10 +540,11 @@ fn fold_curves(
                     .iter()
                     .map(|p| (u.velocity_um_s(p.nu), u.k_over_w(p.kappa)))
                     .collect(),
-                color: RGBColor(120, 40, 160),
+                color: FOLD_COLOR,
                 dashed: false,
                 markers: false,
             })
+            .chain(hopf_reference(setup, &curves))
             .collect(),
     };
     files.extend(
@@ -550,6 +552,33 @@ fn fold_curves(
             .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
     );
     Ok((curves, files))
+}
+
+/// The Hopf curve over the velocities of the fold curves, for the figure:
+/// `kappa_c` of Appendix C (the Hopf condition in closed form) at 200
+/// velocities, where it is positive; `None` without fold curves.
+fn hopf_reference(setup: &Setup, curves: &LpcCurves) -> Option<Series> {
+    let nus = curves.points.iter().flatten().map(|p| p.nu);
+    let (lo, hi) = nus.fold((f64::INFINITY, 0.0f64), |(a, b), nu| (a.min(nu), b.max(nu)));
+    if !(lo.is_finite() && hi > lo) {
+        return None;
+    }
+    let u = setup.scene.units;
+    let points = (0..200)
+        .filter_map(|i| {
+            let mut at = setup.params;
+            at.nu = lo * (hi / lo).powf(i as f64 / 199.0);
+            let kappa_c = appendix_c::critical_stiffness(&at);
+            (kappa_c > 0.0).then(|| (u.velocity_um_s(at.nu), u.k_over_w(kappa_c)))
+        })
+        .collect();
+    Some(Series {
+        label: Some("Hopf curve (critical stiffness, Appendix C)".into()),
+        points,
+        color: RGBColor(31, 90, 180),
+        dashed: false,
+        markers: false,
+    })
 }
 
 /// `gauss` or `radau`.
@@ -773,7 +802,8 @@ fn write_figures(
     };
     let bar = Colorbar::over("K/W [1/m]", picks.iter().map(|c| u.k_over_w(c.kappa)));
     // One curve per picked cycle, mapping each sample (t/T, s, v, theta) to
-    // a point, coloured by its stiffness; unstable cycles dashed.
+    // a point, coloured by its stiffness; unstable cycles dashed (not those
+    // whose stability the multipliers cannot decide).
     let per_cycle = |point: &SamplePoint| -> Vec<Series> {
         picks
             .iter()
@@ -781,7 +811,7 @@ fn write_figures(
                 label: None,
                 points: c.samples.iter().map(|p| point(c, p)).collect(),
                 color: bar.color(u.k_over_w(c.kappa)),
-                dashed: c.stability != Stability::Stable,
+                dashed: c.stability == Stability::Unstable,
                 markers: false,
             })
             .collect()

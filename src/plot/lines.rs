@@ -38,6 +38,8 @@ pub struct Colorbar {
     pub label: String,
     /// The values at the two ends of the scale.
     pub range: (f64, f64),
+    /// Logarithmic (values over more than a decade, all positive).
+    pub log: bool,
 }
 
 impl Colorbar {
@@ -49,9 +51,11 @@ impl Colorbar {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
                 (a.min(v), b.max(v))
             });
+        let range = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
         Colorbar {
             label: label.into(),
-            range: if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) },
+            range,
+            log: range.0 > 0.0 && range.1 > 10.0 * range.0,
         }
     }
 
@@ -60,7 +64,7 @@ impl Colorbar {
     pub fn color(&self, value: f64) -> RGBColor {
         let (lo, hi) = self.range;
         let t = if hi > lo {
-            (value - lo) / (hi - lo)
+            unit(value, lo, hi, self.log)
         } else {
             0.5
         };
@@ -451,36 +455,65 @@ fn draw_colorbar<DB: DrawingBackend>(
         let half = if lo != 0.0 { 0.05 * lo.abs() } else { 1.0 };
         (lo - half, hi + half)
     };
-    let axis = Axis::over(lo, hi, false);
-    let mut chart = ChartBuilder::on(area)
-        .margin_top(18 + 30)
-        .margin_bottom(18 + 55)
-        .margin_right(40)
-        .y_label_area_size(80)
-        .build_cartesian_2d(0.0..1.0, lo..hi)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .disable_x_mesh()
-        .disable_y_mesh()
-        .disable_x_axis()
-        .y_desc(bar.label.as_str())
-        .y_label_formatter(&|v| axis.label(*v))
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 19))
-        .draw()
-        .map_err(e)?;
+    let axis = Axis::over(lo, hi, bar.log);
+    let builder = |area| {
+        let mut b = ChartBuilder::on(area);
+        b.margin_top(18 + 30)
+            .margin_bottom(18 + 55)
+            .margin_right(40)
+            .y_label_area_size(80);
+        b
+    };
+    // The strip in unit steps of the scale (log or linear), labelled on its axis.
     let n = 200;
-    chart
-        .draw_series((0..n).map(|i| {
-            let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
-            let color = viridis((a + b) / 2.0 * LINE_END);
-            Rectangle::new(
-                [(0.0, lo + a * (hi - lo)), (1.0, lo + b * (hi - lo))],
-                color.filled(),
-            )
-        }))
-        .map_err(e)?;
+    let strip = (0..n).map(|i| {
+        let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+        let at = |t: f64| {
+            if bar.log {
+                lo * (hi / lo).powf(t)
+            } else {
+                lo + t * (hi - lo)
+            }
+        };
+        Rectangle::new(
+            [(0.0, at(a)), (1.0, at(b))],
+            viridis((a + b) / 2.0 * LINE_END).filled(),
+        )
+    });
+    let label = |v: &f64| axis.label(*v);
+    if bar.log {
+        let mut chart = builder(area)
+            .build_cartesian_2d(0.0..1.0, log_axis(lo, hi))
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .disable_y_mesh()
+            .disable_x_axis()
+            .y_desc(bar.label.as_str())
+            .y_label_formatter(&label)
+            .label_style((FONT, 16))
+            .axis_desc_style((FONT, 19))
+            .draw()
+            .map_err(e)?;
+        chart.draw_series(strip).map_err(e)?;
+    } else {
+        let mut chart = builder(area)
+            .build_cartesian_2d(0.0..1.0, lo..hi)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .disable_y_mesh()
+            .disable_x_axis()
+            .y_desc(bar.label.as_str())
+            .y_label_formatter(&label)
+            .label_style((FONT, 16))
+            .axis_desc_style((FONT, 19))
+            .draw()
+            .map_err(e)?;
+        chart.draw_series(strip).map_err(e)?;
+    }
     Ok(())
 }
 
