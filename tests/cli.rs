@@ -484,7 +484,7 @@ fn simulate_every_keeps_the_extremes_of_the_full_run() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{err}");
-        let text = std::fs::read_to_string(out.join("pmma-simulation.csv")).unwrap();
+        let text = std::fs::read_to_string(out.join("pmma_kappa=0.009-simulation.csv")).unwrap();
         let rows: Vec<Vec<f64>> = text
             .lines()
             .skip(1)

@@ -334,7 +334,8 @@ fn an_underflowing_velocity_is_written_from_its_logarithm_within_bounds() {
     // The case of the issue: the velocity falls below the range of f64.
     assert!(smallest < -308.0, "smallest log10 v = {smallest}");
     for fig in ["-velocity.png", "-velocity.svg", "-spring-force.png"] {
-        assert!(std::fs::metadata(dir.join(format!("pmma-simulation{fig}"))).is_ok());
+        let name = format!("pmma_kappa=0.005_mu2=1-simulation{fig}");
+        assert!(std::fs::metadata(dir.join(name)).is_ok());
     }
 }
 

@@ -91,7 +91,7 @@ fn ctrl_c_keeps_the_cycles_computed_so_far() {
     let dir = out_dir("interrupt-cycles");
     let out = dir.to_str().unwrap();
     // Interrupt once a few cycles are on disk (rows are written as computed).
-    let csv_path = dir.join("pmma-cycles.csv");
+    let csv_path = dir.join("pmma_m=0.01-cycles.csv");
     let args = [
         "cycles",
         "--set",
@@ -118,7 +118,7 @@ fn ctrl_c_keeps_the_cycles_computed_so_far() {
         "every row matches the header"
     );
     assert!(
-        dir.join("pmma-cycles-amplitude.png").exists(),
+        dir.join("pmma_m=0.01-cycles-amplitude.png").exists(),
         "figures of the computed cycles"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -131,7 +131,7 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     // Stick-slip for 200 x 1500 s, several seconds of computing; interrupted
     // once rows are on disk.
     let protocol = vec!["1:1500"; 200].join(",");
-    let csv_path = dir.join("pmma-simulation.csv");
+    let csv_path = dir.join("pmma_kappa=0.009-simulation.csv");
     let args = [
         "simulate",
         "--set",
@@ -183,8 +183,8 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     let last = values.last().unwrap()[0];
     assert!((last / reached - 1.0).abs() < 1e-6, "{last} vs {err}");
     for f in [
-        "pmma-simulation-velocity.png",
-        "pmma-simulation-spring-force.svg",
+        "pmma_kappa=0.009-simulation-velocity.png",
+        "pmma_kappa=0.009-simulation-spring-force.svg",
     ] {
         assert!(dir.join(f).exists(), "figure {f} of the computed part");
     }

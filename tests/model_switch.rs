@@ -148,7 +148,7 @@ fn simulate_chooses_and_switches_the_model_from_the_velocities() {
         stdout.contains("switched to the inertial model at t ="),
         "{stdout}"
     );
-    let csv = std::fs::read_to_string(dir.join("pmma-simulation.csv")).unwrap();
+    let csv = std::fs::read_to_string(dir.join("pmma_kappa=0.009-simulation.csv")).unwrap();
     let models: Vec<&str> = csv
         .lines()
         .skip(1)
@@ -165,6 +165,9 @@ fn simulate_chooses_and_switches_the_model_from_the_velocities() {
         "1e6:1e-3",
         "--out",
         out,
+        // Same scene and overrides as the run above, another protocol.
+        "--name",
+        "fast-protocol",
     ]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("model: inertial"), "{stdout}");

@@ -124,6 +124,8 @@ fn a_hopf_curve_cut_by_the_step_limit_is_partial() {
         "--json",
         "--out",
         dir.to_str().unwrap(),
+        // The same run as above, as JSON: its files are replaced.
+        "--force",
     ]);
     assert_eq!(code, 4, "{err}");
     let v: Value = serde_json::from_str(&out).unwrap();
@@ -179,15 +181,17 @@ fn a_simulation_cut_by_the_step_limit_is_partial() {
         "{err}"
     );
     assert!(out.contains("10 steps"), "{out}");
-    let csv = std::fs::read_to_string(dir.join("pmma-simulation.csv")).unwrap();
+    let csv = std::fs::read_to_string(dir.join("pmma_kappa=0.009-simulation.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 10);
-    // The whole default protocol is delivered without the limit.
+    // The whole default protocol is delivered without the limit (the same
+    // run again, its files replaced).
     let (code, _, err) = stickslip(&[
         "simulate",
         "--set",
         "kappa=0.009",
         "--out",
         dir.to_str().unwrap(),
+        "--force",
     ]);
     assert_eq!(code, 0, "{err}");
 }

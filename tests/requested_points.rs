@@ -136,6 +136,8 @@ fn requested_points_are_delivered_or_explained() {
         "0.02",
         "--out",
         out,
+        // The same run as above, as text: its files are replaced.
+        "--force",
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(

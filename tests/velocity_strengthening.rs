@@ -132,7 +132,7 @@ fn diagram_cli_answers_velocity_strengthening() {
         v["velocity_strengthening"][0]["nu_from"].as_f64(),
         Some(0.1)
     );
-    assert!(dir.join("pmma-stability-physical.png").exists());
+    assert!(dir.join("pmma_A=0.03-stability-physical.png").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -168,7 +168,15 @@ fn cycles_cli_answers_an_empty_branch_with_a_reason() {
         .unwrap()
         .contains("velocity strengthening"));
     let (code, text, err) =
-        stickslip(&["cycles", "--set", "A=0.03", "--out", dir.to_str().unwrap()]);
+        // The same run as above, as text: its files are replaced.
+        stickslip(&[
+            "cycles",
+            "--set",
+            "A=0.03",
+            "--out",
+            dir.to_str().unwrap(),
+            "--force",
+        ]);
     assert_eq!(code, 0, "{err}");
     assert!(
         text.contains("no cycles: steady sliding is stable"),

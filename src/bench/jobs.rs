@@ -6,6 +6,7 @@ use crate::analysis::diagram::hopf_curve;
 use crate::analysis::hopf::{find_hopf, HopfOutcome};
 use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use crate::cli::diagram::DiagramArgs;
+use crate::cli::files::OutputArgs;
 use crate::cli::SceneArgs;
 use crate::error::{Error, NumericalError};
 use crate::model::ModelKind;
@@ -197,7 +198,7 @@ impl Job {
                 if tally {
                     stems
                         .iter()
-                        .map(|s| curve_points(&args.out, s))
+                        .map(|s| curve_points(&args.output.out, s))
                         .sum::<Result<usize, Error>>()
                         .map(points)
                 } else {
@@ -242,7 +243,12 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
         args: DiagramArgs {
             scene: scene_args(scenes, &[]),
             nu_range: None,
-            out: dir.0.clone(),
+            output: OutputArgs {
+                out: dir.0.clone(),
+                name: None,
+                // Each repetition of the job writes the same files again.
+                force: true,
+            },
             json: false,
             max_steps: crate::analysis::diagram::DEFAULT_CURVE_STEPS,
         },

@@ -3,7 +3,7 @@
 //! stiffness; the bifurcation diagram, orbits and time series.
 
 use super::cycle_start::Start;
-use super::files::with_suffix;
+use super::files::{with_suffix, OutputArgs};
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup};
 use crate::analysis::cycles::{
@@ -71,9 +71,8 @@ pub struct CyclesArgs {
     /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
     pub at_kappa: Vec<f64>,
-    /// Output directory for figures and data.
-    #[arg(long, default_value = "out")]
-    pub out: PathBuf,
+    #[command(flatten)]
+    pub output: OutputArgs,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
@@ -189,11 +188,16 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let points = args
         .collocation
         .map_or(collocation_for(setup.choice.kind), Into::into);
+    args.output.create_dir()?;
+    let stem = with_suffix(
+        &args
+            .output
+            .stem(&setup.scene.name, &args.scene, "-cycles.csv")?,
+        "-cycles",
+    );
     if !args.json {
         println!("{}", numerics(points, args.collocation.is_some(), &setup));
     }
-    crate::cli::files::create_dir(&args.out)?;
-    let stem = with_suffix(&super::files::stem(&args.out, &setup.scene.name), "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
     let mut csv = crate::cli::files::create_file(&csv_path)?;
     writeln!(

@@ -1,6 +1,11 @@
-//! Output files: names `<out>/<scene>-<what>.<ext>`, and their creation
-//! with errors that name the path.
+//! Output files: names `<out>/<run>-<what>.<ext>` (the run named by its
+//! scene and overrides, or `--name`), never replacing an earlier run's
+//! without `--force`, and their creation with errors that name the path.
 
+use super::SceneArgs;
+use crate::error::InputError;
+use crate::model::ModelKind;
+use clap::Args;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -27,13 +32,73 @@ pub fn write(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
     std::fs::write(path, contents).map_err(|e| at_path(path, e))
 }
 
-/// `<out>/<scene>`, with every character of the scene name that is not a
-/// letter, digit, `-` or `_` replaced by `_` (a scene name never leaves `out`).
-pub fn stem(out: &Path, scene: &str) -> PathBuf {
-    let safe: String = scene
+/// Where a command writes and under which name.
+#[derive(Args, Debug, Clone)]
+pub struct OutputArgs {
+    /// Output directory for figures and data.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Name of the output files, instead of the scene's name followed by
+    /// the --set overrides and a forced --model (e.g. pmma_kappa=0.009_m=0.01).
+    #[arg(long)]
+    pub name: Option<String>,
+    /// Replace the files of an earlier run of the same name (without it the
+    /// run stops before computing, naming the file that exists).
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl OutputArgs {
+    /// The output folder `out` (and its parents), created.
+    pub fn create_dir(&self) -> std::io::Result<()> {
+        create_dir(&self.out)
+    }
+
+    /// `<out>/<run>`, the stem of the files of a run on the scene named
+    /// `scene` with the overrides and forced model of `args` (see
+    /// [`run_name`]), or `<out>/<--name>`. Refuses (naming the file) when
+    /// `<stem><first>` exists, `first` being the suffix of the run's first
+    /// file, unless `--force`.
+    pub fn stem(&self, scene: &str, args: &SceneArgs, first: &str) -> Result<PathBuf, InputError> {
+        let model = args.model.map(|m| ModelKind::from(m).name());
+        let name = match &self.name {
+            Some(name) => name.clone(),
+            None => run_name(scene, &args.set, model),
+        };
+        let stem = stem(&self.out, &name);
+        let first = with_suffix(&stem, first);
+        if first.exists() && !self.force {
+            return Err(InputError::Conflict(format!(
+                "{} exists (an earlier run of the same name): --force replaces its \
+                 files, --name NAME writes under another name",
+                first.display()
+            )));
+        }
+        Ok(stem)
+    }
+}
+
+/// The name of a run: the scene's, then each override `NAME=VALUE` and a
+/// forced model, joined by `_` (`pmma_kappa=0.009_m=0.01_inertial`).
+pub fn run_name(scene: &str, set: &[String], model: Option<&str>) -> String {
+    let mut name = scene.to_string();
+    for part in set.iter().map(String::as_str).chain(model) {
+        name.push('_');
+        name.push_str(part.trim());
+    }
+    name
+}
+
+/// `<out>/<name>`, with every character of the name that is not a letter, a
+/// digit or one of `- _ = . +` replaced by `_`, and a leading dot too (a
+/// name never leaves `out`).
+pub fn stem(out: &Path, name: &str) -> PathBuf {
+    let safe: String = name
         .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+        .enumerate()
+        .map(|(i, c)| {
+            let allowed = c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '=' | '+');
+            if allowed || (c == '.' && i > 0) {
                 c
             } else {
                 '_'
@@ -69,10 +134,56 @@ mod tests {
 
     #[test]
     fn scene_names_stay_inside_the_output_folder() {
-        assert_eq!(stem(Path::new("out"), "../x"), PathBuf::from("out/___x"));
+        assert_eq!(stem(Path::new("out"), "../x"), PathBuf::from("out/_._x"));
+        assert_eq!(stem(Path::new("out"), ".."), PathBuf::from("out/_."));
         assert_eq!(
             with_suffix(&stem(Path::new("o"), "my.v2"), ".png"),
-            PathBuf::from("o/my_v2.png")
+            PathBuf::from("o/my.v2.png")
         );
+    }
+
+    #[test]
+    fn runs_are_named_by_their_overrides_and_never_overwritten() {
+        let set = vec!["kappa=0.009".to_string(), "m=1e-2".to_string()];
+        assert_eq!(
+            run_name("pmma", &set, Some("inertial")),
+            "pmma_kappa=0.009_m=1e-2_inertial"
+        );
+        assert_eq!(run_name("pmma", &[], None), "pmma");
+        let dir = std::env::temp_dir().join(format!("stickslip-names-{}", std::process::id()));
+        let mut args = OutputArgs {
+            out: dir.clone(),
+            name: None,
+            force: false,
+        };
+        args.create_dir().unwrap();
+        let scene = SceneArgs {
+            scene: "pmma".into(),
+            set: set.clone(),
+            model: None,
+            inertia_threshold: 1e-3,
+        };
+        let plain = SceneArgs {
+            set: Vec::new(),
+            ..scene.clone()
+        };
+        let stem = args.stem("pmma", &scene, "-cycles.csv").unwrap();
+        assert_eq!(stem, dir.join("pmma_kappa=0.009_m=1e-2"));
+        write(&with_suffix(&stem, "-cycles.csv"), "x").unwrap();
+        let e = args.stem("pmma", &scene, "-cycles.csv").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("pmma_kappa=0.009_m=1e-2-cycles.csv exists"),
+            "{e}"
+        );
+        assert!(args.stem("pmma", &plain, "-cycles.csv").is_ok());
+        args.force = true;
+        assert!(args.stem("pmma", &scene, "-cycles.csv").is_ok());
+        args.name = Some("mine".into());
+        assert_eq!(
+            args.stem("pmma", &scene, "-cycles.csv").unwrap(),
+            dir.join("mine")
+        );
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

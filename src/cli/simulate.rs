@@ -3,6 +3,7 @@
 //! Rows are written as they are computed; a bar shows the simulated time on
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
 
+use super::files::OutputArgs;
 use super::SceneArgs;
 use crate::analysis::decimate::{Buckets, Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
@@ -31,9 +32,8 @@ pub struct SimulateArgs {
     /// Integrator relative tolerance.
     #[arg(long, default_value_t = 1e-8)]
     pub rtol: f64,
-    /// Output directory.
-    #[arg(long, default_value = "out")]
-    pub out: PathBuf,
+    #[command(flatten)]
+    pub output: OutputArgs,
     /// Most integrator steps (CSV rows) over the whole protocol; a run cut
     /// short by it keeps its rows and figures and exits with status 4
     /// (partial). Also bounds the CSV: about 100 bytes per row.
@@ -145,9 +145,11 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     start_params.nu = nu0;
     let s0 = start_params.friction().steady(nu0);
     let start = [s0, nu0, (1.0 + args.perturb) / nu0];
-    crate::cli::files::create_dir(&args.out)?;
+    args.output.create_dir()?;
     let stem = super::files::with_suffix(
-        &super::files::stem(&args.out, &setup.scene.name),
+        &args
+            .output
+            .stem(&setup.scene.name, &args.scene, "-simulation.csv")?,
         "-simulation",
     );
     let csv_path = super::files::with_suffix(&stem, ".csv");

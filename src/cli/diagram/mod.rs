@@ -5,6 +5,7 @@
 mod figures;
 
 use super::files::with_suffix;
+use super::files::OutputArgs;
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, significant, SceneArgs, Setup};
 use crate::analysis::diagram::{stability_diagram_with, StabilityDiagram, DEFAULT_CURVE_STEPS};
@@ -25,9 +26,8 @@ pub struct DiagramArgs {
     /// Velocity range as LO:HI in units of V0 (dimensionless nu); default: the scene's V_range.
     #[arg(long, value_name = "LO:HI")]
     pub nu_range: Option<String>,
-    /// Output directory for figures, CSV and JSON.
-    #[arg(long, default_value = "out")]
-    pub out: PathBuf,
+    #[command(flatten)]
+    pub output: OutputArgs,
     /// Print one JSON object (an array for several scenes) instead of text.
     #[arg(long)]
     pub json: bool,
@@ -83,7 +83,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
         }
     }
     let range = args.nu_range.as_deref().map(parse_range).transpose()?;
-    crate::cli::files::create_dir(&args.out)?;
+    args.output.create_dir()?;
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress(&format!("{} scene(s)", names.len()));
     let finished = std::sync::atomic::AtomicUsize::new(0);
@@ -184,6 +184,9 @@ fn one_scene(
         q.nu = hi;
         q
     })?;
+    let stem = args
+        .output
+        .stem(&setup.scene.name, &args.scene, "-diagram.json")?;
     let diagram =
         stability_diagram_with(setup.choice.kind, &setup.params, (lo, hi), args.max_steps)?;
     if diagram.points.iter().any(|p| {
@@ -194,7 +197,6 @@ fn one_scene(
         ))
         .into());
     }
-    let stem = super::files::stem(&args.out, &setup.scene.name);
     let mut files = write_csv(&setup, &diagram, &stem)?;
     files.extend(write_figures(&setup, &diagram, (lo, hi), &stem)?);
     let mut result = SceneResult {
