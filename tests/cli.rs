@@ -525,3 +525,58 @@ fn simulate_every_keeps_the_extremes_of_the_full_run() {
     assert_eq!(thin.last().unwrap()[0], full.last().unwrap()[0]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `cycles` writes its text lines in physical units by default and in
+/// dimensionless ones with `--units dimensionless`; the CSV carries both,
+/// related by the scene's D0 and V0 (pmma: 0.4 um, 1 um/s).
+#[test]
+fn cycles_text_and_csv_in_both_units() {
+    let dir = common::temp_dir("units");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "cycles",
+        "--kappa-fraction",
+        "0.99",
+        "--out",
+        out,
+        "--force",
+    ];
+    let (code, physical, err) = stickslip(&args);
+    assert_eq!(code, 0, "{err}");
+    let mut dimensionless_args = args.to_vec();
+    dimensionless_args.extend(["--units", "dimensionless"]);
+    let (code, dimensionless, err) = stickslip(&dimensionless_args);
+    assert_eq!(code, 0, "{err}");
+    let first = |text: &str, start: &str| {
+        text.lines()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("no line starting {start}: {text}"))
+            .split_whitespace()
+            .nth(1)
+            .unwrap()
+            .parse::<f64>()
+            .unwrap()
+    };
+    let (k_over_w, kappa) = (first(&physical, "K/W "), first(&dimensionless, "kappa "));
+    assert!(physical.contains(" s  Delta_s") && physical.contains(" µm/s"));
+    let csv = std::fs::read_to_string(dir.join("pmma-cycles.csv")).unwrap();
+    let mut rows = csv.lines().skip_while(|l| !l.starts_with("kappa,"));
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (d0, v0) = (0.4e-6, 1e-6);
+    for row in rows.filter(|l| !l.starts_with('#')) {
+        let cell: Vec<f64> = row
+            .split(',')
+            .map(|x| x.parse().unwrap_or(f64::NAN))
+            .collect();
+        let rel = |a: f64, b: f64| ((a - b) / b).abs();
+        assert!(rel(cell[col("K_over_W_per_m")], cell[col("kappa")] / d0) < 1e-14);
+        assert!(rel(cell[col("period_s")], cell[col("period")] * d0 / v0) < 1e-14);
+        assert!(rel(cell[col("v_max_um_per_s")], cell[col("v_max")] * 1.0) < 1e-14);
+    }
+    assert!(
+        ((k_over_w * d0 - kappa) / kappa).abs() < 1e-7,
+        "{k_over_w} {kappa}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

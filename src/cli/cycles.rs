@@ -20,7 +20,8 @@ use crate::plot::lines::{
     render, render_family, vertical_marker, Colorbar, LineFigure, Series, SWITCH_MARKER,
 };
 use crate::plot::PlotError;
-use clap::Args;
+use crate::scene::Units;
+use clap::{Args, ValueEnum};
 use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
 use serde_json::{json, Value};
@@ -76,6 +77,11 @@ pub struct CyclesArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Units of the text lines: physical (K/W in 1/m, period in s, slip
+    /// velocity in µm/s) or dimensionless (kappa, period in D0/V0, v/V0).
+    /// The CSV and the JSON carry both.
+    #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
+    pub units: TextUnits,
 }
 
 /// `--collocation` values.
@@ -199,6 +205,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         println!("{}", numerics(points, args.collocation.is_some(), &setup));
     }
     let csv_path = with_suffix(&stem, ".csv");
+    let units = setup.scene.units;
     let mut csv = crate::cli::files::create_file(&csv_path)?;
     writeln!(
         csv,
@@ -210,7 +217,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     )?;
     writeln!(
         csv,
-        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point,model,inertial_imbalance"
+        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point,model,inertial_imbalance,K_over_W_per_m,period_s,v_min_um_per_s,v_max_um_per_s"
     )?;
     let kappa_ref = start.reference_kappa();
     let mut req = CycleRequest {
@@ -260,24 +267,17 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             switch = Some(sw);
         }
         for u in &c.user {
-            write_row(&mut csv, u)?;
+            write_row(&mut csv, u, &units)?;
             if !args.json {
-                println!(
-                    "  user point kappa = {:.10e}: period {:.10e}, Delta_s {:.10e}",
-                    u.kappa, u.period, u.delta_s
-                );
+                println!("  user point {}", args.units.cycle(u, &units));
             }
             records.push(u.clone());
         }
-        write_row(&mut csv, c)?;
+        write_row(&mut csv, c, &units)?;
         if !args.json {
             println!(
-                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}  {}  |mu_1 - 1| {}  err {}  NTST {}",
-                c.kappa,
-                c.period,
-                c.delta_s,
-                c.v_min,
-                c.v_max,
+                "{}  {}  |mu_1 - 1| {}  err {}  NTST {}",
+                args.units.cycle(c, &units),
                 c.stability_word(),
                 or_na(c.trivial_error, "Floquet pencil singular to rounding"),
                 or_na(c.error_estimate, "no solution on half the mesh"),
@@ -285,17 +285,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             );
         }
         for (kind, l) in c.special_points().filter(|_| !args.json) {
-            let name = match kind {
-                "lpc" => "fold of cycles (LPC)",
-                "pd" => "period doubling (PD)",
-                _ => "torus bifurcation (NS)",
-            };
             println!(
-                "  {name} at kappa = {:.10e} (K/W = {:.6e} 1/m): period {:.6e}, Delta_s {:.6e}",
-                l.kappa,
-                setup.scene.units.k_over_w(l.kappa),
-                l.period,
-                l.delta_s
+                "  {} at {}",
+                special_point_label(kind),
+                args.units.cycle(l, &units)
             );
         }
         records.push(c.clone());
@@ -624,10 +617,10 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
 }
 
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.
-fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
+fn write_row(csv: &mut impl Write, c: &CycleRecord, u: &Units) -> Result<(), Error> {
     writeln!(
         csv,
-        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{},{},{},{},{},{:.3e}",
+        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{},{},{},{},{},{:.3e},{:.15e},{:.15e},{:.15e},{:.15e}",
         c.kappa,
         c.period,
         c.delta_s,
@@ -647,7 +640,11 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord) -> Result<(), Error> {
         c.ntst,
         c.user_point,
         c.model.name(),
-        c.inertial_imbalance
+        c.inertial_imbalance,
+        u.k_over_w(c.kappa),
+        c.period * u.d0 / u.v0,
+        u.velocity_um_s(c.v_min),
+        u.velocity_um_s(c.v_max)
     )?;
     csv.flush()?;
     Ok(())
@@ -666,8 +663,38 @@ const NS_COLOR: RGBColor = RGBColor(20, 150, 150);
 fn special_point_label(kind: &str) -> &'static str {
     match kind {
         "lpc" => "fold of cycles (LPC)",
-        "pd" => "period doubling",
-        _ => "torus (Neimark-Sacker)",
+        "pd" => "period doubling (PD)",
+        _ => "torus bifurcation (NS)",
+    }
+}
+
+/// Units of the text output of `cycles`.
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextUnits {
+    /// K/W in 1/m, period in s, slip velocity in µm/s.
+    Physical,
+    /// kappa, period in D0/V0, v/V0 (docs/model.md).
+    Dimensionless,
+}
+
+impl TextUnits {
+    /// A cycle in these units: stiffness, period, `Delta_s` (a friction
+    /// coefficient either way) and the range of the slip velocity.
+    fn cycle(self, c: &CycleRecord, u: &Units) -> String {
+        match self {
+            TextUnits::Physical => format!(
+                "K/W {:.8e} 1/m  period {:.6e} s  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s",
+                u.k_over_w(c.kappa),
+                c.period * u.d0 / u.v0,
+                c.delta_s,
+                u.velocity_um_s(c.v_min),
+                u.velocity_um_s(c.v_max)
+            ),
+            TextUnits::Dimensionless => format!(
+                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",
+                c.kappa, c.period, c.delta_s, c.v_min, c.v_max
+            ),
+        }
     }
 }
 
