@@ -213,15 +213,24 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     }
     // Whatever was computed is kept and drawn, also after Ctrl-C or a failure.
     let switch = run.as_ref().ok().and_then(|end| end.switch);
+    // A run that did not reach the end of its protocol says so in its figures.
+    let t_reached = traj.t.last().copied().unwrap_or(0.0) * time_unit;
+    let cut = match &run {
+        Ok(end) if end.stopped && step_limit => Some("stopped by --max-steps"),
+        Ok(end) if end.stopped => Some("interrupted"),
+        Ok(_) => None,
+        Err(_) => Some("failed"),
+    };
+    let name = match cut {
+        Some(why) => format!(
+            "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
+            setup.scene.name,
+            t_end * time_unit
+        ),
+        None => setup.scene.name.clone(),
+    };
     let figs = if traj.t.len() >= 2 {
-        figures(
-            &setup.scene.name,
-            &traj,
-            &protocol,
-            &u,
-            &stem,
-            switch.map(|s| s.t),
-        )?
+        figures(&name, &traj, &protocol, &u, &stem, switch.map(|s| s.t))?
     } else {
         Vec::new()
     };
