@@ -132,7 +132,8 @@ impl<S: VectorField> VectorField for Counted<S> {
         self.inner.observable(k, x, p)
     }
     fn jacobian(&self, x: &[f64], p: &[f64], jac: &mut DMatrix<f64>) {
-        self.counts.add(eval_kind::<num_dual::Dual64>(), self.dim() as u64);
+        self.counts
+            .add(eval_kind::<num_dual::Dual64>(), self.dim() as u64);
         self.inner.jacobian(x, p, jac);
     }
 }
@@ -266,7 +267,10 @@ mod tests {
         for _ in 0..3 {
             assert_eq!(jacobian(&c, &x, &p), jacobian(&Toy, &x, &p));
         }
-        assert_eq!(param_derivative(&c, &x, &p, 0), param_derivative(&Toy, &x, &p, 0));
+        assert_eq!(
+            param_derivative(&c, &x, &p, 0),
+            param_derivative(&Toy, &x, &p, 0)
+        );
         let u = JointDirection::state(&[1.0, 0.5]);
         for _ in 0..2 {
             assert_eq!(
@@ -280,7 +284,10 @@ mod tests {
         assert_eq!(c.counts(), [5, 3 * 2 + 1, 2, 1, 0, 0]);
         // Everything else is the wrapped field's.
         assert_eq!((c.dim(), c.n_params(), c.param_name(0)), (2, 1, "a".into()));
-        assert_eq!((c.n_observables(), c.observable(0, &x, &p)), (1, x[0] + x[1]));
+        assert_eq!(
+            (c.n_observables(), c.observable(0, &x, &p)),
+            (1, x[0] + x[1])
+        );
     }
 
     #[test]

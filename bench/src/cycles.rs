@@ -4,14 +4,15 @@
 //! long-time integration (a different method).
 
 use super::reference::reference_cycle;
-use crate::analysis::cycles::{collocation_for, start_amplitude};
-use crate::analysis::hopf::{find_hopf, HopfOutcome};
-use crate::error::{Error, NumericalError};
-use crate::log_model::LogBlock;
-use crate::model::ModelKind;
-use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
+use continuation::Wrap;
+use stickslip::analysis::cycles::{collocation_for, start_amplitude};
+use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+use stickslip::error::{Error, NumericalError};
+use stickslip::log_model::LogBlock;
+use stickslip::model::ModelKind;
+use stickslip::params::{Param, Params};
 
 /// Mesh intervals of every cycle (fixed: no refinement, no coarsening).
 pub const NTST: usize = 50;
@@ -70,7 +71,7 @@ impl CycleWork {
         ds_max: f64,
     ) -> Result<CycleWork, Error> {
         let HopfOutcome::Found(h) = find_hopf(kind, params)? else {
-            return Err(crate::analysis::cycles::no_onset().into());
+            return Err(stickslip::analysis::cycles::no_onset().into());
         };
         let log = LogBlock::centered(kind, params);
         let mut at = *params;
@@ -103,10 +104,12 @@ impl CycleWork {
         })
     }
 
-    /// Traces the branch: the number of cycles and the last one.
-    pub(super) fn run(&self) -> Result<(usize, LastCycle), Error> {
+    /// Traces the branch, the model built through `fields`: the number of
+    /// cycles and the last one.
+    pub(super) fn run<F: Wrap>(&self, fields: &F) -> Result<(usize, LastCycle), Error> {
+        let field = fields.field(self.log);
         let branch = CycleBranch::from_hopf(
-            &self.log,
+            &field,
             &self.x0,
             self.omega,
             &self.at_hopf,

@@ -3,9 +3,9 @@
 
 use super::cycles::Accuracy;
 use super::jobs::{jobs, Job};
-use crate::error::Error;
-use crate::model::{eval_counts, reset_eval_counts, N_EVAL_KINDS};
+use continuation::counted::N_EVAL_KINDS;
 use std::time::{Duration, Instant};
+use stickslip::error::Error;
 
 /// How long to time each job.
 #[derive(Clone, Copy, Debug)]
@@ -51,7 +51,7 @@ pub struct JobReport {
     /// Timed runs.
     pub repetitions: usize,
     /// Vector-field evaluations of one run, indexed like
-    /// [`EVAL_KINDS`](crate::model::EVAL_KINDS).
+    /// [`EVAL_KINDS`](continuation::counted::EVAL_KINDS).
     pub evals: [u64; N_EVAL_KINDS],
     /// For a cycle branch: its last cycle against long-time integration.
     pub accuracy: Option<Accuracy>,
@@ -60,11 +60,9 @@ pub struct JobReport {
 /// Times `job`: one run with evaluation counting (which also warms caches
 /// and the thread pool; a cycle branch's last cycle is then checked against
 /// integration, untimed), one run to estimate the time, then enough timed
-/// runs to fill `settings.budget`; reports their median.
+/// runs (without counters) to fill `settings.budget`; reports their median.
 pub fn measure(job: &Job, settings: Settings) -> Result<JobReport, Error> {
-    reset_eval_counts();
-    let tally = job.run()?;
-    let evals = eval_counts();
+    let (tally, evals) = job.run_counted()?;
     let accuracy = tally.last_cycle.map(|c| c.accuracy()).transpose()?;
     let points = tally.points;
     let t = Instant::now();

@@ -2,10 +2,10 @@
 //! integration (Radau IIA) from perturbed steady sliding onto the attractor.
 //! The reference of the cycle-branch jobs and of the work-precision study.
 
-use crate::analysis::simulate::{cycle_by_integration, simulate_with, Segment};
-use crate::error::Error;
-use crate::model::{full_state, steady_state, ModelKind};
-use crate::params::Params;
+use stickslip::analysis::simulate::{cycle_by_integration, simulate_with, Segment};
+use stickslip::error::Error;
+use stickslip::model::{full_state, steady_state, ModelKind};
+use stickslip::params::Params;
 
 /// How [`reference_cycle`] computes, in one line.
 pub const REFERENCE: &str = "Radau IIA, rtol 1e-13, 150 periods from steady sliding with the age 10 % off, 8 periods averaged";
