@@ -6,7 +6,7 @@
 use super::reference::reference_cycle;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
-use continuation::Wrap;
+use continuation::{VectorField, Wrap};
 use stickslip::analysis::cycles::{collocation_for, start_amplitude};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
 use stickslip::error::{Error, NumericalError};
@@ -124,11 +124,13 @@ impl CycleWork {
             count += 1;
         }
         let last = last.ok_or_else(|| NumericalError::Analysis("an empty cycle branch".into()))?;
-        Ok((count, self.summary(&last)))
+        Ok((count, self.summary(&field, &last)))
     }
 
-    fn summary(&self, c: &Cycle) -> LastCycle {
-        let (lo, hi) = c.range(&self.log, 0);
+    /// The cycle `c` of `field` (the model as the branch evaluated it: its
+    /// extremes take collocation steps) in docs/model.md's variables.
+    fn summary<S: VectorField>(&self, field: &S, c: &Cycle) -> LastCycle {
+        let (lo, hi) = c.range(field, 0);
         let mut params = self.params;
         params.kappa = c.p[Param::Kappa as usize];
         LastCycle {
