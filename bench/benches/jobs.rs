@@ -1,8 +1,9 @@
 //! Criterion benchmarks of the user-level jobs of `stickslip-bench`
 //! (`stickslip_bench::JOB_NAMES`): `cargo bench -p stickslip-bench` (all),
-//! `cargo bench -p stickslip-bench -- hopf_point` (a filter). Short measurement windows keep the whole run near a minute;
-//! the diagram jobs write their files into a temporary directory and discard
-//! the command's standard output. See docs/performance.md.
+//! `cargo bench -p stickslip-bench -- hopf_point` (a filter). Short
+//! measurement windows keep the whole run near a minute; the diagram jobs
+//! write their files into a temporary directory and discard the command's
+//! standard output. See docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
 use std::time::Duration;
