@@ -36,10 +36,13 @@ pub(super) struct CycleWork {
 /// The last cycle of a run, in docs/model.md's variables.
 #[derive(Clone, Debug)]
 pub struct LastCycle {
+    /// The model of the branch.
     pub kind: ModelKind,
     /// The scene's parameters at the cycle's stiffness.
     pub params: Params,
+    /// Period by collocation.
     pub period: f64,
+    /// Peak-to-peak spring force.
     pub delta_s: f64,
 }
 

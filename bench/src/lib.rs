@@ -11,6 +11,8 @@
 //! exact for that run and the timed runs carry no counters.
 //! See `docs/performance.md`.
 
+#![warn(missing_docs)]
+
 mod cycles;
 mod jobs;
 mod measure;

@@ -37,12 +37,15 @@ impl Settings {
 /// The measurement of one job.
 #[derive(Clone, Debug)]
 pub struct JobReport {
+    /// The job's name, one of [`JOB_NAMES`](super::JOB_NAMES).
     pub job: &'static str,
+    /// What the job does, in one line.
     pub description: &'static str,
     /// Median wall time of one run, seconds.
     pub median_s: f64,
-    /// Fastest and slowest run, seconds.
+    /// Fastest run, seconds.
     pub min_s: f64,
+    /// Slowest run, seconds.
     pub max_s: f64,
     /// Points the job produced.
     pub points: usize,

@@ -25,11 +25,14 @@ const MEASURED_PERIODS: usize = 8;
 /// Period and peak-to-peak spring force of a stick-slip cycle by integration.
 #[derive(Clone, Copy, Debug)]
 pub struct ReferenceCycle {
+    /// Period, averaged over the measured periods.
     pub period: f64,
+    /// Peak-to-peak spring force.
     pub delta_s: f64,
-    /// Their own uncertainties (relative): the largest change when the
+    /// The period's own uncertainty (relative): the largest change when the
     /// tolerance is loosened to `1e-12` or the transient shortened by a third.
     pub period_spread: f64,
+    /// The same for `delta_s`.
     pub delta_s_spread: f64,
 }
 

@@ -22,8 +22,11 @@ use stickslip::plot::lines::{render, LineFigure};
 /// One measurement: a method at one setting of its knob.
 #[derive(Clone, Debug)]
 pub struct Measurement {
+    /// What is measured (`kappa_c`, `l1`, a cycle's period or `Delta_s`).
     pub job: &'static str,
+    /// How it is computed.
     pub method: String,
+    /// The accuracy knob's setting (a tolerance, a step, `NTST`; 0 where none).
     pub knob: f64,
     /// CPU seconds of one evaluation (median over batches, see `time_it`);
     /// NaN when the method failed at this setting.
