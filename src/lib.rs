@@ -1,7 +1,6 @@
 //! stickslip: bifurcation analysis of a rate-and-state driven block.
 pub mod analysis;
 pub mod appendix_c;
-pub mod bench;
 pub mod cli;
 pub mod error;
 pub mod friction;
@@ -10,4 +9,3 @@ pub mod model;
 pub mod params;
 pub mod plot;
 pub mod scene;
-pub mod work_precision;

@@ -81,7 +81,6 @@ impl VectorField for LogBlock {
     }
 
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
-        crate::model::count_eval::<D>();
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         let [_, w_o, phi_o] = self.origin;

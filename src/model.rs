@@ -13,66 +13,6 @@
 
 use crate::params::{friction_from, Param, Params, N_PARAMS};
 use continuation::{Scalar, VectorField};
-use std::sync::atomic::{AtomicU64, Ordering};
-
-/// Number of evaluation kinds counted by [`eval_counts`].
-pub const N_EVAL_KINDS: usize = 6;
-
-/// Names of the evaluation kinds of [`eval_counts`], in order: plain `f64`,
-/// then scalar types carrying derivatives up to order 1 (`Dual64`), 2
-/// (`HyperDual64`, `Dual<Dual64>`), 3 (`HyperHyperDual64`, three nested
-/// duals), 4 and 5 (nested duals of [`continuation::hopf_series`]).
-pub const EVAL_KINDS: [&str; N_EVAL_KINDS] =
-    ["f64", "order1", "order2", "order3", "order4", "order5"];
-
-/// `rhs` calls of [`InertialBlock`], [`QuasiStaticBlock`] and
-/// [`LogBlock`](crate::log_model::LogBlock) by kind.
-static EVALS: [AtomicU64; N_EVAL_KINDS] = [const { AtomicU64::new(0) }; N_EVAL_KINDS];
-
-/// Counts one `rhs` evaluation with scalar type `D`. The kind is read from the
-/// size of `D` in `f64` components, `c = size_of::<D>() / 8`, as
-/// `ceil(log2 c)`: 1 component is a plain value, 2 a first-order dual, 4 a
-/// hyper-dual or twice-nested dual (order 2), 8 order 3, 16 order 4, 32 (and
-/// more) order 5. This is the derivative order for the hyper-dual and nested
-/// dual types the engine uses; a multi-direction first-order type
-/// (`DualVec`) would be filed by its size, not its order. The index is a
-/// compile-time constant of each instantiation; the cost is one relaxed
-/// atomic increment per call.
-#[inline(always)]
-pub(crate) fn count_eval<D>() {
-    EVALS[eval_kind::<D>()].fetch_add(1, Ordering::Relaxed);
-}
-
-/// The index into [`EVAL_KINDS`] of scalar type `D` (see [`count_eval`]).
-#[inline(always)]
-fn eval_kind<D>() -> usize {
-    let components = (std::mem::size_of::<D>() / 8).max(1);
-    (components.next_power_of_two().trailing_zeros() as usize).min(N_EVAL_KINDS - 1)
-}
-
-/// Vector-field evaluations (`rhs` calls of the driven-block models:
-/// [`InertialBlock`] and [`QuasiStaticBlock`], through [`DrivenBlock`] or
-/// directly, and the block in logarithmic variables of the cycle and
-/// simulation computations, [`LogBlock`](crate::log_model::LogBlock))
-/// since the start of the process or the last
-/// [`reset_eval_counts`], indexed like [`EVAL_KINDS`]: `[f64, order 1,
-/// order 2, order 3, order 4, order 5]`. A Jacobian by dual numbers costs `n`
-/// order-1 evaluations (one per column), a second derivative in two
-/// directions one order-2 evaluation, and so on.
-///
-/// The counters are process-wide and shared by all threads (relaxed atomics):
-/// evaluations of concurrent analyses add up, so read them around a single
-/// analysis when a per-analysis count is wanted (as `stickslip bench` does).
-pub fn eval_counts() -> [u64; N_EVAL_KINDS] {
-    std::array::from_fn(|k| EVALS[k].load(Ordering::Relaxed))
-}
-
-/// Sets every counter of [`eval_counts`] to zero.
-pub fn reset_eval_counts() {
-    for c in &EVALS {
-        c.store(0, Ordering::Relaxed);
-    }
-}
 
 /// Which driven-block model an analysis uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,7 +51,6 @@ impl VectorField for InertialBlock {
         Param::ALL[k].name().into()
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
-        count_eval::<D>();
         let law = friction_from(self.cutoff, p);
         let (s, v, theta) = (x[0], x[1], x[2]);
         let (kappa, nu, m) = (
@@ -143,7 +82,6 @@ impl VectorField for QuasiStaticBlock {
         Param::ALL[k].name().into()
     }
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
-        count_eval::<D>();
         let law = friction_from(self.cutoff, p);
         let (s, theta) = (x[0], x[1]);
         let v = law.slip_velocity(s, theta);
@@ -244,23 +182,6 @@ mod tests {
             mu2: 5e-4,
             theta_c: None,
         }
-    }
-
-    #[test]
-    fn evaluation_kinds_follow_the_derivative_order() {
-        use num_dual::{Dual, Dual64, HyperDual64, HyperHyperDual64};
-        type N5 = Dual<Dual<Dual<Dual<Dual64>>>>;
-        let kinds = [
-            eval_kind::<f64>(),
-            eval_kind::<Dual64>(),
-            eval_kind::<HyperDual64>(),
-            eval_kind::<Dual<Dual64>>(),
-            eval_kind::<HyperHyperDual64>(),
-            eval_kind::<Dual<Dual<Dual64>>>(),
-            eval_kind::<Dual<Dual<Dual<Dual64>>>>(),
-            eval_kind::<N5>(),
-        ];
-        assert_eq!(kinds, [0, 1, 2, 2, 3, 3, 4, 5]);
     }
 
     #[test]

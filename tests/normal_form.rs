@@ -1,15 +1,15 @@
 //! First Lyapunov coefficient and onset law of the driven block against
 //! independent values: 40-digit references (sympy/mpmath, exact derivatives;
 //! `docs/reference/t3_lyap.py`, cross-checked there by direct simulation),
-//! closed forms for the quasi-static ln² law (`docs/reference/t4_qs_symbolic.py`),
-//! and a finite-difference evaluation of the same formula.
+//! and closed forms for the quasi-static ln² law (`docs/reference/t4_qs_symbolic.py`).
+//! (The finite-difference evaluation of the same formula is tested with it,
+//! in `bench/tests/l1_finite_differences.rs`.)
 
 #![allow(clippy::excessive_precision)] // references are quoted with every digit of their source
 
 use stickslip::analysis::hopf::{find_hopf, Criticality, HopfOutcome, HopfPoint};
-use stickslip::model::{DrivenBlock, ModelKind};
+use stickslip::model::ModelKind;
 use stickslip::params::Params;
-use stickslip::work_precision::l1_finite_differences;
 
 fn hopf(kind: ModelKind, p: Params) -> HopfPoint {
     match find_hopf(kind, &p).unwrap() {
@@ -180,41 +180,4 @@ fn inertial_transversality_matches_closed_form() {
             "{p:?}"
         );
     }
-}
-
-#[test]
-fn l1_agrees_with_finite_differences_to_their_accuracy() {
-    let p = Params {
-        kappa: 0.0,
-        nu: 3.0,
-        m: 0.1,
-        a: 0.01,
-        b: 0.02,
-        mu0: 0.6,
-        mu2: 5e-4,
-        theta_c: None,
-    };
-    let h = hopf(ModelKind::Inertial, p);
-    let block = DrivenBlock::new(ModelKind::Inertial, &p);
-    let mut at = p;
-    at.kappa = h.kappa_c;
-    let x = [h.state[0], h.state[1], h.state[2]];
-    // The FD error falls like h^2 until rounding (eps/h^3) takes over near h ~ 1e-4.
-    let errs: Vec<f64> = [1e-2, 3e-3, 1e-3]
-        .iter()
-        .map(|&step| {
-            (l1_finite_differences(&block, &x, &at.to_vec(), h.omega_c, step).unwrap() / h.onset.l1
-                - 1.0)
-                .abs()
-        })
-        .collect();
-    assert!(
-        errs[2] < 1e-4,
-        "FD at h = 1e-3 is {:.1e} from the exact l1",
-        errs[2]
-    );
-    assert!(
-        errs[0] / errs[2] > 30.0,
-        "FD error must shrink like h^2 toward the exact value: {errs:?}"
-    );
 }

@@ -38,6 +38,7 @@
 //! PROPTEST_CASES=1000 PROPTEST_RNG_SEED=7 cargo test --release --test property_edges -- --nocapture --test-threads=1
 //! ```
 
+use continuation::AsIs;
 use proptest::prelude::*;
 use proptest::test_runner::{contextualize_config, Config, RngSeed, TestCaseError, TestRunner};
 use std::cell::RefCell;
@@ -353,8 +354,13 @@ fn diagram(case: &Case, width: &f64) -> Verdict {
         Ok(s) => s,
         Err(verdict) => return verdict,
     };
-    let d = match stability_diagram_with(setup.choice.kind, &setup.params, (lo, hi), DIAGRAM_STEPS)
-    {
+    let d = match stability_diagram_with(
+        &AsIs,
+        setup.choice.kind,
+        &setup.params,
+        (lo, hi),
+        DIAGRAM_STEPS,
+    ) {
         Ok(d) => d,
         Err(e) => return check_error("diagram", &e).map(|()| "numerical error"),
     };

@@ -10,12 +10,15 @@
 //!   Newton's method on minimally augmented systems.
 //! * [`linalg`], [`newton`], [`error`]: eigenvalues, a Newton corrector with a
 //!   typed outcome, errors that carry the numbers.
+//! * [`counted`]: a wrapper that counts a field's evaluations by derivative
+//!   order, and the [`Wrap`] an analysis builds its fields through.
 //!
 //! The crate knows nothing about the application; `stickslip` builds on it.
 
 pub mod arclength;
 pub mod branch;
 pub mod codim2;
+pub mod counted;
 pub mod defining;
 pub mod double_double;
 pub mod error;
@@ -33,6 +36,7 @@ pub mod root;
 pub mod system;
 
 pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};
+pub use counted::{AsIs, Counted, Counting, EvalCounts, Wrap};
 pub use error::ContinuationError;
 pub use events::{Event, EventKind};
 pub use newton::{NewtonReport, NewtonSettings};

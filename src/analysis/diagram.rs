@@ -8,7 +8,7 @@
 //! steady friction, `V_min` for the cutoff law — the end point is located on
 //! the friction law itself: `mu_phi(1/nu) = mu_v`.
 
-use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
+use crate::analysis::hopf::{find_hopf_with, Criticality, HopfOutcome};
 use crate::analysis::lpc_curve::{lpc_curves, LpcCurves};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
@@ -16,7 +16,7 @@ use crate::params::{Param, Params};
 use continuation::arclength::StepControl;
 use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
 use continuation::hopf_series::hopf_series;
-use continuation::{LogParameters, NewtonSettings};
+use continuation::{AsIs, ContinuationSettings, LogParameters, NewtonSettings, Wrap};
 
 /// One point of the Hopf curve, in docs/model.md's variables.
 #[derive(Clone, Debug)]
@@ -170,8 +170,9 @@ fn strengthening_reason(
 const FIRST_HOPF_GRID: usize = 41;
 
 /// The first value of `second` on a log grid over `[lo, hi]` at which steady
-/// sliding has a Hopf point, with that point.
-fn first_hopf(
+/// sliding has a Hopf point, with that point (models built through `fields`).
+fn first_hopf<F: Wrap>(
+    fields: &F,
     kind: ModelKind,
     params: &Params,
     second: Param,
@@ -181,7 +182,8 @@ fn first_hopf(
     for i in 0..GRID {
         let mut p = *params;
         p.set(second, lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64));
-        if let HopfOutcome::Found(h) = find_hopf(kind, &p)? {
+        let locator = ContinuationSettings::default().locator;
+        if let HopfOutcome::Found(h) = find_hopf_with(fields, kind, &p, &locator)? {
             return Ok(Some((p, h)));
         }
     }
@@ -224,22 +226,24 @@ pub fn stability_diagram(
     params: &Params,
     range: (f64, f64),
 ) -> Result<StabilityDiagram, NumericalError> {
-    stability_diagram_with(kind, params, range, DEFAULT_CURVE_STEPS)
+    stability_diagram_with(&AsIs, kind, params, range, DEFAULT_CURVE_STEPS)
 }
 
 /// Steps of each run of the Hopf curve by default (`diagram --max-steps`).
 pub const DEFAULT_CURVE_STEPS: usize = 50_000;
 
-/// [`stability_diagram`] with at most `max_steps` continuation steps in
-/// each direction along the Hopf curve.
-pub fn stability_diagram_with(
+/// [`stability_diagram`] with the models built through `fields` (e.g.
+/// counted) and at most `max_steps` continuation steps in each direction
+/// along the Hopf curve.
+pub fn stability_diagram_with<F: Wrap>(
+    fields: &F,
     kind: ModelKind,
     params: &Params,
     range: (f64, f64),
     max_steps: usize,
 ) -> Result<StabilityDiagram, NumericalError> {
-    let mut d = hopf_curve_with(kind, params, Param::Nu, range, max_steps)?;
-    d.lpc = lpc_curves(kind, params, &d, range);
+    let mut d = hopf_curve_with(fields, kind, params, Param::Nu, range, max_steps)?;
+    d.lpc = lpc_curves(fields, kind, params, &d, range);
     d.strengthening = strengthening_intervals(params, range);
     if let Some(why) = strengthening_reason(params, range, &d.strengthening) {
         d.reason = Some(why);
@@ -255,18 +259,20 @@ pub fn hopf_curve(
     second: Param,
     range: (f64, f64),
 ) -> Result<StabilityDiagram, NumericalError> {
-    hopf_curve_with(kind, params, second, range, DEFAULT_CURVE_STEPS)
+    hopf_curve_with(&AsIs, kind, params, second, range, DEFAULT_CURVE_STEPS)
 }
 
-/// [`hopf_curve`] with at most `max_steps` steps in each direction.
-pub fn hopf_curve_with(
+/// [`hopf_curve`] with the models built through `fields` (e.g. counted)
+/// and at most `max_steps` steps in each direction.
+pub fn hopf_curve_with<F: Wrap>(
+    fields: &F,
     kind: ModelKind,
     params: &Params,
     second: Param,
     range: (f64, f64),
     max_steps: usize,
 ) -> Result<StabilityDiagram, NumericalError> {
-    let Some((p0, h0)) = first_hopf(kind, params, second, range)? else {
+    let Some((p0, h0)) = first_hopf(fields, kind, params, second, range)? else {
         return Ok(StabilityDiagram {
             points: Vec::new(),
             special: Vec::new(),
@@ -282,7 +288,7 @@ pub fn hopf_curve_with(
             )),
         });
     };
-    let block = DrivenBlock::new(kind, params);
+    let block = fields.field(DrivenBlock::new(kind, params));
     let pair = [Param::Kappa as usize, second as usize];
     let logs = LogParameters {
         inner: &block,

@@ -16,7 +16,10 @@ use continuation::normal_form::{
     eigenvalue_derivative, hopf_normal_form, onset_law, HopfNormalForm,
 };
 use continuation::system::jacobian;
-use continuation::{Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings};
+use continuation::{
+    AsIs, Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings,
+    VectorField, Wrap,
+};
 
 /// Sub- or supercritical onset, from the sign of `l1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -137,8 +140,8 @@ pub const EXTENDED_DIGITS: i32 = 8;
 /// The double-double result is kept only where it agrees with the `f64` one
 /// within the `f64` bound; its bound adds the rounding of the parameters
 /// themselves ([`input_rounding`]), which `f64` rounding hides.
-pub fn onset_at(
-    block: &DrivenBlock,
+pub fn onset_at<S: VectorField>(
+    block: &S,
     x: &[f64],
     p: &[f64],
     omega: f64,
@@ -200,7 +203,7 @@ pub fn onset_at(
 /// double-double path needs it: in `f64` the rounding bound is far larger.
 /// A slope that cannot be computed counts as `|l1| / |p_i|` per unit
 /// relative change (a power law of degree one).
-fn input_rounding(block: &DrivenBlock, x: &[f64], p: &[f64], nf64: &HopfNormalForm) -> f64 {
+fn input_rounding<S: VectorField>(block: &S, x: &[f64], p: &[f64], nf64: &HopfNormalForm) -> f64 {
     let k = Param::Kappa as usize;
     let l1_at = |i: usize, factor: f64| {
         let mut q = p.to_vec();
@@ -297,15 +300,20 @@ pub enum HopfOutcome {
 
 /// A stiffness at which steady sliding is linearly stable, found by doubling
 /// from a bound on the friction law's steady-state slopes (times the inertia
-/// factor of eq. C11). Errors when none is
-/// found (the steady state is unstable at every stiffness tried).
-pub fn stable_stiffness(block: &DrivenBlock, params: &Params) -> Result<f64, NumericalError> {
+/// factor of eq. C11), for `block`, the model of `kind` (as it is, or
+/// wrapped). Errors when none is found (the steady state is unstable at
+/// every stiffness tried).
+pub fn stable_stiffness<S: VectorField>(
+    block: &S,
+    kind: ModelKind,
+    params: &Params,
+) -> Result<f64, NumericalError> {
     // A bound on the friction law's steady-state slopes, |mu_phi| + mu_v <=
     // B + 2 |mu2| |ln nu| + A (ln^2 law: mu_phi = B - 2 mu2 ln nu; cutoff:
     // mu_phi <= B): kappa_c of Appendix C is (mu_phi - mu_v)(1 + m nu^2 / mu_v).
     let scale = (params.b + params.a + 2.0 * params.mu2.abs() * params.nu.ln().abs())
         * (1.0 + params.inertia_ratio());
-    let x = steady_state(block.kind(), params);
+    let x = steady_state(kind, params);
     let mut kappa = 4.0 * scale;
     for _ in 0..60 {
         let mut p = *params;
@@ -325,18 +333,25 @@ pub fn stable_stiffness(block: &DrivenBlock, params: &Params) -> Result<f64, Num
 /// Continues steady sliding in `kappa` downward from a stable stiffness and
 /// locates the first Hopf point.
 pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, NumericalError> {
-    find_hopf_with(kind, params, &ContinuationSettings::default().locator)
+    find_hopf_with(
+        &AsIs,
+        kind,
+        params,
+        &ContinuationSettings::default().locator,
+    )
 }
 
-/// [`find_hopf`] with the Newton settings of the Hopf location given
-/// (the accuracy knob of the work-precision study).
-pub fn find_hopf_with(
+/// [`find_hopf`] with the model built through `fields` (e.g. counted) and
+/// the Newton settings of the Hopf location given (the accuracy knob of the
+/// work-precision study).
+pub fn find_hopf_with<F: Wrap>(
+    fields: &F,
     kind: ModelKind,
     params: &Params,
     locator: &NewtonSettings,
 ) -> Result<HopfOutcome, NumericalError> {
-    let block = DrivenBlock::new(kind, params);
-    let k0 = stable_stiffness(&block, params)?;
+    let block = fields.field(DrivenBlock::new(kind, params));
+    let k0 = stable_stiffness(&block, kind, params)?;
     let mut p = *params;
     p.kappa = k0;
     // Velocity strengthening: stable for every kappa > 0 (see STRENGTHENING_FLOOR);

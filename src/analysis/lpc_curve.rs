@@ -9,7 +9,7 @@
 
 use crate::analysis::cycles::hopf_start;
 use crate::analysis::diagram::StabilityDiagram;
-use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
+use crate::analysis::hopf::{find_hopf_with, Criticality, HopfOutcome};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -18,6 +18,7 @@ use continuation::error::ContinuationError;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
+use continuation::{ContinuationSettings, VectorField, Wrap};
 
 /// Mesh intervals of the cycles a curve of folds starts on.
 const LPC_NTST: usize = 30;
@@ -50,7 +51,7 @@ pub struct LpcCurves {
     pub incomplete: bool,
 }
 
-fn record(log: &LogBlock, c: &Cycle) -> LpcCurvePoint {
+fn record<S: VectorField>(log: &S, c: &Cycle) -> LpcCurvePoint {
     let (lo, hi) = c.range(log, 0);
     LpcCurvePoint {
         nu: c.p[Param::Nu as usize],
@@ -61,9 +62,15 @@ fn record(log: &LogBlock, c: &Cycle) -> LpcCurvePoint {
 }
 
 /// The fold of the cycles born at the subcritical Hopf point of `params`
-/// (continued up in `kappa` until they turn back).
-fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> {
-    let HopfOutcome::Found(h) = find_hopf(log.kind, params)? else {
+/// (continued up in `kappa` until they turn back), the models built through
+/// `fields`.
+fn first_fold<F: Wrap>(
+    fields: &F,
+    log: &LogBlock,
+    params: &Params,
+) -> Result<Cycle, NumericalError> {
+    let locator = ContinuationSettings::default().locator;
+    let HopfOutcome::Found(h) = find_hopf_with(fields, log.kind, params, &locator)? else {
         return Err(NumericalError::Analysis(
             "no Hopf point next to the Bautin point".into(),
         ));
@@ -85,8 +92,10 @@ fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> 
         ntst_max: LPC_NTST,
         ..Default::default()
     };
-    let branch = CycleBranch::from_hopf(log, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
-        .map_err(NumericalError::from)?;
+    let field = fields.field(*log);
+    let branch =
+        CycleBranch::from_hopf(&field, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
+            .map_err(NumericalError::from)?;
     for pt in branch {
         let pt = pt.map_err(NumericalError::from)?;
         if let Some(lpc) = pt.lpc {
@@ -100,8 +109,9 @@ fn first_fold(log: &LogBlock, params: &Params) -> Result<Cycle, NumericalError> 
 }
 
 /// The curves of folds of cycles from every Bautin point of `diagram`, within
-/// the velocity range.
-pub fn lpc_curves(
+/// the velocity range, the models built through `fields` (e.g. counted).
+pub fn lpc_curves<F: Wrap>(
+    fields: &F,
     kind: ModelKind,
     params: &Params,
     diagram: &StabilityDiagram,
@@ -136,7 +146,7 @@ pub fn lpc_curves(
         };
         let mut at = *params;
         at.nu = start.nu;
-        let fold = match first_fold(&log, &at) {
+        let fold = match first_fold(fields, &log, &at) {
             Ok(f) => f,
             Err(e) => {
                 out.stops
@@ -145,7 +155,7 @@ pub fn lpc_curves(
                 continue;
             }
         };
-        let (curve, stops, short) = trace_through(&log, &fold, (lo, hi), &|nu| {
+        let (curve, stops, short) = trace_through(&fields.field(log), &fold, (lo, hi), &|nu| {
             bautins.iter().any(|b| near(nu, b.nu))
         });
         out.stops.extend(stops);
@@ -178,8 +188,8 @@ pub fn lpc_curve_through(
 /// with a message for each end that stopped on a failure away from a Bautin
 /// point (`at_bautin(nu)`: where the folded cycles shrink to nothing and the
 /// fold system degenerates, the expected end).
-fn trace_through(
-    log: &LogBlock,
+fn trace_through<S: VectorField>(
+    log: &S,
     fold: &Cycle,
     (lo, hi): (f64, f64),
     at_bautin: &(dyn Fn(f64) -> bool + Sync),

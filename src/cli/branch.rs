@@ -64,7 +64,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let from = match (args.from, param) {
         (Some(v), _) => v,
         (None, Param::Kappa) => {
-            stable_stiffness(&DrivenBlock::new(kind, &setup.params), &setup.params)?
+            stable_stiffness(&DrivenBlock::new(kind, &setup.params), kind, &setup.params)?
         }
         (None, _) => nu_lo,
     };

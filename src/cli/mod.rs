@@ -4,7 +4,6 @@
 //! exits with status 2, a numerical failure with status 3, partial results
 //! (kept, but the request incomplete) with status 4.
 
-pub mod bench;
 pub mod branch;
 pub mod cycle_start;
 pub mod cycles;
@@ -65,8 +64,6 @@ pub enum Command {
     Simulate(simulate::SimulateArgs),
     /// List the built-in scenes.
     Scenes,
-    /// Time the user-level jobs (Hopf point, Hopf curve, diagrams) and count vector-field evaluations.
-    Bench(bench::BenchArgs),
 }
 
 /// Options shared by every analysis: which scene, overrides, which model.
@@ -189,7 +186,6 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         Command::Diagram(args) => diagram::run(&args),
         Command::Cycles(args) => cycles::run(&args),
         Command::Simulate(args) => simulate::run(&args),
-        Command::Bench(args) => bench::run(&args),
         Command::Scenes => {
             for name in scene::builtin_names() {
                 if let Some(s) = scene::builtin(name) {

@@ -12,6 +12,7 @@ use crate::analysis::diagram::{stability_diagram_with, StabilityDiagram, DEFAULT
 use crate::appendix_c;
 use crate::error::{Error, InputError, NumericalError};
 use clap::Args;
+use continuation::{AsIs, Wrap};
 use figures::write_figures;
 use rayon::prelude::*;
 use serde_json::{json, Value};
@@ -69,6 +70,12 @@ struct SceneResult {
 
 /// Runs the command.
 pub fn run(args: &DiagramArgs) -> Result<(), Error> {
+    run_with(args, &AsIs)
+}
+
+/// Runs the command with the models built through `fields` (the benchmark
+/// counts their evaluations).
+pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
     // Each scene once (the same scene twice would write the same files concurrently).
     let mut names: Vec<&str> = Vec::new();
     for name in args
@@ -95,7 +102,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
             if super::interrupt::interrupted() {
                 return None;
             }
-            let r = one_scene(args, name, range);
+            let r = one_scene(fields, args, name, range);
             let done = 1 + finished.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
             bar.set_message(format!("{done} of {} scenes finished", names.len()));
             if let (Ok(r), false) = (&r, args.json) {
@@ -166,7 +173,8 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
     )))
 }
 
-fn one_scene(
+fn one_scene<F: Wrap>(
+    fields: &F,
     args: &DiagramArgs,
     name: &str,
     range: Option<(f64, f64)>,
@@ -187,8 +195,13 @@ fn one_scene(
     let stem = args
         .output
         .stem(&setup.scene.name, &args.scene, "-diagram.json")?;
-    let diagram =
-        stability_diagram_with(setup.choice.kind, &setup.params, (lo, hi), args.max_steps)?;
+    let diagram = stability_diagram_with(
+        fields,
+        setup.choice.kind,
+        &setup.params,
+        (lo, hi),
+        args.max_steps,
+    )?;
     if diagram.points.iter().any(|p| {
         !(p.kappa.is_finite() && p.nu.is_finite() && p.omega.is_finite() && p.l1.is_finite())
     }) {

@@ -1,12 +1,13 @@
-//! Criterion benchmarks of the user-level jobs of `stickslip bench`
-//! (`stickslip::bench`): `cargo bench` (all), `cargo bench -- hopf_point`
-//! (a filter). Short measurement windows keep the whole run near a minute;
-//! the diagram jobs write their files into a temporary directory and discard
-//! the command's standard output. See docs/performance.md.
+//! Criterion benchmarks of the user-level jobs of `stickslip-bench`
+//! (`stickslip_bench::JOB_NAMES`): `cargo bench -p stickslip-bench` (all),
+//! `cargo bench -p stickslip-bench -- hopf_point` (a filter). Short
+//! measurement windows keep the whole run near a minute; the diagram jobs
+//! write their files into a temporary directory and discard the command's
+//! standard output. See docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
 use std::time::Duration;
-use stickslip::bench::{Job, JOB_NAMES};
+use stickslip_bench::{Job, JOB_NAMES};
 
 fn jobs(c: &mut Criterion) {
     let mut group = c.benchmark_group("jobs");
@@ -28,7 +29,7 @@ fn jobs(c: &mut Criterion) {
         group.bench_function(name, |b| {
             let job = job.get_or_insert_with(|| {
                 let job = Job::new(name).unwrap_or_else(|e| panic!("preparing {name}: {e}"));
-                job.run()
+                job.run_untallied()
                     .unwrap_or_else(|e| panic!("first run of {name}: {e}"));
                 job
             });

@@ -2,10 +2,10 @@
 //! integration (Radau IIA) from perturbed steady sliding onto the attractor.
 //! The reference of the cycle-branch jobs and of the work-precision study.
 
-use crate::analysis::simulate::{cycle_by_integration, simulate_with, Segment};
-use crate::error::Error;
-use crate::model::{full_state, steady_state, ModelKind};
-use crate::params::Params;
+use stickslip::analysis::simulate::{cycle_by_integration, simulate_with, Segment};
+use stickslip::error::Error;
+use stickslip::model::{full_state, steady_state, ModelKind};
+use stickslip::params::Params;
 
 /// How [`reference_cycle`] computes, in one line.
 pub const REFERENCE: &str = "Radau IIA, rtol 1e-13, 150 periods from steady sliding with the age 10 % off, 8 periods averaged";
@@ -25,11 +25,14 @@ const MEASURED_PERIODS: usize = 8;
 /// Period and peak-to-peak spring force of a stick-slip cycle by integration.
 #[derive(Clone, Copy, Debug)]
 pub struct ReferenceCycle {
+    /// Period, averaged over the measured periods.
     pub period: f64,
+    /// Peak-to-peak spring force.
     pub delta_s: f64,
-    /// Their own uncertainties (relative): the largest change when the
+    /// The period's own uncertainty (relative): the largest change when the
     /// tolerance is loosened to `1e-12` or the transient shortened by a third.
     pub period_spread: f64,
+    /// The same for `delta_s`.
     pub delta_s_spread: f64,
 }
 

@@ -13,17 +13,20 @@ mod onset;
 
 pub use onset::l1_finite_differences;
 
-use crate::error::Error;
-use crate::plot::lines::{render, LineFigure};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use stickslip::error::Error;
+use stickslip::plot::lines::{render, LineFigure};
 
 /// One measurement: a method at one setting of its knob.
 #[derive(Clone, Debug)]
 pub struct Measurement {
+    /// What is measured (`kappa_c`, `l1`, a cycle's period or `Delta_s`).
     pub job: &'static str,
+    /// How it is computed.
     pub method: String,
+    /// The accuracy knob's setting (a tolerance, a step, `NTST`; 0 where none).
     pub knob: f64,
     /// CPU seconds of one evaluation (median over batches, see `time_it`);
     /// NaN when the method failed at this setting.
@@ -41,9 +44,9 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
 
 /// Writes `work-precision.csv` and the figures into `out`.
 pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, Error> {
-    crate::cli::files::create_dir(out)?;
+    stickslip::cli::files::create_dir(out)?;
     let csv_path = out.join("work-precision.csv");
-    let mut csv = crate::cli::files::create_file(&csv_path)?;
+    let mut csv = stickslip::cli::files::create_file(&csv_path)?;
     writeln!(csv, "job,method,knob,seconds,relative_error")?;
     for m in measurements {
         writeln!(

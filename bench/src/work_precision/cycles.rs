@@ -1,7 +1,7 @@
 //! Work against precision of one stick-slip cycle by collocation: degree
 //! `m = 2..5` and `NTST = 10..400` on an adaptive (equidistributed) or a
 //! uniform mesh, the period and `Delta_s` against long-time integration (a
-//! different method, [`crate::bench::reference_cycle`]).
+//! different method, [`crate::reference_cycle`]).
 //!
 //! What is timed is one continuation point without its predictor: the
 //! orbit corrected on the mesh at fixed stiffness from a good guess (a
@@ -12,19 +12,19 @@
 //! one equidistribution is added to its time, as the branch does at every step.
 
 use super::{points, render_figure, time_it, Measurement};
-use crate::analysis::hopf::{find_hopf, HopfOutcome};
-use crate::bench::{reference_cycle, ReferenceCycle};
-use crate::error::{Error, NumericalError};
-use crate::log_model::LogBlock;
-use crate::model::ModelKind;
-use crate::params::{Param, Params};
-use crate::plot::lines::{LineFigure, Series};
+use crate::{reference_cycle, ReferenceCycle};
 use continuation::periodic::adapt::equidistribute;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::Mesh;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
+use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+use stickslip::error::{Error, NumericalError};
+use stickslip::log_model::LogBlock;
+use stickslip::model::ModelKind;
+use stickslip::params::{Param, Params};
+use stickslip::plot::lines::{LineFigure, Series};
 
 /// Collocation degrees compared.
 const DEGREES: [usize; 4] = [2, 3, 4, 5];
@@ -81,7 +81,7 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
 
 /// The model of `case`, its finely resolved cycle and the reference.
 fn prepare(case: &Case) -> Result<(LogBlock, Cycle, ReferenceCycle), Error> {
-    let mut params = crate::scene::load(crate::scene::DEFAULT_SCENE)?.params;
+    let mut params = stickslip::scene::load(stickslip::scene::DEFAULT_SCENE)?.params;
     params.m = case.m;
     let log = LogBlock::centered(case.kind, &params);
     let fine = resolved_orbit(&log, &params, case.fraction)?;
@@ -144,7 +144,7 @@ fn study_case(case: &Case) -> Result<Vec<Measurement>, Error> {
 /// error estimate of 1e-9), from the Hopf point: the starting guess.
 fn resolved_orbit(log: &LogBlock, params: &Params, fraction: f64) -> Result<Cycle, Error> {
     let HopfOutcome::Found(h) = find_hopf(log.kind, params)? else {
-        return Err(crate::analysis::cycles::no_onset().into());
+        return Err(stickslip::analysis::cycles::no_onset().into());
     };
     let target = fraction * h.kappa_c;
     let mut at = *params;

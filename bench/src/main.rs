@@ -1,34 +1,48 @@
-//! `stickslip bench`: times the user-level jobs of [`crate::bench`] and
-//! counts their vector-field evaluations.
+//! `stickslip-bench`: times the user-level jobs of `stickslip` and counts
+//! their vector-field evaluations, or runs the work-precision study.
 
-use crate::bench::{run_all, table, to_json, Settings};
-use crate::error::Error;
-use crate::model::EVAL_KINDS;
-use clap::Args;
+use clap::Parser;
+use continuation::counted::EVAL_KINDS;
+use std::process::ExitCode;
+use stickslip::error::Error;
+use stickslip_bench::{run_all, table, to_json, Settings};
 
-#[derive(Args, Debug)]
-pub struct BenchArgs {
+/// Time the user-level jobs of stickslip (Hopf point, Hopf curve, diagrams,
+/// cycle branches) and count vector-field evaluations.
+#[derive(Parser, Debug)]
+#[command(name = "stickslip-bench", version)]
+struct BenchArgs {
     /// Print a JSON array, one record per job (`job`, `median_s`, `points`,
     /// `per_point_s`, `repetitions`, `evals`), instead of a table.
     #[arg(long)]
-    pub json: bool,
+    json: bool,
     /// A fast smoke run: about 10 ms of repetitions per job instead of 0.5 s
     /// (timings are rough; evaluation counts are exact either way).
     #[arg(long)]
-    pub quick: bool,
+    quick: bool,
     /// Instead of the job table: the work-precision study (error against
     /// time as the accuracy knobs turn), written as CSV and figures into `--out`.
     #[arg(long)]
-    pub work_precision: bool,
+    work_precision: bool,
     /// Output directory of `--work-precision`.
     #[arg(long, default_value = "out")]
-    pub out: std::path::PathBuf,
+    out: std::path::PathBuf,
+}
+
+fn main() -> ExitCode {
+    match run(&BenchArgs::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("stickslip-bench: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
+    }
 }
 
 /// Runs the command.
-pub fn run(args: &BenchArgs) -> Result<(), Error> {
+fn run(args: &BenchArgs) -> Result<(), Error> {
     if args.work_precision {
-        let m = crate::work_precision::study()?;
+        let m = stickslip_bench::work_precision::study()?;
         println!(
             "{:<26} {:<36} {:>8} {:>12} {:>12}",
             "job", "method", "knob", "time [s]", "rel. error"
@@ -45,7 +59,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
                 r.job, r.method, knob, r.seconds, r.error
             );
         }
-        for f in crate::work_precision::write(&m, &args.out)? {
+        for f in stickslip_bench::work_precision::write(&m, &args.out)? {
             println!("wrote {}", f.display());
         }
         return Ok(());

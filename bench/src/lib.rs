@@ -1,13 +1,17 @@
-//! Benchmark jobs: the analyses a user runs, timed end to end, with the
-//! number of vector-field evaluations each one makes.
+//! Benchmark jobs of `stickslip`: the analyses a user runs, timed end to
+//! end, with the number of vector-field evaluations each one makes; and the
+//! work-precision study ([`work_precision`]).
 //!
-//! `stickslip bench` and the criterion benchmarks (`benches/jobs.rs`) share
-//! these jobs. A job is prepared once (scene loaded, overrides applied, model
-//! chosen, output directory created) and then run repeatedly; only the run is
-//! timed. Evaluation counts come from [`crate::model::eval_counts`] around one
-//! run, so they are exact for that run (the counters are process-wide: other
-//! analyses running at the same time in the same process would add to them).
+//! The `stickslip-bench` binary and the criterion benchmarks
+//! (`benches/jobs.rs`) share these jobs. A job is prepared once (scene
+//! loaded, overrides applied, model chosen, output directory created) and
+//! then run repeatedly; only the run is timed. Evaluation counts come from one
+//! further run with every model the analyses build wrapped in a
+//! [`Counted`](continuation::Counted) ([`Job::run_counted`]), so they are
+//! exact for that run and the timed runs carry no counters.
 //! See `docs/performance.md`.
+
+#![warn(missing_docs)]
 
 mod cycles;
 mod jobs;
@@ -15,6 +19,7 @@ mod measure;
 mod reference;
 mod report;
 mod sandbox;
+pub mod work_precision;
 
 pub use cycles::{Accuracy, LastCycle};
 pub use jobs::{jobs, Job, Tally, JOB_NAMES};
@@ -25,7 +30,7 @@ pub use report::{format_seconds, table, to_json};
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::EVAL_KINDS;
+    use continuation::counted::EVAL_KINDS;
 
     #[test]
     fn quick_run_gives_one_record_per_job_with_the_public_keys() {

@@ -4,18 +4,19 @@
 //! quasi-static ln² closed form).
 
 use super::{methods, points, render_figure, time_it, Measurement};
-use crate::analysis::hopf::{find_hopf_with, HopfOutcome};
-use crate::error::{Error, NumericalError};
-use crate::model::{DrivenBlock, ModelKind};
-use crate::params::Params;
-use crate::plot::lines::{LineFigure, Series};
 use continuation::linalg::eigenpair_near;
 use continuation::normal_form::hopf_normal_form;
 use continuation::system::{eval, jacobian};
+use continuation::AsIs;
 use continuation::{Complex64, NewtonSettings, VectorField};
 use nalgebra::{DMatrix, DVector};
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
+use stickslip::analysis::hopf::{find_hopf_with, HopfOutcome};
+use stickslip::error::{Error, NumericalError};
+use stickslip::model::{DrivenBlock, ModelKind};
+use stickslip::params::Params;
+use stickslip::plot::lines::{LineFigure, Series};
 
 /// `l1` by Kuznetsov's formula with `B` and `C` from central finite
 /// differences of `f` with step `h` (truncation `O(h^2)`, rounding `O(eps/h^3)`):
@@ -117,13 +118,13 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
             residual_tol: tol,
             max_iter: 30,
         };
-        let HopfOutcome::Found(h) = find_hopf_with(kind, &p, &locator)? else {
+        let HopfOutcome::Found(h) = find_hopf_with(&AsIs, kind, &p, &locator)? else {
             return Err(NumericalError::Analysis(
                 "no Hopf point in the work-precision scene".into(),
             )
             .into());
         };
-        let seconds = time_it(|| find_hopf_with(kind, &p, &locator));
+        let seconds = time_it(|| find_hopf_with(&AsIs, kind, &p, &locator));
         let error = ((h.kappa_c - kappa_ref) / kappa_ref).abs().max(1e-17);
         out.push(Measurement {
             job: "kappa_c",
@@ -135,6 +136,7 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
     }
     // l1 at the onset: exact forms against finite differences.
     let HopfOutcome::Found(h) = find_hopf_with(
+        &AsIs,
         kind,
         &p,
         &NewtonSettings {

@@ -3,9 +3,9 @@
 
 use super::cycles::Accuracy;
 use super::jobs::{jobs, Job};
-use crate::error::Error;
-use crate::model::{eval_counts, reset_eval_counts, N_EVAL_KINDS};
+use continuation::counted::N_EVAL_KINDS;
 use std::time::{Duration, Instant};
+use stickslip::error::Error;
 
 /// How long to time each job.
 #[derive(Clone, Copy, Debug)]
@@ -37,12 +37,15 @@ impl Settings {
 /// The measurement of one job.
 #[derive(Clone, Debug)]
 pub struct JobReport {
+    /// The job's name, one of [`JOB_NAMES`](super::JOB_NAMES).
     pub job: &'static str,
+    /// What the job does, in one line.
     pub description: &'static str,
     /// Median wall time of one run, seconds.
     pub median_s: f64,
-    /// Fastest and slowest run, seconds.
+    /// Fastest run, seconds.
     pub min_s: f64,
+    /// Slowest run, seconds.
     pub max_s: f64,
     /// Points the job produced.
     pub points: usize,
@@ -51,7 +54,7 @@ pub struct JobReport {
     /// Timed runs.
     pub repetitions: usize,
     /// Vector-field evaluations of one run, indexed like
-    /// [`EVAL_KINDS`](crate::model::EVAL_KINDS).
+    /// [`EVAL_KINDS`](continuation::counted::EVAL_KINDS).
     pub evals: [u64; N_EVAL_KINDS],
     /// For a cycle branch: its last cycle against long-time integration.
     pub accuracy: Option<Accuracy>,
@@ -60,11 +63,9 @@ pub struct JobReport {
 /// Times `job`: one run with evaluation counting (which also warms caches
 /// and the thread pool; a cycle branch's last cycle is then checked against
 /// integration, untimed), one run to estimate the time, then enough timed
-/// runs to fill `settings.budget`; reports their median.
+/// runs (without counters) to fill `settings.budget`; reports their median.
 pub fn measure(job: &Job, settings: Settings) -> Result<JobReport, Error> {
-    reset_eval_counts();
-    let tally = job.run()?;
-    let evals = eval_counts();
+    let (tally, evals) = job.run_counted()?;
     let accuracy = tally.last_cycle.map(|c| c.accuracy()).transpose()?;
     let points = tally.points;
     let t = Instant::now();

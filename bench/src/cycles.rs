@@ -4,14 +4,15 @@
 //! long-time integration (a different method).
 
 use super::reference::reference_cycle;
-use crate::analysis::cycles::{collocation_for, start_amplitude};
-use crate::analysis::hopf::{find_hopf, HopfOutcome};
-use crate::error::{Error, NumericalError};
-use crate::log_model::LogBlock;
-use crate::model::ModelKind;
-use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
+use continuation::{VectorField, Wrap};
+use stickslip::analysis::cycles::{collocation_for, start_amplitude};
+use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+use stickslip::error::{Error, NumericalError};
+use stickslip::log_model::LogBlock;
+use stickslip::model::ModelKind;
+use stickslip::params::{Param, Params};
 
 /// Mesh intervals of every cycle (fixed: no refinement, no coarsening).
 pub const NTST: usize = 50;
@@ -35,10 +36,13 @@ pub(super) struct CycleWork {
 /// The last cycle of a run, in docs/model.md's variables.
 #[derive(Clone, Debug)]
 pub struct LastCycle {
+    /// The model of the branch.
     pub kind: ModelKind,
     /// The scene's parameters at the cycle's stiffness.
     pub params: Params,
+    /// Period by collocation.
     pub period: f64,
+    /// Peak-to-peak spring force.
     pub delta_s: f64,
 }
 
@@ -70,7 +74,7 @@ impl CycleWork {
         ds_max: f64,
     ) -> Result<CycleWork, Error> {
         let HopfOutcome::Found(h) = find_hopf(kind, params)? else {
-            return Err(crate::analysis::cycles::no_onset().into());
+            return Err(stickslip::analysis::cycles::no_onset().into());
         };
         let log = LogBlock::centered(kind, params);
         let mut at = *params;
@@ -103,10 +107,12 @@ impl CycleWork {
         })
     }
 
-    /// Traces the branch: the number of cycles and the last one.
-    pub(super) fn run(&self) -> Result<(usize, LastCycle), Error> {
+    /// Traces the branch, the model built through `fields`: the number of
+    /// cycles and the last one.
+    pub(super) fn run<F: Wrap>(&self, fields: &F) -> Result<(usize, LastCycle), Error> {
+        let field = fields.field(self.log);
         let branch = CycleBranch::from_hopf(
-            &self.log,
+            &field,
             &self.x0,
             self.omega,
             &self.at_hopf,
@@ -121,11 +127,13 @@ impl CycleWork {
             count += 1;
         }
         let last = last.ok_or_else(|| NumericalError::Analysis("an empty cycle branch".into()))?;
-        Ok((count, self.summary(&last)))
+        Ok((count, self.summary(&field, &last)))
     }
 
-    fn summary(&self, c: &Cycle) -> LastCycle {
-        let (lo, hi) = c.range(&self.log, 0);
+    /// The cycle `c` of `field` (the model as the branch evaluated it: its
+    /// extremes take collocation steps) in docs/model.md's variables.
+    fn summary<S: VectorField>(&self, field: &S, c: &Cycle) -> LastCycle {
+        let (lo, hi) = c.range(field, 0);
         let mut params = self.params;
         params.kappa = c.p[Param::Kappa as usize];
         LastCycle {

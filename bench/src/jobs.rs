@@ -2,17 +2,19 @@
 
 use super::cycles::{CycleWork, LastCycle};
 use super::sandbox::{silence_stdout, TempDir};
-use crate::analysis::diagram::hopf_curve;
-use crate::analysis::hopf::{find_hopf, HopfOutcome};
-use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
-use crate::cli::diagram::DiagramArgs;
-use crate::cli::files::OutputArgs;
-use crate::cli::SceneArgs;
-use crate::error::{Error, NumericalError};
-use crate::model::ModelKind;
-use crate::params::Params;
+use continuation::counted::N_EVAL_KINDS;
+use continuation::{AsIs, ContinuationSettings, Counting, Wrap};
 use serde_json::Value;
 use std::path::Path;
+use stickslip::analysis::diagram::{hopf_curve_with, DEFAULT_CURVE_STEPS};
+use stickslip::analysis::hopf::{find_hopf_with, HopfOutcome};
+use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use stickslip::cli::diagram::DiagramArgs;
+use stickslip::cli::files::OutputArgs;
+use stickslip::cli::SceneArgs;
+use stickslip::error::{Error, NumericalError};
+use stickslip::model::ModelKind;
+use stickslip::params::Params;
 
 /// Names of the jobs, in the order they run.
 pub const JOB_NAMES: [&str; 7] = [
@@ -87,7 +89,7 @@ impl Job {
     pub fn new(name: &str) -> Result<Job, Error> {
         let (name, description, work) = match name {
             "hopf_point_l1" => {
-                let setup = scene_args(crate::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
+                let setup = scene_args(stickslip::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
                 (
                     JOB_NAMES[0],
                     "find_hopf on the default scene (pmma, quasi-static), with l1",
@@ -99,7 +101,7 @@ impl Job {
             }
             "hopf_point_l1_inertial" => {
                 let setup =
-                    scene_args(crate::scene::DEFAULT_SCENE, &INERTIAL_OVERRIDES).setup(|p| *p)?;
+                    scene_args(stickslip::scene::DEFAULT_SCENE, &INERTIAL_OVERRIDES).setup(|p| *p)?;
                 (
                     JOB_NAMES[1],
                     "find_hopf, --set A=0.01 B=0.02 mu2=5e-4 m=0.1 nu=3 (inertial), with l1",
@@ -110,7 +112,7 @@ impl Job {
                 )
             }
             "hopf_curve_4_decades" => {
-                let scene = crate::scene::load("pmma")?;
+                let scene = stickslip::scene::load("pmma")?;
                 (
                     JOB_NAMES[2],
                     "hopf_curve, pmma, inertial, nu in [0.01, 100], l1 at every point",
@@ -124,7 +126,7 @@ impl Job {
             "diagram_default" => (
                 JOB_NAMES[3],
                 "`stickslip diagram` end to end (pmma; PNG, SVG, CSV, JSON written)",
-                diagram_work(crate::scene::DEFAULT_SCENE)?,
+                diagram_work(stickslip::scene::DEFAULT_SCENE)?,
             ),
             "diagram_three_scenes_parallel" => (
                 JOB_NAMES[4],
@@ -158,24 +160,34 @@ impl Job {
         })
     }
 
-    /// Runs the job once; returns what it produced.
-    pub fn run(&self) -> Result<Tally, Error> {
-        self.execute(true)
+    /// Runs the job once with every model it builds [`Counted`](continuation::Counted)
+    /// into one tally; returns what it produced and the evaluations, indexed
+    /// like [`EVAL_KINDS`](continuation::counted::EVAL_KINDS).
+    pub fn run_counted(&self) -> Result<(Tally, [u64; N_EVAL_KINDS]), Error> {
+        let counting = Counting::new();
+        let tally = self.execute(&counting, true)?;
+        Ok((tally, counting.counts()))
     }
 
-    /// Runs the job once without counting points afterwards (what is timed:
-    /// for the diagram jobs, counting means reading the JSON files back).
+    /// Runs the job once, as it is timed: no counters, and no counting of
+    /// points afterwards (for the diagram jobs, that means reading the JSON
+    /// files back).
     pub fn run_untallied(&self) -> Result<(), Error> {
-        self.execute(false).map(|_| ())
+        self.execute(&AsIs, false).map(|_| ())
     }
 
-    fn execute(&self, tally: bool) -> Result<Tally, Error> {
+    fn execute<F: Wrap>(&self, fields: &F, tally: bool) -> Result<Tally, Error> {
         let points = |points| Tally {
             points,
             last_cycle: None,
         };
         match &self.work {
-            Work::Hopf { kind, params } => match find_hopf(*kind, params)? {
+            Work::Hopf { kind, params } => match find_hopf_with(
+                fields,
+                *kind,
+                params,
+                &ContinuationSettings::default().locator,
+            )? {
                 HopfOutcome::Found(h) => {
                     std::hint::black_box(&h);
                     Ok(points(1))
@@ -190,11 +202,18 @@ impl Job {
                 params,
                 range,
             } => {
-                let d = hopf_curve(*kind, params, crate::params::Param::Nu, *range)?;
+                let d = hopf_curve_with(
+                    fields,
+                    *kind,
+                    params,
+                    stickslip::params::Param::Nu,
+                    *range,
+                    DEFAULT_CURVE_STEPS,
+                )?;
                 Ok(points(std::hint::black_box(d).points.len()))
             }
             Work::Diagram { args, stems, .. } => {
-                silence_stdout(|| crate::cli::diagram::run(args))?;
+                silence_stdout(|| stickslip::cli::diagram::run_with(args, fields))?;
                 if tally {
                     stems
                         .iter()
@@ -206,7 +225,7 @@ impl Job {
                 }
             }
             Work::Cycles(work) => {
-                let (count, last) = work.run()?;
+                let (count, last) = work.run(fields)?;
                 Ok(Tally {
                     points: count,
                     last_cycle: Some(last),
@@ -224,7 +243,7 @@ pub fn jobs() -> Result<Vec<Job>, Error> {
 /// The cycle branch of the default scene with `set` overrides, down to at
 /// most `fraction kappa_c`, arclength steps up to `ds_max`.
 fn cycle_work(set: &[&str], fraction: f64, ds_max: f64) -> Result<Work, Error> {
-    let setup = scene_args(crate::scene::DEFAULT_SCENE, set).setup(|p| *p)?;
+    let setup = scene_args(stickslip::scene::DEFAULT_SCENE, set).setup(|p| *p)?;
     Ok(Work::Cycles(CycleWork::new(
         setup.choice.kind,
         &setup.params,
@@ -237,7 +256,7 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
     let dir = TempDir::new()?;
     let stems = scenes
         .split(',')
-        .map(|s| crate::scene::load(s).map(|sc| sc.name))
+        .map(|s| stickslip::scene::load(s).map(|sc| sc.name))
         .collect::<Result<_, _>>()?;
     Ok(Work::Diagram {
         args: DiagramArgs {
@@ -250,7 +269,7 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
                 force: true,
             },
             json: false,
-            max_steps: crate::analysis::diagram::DEFAULT_CURVE_STEPS,
+            max_steps: stickslip::analysis::diagram::DEFAULT_CURVE_STEPS,
         },
         stems,
         _dir: dir,
