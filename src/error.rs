@@ -52,8 +52,6 @@ pub enum NumericalError {
     /// The engine's message, and what to do about it with this program.
     #[error("{engine}{remedy}", engine = .0, remedy = remedy(.0))]
     Continuation(#[from] continuation::ContinuationError),
-    #[error(transparent)]
-    NoCycle(#[from] crate::analysis::orbit_start::NoCycleFound),
     #[error("{0}")]
     Analysis(String),
 }

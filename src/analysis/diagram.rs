@@ -9,7 +9,7 @@
 //! the friction law itself: `mu_phi(1/nu) = mu_v`.
 
 use crate::analysis::hopf::{find_hopf_with, Criticality, HopfOutcome};
-use crate::analysis::lpc_curve::{lpc_curves, LpcCurves};
+use crate::analysis::lpc_curve::{lpc_curves, BautinStart, LpcCurves};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
@@ -218,6 +218,29 @@ fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
     None
 }
 
+/// For every Bautin point of `d`, the subcritical Hopf point of the curve
+/// nearest to it but at least 2 % away in `nu` (at the Bautin point itself
+/// the folded cycles are vanishingly small), where its curve of folds of
+/// cycles starts.
+fn bautin_starts(d: &StabilityDiagram) -> Vec<BautinStart> {
+    d.special
+        .iter()
+        .filter(|s| s.kind == "bautin")
+        .filter_map(|b| {
+            let away = |p: &&CurvePoint| (p.nu / b.nu).ln().abs();
+            d.points
+                .iter()
+                .filter(|p| p.criticality == Criticality::Subcritical)
+                .filter(|p| away(p) > 0.02)
+                .min_by(|x, y| away(x).total_cmp(&away(y)))
+                .map(|p| BautinStart {
+                    bautin_nu: b.nu,
+                    hopf_nu: p.nu,
+                })
+        })
+        .collect()
+}
+
 /// Traces the Hopf curve of `params` for `nu` in `[nu_lo, nu_hi]` and,
 /// from its Bautin points, the curves of folds of cycles that bound the
 /// hysteretic region.
@@ -243,7 +266,7 @@ pub fn stability_diagram_with<F: Wrap>(
     max_steps: usize,
 ) -> Result<StabilityDiagram, NumericalError> {
     let mut d = hopf_curve_with(fields, kind, params, Param::Nu, range, max_steps)?;
-    d.lpc = lpc_curves(fields, kind, params, &d, range);
+    d.lpc = lpc_curves(fields, kind, params, &bautin_starts(&d), range);
     d.strengthening = strengthening_intervals(params, range);
     if let Some(why) = strengthening_reason(params, range, &d.strengthening) {
         d.reason = Some(why);

@@ -8,8 +8,7 @@
 //! stiffness, and stick-slip below `kappa_LPC` is hysteretic alone.
 
 use crate::analysis::cycles::hopf_start;
-use crate::analysis::diagram::StabilityDiagram;
-use crate::analysis::hopf::{find_hopf_with, Criticality, HopfOutcome};
+use crate::analysis::hopf::{find_hopf_with, HopfOutcome};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -108,55 +107,53 @@ fn first_fold<F: Wrap>(
     )))
 }
 
-/// The curves of folds of cycles from every Bautin point of `diagram`, within
-/// the velocity range, the models built through `fields` (e.g. counted).
+/// Where a curve of folds of cycles starts: a Bautin point of the Hopf
+/// curve and the subcritical Hopf point beside it whose folded cycles are
+/// continued (velocities `nu`).
+#[derive(Clone, Copy, Debug)]
+pub struct BautinStart {
+    pub bautin_nu: f64,
+    pub hopf_nu: f64,
+}
+
+/// The curves of folds of cycles from the Bautin points `starts`, within the
+/// velocity range; a Bautin point already reached by a curve from another is
+/// skipped.
 pub fn lpc_curves<F: Wrap>(
     fields: &F,
     kind: ModelKind,
     params: &Params,
-    diagram: &StabilityDiagram,
+    starts: &[BautinStart],
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
     let log = LogBlock::new(kind, params);
     let mut out = LpcCurves::default();
-    let bautins: Vec<_> = diagram
-        .special
-        .iter()
-        .filter(|s| s.kind == "bautin")
-        .collect();
     let near = |nu: f64, b: f64| (nu / b).ln().abs() < 0.01;
-    for bautin in &bautins {
+    for start in starts {
         // A curve already traced from another Bautin point may end here.
-        if out.points.iter().flatten().any(|p| near(p.nu, bautin.nu)) {
-            continue;
-        }
-        // A Hopf point on the subcritical side, a little away from the Bautin
-        // point (where the folded cycles are vanishingly small).
-        let Some(start) = diagram
+        if out
             .points
             .iter()
-            .filter(|p| p.criticality == Criticality::Subcritical)
-            .filter(|p| (p.nu / bautin.nu).ln().abs() > 0.02)
-            .min_by(|a, b| {
-                let d = |p: &&crate::analysis::diagram::CurvePoint| (p.nu / bautin.nu).ln().abs();
-                d(a).total_cmp(&d(b))
-            })
-        else {
+            .flatten()
+            .any(|p| near(p.nu, start.bautin_nu))
+        {
             continue;
-        };
+        }
         let mut at = *params;
-        at.nu = start.nu;
+        at.nu = start.hopf_nu;
         let fold = match first_fold(fields, &log, &at) {
             Ok(f) => f,
             Err(e) => {
-                out.stops
-                    .push(format!("no fold of cycles near nu = {:.6e}: {e}", start.nu));
+                out.stops.push(format!(
+                    "no fold of cycles near nu = {:.6e}: {e}",
+                    start.hopf_nu
+                ));
                 out.incomplete = true;
                 continue;
             }
         };
         let (curve, stops, short) = trace_through(&fields.field(log), &fold, (lo, hi), &|nu| {
-            bautins.iter().any(|b| near(nu, b.nu))
+            starts.iter().any(|b| near(nu, b.bautin_nu))
         });
         out.stops.extend(stops);
         out.incomplete |= short;

@@ -56,7 +56,8 @@ impl Start {
                             tried,
                         })
                     }
-                    Err(e) => Err(e.into()),
+                    // Its message names every stiffness tried and why it failed.
+                    Err(e) => Err(NumericalError::Analysis(e.to_string()).into()),
                 }
             }
         }
