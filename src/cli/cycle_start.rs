@@ -57,7 +57,7 @@ impl Start {
                         })
                     }
                     // Its message names every stiffness tried and why it failed.
-                    Err(e) => Err(NumericalError::Analysis(e.to_string()).into()),
+                    Err(e) => Err(NumericalError::Analysis(e.to_string())),
                 }
             }
         }
