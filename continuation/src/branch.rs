@@ -8,7 +8,7 @@
 //! the fold and Hopf test functions are watched; sign changes are located
 //! (see [`crate::events`]) and attached to the later point.
 
-use crate::arclength::{Bound, StepControl, Stepper};
+use crate::arclength::{Bound, CurveControl, Stepper};
 use crate::defining::{EquilibriumSystem, FreeParams};
 use crate::error::ContinuationError;
 use crate::events::{
@@ -16,6 +16,7 @@ use crate::events::{
 };
 use crate::linalg::{count_unstable, eigenvalues};
 use crate::newton::{self, NewtonReport, NewtonSettings};
+use crate::predictor_corrector::StepControl;
 use crate::system::{eval, jacobian, VectorField};
 use nalgebra::DVector;
 use num_complex::Complex64;
@@ -173,12 +174,15 @@ impl<'a, S: VectorField> Branch<'a, S> {
                 free: vec![k],
             },
         };
-        let control = StepControl {
-            ds: settings.ds,
-            ds_min: settings.ds_min,
-            ds_max: settings.ds_max,
-            growth: settings.growth,
-            min_tangent_cos: settings.min_tangent_cos,
+        let control = CurveControl {
+            step: StepControl {
+                ds: settings.ds,
+                ds_min: settings.ds_min,
+                ds_max: settings.ds_max,
+                growth: settings.growth,
+                easy_iterations: 3,
+                min_tangent_cos: settings.min_tangent_cos,
+            },
             corrector: settings.corrector,
             weights: Vec::new(),
         };

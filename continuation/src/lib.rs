@@ -29,6 +29,7 @@ pub mod multilinear;
 pub mod newton;
 pub mod normal_form;
 pub mod periodic;
+pub mod predictor_corrector;
 pub mod root;
 pub mod system;
 

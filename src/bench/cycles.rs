@@ -12,6 +12,7 @@ use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
+use continuation::predictor_corrector::StepControl;
 
 /// Mesh intervals of every cycle (fixed: no refinement, no coarsening).
 pub const NTST: usize = 50;
@@ -86,8 +87,11 @@ impl CycleWork {
             mesh_accept: f64::INFINITY,
             max_steps: CYCLES - 1,
             p_min: kappa_min,
-            ds: 1e-3,
-            ds_max,
+            step: StepControl {
+                ds: 1e-3,
+                ds_max,
+                ..CycleSettings::default().step
+            },
             param_floor: 0.5 * kappa_min,
             start_amplitude: start_amplitude(&log),
             ..Default::default()
