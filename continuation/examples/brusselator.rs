@@ -10,7 +10,7 @@
 
 use continuation::codim2::{CurveSettings, HopfCurve};
 use continuation::normal_form::hopf_normal_form;
-use continuation::{Branch, ContinuationSettings, EventKind, Scalar, VectorField};
+use continuation::{Branch, ContinuationSettings, EventKind, Scalar, StepControl, VectorField};
 
 struct Brusselator;
 
@@ -31,7 +31,10 @@ impl VectorField for Brusselator {
 fn main() -> Result<(), continuation::ContinuationError> {
     let a = 1.5;
     let settings = ContinuationSettings {
-        ds: 0.05,
+        step: StepControl {
+            ds: 0.05,
+            ..ContinuationSettings::default().step
+        },
         p_max: 6.0,
         ..Default::default()
     };

@@ -43,6 +43,12 @@ pub const SHRINK: f64 = 0.5;
 /// by more than [`StepControl::min_tangent_cos`] allows.
 const TURNED: &str = "the tangent turned too sharply";
 
+/// Whether the cosine `cos` of a tangent's turn is at least
+/// [`StepControl::min_tangent_cos`] (not when it is NaN).
+fn turns_by_little(cos: f64, control: &StepControl) -> bool {
+    cos >= control.min_tangent_cos
+}
+
 /// A prediction corrected onto the curve.
 pub struct Corrected<P> {
     /// The point, with what its tangent needs (e.g. the Jacobian there).
@@ -137,7 +143,7 @@ pub fn step<C: CurveProblem>(
             Err(e) => e.to_string(),
             Ok(mut corrected) => match curve.tangent(&mut corrected.point) {
                 Err(e) => e.to_string(),
-                Ok(t) if !corrected.constrained && !(curve.turn(&t) >= control.min_tangent_cos) => {
+                Ok(t) if !corrected.constrained && !turns_by_little(curve.turn(&t), control) => {
                     TURNED.into()
                 }
                 Ok(t) => match curve.review(&corrected) {

@@ -455,10 +455,7 @@ fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
     let guess = twisted_band_cycle(p);
     let settings = CycleSettings {
         step: StepControl {
-            step: StepControl {
-                ds: 1e-2,
-                ..CycleSettings::default().step
-            },
+            ds: 1e-2,
             ds_max: 0.05,
             ..CycleSettings::default().step
         },
