@@ -349,6 +349,53 @@ mod tests {
         assert!(rep.iterations <= 7);
     }
 
+    /// A residual at its floor (reported as 0) and a step that no longer
+    /// shrinks (`1e-9`, above the step tolerance but within `1e3` of it).
+    struct Floor(Stall);
+
+    struct Zero;
+
+    impl Linearized for Zero {
+        fn residual(&self) -> &[f64] {
+            &[0.0]
+        }
+    }
+
+    impl NewtonProblem for Floor {
+        type Point = Zero;
+        fn evaluate(&mut self, _z: &[f64]) -> Result<Zero, ContinuationError> {
+            Ok(Zero)
+        }
+        fn newton_step(&mut self, _point: &Zero) -> Result<Vec<f64>, ContinuationError> {
+            Ok(vec![1e-9])
+        }
+        fn stall(&self) -> Stall {
+            self.0
+        }
+        fn error(&self, failure: Failure, _cause: Option<ContinuationError>) -> ContinuationError {
+            failure.error(String::new(), "")
+        }
+    }
+
+    #[test]
+    fn a_stalled_step_converges_fails_or_iterates_by_the_stall_rule() {
+        let settings = NewtonSettings::default();
+        let run = |stall| iterate(&mut Floor(stall), &mut [1.0], &settings);
+        let (report, _) = run(Stall::Converged).unwrap();
+        assert_eq!((report.iterations, report.step), (2, 1e-9));
+        let reason = |stall| match run(stall) {
+            Err(ContinuationError::Newton {
+                reason, iterations, ..
+            }) => (reason, iterations),
+            other => panic!("{:?}", other.map(|(r, _)| r)),
+        };
+        assert_eq!(reason(Stall::Fail), (NewtonFailure::Stalled, 2));
+        assert_eq!(
+            reason(Stall::Iterate),
+            (NewtonFailure::MaxIterations, settings.max_iter)
+        );
+    }
+
     #[test]
     fn reports_a_singular_jacobian() {
         let mut z = DVector::from_element(1, 0.0);

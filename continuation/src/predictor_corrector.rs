@@ -178,3 +178,78 @@ pub fn step<C: CurveProblem>(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::newton::Failure;
+
+    /// A curve whose corrector always fails for `reason`.
+    struct Failing(NewtonFailure);
+
+    impl CurveProblem for Failing {
+        type Point = ();
+        type Tangent = ();
+        fn correct(&mut self, _ds: f64) -> Result<Corrected<()>, ContinuationError> {
+            let failure = Failure {
+                iterations: 1,
+                residual: 1.0,
+                step: 1.0,
+                reason: self.0.clone(),
+            };
+            Err(failure.error(String::new(), ""))
+        }
+        fn tangent(&mut self, _point: &mut ()) -> Result<(), ContinuationError> {
+            Ok(())
+        }
+        fn turn(&self, _tangent: &()) -> f64 {
+            1.0
+        }
+        fn accept(&mut self, _point: (), _tangent: ()) -> Result<(), ContinuationError> {
+            Ok(())
+        }
+        fn location(&self) -> (String, f64) {
+            ("p".into(), 2.0)
+        }
+    }
+
+    const CONTROL: StepControl = StepControl {
+        ds: 1.0,
+        ds_min: 0.1,
+        ds_max: 1.0,
+        growth: 1.5,
+        easy_iterations: 3,
+        min_tangent_cos: 0.9,
+    };
+
+    #[test]
+    fn failed_corrections_halve_the_step_down_to_ds_min() {
+        let mut ds = 1.0;
+        let err = step(
+            &mut Failing(NewtonFailure::MaxIterations),
+            &CONTROL,
+            &mut ds,
+        );
+        match err {
+            Err(ContinuationError::StepTooSmall {
+                param_name, param, ..
+            }) => assert_eq!((param_name.as_str(), param), ("p", 2.0)),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(ds, 0.0625);
+    }
+
+    #[test]
+    fn a_stalled_corrector_ends_the_step_at_once() {
+        let mut ds = 1.0;
+        let err = step(&mut Failing(NewtonFailure::Stalled), &CONTROL, &mut ds);
+        assert!(matches!(
+            err,
+            Err(ContinuationError::Newton {
+                reason: NewtonFailure::Stalled,
+                ..
+            })
+        ));
+        assert_eq!(ds, 1.0);
+    }
+}
