@@ -256,7 +256,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             y: &mut self.y,
             tangent: &mut self.tangent,
             corrector: &self.settings.corrector,
-            p2_name: self.sys.param_name(self.k2),
+            k2: self.k2,
             passed_bautin: false,
         };
         let stepped = predictor_corrector::step(&mut curve, &self.settings.step, &mut self.ds)?;
@@ -278,7 +278,7 @@ struct FoldStep<'c, 'a, S: VectorField> {
     tangent: &'c mut Vec<f64>,
     w: Vec<f64>,
     corrector: &'c NewtonSettings,
-    p2_name: String,
+    k2: usize,
     /// Whether the accepted fold lies past a Bautin point.
     passed_bautin: bool,
 }
@@ -326,7 +326,10 @@ impl<S: VectorField> CurveProblem for FoldStep<'_, '_, S> {
 
     fn location(&self) -> (String, f64) {
         (
-            format!("{} along the fold of cycles", self.p2_name),
+            format!(
+                "{} along the fold of cycles",
+                self.aug.coll.sys.param_name(self.k2)
+            ),
             self.y[self.y.len() - 1],
         )
     }
