@@ -6,6 +6,7 @@
 use super::reference::reference_cycle;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
+use continuation::predictor_corrector::StepControl;
 use continuation::{VectorField, Wrap};
 use stickslip::analysis::cycles::{collocation_for, start_amplitude};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
@@ -90,8 +91,11 @@ impl CycleWork {
             mesh_accept: f64::INFINITY,
             max_steps: CYCLES - 1,
             p_min: kappa_min,
-            ds: 1e-3,
-            ds_max,
+            step: StepControl {
+                ds: 1e-3,
+                ds_max,
+                ..CycleSettings::default().step
+            },
             param_floor: 0.5 * kappa_min,
             start_amplitude: start_amplitude(&log),
             ..Default::default()

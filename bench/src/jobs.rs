@@ -71,7 +71,7 @@ enum Work {
         _dir: TempDir,
     },
     /// A branch of cycles from the Hopf point on a fixed mesh, with Floquet multipliers.
-    Cycles(CycleWork),
+    Cycles(Box<CycleWork>),
 }
 
 /// A scene with `--set` overrides, as the CLI would set it up.
@@ -244,12 +244,12 @@ pub fn jobs() -> Result<Vec<Job>, Error> {
 /// most `fraction kappa_c`, arclength steps up to `ds_max`.
 fn cycle_work(set: &[&str], fraction: f64, ds_max: f64) -> Result<Work, Error> {
     let setup = scene_args(stickslip::scene::DEFAULT_SCENE, set).setup(|p| *p)?;
-    Ok(Work::Cycles(CycleWork::new(
+    Ok(Work::Cycles(Box::new(CycleWork::new(
         setup.choice.kind,
         &setup.params,
         fraction,
         ds_max,
-    )?))
+    )?)))
 }
 
 fn diagram_work(scenes: &str) -> Result<Work, Error> {

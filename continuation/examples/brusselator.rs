@@ -15,7 +15,7 @@
 use continuation::codim2::{CurveSettings, HopfCurve};
 use continuation::normal_form::hopf_normal_form;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
-use continuation::{Branch, ContinuationSettings, EventKind, Scalar, VectorField};
+use continuation::{Branch, ContinuationSettings, EventKind, Scalar, StepControl, VectorField};
 
 struct Brusselator;
 
@@ -36,7 +36,10 @@ impl VectorField for Brusselator {
 fn main() -> Result<(), continuation::ContinuationError> {
     let a = 1.5;
     let settings = ContinuationSettings {
-        ds: 0.05,
+        step: StepControl {
+            ds: 0.05,
+            ..ContinuationSettings::default().step
+        },
         p_max: 6.0,
         ..Default::default()
     };
@@ -104,13 +107,17 @@ const REPORTED_B: [f64; 4] = [3.5, 4.0, 4.5, 5.0];
 /// Continues the cycles born at the Hopf point `(x, p, omega)` in `b` up to
 /// `b = 5` and prints the first one and those at [`REPORTED_B`].
 fn cycles(x: &[f64], p: &[f64], omega: f64) -> Result<(), continuation::ContinuationError> {
+    let defaults = CycleSettings::default();
     let settings = CycleSettings {
         ntst: 40,
-        ds: 0.01,
-        ds_max: 0.2,
+        step: StepControl {
+            ds: 0.01,
+            ds_max: 0.2,
+            ..defaults.step
+        },
         p_max: 5.05,
         user_points: REPORTED_B.to_vec(),
-        ..Default::default()
+        ..defaults
     };
     let mut branch = CycleBranch::from_hopf(&Brusselator, x, omega, p, 1, settings)?;
     println!("cycles born at the Hopf point, continued in b:");

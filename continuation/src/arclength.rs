@@ -3,29 +3,23 @@
 //! Kuznetsov 1998, §10.2.1).
 //!
 //! With unit tangent `t`, a step predicts `z + ds t` and corrects by Newton on
-//! `G(z) = 0, t . (z - z_pred) = 0`. The step grows after easy corrections
-//! (at most 3 Newton iterations), halves after failures or sharp turns of the
-//! tangent, and a step that would cross a bound is shortened to land on it.
+//! `G(z) = 0, t . (z - z_pred) = 0`, by the shared step of
+//! [`crate::predictor_corrector`] (the step grows after easy corrections,
+//! halves after failures or sharp turns of the tangent); a step that would
+//! cross a bound is shortened to land on it.
 
 use crate::defining::DefiningSystem;
 use crate::error::ContinuationError;
 use crate::linalg::solve;
-use crate::newton::{self, NewtonReport, NewtonSettings};
+use crate::newton::{self, DensePoint, NewtonReport, NewtonSettings};
+use crate::predictor_corrector::{self, Corrected, CurveProblem, Review, StepControl};
 use nalgebra::{DMatrix, DVector};
 
-/// Step-size control of a curve.
+/// Settings of a curve: its step-size control, corrector and arclength norm.
 #[derive(Clone, Debug)]
-pub struct StepControl {
-    /// Initial step.
-    pub ds: f64,
-    /// Smallest step before giving up.
-    pub ds_min: f64,
-    /// Largest step.
-    pub ds_max: f64,
-    /// Growth factor after an easy correction.
-    pub growth: f64,
-    /// Smallest cosine between consecutive tangents.
-    pub min_tangent_cos: f64,
+pub struct CurveControl {
+    /// Step-size control.
+    pub step: StepControl,
     /// Corrector settings.
     pub corrector: NewtonSettings,
     /// Weights of the unknowns in the arclength norm `|dz|^2 = sum w_i dz_i^2`
@@ -34,7 +28,7 @@ pub struct StepControl {
     pub weights: Vec<f64>,
 }
 
-impl StepControl {
+impl CurveControl {
     fn weight(&self, i: usize) -> f64 {
         self.weights.get(i).copied().unwrap_or(1.0)
     }
@@ -83,7 +77,7 @@ pub struct Stepper<G: DefiningSystem> {
     z: DVector<f64>,
     tangent: DVector<f64>,
     ds: f64,
-    control: StepControl,
+    control: CurveControl,
     bounds: Vec<Bound>,
 }
 
@@ -93,12 +87,12 @@ impl<G: DefiningSystem> Stepper<G> {
         mut system: G,
         z0: DVector<f64>,
         seed: &DVector<f64>,
-        control: StepControl,
+        control: CurveControl,
         bounds: Vec<Bound>,
     ) -> Result<Self, ContinuationError> {
         system.accept(&z0)?;
         let tangent = tangent_at(&system, &z0, seed, &control)?;
-        let ds = control.ds.abs();
+        let ds = control.step.ds.abs();
         Ok(Stepper {
             system,
             z: z0,
@@ -148,45 +142,91 @@ impl<G: DefiningSystem> Stepper<G> {
         fixed: Option<(usize, f64)>,
         settings: &NewtonSettings,
     ) -> Result<NewtonReport, ContinuationError> {
-        let mut dgs = DMatrix::zeros(self.system.n_equations(), z.len());
-        self.correct_into(z, tangent, fixed, settings, &mut dgs)
+        correct(&self.system, &self.control, z, tangent, fixed, settings).map(|(report, _)| report)
     }
 
-    /// [`correct`](Self::correct), leaving in `dgs` (`n_equations` rows) the
-    /// Jacobian `DG` of the last evaluation: on success, `DG` at the solution.
-    fn correct_into(
-        &self,
-        z: &mut DVector<f64>,
-        tangent: &DVector<f64>,
-        fixed: Option<(usize, f64)>,
-        settings: &NewtonSettings,
-        dgs: &mut DMatrix<f64>,
-    ) -> Result<NewtonReport, ContinuationError> {
-        let m = self.system.n_equations();
-        let z_pred = z.clone();
-        let mut gs = DVector::zeros(m);
-        let wt = self.control.weighted(tangent);
-        let mut diff = DVector::zeros(z.len());
-        newton::solve(z, settings, "", |z, g, dg| {
-            self.system.eval(z, &mut gs, dgs);
-            g.rows_mut(0, m).copy_from(&gs);
-            dg.view_mut((0, 0), (m, z.len())).copy_from(&*dgs);
-            match fixed {
-                Some((i, value)) => {
-                    g[m] = z[i] - value;
-                    dg.row_mut(m).fill(0.0);
-                    dg[(m, i)] = 1.0;
-                }
-                None => {
-                    diff.copy_from(z);
-                    diff -= &z_pred;
-                    g[m] = wt.dot(&diff);
-                    dg.row_mut(m).copy_from(&wt.transpose());
-                }
-            }
+    /// Takes one step that the corrector accepts ([`predictor_corrector::step`]).
+    /// A step whose prediction crosses a bound, or whose corrected point lies
+    /// beyond one (the corrector moves across the tangent), is retaken to
+    /// land on the bound.
+    pub fn step(&mut self) -> Result<Step, ContinuationError> {
+        let mut curve = Arclength {
+            system: &mut self.system,
+            z: &mut self.z,
+            tangent: &mut self.tangent,
+            control: &self.control,
+            bounds: &self.bounds,
+            overshot: None,
+            landed: None,
+        };
+        let stepped = predictor_corrector::step(&mut curve, &self.control.step, &mut self.ds)?;
+        Ok(Step {
+            report: stepped.report,
+            bound: curve.landed,
+            ds: stepped.ds,
         })
     }
+}
 
+/// Newton on `G(z) = 0` plus `t . (z - z_pred) = 0`, or plus `z_i = value`
+/// when `fixed = Some((i, value))`; returns the report and the system
+/// linearized at the solution (`DG` on its first `n_equations` rows).
+fn correct<G: DefiningSystem>(
+    system: &G,
+    control: &CurveControl,
+    z: &mut DVector<f64>,
+    tangent: &DVector<f64>,
+    fixed: Option<(usize, f64)>,
+    settings: &NewtonSettings,
+) -> Result<(NewtonReport, DensePoint), ContinuationError> {
+    let m = system.n_equations();
+    let z_pred = z.clone();
+    let mut gs = DVector::zeros(m);
+    let mut dgs = DMatrix::zeros(m, z.len());
+    let wt = control.weighted(tangent);
+    let mut diff = DVector::zeros(z.len());
+    newton::solve_dense(z, settings, "", |z, g, dg| {
+        system.eval(z, &mut gs, &mut dgs);
+        g.rows_mut(0, m).copy_from(&gs);
+        dg.view_mut((0, 0), (m, z.len())).copy_from(&dgs);
+        match fixed {
+            Some((i, value)) => {
+                g[m] = z[i] - value;
+                dg.row_mut(m).fill(0.0);
+                dg[(m, i)] = 1.0;
+            }
+            None => {
+                diff.copy_from(z);
+                diff -= &z_pred;
+                g[m] = wt.dot(&diff);
+                dg.row_mut(m).copy_from(&wt.transpose());
+            }
+        }
+    })
+}
+
+/// A point corrected by [`Arclength`]: the point, the system linearized
+/// there and the bound it landed on.
+struct ArcPoint {
+    z: DVector<f64>,
+    linearized: DensePoint,
+    bound: Option<Bound>,
+}
+
+/// One step of a [`Stepper`], as a [`CurveProblem`] with bounds to land on.
+struct Arclength<'s, G: DefiningSystem> {
+    system: &'s mut G,
+    z: &'s mut DVector<f64>,
+    tangent: &'s mut DVector<f64>,
+    control: &'s CurveControl,
+    bounds: &'s [Bound],
+    /// A bound the last corrected point overshot: the step is retaken onto it.
+    overshot: Option<(Bound, f64)>,
+    /// The bound the accepted step landed on.
+    landed: Option<Bound>,
+}
+
+impl<G: DefiningSystem> Arclength<'_, G> {
     /// The first bound that `z` lies beyond, with the value to land on.
     fn beyond(&self, z: &DVector<f64>) -> Option<(Bound, f64)> {
         self.bounds.iter().copied().find_map(|b| {
@@ -201,81 +241,83 @@ impl<G: DefiningSystem> Stepper<G> {
             Some((b, target))
         })
     }
+}
 
-    /// Takes one step that the corrector accepts. A step whose prediction
-    /// crosses a bound, or whose corrected point lies beyond one (the
-    /// corrector moves across the tangent), is retaken to land on the bound.
-    pub fn step(&mut self) -> Result<Step, ContinuationError> {
-        // A bound the last corrected point overshot: the step is retaken onto it.
-        let mut overshot: Option<(Bound, f64)> = None;
-        loop {
-            let mut ds = self.ds;
-            let mut z_new = &self.z + &self.tangent * ds;
-            let crossed = overshot.take().or_else(|| self.beyond(&z_new));
-            if let Some((b, target)) = crossed {
-                ds = (target - self.z[b.index]) / self.tangent[b.index];
-                z_new = &self.z + &self.tangent * ds;
-                z_new[b.index] = target;
-            }
-            let fixed = crossed.map(|(b, target)| (b.index, target));
-            let mut dgs = DMatrix::zeros(self.system.n_equations(), z_new.len());
-            let attempt = self.correct_into(
-                &mut z_new,
-                &self.tangent,
-                fixed,
-                &self.control.corrector,
-                &mut dgs,
-            );
-            let mut accepted = match &attempt {
-                Ok(report) => {
-                    // The corrector's last evaluation was at `z_new`: its `DG` is reused.
-                    let t_new = tangent_from(&dgs, &self.tangent, &self.control)?;
-                    let turn_ok =
-                        self.control.dot(&t_new, &self.tangent) >= self.control.min_tangent_cos;
-                    (turn_ok || crossed.is_some()).then_some((*report, t_new))
-                }
-                Err(_) => None,
-            };
-            let over = match (&accepted, crossed) {
-                (Some(_), None) => self.beyond(&z_new),
-                _ => None,
-            };
-            if let Some((b, target)) = over {
-                // Retaken onto the bound when the tangent leads there; else shorter.
-                let landing = (target - self.z[b.index]) / self.tangent[b.index];
-                if landing.is_finite() && landing * ds > 0.0 {
-                    overshot = over;
-                    continue;
-                }
-                accepted = None;
-            }
-            if let Some((report, t_new)) = accepted {
-                self.system.accept(&z_new)?;
-                self.z = z_new;
-                self.tangent = t_new;
-                if crossed.is_none() && report.iterations <= 3 {
-                    self.ds = (self.ds * self.control.growth).min(self.control.ds_max);
-                }
-                return Ok(Step {
-                    report,
-                    bound: crossed.map(|(b, _)| b),
-                    ds,
-                });
-            }
-            self.ds *= 0.5;
-            if self.ds < self.control.ds_min {
-                return Err(ContinuationError::StepTooSmall {
-                    param_name: "z".into(),
-                    param: self.z[self.z.len() - 1],
-                    ds: self.ds,
-                    ds_min: self.control.ds_min,
-                    cause: match attempt {
-                        Err(e) => e.to_string(),
-                        Ok(_) => "the tangent turned too sharply".into(),
-                    },
-                });
-            }
+impl<G: DefiningSystem> CurveProblem for Arclength<'_, G> {
+    type Point = ArcPoint;
+    type Tangent = DVector<f64>;
+
+    /// The prediction `z + ds t`, or, when it crosses a bound (or the last
+    /// corrected point overshot one), the point of the tangent on the bound,
+    /// corrected there with the bounded unknown fixed.
+    fn correct(&mut self, ds: f64) -> Result<Corrected<ArcPoint>, ContinuationError> {
+        let mut ds = ds;
+        let mut z_new = &*self.z + &*self.tangent * ds;
+        let crossed = self.overshot.take().or_else(|| self.beyond(&z_new));
+        if let Some((b, target)) = crossed {
+            ds = (target - self.z[b.index]) / self.tangent[b.index];
+            z_new = &*self.z + &*self.tangent * ds;
+            z_new[b.index] = target;
         }
+        let fixed = crossed.map(|(b, target)| (b.index, target));
+        let (report, linearized) = correct(
+            self.system,
+            self.control,
+            &mut z_new,
+            self.tangent,
+            fixed,
+            &self.control.corrector,
+        )?;
+        Ok(Corrected {
+            point: ArcPoint {
+                z: z_new,
+                linearized,
+                bound: crossed.map(|(b, _)| b),
+            },
+            report,
+            ds,
+            constrained: crossed.is_some(),
+        })
+    }
+
+    /// From the corrector's last evaluation, at the point: its `DG` is reused.
+    fn tangent(&mut self, point: &mut ArcPoint) -> Result<DVector<f64>, ContinuationError> {
+        let a = std::mem::replace(&mut point.linearized.dg, DMatrix::zeros(0, 0));
+        tangent_from(a, self.tangent, self.control)
+    }
+
+    fn turn(&self, tangent: &DVector<f64>) -> f64 {
+        self.control.dot(tangent, self.tangent)
+    }
+
+    /// A point corrected along the tangent but beyond a bound is retaken onto
+    /// the bound when the tangent leads there, else rejected.
+    fn review(&mut self, corrected: &Corrected<ArcPoint>) -> Review {
+        if corrected.constrained {
+            return Review::Keep;
+        }
+        let Some((b, target)) = self.beyond(&corrected.point.z) else {
+            return Review::Keep;
+        };
+        let landing = (target - self.z[b.index]) / self.tangent[b.index];
+        if landing.is_finite() && landing * corrected.ds > 0.0 {
+            self.overshot = Some((b, target));
+            Review::Retake
+        } else {
+            Review::Reject("the corrected point lies beyond a bound the tangent leads away from")
+        }
+    }
+
+    fn accept(&mut self, point: ArcPoint, tangent: DVector<f64>) -> Result<(), ContinuationError> {
+        self.system.accept(&point.z)?;
+        *self.z = point.z;
+        *self.tangent = tangent;
+        self.landed = point.bound;
+        Ok(())
+    }
+
+    fn location(&self) -> (String, f64) {
+        ("z".into(), self.z[self.z.len() - 1])
     }
 }
 
@@ -285,24 +327,25 @@ pub fn tangent_at<G: DefiningSystem>(
     system: &G,
     z: &DVector<f64>,
     reference: &DVector<f64>,
-    control: &StepControl,
+    control: &CurveControl,
 ) -> Result<DVector<f64>, ContinuationError> {
     let m = system.n_equations();
     let mut g = DVector::zeros(m);
     let mut dg = DMatrix::zeros(m, z.len());
     system.eval(z, &mut g, &mut dg);
-    tangent_from(&dg, reference, control)
+    let mut a = DMatrix::zeros(m + 1, z.len());
+    a.view_mut((0, 0), (m, z.len())).copy_from(&dg);
+    tangent_from(a, reference, control)
 }
 
-/// The tangent of [`tangent_at`] from the Jacobian `dg = DG(z)` (`m` rows).
+/// The tangent of [`tangent_at`] from `a`, whose first rows hold `DG(z)`;
+/// its last row is overwritten with `(W reference)^T`.
 fn tangent_from(
-    dg: &DMatrix<f64>,
+    mut a: DMatrix<f64>,
     reference: &DVector<f64>,
-    control: &StepControl,
+    control: &CurveControl,
 ) -> Result<DVector<f64>, ContinuationError> {
-    let (m, nz) = dg.shape();
-    let mut a = DMatrix::zeros(m + 1, nz);
-    a.view_mut((0, 0), (m, nz)).copy_from(dg);
+    let m = a.nrows() - 1;
     let wref = control.weighted(reference);
     a.row_mut(m).copy_from(&wref.transpose());
     let mut rhs = DVector::zeros(m + 1);
@@ -347,12 +390,15 @@ mod tests {
         let x_pred = a.cos() - ds * a.sin();
         let x_corr = x_pred / (1.0 + ds * ds).sqrt();
         let x_min = 0.5 * (x_pred + x_corr);
-        let control = StepControl {
-            ds,
-            ds_min: 1e-8,
-            ds_max: ds,
-            growth: 1.0,
-            min_tangent_cos: 0.5,
+        let control = CurveControl {
+            step: StepControl {
+                ds,
+                ds_min: 1e-8,
+                ds_max: ds,
+                growth: 1.0,
+                easy_iterations: 3,
+                min_tangent_cos: 0.5,
+            },
             corrector: NewtonSettings::default(),
             weights: Vec::new(),
         };

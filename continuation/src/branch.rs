@@ -8,7 +8,7 @@
 //! the fold and Hopf test functions are watched; sign changes are located
 //! (see [`crate::events`]) and attached to the later point.
 
-use crate::arclength::{Bound, StepControl, Stepper};
+use crate::arclength::{Bound, CurveControl, Stepper};
 use crate::defining::{EquilibriumSystem, FreeParams};
 use crate::error::ContinuationError;
 use crate::events::{
@@ -16,6 +16,7 @@ use crate::events::{
 };
 use crate::linalg::{count_unstable, eigenvalues};
 use crate::newton::{self, NewtonReport, NewtonSettings};
+use crate::predictor_corrector::StepControl;
 use crate::system::{eval, jacobian, VectorField};
 use nalgebra::DVector;
 use num_complex::Complex64;
@@ -32,14 +33,11 @@ pub enum Direction {
 /// Settings of the continuation; see the field docs for defaults.
 #[derive(Clone, Debug)]
 pub struct ContinuationSettings {
-    /// Initial arclength step. Default `1e-2`.
-    pub ds: f64,
-    /// Smallest step before giving up. Default `1e-10`.
-    pub ds_min: f64,
-    /// Largest step. Default `0.5`.
-    pub ds_max: f64,
-    /// Step growth factor after an easy correction (≤ 3 Newton iterations). Default `1.5`.
-    pub growth: f64,
+    /// Step-size control. Default: `ds = 1e-2`, `ds_min = 1e-10`,
+    /// `ds_max = 0.5`, growth 1.5 after at most 3 Newton iterations, turns of
+    /// the tangent up to `acos 0.9` (sharper turns are rejected and retried
+    /// with a smaller step).
+    pub step: StepControl,
     /// Largest number of accepted steps. Default `500`.
     pub max_steps: usize,
     /// Lower bound of the parameter. Default `-inf`.
@@ -52,9 +50,6 @@ pub struct ContinuationSettings {
     pub corrector: NewtonSettings,
     /// Settings of the Newton runs that locate events to relative `~1e-14`.
     pub locator: NewtonSettings,
-    /// Smallest cosine between consecutive tangents; sharper turns are
-    /// rejected and retried with a smaller step. Default `0.9`.
-    pub min_tangent_cos: f64,
     /// Watch and locate folds and Hopf points. Default `true`.
     pub detect_events: bool,
 }
@@ -62,10 +57,14 @@ pub struct ContinuationSettings {
 impl Default for ContinuationSettings {
     fn default() -> Self {
         ContinuationSettings {
-            ds: 1e-2,
-            ds_min: 1e-10,
-            ds_max: 0.5,
-            growth: 1.5,
+            step: StepControl {
+                ds: 1e-2,
+                ds_min: 1e-10,
+                ds_max: 0.5,
+                growth: 1.5,
+                easy_iterations: 3,
+                min_tangent_cos: 0.9,
+            },
             max_steps: 500,
             p_min: f64::NEG_INFINITY,
             p_max: f64::INFINITY,
@@ -79,7 +78,6 @@ impl Default for ContinuationSettings {
                 residual_tol: 1e-12,
                 max_iter: 20,
             },
-            min_tangent_cos: 0.9,
             detect_events: true,
         }
     }
@@ -173,12 +171,8 @@ impl<'a, S: VectorField> Branch<'a, S> {
                 free: vec![k],
             },
         };
-        let control = StepControl {
-            ds: settings.ds,
-            ds_min: settings.ds_min,
-            ds_max: settings.ds_max,
-            growth: settings.growth,
-            min_tangent_cos: settings.min_tangent_cos,
+        let control = CurveControl {
+            step: settings.step,
             corrector: settings.corrector,
             weights: Vec::new(),
         };
@@ -327,7 +321,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
                 });
             }
             if self.settings.detect_events {
-                let can_retry = 0.5 * step.ds.abs() >= self.settings.ds_min;
+                let can_retry = 0.5 * step.ds.abs() >= self.settings.step.ds_min;
                 let retry = match self.detect(prev, &point) {
                     Ok(events) => {
                         point.events = events;

@@ -6,12 +6,13 @@
 //! parameters, `z = (x, omega, p_a, p_b)`; a fold curve that of [`FoldSystem`],
 //! `z = (x, p_a, p_b)`. Both are traced by the shared [`Stepper`].
 
-use crate::arclength::{Bound, StepControl, Stepper};
+use crate::arclength::{Bound, CurveControl, Stepper};
 use crate::defining::{FoldSystem, FreeParams, HopfSystem};
 use crate::error::ContinuationError;
 use crate::hopf_extended::hopf_normal_form_extended;
 use crate::newton::NewtonSettings;
 use crate::normal_form::hopf_normal_form;
+use crate::predictor_corrector::StepControl;
 use crate::system::VectorField;
 use nalgebra::DVector;
 
@@ -19,7 +20,7 @@ use nalgebra::DVector;
 #[derive(Clone, Debug)]
 pub struct CurveSettings {
     /// Step-size control (`ds` etc. in the joint space `(x, omega, p_a, p_b)`).
-    pub control: StepControl,
+    pub control: CurveControl,
     /// Largest number of points.
     pub max_steps: usize,
     /// Bounds `(min, max)` of the two free parameters; the curve stops on them.
@@ -36,12 +37,15 @@ pub struct CurveSettings {
 impl Default for CurveSettings {
     fn default() -> Self {
         CurveSettings {
-            control: StepControl {
-                ds: 1e-2,
-                ds_min: 1e-12,
-                ds_max: 0.2,
-                growth: 1.5,
-                min_tangent_cos: 0.95,
+            control: CurveControl {
+                step: StepControl {
+                    ds: 1e-2,
+                    ds_min: 1e-12,
+                    ds_max: 0.2,
+                    growth: 1.5,
+                    easy_iterations: 3,
+                    min_tangent_cos: 0.95,
+                },
                 weights: Vec::new(),
                 corrector: NewtonSettings {
                     max_iter: 8,

@@ -8,8 +8,12 @@
 //! * [`branch`]: pseudo-arclength continuation of equilibria as an iterator.
 //! * [`events`]: test functions and the location of folds and Hopf points by
 //!   Newton's method on minimally augmented systems.
-//! * [`linalg`], [`newton`], [`error`]: eigenvalues, a Newton corrector with a
-//!   typed outcome, errors that carry the numbers.
+//! * [`predictor_corrector`]: the one pseudo-arclength step, with its
+//!   step-size control, of every curve (equilibria, codimension-2 curves,
+//!   cycle branches, curves of folds of cycles).
+//! * [`linalg`], [`newton`], [`error`]: eigenvalues, the one Newton loop with
+//!   a typed outcome (dense, collocation and fold-of-cycles systems), errors
+//!   that carry the numbers.
 //! * [`counted`]: a wrapper that counts a field's evaluations by derivative
 //!   order, and the [`Wrap`] an analysis builds its fields through.
 //!
@@ -32,6 +36,7 @@ pub mod multilinear;
 pub mod newton;
 pub mod normal_form;
 pub mod periodic;
+pub mod predictor_corrector;
 pub mod root;
 pub mod system;
 
@@ -41,4 +46,5 @@ pub use error::ContinuationError;
 pub use events::{Event, EventKind};
 pub use newton::{NewtonReport, NewtonSettings};
 pub use num_complex::Complex64;
+pub use predictor_corrector::StepControl;
 pub use system::{LogParameters, Scalar, VectorField};

@@ -1,10 +1,20 @@
-//! Newton's method with a typed outcome.
+//! Newton's method with a typed outcome: one loop for every system of the
+//! crate.
 //!
-//! The caller supplies one closure that writes the residual `G(z)` and its
-//! Jacobian `DG(z)`; the corrector iterates `z <- z - DG^{-1} G` until the step
-//! is below `step_tol (1 + |z|)` and the residual below
-//! `residual_tol (1 + |DG| |z|)` (max norms: a backward-error test, so that a
-//! badly scaled system is judged against its own rounding level).
+//! A [`NewtonProblem`] evaluates the residual `G(z)` together with what it
+//! needs to solve with the Jacobian `DG(z)` (a [`Linearized`] point: a dense
+//! LU, the structured bordered reduction of collocation, ...) and returns the
+//! Newton step `DG(z)^{-1} G(z)`. [`iterate`] runs `z <- z - DG^{-1} G` and
+//! judges convergence in max norms: the last step below
+//! `step_tol (1 + |z|)` and the residual below the bound the linearized point
+//! gives ([`Linearized::residual_bound`]: `residual_tol (1 + |z|)`, or a
+//! backward-error bound, or a rounding floor), with a [`Stall`] rule for a
+//! step that stops shrinking at the rounding floor of the system.
+//!
+//! [`solve`] is the dense corrector: the caller supplies one closure that
+//! writes `G(z)` and `DG(z)`, and the residual is judged by the backward
+//! error `residual_tol (1 + |DG| |z|)`, so that a badly scaled system is
+//! judged against its own rounding level.
 
 use crate::error::{ContinuationError, NewtonFailure};
 use nalgebra::{DMatrix, DVector};
@@ -14,7 +24,8 @@ use nalgebra::{DMatrix, DVector};
 pub struct NewtonSettings {
     /// Relative step tolerance (max norm). Default `1e-11`.
     pub step_tol: f64,
-    /// Residual tolerance relative to `1 + |DG| |z|` (max norms). Default `1e-10`.
+    /// Residual tolerance relative to the scale of the residual (max norms;
+    /// see [`Linearized::residual_bound`]). Default `1e-10`.
     pub residual_tol: f64,
     /// Iteration limit. Default `12`.
     pub max_iter: usize,
@@ -41,29 +52,238 @@ pub struct NewtonReport {
     pub step: f64,
 }
 
-/// Runs Newton's method from `z`, which is overwritten with the solution.
+/// Max norm `max_i |a_i|`.
+pub(crate) fn max_norm(a: &[f64]) -> f64 {
+    a.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// A system linearized at an iterate: its residual and whatever solves with
+/// its Jacobian there.
+pub trait Linearized {
+    /// The residual `G(z)`, the right-hand side of the Newton step.
+    fn residual(&self) -> &[f64];
+
+    /// The residual convergence is judged by: `|G(z)|` (max norm) unless a
+    /// component has a scale of its own (a test function is then judged by
+    /// the step it causes).
+    fn residual_norm(&self) -> f64 {
+        max_norm(self.residual())
+    }
+
+    /// The largest residual accepted at an iterate of max norm `z_max`:
+    /// `residual_tol (1 + |z|)` unless the system knows its rounding level
+    /// better.
+    fn residual_bound(&self, residual_tol: f64, z_max: f64) -> f64 {
+        residual_tol * (1.0 + z_max)
+    }
+}
+
+/// What a step that stops shrinking at the rounding floor means: the last
+/// step within `1e3` of the step tolerance, more than half the one before,
+/// the residual already within its bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stall {
+    /// Nothing: Newton iterates on (the step tolerance is reachable).
+    Iterate,
+    /// Converged as far as rounding allows (collocation on stiff orbits,
+    /// whose residual floor exceeds any fixed tolerance).
+    Converged,
+    /// Failure [`NewtonFailure::Stalled`]: an ill-conditioned system whose
+    /// floor smaller continuation steps do not lower.
+    Fail,
+}
+
+/// The numbers of a Newton run that stopped without converging.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure {
+    /// Iterations taken.
+    pub iterations: usize,
+    /// Max norm of the last residual evaluated.
+    pub residual: f64,
+    /// Max norm of the last step.
+    pub step: f64,
+    /// Why it stopped.
+    pub reason: NewtonFailure,
+}
+
+impl Failure {
+    /// The error [`ContinuationError::Newton`] with what was being solved
+    /// (`context`) and what to try (`hint`).
+    pub fn error(self, context: String, hint: &'static str) -> ContinuationError {
+        ContinuationError::Newton {
+            context,
+            iterations: self.iterations,
+            residual: self.residual,
+            step: self.step,
+            reason: self.reason,
+            hint,
+        }
+    }
+}
+
+/// A system `G(z) = 0` Newton's method solves.
+pub trait NewtonProblem {
+    /// The system linearized at an iterate.
+    type Point: Linearized;
+
+    /// `G(z)` and its linearization.
+    fn evaluate(&mut self, z: &[f64]) -> Result<Self::Point, ContinuationError>;
+
+    /// The Newton step `DG(z)^{-1} G(z)` at the linearized point.
+    fn newton_step(&mut self, point: &Self::Point) -> Result<Vec<f64>, ContinuationError>;
+
+    /// Takes back a linearized point no longer needed (to reuse its storage).
+    fn recycle(&mut self, _point: Self::Point) {}
+
+    /// What a step stalled at the rounding floor means. Default: nothing.
+    fn stall(&self) -> Stall {
+        Stall::Iterate
+    }
+
+    /// The error for `failure`; `cause` is the error of a failed evaluation
+    /// or linear solve (then `failure.reason` is
+    /// [`NewtonFailure::SingularJacobian`]).
+    fn error(&self, failure: Failure, cause: Option<ContinuationError>) -> ContinuationError;
+}
+
+/// Runs Newton's method on `problem` from `z`, which is overwritten with the
+/// solution; returns the report and the system linearized at the solution.
 ///
-/// `system(z, g, dg)` writes the residual into `g` and the Jacobian into `dg`.
-pub fn solve<F>(
-    z: &mut DVector<f64>,
+/// Iterates `z <- z - DG(z)^{-1} G(z)` until the last step is at most
+/// `step_tol (1 + |z|)` and the residual ([`Linearized::residual_norm`]) at
+/// most [`Linearized::residual_bound`], or the step stalls
+/// ([`NewtonProblem::stall`]). A residual or step that is not finite, a
+/// failed solve and the iteration limit are failures.
+pub fn iterate<P: NewtonProblem>(
+    problem: &mut P,
+    z: &mut [f64],
     settings: &NewtonSettings,
-    context: &str,
-    mut system: F,
-) -> Result<NewtonReport, ContinuationError>
-where
-    F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
-{
-    let n = z.len();
-    let mut g = DVector::zeros(n);
-    let mut dg = DMatrix::zeros(n, n);
-    let mut last_step = f64::INFINITY;
+) -> Result<(NewtonReport, P::Point), ContinuationError> {
+    let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
     let mut residual = f64::INFINITY;
-    let fail = |iterations, residual, step, reason: NewtonFailure| ContinuationError::Newton {
-        context: context.to_string(),
+    let failure = |iterations, residual, step, reason| Failure {
         iterations,
         residual,
         step,
-        hint: match reason {
+        reason,
+    };
+    for it in 0..=settings.max_iter {
+        let point = match problem.evaluate(z) {
+            Ok(point) => point,
+            Err(cause) => {
+                let f = failure(it, residual, last_step, NewtonFailure::SingularJacobian);
+                return Err(problem.error(f, Some(cause)));
+            }
+        };
+        residual = point.residual_norm();
+        if !(residual.is_finite() && point.residual().iter().all(|v| v.is_finite())) {
+            let f = failure(it, residual, last_step, NewtonFailure::NonFinite);
+            return Err(problem.error(f, None));
+        }
+        let z_max = max_norm(z);
+        let tol = settings.step_tol * (1.0 + z_max);
+        let small_residual = residual <= point.residual_bound(settings.residual_tol, z_max);
+        let report = NewtonReport {
+            iterations: it,
+            residual,
+            step: last_step,
+        };
+        if small_residual && last_step <= tol {
+            return Ok((report, point));
+        }
+        if small_residual && last_step <= 1e3 * tol && last_step > 0.5 * previous_step {
+            match problem.stall() {
+                Stall::Iterate => {}
+                Stall::Converged => return Ok((report, point)),
+                Stall::Fail => {
+                    let f = failure(it, residual, last_step, NewtonFailure::Stalled);
+                    return Err(problem.error(f, None));
+                }
+            }
+        }
+        if it == settings.max_iter {
+            break;
+        }
+        let dz = match problem.newton_step(&point) {
+            Ok(dz) => dz,
+            Err(cause) => {
+                let f = failure(it, residual, last_step, NewtonFailure::SingularJacobian);
+                return Err(problem.error(f, Some(cause)));
+            }
+        };
+        let step = max_norm(&dz);
+        if !step.is_finite() {
+            let f = failure(it, residual, step, NewtonFailure::SingularJacobian);
+            return Err(problem.error(f, None));
+        }
+        (previous_step, last_step) = (last_step, step);
+        problem.recycle(point);
+        z.iter_mut().zip(&dz).for_each(|(zi, d)| *zi -= d);
+    }
+    let f = failure(
+        settings.max_iter,
+        residual,
+        last_step,
+        NewtonFailure::MaxIterations,
+    );
+    Err(problem.error(f, None))
+}
+
+/// A dense system linearized at a point: `G(z)`, `DG(z)` and the backward
+/// error scale `|DG|` (max row sum).
+pub struct DensePoint {
+    /// The residual `G(z)`.
+    pub g: DVector<f64>,
+    /// The Jacobian `DG(z)`.
+    pub dg: DMatrix<f64>,
+    dg_norm: f64,
+}
+
+impl Linearized for DensePoint {
+    fn residual(&self) -> &[f64] {
+        self.g.as_slice()
+    }
+
+    /// The backward-error bound `residual_tol (1 + |DG| |z|)`: rounding in
+    /// `G` is about `eps |DG| |z|`.
+    fn residual_bound(&self, residual_tol: f64, z_max: f64) -> f64 {
+        residual_tol * (1.0 + self.dg_norm * z_max)
+    }
+}
+
+/// A square dense system given by a closure that writes `G(z)` and `DG(z)`.
+struct Dense<'c, F> {
+    system: F,
+    z: DVector<f64>,
+    context: &'c str,
+}
+
+impl<F> NewtonProblem for Dense<'_, F>
+where
+    F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
+{
+    type Point = DensePoint;
+
+    fn evaluate(&mut self, z: &[f64]) -> Result<DensePoint, ContinuationError> {
+        let n = z.len();
+        self.z.copy_from_slice(z);
+        let (mut g, mut dg) = (DVector::zeros(n), DMatrix::zeros(n, n));
+        (self.system)(&self.z, &mut g, &mut dg);
+        let dg_norm = dg
+            .row_iter()
+            .map(|r| r.iter().fold(0.0, |acc, v| acc + v.abs()))
+            .fold(0.0, f64::max);
+        Ok(DensePoint { g, dg, dg_norm })
+    }
+
+    fn newton_step(&mut self, point: &DensePoint) -> Result<Vec<f64>, ContinuationError> {
+        let dz = point.dg.clone().lu().solve(&point.g);
+        dz.map(|dz| dz.as_slice().to_vec())
+            .ok_or(ContinuationError::Singular)
+    }
+
+    fn error(&self, failure: Failure, _cause: Option<ContinuationError>) -> ContinuationError {
+        let hint = match failure.reason {
             NewtonFailure::MaxIterations | NewtonFailure::Stalled => {
                 "reduce the step size or improve the initial guess"
             }
@@ -71,59 +291,46 @@ where
                 "the point may be a bifurcation of higher codimension; perturb a parameter"
             }
             NewtonFailure::NonFinite => "the iterate left the model's domain; reduce the step size",
-        },
-        reason,
-    };
-    for it in 0..=settings.max_iter {
-        system(z, &mut g, &mut dg);
-        residual = g.amax();
-        if !residual.is_finite() {
-            return Err(fail(it, residual, last_step, NewtonFailure::NonFinite));
-        }
-        // Backward-error scale: rounding in G is ~ eps |DG| |z|, so the
-        // residual tolerance is relative to that for badly scaled systems.
-        let scale = 1.0
-            + dg.row_iter()
-                .map(|r| r.iter().fold(0.0, |acc, v| acc + v.abs()))
-                .fold(0.0, f64::max)
-                * z.amax();
-        if last_step <= settings.step_tol * (1.0 + z.amax())
-            && residual <= settings.residual_tol * scale
-        {
-            return Ok(NewtonReport {
-                iterations: it,
-                residual,
-                step: last_step,
-            });
-        }
-        if it == settings.max_iter {
-            break;
-        }
-        let Some(dz) = dg.clone().lu().solve(&g) else {
-            return Err(fail(
-                it,
-                residual,
-                last_step,
-                NewtonFailure::SingularJacobian,
-            ));
         };
-        last_step = dz.amax();
-        if !last_step.is_finite() {
-            return Err(fail(
-                it,
-                residual,
-                last_step,
-                NewtonFailure::SingularJacobian,
-            ));
-        }
-        *z -= dz;
+        failure.error(self.context.to_string(), hint)
     }
-    Err(fail(
-        settings.max_iter,
-        residual,
-        last_step,
-        NewtonFailure::MaxIterations,
-    ))
+}
+
+/// Newton's method on a square dense system from `z`, which is overwritten
+/// with the solution; also returns the system linearized there.
+///
+/// `system(z, g, dg)` writes the residual into `g` and the Jacobian into `dg`.
+pub fn solve_dense<F>(
+    z: &mut DVector<f64>,
+    settings: &NewtonSettings,
+    context: &str,
+    system: F,
+) -> Result<(NewtonReport, DensePoint), ContinuationError>
+where
+    F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
+{
+    let mut dense = Dense {
+        system,
+        z: z.clone(),
+        context,
+    };
+    iterate(&mut dense, z.as_mut_slice(), settings)
+}
+
+/// Runs Newton's method from `z`, which is overwritten with the solution
+/// ([`solve_dense`] without the linearization).
+///
+/// `system(z, g, dg)` writes the residual into `g` and the Jacobian into `dg`.
+pub fn solve<F>(
+    z: &mut DVector<f64>,
+    settings: &NewtonSettings,
+    context: &str,
+    system: F,
+) -> Result<NewtonReport, ContinuationError>
+where
+    F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
+{
+    solve_dense(z, settings, context, system).map(|(report, _)| report)
 }
 
 #[cfg(test)]
@@ -140,6 +347,53 @@ mod tests {
         .unwrap();
         assert!((z[0] - 2f64.sqrt()).abs() < 1e-15);
         assert!(rep.iterations <= 7);
+    }
+
+    /// A residual at its floor (reported as 0) and a step that no longer
+    /// shrinks (`1e-9`, above the step tolerance but within `1e3` of it).
+    struct Floor(Stall);
+
+    struct Zero;
+
+    impl Linearized for Zero {
+        fn residual(&self) -> &[f64] {
+            &[0.0]
+        }
+    }
+
+    impl NewtonProblem for Floor {
+        type Point = Zero;
+        fn evaluate(&mut self, _z: &[f64]) -> Result<Zero, ContinuationError> {
+            Ok(Zero)
+        }
+        fn newton_step(&mut self, _point: &Zero) -> Result<Vec<f64>, ContinuationError> {
+            Ok(vec![1e-9])
+        }
+        fn stall(&self) -> Stall {
+            self.0
+        }
+        fn error(&self, failure: Failure, _cause: Option<ContinuationError>) -> ContinuationError {
+            failure.error(String::new(), "")
+        }
+    }
+
+    #[test]
+    fn a_stalled_step_converges_fails_or_iterates_by_the_stall_rule() {
+        let settings = NewtonSettings::default();
+        let run = |stall| iterate(&mut Floor(stall), &mut [1.0], &settings);
+        let (report, _) = run(Stall::Converged).unwrap();
+        assert_eq!((report.iterations, report.step), (2, 1e-9));
+        let reason = |stall| match run(stall) {
+            Err(ContinuationError::Newton {
+                reason, iterations, ..
+            }) => (reason, iterations),
+            other => panic!("{:?}", other.map(|(r, _)| r)),
+        };
+        assert_eq!(reason(Stall::Fail), (NewtonFailure::Stalled, 2));
+        assert_eq!(
+            reason(Stall::Iterate),
+            (NewtonFailure::MaxIterations, settings.max_iter)
+        );
     }
 
     #[test]

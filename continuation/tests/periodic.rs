@@ -7,6 +7,7 @@ use continuation::periodic::cycle::Cycle;
 use continuation::periodic::floquet::pencil_multipliers;
 use continuation::periodic::lpc::{locate_lpc, LpcCurve, LpcCurveSettings};
 use continuation::periodic::mesh::{CollocationPoints, Mesh};
+use continuation::predictor_corrector::StepControl;
 use continuation::{Complex64, Scalar, VectorField};
 
 /// Stuart–Landau `Z' = (beta + i w) Z - Z |Z|^2 + i g Z |Z|^2` (beta = p):
@@ -37,7 +38,10 @@ fn stuart_landau_cycles_radius_period_and_multipliers() {
     let settings = CycleSettings {
         ntst: 20,
         p_max: 1.0,
-        ds: 1e-2,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
         max_steps: 300,
         ..Default::default()
     };
@@ -100,7 +104,10 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
         ntst: 20,
         p_min: -1.0,
         p_max: 0.5,
-        ds: 1e-2,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
         max_steps: 120,
         ..Default::default()
     };
@@ -268,7 +275,10 @@ fn user_points_land_exactly_on_the_requested_parameters() {
     let settings = CycleSettings {
         ntst: 20,
         p_max: 0.8,
-        ds: 1e-2,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
         user_points: vec![0.25, 0.5],
         ..Default::default()
     };
@@ -317,7 +327,10 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
         ntst: 20,
         p_min: -1.0,
         p_max: 0.5,
-        ds: 1e-2,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
         max_steps: 200,
         ..Default::default()
     };
@@ -441,8 +454,11 @@ fn twisted_band_cycle(p: [f64; 2]) -> Cycle {
 fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
     let guess = twisted_band_cycle(p);
     let settings = CycleSettings {
-        ds: 1e-2,
-        ds_max: 0.05,
+        step: StepControl {
+            ds: 1e-2,
+            ds_max: 0.05,
+            ..CycleSettings::default().step
+        },
         p_max,
         max_steps: 100,
         ..Default::default()
@@ -488,7 +504,10 @@ fn undecidable_stability_is_a_typed_error() {
     // decided, and the branch says so instead of guessing.
     let guess = twisted_band_cycle([0.0, 0.3]);
     let settings = CycleSettings {
-        ds: 1e-2,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
         max_steps: 5,
         trivial_limit: 0.0,
         trivial_tol: 1.0,

@@ -1,5 +1,6 @@
 //! The engine on textbook systems whose bifurcations are known in closed form.
 
+use continuation::predictor_corrector::StepControl;
 use continuation::{Branch, ContinuationSettings, Direction, EventKind, Scalar, VectorField};
 
 /// Collects all located events of a branch, failing the test on any error.
@@ -35,7 +36,10 @@ impl VectorField for FoldNormalForm {
 fn fold_normal_form_limit_point_at_origin() {
     let settings = ContinuationSettings {
         direction: Direction::Decreasing,
-        ds: 0.05,
+        step: StepControl {
+            ds: 0.05,
+            ..ContinuationSettings::default().step
+        },
         max_steps: 200,
         p_max: 1.0,
         ..Default::default()
@@ -88,7 +92,10 @@ fn hopf_normal_form_hopf_point_and_frequency() {
         c: (-1.0, 0.3),
     };
     let settings = ContinuationSettings {
-        ds: 0.1,
+        step: StepControl {
+            ds: 0.1,
+            ..ContinuationSettings::default().step
+        },
         p_max: 1.0,
         ..Default::default()
     };
@@ -123,7 +130,10 @@ fn brusselator_hopf_at_one_plus_a_squared() {
     for a in [0.3, 1.0, 2.7] {
         let b0 = 0.5 * (1.0 + a * a);
         let settings = ContinuationSettings {
-            ds: 0.05,
+            step: StepControl {
+                ds: 0.05,
+                ..ContinuationSettings::default().step
+            },
             p_max: 3.0 * (1.0 + a * a),
             ..Default::default()
         };
@@ -164,7 +174,10 @@ impl VectorField for NeutralSaddle {
 #[test]
 fn neutral_saddle_is_not_reported_as_hopf() {
     let settings = ContinuationSettings {
-        ds: 0.05,
+        step: StepControl {
+            ds: 0.05,
+            ..ContinuationSettings::default().step
+        },
         p_max: 2.0,
         ..Default::default()
     };

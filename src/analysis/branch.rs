@@ -3,6 +3,7 @@
 use crate::error::NumericalError;
 use crate::model::{steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
+use continuation::predictor_corrector::StepControl;
 use continuation::{Branch, BranchPoint, ContinuationSettings, Direction};
 
 /// The branch to trace: the parameter and its range.
@@ -35,9 +36,12 @@ pub fn trace(
     // Arclength mixes the state and the parameter; the state changes on the
     // scale of the parameter for nu (theta = 1/nu), so steps are a fraction of the span.
     let settings = ContinuationSettings {
-        ds: 1e-3 * span,
-        ds_max: 0.02 * span,
-        ds_min: 1e-13 * span.max(1e-300),
+        step: StepControl {
+            ds: 1e-3 * span,
+            ds_max: 0.02 * span,
+            ds_min: 1e-13 * span.max(1e-300),
+            ..ContinuationSettings::default().step
+        },
         p_min: req.from.min(req.to),
         p_max: req.from.max(req.to),
         direction: if req.to < req.from {

@@ -16,6 +16,7 @@ pub use continuation::periodic::branch::{BranchEnd, Stability};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
+use continuation::predictor_corrector::StepControl;
 use continuation::{Complex64, VectorField};
 
 /// Which continuation a cycle comes from.
@@ -457,14 +458,17 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
         p_min: req.kappa_min,
         p_max: req.kappa_max,
         max_steps: req.max_steps,
-        ds: 1e-3,
-        ds_max: 0.2,
-        // On stick-slip cycles the slip front moves in time from one cycle to
-        // the next, and Newton takes 5 to 7 iterations even on short steps
-        // (the first ones move ln v near the front by about one unit each):
-        // steps grow after up to 5 (the stiff PMMA branch to kappa = 1e-4:
-        // 334 steps, 36 s; after up to 3 or 4: 504 and 494 steps).
-        easy_iterations: 5,
+        step: StepControl {
+            ds: 1e-3,
+            ds_max: 0.2,
+            // On stick-slip cycles the slip front moves in time from one cycle to
+            // the next, and Newton takes 5 to 7 iterations even on short steps
+            // (the first ones move ln v near the front by about one unit each):
+            // steps grow after up to 5 (the stiff PMMA branch to kappa = 1e-4:
+            // 334 steps, 36 s; after up to 3 or 4: 504 and 494 steps).
+            easy_iterations: 5,
+            ..CycleSettings::default().step
+        },
         user_points: req.at_kappa.clone(),
         ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.

@@ -13,9 +13,10 @@ use crate::analysis::lpc_curve::{lpc_curves, BautinStart, LpcCurves};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
-use continuation::arclength::StepControl;
+use continuation::arclength::CurveControl;
 use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
 use continuation::hopf_series::hopf_series;
+use continuation::predictor_corrector::StepControl;
 use continuation::{AsIs, ContinuationSettings, LogParameters, NewtonSettings, Wrap};
 
 /// One point of the Hopf curve, in docs/model.md's variables.
@@ -340,12 +341,15 @@ pub fn hopf_curve_with<F: Wrap>(
     // One run of the curve from the starting Hopf point, up or down in `second`.
     let run = |upward: bool| -> Result<(Vec<CurvePoint>, Vec<SpecialPoint>, &'static str), NumericalError> {
         let settings = CurveSettings {
-            control: StepControl {
-                ds: 0.02,
-                ds_min: 1e-10,
-                ds_max: 0.1,
-                growth: 1.5,
-                min_tangent_cos: 0.97,
+            control: CurveControl {
+                step: StepControl {
+                    ds: 0.02,
+                    ds_min: 1e-10,
+                    ds_max: 0.1,
+                    growth: 1.5,
+                    easy_iterations: 3,
+                    min_tangent_cos: 0.97,
+                },
                 corrector: NewtonSettings { max_iter: 8, ..NewtonSettings::default() },
                 // Arclength measured in (ln kappa, ln second): the state and
                 // omega get weights small enough that a state spanning decades

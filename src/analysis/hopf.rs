@@ -15,6 +15,7 @@ use continuation::linalg::{count_unstable, eigenvalues};
 use continuation::normal_form::{
     eigenvalue_derivative, hopf_normal_form, onset_law, HopfNormalForm,
 };
+use continuation::predictor_corrector::StepControl;
 use continuation::system::jacobian;
 use continuation::{
     AsIs, Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings,
@@ -362,9 +363,12 @@ pub fn find_hopf_with<F: Wrap>(
         1e-12 * k0
     };
     let settings = ContinuationSettings {
-        ds: 0.02 * k0,
-        ds_max: 0.1 * k0,
-        ds_min: 1e-12 * k0,
+        step: StepControl {
+            ds: 0.02 * k0,
+            ds_max: 0.1 * k0,
+            ds_min: 1e-12 * k0,
+            ..ContinuationSettings::default().step
+        },
         p_min: kappa_min,
         direction: Direction::Decreasing,
         max_steps: 10_000,

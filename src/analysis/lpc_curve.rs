@@ -17,6 +17,7 @@ use continuation::error::ContinuationError;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
+use continuation::predictor_corrector::StepControl;
 use continuation::{ContinuationSettings, VectorField, Wrap};
 
 /// Mesh intervals of the cycles a curve of folds starts on.
@@ -82,8 +83,11 @@ fn first_fold<F: Wrap>(
         p_min: 0.5 * h.kappa_c,
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
-        ds: 0.05,
-        ds_max: 0.2,
+        step: StepControl {
+            ds: 0.05,
+            ds_max: 0.2,
+            ..CycleSettings::default().step
+        },
         param_floor: 1e-3 * h.kappa_c,
         mesh_tol: f64::INFINITY,
         trivial_tol: f64::INFINITY,
@@ -199,9 +203,12 @@ fn trace_through<S: VectorField>(
             param_floor: [1e-9, lo],
             min_amplitude: 1e-3,
             max_steps: 300,
-            ds: 0.05,
-            ds_max: 0.2,
-            ds_min: 1e-5,
+            step: StepControl {
+                ds: 0.05,
+                ds_max: 0.2,
+                ds_min: 1e-5,
+                ..LpcCurveSettings::default().step
+            },
             mesh_tol: LPC_MESH_TOL,
             ntst_min: 4,
             ntst_max: 8 * ntst,

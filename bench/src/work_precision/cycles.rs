@@ -17,6 +17,7 @@ use continuation::periodic::adapt::equidistribute;
 use continuation::periodic::branch::{CycleBranch, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::Mesh;
+use continuation::predictor_corrector::StepControl;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
@@ -152,7 +153,10 @@ fn resolved_orbit(log: &LogBlock, params: &Params, fraction: f64) -> Result<Cycl
     let settings = CycleSettings {
         p_min: 0.9 * target,
         user_points: vec![target],
-        ds_max: 0.2,
+        step: StepControl {
+            ds_max: 0.2,
+            ..CycleSettings::default().step
+        },
         param_floor: 0.5 * target,
         mesh_tol: 1e-9,
         ntst_max: 1600,

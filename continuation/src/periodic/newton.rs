@@ -6,7 +6,9 @@
 use super::bordered::{Bordered, CyclicReduction};
 use super::collocation::{Collocation, Linearization};
 use crate::error::{ContinuationError, NewtonFailure};
-use crate::newton::{NewtonReport, NewtonSettings};
+use crate::newton::{
+    self, Failure, Linearized, NewtonProblem, NewtonReport, NewtonSettings, Stall,
+};
 use crate::system::VectorField;
 use nalgebra::DMatrix;
 
@@ -86,84 +88,63 @@ pub fn solve_bordered(
     Bordered::new(&reduction, lin.border_columns(), rows)?.solve(rhs)
 }
 
-/// Newton's method on the collocation system plus the linear equation
-/// `<row, z - anchor> = 0`.
-pub fn newton_bordered<S: VectorField>(
-    coll: &Collocation<S>,
-    z: &mut [f64],
-    settings: &NewtonSettings,
-    row: &[f64],
-    anchor: &[f64],
-) -> Result<NewtonReport, ContinuationError> {
-    let n = coll.sys.dim();
-    let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
-    let mut residual = f64::INFINITY;
-    for it in 0..=settings.max_iter {
-        let mut lin = coll.linearize(z);
-        let extra: f64 = row
+/// The collocation system bordered by `<row, z - anchor> = 0`, for
+/// [`newton::iterate`].
+struct BorderedCollocation<'c, 'a, S: VectorField> {
+    coll: &'c Collocation<'a, S>,
+    row: &'c [f64],
+    anchor: &'c [f64],
+}
+
+/// The bordered collocation system linearized at an orbit: the
+/// collocation Jacobian and the residual with the bordering equation's last.
+pub struct BorderedPoint {
+    /// The collocation system linearized there (its residual moved to `rhs`).
+    pub lin: Linearization,
+    rhs: Vec<f64>,
+}
+
+impl Linearized for BorderedPoint {
+    fn residual(&self) -> &[f64] {
+        &self.rhs
+    }
+
+    /// `max(residual_tol (1 + |z|), 1e3 eps term_scale)`: the residual cannot
+    /// fall below the rounding of its terms (`term_scale`), which on stiff
+    /// stretches of stick-slip orbits exceeds any fixed tolerance.
+    fn residual_bound(&self, residual_tol: f64, z_max: f64) -> f64 {
+        (residual_tol * (1.0 + z_max)).max(1e3 * f64::EPSILON * self.lin.term_scale)
+    }
+}
+
+impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
+    type Point = BorderedPoint;
+
+    fn evaluate(&mut self, z: &[f64]) -> Result<BorderedPoint, ContinuationError> {
+        let mut lin = self.coll.linearize(z);
+        let extra: f64 = self
+            .row
             .iter()
-            .zip(z.iter().zip(anchor))
+            .zip(z.iter().zip(self.anchor))
             .map(|(r, (a, b))| r * (a - b))
             .sum();
         let mut rhs = std::mem::take(&mut lin.residual);
-        let floor = 1e3 * f64::EPSILON * lin.term_scale;
         rhs.push(extra);
-        residual = rhs.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        if !residual.is_finite() {
-            return Err(newton_error(
-                it,
-                residual,
-                last_step,
-                NewtonFailure::NonFinite,
-            ));
-        }
-        let zmax = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        // The residual cannot fall below the rounding of its terms (`floor`),
-        // which on stiff stretches of stick-slip orbits exceeds any fixed tolerance.
-        // A step that no longer shrinks while within 1e3 of the tolerance is
-        // the rounding floor of the solve: converged as far as it can be.
-        let tol = settings.step_tol * (1.0 + zmax);
-        let stalled = last_step <= 1e3 * tol && last_step > 0.5 * previous_step;
-        if (last_step <= tol || stalled)
-            && residual <= (settings.residual_tol * (1.0 + zmax)).max(floor)
-        {
-            return Ok(NewtonReport {
-                iterations: it,
-                residual,
-                step: last_step,
-            });
-        }
-        if it == settings.max_iter {
-            break;
-        }
-        let dz = solve_bordered(&lin, n, row, &rhs)
-            .map_err(|_| newton_error(it, residual, last_step, NewtonFailure::SingularJacobian))?;
-        previous_step = last_step;
-        last_step = dz.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        for (zi, d) in z.iter_mut().zip(&dz) {
-            *zi -= d;
-        }
+        Ok(BorderedPoint { lin, rhs })
     }
-    Err(newton_error(
-        settings.max_iter,
-        residual,
-        last_step,
-        NewtonFailure::MaxIterations,
-    ))
-}
 
-fn newton_error(
-    iterations: usize,
-    residual: f64,
-    step: f64,
-    reason: NewtonFailure,
-) -> ContinuationError {
-    ContinuationError::Newton {
-        context: " correcting a periodic orbit".into(),
-        iterations,
-        residual,
-        step,
-        hint: match reason {
+    fn newton_step(&mut self, point: &BorderedPoint) -> Result<Vec<f64>, ContinuationError> {
+        solve_bordered(&point.lin, self.coll.sys.dim(), self.row, &point.rhs)
+    }
+
+    /// A step that no longer shrinks while within 1e3 of the tolerance is
+    /// the rounding floor of the solve: converged as far as it can be.
+    fn stall(&self) -> Stall {
+        Stall::Converged
+    }
+
+    fn error(&self, failure: Failure, _cause: Option<ContinuationError>) -> ContinuationError {
+        let hint = match failure.reason {
             NewtonFailure::MaxIterations | NewtonFailure::Stalled => {
                 "reduce the step size or refine the mesh (more NTST)"
             }
@@ -173,9 +154,34 @@ fn newton_error(
             NewtonFailure::NonFinite => {
                 "the orbit left the model's domain; use log variables or a smaller step"
             }
-        },
-        reason,
+        };
+        failure.error(" correcting a periodic orbit".into(), hint)
     }
+}
+
+/// Newton's method on the collocation system plus the linear equation
+/// `<row, z - anchor> = 0` ([`newton::iterate`]; the residual bound has the
+/// rounding floor of [`BorderedPoint`] and a stalled step converges);
+/// returns the report and the system linearized at the solution.
+pub fn correct_bordered<S: VectorField>(
+    coll: &Collocation<S>,
+    z: &mut [f64],
+    settings: &NewtonSettings,
+    row: &[f64],
+    anchor: &[f64],
+) -> Result<(NewtonReport, BorderedPoint), ContinuationError> {
+    newton::iterate(&mut BorderedCollocation { coll, row, anchor }, z, settings)
+}
+
+/// [`correct_bordered`] without the linearization.
+pub fn newton_bordered<S: VectorField>(
+    coll: &Collocation<S>,
+    z: &mut [f64],
+    settings: &NewtonSettings,
+    row: &[f64],
+    anchor: &[f64],
+) -> Result<NewtonReport, ContinuationError> {
+    correct_bordered(coll, z, settings, row, anchor).map(|(report, _)| report)
 }
 
 /// Unit tangent (norm of `w`) of the cycle branch at `z`: the null vector of
@@ -187,11 +193,21 @@ pub fn tangent<S: VectorField>(
     reference: &[f64],
     w: &ArcWeights,
 ) -> Result<Vec<f64>, ContinuationError> {
-    let nz = z.len();
-    let lin = coll.linearize(z);
+    tangent_from(&coll.linearize(z), coll.sys.dim(), reference, w)
+}
+
+/// The [`tangent`] from the collocation Jacobian `lin` at the orbit (state
+/// dimension `n`).
+pub fn tangent_from(
+    lin: &Linearization,
+    n: usize,
+    reference: &[f64],
+    w: &ArcWeights,
+) -> Result<Vec<f64>, ContinuationError> {
+    let nz = lin.phase.len() + 2;
     let mut rhs = vec![0.0; nz];
     rhs[nz - 1] = 1.0;
-    let t = solve_bordered(&lin, coll.sys.dim(), &w.row(reference), &rhs)?;
+    let t = solve_bordered(lin, n, &w.row(reference), &rhs)?;
     let norm = w.dot(&t, &t).sqrt();
     let sign = if w.dot(&t, reference) < 0.0 {
         -1.0
@@ -202,7 +218,8 @@ pub fn tangent<S: VectorField>(
 }
 
 /// Predicts `z0 + sigma t` and corrects it on the collocation system plus the
-/// pseudo-arclength condition `<t, z - prediction>_w = 0`.
+/// pseudo-arclength condition `<t, z - prediction>_w = 0`; returns the orbit,
+/// the report and the system linearized there.
 pub fn correct_along<S: VectorField>(
     coll: &Collocation<S>,
     z0: &[f64],
@@ -210,9 +227,9 @@ pub fn correct_along<S: VectorField>(
     sigma: f64,
     w: &ArcWeights,
     settings: &NewtonSettings,
-) -> Result<(Vec<f64>, NewtonReport), ContinuationError> {
+) -> Result<(Vec<f64>, NewtonReport, BorderedPoint), ContinuationError> {
     let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
     let mut z = pred.clone();
-    let rep = newton_bordered(coll, &mut z, settings, &w.row(t), &pred)?;
-    Ok((z, rep))
+    let (rep, point) = correct_bordered(coll, &mut z, settings, &w.row(t), &pred)?;
+    Ok((z, rep, point))
 }

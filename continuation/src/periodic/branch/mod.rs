@@ -13,10 +13,13 @@ use super::adapt::equidistribute;
 use super::cycle::Cycle;
 use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
-use super::newton::{correct_along, newton_bordered, tangent, unit_row, ArcWeights};
+use super::newton::{
+    correct_along, newton_bordered, tangent, tangent_from, unit_row, ArcWeights, BorderedPoint,
+};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
+use crate::predictor_corrector::{self, Corrected, CurveProblem, StepControl};
 use crate::system::{jacobian, param_derivative, VectorField};
 use num_complex::Complex64;
 
@@ -50,14 +53,11 @@ pub struct CycleSettings {
     pub degree: usize,
     /// Collocation points. Default Gauss (Radau for stiff orbits).
     pub points: CollocationPoints,
-    /// Initial, smallest and largest arclength step.
-    pub ds: f64,
-    pub ds_min: f64,
-    pub ds_max: f64,
-    /// Step growth after an easy correction.
-    pub growth: f64,
-    /// A correction is easy in at most this many Newton iterations. Default 3.
-    pub easy_iterations: usize,
+    /// Step-size control of the pseudo-arclength steps (norm of
+    /// [`ArcWeights`]). Default: `ds = 1e-3`, `ds_min = 1e-12`,
+    /// `ds_max = 0.5`, growth 1.3 after at most 3 Newton iterations, turns of
+    /// the tangent up to `acos 0.8`.
+    pub step: StepControl,
     /// Largest number of orbits.
     pub max_steps: usize,
     /// Bounds of the parameter; the branch stops on them.
@@ -105,11 +105,14 @@ impl Default for CycleSettings {
             ntst: 50,
             degree: 4,
             points: CollocationPoints::Gauss,
-            ds: 1e-3,
-            ds_min: 1e-12,
-            ds_max: 0.5,
-            growth: 1.3,
-            easy_iterations: 3,
+            step: StepControl {
+                ds: 1e-3,
+                ds_min: 1e-12,
+                ds_max: 0.5,
+                growth: 1.3,
+                easy_iterations: 3,
+                min_tangent_cos: 0.8,
+            },
             max_steps: 200,
             p_min: f64::NEG_INFINITY,
             p_max: f64::INFINITY,
@@ -373,7 +376,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         Ok(CycleBranch {
             sys,
             k,
-            ds: settings.ds,
+            ds: settings.step.ds,
             trivial_tol: settings.trivial_tol,
             multiplier_ntst: (0, 0),
             orbit_floor: (0.0, 0),
@@ -398,48 +401,23 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         self.end
     }
 
-    /// Takes one accepted step; returns the corrector's report and the step length.
+    /// Takes one accepted step ([`predictor_corrector::step`], norm of the
+    /// [`ArcWeights`] at the current orbit); returns the corrector's report
+    /// and the step length.
     fn step(&mut self) -> Result<(NewtonReport, f64), ContinuationError> {
-        let nz = self.z.len();
         let w = ArcWeights::at(&self.z, self.settings.param_floor);
         let norm = w.dot(&self.tangent, &self.tangent).sqrt();
         self.tangent.iter_mut().for_each(|v| *v /= norm);
-        loop {
-            let attempt = correct_along(
-                &self.coll,
-                &self.z,
-                &self.tangent,
-                self.ds,
-                &w,
-                &self.settings.corrector,
-            );
-            if let Ok((z, rep)) = &attempt {
-                if let Ok(t_new) = tangent(&self.coll, z, &self.tangent, &w) {
-                    if w.dot(&t_new, &self.tangent) > 0.8 {
-                        let ds = self.ds;
-                        self.z = z.clone();
-                        self.tangent = t_new;
-                        if rep.iterations <= self.settings.easy_iterations {
-                            self.ds = (self.ds * self.settings.growth).min(self.settings.ds_max);
-                        }
-                        return Ok((*rep, ds));
-                    }
-                }
-            }
-            self.ds *= 0.5;
-            if self.ds < self.settings.ds_min {
-                return Err(ContinuationError::StepTooSmall {
-                    param_name: self.sys.param_name(self.k),
-                    param: self.z[nz - 1],
-                    ds: self.ds,
-                    ds_min: self.settings.ds_min,
-                    cause: match attempt {
-                        Err(e) => e.to_string(),
-                        Ok(_) => "the tangent turned too sharply".into(),
-                    },
-                });
-            }
-        }
+        let mut curve = CycleStep {
+            coll: &self.coll,
+            z: &mut self.z,
+            tangent: &mut self.tangent,
+            w,
+            corrector: &self.settings.corrector,
+            k: self.k,
+        };
+        let stepped = predictor_corrector::step(&mut curve, &self.settings.step, &mut self.ds)?;
+        Ok((stepped.report, stepped.ds))
     }
 
     /// Locates the zero of a test function `f(z, tangent)` between `z0`
@@ -462,8 +440,8 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let w = ArcWeights::at(z0, self.settings.param_floor);
         crate::root::illinois(
             |sigma| {
-                let (z, rep) = correct_along(coll, z0, t0, sigma, &w, &LOCATOR)?;
-                let t = tangent(coll, &z, t0, &w)?;
+                let (z, rep, at) = correct_along(coll, z0, t0, sigma, &w, &LOCATOR)?;
+                let t = tangent_from(&at.lin, coll.sys.dim(), t0, &w)?;
                 let fz = f(&z, &t)?;
                 best = Some((point_at(coll, &z, &t, rep)?, t));
                 Ok(fz)
@@ -619,6 +597,52 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                 Err(e) => return Err(e),
             }
         }
+    }
+}
+
+/// One step of a [`CycleBranch`] as a [`CurveProblem`]: the collocation
+/// system closed by the pseudo-arclength condition in the norm `w`.
+struct CycleStep<'b, 'a, S: VectorField> {
+    coll: &'b Collocation<'a, S>,
+    z: &'b mut Vec<f64>,
+    tangent: &'b mut Vec<f64>,
+    w: ArcWeights,
+    corrector: &'b NewtonSettings,
+    k: usize,
+}
+
+impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
+    type Point = (Vec<f64>, BorderedPoint);
+    type Tangent = Vec<f64>;
+
+    fn correct(&mut self, ds: f64) -> Result<Corrected<Self::Point>, ContinuationError> {
+        let (z, report, at) =
+            correct_along(self.coll, self.z, self.tangent, ds, &self.w, self.corrector)?;
+        Ok(Corrected {
+            point: (z, at),
+            report,
+            ds,
+            constrained: false,
+        })
+    }
+
+    /// From the corrector's last linearization, at the orbit.
+    fn tangent(&mut self, (_, at): &mut Self::Point) -> Result<Vec<f64>, ContinuationError> {
+        tangent_from(&at.lin, self.coll.sys.dim(), self.tangent, &self.w)
+    }
+
+    fn turn(&self, tangent: &Vec<f64>) -> f64 {
+        self.w.dot(tangent, self.tangent)
+    }
+
+    fn accept(&mut self, (z, _): Self::Point, tangent: Vec<f64>) -> Result<(), ContinuationError> {
+        *self.z = z;
+        *self.tangent = tangent;
+        Ok(())
+    }
+
+    fn location(&self) -> (String, f64) {
+        (self.coll.sys.param_name(self.k), self.z[self.z.len() - 1])
     }
 }
 

@@ -2,12 +2,13 @@
 //! minimally augmented system.
 
 use super::{Augmented, Evaluation, LpcPoint};
-use crate::error::{ContinuationError, NewtonFailure};
+use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::CollocationPoints;
 use crate::periodic::newton::unit_row;
+use crate::predictor_corrector::{self, Corrected, CurveProblem, StepControl};
 use crate::system::VectorField;
 
 /// Settings of a curve of folds of cycles. The engine defaults take absolute
@@ -15,10 +16,10 @@ use crate::system::VectorField;
 /// decades set the floors to the smallest scale of interest.
 #[derive(Clone, Debug)]
 pub struct LpcCurveSettings {
-    /// Initial, smallest and largest step (relative in `T`, `p1`, `p2`).
-    pub ds: f64,
-    pub ds_min: f64,
-    pub ds_max: f64,
+    /// Step-size control (steps relative in `T`, `p1`, `p2`). Default:
+    /// `ds = 1e-2`, `ds_min = 1e-8`, `ds_max = 0.1`, growth 1.3 after at most
+    /// 4 Newton iterations, turns of the tangent up to `acos 0.8`.
+    pub step: StepControl,
     /// Largest number of folds after the start.
     pub max_steps: usize,
     /// Bounds of the second parameter; the curve stops on them.
@@ -51,9 +52,14 @@ pub struct LpcCurveSettings {
 impl Default for LpcCurveSettings {
     fn default() -> Self {
         LpcCurveSettings {
-            ds: 1e-2,
-            ds_min: 1e-8,
-            ds_max: 0.1,
+            step: StepControl {
+                ds: 1e-2,
+                ds_min: 1e-8,
+                ds_max: 0.1,
+                growth: 1.3,
+                easy_iterations: 4,
+                min_tangent_cos: 0.8,
+            },
             max_steps: 200,
             p2_min: f64::NEG_INFINITY,
             p2_max: f64::INFINITY,
@@ -118,7 +124,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             aug,
             y,
             tangent,
-            ds: settings.ds,
+            ds: settings.step.ds,
             settings,
             steps: 0,
             done: false,
@@ -235,72 +241,97 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         self.y = y;
     }
 
-    /// The next fold, or `None` where the curve has passed through a Bautin
-    /// point (see [`passed_bautin`]).
+    /// The next fold ([`predictor_corrector::step`] on the augmented system
+    /// closed by the pseudo-arclength condition), or `None` where the curve
+    /// has passed through a Bautin point (see [`passed_bautin`]). At the
+    /// rounding floor of the fold system smaller steps do not help: a stalled
+    /// corrector ends the curve (near a Bautin point).
     fn step(&mut self) -> Result<Option<LpcPoint>, ContinuationError> {
         if self.steps.is_multiple_of(5) {
             self.adapt()?;
         }
-        let w = weights(&self.y, &self.settings);
-        let d = self.y.len();
-        loop {
-            let pred: Vec<f64> = (0..d)
-                .map(|i| self.y[i] + self.ds * self.tangent[i])
-                .collect();
-            let row: Vec<f64> = (0..d).map(|i| w[i] * self.tangent[i]).collect();
-            let mut y = pred.clone();
-            let attempt =
-                self.aug
-                    .newton(&mut y, Some((&row, &pred)), &self.settings.corrector, true);
-            // At the rounding floor of the fold system smaller steps do not
-            // help: the curve ends (near a Bautin point).
-            if let Err(
-                e @ ContinuationError::Newton {
-                    reason: NewtonFailure::Stalled,
-                    ..
-                },
-            ) = attempt
-            {
-                return Err(e);
-            }
-            if let Ok((rep, mut e)) = attempt {
-                let reference = &self.tangent;
-                let t = tangent_at(&mut e, &w, reference);
-                if let Some(t) = t
-                    .ok()
-                    .filter(|t| (0..d).map(|i| w[i] * t[i] * reference[i]).sum::<f64>() > 0.8)
-                {
-                    let n = self.aug.coll.sys.dim();
-                    if passed_bautin(&self.y[..d - 3], &y[..d - 3], n) {
-                        return Ok(None);
-                    }
-                    self.aug.update_borders(&e);
-                    self.aug.recycle(e);
-                    self.y = y;
-                    self.tangent = t;
-                    if rep.iterations <= 4 {
-                        self.ds = (self.ds * 1.3).min(self.settings.ds_max);
-                    }
-                    return Ok(Some(LpcPoint {
-                        cycle: self.aug.cycle(&self.y),
-                        newton: rep,
-                    }));
-                }
-            }
-            self.ds *= 0.5;
-            if self.ds < self.settings.ds_min {
-                return Err(ContinuationError::StepTooSmall {
-                    param_name: format!(
-                        "{} along the fold of cycles",
-                        self.sys.param_name(self.k2)
-                    ),
-                    param: self.y[d - 1],
-                    ds: self.ds,
-                    ds_min: self.settings.ds_min,
-                    cause: "the fold-of-cycles system did not converge".into(),
-                });
-            }
+        let mut curve = FoldStep {
+            w: weights(&self.y, &self.settings),
+            aug: &mut self.aug,
+            y: &mut self.y,
+            tangent: &mut self.tangent,
+            corrector: &self.settings.corrector,
+            k2: self.k2,
+            passed_bautin: false,
+        };
+        let stepped = predictor_corrector::step(&mut curve, &self.settings.step, &mut self.ds)?;
+        if curve.passed_bautin {
+            return Ok(None);
         }
+        Ok(Some(LpcPoint {
+            cycle: self.aug.cycle(&self.y),
+            newton: stepped.report,
+        }))
+    }
+}
+
+/// One step of an [`LpcCurve`] as a [`CurveProblem`]: the augmented system
+/// closed by the pseudo-arclength condition in the weights `w`.
+struct FoldStep<'c, 'a, S: VectorField> {
+    aug: &'c mut Augmented<'a, S>,
+    y: &'c mut Vec<f64>,
+    tangent: &'c mut Vec<f64>,
+    w: Vec<f64>,
+    corrector: &'c NewtonSettings,
+    k2: usize,
+    /// Whether the accepted fold lies past a Bautin point.
+    passed_bautin: bool,
+}
+
+impl<S: VectorField> CurveProblem for FoldStep<'_, '_, S> {
+    type Point = (Vec<f64>, Evaluation);
+    type Tangent = Vec<f64>;
+
+    fn correct(&mut self, ds: f64) -> Result<Corrected<Self::Point>, ContinuationError> {
+        let d = self.y.len();
+        let pred: Vec<f64> = (0..d).map(|i| self.y[i] + ds * self.tangent[i]).collect();
+        let row: Vec<f64> = (0..d).map(|i| self.w[i] * self.tangent[i]).collect();
+        let mut y = pred.clone();
+        let (report, e) = self
+            .aug
+            .newton(&mut y, Some((&row, &pred)), self.corrector, true)?;
+        Ok(Corrected {
+            point: (y, e),
+            report,
+            ds,
+            constrained: false,
+        })
+    }
+
+    fn tangent(&mut self, (_, e): &mut Self::Point) -> Result<Vec<f64>, ContinuationError> {
+        tangent_at(e, &self.w, self.tangent)
+    }
+
+    fn turn(&self, t: &Vec<f64>) -> f64 {
+        (0..t.len())
+            .map(|i| self.w[i] * t[i] * self.tangent[i])
+            .sum()
+    }
+
+    /// Also notes whether the fold has come through a Bautin point.
+    fn accept(&mut self, (y, e): Self::Point, t: Vec<f64>) -> Result<(), ContinuationError> {
+        let (d, n) = (y.len(), self.aug.coll.sys.dim());
+        self.passed_bautin = passed_bautin(&self.y[..d - 3], &y[..d - 3], n);
+        self.aug.update_borders(&e);
+        self.aug.recycle(e);
+        *self.y = y;
+        *self.tangent = t;
+        Ok(())
+    }
+
+    fn location(&self) -> (String, f64) {
+        (
+            format!(
+                "{} along the fold of cycles",
+                self.aug.coll.sys.param_name(self.k2)
+            ),
+            self.y[self.y.len() - 1],
+        )
     }
 }
 

@@ -28,7 +28,9 @@ use super::bordered::{Bordered, CyclicReduction};
 use super::collocation::Collocation;
 use super::cycle::Cycle;
 use crate::error::{ContinuationError, NewtonFailure};
-use crate::newton::{NewtonReport, NewtonSettings};
+use crate::newton::{
+    self, max_norm, Failure, Linearized, NewtonProblem, NewtonReport, NewtonSettings, Stall,
+};
 use crate::system::VectorField;
 use gradient::adjoint_gradient;
 use nalgebra::DMatrix;
@@ -200,12 +202,13 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         c
     }
 
-    /// Newton's method on `(F, g)` plus, for curves, the linear equation
-    /// `<row, y - anchor> = 0`. With `stop_at_floor`, a step that stops
-    /// shrinking within 1e3 of the tolerance (the residual within its own)
-    /// ends it with [`NewtonFailure::Stalled`]: the rounding floor of the
-    /// system, which more iterations do not lower (near a Bautin point, where
-    /// the fold system degenerates); otherwise it iterates on.
+    /// Newton's method ([`newton::iterate`]) on `(F, g)` plus, for curves,
+    /// the linear equation `<row, y - anchor> = 0`. With `stop_at_floor`, a
+    /// step that stops shrinking within 1e3 of the tolerance (the residual
+    /// within its own) ends it with [`NewtonFailure::Stalled`]: the rounding
+    /// floor of the system, which more iterations do not lower (near a
+    /// Bautin point, where the fold system degenerates); otherwise it
+    /// iterates on.
     fn newton(
         &mut self,
         y: &mut [f64],
@@ -213,106 +216,83 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         settings: &NewtonSettings,
         stop_at_floor: bool,
     ) -> Result<(NewtonReport, Evaluation), ContinuationError> {
-        let dim = y.len();
-        let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
-        let mut residual = f64::INFINITY;
-        let failure = |it: usize, residual: f64, step: f64, reason, cause: String| {
-            ContinuationError::Newton {
-                context: format!(" solving the fold-of-cycles system{cause}"),
-                iterations: it,
-                residual,
-                step,
-                hint: match reason {
-                    NewtonFailure::Stalled => {
-                        "the fold is ill-conditioned here (the fold system degenerates at a \
-                         Bautin point)"
-                    }
-                    _ => "start closer to the fold (a cycle of the branch next to it)",
-                },
-                reason,
-            }
+        let stall = if stop_at_floor {
+            Stall::Fail
+        } else {
+            Stall::Iterate
         };
-        // A failed solve once Newton has moved off the start: it diverged.
-        let diverged = |it: usize, residual: f64, step: f64, e: ContinuationError| match it {
-            0 => e,
-            _ => failure(
-                it,
-                residual,
-                step,
-                NewtonFailure::SingularJacobian,
-                format!(" ({e})"),
-            ),
+        let mut system = FoldSystem {
+            aug: self,
+            extra,
+            stall,
         };
-        for it in 0..=settings.max_iter {
-            let mut e = self
-                .evaluate(y)
-                .map_err(|e| diverged(it, residual, last_step, e))?;
-            if let Some((row, anchor)) = extra {
-                let r: f64 = (0..dim).map(|i| row[i] * (y[i] - anchor[i])).sum();
-                e.residual.push(r);
-                let last = e.rows.nrows() - 1;
-                e.rows.row_mut(last).copy_from_slice(row);
-            }
-            // The test function g is judged by the step it causes (its own
-            // scale is arbitrary: set by the bordering vectors); F by its residual.
-            let nn = self.nn();
-            residual = e.residual[..=nn]
-                .iter()
-                .chain(&e.residual[nn + 2..])
-                .fold(0.0f64, |a, v| a.max(v.abs()));
-            let ymax = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            if !(residual.is_finite() && e.residual.iter().all(|v| v.is_finite())) {
-                return Err(failure(
-                    it,
-                    residual,
-                    last_step,
-                    NewtonFailure::NonFinite,
-                    String::new(),
-                ));
-            }
-            let tol = settings.step_tol * (1.0 + ymax);
-            let small_residual = residual <= settings.residual_tol * (1.0 + ymax);
-            if last_step <= tol && small_residual {
-                return Ok((
-                    NewtonReport {
-                        iterations: it,
-                        residual,
-                        step: last_step,
-                    },
-                    e,
-                ));
-            }
-            if stop_at_floor
-                && small_residual
-                && last_step <= 1e3 * tol
-                && last_step > 0.5 * previous_step
-            {
-                return Err(failure(
-                    it,
-                    residual,
-                    last_step,
-                    NewtonFailure::Stalled,
-                    String::new(),
-                ));
-            }
-            if it == settings.max_iter {
-                break;
-            }
-            let dy = e
-                .solve(&e.residual)
-                .map_err(|e| diverged(it, residual, last_step, e))?;
-            previous_step = last_step;
-            last_step = dy.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            self.recycle(e);
-            y.iter_mut().zip(&dy).for_each(|(a, d)| *a -= d);
+        newton::iterate(&mut system, y, settings)
+    }
+}
+
+impl Linearized for Evaluation {
+    fn residual(&self) -> &[f64] {
+        &self.residual
+    }
+
+    /// The residual of `F` (and of the closing equation): the test function
+    /// `g` (after the `nn + 1` rows of `F`) is judged by the step it causes,
+    /// its own scale being arbitrary (set by the bordering vectors).
+    fn residual_norm(&self) -> f64 {
+        let g = self.v.len();
+        max_norm(&self.residual[..g]).max(max_norm(&self.residual[g + 1..]))
+    }
+}
+
+/// The system `(F, g)` of an [`Augmented`], closed for curves by the linear
+/// equation `<row, y - anchor> = 0`, for [`newton::iterate`].
+struct FoldSystem<'s, 'a, S: VectorField> {
+    aug: &'s mut Augmented<'a, S>,
+    extra: Option<(&'s [f64], &'s [f64])>,
+    stall: Stall,
+}
+
+impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
+    type Point = Evaluation;
+
+    fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
+        let mut e = self.aug.evaluate(y)?;
+        if let Some((row, anchor)) = self.extra {
+            let r: f64 = (0..y.len()).map(|i| row[i] * (y[i] - anchor[i])).sum();
+            e.residual.push(r);
+            let last = e.rows.nrows() - 1;
+            e.rows.row_mut(last).copy_from_slice(row);
         }
-        Err(failure(
-            settings.max_iter,
-            residual,
-            last_step,
-            NewtonFailure::MaxIterations,
-            String::new(),
-        ))
+        Ok(e)
+    }
+
+    fn newton_step(&mut self, e: &Evaluation) -> Result<Vec<f64>, ContinuationError> {
+        e.solve(&e.residual)
+    }
+
+    fn recycle(&mut self, e: Evaluation) {
+        self.aug.recycle(e);
+    }
+
+    fn stall(&self) -> Stall {
+        self.stall
+    }
+
+    /// A failed evaluation or solve is returned as it is at the start; once
+    /// Newton has moved off the start it diverged, and the failure says so.
+    fn error(&self, failure: Failure, cause: Option<ContinuationError>) -> ContinuationError {
+        let cause = match cause {
+            Some(e) if failure.iterations == 0 => return e,
+            Some(e) => format!(" ({e})"),
+            None => String::new(),
+        };
+        let hint = match failure.reason {
+            NewtonFailure::Stalled => {
+                "the fold is ill-conditioned here (the fold system degenerates at a Bautin point)"
+            }
+            _ => "start closer to the fold (a cycle of the branch next to it)",
+        };
+        failure.error(format!(" solving the fold-of-cycles system{cause}"), hint)
     }
 }
 
