@@ -447,7 +447,6 @@ fn draw_colorbar<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     bar: &Colorbar,
 ) -> Result<(), String> {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     let (lo, hi) = bar.range;
     let (lo, hi) = if hi > lo {
         (lo, hi)
@@ -456,64 +455,67 @@ fn draw_colorbar<DB: DrawingBackend>(
         (lo - half, hi + half)
     };
     let axis = Axis::over(lo, hi, bar.log);
-    let builder = |area| {
-        let mut b = ChartBuilder::on(area);
-        b.margin_top(18 + 30)
-            .margin_bottom(18 + 55)
-            .margin_right(40)
-            .y_label_area_size(80);
-        b
-    };
     // The strip in unit steps of the scale (log or linear), labelled on its axis.
     let n = 200;
-    let strip = (0..n).map(|i| {
-        let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
-        let at = |t: f64| {
-            if bar.log {
-                lo * (hi / lo).powf(t)
-            } else {
-                lo + t * (hi - lo)
-            }
-        };
-        Rectangle::new(
-            [(0.0, at(a)), (1.0, at(b))],
-            viridis((a + b) / 2.0 * LINE_END).filled(),
-        )
-    });
-    let label = |v: &f64| axis.label(*v);
+    let strip: Vec<_> = (0..n)
+        .map(|i| {
+            let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+            let at = |t: f64| {
+                if bar.log {
+                    lo * (hi / lo).powf(t)
+                } else {
+                    lo + t * (hi - lo)
+                }
+            };
+            Rectangle::new(
+                [(0.0, at(a)), (1.0, at(b))],
+                viridis((a + b) / 2.0 * LINE_END).filled(),
+            )
+        })
+        .collect();
     if bar.log {
-        let mut chart = builder(area)
-            .build_cartesian_2d(0.0..1.0, log_axis(lo, hi))
-            .map_err(e)?;
-        chart
-            .configure_mesh()
-            .disable_x_mesh()
-            .disable_y_mesh()
-            .disable_x_axis()
-            .y_desc(bar.label.as_str())
-            .y_label_formatter(&label)
-            .label_style((FONT, 16))
-            .axis_desc_style((FONT, 19))
-            .draw()
-            .map_err(e)?;
-        chart.draw_series(strip).map_err(e)?;
+        draw_strip(area, &bar.label, axis, log_axis(lo, hi), strip)
     } else {
-        let mut chart = builder(area)
-            .build_cartesian_2d(0.0..1.0, lo..hi)
-            .map_err(e)?;
-        chart
-            .configure_mesh()
-            .disable_x_mesh()
-            .disable_y_mesh()
-            .disable_x_axis()
-            .y_desc(bar.label.as_str())
-            .y_label_formatter(&label)
-            .label_style((FONT, 16))
-            .axis_desc_style((FONT, 19))
-            .draw()
-            .map_err(e)?;
-        chart.draw_series(strip).map_err(e)?;
+        draw_strip(area, &bar.label, axis, lo..hi, strip)
     }
+}
+
+/// The colour bar's chart over `yr`: the `strip` of colours, then its axis
+/// labelled by `axis` (after the strip, which would cover the labels'
+/// last digits).
+fn draw_strip<DB: DrawingBackend, Y>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    label: &str,
+    axis: Axis,
+    yr: Y,
+    strip: Vec<Rectangle<(f64, f64)>>,
+) -> Result<(), String>
+where
+    Y: AsRangedCoord<Value = f64>,
+    Y::CoordDescType: ValueFormatter<f64>,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(18 + 30)
+        .margin_bottom(18 + 55)
+        .margin_right(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.0..1.0, yr)
+        .map_err(e)?;
+    chart.draw_series(strip).map_err(e)?;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .disable_y_mesh()
+        .disable_x_axis()
+        .y_desc(label)
+        // A space after the value: without it the last digit was cut where
+        // the label area meets the strip.
+        .y_label_formatter(&|v| format!("{} ", axis.label(*v)))
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 19))
+        .draw()
+        .map_err(e)?;
     Ok(())
 }
 
