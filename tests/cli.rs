@@ -580,3 +580,33 @@ fn cycles_text_and_csv_in_both_units() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `diagram` gives stiffnesses as K/W by default and as kappa with
+/// `--units dimensionless`: the same numbers through D0 (pmma: 0.4 um).
+#[test]
+fn diagram_text_in_both_units() {
+    let dir = common::temp_dir("diagram-units");
+    let out = dir.to_str().unwrap();
+    let first_value = |units: &str, marker: &str| {
+        let (code, text, err) = stickslip(&["diagram", "--out", out, "--force", "--units", units]);
+        assert_eq!(code, 0, "{err}");
+        let line = text
+            .lines()
+            .find(|l| l.contains("critical stiffness from"))
+            .unwrap_or_else(|| panic!("{text}"));
+        let after = &line[line.find(marker).unwrap() + marker.len()..];
+        after
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse::<f64>()
+            .unwrap()
+    };
+    let k_over_w = first_value("physical", "K/W = ");
+    let kappa = first_value("dimensionless", "kappa = ");
+    assert!(
+        ((k_over_w * 0.4e-6 - kappa) / kappa).abs() < 1e-6,
+        "{k_over_w} {kappa}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

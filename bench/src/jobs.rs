@@ -11,7 +11,7 @@ use stickslip::analysis::hopf::{find_hopf_with, HopfOutcome};
 use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use stickslip::cli::diagram::DiagramArgs;
 use stickslip::cli::files::OutputArgs;
-use stickslip::cli::SceneArgs;
+use stickslip::cli::{SceneArgs, TextUnits};
 use stickslip::error::{Error, NumericalError};
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
@@ -268,6 +268,7 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
                 // Each repetition of the job writes the same files again.
                 force: true,
             },
+            units: TextUnits::Physical,
             json: false,
             max_steps: stickslip::analysis::diagram::DEFAULT_CURVE_STEPS,
         },

@@ -5,7 +5,7 @@
 use super::cycle_start::Start;
 use super::files::{with_suffix, OutputArgs};
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
-use super::{params_json, SceneArgs, Setup};
+use super::{params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::cycles::{
     along_branch, collocation_for, requested_points, BranchEnd, BranchEnds, CycleRecord,
     CycleRequest, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
@@ -21,7 +21,7 @@ use crate::plot::lines::{
 };
 use crate::plot::PlotError;
 use crate::scene::Units;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
 use serde_json::{json, Value};
@@ -269,7 +269,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         for u in &c.user {
             write_row(&mut csv, u, &units)?;
             if !args.json {
-                println!("  user point {}", args.units.cycle(u, &units));
+                println!("  user point {}", cycle_text(args.units, u, &units));
             }
             records.push(u.clone());
         }
@@ -277,7 +277,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         if !args.json {
             println!(
                 "{}  {}  |mu_1 - 1| {}  err {}  NTST {}",
-                args.units.cycle(c, &units),
+                cycle_text(args.units, c, &units),
                 c.stability_word(),
                 or_na(c.trivial_error, "Floquet pencil singular to rounding"),
                 or_na(c.error_estimate, "no solution on half the mesh"),
@@ -288,7 +288,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             println!(
                 "  {} at {}",
                 special_point_label(kind),
-                args.units.cycle(l, &units)
+                cycle_text(args.units, l, &units)
             );
         }
         records.push(c.clone());
@@ -305,7 +305,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         write_figures(&setup, &along_branch(&records), &stem)?
     };
     let lpc = if args.lpc_curve {
-        fold_curves(&setup, &records, &stem, args.json)?
+        fold_curves(&setup, &records, &stem, args)?
     } else {
         (LpcCurves::default(), Vec::new())
     };
@@ -492,7 +492,7 @@ fn fold_curves(
     setup: &Setup,
     records: &[CycleRecord],
     stem: &Path,
-    json: bool,
+    args: &CyclesArgs,
 ) -> Result<(LpcCurves, Vec<PathBuf>), Error> {
     let mut curves = LpcCurves::default();
     let folds = records
@@ -509,8 +509,8 @@ fn fold_curves(
         curves.stops.extend(c.stops);
     }
     let u = setup.scene.units;
-    if !json {
-        for line in lpc_summary(&curves, &u) {
+    if !args.json {
+        for line in lpc_summary(&curves, &u, args.units) {
             println!("{line}");
         }
     }
@@ -668,33 +668,22 @@ fn special_point_label(kind: &str) -> &'static str {
     }
 }
 
-/// Units of the text output of `cycles`.
-#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TextUnits {
-    /// K/W in 1/m, period in s, slip velocity in µm/s.
-    Physical,
-    /// kappa, period in D0/V0, v/V0 (docs/model.md).
-    Dimensionless,
-}
-
-impl TextUnits {
-    /// A cycle in these units: stiffness, period, `Delta_s` (a friction
-    /// coefficient either way) and the range of the slip velocity.
-    fn cycle(self, c: &CycleRecord, u: &Units) -> String {
-        match self {
-            TextUnits::Physical => format!(
-                "K/W {:.8e} 1/m  period {:.6e} s  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s",
-                u.k_over_w(c.kappa),
-                c.period * u.d0 / u.v0,
-                c.delta_s,
-                u.velocity_um_s(c.v_min),
-                u.velocity_um_s(c.v_max)
-            ),
-            TextUnits::Dimensionless => format!(
-                "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",
-                c.kappa, c.period, c.delta_s, c.v_min, c.v_max
-            ),
-        }
+/// A cycle in the text units `units`: stiffness, period, `Delta_s` (a
+/// friction coefficient either way) and the range of the slip velocity.
+fn cycle_text(units: TextUnits, c: &CycleRecord, u: &Units) -> String {
+    match units {
+        TextUnits::Physical => format!(
+            "K/W {:.8e} 1/m  period {:.6e} s  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s",
+            u.k_over_w(c.kappa),
+            c.period * u.d0 / u.v0,
+            c.delta_s,
+            u.velocity_um_s(c.v_min),
+            u.velocity_um_s(c.v_max)
+        ),
+        TextUnits::Dimensionless => format!(
+            "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",
+            c.kappa, c.period, c.delta_s, c.v_min, c.v_max
+        ),
     }
 }
 

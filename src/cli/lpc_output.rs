@@ -4,6 +4,7 @@
 //! branch).
 
 use super::files::with_suffix;
+use super::TextUnits;
 use crate::analysis::lpc_curve::LpcCurves;
 use crate::scene::Units;
 use serde_json::{json, Value};
@@ -32,18 +33,18 @@ pub fn lpc_json(curves: &LpcCurves, u: &Units) -> Vec<Value> {
 
 /// The text lines of the summary: the extent of every curve and why an end
 /// stopped.
-pub fn lpc_summary(curves: &LpcCurves, u: &Units) -> Vec<String> {
+pub fn lpc_summary(curves: &LpcCurves, u: &Units, units: TextUnits) -> Vec<String> {
     let extents = curves.points.iter().filter_map(|curve| {
         let (a, b) = (curve.first()?, curve.last()?);
         Some(format!(
-            "  fold of cycles (LPC) curve: {} points from V = {:.6e} um/s (kappa = {:.6e}) to \
-             V = {:.6e} um/s (kappa = {:.6e}); below it stick-slip coexists with stable steady \
+            "  fold of cycles (LPC) curve: {} points from V = {:.6e} um/s ({}) to \
+             V = {:.6e} um/s ({}); below it stick-slip coexists with stable steady \
              sliding (hysteresis) down to the Hopf curve, where there is one",
             curve.len(),
             u.velocity_um_s(a.nu),
-            a.kappa,
+            units.stiffness(a.kappa, u, 6),
             u.velocity_um_s(b.nu),
-            b.kappa
+            units.stiffness(b.kappa, u, 6)
         ))
     });
     let stops = curves

@@ -21,7 +21,7 @@ use crate::analysis::model_choice::{
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
-use crate::scene::{self, Scene};
+use crate::scene::{self, Scene, Units};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// Bifurcation analysis of frictional sliding: when does steady sliding of a
@@ -82,6 +82,26 @@ pub struct SceneArgs {
     /// Inertia is dropped (quasi-static model) when m nu^2 / mu_v is below this.
     #[arg(long, default_value_t = DEFAULT_INERTIA_THRESHOLD)]
     pub inertia_threshold: f64,
+}
+
+/// Units of the text output.
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextUnits {
+    /// K/W in 1/m, periods in s, slip velocities in µm/s.
+    Physical,
+    /// kappa, periods in D0/V0, v/V0 (docs/model.md).
+    Dimensionless,
+}
+
+impl TextUnits {
+    /// A stiffness `kappa` in these units, `K/W = ... 1/m` or `kappa = ...`,
+    /// with `digits` decimals.
+    pub fn stiffness(self, kappa: f64, u: &Units, digits: usize) -> String {
+        match self {
+            TextUnits::Physical => format!("K/W = {:.digits$e} 1/m", u.k_over_w(kappa)),
+            TextUnits::Dimensionless => format!("kappa = {kappa:.digits$e}"),
+        }
+    }
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]

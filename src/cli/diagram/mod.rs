@@ -7,7 +7,7 @@ mod figures;
 use super::files::with_suffix;
 use super::files::OutputArgs;
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
-use super::{params_json, significant, SceneArgs, Setup};
+use super::{params_json, significant, SceneArgs, Setup, TextUnits};
 use crate::analysis::diagram::{stability_diagram_with, StabilityDiagram, DEFAULT_CURVE_STEPS};
 use crate::appendix_c;
 use crate::error::{Error, InputError, NumericalError};
@@ -29,6 +29,10 @@ pub struct DiagramArgs {
     pub nu_range: Option<String>,
     #[command(flatten)]
     pub output: OutputArgs,
+    /// Units of the stiffnesses in the text: physical (K/W in 1/m) or
+    /// dimensionless (kappa). The CSV and the JSON carry both.
+    #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
+    pub units: TextUnits,
     /// Print one JSON object (an array for several scenes) instead of text.
     #[arg(long)]
     pub json: bool,
@@ -106,7 +110,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
             let done = 1 + finished.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
             bar.set_message(format!("{done} of {} scenes finished", names.len()));
             if let (Ok(r), false) = (&r, args.json) {
-                bar.suspend(|| print_text(r));
+                bar.suspend(|| print_text(r, args.units));
             }
             Some(r)
         })
@@ -361,7 +365,7 @@ fn stop_text(r: &SceneResult) -> String {
     }
 }
 
-fn print_text(r: &SceneResult) {
+fn print_text(r: &SceneResult, units: TextUnits) {
     // One scene's lines together, also when scenes finish at the same time.
     let _whole = std::io::stdout().lock();
     let u = &r.setup.scene.units;
@@ -390,10 +394,10 @@ fn print_text(r: &SceneResult) {
     }
     if let (Some(a), Some(b)) = (d.points.first(), d.points.last()) {
         println!(
-            "  kappa_c from {:.6e} (V = {} um/s) to {:.6e} (V = {} um/s)",
-            a.kappa,
+            "  critical stiffness from {} (V = {} um/s) to {} (V = {} um/s)",
+            units.stiffness(a.kappa, u, 6),
             significant(u.velocity_um_s(a.nu)),
-            b.kappa,
+            units.stiffness(b.kappa, u, 6),
             significant(u.velocity_um_s(b.nu))
         );
         // Relative to the largest kappa_c on the curve where kappa_c -> 0 (an end point).
@@ -415,15 +419,15 @@ fn print_text(r: &SceneResult) {
             s.l2.map(|l2| format!(", l2 = {l2:.6e} ± {:.1e}", s.l2_error_bound.unwrap_or(0.0)))
                 .unwrap_or_default();
         println!(
-            "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), kappa = {:.10e}, omega = {:.6e}{l2}",
+            "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), {}, omega = {:.6e}{l2}",
             s.kind,
             u.velocity_um_s(s.nu),
             s.nu,
-            s.kappa,
+            units.stiffness(s.kappa, u, 10),
             s.omega
         );
     }
-    for line in lpc_summary(&d.lpc, u) {
+    for line in lpc_summary(&d.lpc, u, units) {
         println!("{line}");
     }
     for f in &r.files {
