@@ -120,12 +120,39 @@ impl CycleRecord {
         }
     }
 
-    /// The bifurcations located since the previous cycle, with their kind
-    /// (`lpc`, `pd`, `ns`).
-    pub fn special_points(&self) -> impl Iterator<Item = (&'static str, &CycleRecord)> {
-        [("lpc", &self.lpc), ("pd", &self.pd), ("ns", &self.ns)]
-            .into_iter()
-            .filter_map(|(kind, r)| r.as_deref().map(|r| (kind, r)))
+    /// The bifurcations located since the previous cycle, with their kind.
+    pub fn special_points(&self) -> impl Iterator<Item = (CycleBifurcation, &CycleRecord)> {
+        [
+            (CycleBifurcation::Lpc, &self.lpc),
+            (CycleBifurcation::Pd, &self.pd),
+            (CycleBifurcation::Ns, &self.ns),
+        ]
+        .into_iter()
+        .filter_map(|(kind, r)| r.as_deref().map(|r| (kind, r)))
+    }
+}
+
+/// A bifurcation of cycles located on a branch (its JSON `kind`: `lpc`,
+/// `pd`, `ns`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CycleBifurcation {
+    /// Fold of cycles: a multiplier passes through 1.
+    Lpc,
+    /// Period doubling: a multiplier passes through -1.
+    Pd,
+    /// Torus (Neimark-Sacker): a complex pair crosses the unit circle.
+    Ns,
+}
+
+impl CycleBifurcation {
+    /// Its name in text and figures.
+    pub fn name(self) -> &'static str {
+        match self {
+            CycleBifurcation::Lpc => "fold of cycles (LPC)",
+            CycleBifurcation::Pd => "period doubling (PD)",
+            CycleBifurcation::Ns => "torus bifurcation (NS)",
+        }
     }
 }
 

@@ -7,8 +7,9 @@ use super::files::{with_suffix, OutputArgs};
 use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
 use super::{params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::cycles::{
-    along_branch, collocation_for, requested_points, BranchEnd, BranchEnds, CycleRecord,
-    CycleRequest, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
+    along_branch, collocation_for, requested_points, BranchEnd, BranchEnds, CycleBifurcation,
+    CycleRecord, CycleRequest, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE,
+    TRIVIAL_UNAVAILABLE,
 };
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -285,11 +286,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             );
         }
         for (kind, l) in c.special_points().filter(|_| !args.json) {
-            println!(
-                "  {} at {}",
-                special_point_label(kind),
-                cycle_text(args.units, l, &units)
-            );
+            println!("  {} at {}", kind.name(), cycle_text(args.units, l, &units));
         }
         records.push(c.clone());
         Ok(())
@@ -498,7 +495,11 @@ fn fold_curves(
     let folds = records
         .iter()
         .flat_map(CycleRecord::special_points)
-        .filter_map(|(kind, r)| (kind == "lpc").then_some(r.orbit.as_ref()).flatten());
+        .filter_map(|(kind, r)| {
+            (kind == CycleBifurcation::Lpc)
+                .then_some(r.orbit.as_ref())
+                .flatten()
+        });
     for fold in folds {
         // The scene's velocity range, widened to a factor 2 around the fold.
         let nu = fold.p[Param::Nu as usize];
@@ -659,15 +660,6 @@ const FOLD_COLOR: RGBColor = RGBColor(150, 60, 150);
 const PD_COLOR: RGBColor = RGBColor(230, 140, 20);
 const NS_COLOR: RGBColor = RGBColor(20, 150, 150);
 
-/// Legend text of a bifurcation of cycles of kind `lpc`, `pd` or `ns`.
-fn special_point_label(kind: &str) -> &'static str {
-    match kind {
-        "lpc" => "fold of cycles (LPC)",
-        "pd" => "period doubling (PD)",
-        _ => "torus bifurcation (NS)",
-    }
-}
-
 /// A cycle in the text units `units`: stiffness, period, `Delta_s` (a
 /// friction coefficient either way) and the range of the slip velocity.
 fn cycle_text(units: TextUnits, c: &CycleRecord, u: &Units) -> String {
@@ -764,7 +756,11 @@ fn write_figures(
             let (color, label) = SWITCH_MARKER;
             series.push(vertical_marker(&series, u.k_over_w(k), label, color));
         }
-        for (kind, color) in [("lpc", FOLD_COLOR), ("pd", PD_COLOR), ("ns", NS_COLOR)] {
+        for (kind, color) in [
+            (CycleBifurcation::Lpc, FOLD_COLOR),
+            (CycleBifurcation::Pd, PD_COLOR),
+            (CycleBifurcation::Ns, NS_COLOR),
+        ] {
             let points: Vec<(f64, f64)> = records
                 .iter()
                 .flat_map(|c| c.special_points())
@@ -773,7 +769,7 @@ fn write_figures(
                 .collect();
             if !points.is_empty() {
                 series.push(Series {
-                    label: Some(special_point_label(kind).into()),
+                    label: Some(kind.name().into()),
                     points,
                     color,
                     dashed: false,
