@@ -76,6 +76,9 @@ impl Buckets {
         p: &Sample,
         mut emit: impl FnMut(&Sample) -> Result<(), E>,
     ) -> Result<(), E> {
+        if self.size == 1 {
+            return emit(p);
+        }
         self.bucket.push(*p);
         if self.bucket.len() >= self.size {
             return self.finish(&mut emit);
@@ -125,12 +128,16 @@ impl Envelope {
 
     /// Adds the run's next sample.
     pub fn push(&mut self, p: &Sample) {
-        self.bucket.push(*p);
         self.steps += 1;
-        if self.bucket.len() < self.stride {
-            return;
+        if self.stride == 1 {
+            self.kept.push((self.steps - 1, *p));
+        } else {
+            self.bucket.push(*p);
+            if self.bucket.len() < self.stride {
+                return;
+            }
+            self.close_bucket();
         }
-        self.close_bucket();
         while self.kept.len() >= self.cap {
             self.stride *= 2;
             let stride = self.stride;
