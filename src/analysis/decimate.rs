@@ -132,8 +132,11 @@ impl Envelope {
         if self.stride == 1 {
             self.kept.push((self.steps - 1, *p));
         } else {
+            // Buckets end on multiples of the stride (after a doubling the
+            // first one is shorter), so that each lies in one window of a
+            // later regrouping.
             self.bucket.push(*p);
-            if self.bucket.len() < self.stride {
+            if !self.steps.is_multiple_of(self.stride) {
                 return;
             }
             self.close_bucket();
