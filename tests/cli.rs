@@ -610,3 +610,33 @@ fn diagram_text_in_both_units() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Several scenes under one `--name` get one name each, and a repeated run
+/// is refused before anything is computed if any of its files exists.
+#[test]
+fn named_runs_of_several_scenes_keep_every_scene() {
+    let dir = common::temp_dir("several-named");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "diagram",
+        "--scene",
+        "pmma,pmma-rr",
+        "--name",
+        "foo",
+        "--out",
+        out,
+    ];
+    let (code, _, err) = stickslip(&args);
+    assert_eq!(code, 0, "{err}");
+    for scene in ["pmma", "pmma-rr"] {
+        let json = std::fs::read_to_string(dir.join(format!("foo_{scene}-diagram.json"))).unwrap();
+        let v: Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(v["scene"], scene);
+    }
+    std::fs::remove_file(dir.join("foo_pmma-rr-diagram.json")).unwrap();
+    let (code, text, err) = stickslip(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("foo_pmma-") && err.contains("exists"), "{err}");
+    assert!(!text.contains("wrote"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

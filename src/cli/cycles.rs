@@ -101,10 +101,14 @@ impl From<Points> for CollocationPoints {
     }
 }
 
-fn record_json(c: &CycleRecord) -> Value {
+fn record_json(c: &CycleRecord, u: &Units) -> Value {
     let mut v = json!({
         "kappa": c.kappa, "period": c.period, "delta_s": c.delta_s,
         "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
+        "K_over_W_per_m": u.k_over_w(c.kappa),
+        "period_s": c.period * u.d0 / u.v0,
+        "v_min_um_per_s": u.velocity_um_s(c.v_min),
+        "v_max_um_per_s": u.velocity_um_s(c.v_max),
         "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
         "trivial_multiplier_index": c.trivial,
         "trivial_multiplier_error": c.trivial_error, "error_estimate": c.error_estimate,
@@ -199,7 +203,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let stem = with_suffix(
         &args
             .output
-            .stem(&setup.scene.name, &args.scene, "-cycles.csv")?,
+            .stem(&setup.scene.name, &args.scene, false, OUTPUTS)?,
         "-cycles",
     );
     if !args.json {
@@ -295,11 +299,20 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if let Some(warning) = validity_warning(&records, &setup, &watch, args.scene.model.is_some()) {
         eprintln!("warning: {warning}");
     }
-    // Whatever was computed is kept and drawn, even when the branch stopped on an error.
+    let (legs_complete, stop) = stop_reason(&outcomes, args.max_steps);
+    // Whatever was computed is kept and drawn, even when the branch stopped
+    // on an error; then the figures say so.
+    let cut = if super::interrupt::interrupted() {
+        Some(" — interrupted")
+    } else if !legs_complete {
+        Some(" — stopped before the requested range (see the stop reason)")
+    } else {
+        None
+    };
     let files = if records.is_empty() {
         Vec::new()
     } else {
-        write_figures(&setup, &along_branch(&records), &stem)?
+        write_figures(&setup, &along_branch(&records), &stem, cut)?
     };
     let lpc = if args.lpc_curve {
         fold_curves(&setup, &records, &stem, args)?
@@ -307,7 +320,6 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         (LpcCurves::default(), Vec::new())
     };
     let files: Vec<PathBuf> = files.into_iter().chain(lpc.1).collect();
-    let (legs_complete, stop) = stop_reason(&outcomes, args.max_steps);
     let stop = match start.reason() {
         Some(_) => {
             "no branch: no Hopf point and no cycle found by simulation (see reason)".to_string()
@@ -340,7 +352,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             "kappa_c": start.kappa_c(),
             "start": start.json(),
             "collocation": points_name(points),
-            "cycles": records.iter().map(record_json).collect::<Vec<_>>(),
+            "units": {"D0_um": units.d0 * 1e6, "V0_um_per_s": units.velocity_um_s(1.0)},
+            "cycles": records.iter().map(|c| record_json(c, &units)).collect::<Vec<_>>(),
             "special_points": records.iter().flat_map(CycleRecord::special_points).map(|(kind, l)| json!({
                 "kind": kind, "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
                 "v_min": l.v_min, "v_max": l.v_max,
@@ -651,6 +664,22 @@ fn write_row(csv: &mut impl Write, c: &CycleRecord, u: &Units) -> Result<(), Err
     Ok(())
 }
 
+/// The files `cycles` may write, after the run's stem.
+const OUTPUTS: &[&str] = &[
+    "-cycles.csv",
+    "-cycles-amplitude.png",
+    "-cycles-amplitude.svg",
+    "-cycles-period.png",
+    "-cycles-period.svg",
+    "-cycles-orbits.png",
+    "-cycles-orbits.svg",
+    "-cycles-time-series.png",
+    "-cycles-time-series.svg",
+    "-cycles-lpc-curve.csv",
+    "-cycles-lpc-curve.png",
+    "-cycles-lpc-curve.svg",
+];
+
 /// Cycles drawn in the orbit and time-series figures (evenly along the
 /// branch, and its last one).
 const FAMILY_SIZE: usize = 10;
@@ -686,6 +715,7 @@ fn write_figures(
     setup: &Setup,
     records: &[&CycleRecord],
     stem: &Path,
+    cut: Option<&str>,
 ) -> Result<Vec<PathBuf>, Error> {
     let u = setup.scene.units;
     let blue = RGBColor(31, 90, 180);
@@ -736,17 +766,19 @@ fn write_figures(
         .map(|w| w[1].kappa);
     let title = match switch {
         Some(k) => format!(
-            "Stick-slip cycles, {} (quasi-static → inertial model at K/W = {:.4e} 1/m)",
+            "Stick-slip cycles, {} (quasi-static → inertial model at K/W = {:.4e} 1/m){}",
             setup.scene.name,
-            u.k_over_w(k)
+            u.k_over_w(k),
+            cut.unwrap_or_default()
         ),
         None => format!(
-            "Stick-slip cycles, {} ({} model)",
+            "Stick-slip cycles, {} ({} model){}",
             setup.scene.name,
             records
                 .first()
                 .map_or(setup.choice.kind, |c| c.model)
-                .name()
+                .name(),
+            cut.unwrap_or_default()
         ),
     };
     // A vertical dashed line at the switch, over the data's range, and the

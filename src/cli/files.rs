@@ -56,49 +56,94 @@ impl OutputArgs {
 
     /// `<out>/<run>`, the stem of the files of a run on the scene named
     /// `scene` with the overrides and forced model of `args` (see
-    /// [`run_name`]), or `<out>/<--name>`. Refuses (naming the file) when
-    /// `<stem><first>` exists, `first` being the suffix of the run's first
-    /// file, unless `--force`.
-    pub fn stem(&self, scene: &str, args: &SceneArgs, first: &str) -> Result<PathBuf, InputError> {
+    /// [`run_name`]), or `<out>/<--name>` (`<--name>_<scene>` when the
+    /// command runs `several` scenes). Refuses (naming the file) when any of
+    /// the run's files `<stem><suffix>`, `suffix` in `outputs`, exists,
+    /// unless `--force`; refuses an empty `--name`.
+    pub fn stem(
+        &self,
+        scene: &str,
+        args: &SceneArgs,
+        several: bool,
+        outputs: &[&str],
+    ) -> Result<PathBuf, InputError> {
         let model = args.model.map(|m| ModelKind::from(m).name());
-        let name = match &self.name {
-            Some(name) => name.clone(),
+        let name = match self.name.as_deref().map(str::trim) {
+            Some("") => {
+                return Err(InputError::Malformed {
+                    field: "--name".into(),
+                    value: String::new(),
+                    expected: "a name for the output files".into(),
+                })
+            }
+            Some(name) if several => format!("{name}_{scene}"),
+            Some(name) => name.to_string(),
             None => run_name(scene, &args.set, model),
         };
         let stem = stem(&self.out, &name);
-        let first = with_suffix(&stem, first);
-        if first.exists() && !self.force {
-            return Err(InputError::Conflict(format!(
+        let existing = outputs
+            .iter()
+            .map(|suffix| with_suffix(&stem, suffix))
+            .find(|path| path.exists());
+        match existing {
+            Some(path) if !self.force => Err(InputError::Conflict(format!(
                 "{} exists (an earlier run of the same name): --force replaces its \
                  files, --name NAME writes under another name",
-                first.display()
-            )));
+                path.display()
+            ))),
+            _ => Ok(stem),
         }
-        Ok(stem)
     }
 }
 
-/// The name of a run: the scene's, then each override `NAME=VALUE` and a
-/// forced model, joined by `_` (`pmma_kappa=0.009_m=0.01_inertial`).
+/// The name of a run: the scene's, then its overrides `NAME=VALUE` (by
+/// name, the last of a repeated one; numbers written one way, so that
+/// `kappa=0.0090` and `kappa=9e-3` name the same run) and a forced model,
+/// joined by `_` (`pmma_kappa=0.009_m=0.01_inertial`).
 pub fn run_name(scene: &str, set: &[String], model: Option<&str>) -> String {
+    let mut overrides: Vec<(String, String)> = Vec::new();
+    for part in set {
+        let (key, value) = part.split_once('=').unwrap_or((part.as_str(), ""));
+        let (key, value) = (key.trim().to_string(), value.trim());
+        let value = value
+            .parse::<f64>()
+            .map_or_else(|_| value.to_string(), canonical_number);
+        overrides.retain(|(k, _)| *k != key);
+        overrides.push((key, value));
+    }
+    overrides.sort_by(|a, b| a.0.cmp(&b.0));
     let mut name = scene.to_string();
-    for part in set.iter().map(String::as_str).chain(model) {
+    for part in overrides
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .chain(model.map(str::to_string))
+    {
         name.push('_');
-        name.push_str(part.trim());
+        name.push_str(&part);
     }
     name
 }
 
+/// `v` in one spelling: plain digits within `[1e-3, 1e5)`, else the
+/// shortest mantissa and exponent (`1e-12`).
+fn canonical_number(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e5).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// `<out>/<name>`, with every character of the name that is not a letter, a
-/// digit or one of `- _ = . +` replaced by `_`, and a leading dot too (a
-/// name never leaves `out`).
+/// digit or one of `- _ = . +` replaced by `_`, and a leading dot or dash
+/// too (a name never leaves `out` nor reads as an option).
 pub fn stem(out: &Path, name: &str) -> PathBuf {
     let safe: String = name
         .chars()
         .enumerate()
         .map(|(i, c)| {
             let allowed = c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '=' | '+');
-            if allowed || (c == '.' && i > 0) {
+            if (allowed && !(c == '-' && i == 0)) || (c == '.' && i > 0) {
                 c
             } else {
                 '_'
@@ -144,11 +189,14 @@ mod tests {
 
     #[test]
     fn runs_are_named_by_their_overrides_and_never_overwritten() {
-        let set = vec!["kappa=0.009".to_string(), "m=1e-2".to_string()];
+        let set = vec!["m=1e-2".to_string(), "kappa=0.0090".to_string()];
         assert_eq!(
             run_name("pmma", &set, Some("inertial")),
-            "pmma_kappa=0.009_m=1e-2_inertial"
+            "pmma_kappa=0.009_m=0.01_inertial"
         );
+        // The same run however its overrides are written, ordered or repeated.
+        let same = ["kappa=0.5", "m=1e-12", "kappa=9e-3"].map(String::from);
+        assert_eq!(run_name("pmma", &same, None), "pmma_kappa=0.009_m=1e-12");
         assert_eq!(run_name("pmma", &[], None), "pmma");
         let dir = std::env::temp_dir().join(format!("stickslip-names-{}", std::process::id()));
         let mut args = OutputArgs {
@@ -167,23 +215,29 @@ mod tests {
             set: Vec::new(),
             ..scene.clone()
         };
-        let stem = args.stem("pmma", &scene, "-cycles.csv").unwrap();
-        assert_eq!(stem, dir.join("pmma_kappa=0.009_m=1e-2"));
-        write(&with_suffix(&stem, "-cycles.csv"), "x").unwrap();
-        let e = args.stem("pmma", &scene, "-cycles.csv").unwrap_err();
+        let outputs = ["-cycles.csv", "-cycles-orbits.png"];
+        let stem = args.stem("pmma", &scene, false, &outputs).unwrap();
+        assert_eq!(stem, dir.join("pmma_kappa=0.009_m=0.01"));
+        // Any of the run's files, not only the first.
+        write(&with_suffix(&stem, "-cycles-orbits.png"), "x").unwrap();
+        let e = args.stem("pmma", &scene, false, &outputs).unwrap_err();
         assert!(
             e.to_string()
-                .contains("pmma_kappa=0.009_m=1e-2-cycles.csv exists"),
+                .contains("pmma_kappa=0.009_m=0.01-cycles-orbits.png exists"),
             "{e}"
         );
-        assert!(args.stem("pmma", &plain, "-cycles.csv").is_ok());
+        assert!(args.stem("pmma", &plain, false, &outputs).is_ok());
         args.force = true;
-        assert!(args.stem("pmma", &scene, "-cycles.csv").is_ok());
+        assert!(args.stem("pmma", &scene, false, &outputs).is_ok());
         args.name = Some("mine".into());
-        assert_eq!(
-            args.stem("pmma", &scene, "-cycles.csv").unwrap(),
-            dir.join("mine")
-        );
+        let named = args.stem("pmma", &scene, false, &outputs).unwrap();
+        assert_eq!(named, dir.join("mine"));
+        // Several scenes under one name get one name each.
+        let one_of_several = args.stem("pmma", &scene, true, &outputs).unwrap();
+        assert_eq!(one_of_several, dir.join("mine_pmma"));
+        args.name = Some(" ".into());
+        assert!(args.stem("pmma", &scene, false, &outputs).is_err());
+        assert_eq!(super::stem(&dir, "-x"), dir.join("_x"));
         std::fs::remove_dir_all(&dir).ok();
     }
 }

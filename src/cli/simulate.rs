@@ -149,7 +149,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let stem = super::files::with_suffix(
         &args
             .output
-            .stem(&setup.scene.name, &args.scene, "-simulation.csv")?,
+            .stem(&setup.scene.name, &args.scene, false, OUTPUTS)?,
         "-simulation",
     );
     let csv_path = super::files::with_suffix(&stem, ".csv");
@@ -162,10 +162,13 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let mut csv_buckets = Buckets::new(args.every);
     let (mut count, mut step_limit) = (0usize, false);
     let mut write_error = None;
-    // The integrator's own limit above --max-steps, which the rows enforce (status 4).
+    // The integrator's own limit well above --max-steps, which the rows
+    // enforce (status 4): the integrator also counts its rejected steps, and
+    // at a limit of --max-steps + 1 it stopped first (status 3, 199 001
+    // steps for 197 146 rows).
     let options = RunOptions {
         rtol: args.rtol,
-        max_steps: args.max_steps + 1,
+        max_steps: args.max_steps.saturating_mul(4).saturating_add(1000),
         watch: Some(&watch),
     };
     let run = simulate_watched(
@@ -273,6 +276,15 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         Err(e) => Err(e.into()),
     }
 }
+
+/// The files `simulate` may write, after the run's stem.
+const OUTPUTS: &[&str] = &[
+    "-simulation.csv",
+    "-simulation-spring-force.png",
+    "-simulation-spring-force.svg",
+    "-simulation-velocity.png",
+    "-simulation-velocity.svg",
+];
 
 /// The CSV of the time series, written row by row as the integrator produces
 /// them; flushed at least every 0.1 s, so a killed run keeps its rows.

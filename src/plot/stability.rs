@@ -212,9 +212,11 @@ pub fn render(fig: &StabilityFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotEr
 }
 
 /// The y range of the main panel: the curves with room above and below for
-/// the region labels (a quarter of their log span, at least a factor 1.35),
-/// at most four decades below the top (a curve that plunges to
-/// `kappa_c -> 0` is cut there).
+/// the region labels (a quarter of their log span, at least a factor 1.35);
+/// where a curve plunges to `kappa_c -> 0` (an end point, drawn as a
+/// vertical line), at most four decades below the top. Without one the
+/// whole curve is shown, however many decades it spans (a wide velocity
+/// range was drawn along the bottom frame, at a false height).
 fn y_range(fig: &StabilityFigure) -> (f64, f64) {
     let ys = fig
         .segments
@@ -229,7 +231,11 @@ fn y_range(fig: &StabilityFigure) -> (f64, f64) {
     if !lo.is_finite() {
         return (1e-3, 1.0);
     }
-    let lo = lo.max(hi * 1e-4);
+    let lo = if fig.vlines.is_empty() {
+        lo
+    } else {
+        lo.max(hi * 1e-4)
+    };
     let room = (hi / lo).powf(0.25).max(1.35);
     (lo / room, hi * room)
 }

@@ -77,6 +77,17 @@ pub fn run(args: &DiagramArgs) -> Result<(), Error> {
     run_with(args, &AsIs)
 }
 
+/// The files `diagram` may write for a scene, after its stem.
+const OUTPUTS: &[&str] = &[
+    "-diagram.json",
+    "-hopf-curve.csv",
+    "-lpc-curve.csv",
+    "-stability-physical.png",
+    "-stability-physical.svg",
+    "-stability-dimensionless.png",
+    "-stability-dimensionless.svg",
+];
+
 /// Runs the command with the models built through `fields` (the benchmark
 /// counts their evaluations).
 pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
@@ -95,6 +106,13 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
     }
     let range = args.nu_range.as_deref().map(parse_range).transpose()?;
     args.output.create_dir()?;
+    // Every scene's files are checked before any is computed.
+    let several = names.len() > 1;
+    for name in &names {
+        let scene = crate::scene::load(name)?;
+        args.output
+            .stem(&scene.name, &args.scene, several, OUTPUTS)?;
+    }
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress(&format!("{} scene(s)", names.len()));
     let finished = std::sync::atomic::AtomicUsize::new(0);
@@ -106,7 +124,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
             if super::interrupt::interrupted() {
                 return None;
             }
-            let r = one_scene(fields, args, name, range);
+            let r = one_scene(fields, args, name, range, several);
             let done = 1 + finished.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
             bar.set_message(format!("{done} of {} scenes finished", names.len()));
             if let (Ok(r), false) = (&r, args.json) {
@@ -182,6 +200,7 @@ fn one_scene<F: Wrap>(
     args: &DiagramArgs,
     name: &str,
     range: Option<(f64, f64)>,
+    several: bool,
 ) -> Result<SceneResult, Error> {
     let t0 = Instant::now();
     let scene_args = SceneArgs {
@@ -198,7 +217,7 @@ fn one_scene<F: Wrap>(
     })?;
     let stem = args
         .output
-        .stem(&setup.scene.name, &args.scene, "-diagram.json")?;
+        .stem(&setup.scene.name, &args.scene, several, OUTPUTS)?;
     let diagram = stability_diagram_with(
         fields,
         setup.choice.kind,
