@@ -88,7 +88,7 @@ pub struct SettledOrbit {
 pub enum SettleError {
     #[error(
         "the simulated orbit at kappa = {kappa:.6e} decayed to steady sliding after t = {time:.4e} \
-         ({periods} oscillations): no stick-slip cycle coexists with steady sliding at this stiffness \
+         ({periods} oscillation(s)): no stick-slip cycle coexists with steady sliding at this stiffness \
          reachable from a stuck start; try a smaller stiffness (--set kappa=...)"
     )]
     Decayed {

@@ -121,10 +121,10 @@ impl Start {
             .collect();
         Some(format!(
             "{}{why}: starting from a simulated stick-slip orbit at kappa = {kappa:.6e} \
-             (K/W = {:.6e} 1/m), settled after {} oscillations (t = {:.4e}), period {:.6e}",
+             (K/W = {:.6e} 1/m), settled after {} (t = {:.4e}), period {:.6e}",
             tried.iter().map(|l| format!("{l}\n")).collect::<String>(),
             setup.scene.units.k_over_w(kappa),
-            orbit.orbit.periods,
+            oscillations(orbit.orbit.periods),
             orbit.orbit.time,
             orbit.orbit.period,
         ))
@@ -210,4 +210,13 @@ fn no_cycle_reason(setup: &Setup, tried: &NoCycleFound) -> String {
         p.mu_phi(),
         p.mu_v(),
     )
+}
+
+/// `n oscillation(s)`, in the singular for one.
+fn oscillations(n: usize) -> String {
+    if n == 1 {
+        "1 oscillation".into()
+    } else {
+        format!("{n} oscillations")
+    }
 }

@@ -214,8 +214,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut csv = crate::cli::files::create_file(&csv_path)?;
     writeln!(
         csv,
-        "# scene {}; model {}; collocation {}; stable: true, false, or undecidable (a nontrivial \
-         multiplier within its error of the unit circle); n/a: not available (the JSON gives the reason)",
+        "# scene {}; model at the start {} (column model: each row's); collocation {}; stable: \
+         true, false, or undecidable (a nontrivial multiplier within its error of the unit \
+         circle); n/a: not available (the JSON gives the reason)",
         setup.scene.name,
         setup.choice.reason,
         points_name(points)

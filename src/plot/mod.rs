@@ -140,7 +140,8 @@ where
 /// Tick values of a logarithmic axis over `lo .. hi` (positive): labelled
 /// ones and grid lines. Labelled: the powers of ten (every k-th beyond ten
 /// of them) over more than six decades; `1, 2, 5 x 10^k` over more than a
-/// decade and a half; every `1 .. 9 x 10^k` over less; and where that
+/// decade and a half; every `1 .. 9 x 10^k` over less, with `1.5` and `2.5`
+/// within half a decade; and where that
 /// leaves fewer than three in the range (a few percent of variation, within
 /// one decade), evenly spaced values of a round step. Grid lines at every
 /// `1 .. 9 x 10^k` up to six decades. plotters' own key points start at a
@@ -170,8 +171,12 @@ pub fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
         powers.into_iter().step_by(every).collect()
     } else if decades > 1.5 {
         multiples(&[1.0, 2.0, 5.0])
-    } else {
+    } else if decades > 0.5 {
         multiples(&all)
+    } else {
+        // Within half a decade the top of a decade (1.5, 2.5) gets labels too:
+        // 7.8e-3 .. 1.6e-2 was labelled only up to 1e-2.
+        multiples(&[1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
     };
     if bold.len() >= 3 {
         return (bold, light);
@@ -284,7 +289,8 @@ mod tests {
         for (lo, hi, expect) in [
             (1e-3, 1e9, vec![1e-3, 1e-1, 1e1, 1e3, 1e5, 1e7, 1e9]),
             (1e-3, 1e-1, vec![1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 1e-1]),
-            (1.7e5, 4e5, vec![2e5, 3e5, 4e5]),
+            (1.7e5, 4e5, vec![2e5, 2.5e5, 3e5, 4e5]),
+            (7.8e-3, 1.6e-2, vec![8e-3, 9e-3, 1e-2, 1.5e-2]),
             (2.30e5, 2.37e5, vec![2.3e5, 2.32e5, 2.34e5, 2.36e5]),
         ] {
             let (bold, light) = log_ticks(lo, hi);

@@ -449,6 +449,17 @@ fn print_text(r: &SceneResult, units: TextUnits) {
     for line in lpc_summary(&d.lpc, u, units) {
         println!("{line}");
     }
+    let subcritical = d
+        .points
+        .iter()
+        .any(|p| p.criticality == crate::analysis::hopf::Criticality::Subcritical);
+    if subcritical && d.lpc.points.iter().all(Vec::is_empty) {
+        println!(
+            "  the onset is subcritical (hysteretic) but no Bautin point lies in the range, and the \
+             curves of folds of cycles bounding the hysteretic region are traced from Bautin \
+             points: for the fold at one velocity, stickslip cycles --set nu=... --lpc-curve"
+        );
+    }
     for f in &r.files {
         println!("  wrote {}", f.display());
     }
