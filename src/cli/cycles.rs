@@ -536,7 +536,7 @@ fn fold_curves(
     let figure = LineFigure {
         title: format!(
             "Folds of cycles (hysteresis boundary), {}: stick-slip coexists with steady sliding below",
-            setup.scene.name
+            setup.label
         ),
         x_label: "driving velocity V [µm/s]".into(),
         y_label: "K/W [1/m]".into(),
@@ -768,13 +768,13 @@ fn write_figures(
     let title = match switch {
         Some(k) => format!(
             "Stick-slip cycles, {} (quasi-static → inertial model at K/W = {:.4e} 1/m){}",
-            setup.scene.name,
+            setup.label,
             u.k_over_w(k),
             cut.unwrap_or_default()
         ),
         None => format!(
             "Stick-slip cycles, {} ({} model){}",
-            setup.scene.name,
+            setup.label,
             records
                 .first()
                 .map_or(setup.choice.kind, |c| c.model)
@@ -866,7 +866,7 @@ fn write_figures(
             .collect()
     };
     let orbit = LineFigure {
-        title: format!("Cycles in the (s, v) plane, {}", setup.scene.name),
+        title: format!("Cycles in the (s, v) plane, {}", setup.label),
         x_label: "spring force s = K(Vt - x)/W".into(),
         y_label: "slip velocity v [µm/s]".into(),
         log_x: false,
@@ -874,7 +874,7 @@ fn write_figures(
         series: per_cycle(&|_, p| (p[1], u.velocity_um_s(p[2]))),
     };
     let series = LineFigure {
-        title: format!("Spring force over one period, {}", setup.scene.name),
+        title: format!("Spring force over one period, {}", setup.label),
         x_label: "time t [s]".into(),
         y_label: "spring force s".into(),
         log_x: false,

@@ -101,6 +101,21 @@ impl OutputArgs {
 /// `kappa=0.0090` and `kappa=9e-3` name the same run) and a forced model,
 /// joined by `_` (`pmma_kappa=0.009_m=0.01_inertial`).
 pub fn run_name(scene: &str, set: &[String], model: Option<&str>) -> String {
+    let mut name = scene.to_string();
+    for part in canonical_overrides(set)
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .chain(model.map(str::to_string))
+    {
+        name.push('_');
+        name.push_str(&part);
+    }
+    name
+}
+
+/// The overrides `NAME=VALUE` of `set` sorted by name, the last of a
+/// repeated one kept, numbers in one spelling ([`canonical_number`]).
+pub fn canonical_overrides(set: &[String]) -> Vec<(String, String)> {
     let mut overrides: Vec<(String, String)> = Vec::new();
     for part in set {
         let (key, value) = part.split_once('=').unwrap_or((part.as_str(), ""));
@@ -112,16 +127,7 @@ pub fn run_name(scene: &str, set: &[String], model: Option<&str>) -> String {
         overrides.push((key, value));
     }
     overrides.sort_by(|a, b| a.0.cmp(&b.0));
-    let mut name = scene.to_string();
-    for part in overrides
-        .iter()
-        .map(|(k, v)| format!("{k}={v}"))
-        .chain(model.map(str::to_string))
-    {
-        name.push('_');
-        name.push_str(&part);
-    }
-    name
+    overrides
 }
 
 /// `v` in one spelling: plain digits within `[1e-3, 1e5)`, else the

@@ -127,6 +127,9 @@ pub struct Setup {
     /// The parameters the chosen model uses (`m = 0` when quasi-static).
     pub params: Params,
     pub choice: ModelChoice,
+    /// The scene's name with its overrides, for figure titles:
+    /// `pmma (kappa=0.009, m=0.01)` ([`files::canonical_overrides`]).
+    pub label: String,
 }
 
 impl SceneArgs {
@@ -161,11 +164,21 @@ impl SceneArgs {
             .into());
         }
         let params = params_for(choice.kind, &scene_params);
+        let overrides: Vec<String> = files::canonical_overrides(&self.set)
+            .into_iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect();
+        let label = if overrides.is_empty() {
+            scene.name.clone()
+        } else {
+            format!("{} ({})", scene.name, overrides.join(", "))
+        };
         Ok(Setup {
             scene,
             scene_params,
             params,
             choice,
+            label,
         })
     }
 }

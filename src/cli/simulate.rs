@@ -227,10 +227,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let name = match cut {
         Some(why) => format!(
             "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
-            setup.scene.name,
+            setup.label,
             t_end * time_unit
         ),
-        None => setup.scene.name.clone(),
+        None => setup.label.clone(),
     };
     let figs = if traj.t.len() >= 2 {
         figures(&name, &traj, &protocol, &u, &stem, switch.map(|s| s.t))?

@@ -116,8 +116,12 @@ where
 {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
+    // A long title gets a smaller font (down to 14 pixels) instead of
+    // running off both edges.
+    let chars = title.chars().count() as f64;
+    let size = (23.0 * (68.0 / chars).min(1.0)).max(14.0);
     let mut chart = ChartBuilder::on(root)
-        .caption(title, (FONT, 23))
+        .caption(title, (FONT, size))
         .margin(18)
         .x_label_area_size(55)
         .y_label_area_size(85)
@@ -218,8 +222,8 @@ pub fn tick_label(v: f64) -> String {
 
 /// Tick label with as many digits as ticks `step` apart need to differ:
 /// `0` for a value within `1e-9 step` of zero (no `-1.1e-16`), plain digits
-/// within `[1e-2, 1e4)`, else mantissa and exponent (`2.55e4`), trailing
-/// zeros dropped.
+/// below `1e4` (and down to `1e-2`, or further for ticks at least `1e-3`
+/// apart), else mantissa and exponent (`2.55e4`), trailing zeros dropped.
 pub fn tick_label_step(v: f64, step: f64) -> String {
     let a = v.abs();
     if a < 1e-300 || a <= 1e-9 * step.abs() {
@@ -233,7 +237,9 @@ pub fn tick_label_step(v: f64, step: f64) -> String {
             s
         }
     };
-    if (1e-2..1e4).contains(&a) {
+    // Plain digits also below 1e-2 when the ticks are at least 1e-3 apart
+    // (0.005 beside 0.01 on a linear axis, not 5e-3).
+    if a < 1e4 && (a >= 1e-2 || step.abs() >= 1e-3) {
         let d = (1 - k).max(0) as usize;
         trim(format!("{v:.d$}"))
     } else {
@@ -276,6 +282,9 @@ mod tests {
             assert_eq!(unique.len(), n, "{labels:?}");
         }
         assert_eq!(tick_label_step(-1.1e-16, 0.05), "0");
+        // One format along a linear axis from 0 to 0.045.
+        assert_eq!(tick_label_step(0.005, 0.005), "0.005");
+        assert_eq!(tick_label_step(0.045, 0.005), "0.045");
         // A log axis within one decade labels every integer multiple.
         let axis = Axis::over(6e6, 3e7, true);
         assert_eq!(axis.label(8e6), "8e6");

@@ -53,7 +53,7 @@ pub(super) fn write_figures(
             y_label: y_label.into(),
             title: format!(
                 "Stability diagram, {} ({model} model){}",
-                setup.scene.name,
+                setup.label,
                 short_fold_curve_note(d)
             ),
             x_span: |a, b| format!("V = {a:.4e} .. {b:.4e} µm/s"),
@@ -66,7 +66,7 @@ pub(super) fn write_figures(
             y_label: "κ = K D0 / W".into(),
             title: format!(
                 "Stability diagram, {}: (κ, ν) ({model} model){}",
-                setup.scene.name,
+                setup.label,
                 short_fold_curve_note(d)
             ),
             x_span: |a, b| format!("ν = {a:.4e} .. {b:.4e}"),
