@@ -2,7 +2,7 @@
 //! and dimensionless axes, with the hysteretic region.
 
 use super::super::files::with_suffix;
-use super::super::Setup;
+use super::super::{significant, Setup};
 use crate::analysis::diagram::StabilityDiagram;
 use crate::appendix_c;
 use crate::error::Error;
@@ -56,7 +56,7 @@ pub(super) fn write_figures(
                 setup.label,
                 short_fold_curve_note(d)
             ),
-            x_span: |a, b| format!("V = {a:.4e} .. {b:.4e} µm/s"),
+            x_span: |a, b| format!("V = {} .. {} µm/s", significant(a), significant(b)),
         },
         Axes {
             suffix: "-stability-dimensionless",
@@ -69,7 +69,7 @@ pub(super) fn write_figures(
                 setup.label,
                 short_fold_curve_note(d)
             ),
-            x_span: |a, b| format!("ν = {a:.4e} .. {b:.4e}"),
+            x_span: |a, b| format!("ν = {} .. {}", significant(a), significant(b)),
         },
     ];
     for Axes {

@@ -412,12 +412,24 @@ fn print_text(r: &SceneResult, units: TextUnits) {
         );
     }
     if let (Some(a), Some(b)) = (d.points.first(), d.points.last()) {
+        // Where the curve ends at kappa_c -> 0 its last computed point is only
+        // where the continuation stopped (1e-6 of its start): the end is the
+        // friction minimum, located on the law itself.
+        let end = match d.special.iter().find(|s| s.kind == "endpoint") {
+            Some(e) => format!(
+                "0 at the friction minimum V_min = {} um/s",
+                significant(u.velocity_um_s(e.nu))
+            ),
+            None => format!(
+                "{} (V = {} um/s)",
+                units.stiffness(b.kappa, u, 6),
+                significant(u.velocity_um_s(b.nu))
+            ),
+        };
         println!(
-            "  critical stiffness from {} (V = {} um/s) to {} (V = {} um/s)",
+            "  critical stiffness from {} (V = {} um/s) to {end}",
             units.stiffness(a.kappa, u, 6),
             significant(u.velocity_um_s(a.nu)),
-            units.stiffness(b.kappa, u, 6),
-            significant(u.velocity_um_s(b.nu))
         );
         // Relative to the largest kappa_c on the curve where kappa_c -> 0 (an end point).
         let scale = d.points.iter().map(|p| p.kappa.abs()).fold(0.0, f64::max);
