@@ -735,10 +735,38 @@ mod tests {
                 .into_iter()
                 .find(|(pos, _)| format!("{pos:?}") == format!("{:?}", l.legend))
                 .unwrap();
-            assert_eq!(occupancy(&fig, (l.x, l.y), b), 0, "{:?}", l.legend);
+            // Independently of `occupancy`'s sampling: no segment of any
+            // series meets the legend's box (Liang-Barsky clipping).
+            let ((x0, x1), (y0, y1)) = (l.x, l.y);
+            let to_unit =
+                |&(x, y): &(f64, f64)| (unit(x, x0, x1, fig.log_x), unit(y, y0, y1, fig.log_y));
+            for s in &fig.series {
+                let pts: Vec<(f64, f64)> = s.points.iter().map(to_unit).collect();
+                for w in pts.windows(2) {
+                    assert!(!segment_meets_box(w[0], w[1], b), "{:?}: {:?}", l.legend, w);
+                }
+            }
             let (x, y) = bounds(&fig);
             assert!(l.x == x && l.y.0 == y.0 && l.y.1 >= y.1);
         }
+    }
+
+    /// Whether the segment `p`–`q` has a point in the box `((x0, x1), (y0, y1))`.
+    fn segment_meets_box(p: (f64, f64), q: (f64, f64), ((x0, x1), (y0, y1)): UnitBox) -> bool {
+        let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for (d, lo, hi, start) in [(dx, x0, x1, p.0), (dy, y0, y1, p.1)] {
+            if d == 0.0 {
+                if start < lo || start > hi {
+                    return false;
+                }
+                continue;
+            }
+            let (a, b) = ((lo - start) / d, (hi - start) / d);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        t0 <= t1
     }
 
     #[test]
