@@ -65,11 +65,6 @@ impl Buckets {
         }
     }
 
-    /// The bucket size.
-    pub fn size(&self) -> usize {
-        self.size
-    }
-
     /// Adds `p`; when that fills the bucket its extremes go to `emit`.
     pub fn push<E>(
         &mut self,
