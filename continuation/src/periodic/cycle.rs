@@ -96,6 +96,14 @@ impl Cycle {
                 values.push(g(&x));
             }
         }
+        // Rounding in the values: the search stops where the value still to
+        // gain is below it.
+        let (lo_v, hi_v) = values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let floor = 4.0 * f64::EPSILON * (hi_v - lo_v + lo_v.abs().max(hi_v.abs()));
         let stepper = Stepper::new(sys, self);
         let pick = |sign: f64| {
             let best = (0..values.len())
@@ -110,6 +118,7 @@ impl Cycle {
                 |d| f(i, d),
                 h * s.saturating_sub(1) as f64 / per as f64,
                 h * (s + 1) as f64 / per as f64,
+                floor,
             );
             let value = if s == 0 {
                 let before = (i + ntst - 1) % ntst;
@@ -118,6 +127,7 @@ impl Cycle {
                     |d| f(before, d),
                     hb * (per - 1) as f64 / per as f64,
                     hb,
+                    floor,
                 ))
             } else {
                 inside
@@ -316,17 +326,21 @@ impl<'a, S: VectorField> Stepper<'a, S> {
 
 /// Largest value of `f` on `[a, b]` by Brent's method (golden section with
 /// parabolic interpolation; Brent 1973, ch. 5), to a relative tolerance of
-/// `1e-10` in the abscissa: near a maximum `f` is flat, so the value is then
-/// exact to rounding. (Not `sqrt(eps)`: the slip of a stiff orbit can be
-/// as narrow as 1e-8 of its mesh interval, and its peak velocity was then
-/// off by 1e-7.)
-fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+/// `1e-10` in the abscissa, or until the parabolas through the last three
+/// points promise less than `floor` more twice in a row (a vertex `d` from
+/// the best point, curvature `c`: a gain of `c d^2`): near a maximum `f` is
+/// flat, so the value is then exact to rounding. (Not `sqrt(eps)`: the slip
+/// of a stiff orbit can be as narrow as 1e-8 of its mesh interval, and its
+/// peak velocity was then off by 1e-7.)
+fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, floor: f64) -> f64 {
     let g = 0.5 * (3.0 - 5f64.sqrt());
     let neg = |x: f64| -f(x);
     let (mut x, mut w, mut v) = (a + g * (b - a), a + g * (b - a), a + g * (b - a));
     let mut fx = neg(x);
     let (mut fw, mut fv) = (fx, fx);
     let (mut d, mut e) = (0.0f64, 0.0f64);
+    // The last parabolic step promised less than `floor`.
+    let mut settled = false;
     // Also the ends: the extreme may sit on the bracket's edge (a mesh point).
     let (fa, fb) = (neg(a), neg(b));
     for _ in 0..100 {
@@ -349,6 +363,12 @@ fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
             if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
                 e = d;
                 d = p / q;
+                let c = ((fw - fx) / (w - x) - (fv - fx) / (v - x)) / (w - v);
+                let small = c > 0.0 && c * d * d <= floor;
+                if small && settled {
+                    break;
+                }
+                settled = small;
                 let u = x + d;
                 if u - a < tol2 || b - u < tol2 {
                     d = tol1.copysign(xm - x);
