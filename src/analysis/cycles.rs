@@ -17,7 +17,7 @@ use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
-use continuation::{Complex64, VectorField};
+use continuation::Complex64;
 
 /// Which continuation a cycle comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -318,9 +318,9 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
     let c = &pt.cycle;
     // Extremes of the observables (the spring force from the origin, ln v)
     // to the accuracy of the mesh points (`Cycle::range_of`).
-    let (x_min, x_max) = c.range_of(log, |x| log.observable(0, x, &c.p));
+    let extremes = pt.extremes(log);
+    let ((x_min, x_max), (ln_v_min, ln_v_max)) = (extremes[0], extremes[1]);
     let (s_min, s_max) = (log.origin[0] + x_min, log.origin[0] + x_max);
-    let (ln_v_min, ln_v_max) = c.range_of(log, |x| log.observable(1, x, &c.p));
     let (v_min, v_max) = (ln_v_min.exp(), ln_v_max.exp());
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],

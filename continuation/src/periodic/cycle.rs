@@ -29,17 +29,14 @@ impl Cycle {
 
     /// The state at normalized time `tau` in `[0, 1]`.
     pub fn state_at(&self, tau: f64) -> Vec<f64> {
-        (0..self.n).map(|j| self.value_at(tau, j)).collect()
-    }
-
-    /// Component `j` of the state at normalized time `tau`.
-    pub fn value_at(&self, tau: f64, j: usize) -> f64 {
         let (i, z) = self.mesh.locate(tau);
-        lagrange_values(self.mesh.degree, z)
-            .iter()
-            .enumerate()
-            .map(|(l, b)| b * self.node(self.mesh.node(i, l))[j])
-            .sum()
+        let mut x = vec![0.0; self.n];
+        for (l, b) in lagrange_values(self.mesh.degree, z).iter().enumerate() {
+            for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
+                *xj += b * uj;
+            }
+        }
+        x
     }
 
     /// Samples `(tau, x)` at `per_interval` evenly spaced points of every
@@ -61,6 +58,12 @@ impl Cycle {
     /// accuracy of the mesh-point values: see [`Cycle::range_of`].
     pub fn range<S: VectorField>(&self, sys: &S, j: usize) -> (f64, f64) {
         self.range_of(sys, |x| x[j])
+    }
+
+    /// Least and greatest value of observable `k` of `sys`
+    /// ([`VectorField::observable`]) over the orbit: see [`Cycle::range_of`].
+    pub fn observable_range<S: VectorField>(&self, sys: &S, k: usize) -> (f64, f64) {
+        self.range_of(sys, |x| sys.observable(k, x, &self.p))
     }
 
     /// Least and greatest value of the observable `g(x)` over the orbit of

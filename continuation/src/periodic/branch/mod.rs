@@ -22,6 +22,7 @@ use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
 use crate::predictor_corrector::{self, Corrected, CurveProblem, StepControl};
 use crate::system::{jacobian, param_derivative, VectorField};
 use num_complex::Complex64;
+use std::sync::OnceLock;
 
 /// Steps during which a mesh size the multipliers needed bounds halving.
 const MULTIPLIER_MEMORY: usize = 5;
@@ -219,6 +220,9 @@ pub struct CyclePoint {
     /// orbit's transient growth (not a measure of the mesh). Infinite when
     /// the pencil did not determine the trivial multiplier.
     pub trivial_error: f64,
+    /// Least and greatest value of every observable on the orbit, found
+    /// once ([`CyclePoint::extremes`]).
+    extremes: OnceLock<Vec<(f64, f64)>>,
     /// Estimated discretization error of the period (relative) and of the
     /// extremes of every observable (relative to its amplitude), at the
     /// orbit's own parameter (see `refine`); while far below `mesh_tol` it is
@@ -240,6 +244,20 @@ pub struct CyclePoint {
     pub ns: Option<Box<CyclePoint>>,
     /// Orbits at the user's parameter values passed between the previous orbit and this one.
     pub user: Vec<CyclePoint>,
+}
+
+impl CyclePoint {
+    /// Least and greatest value of every observable of `sys` (the field
+    /// the orbit solves) over the orbit, by [`Cycle::observable_range`]:
+    /// computed at the first call, then kept (the error estimate and the
+    /// caller's record read the same values).
+    pub fn extremes<S: VectorField>(&self, sys: &S) -> &[(f64, f64)] {
+        self.extremes.get_or_init(|| {
+            (0..sys.n_observables())
+                .map(|k| self.cycle.observable_range(sys, k))
+                .collect()
+        })
+    }
 }
 
 /// A branch of periodic orbits being traced.
@@ -456,7 +474,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
 
     /// A located orbit with its error estimate, read as `reading`.
     fn estimated(&self, (mut pt, t): (CyclePoint, Vec<f64>), reading: Reading) -> CyclePoint {
-        pt.error_estimate = self.error_estimate(&pt.cycle, &t, reading);
+        pt.error_estimate = self.error_estimate(&pt, &t, reading);
         pt
     }
 
@@ -486,7 +504,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             let w = ArcWeights::at(&z, self.settings.param_floor);
             let t = tangent(coll, &z, t0, &w)?;
             let mut pinned = point_at(coll, &z, &t, rep)?;
-            pinned.error_estimate = self.error_estimate(&pinned.cycle, &t, Reading::AtParameter);
+            pinned.error_estimate = self.error_estimate(&pinned, &t, Reading::AtParameter);
             Ok::<_, ContinuationError>(pinned)
         };
         let Ok(mut pinned) = solve(coll, &pt.cycle) else {
@@ -703,6 +721,7 @@ fn point_at<S: VectorField>(
         multipliers: mu,
         trivial,
         trivial_error,
+        extremes: OnceLock::new(),
         error_estimate: 0.0,
         n_unstable,
         stability,

@@ -28,15 +28,14 @@ use crate::system::VectorField;
 /// Largest difference between two approximations `a` (the finer) and `b`
 /// of an orbit of `sys`: of the periods, relative, and of the least and
 /// greatest value of every observable of `sys` ([`VectorField::observable`],
-/// by [`Cycle::range_of`]), relative to that observable's amplitude on `a`
-/// (`max - min`) — what a user reads as the size of the orbit, not the size
-/// of the values (near a Hopf point the values sit far from zero and the
-/// amplitude is small).
-fn difference<S: VectorField>(sys: &S, a: &Cycle, b: &Cycle) -> f64 {
-    let mut d = ((a.period - b.period) / a.period).abs();
-    for k in 0..sys.n_observables() {
-        let (a_lo, a_hi) = a.range_of(sys, |x| sys.observable(k, x, &a.p));
-        let (b_lo, b_hi) = b.range_of(sys, |x| sys.observable(k, x, &b.p));
+/// by [`Cycle::observable_range`]), relative to that observable's amplitude
+/// on `a` (`max - min`) — what a user reads as the size of the orbit, not the
+/// size of the values (near a Hopf point the values sit far from zero and
+/// the amplitude is small).
+fn difference<S: VectorField>(sys: &S, a: &CyclePoint, b: &Cycle) -> f64 {
+    let mut d = ((a.cycle.period - b.period) / a.cycle.period).abs();
+    for (k, &(a_lo, a_hi)) in a.extremes(sys).iter().enumerate() {
+        let (b_lo, b_hi) = b.observable_range(sys, k);
         let amplitude = (a_hi - a_lo).max(f64::MIN_POSITIVE);
         d = d.max((a_lo - b_lo).abs().max((a_hi - b_hi).abs()) / amplitude);
     }
@@ -66,7 +65,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             || self.since_estimate >= 4
             || self.last_ntst != self.coll.mesh.ntst();
         if fresh {
-            self.renew_estimate(&pt.cycle);
+            self.renew_estimate(&pt);
         } else {
             self.since_estimate += 1;
         }
@@ -108,7 +107,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             if !orbit_resolved {
                 // The orbit asked for the intervals.
                 let finer = finer?;
-                self.renew_estimate(&finer.cycle);
+                self.renew_estimate(&finer);
                 if self.last_estimate <= 0.25 * coarse_estimate {
                     pt = finer;
                     continue;
@@ -129,7 +128,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     // The multipliers needed the intervals: halving stops here
                     // until their error is found to be rounding.
                     self.multiplier_ntst = (self.coll.mesh.ntst(), self.steps);
-                    self.renew_estimate(&finer.cycle);
+                    self.renew_estimate(&finer);
                     pt = finer;
                 }
                 _ => {
@@ -192,8 +191,8 @@ impl<S: VectorField> CycleBranch<'_, S> {
         Ok(rep)
     }
 
-    /// Error estimate of `orbit` (the branch's current orbit, or one located
-    /// near it, with the branch's unit tangent `tangent` there on the
+    /// Error estimate of `point`'s orbit (the branch's current orbit, or one
+    /// located near it, with the branch's unit tangent `tangent` there on the
     /// orbit's mesh): its difference ([`difference`]) from the same orbit
     /// solved on an equidistributed mesh of half as many intervals, divided
     /// by `2^(m+1) - 1` (Richardson: the collocation error between mesh
@@ -215,7 +214,13 @@ impl<S: VectorField> CycleBranch<'_, S> {
     /// relative shift of the Hopf point of `1e-9` is an error of `5e-5` in
     /// the amplitude. Read [`Reading::Point`], the parameter is compared as
     /// one more coordinate, relative.
-    pub(super) fn error_estimate(&self, orbit: &Cycle, tangent: &[f64], reading: Reading) -> f64 {
+    pub(super) fn error_estimate(
+        &self,
+        point: &CyclePoint,
+        tangent: &[f64],
+        reading: Reading,
+    ) -> f64 {
+        let orbit = &point.cycle;
         let ntst = orbit.mesh.ntst();
         if ntst < 4 {
             return f64::INFINITY;
@@ -246,9 +251,9 @@ impl<S: VectorField> CycleBranch<'_, S> {
                 for (zi, ti) in z.iter_mut().zip(&tangent) {
                     *zi += shift * ti;
                 }
-                difference(self.sys, orbit, &coll.cycle(&z))
+                difference(self.sys, point, &coll.cycle(&z))
             }
-            Reading::Point => difference(self.sys, orbit, &coll.cycle(&z))
+            Reading::Point => difference(self.sys, point, &coll.cycle(&z))
                 .max(((p - z[nz - 1]) / p.abs().max(self.settings.param_floor)).abs()),
         };
         if d.is_finite() {
@@ -260,9 +265,9 @@ impl<S: VectorField> CycleBranch<'_, S> {
 
     /// Renews the error estimate of the branch's current orbit `orbit` (on
     /// the current mesh, read at its parameter).
-    fn renew_estimate(&mut self, orbit: &Cycle) {
+    fn renew_estimate(&mut self, point: &CyclePoint) {
         let tangent = self.tangent.clone();
-        self.last_estimate = self.error_estimate(orbit, &tangent, Reading::AtParameter);
+        self.last_estimate = self.error_estimate(point, &tangent, Reading::AtParameter);
         self.last_ntst = self.coll.mesh.ntst();
         self.since_estimate = 0;
     }
