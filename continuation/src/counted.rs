@@ -131,6 +131,20 @@ impl<S: VectorField> VectorField for Counted<S> {
     fn observable(&self, k: usize, x: &[f64], p: &[f64]) -> f64 {
         self.inner.observable(k, x, p)
     }
+    /// Counted at its nominal cost, as before it was one evaluation: a
+    /// value and `n + 1` dual columns.
+    fn first_order(
+        &self,
+        x: &[f64],
+        p: &[f64],
+        k: usize,
+        out: (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
+    ) {
+        self.counts.add(eval_kind::<f64>(), 1);
+        self.counts
+            .add(eval_kind::<num_dual::Dual64>(), self.dim() as u64 + 1);
+        self.inner.first_order(x, p, k, out);
+    }
     fn jacobian(&self, x: &[f64], p: &[f64], jac: &mut DMatrix<f64>) {
         self.counts
             .add(eval_kind::<num_dual::Dual64>(), self.dim() as u64);

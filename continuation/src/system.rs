@@ -6,8 +6,8 @@
 //! multilinear forms `B(u, w) = D^2 f [u, w]` to machine precision, with no
 //! finite differences.
 
-use nalgebra::{DMatrix, DVector};
-use num_dual::{Dual64, DualNum, HyperDual64};
+use nalgebra::{Const, DMatrix, DVector, U1};
+use num_dual::{Dual64, DualNum, DualSVec64, HyperDual64};
 use smallvec::SmallVec;
 
 /// A buffer of scalars (dual-number copies of a state or parameter vector)
@@ -50,6 +50,20 @@ pub trait VectorField: Sync {
         x[k]
     }
 
+    /// Writes `f(x, p)` into `f`, the Jacobian into `jac` and `d f / d p_k`
+    /// into `fp`: what a collocation point needs. The default evaluates
+    /// them together ([`first_order_by_duals`]); a system with a
+    /// hand-written [`jacobian`](Self::jacobian) overrides this too.
+    fn first_order(
+        &self,
+        x: &[f64],
+        p: &[f64],
+        k: usize,
+        out: (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
+    ) {
+        first_order_by_duals(self, x, p, k, out)
+    }
+
     /// Writes the Jacobian `J_ij = d f_i / d x_j` into `jac`. The default
     /// differentiates [`rhs`](Self::rhs) with dual numbers, one column per
     /// evaluation; a system may override it with a hand-written one.
@@ -66,6 +80,68 @@ pub trait VectorField: Sync {
                 jac[(i, j)] = out[i].eps;
             }
         }
+    }
+}
+
+/// `f(x, p)`, the Jacobian `D_x f` and `d f / d p_k` at `(x, p)` (into `f`,
+/// `jac`, `fp`) in one evaluation of [`VectorField::rhs`] with dual numbers
+/// of `n + 1` directions (`x_1 .. x_n`, `p_k`): every transcendental function
+/// of the field is evaluated once, not once per column. Systems of more than
+/// 7 states use [`VectorField::jacobian`] and [`param_derivative_into`].
+/// Used through [`VectorField::first_order`].
+pub fn first_order_by_duals<S: VectorField + ?Sized>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    (f, jac, fp): (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
+) {
+    match sys.dim() {
+        0..=3 => first_order_in::<S, 4>(sys, x, p, k, (f, jac, fp)),
+        4..=7 => first_order_in::<S, 8>(sys, x, p, k, (f, jac, fp)),
+        _ => {
+            sys.rhs(x, p, f);
+            sys.jacobian(x, p, jac);
+            param_derivative_into(sys, x, p, k, fp);
+        }
+    }
+}
+
+/// [`first_order_by_duals`] with `N >= n + 1` directions.
+fn first_order_in<S: VectorField + ?Sized, const N: usize>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    (f, jac, fp): (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
+) {
+    let n = sys.dim();
+    let xd: Buf<DualSVec64<N>> = x
+        .iter()
+        .enumerate()
+        .map(|(j, &v)| DualSVec64::from_re(v).derivative(j))
+        .collect();
+    let pd: Buf<DualSVec64<N>> = p
+        .iter()
+        .enumerate()
+        .map(|(j, &v)| {
+            let d = DualSVec64::from_re(v);
+            if j == k {
+                d.derivative(n)
+            } else {
+                d
+            }
+        })
+        .collect();
+    let mut out: Buf<DualSVec64<N>> = SmallVec::from_elem(DualSVec64::from_re(0.0), n);
+    sys.rhs(&xd, &pd, &mut out);
+    for (i, y) in out.iter().enumerate() {
+        f[i] = y.re;
+        let eps = y.eps.unwrap_generic(Const::<N>, U1);
+        for j in 0..n {
+            jac[(i, j)] = eps[j];
+        }
+        fp[i] = eps[n];
     }
 }
 
@@ -93,7 +169,7 @@ pub fn param_derivative<S: VectorField>(sys: &S, x: &[f64], p: &[f64], k: usize)
 
 /// [`param_derivative`] written into `out` (length `dim`), without allocating
 /// for systems of up to 8 states and parameters.
-pub fn param_derivative_into<S: VectorField>(
+pub fn param_derivative_into<S: VectorField + ?Sized>(
     sys: &S,
     x: &[f64],
     p: &[f64],

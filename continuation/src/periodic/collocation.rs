@@ -13,7 +13,7 @@
 
 use super::cycle::Cycle;
 use super::mesh::Mesh;
-use crate::system::{eval, jacobian, param_derivative, VectorField};
+use crate::system::VectorField;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use smallvec::SmallVec;
@@ -184,6 +184,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         };
         let zeros = || SmallVec::<[f64; 8]>::from_elem(0.0, n);
         let (mut x, mut dx, mut row_sums) = (zeros(), zeros(), zeros());
+        let (mut f, mut fp, mut jac) = (zeros(), zeros(), DMatrix::zeros(n, n));
         let block = &mut out.block;
         for kk in 0..m {
             let row0 = kk * n;
@@ -206,9 +207,8 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             for j in 0..n {
                 x[j] += v0[j];
             }
-            let f = eval(self.sys, &x, p);
-            let jac = jacobian(self.sys, &x, p);
-            let fp = param_derivative(self.sys, &x, p, self.k);
+            self.sys
+                .first_order(&x, p, self.k, (&mut f, &mut jac, &mut fp));
             for j in 0..n {
                 out.residual[row0 + j] = dx[j] - h * period * f[j];
                 out.term_scale = out.term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
