@@ -1,6 +1,7 @@
 //! Periodic orbits by collocation on systems with known cycles.
 
 use continuation::newton::NewtonSettings;
+use continuation::periodic::bordered::CyclicReduction;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::collocation::Collocation;
 use continuation::periodic::cycle::Cycle;
@@ -78,7 +79,10 @@ fn stuart_landau_cycles_radius_period_and_multipliers() {
             "beta = {beta}: Liouville mu = {liouville} vs {exact}"
         );
         let coll = Collocation::new(&sys, c, 0);
-        let pencil = smallest(&pencil_multipliers(&coll.linearize(&coll.unknowns(c)), 2).unwrap());
+        let pencil = smallest(
+            &pencil_multipliers(&CyclicReduction::new(&coll.linearize(&coll.unknowns(c)), 2))
+                .unwrap(),
+        );
         assert!(
             (pencil / exact - 1.0).abs() < 1e-7,
             "beta = {beta}: pencil mu = {pencil} vs {exact}"
@@ -220,7 +224,9 @@ fn liouville_and_the_floquet_pencil_agree_on_van_der_pol() {
     let smallest = |mu: &[Complex64]| mu.iter().map(|z| z.norm()).fold(f64::INFINITY, f64::min);
     let liouville = smallest(&pt.multipliers);
     let coll = Collocation::new(&VanDerPol, c, 0);
-    let pencil = smallest(&pencil_multipliers(&coll.linearize(&coll.unknowns(c)), 2).unwrap());
+    let pencil = smallest(
+        &pencil_multipliers(&CyclicReduction::new(&coll.linearize(&coll.unknowns(c)), 2)).unwrap(),
+    );
     assert!(
         (liouville / pencil - 1.0).abs() < 1e-9,
         "Liouville {liouville} vs pencil {pencil}"

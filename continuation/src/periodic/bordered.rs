@@ -287,6 +287,11 @@ impl CyclicReduction {
         (&self.a[self.last], &self.b[self.last])
     }
 
+    /// The state dimension `n`.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
     fn mn(&self) -> usize {
         self.m * self.n
     }
@@ -608,7 +613,7 @@ fn finite(x: Vec<f64>) -> Result<Vec<f64>, ContinuationError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::periodic::newton::solve_bordered;
+    use crate::periodic::newton::OrbitJacobian;
 
     /// A small deterministic pseudo-random sequence in (-1, 1).
     fn noise(seed: &mut u64) -> f64 {
@@ -691,7 +696,7 @@ mod tests {
                 .unwrap();
             // The structured solve, as Newton's method calls it.
             let extra: Vec<f64> = dense.row(1).iter().copied().collect();
-            let x = solve_bordered(&lin, n, &extra, &rhs).unwrap();
+            let x = OrbitJacobian::new(lin, n).solve(&extra, &rhs).unwrap();
             let scale = reference.amax();
             for (a, b) in x.iter().zip(reference.iter()) {
                 assert!(

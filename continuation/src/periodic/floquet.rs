@@ -34,7 +34,7 @@ use num_complex::Complex64;
 /// pencil, except that in the plane (`n = 2`) the nontrivial one is
 /// `exp(int_0^T tr J dt)` (Liouville).
 pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, ContinuationError> {
-    multipliers_and_trivial(lin, n).map(|(mu, _)| mu)
+    multipliers_and_trivial(&CyclicReduction::new(lin, n), lin.trace_integral).map(|(mu, _)| mu)
 }
 
 /// [`multipliers`] and the index of the trivial one. In the plane the
@@ -46,20 +46,21 @@ pub fn multipliers(lin: &Linearization, n: usize) -> Result<Vec<Complex64>, Cont
 /// than `n` multipliers are returned; in the plane then only `e^L`, with no
 /// trivial index.
 pub fn multipliers_and_trivial(
-    lin: &Linearization,
-    n: usize,
+    reduction: &CyclicReduction,
+    trace_integral: f64,
 ) -> Result<(Vec<Complex64>, Option<usize>), ContinuationError> {
-    let mut mu = pencil_multipliers(lin, n)?;
+    let n = reduction.dim();
+    let mut mu = pencil_multipliers(reduction)?;
     if n == 2 && mu.len() < 2 {
         // The pencil did not determine both: the nontrivial multiplier is
         // still Liouville's, the trivial one is unknown.
-        return Ok((vec![Complex64::from(lin.trace_integral.exp())], None));
+        return Ok((vec![Complex64::from(trace_integral.exp())], None));
     }
     if n != 2 {
         let trivial = trivial_index(&mu);
         return Ok((mu, trivial));
     }
-    let l = lin.trace_integral;
+    let l = trace_integral;
     let log_modulus = |z: Complex64| z.norm().ln();
     let mismatch = |t: usize| log_modulus(mu[t]).abs() + (log_modulus(mu[1 - t]) - l).abs();
     let trivial = if mismatch(0) <= mismatch(1) { 0 } else { 1 };
@@ -90,10 +91,9 @@ pub fn multipliers_and_trivial(
 /// same eigenvalues, and then on the pencil with `a` and `-b` exchanged
 /// (reciprocal eigenvalues); the run that determines most of them is kept.
 pub fn pencil_multipliers(
-    lin: &Linearization,
-    n: usize,
+    reduction: &CyclicReduction,
 ) -> Result<Vec<Complex64>, ContinuationError> {
-    let reduction = CyclicReduction::new(lin, n);
+    let n = reduction.dim();
     let (a, b) = reduction.pencil();
     if a.iter().chain(b.iter()).any(|v| !v.is_finite()) {
         return Err(ContinuationError::Eigen(

@@ -11,6 +11,7 @@ use crate::newton::{
 };
 use crate::system::VectorField;
 use nalgebra::DMatrix;
+use std::cell::OnceCell;
 
 /// Weights of the pseudo-arclength inner product on `z = (u, T, p)`:
 /// `1 / N` on each of the `N` orbit values (a quadrature of
@@ -71,21 +72,43 @@ pub fn unit_row(nz: usize, k: usize) -> Vec<f64> {
     row
 }
 
-/// Solves `J x = rhs` where `J` is the collocation Jacobian `lin` (state
-/// dimension `n`; border columns `T`, `p`) bordered by the phase condition
-/// and the row `extra`.
-pub fn solve_bordered(
-    lin: &Linearization,
+/// The collocation system linearized at an orbit (state dimension `n`),
+/// with the reduction of its collocation rows ([`CyclicReduction`]) built
+/// at its first use and then shared: by a Newton step from the orbit, the
+/// branch's tangent there and the Floquet multipliers (which do not depend
+/// on the phase condition, so also after the phase reference moves on).
+pub struct OrbitJacobian {
+    pub lin: Linearization,
     n: usize,
-    extra: &[f64],
-    rhs: &[f64],
-) -> Result<Vec<f64>, ContinuationError> {
-    let nn = lin.phase.len();
-    let mut rows = DMatrix::zeros(2, nn + 2);
-    rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
-    rows.row_mut(1).copy_from_slice(extra);
-    let reduction = CyclicReduction::new(lin, n);
-    Bordered::new(&reduction, lin.border_columns(), rows)?.solve(rhs)
+    reduction: OnceCell<CyclicReduction>,
+}
+
+impl OrbitJacobian {
+    /// `lin` (state dimension `n`), not yet reduced.
+    pub fn new(lin: Linearization, n: usize) -> Self {
+        OrbitJacobian {
+            lin,
+            n,
+            reduction: OnceCell::new(),
+        }
+    }
+
+    /// The reduction of the collocation rows, built at the first call.
+    pub fn reduction(&self) -> &CyclicReduction {
+        self.reduction
+            .get_or_init(|| CyclicReduction::new(&self.lin, self.n))
+    }
+
+    /// Solves `J x = rhs`, `J` the collocation Jacobian (border columns `T`,
+    /// `p`) bordered by the phase condition and the row `extra`.
+    pub fn solve(&self, extra: &[f64], rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        let nn = self.lin.phase.len();
+        let mut rows = DMatrix::zeros(2, nn + 2);
+        rows.view_mut((0, 0), (1, nn))
+            .copy_from_slice(&self.lin.phase);
+        rows.row_mut(1).copy_from_slice(extra);
+        Bordered::new(self.reduction(), self.lin.border_columns(), rows)?.solve(rhs)
+    }
 }
 
 /// The collocation system bordered by `<row, z - anchor> = 0`, for
@@ -100,7 +123,7 @@ struct BorderedCollocation<'c, 'a, S: VectorField> {
 /// collocation Jacobian and the residual with the bordering equation's last.
 pub struct BorderedPoint {
     /// The collocation system linearized there (its residual moved to `rhs`).
-    pub lin: Linearization,
+    pub jacobian: OrbitJacobian,
     rhs: Vec<f64>,
 }
 
@@ -113,7 +136,7 @@ impl Linearized for BorderedPoint {
     /// fall below the rounding of its terms (`term_scale`), which on stiff
     /// stretches of stick-slip orbits exceeds any fixed tolerance.
     fn residual_bound(&self, residual_tol: f64, z_max: f64) -> f64 {
-        (residual_tol * (1.0 + z_max)).max(1e3 * f64::EPSILON * self.lin.term_scale)
+        (residual_tol * (1.0 + z_max)).max(1e3 * f64::EPSILON * self.jacobian.lin.term_scale)
     }
 }
 
@@ -130,11 +153,14 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
             .sum();
         let mut rhs = std::mem::take(&mut lin.residual);
         rhs.push(extra);
-        Ok(BorderedPoint { lin, rhs })
+        Ok(BorderedPoint {
+            jacobian: OrbitJacobian::new(lin, self.coll.sys.dim()),
+            rhs,
+        })
     }
 
     fn newton_step(&mut self, point: &BorderedPoint) -> Result<Vec<f64>, ContinuationError> {
-        solve_bordered(&point.lin, self.coll.sys.dim(), self.row, &point.rhs)
+        point.jacobian.solve(self.row, &point.rhs)
     }
 
     /// A step that no longer shrinks while within 1e3 of the tolerance is
@@ -193,21 +219,20 @@ pub fn tangent<S: VectorField>(
     reference: &[f64],
     w: &ArcWeights,
 ) -> Result<Vec<f64>, ContinuationError> {
-    tangent_from(&coll.linearize(z), coll.sys.dim(), reference, w)
+    let jacobian = OrbitJacobian::new(coll.linearize(z), coll.sys.dim());
+    tangent_from(&jacobian, reference, w)
 }
 
-/// The [`tangent`] from the collocation Jacobian `lin` at the orbit (state
-/// dimension `n`).
+/// The [`tangent`] from the collocation Jacobian at the orbit.
 pub fn tangent_from(
-    lin: &Linearization,
-    n: usize,
+    jacobian: &OrbitJacobian,
     reference: &[f64],
     w: &ArcWeights,
 ) -> Result<Vec<f64>, ContinuationError> {
-    let nz = lin.phase.len() + 2;
+    let nz = jacobian.lin.phase.len() + 2;
     let mut rhs = vec![0.0; nz];
     rhs[nz - 1] = 1.0;
-    let t = solve_bordered(lin, n, &w.row(reference), &rhs)?;
+    let t = jacobian.solve(&w.row(reference), &rhs)?;
     let norm = w.dot(&t, &t).sqrt();
     let sign = if w.dot(&t, reference) < 0.0 {
         -1.0

@@ -14,7 +14,8 @@ use super::cycle::Cycle;
 use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
 use super::newton::{
-    correct_along, newton_bordered, tangent, tangent_from, unit_row, ArcWeights, BorderedPoint,
+    correct_along, correct_bordered, newton_bordered, tangent, tangent_from, unit_row, ArcWeights,
+    BorderedPoint, OrbitJacobian,
 };
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
@@ -296,6 +297,10 @@ pub struct CycleBranch<'a, S: VectorField> {
     /// need changes along the branch). Reset when their error turns out to
     /// be rounding.
     multiplier_ntst: (usize, usize),
+    /// The collocation Jacobian at the orbit `z` the last step ended on,
+    /// with that `z`: its reduction gives the orbit's multipliers without
+    /// linearizing again.
+    jacobian: Option<(Vec<f64>, OrbitJacobian)>,
 }
 
 impl<'a, S: VectorField> CycleBranch<'a, S> {
@@ -390,8 +395,10 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let z0 = z.clone();
         newton_bordered(&coll, &mut z, &settings.corrector, &w.row(&seed), &z0)?;
         let coll = Collocation::new(sys, &coll.cycle(&z), k);
-        let tangent = tangent(&coll, &z, &seed, &w)?;
+        let jacobian = OrbitJacobian::new(coll.linearize(&z), sys.dim());
+        let tangent = tangent_from(&jacobian, &seed, &w)?;
         Ok(CycleBranch {
+            jacobian: Some((z.clone(), jacobian)),
             sys,
             k,
             ds: settings.step.ds,
@@ -433,6 +440,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             w,
             corrector: &self.settings.corrector,
             k: self.k,
+            jacobian: &mut self.jacobian,
         };
         let stepped = predictor_corrector::step(&mut curve, &self.settings.step, &mut self.ds)?;
         Ok((stepped.report, stepped.ds))
@@ -459,9 +467,9 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         crate::root::illinois(
             |sigma| {
                 let (z, rep, at) = correct_along(coll, z0, t0, sigma, &w, &LOCATOR)?;
-                let t = tangent_from(&at.lin, coll.sys.dim(), t0, &w)?;
+                let t = tangent_from(&at.jacobian, t0, &w)?;
                 let fz = f(&z, &t)?;
-                best = Some((point_at(coll, &z, &t, rep)?, t));
+                best = Some((point_at(coll, &z, &at.jacobian, &t, rep)?, t));
                 Ok(fz)
             },
             (0.0, f0),
@@ -500,10 +508,11 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             let nz = z.len();
             z[nz - 1] = target;
             let anchor = z.clone();
-            let rep = newton_bordered(coll, &mut z, &LOCATOR, &unit_row(nz, nz - 1), &anchor)?;
+            let (rep, at) =
+                correct_bordered(coll, &mut z, &LOCATOR, &unit_row(nz, nz - 1), &anchor)?;
             let w = ArcWeights::at(&z, self.settings.param_floor);
-            let t = tangent(coll, &z, t0, &w)?;
-            let mut pinned = point_at(coll, &z, &t, rep)?;
+            let t = tangent_from(&at.jacobian, t0, &w)?;
+            let mut pinned = point_at(coll, &z, &at.jacobian, &t, rep)?;
             pinned.error_estimate = self.error_estimate(&pinned, &t, Reading::AtParameter);
             Ok::<_, ContinuationError>(pinned)
         };
@@ -627,6 +636,8 @@ struct CycleStep<'b, 'a, S: VectorField> {
     w: ArcWeights,
     corrector: &'b NewtonSettings,
     k: usize,
+    /// Where the accepted step keeps its orbit's Jacobian.
+    jacobian: &'b mut Option<(Vec<f64>, OrbitJacobian)>,
 }
 
 impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
@@ -646,14 +657,15 @@ impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
 
     /// From the corrector's last linearization, at the orbit.
     fn tangent(&mut self, (_, at): &mut Self::Point) -> Result<Vec<f64>, ContinuationError> {
-        tangent_from(&at.lin, self.coll.sys.dim(), self.tangent, &self.w)
+        tangent_from(&at.jacobian, self.tangent, &self.w)
     }
 
     fn turn(&self, tangent: &Vec<f64>) -> f64 {
         self.w.dot(tangent, self.tangent)
     }
 
-    fn accept(&mut self, (z, _): Self::Point, tangent: Vec<f64>) -> Result<(), ContinuationError> {
+    fn accept(&mut self, (z, at): Self::Point, tangent: Vec<f64>) -> Result<(), ContinuationError> {
+        *self.jacobian = Some((z.clone(), at.jacobian));
         *self.z = z;
         *self.tangent = tangent;
         Ok(())
@@ -682,15 +694,17 @@ fn is_fold(lpc: &CyclePoint, n: usize) -> bool {
         .any(|(i, z)| Some(i) != lpc.trivial && (*z - 1.0).norm() <= band)
 }
 
-/// The orbit at `z` with its Floquet multipliers.
+/// The orbit at `z` (its collocation Jacobian `jacobian`) with its Floquet
+/// multipliers.
 fn point_at<S: VectorField>(
     coll: &Collocation<S>,
     z: &[f64],
+    jacobian: &OrbitJacobian,
     tangent: &[f64],
     newton: NewtonReport,
 ) -> Result<CyclePoint, ContinuationError> {
     let n = coll.sys.dim();
-    let (mu, trivial) = multipliers_and_trivial(&coll.linearize(z), n)?;
+    let (mu, trivial) = multipliers_and_trivial(jacobian.reduction(), jacobian.lin.trace_integral)?;
     let trivial_error = trivial.map_or(f64::INFINITY, |t| (mu[t] - 1.0).norm());
     let error = multiplier_error(n, trivial_error);
     let nontrivial: Vec<Complex64> = mu

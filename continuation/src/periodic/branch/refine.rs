@@ -22,7 +22,7 @@ use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::Mesh;
-use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights};
+use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights, OrbitJacobian};
 use crate::system::VectorField;
 
 /// Largest difference between two approximations `a` (the finer) and `b`
@@ -320,8 +320,14 @@ impl<S: VectorField> CycleBranch<'_, S> {
         t.iter().map(|v| v / norm).collect()
     }
 
-    pub(super) fn point(&self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
-        point_at(&self.coll, &self.z, &self.tangent, newton)
+    /// The current orbit with its multipliers, from the Jacobian the last
+    /// step kept when it ended on this orbit.
+    pub(super) fn point(&mut self, newton: NewtonReport) -> Result<CyclePoint, ContinuationError> {
+        let jacobian = match self.jacobian.take() {
+            Some((z, jacobian)) if z == self.z => jacobian,
+            _ => OrbitJacobian::new(self.coll.linearize(&self.z), self.sys.dim()),
+        };
+        point_at(&self.coll, &self.z, &jacobian, &self.tangent, newton)
     }
 
     /// Moves the orbit and tangent onto an equidistributing mesh of `ntst` intervals.
