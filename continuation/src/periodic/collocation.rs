@@ -31,6 +31,7 @@ pub struct Collocation<'a, S: VectorField> {
 }
 
 /// Residual and Jacobian of the collocation system, by interval.
+#[derive(Default)]
 pub struct Linearization {
     /// Collocation residuals (interval-major, `N` values), then the phase condition.
     pub residual: Vec<f64>,
@@ -123,69 +124,91 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// linearized in parallel (rayon) on meshes of at least
     /// [`PARALLEL_INTERVALS`] intervals.
     pub fn linearize(&self, z: &[f64]) -> Linearization {
+        let mut lin = Linearization::default();
+        self.linearize_into(z, &mut lin);
+        lin
+    }
+
+    /// [`Collocation::linearize`] into `lin`, reusing its storage when it
+    /// has this mesh's shape (Newton's iterations on one mesh allocate
+    /// nothing per interval).
+    pub fn linearize_into(&self, z: &[f64], lin: &mut Linearization) {
         let n = self.sys.dim();
+        let m = self.mesh.degree;
+        let (mn, ncols) = (m * n, (m + 1) * n + 2);
         let nn = self.mesh.n_nodes() * n;
         let ntst = self.mesh.ntst();
         let mut p = self.p.clone();
         p[self.k] = z[nn + 1];
-        let pieces: Vec<IntervalLinearization> = if ntst >= PARALLEL_INTERVALS {
-            (0..ntst)
-                .into_par_iter()
+        if lin.local.len() != ntst || lin.local.first().map(|b| b.shape()) != Some((mn, ncols)) {
+            lin.local = vec![DMatrix::zeros(mn, ncols); ntst];
+        }
+        lin.residual.resize(nn + 1, 0.0);
+        // Each interval's phase-row entries on its m + 1 nodes (neighbours
+        // share a node), added up after.
+        let mut phase_parts = vec![0.0; ntst * (m + 1) * n];
+        let sums = |(i, ((block, residual), phase)): (usize, Zipped)| {
+            self.interval(i, z, &p, (block, residual, phase))
+        };
+        // Each interval's sums, then added up in order (the same totals
+        // whether or not the intervals ran in parallel).
+        let parts: Vec<IntervalSums> = if ntst >= PARALLEL_INTERVALS {
+            lin.local
+                .par_iter_mut()
+                .zip(lin.residual[..nn].par_chunks_exact_mut(mn))
+                .zip(phase_parts.par_chunks_exact_mut((m + 1) * n))
+                .enumerate()
                 .with_min_len(PARALLEL_INTERVALS / 2)
-                .map(|i| self.interval(i, z, &p))
+                .map(sums)
                 .collect()
         } else {
-            (0..ntst).map(|i| self.interval(i, z, &p)).collect()
+            lin.local
+                .iter_mut()
+                .zip(lin.residual[..nn].chunks_exact_mut(mn))
+                .zip(phase_parts.chunks_exact_mut((m + 1) * n))
+                .enumerate()
+                .map(sums)
+                .collect()
         };
-        let m = self.mesh.degree;
-        let mut residual = Vec::with_capacity(nn + 1);
-        let mut phase = vec![0.0; nn];
-        let (mut term_scale, mut trace_integral, mut phase_residual) = (0.0f64, 0.0, 0.0);
-        let mut local = Vec::with_capacity(ntst);
-        for (i, piece) in pieces.into_iter().enumerate() {
-            residual.extend_from_slice(&piece.residual);
+        let total = parts
+            .iter()
+            .fold(IntervalSums::default(), |a, b| IntervalSums {
+                term_scale: a.term_scale.max(b.term_scale),
+                trace_integral: a.trace_integral + b.trace_integral,
+                phase_residual: a.phase_residual + b.phase_residual,
+            });
+        lin.phase.clear();
+        lin.phase.resize(nn, 0.0);
+        for (i, part) in phase_parts.chunks_exact((m + 1) * n).enumerate() {
             for l in 0..=m {
                 let col0 = self.mesh.node(i, l) * n;
                 for j in 0..n {
-                    phase[col0 + j] += piece.phase[l * n + j];
+                    lin.phase[col0 + j] += part[l * n + j];
                 }
             }
-            term_scale = term_scale.max(piece.term_scale);
-            trace_integral += piece.trace_integral;
-            phase_residual += piece.phase_residual;
-            local.push(piece.block);
         }
-        residual.push(phase_residual);
-        Linearization {
-            residual,
-            local,
-            phase,
-            term_scale,
-            trace_integral,
-        }
+        lin.residual[nn] = total.phase_residual;
+        lin.term_scale = total.term_scale;
+        lin.trace_integral = total.trace_integral;
     }
 
     /// The collocation equations of interval `i` at `z` (parameters `p`),
-    /// linearized: [`Linearization`]'s parts for that interval.
-    fn interval(&self, i: usize, z: &[f64], p: &[f64]) -> IntervalLinearization {
+    /// linearized into `out`: its block, its `m n` residuals and its
+    /// phase-row entries on its `m + 1` nodes; returns its terms of the
+    /// phase residual, the term scale and the trace integral.
+    fn interval(&self, i: usize, z: &[f64], p: &[f64], out: IntervalOut) -> IntervalSums {
+        let (block, residual, phase) = out;
         let n = self.sys.dim();
         let m = self.mesh.degree;
         let nn = self.mesh.n_nodes() * n;
         let period = z[nn];
         let node = |g: usize| &z[g * n..(g + 1) * n];
         let h = self.mesh.t[i + 1] - self.mesh.t[i];
-        let mut out = IntervalLinearization {
-            block: DMatrix::zeros(m * n, (m + 1) * n + 2),
-            residual: vec![0.0; m * n],
-            phase: vec![0.0; (m + 1) * n],
-            term_scale: 0.0,
-            trace_integral: 0.0,
-            phase_residual: 0.0,
-        };
+        let mut sums = IntervalSums::default();
+        phase.fill(0.0);
         let zeros = || SmallVec::<[f64; 8]>::from_elem(0.0, n);
         let (mut x, mut dx, mut row_sums) = (zeros(), zeros(), zeros());
         let (mut f, mut fp, mut jac) = (zeros(), zeros(), DMatrix::zeros(n, n));
-        let block = &mut out.block;
         for kk in 0..m {
             let row0 = kk * n;
             x.fill(0.0);
@@ -210,8 +233,8 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             self.sys
                 .first_order(&x, p, self.k, (&mut f, &mut jac, &mut fp));
             for j in 0..n {
-                out.residual[row0 + j] = dx[j] - h * period * f[j];
-                out.term_scale = out.term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
+                residual[row0 + j] = dx[j] - h * period * f[j];
+                sums.term_scale = sums.term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
                 block[(row0 + j, (m + 1) * n)] = -h * f[j];
                 block[(row0 + j, (m + 1) * n + 1)] = -h * period * fp[j];
             }
@@ -226,36 +249,40 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                     }
                 }
             }
-            out.term_scale = row_sums.iter().fold(out.term_scale, |a, v| a.max(*v));
+            sums.term_scale = row_sums.iter().fold(sums.term_scale, |a, v| a.max(*v));
             let w = h * self.mesh.weights[kk];
-            out.trace_integral += w * period * (0..n).map(|j| jac[(j, j)]).sum::<f64>();
+            sums.trace_integral += w * period * (0..n).map(|j| jac[(j, j)]).sum::<f64>();
             let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
             for j in 0..n {
-                out.phase_residual += w * x[j] * dref[j];
+                sums.phase_residual += w * x[j] * dref[j];
             }
-            for (l, row) in out.phase.chunks_exact_mut(n).enumerate() {
+            for (l, row) in phase.chunks_exact_mut(n).enumerate() {
                 let wb = w * self.mesh.basis[kk][l];
                 for (entry, d) in row.iter_mut().zip(dref) {
                     *entry += wb * d;
                 }
             }
         }
-        out
+        sums
     }
+}
+
+/// Where [`Collocation::interval`] writes: the interval's block, its
+/// residuals and its phase-row entries.
+type IntervalOut<'o> = (&'o mut DMatrix<f64>, &'o mut [f64], &'o mut [f64]);
+
+/// [`IntervalOut`] as the iterators zip it.
+type Zipped<'o> = ((&'o mut DMatrix<f64>, &'o mut [f64]), &'o mut [f64]);
+
+/// One interval's terms of the phase residual, the term scale (a maximum)
+/// and the trace integral; also their totals over the mesh.
+#[derive(Clone, Copy, Debug, Default)]
+struct IntervalSums {
+    term_scale: f64,
+    trace_integral: f64,
+    phase_residual: f64,
 }
 
 /// Meshes of at least this many intervals are linearized in parallel: below,
 /// an interval's work (a few microseconds) does not pay for the threads.
 pub const PARALLEL_INTERVALS: usize = 64;
-
-/// One interval's part of a [`Linearization`]: its block, its `m n`
-/// residuals, its phase-row entries on its `m + 1` nodes, and its terms of
-/// the phase residual, the term scale and the trace integral.
-struct IntervalLinearization {
-    block: DMatrix<f64>,
-    residual: Vec<f64>,
-    phase: Vec<f64>,
-    term_scale: f64,
-    trace_integral: f64,
-    phase_residual: f64,
-}

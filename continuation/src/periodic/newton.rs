@@ -11,7 +11,7 @@ use crate::newton::{
 };
 use crate::system::VectorField;
 use nalgebra::DMatrix;
-use std::cell::OnceCell;
+use std::cell::{Cell, OnceCell};
 
 /// Weights of the pseudo-arclength inner product on `z = (u, T, p)`:
 /// `1 / N` on each of the `N` orbit values (a quadrature of
@@ -81,6 +81,9 @@ pub struct OrbitJacobian {
     pub lin: Linearization,
     n: usize,
     reduction: OnceCell<CyclicReduction>,
+    /// A reduction of an earlier linearization, whose storage the next
+    /// reduction reuses.
+    spare: Cell<Option<CyclicReduction>>,
 }
 
 impl OrbitJacobian {
@@ -90,13 +93,28 @@ impl OrbitJacobian {
             lin,
             n,
             reduction: OnceCell::new(),
+            spare: Cell::new(None),
+        }
+    }
+
+    /// The system of `coll` linearized at `z` in place of this one, in its
+    /// storage.
+    fn relinearize<S: VectorField>(&mut self, coll: &Collocation<S>, z: &[f64]) {
+        coll.linearize_into(z, &mut self.lin);
+        if let Some(reduction) = self.reduction.take() {
+            self.spare.set(Some(reduction));
         }
     }
 
     /// The reduction of the collocation rows, built at the first call.
     pub fn reduction(&self) -> &CyclicReduction {
-        self.reduction
-            .get_or_init(|| CyclicReduction::new(&self.lin, self.n))
+        self.reduction.get_or_init(|| match self.spare.take() {
+            Some(mut reduction) => {
+                reduction.factor(&self.lin);
+                reduction
+            }
+            None => CyclicReduction::new(&self.lin, self.n),
+        })
     }
 
     /// Solves `J x = rhs`, `J` the collocation Jacobian (border columns `T`,
@@ -117,12 +135,15 @@ struct BorderedCollocation<'c, 'a, S: VectorField> {
     coll: &'c Collocation<'a, S>,
     row: &'c [f64],
     anchor: &'c [f64],
+    /// The last point Newton's method is done with: the next one is
+    /// linearized and reduced in its storage.
+    spare: Option<BorderedPoint>,
 }
 
 /// The bordered collocation system linearized at an orbit: the
 /// collocation Jacobian and the residual with the bordering equation's last.
 pub struct BorderedPoint {
-    /// The collocation system linearized there (its residual moved to `rhs`).
+    /// The collocation system linearized there (its residual also in `rhs`).
     pub jacobian: OrbitJacobian,
     rhs: Vec<f64>,
 }
@@ -144,19 +165,25 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
     type Point = BorderedPoint;
 
     fn evaluate(&mut self, z: &[f64]) -> Result<BorderedPoint, ContinuationError> {
-        let mut lin = self.coll.linearize(z);
+        let mut point = self.spare.take().unwrap_or_else(|| BorderedPoint {
+            jacobian: OrbitJacobian::new(Linearization::default(), self.coll.sys.dim()),
+            rhs: Vec::new(),
+        });
+        point.jacobian.relinearize(self.coll, z);
         let extra: f64 = self
             .row
             .iter()
             .zip(z.iter().zip(self.anchor))
             .map(|(r, (a, b))| r * (a - b))
             .sum();
-        let mut rhs = std::mem::take(&mut lin.residual);
-        rhs.push(extra);
-        Ok(BorderedPoint {
-            jacobian: OrbitJacobian::new(lin, self.coll.sys.dim()),
-            rhs,
-        })
+        point.rhs.clear();
+        point.rhs.extend_from_slice(&point.jacobian.lin.residual);
+        point.rhs.push(extra);
+        Ok(point)
+    }
+
+    fn recycle(&mut self, point: BorderedPoint) {
+        self.spare = Some(point);
     }
 
     fn newton_step(&mut self, point: &BorderedPoint) -> Result<Vec<f64>, ContinuationError> {
@@ -196,7 +223,13 @@ pub fn correct_bordered<S: VectorField>(
     row: &[f64],
     anchor: &[f64],
 ) -> Result<(NewtonReport, BorderedPoint), ContinuationError> {
-    newton::iterate(&mut BorderedCollocation { coll, row, anchor }, z, settings)
+    let mut problem = BorderedCollocation {
+        coll,
+        row,
+        anchor,
+        spare: None,
+    };
+    newton::iterate(&mut problem, z, settings)
 }
 
 /// [`correct_bordered`] without the linearization.
