@@ -614,15 +614,20 @@ fn follow(
     let (mut largest, mut last) = (0.0f64, None);
     let mut previous: Option<Box<Cycle>> = None;
     for pt in branch.by_ref().skip(skip) {
-        let pt = pt.map_err(|e| match last {
-            Some((kappa, delta_s)) if delta_s < SHRUNK * largest => {
+        let pt = pt.map_err(|e| match (last, e) {
+            (Some((kappa, delta_s)), e) if delta_s < SHRUNK * largest => {
                 NumericalError::Analysis(format!(
                     "the cycles shrank onto steady sliding (Delta_s = {delta_s:.3e}, down from \
                  {largest:.3e}) near kappa = {kappa:.6e}: the branch ends at a Hopf point, through \
                  which collocation cannot continue ({e})"
                 ))
             }
-            _ => NumericalError::from(e),
+            (None, e @ continuation::ContinuationError::FloquetIllConditioned { .. })
+                if skip == 0 =>
+            {
+                first_cycle_undecidable(leg, &e)
+            }
+            (_, e) => NumericalError::from(e),
         })?;
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
@@ -643,6 +648,27 @@ fn follow(
     // An iterator that ended without an error has a reason.
     Ok(FollowEnd::End(
         branch.end().unwrap_or(BranchEnd::ParameterBound),
+    ))
+}
+
+/// The failure `e` of a leg whose first cycle is already too stiff for its
+/// Floquet multipliers to decide its stability: no cycle is delivered, so
+/// the engine's words for a branch that got there ("can no longer",
+/// "from here on") are put for a first cycle.
+fn first_cycle_undecidable(leg: Leg, e: &continuation::ContinuationError) -> NumericalError {
+    let which = match leg {
+        Leg::FromHopf => "off the Hopf point",
+        Leg::Up | Leg::Down => "through the simulated orbit",
+    };
+    NumericalError::Analysis(format!(
+        "no cycle delivered: {} (`stickslip simulate`)",
+        e.to_string()
+            .replace(
+                "of the periodic orbit at",
+                &format!("of the first cycle {which} at")
+            )
+            .replace("can no longer decide", "cannot decide")
+            .replace(" from here on", "")
     ))
 }
 
