@@ -5,6 +5,7 @@
 //! (kept, but the request incomplete) with status 4.
 
 pub mod branch;
+pub mod csv;
 pub mod cycle_start;
 pub mod cycles;
 pub mod diagram;
