@@ -19,8 +19,9 @@ use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
 use continuation::{Complex64, VectorField};
 
-/// Which continuation a cycle comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Leg {
     /// Born at the Hopf point, growing in amplitude.
     FromHopf,
@@ -108,15 +109,6 @@ impl CycleRecord {
             Stability::Undetermined { missing } => Some(format!(
                 "{missing} nontrivial Floquet multiplier(s) undetermined: {TRIVIAL_UNAVAILABLE}"
             )),
-        }
-    }
-
-    /// `stable`, `unstable` or `undecidable`.
-    pub fn stability_word(&self) -> &'static str {
-        match self.stability {
-            Stability::Stable => "stable",
-            Stability::Unstable => "unstable",
-            _ => "undecidable",
         }
     }
 
