@@ -106,8 +106,8 @@ pub struct HopfPoint {
     pub onset: Onset,
 }
 
-/// The arithmetic a normal-form coefficient was computed in (JSON: `double`
-/// or `double-double`).
+/// The arithmetic a normal-form coefficient was computed in (JSON: its
+/// [`name`](Arithmetic::name)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Arithmetic {
@@ -117,6 +117,16 @@ pub enum Arithmetic {
     /// ([`continuation::hopf_extended`]), where `f64` left fewer than
     /// [`EXTENDED_DIGITS`] digits.
     DoubleDouble,
+}
+
+impl Arithmetic {
+    /// `double` or `double-double` (the name used in JSON).
+    pub fn name(self) -> &'static str {
+        match self {
+            Arithmetic::Double => "double",
+            Arithmetic::DoubleDouble => "double-double",
+        }
+    }
 }
 
 /// Significant digits of `l1` below which the normal form is recomputed in

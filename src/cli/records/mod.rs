@@ -47,7 +47,7 @@ impl PhysicalPoint {
 #[cfg(test)]
 mod tests {
     use crate::analysis::diagram::SpecialKind;
-    use crate::analysis::hopf::Criticality;
+    use crate::analysis::hopf::{Arithmetic, Criticality};
     use crate::model::ModelKind;
 
     /// A value's JSON string.
@@ -77,6 +77,11 @@ mod tests {
             (
                 json(Criticality::Degenerate),
                 Criticality::Degenerate.name(),
+            ),
+            (json(Arithmetic::Double), Arithmetic::Double.name()),
+            (
+                json(Arithmetic::DoubleDouble),
+                Arithmetic::DoubleDouble.name(),
             ),
             (json(SpecialKind::Bautin), SpecialKind::Bautin.name()),
             (json(SpecialKind::Endpoint), SpecialKind::Endpoint.name()),
