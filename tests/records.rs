@@ -352,3 +352,50 @@ fn no_cycle_at_all_is_said_so() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--at-kappa`: a stiffness not delivered is explained in the text with
+/// every stiffness as kappa and as K/W, in the JSON with the same words in
+/// kappa alone.
+#[test]
+fn requested_stiffnesses_are_explained_in_kappa_and_k_over_w() {
+    let dir = temp_dir("records-requested");
+    let out = dir.to_str().unwrap();
+    let base = ["cycles", "--kappa-fraction", "0.99", "--at-kappa", "0.02"];
+    let (code, json, err) = stickslip(&[&base[..], &["--out", out, "--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    let r = &v["requested_points"][0];
+    assert!(close(
+        r["K_over_W_per_m"].as_f64().unwrap(),
+        0.02 / D0,
+        1e-14
+    ));
+    let (code, text, err) = stickslip(&[&base[..], &["--out", out, "--force"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("requested kappa = "))
+        .unwrap();
+    let (asked, why) = line.split_once(": not delivered: ").expect(line);
+    assert_eq!(
+        asked,
+        "requested kappa = 2.0000000000e-2 (K/W = 5.00000000e4 1/m)"
+    );
+    // Each "X (K/W = Y 1/m)" of the text: Y = X / D0, and X alone in the JSON.
+    let mut in_kappa = String::new();
+    let mut rest = why;
+    while let Some((before, after)) = rest.split_once(" (K/W = ") {
+        let (k_over_w, after) = after.split_once(" 1/m)").unwrap();
+        let kappa: f64 = before.rsplit(' ').next().unwrap().parse().unwrap();
+        assert!(
+            close(k_over_w.parse::<f64>().unwrap(), kappa / D0, 1e-9),
+            "{why}"
+        );
+        in_kappa.push_str(before);
+        rest = after;
+    }
+    in_kappa.push_str(rest);
+    assert_ne!(in_kappa, why, "no K/W in: {why}");
+    assert_eq!(r["reason"].as_str().unwrap(), in_kappa);
+    let _ = std::fs::remove_dir_all(&dir);
+}

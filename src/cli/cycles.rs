@@ -327,6 +327,13 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         );
     } else {
         println!("stopped: {stop}");
+        // Stiffnesses as kappa (as asked) and as K/W (as the cycles' lines).
+        let both = |kappa: f64, decimals: usize| {
+            format!(
+                "{kappa:.decimals$e} (K/W = {:.decimals$e} 1/m)",
+                units.k_over_w(kappa)
+            )
+        };
         for r in &requested {
             let asked = format!(
                 "requested kappa = {:.10e} (K/W = {:.8e} 1/m)",
@@ -338,7 +345,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                     r.cycles,
                     if r.cycles == 1 { "" } else { "s" }
                 ),
-                Some(why) => println!("{asked}: not delivered: {why}"),
+                Some(why) => println!("{asked}: not delivered: {}", why.describe(&both)),
             }
         }
         for f in files.iter().chain([&csv_path]) {

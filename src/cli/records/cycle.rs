@@ -3,8 +3,8 @@
 //! branch, a requested stiffness, and how each leg of the branch ended.
 
 use crate::analysis::cycles::{
-    CycleBifurcation, CycleRecord, Leg, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE,
-    TRIVIAL_UNAVAILABLE,
+    CycleBifurcation, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
+    ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
 };
 use crate::cli::csv::CsvRecord;
 use crate::error::Error;
@@ -186,9 +186,17 @@ pub struct Requested {
     pub delivered: bool,
     /// How many (a branch that turns at folds passes some stiffnesses twice).
     pub cycles: usize,
-    /// Why none was delivered.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reason: Option<String>,
+    /// Why none was delivered (JSON: in words, the stiffnesses as kappa).
+    #[serde(skip_serializing_if = "Option::is_none", serialize_with = "in_words")]
+    pub reason: Option<NotDelivered>,
+}
+
+/// The reason in words.
+fn in_words<S: Serializer>(reason: &Option<NotDelivered>, s: S) -> Result<S::Ok, S::Error> {
+    match reason {
+        Some(why) => s.collect_str(why),
+        None => s.serialize_none(),
+    }
 }
 
 impl Requested {
