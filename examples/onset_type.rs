@@ -8,7 +8,7 @@
 //!
 //! Run: `cargo run --release --example onset_type`
 
-use stickslip::analysis::diagram::hopf_curve;
+use stickslip::analysis::diagram::{hopf_curve, SpecialKind};
 use stickslip::model::ModelKind;
 use stickslip::params::{Param, Params};
 
@@ -43,7 +43,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 pt.criticality.name()
             );
         }
-        for b in d.special.iter().filter(|s| s.kind == "bautin") {
+        for b in d.special.iter().filter(|s| s.kind == SpecialKind::Bautin) {
             println!(
                 "  Bautin: eta* = m nu^2/A = {:.12e}, m* = {:.12e}, kappa = {:.10e}, l2 = {:.6e}",
                 b.m * nu * nu / p.a,

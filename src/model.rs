@@ -14,10 +14,13 @@
 use crate::params::{friction_from, Param, Params, N_PARAMS};
 use continuation::{Scalar, VectorField};
 
-/// Which driven-block model an analysis uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which driven-block model an analysis uses (JSON and CSV: its [`name`](ModelKind::name)).
+/// The default only fills the record a CSV header is named from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum ModelKind {
     /// State `(s, v, theta)` with the inertia `m`.
+    #[default]
     Inertial,
     /// State `(s, theta)`, inertia dropped.
     QuasiStatic,

@@ -3,7 +3,7 @@
 
 #![allow(clippy::excessive_precision)] // references are quoted with every digit of their source
 
-use stickslip::analysis::diagram::{hopf_curve, stability_diagram};
+use stickslip::analysis::diagram::{hopf_curve, stability_diagram, CurveEnd, SpecialKind};
 use stickslip::analysis::hopf::Criticality;
 use stickslip::appendix_c;
 use stickslip::model::ModelKind;
@@ -148,7 +148,7 @@ fn cutoff_curve_ends_at_the_friction_minimum() {
     let end = d
         .special
         .iter()
-        .find(|p| p.kind == "endpoint")
+        .find(|p| p.kind == SpecialKind::Endpoint)
         .expect("endpoint");
     let tc = s.params.theta_c.unwrap();
     let v_min = (s.params.b - s.params.a) / (s.params.a * tc);
@@ -157,7 +157,7 @@ fn cutoff_curve_ends_at_the_friction_minimum() {
         "{} vs {v_min}",
         end.nu
     );
-    assert_eq!(d.stop, "kappa_c -> 0");
+    assert_eq!(d.stop, CurveEnd::KappaCVanishes);
     assert!(d.points.last().unwrap().kappa < 1e-5 * d.points[0].kappa);
 }
 
@@ -185,7 +185,11 @@ fn inertial_rr_onset_changes_type_at_eta_star() {
             (1e-5 / (nu * nu), 1.0 / (nu * nu)),
         )
         .unwrap();
-        let bautins: Vec<_> = d.special.iter().filter(|s| s.kind == "bautin").collect();
+        let bautins: Vec<_> = d
+            .special
+            .iter()
+            .filter(|s| s.kind == SpecialKind::Bautin)
+            .collect();
         assert_eq!(bautins.len(), 1, "nu = {nu}: {:?}", d.special);
         let b = bautins[0];
         // The onset type depends on eta = m nu^2 / A only: eta* = m*(nu = 1) / A.
@@ -240,7 +244,7 @@ fn a_hopf_region_starting_inside_the_range_is_traced_from_its_start() {
     let end = d
         .special
         .iter()
-        .find(|s| s.kind == "endpoint")
+        .find(|s| s.kind == SpecialKind::Endpoint)
         .expect("the start of the region is found");
     assert!(
         (end.nu / nu_star - 1.0).abs() < 1e-12,

@@ -6,7 +6,7 @@ use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::lpc::locate_lpc;
 use continuation::periodic::mesh::CollocationPoints;
 use stickslip::analysis::cycles::{hopf_start, start_amplitude};
-use stickslip::analysis::diagram::stability_diagram;
+use stickslip::analysis::diagram::{stability_diagram, SpecialKind};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
 use stickslip::analysis::lpc_curve::{lpc_curve_through, LpcCurvePoint};
 use stickslip::log_model::LogBlock;
@@ -102,7 +102,7 @@ fn the_curve_of_folds_starts_at_the_bautin_point_and_holds_folds_of_the_branches
     let bautin = d
         .special
         .iter()
-        .find(|s| s.kind == "bautin")
+        .find(|s| s.kind == SpecialKind::Bautin)
         .expect("a Bautin point below V_min");
     assert_eq!(d.lpc.points.len(), 1, "{:?}", d.lpc.stops);
     let curve = &d.lpc.points[0];

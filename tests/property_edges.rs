@@ -432,7 +432,7 @@ fn cycles(case: &Case, max_steps: &usize) -> Verdict {
     });
     for (leg, outcome) in &outcomes {
         if let Err(e) = outcome {
-            check_error(&format!("cycles leg '{leg}'"), e)?;
+            check_error(&format!("cycles leg {leg:?}"), e)?;
         }
     }
     prop_assert!(

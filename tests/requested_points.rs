@@ -141,7 +141,9 @@ fn requested_points_are_delivered_or_explained() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        text.contains("requested kappa = 2.0000000000e-2: not delivered: above kappa_c"),
+        text.contains(
+            "requested kappa = 2.0000000000e-2 (K/W = 5.00000000e4 1/m): not delivered: above kappa_c"
+        ),
         "{text}"
     );
     std::fs::remove_dir_all(&dir).ok();

@@ -9,7 +9,7 @@ mod common;
 use common::{stickslip, temp_dir};
 
 use serde_json::Value;
-use stickslip::analysis::diagram::{stability_diagram, strengthening_intervals};
+use stickslip::analysis::diagram::{stability_diagram, strengthening_intervals, SpecialKind};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome, STRENGTHENING_FLOOR};
 use stickslip::model::ModelKind;
 
@@ -90,7 +90,7 @@ fn partly_strengthening_range_is_split_at_the_closed_form_boundary() {
     let end = d
         .special
         .iter()
-        .find(|q| q.kind == "endpoint")
+        .find(|q| q.kind == SpecialKind::Endpoint)
         .expect("an end point");
     assert!(
         (end.nu / nu_star - 1.0).abs() < 1e-10,

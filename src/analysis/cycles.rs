@@ -19,8 +19,9 @@ use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
 use continuation::Complex64;
 
-/// Which continuation a cycle comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Leg {
     /// Born at the Hopf point, growing in amplitude.
     FromHopf,
@@ -111,15 +112,6 @@ impl CycleRecord {
         }
     }
 
-    /// `stable`, `unstable` or `undecidable`.
-    pub fn stability_word(&self) -> &'static str {
-        match self.stability {
-            Stability::Stable => "stable",
-            Stability::Unstable => "unstable",
-            _ => "undecidable",
-        }
-    }
-
     /// The bifurcations located since the previous cycle, with their kind.
     pub fn special_points(&self) -> impl Iterator<Item = (CycleBifurcation, &CycleRecord)> {
         [
@@ -194,7 +186,66 @@ pub struct RequestedPoint {
     /// stiffness more than once).
     pub delivered: usize,
     /// Why no cycle was delivered (`None` when one was).
-    pub reason: Option<String>,
+    pub reason: Option<NotDelivered>,
+}
+
+/// Why no cycle was delivered at a requested stiffness.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NotDelivered {
+    /// There is no branch at all: why, in words.
+    NoBranch(String),
+    /// No cycle was computed; `stop` says why the branch stopped.
+    NoCycle { stop: String },
+    /// The branch spans `lo .. hi` but passed this stiffness without a cycle.
+    NotLocated { lo: f64, hi: f64, stop: String },
+    /// Beyond the fold of cycles at `fold`, where the branch turns back
+    /// (`above` it, or below).
+    BeyondFold { above: bool, fold: f64 },
+    /// On the side of `kappa_c` where the cycles born there do not exist.
+    NoCyclesOnThisSide { above: bool, kappa_c: f64 },
+    /// The branch stopped at `end` before reaching it.
+    Stopped { end: f64, stop: String },
+}
+
+impl NotDelivered {
+    /// In words, each stiffness written by `stiffness(kappa, decimals)`
+    /// after `kappa = ` (or `kappa_c = `).
+    pub fn describe(&self, stiffness: &dyn Fn(f64, usize) -> String) -> String {
+        match self {
+            NotDelivered::NoBranch(why) => why.clone(),
+            NotDelivered::NoCycle { stop } => format!("no cycle was computed ({stop})"),
+            NotDelivered::NotLocated { lo, hi, stop } => format!(
+                "the branch spans kappa = {} .. {} but no cycle was located at this stiffness ({stop})",
+                stiffness(*lo, 6),
+                stiffness(*hi, 6)
+            ),
+            NotDelivered::BeyondFold { above, fold } => format!(
+                "{} the fold of cycles at kappa = {}: the branch turns back there, none of its \
+                 cycles has a {} stiffness",
+                if *above { "beyond" } else { "below" },
+                stiffness(*fold, 10),
+                if *above { "larger" } else { "smaller" }
+            ),
+            NotDelivered::NoCyclesOnThisSide { above, kappa_c } => format!(
+                "{} kappa_c = {}, where no cycle exists on this side: the cycles born at the Hopf \
+                 point exist for kappa {} kappa_c",
+                if *above { "above" } else { "below" },
+                stiffness(*kappa_c, 10),
+                if *above { "<" } else { ">" }
+            ),
+            NotDelivered::Stopped { end, stop } => format!(
+                "the branch stopped at kappa = {} before reaching it ({stop})",
+                stiffness(*end, 10)
+            ),
+        }
+    }
+}
+
+/// [`NotDelivered::describe`] with the stiffnesses as `kappa` alone.
+impl std::fmt::Display for NotDelivered {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.describe(&|kappa, decimals| format!("{kappa:.decimals$e}")))
+    }
 }
 
 /// How the branch started and ended, for the reasons of [`requested_points`].
@@ -242,42 +293,36 @@ pub fn requested_points(
                 .filter(|c| c.user_point && (c.kappa - target).abs() <= 1e-9 * target)
                 .count();
             let reason = (delivered == 0).then(|| match reached {
-                None => ends
-                    .no_branch
-                    .map_or_else(|| format!("no cycle was computed ({})", ends.stop), str::to_string),
+                None => match ends.no_branch {
+                    Some(why) => NotDelivered::NoBranch(why.to_string()),
+                    None => NotDelivered::NoCycle {
+                        stop: ends.stop.to_string(),
+                    },
+                },
                 Some(((lo, lo_fold), (hi, hi_fold))) => {
                     let (above, end, fold) = if target > hi {
                         (true, hi, hi_fold)
                     } else if target < lo {
                         (false, lo, lo_fold)
                     } else {
-                        return format!(
-                            "the branch spans kappa = {lo:.6e} .. {hi:.6e} but no cycle was located at \
-                             this stiffness ({})",
-                            ends.stop
-                        );
+                        return NotDelivered::NotLocated {
+                            lo,
+                            hi,
+                            stop: ends.stop.to_string(),
+                        };
                     };
-                    let side = if above { "above" } else { "below" };
                     match ends.hopf_start {
-                        _ if fold => format!(
-                            "{} the fold of cycles at kappa = {end:.10e}: the branch turns back there, \
-                             none of its cycles has a {} stiffness",
-                            if above { "beyond" } else { "below" },
-                            if above { "larger" } else { "smaller" }
-                        ),
-                        Some(kc) if (above && target > kc && hi <= kc * (1.0 + 1e-9))
-                            || (!above && target < kc && lo >= kc * (1.0 - 1e-9)) =>
+                        _ if fold => NotDelivered::BeyondFold { above, fold: end },
+                        Some(kc)
+                            if (above && target > kc && hi <= kc * (1.0 + 1e-9))
+                                || (!above && target < kc && lo >= kc * (1.0 - 1e-9)) =>
                         {
-                            format!(
-                                "{side} kappa_c = {kc:.10e}, where no cycle exists on this side: the \
-                                 cycles born at the Hopf point exist for kappa {} kappa_c",
-                                if above { "<" } else { ">" }
-                            )
+                            NotDelivered::NoCyclesOnThisSide { above, kappa_c: kc }
                         }
-                        _ => format!(
-                            "the branch stopped at kappa = {end:.10e} before reaching it ({})",
-                            ends.stop
-                        ),
+                        _ => NotDelivered::Stopped {
+                            end,
+                            stop: ends.stop.to_string(),
+                        },
                     }
                 }
             });
@@ -614,15 +659,20 @@ fn follow(
     let (mut largest, mut last) = (0.0f64, None);
     let mut previous: Option<Box<Cycle>> = None;
     for pt in branch.by_ref().skip(skip) {
-        let pt = pt.map_err(|e| match last {
-            Some((kappa, delta_s)) if delta_s < SHRUNK * largest => {
+        let pt = pt.map_err(|e| match (last, e) {
+            (Some((kappa, delta_s)), e) if delta_s < SHRUNK * largest => {
                 NumericalError::Analysis(format!(
                     "the cycles shrank onto steady sliding (Delta_s = {delta_s:.3e}, down from \
                  {largest:.3e}) near kappa = {kappa:.6e}: the branch ends at a Hopf point, through \
                  which collocation cannot continue ({e})"
                 ))
             }
-            _ => NumericalError::from(e),
+            (None, e @ continuation::ContinuationError::FloquetIllConditioned { .. })
+                if skip == 0 =>
+            {
+                first_cycle_undecidable(leg, &e)
+            }
+            (_, e) => NumericalError::from(e),
         })?;
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
@@ -643,6 +693,27 @@ fn follow(
     // An iterator that ended without an error has a reason.
     Ok(FollowEnd::End(
         branch.end().unwrap_or(BranchEnd::ParameterBound),
+    ))
+}
+
+/// The failure `e` of a leg whose first cycle is already too stiff for its
+/// Floquet multipliers to decide its stability: no cycle is delivered, so
+/// the engine's words for a branch that got there ("can no longer",
+/// "from here on") are put for a first cycle.
+fn first_cycle_undecidable(leg: Leg, e: &continuation::ContinuationError) -> NumericalError {
+    let which = match leg {
+        Leg::FromHopf => "off the Hopf point",
+        Leg::Up | Leg::Down => "through the simulated orbit",
+    };
+    NumericalError::Analysis(format!(
+        "no cycle delivered: {} (`stickslip simulate`)",
+        e.to_string()
+            .replace(
+                "of the periodic orbit at",
+                &format!("of the first cycle {which} at")
+            )
+            .replace("can no longer decide", "cannot decide")
+            .replace(" from here on", "")
     ))
 }
 

@@ -35,11 +35,72 @@ pub struct CurvePoint {
     pub state: [f64; 3],
 }
 
+/// What a special point of the diagram is (JSON `kind`: `bautin`, `endpoint`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SpecialKind {
+    /// `l1 = 0`: the onset changes type.
+    Bautin,
+    /// `kappa_c -> 0`: the Hopf curve ends at the friction minimum.
+    Endpoint,
+}
+
+impl SpecialKind {
+    /// `bautin` or `endpoint`, as in the JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecialKind::Bautin => "bautin",
+            SpecialKind::Endpoint => "endpoint",
+        }
+    }
+}
+
+/// Its [`name`](SpecialKind::name), padded as the format asks.
+impl std::fmt::Display for SpecialKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+/// Why a run of the Hopf curve stopped (JSON `stop_reason`, snake case).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CurveEnd {
+    /// The curve reached the end of the requested range.
+    EndOfRange,
+    /// The critical stiffness vanishes (`kappa_c -> 0`, the friction minimum).
+    KappaCVanishes,
+    /// The most continuation steps were taken first.
+    StepLimit,
+    /// The continuation ended without a reason.
+    Stopped,
+    /// No Hopf point was found to start from.
+    NoHopfPoint,
+}
+
+impl CurveEnd {
+    /// In words: `end of the range`, `kappa_c -> 0`, `step limit`, ...
+    pub fn words(self) -> &'static str {
+        match self {
+            CurveEnd::EndOfRange => "end of the range",
+            CurveEnd::KappaCVanishes => "kappa_c -> 0",
+            CurveEnd::StepLimit => "step limit",
+            CurveEnd::Stopped => "stopped",
+            CurveEnd::NoHopfPoint => "no Hopf point in the range",
+        }
+    }
+
+    /// Whether the curve ended where it should: at the end of the range, or
+    /// where the curve itself ends (`kappa_c -> 0`).
+    pub fn ends_curve(self) -> bool {
+        matches!(self, CurveEnd::EndOfRange | CurveEnd::KappaCVanishes)
+    }
+}
+
 /// A codimension-2 or end point of the diagram.
 #[derive(Clone, Debug)]
 pub struct SpecialPoint {
-    /// `bautin` (l1 = 0: the onset changes type) or `endpoint` (kappa_c -> 0).
-    pub kind: &'static str,
+    pub kind: SpecialKind,
     pub nu: f64,
     pub kappa: f64,
     pub omega: f64,
@@ -57,10 +118,9 @@ pub struct SpecialPoint {
 pub struct StabilityDiagram {
     pub points: Vec<CurvePoint>,
     pub special: Vec<SpecialPoint>,
-    /// Why the continuation stopped (`end of the range`, `kappa_c -> 0`,
-    /// `step limit`, ...); with a run below the starting point, the first
-    /// that did not end the curve.
-    pub stop: &'static str,
+    /// Why the continuation stopped; with a run below the starting point,
+    /// the first that did not end the curve.
+    pub stop: CurveEnd,
     /// Whether the curve covers the requested range (each run reached the
     /// end of the range or the end of the curve, `kappa_c -> 0`).
     pub complete: bool,
@@ -226,7 +286,7 @@ fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
 fn bautin_starts(d: &StabilityDiagram) -> Vec<BautinStart> {
     d.special
         .iter()
-        .filter(|s| s.kind == "bautin")
+        .filter(|s| s.kind == SpecialKind::Bautin)
         .filter_map(|b| {
             let away = |p: &&CurvePoint| (p.nu / b.nu).ln().abs();
             d.points
@@ -300,7 +360,7 @@ pub fn hopf_curve_with<F: Wrap>(
         return Ok(StabilityDiagram {
             points: Vec::new(),
             special: Vec::new(),
-            stop: "no Hopf point in the range",
+            stop: CurveEnd::NoHopfPoint,
             complete: true,
             lpc: LpcCurves::default(),
             strengthening: Vec::new(),
@@ -339,71 +399,96 @@ pub fn hopf_curve_with<F: Wrap>(
         }
     };
     // One run of the curve from the starting Hopf point, up or down in `second`.
-    let run = |upward: bool| -> Result<(Vec<CurvePoint>, Vec<SpecialPoint>, &'static str), NumericalError> {
-        let settings = CurveSettings {
-            control: CurveControl {
-                step: StepControl {
-                    ds: 0.02,
-                    ds_min: 1e-10,
-                    ds_max: 0.1,
-                    growth: 1.5,
-                    easy_iterations: 3,
-                    min_tangent_cos: 0.97,
+    let run =
+        |upward: bool| -> Result<(Vec<CurvePoint>, Vec<SpecialPoint>, CurveEnd), NumericalError> {
+            let settings = CurveSettings {
+                control: CurveControl {
+                    step: StepControl {
+                        ds: 0.02,
+                        ds_min: 1e-10,
+                        ds_max: 0.1,
+                        growth: 1.5,
+                        easy_iterations: 3,
+                        min_tangent_cos: 0.97,
+                    },
+                    corrector: NewtonSettings {
+                        max_iter: 8,
+                        ..NewtonSettings::default()
+                    },
+                    // Arclength measured in (ln kappa, ln second): the state and
+                    // omega get weights small enough that a state spanning decades
+                    // (theta = 1/nu is 1e6 at nu = 1e-6) does not take over the step
+                    // (with 1e-6 a decade at nu = 1e-6 took 9000 points).
+                    weights: [vec![1e-16; x0.len() + 1], vec![1.0, 1.0]].concat(),
                 },
-                corrector: NewtonSettings { max_iter: 8, ..NewtonSettings::default() },
-                // Arclength measured in (ln kappa, ln second): the state and
-                // omega get weights small enough that a state spanning decades
-                // (theta = 1/nu is 1e6 at nu = 1e-6) does not take over the step
-                // (with 1e-6 a decade at nu = 1e-6 took 9000 points).
-                weights: [vec![1e-16; x0.len() + 1], vec![1.0, 1.0]].concat(),
-            },
-            max_steps,
-            // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
-            // the Hopf system degenerates (omega -> 0); the end point is then
-            // located on the friction law.
-            bounds: [(q0[0] + 1e-6f64.ln(), f64::INFINITY), (range.0.ln(), range.1.ln())],
-            increase_second: upward,
-            omega_min: 1e-4 * h0.omega_c,
-            ..Default::default()
-        };
-        let mut curve = HopfCurve::new(&logs, &x0, h0.omega_c, &q0, pair, settings).map_err(NumericalError::from)?;
-        let (mut points, mut special) = (Vec::new(), Vec::new());
-        for pt in curve.by_ref() {
-            let pt = pt.map_err(NumericalError::from)?;
-            if let Some(b) = &pt.bautin {
-                let c = convert(b);
-                let series = hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?;
-                special.push(SpecialPoint {
-                    kind: "bautin", nu: c.nu, kappa: c.kappa, omega: c.omega, m: c.m,
-                    l2: Some(series.l2), l2_error_bound: Some(series.l2_error_bound),
-                });
+                max_steps,
+                // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
+                // the Hopf system degenerates (omega -> 0); the end point is then
+                // located on the friction law.
+                bounds: [
+                    (q0[0] + 1e-6f64.ln(), f64::INFINITY),
+                    (range.0.ln(), range.1.ln()),
+                ],
+                increase_second: upward,
+                omega_min: 1e-4 * h0.omega_c,
+                ..Default::default()
+            };
+            let mut curve = HopfCurve::new(&logs, &x0, h0.omega_c, &q0, pair, settings)
+                .map_err(NumericalError::from)?;
+            let (mut points, mut special) = (Vec::new(), Vec::new());
+            for pt in curve.by_ref() {
+                let pt = pt.map_err(NumericalError::from)?;
+                if let Some(b) = &pt.bautin {
+                    let c = convert(b);
+                    let series =
+                        hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?;
+                    special.push(SpecialPoint {
+                        kind: SpecialKind::Bautin,
+                        nu: c.nu,
+                        kappa: c.kappa,
+                        omega: c.omega,
+                        m: c.m,
+                        l2: Some(series.l2),
+                        l2_error_bound: Some(series.l2_error_bound),
+                    });
+                }
+                points.push(convert(&pt));
             }
-            points.push(convert(&pt));
-        }
-        let last = points.last().map(|p| if second == Param::Nu { p.nu } else { p.m });
-        let end = if upward { range.1 } else { range.0 };
-        let at_end = last.is_some_and(|v| (v / end - 1.0).abs() < 1e-10);
-        let stop = match curve.stop_reason() {
-            Some(CurveStop::Bound) if at_end => "end of the range",
-            Some(CurveStop::Bound) | Some(CurveStop::FrequencyVanishing) => "kappa_c -> 0",
-            Some(CurveStop::MaxSteps) => "step limit",
-            None => "stopped",
-        };
-        if stop == "kappa_c -> 0" && second == Param::Nu {
-            if let Some(nu_end) = points.last().and_then(|p| friction_minimum(params, p.nu)) {
-                special.push(SpecialPoint { kind: "endpoint", nu: nu_end, kappa: 0.0, omega: 0.0, m: params.m, l2: None, l2_error_bound: None });
+            let last = points
+                .last()
+                .map(|p| if second == Param::Nu { p.nu } else { p.m });
+            let end = if upward { range.1 } else { range.0 };
+            let at_end = last.is_some_and(|v| (v / end - 1.0).abs() < 1e-10);
+            let stop = match curve.stop_reason() {
+                Some(CurveStop::Bound) if at_end => CurveEnd::EndOfRange,
+                Some(CurveStop::Bound) | Some(CurveStop::FrequencyVanishing) => {
+                    CurveEnd::KappaCVanishes
+                }
+                Some(CurveStop::MaxSteps) => CurveEnd::StepLimit,
+                None => CurveEnd::Stopped,
+            };
+            if stop == CurveEnd::KappaCVanishes && second == Param::Nu {
+                if let Some(nu_end) = points.last().and_then(|p| friction_minimum(params, p.nu)) {
+                    special.push(SpecialPoint {
+                        kind: SpecialKind::Endpoint,
+                        nu: nu_end,
+                        kappa: 0.0,
+                        omega: 0.0,
+                        m: params.m,
+                        l2: None,
+                        l2_error_bound: None,
+                    });
+                }
             }
-        }
-        Ok((points, special, stop))
-    };
+            Ok((points, special, stop))
+        };
     let (mut points, mut special, mut stop) = run(true)?;
-    let ends = |stop: &str| stop == "end of the range" || stop == "kappa_c -> 0";
     // The grid search may have started above the bottom of the range: trace
     // the stretch below as well, and put it in front.
     let start = if second == Param::Nu { p0.nu } else { p0.m };
     if start > range.0 * (1.0 + 1e-12) {
         let (mut below, below_special, below_stop) = run(false)?;
-        if ends(stop) && !ends(below_stop) {
+        if stop.ends_curve() && !below_stop.ends_curve() {
             stop = below_stop;
         }
         below.reverse();
@@ -416,7 +501,7 @@ pub fn hopf_curve_with<F: Wrap>(
         points,
         special,
         stop,
-        complete: ends(stop),
+        complete: stop.ends_curve(),
         lpc: LpcCurves::default(),
         strengthening: Vec::new(),
         reason: None,

@@ -22,8 +22,11 @@ use continuation::{
     VectorField, Wrap,
 };
 
-/// Sub- or supercritical onset, from the sign of `l1`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Sub- or supercritical onset, from the sign of `l1` (JSON and CSV: its
+/// [`name`](Criticality::name)). The default only fills the record a CSV
+/// header is named from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Criticality {
     /// `l1 < 0`: stick-slip amplitude grows continuously below `kappa_c`.
     Supercritical,
@@ -31,6 +34,7 @@ pub enum Criticality {
     Subcritical,
     /// `|l1|` within its rounding-error bound: the cubic terms do not decide
     /// (e.g. quasi-static plain RR law, where `l1 = 0` exactly).
+    #[default]
     Degenerate,
 }
 
@@ -102,8 +106,10 @@ pub struct HopfPoint {
     pub onset: Onset,
 }
 
-/// The arithmetic a normal-form coefficient was computed in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The arithmetic a normal-form coefficient was computed in (JSON: its
+/// [`name`](Arithmetic::name)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Arithmetic {
     /// `f64` throughout.
     Double,

@@ -3,7 +3,7 @@
 
 use super::Setup;
 use crate::analysis::cycles::{
-    trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest,
+    trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest, Leg,
 };
 use crate::analysis::hopf::{velocity_strengthening, HopfOutcome, HopfPoint};
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -149,7 +149,8 @@ impl Start {
     }
 
     /// Traces the branch, handing each cycle to `sink`; returns how each leg
-    /// ended, labelled (one leg from a Hopf point, two from a simulated orbit).
+    /// ended, with the leg (one from a Hopf point, two from a simulated orbit;
+    /// none when the simulated orbit itself failed).
     /// A quasi-static branch hands over to the inertial model where `watch`
     /// says so.
     /// A leg that ended without an error says why ([`BranchEnd`]).
@@ -159,11 +160,11 @@ impl Start {
         req: &CycleRequest,
         watch: &InertiaWatch,
         mut sink: impl FnMut(&CycleRecord) -> Result<(), Error>,
-    ) -> Vec<(&'static str, Result<BranchEnd, Error>)> {
+    ) -> Vec<(Option<Leg>, Result<BranchEnd, Error>)> {
         let kind = setup.choice.kind;
         match self {
             Start::Hopf(h) => vec![(
-                "",
+                Some(Leg::FromHopf),
                 trace_cycles_from(kind, &setup.params, h, req, watch, sink),
             )],
             Start::Simulation { orbit, .. } => {
@@ -175,11 +176,8 @@ impl Start {
                     watch,
                     &mut sink,
                 ) {
-                    Ok([up, down]) => vec![
-                        ("toward larger stiffness", up),
-                        ("toward smaller stiffness", down),
-                    ],
-                    Err(e) => vec![("", Err(e))],
+                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Err(e) => vec![(None, Err(e))],
                 }
             }
             Start::NoCycle { .. } => Vec::new(),

@@ -2,14 +2,16 @@
 //! through a simulated orbit, [`super::cycle_start`]), continued in the
 //! stiffness; the bifurcation diagram, orbits and time series.
 
+use super::csv::{header, row};
 use super::cycle_start::Start;
 use super::files::{with_suffix, OutputArgs};
-use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
+use super::lpc_output::{lpc_summary, write_lpc_csv};
+use super::records::cycle::{Cycle, CycleDetail, CycleSpecialPoint, LegStop, Requested};
+use super::records::diagram::FoldPoint;
 use super::{params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::cycles::{
-    along_branch, collocation_for, requested_points, BranchEnd, BranchEnds, CycleBifurcation,
-    CycleRecord, CycleRequest, RequestedPoint, Stability, ESTIMATE_UNAVAILABLE,
-    TRIVIAL_UNAVAILABLE,
+    along_branch, collocation_for, requested_points, BranchEnds, CycleBifurcation, CycleRecord,
+    CycleRequest, Stability,
 };
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -21,11 +23,10 @@ use crate::plot::lines::{
     render, render_family, vertical_marker, Colorbar, LineFigure, Series, SWITCH_MARKER,
 };
 use crate::plot::PlotError;
-use crate::scene::Units;
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
-use serde_json::{json, Value};
+use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -70,7 +71,9 @@ pub struct CyclesArgs {
     /// -lpc-curve.png/.svg, and `lpc_curve` in the JSON.
     #[arg(long)]
     pub lpc_curve: bool,
-    /// Comma-separated stiffnesses (dimensionless kappa) at which cycles are located exactly and reported.
+    /// Comma-separated stiffnesses at which cycles are located exactly and
+    /// reported, as dimensionless kappa = K D0/W (the K/W of the text times
+    /// D0); each is reported with both.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
     pub at_kappa: Vec<f64>,
     #[command(flatten)]
@@ -101,72 +104,9 @@ impl From<Points> for CollocationPoints {
     }
 }
 
-fn record_json(c: &CycleRecord, u: &Units) -> Value {
-    let mut v = json!({
-        "kappa": c.kappa, "period": c.period, "delta_s": c.delta_s,
-        "s_min": c.s_min, "s_max": c.s_max, "v_min": c.v_min, "v_max": c.v_max,
-        "K_over_W_per_m": u.k_over_w(c.kappa),
-        "period_s": c.period * u.d0 / u.v0,
-        "v_min_um_per_s": u.velocity_um_s(c.v_min),
-        "v_max_um_per_s": u.velocity_um_s(c.v_max),
-        "multipliers": c.multipliers.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
-        "trivial_multiplier_index": c.trivial,
-        "trivial_multiplier_error": c.trivial_error, "error_estimate": c.error_estimate,
-        "stable": match c.stability {
-            Stability::Stable => Some(true),
-            Stability::Unstable => Some(false),
-            _ => None,
-        },
-        "ntst": c.ntst,
-        "user_point": c.user_point,
-        "model": c.model.name(),
-        "inertial_imbalance": c.inertial_imbalance,
-    });
-    if c.trivial_error.is_none() {
-        v["trivial_multiplier_error_reason"] = json!(TRIVIAL_UNAVAILABLE);
-    }
-    if c.error_estimate.is_none() {
-        v["error_estimate_reason"] = json!(ESTIMATE_UNAVAILABLE);
-    }
-    if let Some(why) = c.stability_reason() {
-        v["stability_reason"] = json!(why);
-    }
-    v
-}
-
 /// `value` in the text output (`{:.1e}`), or `n/a (why)` when unavailable.
 fn or_na(value: Option<f64>, why: &str) -> String {
     value.map_or_else(|| format!("n/a ({why})"), |v| format!("{v:.1e}"))
-}
-
-/// How the legs of the branch ended: `(complete, stop)`, complete when
-/// every leg reached the end of the requested range; the stop reason names
-/// the limit (`--max-steps`) or the failure of each leg.
-fn stop_reason(outcomes: &[(&str, Result<BranchEnd, Error>)], max_steps: usize) -> (bool, String) {
-    let complete = outcomes
-        .iter()
-        .all(|(_, o)| matches!(o, Ok(BranchEnd::ParameterBound)));
-    let reasons: Vec<String> = outcomes
-        .iter()
-        .map(|(leg, outcome)| {
-            let why = match outcome {
-                Ok(BranchEnd::ParameterBound) => "end of the requested range".to_string(),
-                Ok(BranchEnd::MaxSteps) => format!(
-                    "step limit: {max_steps} continuation steps (--max-steps) taken; the range is not covered"
-                ),
-                Ok(BranchEnd::MaxPeriod) => {
-                    "period limit reached; the range is not covered".to_string()
-                }
-                Err(e) => e.to_string(),
-            };
-            if leg.is_empty() {
-                why
-            } else {
-                format!("{leg}: {why}")
-            }
-        })
-        .collect();
-    (complete, reasons.join("; "))
 }
 
 /// Runs the command.
@@ -221,10 +161,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         setup.choice.reason,
         points_name(points)
     )?;
-    writeln!(
-        csv,
-        "kappa,period,delta_s,s_min,s_max,v_min,v_max,stable,trivial_multiplier_error,error_estimate,ntst,user_point,model,inertial_imbalance,K_over_W_per_m,period_s,v_min_um_per_s,v_max_um_per_s"
-    )?;
+    writeln!(csv, "{}", header::<Cycle>()?)?;
     let kappa_ref = start.reference_kappa();
     let mut req = CycleRequest {
         kappa_min: args.kappa_fraction * kappa_ref,
@@ -242,6 +179,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     // Requested stiffnesses outside the default range extend the branch to them.
     req.cover_requested();
     let mut records: Vec<CycleRecord> = Vec::new();
+    // Their records, built once for the CSV, the text and the JSON.
+    let mut details: Vec<CycleDetail> = Vec::new();
+    let mut specials: Vec<CycleSpecialPoint> = Vec::new();
     super::interrupt::catch_interrupts();
     let bar = super::interrupt::progress("continuing cycles");
     let outcomes = start.trace(&setup, &req, &watch, |c| {
@@ -272,35 +212,41 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             }
             switch = Some(sw);
         }
-        for u in &c.user {
-            write_row(&mut csv, u, &units)?;
+        // The cycles at requested stiffnesses passed since the last one, then it.
+        for rec in c.user.iter().chain([c]) {
+            let detail = CycleDetail::new(rec, &units);
+            let cycle = &detail.cycle;
+            write_row(&mut csv, cycle)?;
+            let found: Vec<CycleSpecialPoint> = rec
+                .special_points()
+                .map(|(kind, l)| CycleSpecialPoint {
+                    kind,
+                    cycle: Cycle::new(l, &units),
+                })
+                .collect();
             if !args.json {
-                println!("  user point {}", cycle_text(args.units, u, &units));
+                print_cycle(args.units, cycle, &found);
             }
-            records.push(u.clone());
+            specials.extend(found);
+            details.push(detail);
+            records.push(rec.clone());
         }
-        write_row(&mut csv, c, &units)?;
-        if !args.json {
-            println!(
-                "{}  {}  |mu_1 - 1| {}  err {}  NTST {}",
-                cycle_text(args.units, c, &units),
-                c.stability_word(),
-                or_na(c.trivial_error, "Floquet pencil singular to rounding"),
-                or_na(c.error_estimate, "no solution on half the mesh"),
-                c.ntst
-            );
-        }
-        for (kind, l) in c.special_points().filter(|_| !args.json) {
-            println!("  {} at {}", kind.name(), cycle_text(args.units, l, &units));
-        }
-        records.push(c.clone());
         Ok(())
     });
     bar.finish_and_clear();
     if let Some(warning) = validity_warning(&records, &setup, &watch, args.scene.model.is_some()) {
         eprintln!("warning: {warning}");
     }
-    let (legs_complete, stop) = stop_reason(&outcomes, args.max_steps);
+    let leg_stops: Vec<LegStop> = outcomes
+        .iter()
+        .map(|(leg, outcome)| LegStop::new(*leg, outcome, args.max_steps))
+        .collect();
+    let legs_complete = leg_stops.iter().all(LegStop::complete);
+    let stop = leg_stops
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join("; ");
     // Whatever was computed is kept and drawn, even when the branch stopped
     // on an error; then the figures say so.
     let cut = if super::interrupt::interrupted() {
@@ -315,19 +261,19 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     } else {
         write_figures(&setup, &along_branch(&records), &stem, cut)?
     };
-    let lpc = if args.lpc_curve {
+    let mut lpc = if args.lpc_curve {
         fold_curves(&setup, &records, &stem, args)?
     } else {
-        (LpcCurves::default(), Vec::new())
+        FoldCurves::default()
     };
-    let files: Vec<PathBuf> = files.into_iter().chain(lpc.1).collect();
+    let files: Vec<PathBuf> = files.into_iter().chain(lpc.files.drain(..)).collect();
     let stop = match start.reason() {
         Some(_) => {
             "no branch: no Hopf point and no cycle found by simulation (see reason)".to_string()
         }
         None => stop,
     };
-    let requested = requested_points(
+    let requested: Vec<Requested> = requested_points(
         &args.at_kappa,
         &records,
         &BranchEnds {
@@ -338,7 +284,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             stop: &stop,
             no_branch: start.reason(),
         },
-    );
+    )
+    .iter()
+    .map(|r| Requested::new(r, &units))
+    .collect();
     // Partial: a leg ended short of its range, or the search for a start was
     // inconclusive. A requested value the branch did not reach is then among
     // what is missing; one where no cycle exists (above kappa_c, beyond a
@@ -348,26 +297,24 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if args.json {
         let v = json!({
             "scene": setup.scene.name,
-            "model": setup.choice.kind.name(),
+            "model": setup.choice.kind,
             "params": params_json(&setup.params),
             "kappa_c": start.kappa_c(),
             "start": start.json(),
             "collocation": points_name(points),
             "units": {"D0_um": units.d0 * 1e6, "V0_um_per_s": units.velocity_um_s(1.0)},
-            "cycles": records.iter().map(|c| record_json(c, &units)).collect::<Vec<_>>(),
-            "special_points": records.iter().flat_map(CycleRecord::special_points).map(|(kind, l)| json!({
-                "kind": kind, "kappa": l.kappa, "period": l.period, "delta_s": l.delta_s,
-                "v_min": l.v_min, "v_max": l.v_max,
-            })).collect::<Vec<_>>(),
+            "cycles": details,
+            "special_points": specials,
             "complete": complete,
             "stop": stop,
+            "leg_stops": leg_stops,
             "model_switch": switch.as_ref().map(|s| json!({
                 "kappa": s.kappa, "inertial_imbalance": s.inertial_imbalance, "threshold": s.threshold,
                 "from": "quasi-static", "to": "inertial", "reason": s.describe(),
             })),
-            "requested_points": requested.iter().map(requested_json).collect::<Vec<_>>(),
-            "lpc_curve": lpc_json(&lpc.0, &setup.scene.units),
-            "lpc_stops": lpc.0.stops,
+            "requested_points": requested,
+            "lpc_curve": lpc.folds,
+            "lpc_stops": lpc.stops,
             "files": files.iter().chain([&csv_path]).map(|f| f.display().to_string()).collect::<Vec<_>>(),
         });
         let mut v = v;
@@ -380,15 +327,25 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         );
     } else {
         println!("stopped: {stop}");
+        // Stiffnesses as kappa (as asked) and as K/W (as the cycles' lines).
+        let both = |kappa: f64, decimals: usize| {
+            format!(
+                "{kappa:.decimals$e} (K/W = {:.decimals$e} 1/m)",
+                units.k_over_w(kappa)
+            )
+        };
         for r in &requested {
+            let asked = format!(
+                "requested kappa = {:.10e} (K/W = {:.8e} 1/m)",
+                r.kappa, r.k_over_w_per_m
+            );
             match &r.reason {
                 None => println!(
-                    "requested kappa = {:.10e}: delivered ({} cycle{})",
-                    r.kappa,
-                    r.delivered,
-                    if r.delivered == 1 { "" } else { "s" }
+                    "{asked}: delivered ({} cycle{})",
+                    r.cycles,
+                    if r.cycles == 1 { "" } else { "s" }
                 ),
-                Some(why) => println!("requested kappa = {:.10e}: not delivered: {why}", r.kappa),
+                Some(why) => println!("{asked}: not delivered: {}", why.describe(&both)),
             }
         }
         for f in files.iter().chain([&csv_path]) {
@@ -472,18 +429,8 @@ fn validity_warning(
         })
 }
 
-/// One requested stiffness as JSON: `kappa`, `delivered`, and `reason` when
-/// no cycle was delivered.
-fn requested_json(r: &RequestedPoint) -> Value {
-    let mut v = json!({"kappa": r.kappa, "delivered": r.delivered > 0, "cycles": r.delivered});
-    if let Some(why) = &r.reason {
-        v["reason"] = json!(why);
-    }
-    v
-}
-
 /// The requested stiffnesses without a cycle, as comment lines at the end of the CSV.
-fn write_requested_csv(csv: &mut impl Write, requested: &[RequestedPoint]) -> Result<(), Error> {
+fn write_requested_csv(csv: &mut impl Write, requested: &[Requested]) -> Result<(), Error> {
     for r in requested {
         if let Some(why) = &r.reason {
             writeln!(
@@ -497,14 +444,25 @@ fn write_requested_csv(csv: &mut impl Write, requested: &[RequestedPoint]) -> Re
     Ok(())
 }
 
+/// The curves of folds of cycles through the folds of a branch.
+#[derive(Default)]
+struct FoldCurves {
+    /// Their points.
+    folds: Vec<FoldPoint>,
+    /// Why their ends stopped, in words.
+    stops: Vec<String>,
+    /// Their CSV and figure.
+    files: Vec<PathBuf>,
+}
+
 /// The curves of folds of cycles through every fold on the branch, with
-/// their files (CSV and figure); the text output reports each curve.
+/// their files; the text output reports each curve.
 fn fold_curves(
     setup: &Setup,
     records: &[CycleRecord],
     stem: &Path,
     args: &CyclesArgs,
-) -> Result<(LpcCurves, Vec<PathBuf>), Error> {
+) -> Result<FoldCurves, Error> {
     let mut curves = LpcCurves::default();
     let folds = records
         .iter()
@@ -523,16 +481,20 @@ fn fold_curves(
         curves.points.extend(c.points);
         curves.stops.extend(c.stops);
     }
-    let u = setup.scene.units;
+    let folds = FoldPoint::all(&curves, &setup.scene.units);
     if !args.json {
-        for line in lpc_summary(&curves, &u, args.units) {
+        for line in lpc_summary(&folds, &curves.stops, args.units) {
             println!("{line}");
         }
     }
-    if curves.points.iter().all(Vec::is_empty) {
-        return Ok((curves, Vec::new()));
+    if folds.is_empty() {
+        return Ok(FoldCurves {
+            folds,
+            stops: curves.stops,
+            files: Vec::new(),
+        });
     }
-    let mut files = vec![write_lpc_csv(stem, &setup.scene.name, &curves, &u)?];
+    let mut files = vec![write_lpc_csv(stem, &setup.scene.name, &folds)?];
     let figure = LineFigure {
         title: format!(
             "Folds of cycles (hysteresis boundary), {}: stick-slip coexists with steady sliding below",
@@ -542,35 +504,38 @@ fn fold_curves(
         y_label: "K/W [1/m]".into(),
         log_x: true,
         log_y: true,
-        series: curves
-            .points
-            .iter()
+        series: folds
+            .chunk_by(|a, b| a.curve == b.curve)
             .enumerate()
             .map(|(i, curve)| Series {
                 label: (i == 0).then(|| "fold of cycles (LPC)".to_string()),
                 points: curve
                     .iter()
-                    .map(|p| (u.velocity_um_s(p.nu), u.k_over_w(p.kappa)))
+                    .map(|p| (p.physical.v_um_per_s, p.physical.k_over_w_per_m))
                     .collect(),
                 color: FOLD_COLOR,
                 dashed: false,
                 markers: false,
             })
-            .chain(hopf_reference(setup, &curves))
+            .chain(hopf_reference(setup, &folds))
             .collect(),
     };
     files.extend(
         render(&figure, &with_suffix(stem, "-lpc-curve"))
             .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
     );
-    Ok((curves, files))
+    Ok(FoldCurves {
+        folds,
+        stops: curves.stops,
+        files,
+    })
 }
 
-/// The Hopf curve over the velocities of the fold curves, for the figure:
+/// The Hopf curve over the velocities of the folds, for the figure:
 /// `kappa_c` of Appendix C (the Hopf condition in closed form) at 200
-/// velocities, where it is positive; `None` without fold curves.
-fn hopf_reference(setup: &Setup, curves: &LpcCurves) -> Option<Series> {
-    let nus = curves.points.iter().flatten().map(|p| p.nu);
+/// velocities, where it is positive; `None` without folds.
+fn hopf_reference(setup: &Setup, folds: &[FoldPoint]) -> Option<Series> {
+    let nus = folds.iter().map(|p| p.nu);
     let (lo, hi) = nus.fold((f64::INFINITY, 0.0f64), |(a, b), nu| (a.min(nu), b.max(nu)));
     if !(lo.is_finite() && hi > lo) {
         return None;
@@ -632,39 +597,11 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
 }
 
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.
-fn write_row(csv: &mut impl Write, c: &CycleRecord, u: &Units) -> Result<(), Error> {
-    writeln!(
-        csv,
-        "{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{},{},{},{},{},{},{:.3e},{:.15e},{:.15e},{:.15e},{:.15e}",
-        c.kappa,
-        c.period,
-        c.delta_s,
-        c.s_min,
-        c.s_max,
-        c.v_min,
-        c.v_max,
-        match c.stability {
-            Stability::Stable => "true",
-            Stability::Unstable => "false",
-            _ => "undecidable",
-        },
-        c.trivial_error
-            .map_or_else(|| "n/a".to_string(), |e| format!("{e:.3e}")),
-        c.error_estimate
-            .map_or_else(|| "n/a".to_string(), |e| format!("{e:.3e}")),
-        c.ntst,
-        c.user_point,
-        c.model.name(),
-        c.inertial_imbalance,
-        u.k_over_w(c.kappa),
-        c.period * u.d0 / u.v0,
-        u.velocity_um_s(c.v_min),
-        u.velocity_um_s(c.v_max)
-    )?;
+fn write_row(csv: &mut impl Write, c: &Cycle) -> Result<(), Error> {
+    writeln!(csv, "{}", row(c)?)?;
     csv.flush()?;
     Ok(())
 }
-
 /// The files `cycles` may write, after the run's stem.
 const OUTPUTS: &[&str] = &[
     "-cycles.csv",
@@ -690,17 +627,37 @@ const FOLD_COLOR: RGBColor = RGBColor(150, 60, 150);
 const PD_COLOR: RGBColor = RGBColor(230, 140, 20);
 const NS_COLOR: RGBColor = RGBColor(20, 150, 150);
 
+/// The text lines of a cycle: a cycle at a requested stiffness on one
+/// line; else the cycle, its stability and errors, and the bifurcations
+/// `found` since the previous cycle.
+fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
+    if cycle.user_point {
+        println!("  user point {}", cycle_text(units, cycle));
+        return;
+    }
+    println!(
+        "{}  {}  |mu_1 - 1| {}  err {}  NTST {}",
+        cycle_text(units, cycle),
+        cycle.stable.word(),
+        or_na(
+            cycle.trivial_multiplier_error,
+            "Floquet pencil singular to rounding"
+        ),
+        or_na(cycle.error_estimate, "no solution on half the mesh"),
+        cycle.ntst
+    );
+    for s in found {
+        println!("  {} at {}", s.kind.name(), cycle_text(units, &s.cycle));
+    }
+}
+
 /// A cycle in the text units `units`: stiffness, period, `Delta_s` (a
 /// friction coefficient either way) and the range of the slip velocity.
-fn cycle_text(units: TextUnits, c: &CycleRecord, u: &Units) -> String {
+fn cycle_text(units: TextUnits, c: &Cycle) -> String {
     match units {
         TextUnits::Physical => format!(
             "K/W {:.8e} 1/m  period {:.6e} s  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s",
-            u.k_over_w(c.kappa),
-            c.period * u.d0 / u.v0,
-            c.delta_s,
-            u.velocity_um_s(c.v_min),
-            u.velocity_um_s(c.v_max)
+            c.k_over_w_per_m, c.period_s, c.delta_s, c.v_min_um_per_s, c.v_max_um_per_s
         ),
         TextUnits::Dimensionless => format!(
             "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",

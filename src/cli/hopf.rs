@@ -1,16 +1,15 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
+use super::records::hopf::{CycleSide, HopfReport, HopfStatus, Onset};
 use super::{
-    describe_params, describe_params_except, onset_with_degeneracy_resolved, params_json,
-    SceneArgs, Setup,
+    describe_params, describe_params_except, onset_with_degeneracy_resolved, SceneArgs, Setup,
+    TextUnits,
 };
-use crate::analysis::hopf::{HopfOutcome, HopfPoint};
-use crate::appendix_c;
+use crate::analysis::hopf::{Arithmetic, Criticality, HopfOutcome};
 use crate::error::{Error, NumericalError};
 use crate::model::ModelKind;
 use crate::params::Param;
 use clap::Args;
-use serde_json::json;
 
 #[derive(Args, Debug)]
 pub struct HopfArgs {
@@ -19,11 +18,11 @@ pub struct HopfArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Relative difference `|a - b| / |b|`.
-fn rel_diff(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
+    /// Units of the text: physical (K/W in 1/m, the frequency shift in
+    /// Hz m) or dimensionless (kappa, omega in V0/D0). The table of the
+    /// onset gives both, and so does the JSON.
+    #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
+    pub units: TextUnits,
 }
 
 /// Runs the command.
@@ -51,129 +50,56 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
             .into());
         }
     }
+    let report = HopfReport::new(&setup, &outcome);
     if args.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&to_json(&setup, &outcome))
+            serde_json::to_value(&report)
+                .and_then(|v| serde_json::to_string_pretty(&v))
                 .map_err(std::io::Error::other)?
         );
     } else {
-        print_text(&setup, &outcome);
+        print_text(&setup, &report, args.units);
     }
     Ok(())
 }
 
-fn to_json(setup: &Setup, outcome: &HopfOutcome) -> serde_json::Value {
-    let mut at = setup.params;
-    if let HopfOutcome::Found(h) = outcome {
-        at.kappa = h.kappa_c;
-    }
-    let p = &at;
-    let units = &setup.scene.units;
-    let mut out = json!({
-        "scene": setup.scene.name,
-        "model": setup.choice.kind.name(),
-        "model_reason": setup.choice.reason,
-        "inertia_ratio": setup.choice.inertia_ratio,
-        "params": params_json(p),
-        "mu_v": p.mu_v(),
-        "mu_phi": p.mu_phi(),
-    });
-    if !matches!(outcome, HopfOutcome::Found(_)) {
-        // No onset: the stiffness is what was searched for, not a parameter.
-        out["params"]["kappa"] = serde_json::Value::Null;
-    }
-    let kappa_ref = appendix_c::critical_stiffness(p);
-    match outcome {
-        HopfOutcome::Found(h) => {
-            let omega_ref = appendix_c::critical_frequency(p).unwrap_or(f64::NAN);
-            let extra = json!({
-                "status": "hopf",
-                "kappa_c": h.kappa_c,
-                "omega_c": h.omega_c,
-                "state": { "s": h.state[0], "v": h.state[1], "theta": h.state[2] },
-                "eigenvalues": h.eigenvalues.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>(),
-                "appendix_c": {
-                    "kappa_c": kappa_ref,
-                    "omega_c": omega_ref,
-                    "kappa_c_rel_diff": rel_diff(h.kappa_c, kappa_ref),
-                    "omega_c_rel_diff": rel_diff(h.omega_c, omega_ref),
-                },
-                "physical": {
-                    "V_um_per_s": units.velocity_um_s(p.nu),
-                    "K_over_W_per_m": units.k_over_w(h.kappa_c),
-                    "K_over_M_per_s2": units.k_over_m(h.kappa_c),
-                    "K_N_per_m": units.stiffness(h.kappa_c),
-                    "frequency_hz": units.frequency_hz(h.omega_c),
-                },
-                "l1": h.onset.l1,
-                "l1_term_scale": h.onset.l1_scale,
-                "l1_error_bound": h.onset.l1_error_bound,
-                "l1_arithmetic": h.onset.arithmetic.name(),
-                "criticality": h.onset.criticality.name(),
-                "amplitude_coefficient": h.onset.amplitude_coefficient,
-                "onset": {
-                    "c1": [h.onset.c1.re, h.onset.c1.im],
-                    "dlambda_dkappa": [h.onset.dlambda_dkappa.re, h.onset.dlambda_dkappa.im],
-                    "cycle_side": h.onset.side.map(|s| if s < 0.0 { "kappa < kappa_c" } else { "kappa > kappa_c" }),
-                    "frequency_slope": h.onset.frequency_slope,
-                },
-                "location": { "newton_iterations": h.newton_iterations, "residual": h.residual, "continuation_steps": h.steps },
-            });
-            merge(&mut out, extra);
-        }
-        HopfOutcome::StableForAllStiffness { kappa_min } => {
-            merge(
-                &mut out,
-                json!({
-                    "status": "stable_for_all_stiffness",
-                    "kappa_c": null,
-                    "omega_c": null,
-                    "kappa_min_checked": kappa_min,
-                    // Eq. C11 gives a stiffness only where steady friction
-                    // weakens (mu_phi > mu_v); else no onset, not a negative one.
-                    "appendix_c": { "kappa_c": (kappa_ref > 0.0).then_some(kappa_ref) },
-                }),
-            );
-        }
-    }
-    out
-}
-
-fn merge(into: &mut serde_json::Value, from: serde_json::Value) {
-    if let (Some(a), serde_json::Value::Object(b)) = (into.as_object_mut(), from) {
-        a.extend(b);
-    }
-}
-
-fn print_text(setup: &Setup, outcome: &HopfOutcome) {
+fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
     let p = &setup.params;
-    let units = &setup.scene.units;
     println!("scene: {} — {}", setup.scene.name, setup.scene.description);
-    println!("model: {}", setup.choice.reason);
+    println!("model: {}", report.model_reason);
     let mut shown = *p;
-    let listed = if let HopfOutcome::Found(h) = outcome {
-        shown.kappa = h.kappa_c;
-        format!("kappa at onset): {}", describe_params(&shown))
-    } else {
-        format!(
+    let listed = match &report.outcome {
+        HopfStatus::Hopf(o) => {
+            shown.kappa = o.kappa_c;
+            format!("kappa at onset): {}", describe_params(&shown))
+        }
+        HopfStatus::StableForAllStiffness(_) => format!(
             "no onset, hence no kappa): {}",
             describe_params_except(&shown, Some(Param::Kappa))
-        )
+        ),
     };
     println!("parameters (dimensionless, docs/model.md; {listed}");
     println!(
         "steady sliding at V = {:.4e} um/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
-        units.velocity_um_s(p.nu),
-        p.mu_v(),
-        p.mu_phi(),
-        p.mu_v() - p.mu_phi()
+        setup.scene.units.velocity_um_s(p.nu),
+        report.mu_v,
+        report.mu_phi,
+        report.mu_v - report.mu_phi
     );
-    match outcome {
-        HopfOutcome::Found(h) => print_hopf(setup, h),
-        HopfOutcome::StableForAllStiffness { kappa_min } => {
+    match &report.outcome {
+        HopfStatus::Hopf(o) => {
+            print_hopf(setup, report.model, o, units);
+            print_normal_form(o, p.mu0, units);
+            println!(
+                "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
+                 after {} continuation steps from a stable stiffness",
+                o.location.newton_iterations, o.location.residual, o.location.continuation_steps
+            );
+        }
+        HopfStatus::StableForAllStiffness(n) => {
             println!();
-            let weakening = p.mu_phi() - p.mu_v();
+            let weakening = report.mu_phi - report.mu_v;
             if weakening <= 0.0 {
                 println!(
                     "steady sliding is linearly stable for every stiffness: steady friction is velocity \
@@ -182,108 +108,106 @@ fn print_text(setup: &Setup, outcome: &HopfOutcome) {
                 );
             } else {
                 println!(
-                    "no Hopf point down to kappa = {kappa_min:.3e}, although steady friction weakens slightly \
-                     (mu_phi - mu_v = {weakening:.4e}): the critical stiffness, if any, lies below the searched range."
+                    "no Hopf point down to {}, although steady friction weakens slightly \
+                     (mu_phi - mu_v = {weakening:.4e}): the critical stiffness, if any, lies below the searched range.",
+                    units.stiffness(n.kappa_min_checked, n.k_over_w_min_checked_per_m, 3)
                 );
             }
         }
     }
 }
 
-fn print_hopf(setup: &Setup, h: &HopfPoint) {
-    let p = &setup.params;
-    let units = &setup.scene.units;
-    let kappa_ref = appendix_c::critical_stiffness(p);
-    let omega_ref = appendix_c::critical_frequency(p).unwrap_or(f64::NAN);
-    let eq = if setup.choice.kind == ModelKind::Inertial {
+/// The onset beside Appendix C, in both unit systems.
+fn print_hopf(setup: &Setup, model: ModelKind, o: &Onset, units: TextUnits) {
+    let u = &setup.scene.units;
+    let eq = if model == ModelKind::Inertial {
         "C11"
     } else {
         "C12"
     };
     println!();
-    println!("Hopf point (stick-slip onset): steady sliding is stable for kappa > kappa_c");
+    println!(
+        "Hopf point (stick-slip onset): steady sliding is stable for {}",
+        match units {
+            TextUnits::Physical => "K/W > K_c/W",
+            TextUnits::Dimensionless => "kappa > kappa_c",
+        }
+    );
     println!(
         "  {:<24} {:>22} {:>28} {:>10}",
         "", "continuation", "Appendix C", "rel. diff"
     );
     println!(
         "  {:<24} {:>22.14e} {:>17.14e} ({eq}) {:>9.1e}",
-        "kappa_c = K_c D0/W",
-        h.kappa_c,
-        kappa_ref,
-        rel_diff(h.kappa_c, kappa_ref)
+        "kappa_c = K_c D0/W", o.kappa_c, o.appendix_c.kappa_c, o.appendix_c.kappa_c_rel_diff
     );
     println!(
         "  {:<24} {:>22.14e} {:>17.14e} (C13) {:>9.1e}",
-        "omega_c [V0/D0]",
-        h.omega_c,
-        omega_ref,
-        rel_diff(h.omega_c, omega_ref)
+        "omega_c [V0/D0]", o.omega_c, o.appendix_c.omega_c, o.appendix_c.omega_c_rel_diff
     );
+    let physical = &o.physical;
     println!(
         "  {:<24} {:>22.8e}",
-        "K_c/W [1/m]",
-        units.k_over_w(h.kappa_c)
+        "K_c/W [1/m]", physical.at.k_over_w_per_m
     );
-    match units.k_over_m(h.kappa_c) {
+    match physical.at.k_over_m_per_s2 {
         Some(km) => println!(
             "  {:<24} {:>22.8e}   (W = {:.4e} N, M = {:.4e} kg)",
-            "K_c/M [1/s^2]", km, units.load, units.mass
+            "K_c/M [1/s^2]", km, u.load, u.mass
         ),
         None => println!("  {:<24} {:>22}", "K_c/M [1/s^2]", "— (massless block)"),
     }
-    println!(
-        "  {:<24} {:>22.8e}",
-        "K_c [N/m]",
-        units.stiffness(h.kappa_c)
-    );
-    println!(
-        "  {:<24} {:>22.8e}",
-        "f_c [Hz]",
-        units.frequency_hz(h.omega_c)
-    );
-    print_onset(&h.onset, h.kappa_c, p.mu0);
-    println!(
-        "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
-         after {} continuation steps from a stable stiffness",
-        h.newton_iterations, h.residual, h.steps
-    );
+    println!("  {:<24} {:>22.8e}", "K_c [N/m]", physical.k_n_per_m);
+    println!("  {:<24} {:>22.8e}", "f_c [Hz]", physical.at.frequency_hz);
 }
 
-fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64, mu0: f64) {
-    use crate::analysis::hopf::Criticality;
+/// The onset type and what the normal form predicts for the emerging cycle.
+fn print_normal_form(o: &Onset, mu0: f64, units: TextUnits) {
     println!();
     println!(
         "Onset type: {} (first Lyapunov coefficient l1 = {:.10e} ± {:.1e}, docs/model.md convention{})",
         o.criticality.name(),
         o.l1,
         o.l1_error_bound,
-        match o.arithmetic {
-            crate::analysis::hopf::Arithmetic::Double => "",
-            crate::analysis::hopf::Arithmetic::DoubleDouble => "; computed in double-double, f64 could not resolve it",
+        match o.l1_arithmetic {
+            Arithmetic::Double => "",
+            Arithmetic::DoubleDouble => "; computed in double-double, f64 could not resolve it",
         }
     );
-    match (o.criticality, o.amplitude_coefficient, o.side) {
+    match (o.criticality, o.amplitude_coefficient, o.onset.cycle_side) {
         (Criticality::Degenerate, ..) => println!(
             "  degenerate within rounding: |l1| < {:.2e}, the bound on its rounding error (its terms are of \
              size {:.2e}): the cubic normal form does not decide. For the quasi-static Rice–Ruina law this is \
              exact (Ranjith & Rice 1999): at kappa = kappa_c a whole family of cycles exists; add the ln² term \
              (mu2) or inertia.",
             o.l1_error_bound,
-            o.l1_scale
+            o.l1_term_scale
         ),
         (_, Some(c), Some(side)) => {
-            let (where_, hyst) = if side < 0.0 {
-                ("below kappa_c (kappa < kappa_c)", "stable: stick-slip grows continuously as K decreases")
-            } else {
-                ("above kappa_c (kappa > kappa_c)", "unstable: it bounds the basin of steady sliding; the onset is hysteretic")
+            let (k, kc) = match units {
+                TextUnits::Physical => ("K/W", "K_c/W"),
+                TextUnits::Dimensionless => ("kappa", "kappa_c"),
+            };
+            let (where_, hyst) = match side {
+                CycleSide::Below => (
+                    format!("below {kc} ({k} < {kc})"),
+                    "stable: stick-slip grows continuously as K decreases",
+                ),
+                CycleSide::Above => (
+                    format!("above {kc} ({k} > {kc})"),
+                    "unstable: it bounds the basin of steady sliding; the onset is hysteretic",
+                ),
             };
             println!("  emerging cycle exists {where_}; it is {hyst}");
+            let (coefficient, unit) = match (units, o.physical.amplitude_coefficient_sqrt_m) {
+                (TextUnits::Physical, Some(c_m)) => (c_m, " m^1/2"),
+                _ => (c, ""),
+            };
             println!(
-                "  peak-to-peak spring force: Delta_s ~ C sqrt|kappa - kappa_c|, C = {c:.10e} \
+                "  peak-to-peak spring force: Delta_s ~ C sqrt|{k} - {kc}|, C = {coefficient:.10e}{unit} \
                  (Delta(K x / W) in units of the friction coefficient)"
             );
-            let example = c * (0.01 * kappa_c).sqrt();
+            let example = c * (0.01 * o.kappa_c).sqrt();
             println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}");
             if example > mu0.abs() {
                 println!(
@@ -291,8 +215,14 @@ fn print_onset(o: &crate::analysis::hopf::Onset, kappa_c: f64, mu0: f64) {
                      near onset can promise; `stickslip cycles` computes the cycles themselves)"
                 );
             }
-            if let Some(fs) = o.frequency_slope {
-                println!("  frequency shift on the cycle: d Omega / d kappa = {fs:.6e} (units V0/D0)");
+            match (units, o.physical.frequency_slope_hz_m, o.onset.frequency_slope) {
+                (TextUnits::Physical, Some(fs), _) => println!(
+                    "  frequency shift on the cycle: d f / d(K/W) = {fs:.6e} Hz m"
+                ),
+                (_, _, Some(fs)) => println!(
+                    "  frequency shift on the cycle: d Omega / d kappa = {fs:.6e} (units V0/D0)"
+                ),
+                _ => {}
             }
         }
         _ => {}

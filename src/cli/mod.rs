@@ -5,6 +5,7 @@
 //! (kept, but the request incomplete) with status 4.
 
 pub mod branch;
+pub mod csv;
 pub mod cycle_start;
 pub mod cycles;
 pub mod diagram;
@@ -12,6 +13,7 @@ pub mod files;
 pub mod hopf;
 pub mod interrupt;
 pub mod lpc_output;
+pub mod records;
 pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
@@ -21,7 +23,7 @@ use crate::analysis::model_choice::{
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
-use crate::scene::{self, Scene, Units};
+use crate::scene::{self, Scene};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// Bifurcation analysis of frictional sliding: when does steady sliding of a
@@ -94,11 +96,11 @@ pub enum TextUnits {
 }
 
 impl TextUnits {
-    /// A stiffness `kappa` in these units, `K/W = ... 1/m` or `kappa = ...`,
-    /// with `digits` decimals.
-    pub fn stiffness(self, kappa: f64, u: &Units, digits: usize) -> String {
+    /// A stiffness given as `kappa` and as `K/W` (a record's two fields) in
+    /// these units, `K/W = ... 1/m` or `kappa = ...`, with `digits` decimals.
+    pub fn stiffness(self, kappa: f64, k_over_w: f64, digits: usize) -> String {
         match self {
-            TextUnits::Physical => format!("K/W = {:.digits$e} 1/m", u.k_over_w(kappa)),
+            TextUnits::Physical => format!("K/W = {k_over_w:.digits$e} 1/m"),
             TextUnits::Dimensionless => format!("kappa = {kappa:.digits$e}"),
         }
     }

@@ -3,14 +3,17 @@
 //! Rows are written as they are computed; a bar shows the simulated time on
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
 
+use super::csv::{header, row};
 use super::files::OutputArgs;
-use super::SceneArgs;
+use super::records::simulation::SimulationRow;
+use super::{SceneArgs, TextUnits};
 use crate::analysis::decimate::{Buckets, Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::simulate::{simulate_watched, RunOptions, Sample, Segment, Trajectory};
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
+use crate::scene::Units;
 use clap::Args;
 use plotters::style::RGBColor;
 use std::io::Write;
@@ -49,6 +52,10 @@ pub struct SimulateArgs {
     /// rows per N steps; slips keep their tips). 1 keeps every step.
     #[arg(long, default_value_t = 1, value_name = "N")]
     pub every: usize,
+    /// Units of the text lines: physical (times in s, velocities in µm/s)
+    /// or dimensionless (t in D0/V0, nu). The CSV carries both times.
+    #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
+    pub units: TextUnits,
 }
 
 fn parse_protocol(text: &str, v0_um_s: f64, time_unit_s: f64) -> Result<Vec<Segment>, InputError> {
@@ -117,9 +124,12 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         at_top.nu = top;
         setup.choice = choose_model(&at_top, None, args.scene.inertia_threshold);
         setup.choice.reason = format!(
-            "{} (at the protocol's fastest pulling velocity, {:.4e} um/s)",
+            "{} (at the protocol's fastest pulling velocity, {})",
             setup.choice.reason,
-            u.velocity_um_s(top)
+            match args.units {
+                TextUnits::Physical => format!("{:.4e} um/s", u.velocity_um_s(top)),
+                TextUnits::Dimensionless => format!("nu = {top:.4e}"),
+            }
         );
         setup.params = params_for(setup.choice.kind, &setup.scene_params);
     }
@@ -154,7 +164,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     );
     let csv_path = super::files::with_suffix(&stem, ".csv");
     super::interrupt::catch_interrupts();
-    let mut rows = Rows::create(&csv_path, time_unit)?;
+    let mut rows = Rows::create(&csv_path, u)?;
     let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
     const TICKS: f64 = 10_000.0;
     let bar = super::interrupt::progress_bar(TICKS as u64, "simulating");
@@ -237,19 +247,24 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     } else {
         Vec::new()
     };
+    // A time `t` (units D0/V0) in the text's units.
+    let time = |t: f64| match args.units {
+        TextUnits::Physical => format!("{:.6e} s", t * time_unit),
+        TextUnits::Dimensionless => format!("{t:.6e} (units D0/V0)"),
+    };
     println!("model: {}", setup.choice.reason);
     if let Some(sw) = switch {
         println!(
-            "switched to the inertial model at t = {:.6e} s: there inertia would shift ln v by \
+            "switched to the inertial model at t = {}: there inertia would shift ln v by \
              m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); the rows say which model (column model)",
-            sw.t * time_unit,
+            time(sw.t),
             sw.chi,
             watch.threshold
         );
     }
     println!(
-        "{count} steps over {:.6e} s{}",
-        traj.t.last().copied().unwrap_or(0.0) * time_unit,
+        "{count} steps over {}{}",
+        time(traj.t.last().copied().unwrap_or(0.0)),
         if stride > 1 {
             format!(" (figures: the extremes of every {stride} steps, --plot-points)")
         } else {
@@ -290,36 +305,27 @@ const OUTPUTS: &[&str] = &[
 /// them; flushed at least every 0.1 s, so a killed run keeps its rows.
 struct Rows {
     w: std::io::BufWriter<std::fs::File>,
-    time_unit: f64,
+    units: Units,
     flushed: Instant,
 }
 
 impl Rows {
-    fn create(path: &Path, time_unit: f64) -> std::io::Result<Rows> {
+    fn create(path: &Path, units: Units) -> std::io::Result<Rows> {
         let mut w = crate::cli::files::create_file(path)?;
-        writeln!(w, "t_s,t,s,v,theta,slip,log10_v,model")?;
+        writeln!(w, "{}", header::<SimulationRow>()?)?;
         w.flush()?;
         Ok(Rows {
             w,
-            time_unit,
+            units,
             flushed: Instant::now(),
         })
     }
 
     fn push(&mut self, p: &Sample) -> std::io::Result<()> {
         // One write per row, so that a flush never splits it.
-        let row = format!(
-            "{:.12e},{:.12e},{:.12e},{},{:.12e},{:.12e},{:.12e},{}\n",
-            p.t * self.time_unit,
-            p.t,
-            p.s,
-            velocity_text(p),
-            p.theta,
-            p.slip,
-            p.log10_v,
-            p.model.name()
-        );
-        self.w.write_all(row.as_bytes())?;
+        let mut line = row(&SimulationRow::new(p, &self.units))?;
+        line.push('\n');
+        self.w.write_all(line.as_bytes())?;
         if self.flushed.elapsed() > Duration::from_millis(100) {
             self.flush()?;
         }
@@ -332,20 +338,9 @@ impl Rows {
     }
 }
 
-/// `v` for the CSV: below the normal floating-point range (where `v`
-/// underflows or loses digits) it is written from `log10 v`, e.g.
-/// `3.162277660168e-400`, never as 0.
-fn velocity_text(p: &Sample) -> String {
-    if p.v >= f64::MIN_POSITIVE {
-        return format!("{:.12e}", p.v);
-    }
-    let e = p.log10_v.floor();
-    format!("{:.12}e{}", 10f64.powf(p.log10_v - e), e as i64)
-}
-
 /// Whether the velocities span more than a log axis can draw (some below
 /// `1e-300` µm/s): the figure then shows `log10 v` on a linear axis.
-fn velocity_beyond_log_axis(traj: &Trajectory, u: &crate::scene::Units) -> bool {
+fn velocity_beyond_log_axis(traj: &Trajectory, u: &Units) -> bool {
     traj.log10_v
         .iter()
         .any(|l| l + (u.velocity_um_s(1.0)).log10() < -300.0)
@@ -354,11 +349,7 @@ fn velocity_beyond_log_axis(traj: &Trajectory, u: &crate::scene::Units) -> bool 
 /// The pulling velocity of `protocol` over the run's time span `t_last`
 /// (dimensionless): one level per segment, from its start to its end, in
 /// seconds and µm/s.
-fn protocol_levels(
-    protocol: &[Segment],
-    t_last: f64,
-    u: &crate::scene::Units,
-) -> Vec<[(f64, f64); 2]> {
+fn protocol_levels(protocol: &[Segment], t_last: f64, u: &Units) -> Vec<[(f64, f64); 2]> {
     let mut out = Vec::new();
     let mut t = 0.0;
     for seg in protocol {
@@ -377,7 +368,7 @@ fn figures(
     name: &str,
     traj: &Trajectory,
     protocol: &[Segment],
-    u: &crate::scene::Units,
+    u: &Units,
     stem: &std::path::Path,
     switch: Option<f64>,
 ) -> Result<Vec<PathBuf>, Error> {

@@ -3,7 +3,7 @@
 
 use super::super::files::with_suffix;
 use super::super::{significant, Setup};
-use crate::analysis::diagram::StabilityDiagram;
+use crate::analysis::diagram::{SpecialKind, StabilityDiagram};
 use crate::appendix_c;
 use crate::error::Error;
 use crate::plot::stability::{render, segments, Note, StabilityFigure};
@@ -102,13 +102,13 @@ pub(super) fn write_figures(
         let markers = d
             .special
             .iter()
-            .filter(|s| s.kind == "bautin")
+            .filter(|s| s.kind == SpecialKind::Bautin)
             .map(|s| ("Bautin (l1 = 0)".to_string(), fx(s.nu), fy(s.kappa)))
             .collect();
         let vlines = d
             .special
             .iter()
-            .filter(|s| s.kind == "endpoint")
+            .filter(|s| s.kind == SpecialKind::Endpoint)
             .map(|s| ("κ_c → 0: friction minimum".to_string(), fx(s.nu)))
             .collect();
         let lpc: Vec<Vec<(f64, f64)>> = d

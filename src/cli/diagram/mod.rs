@@ -4,12 +4,16 @@
 
 mod figures;
 
+use super::csv::{header, row};
 use super::files::with_suffix;
 use super::files::OutputArgs;
-use super::lpc_output::{lpc_json, lpc_summary, write_lpc_csv};
+use super::lpc_output::{lpc_summary, write_lpc_csv};
+use super::records::diagram::{DiagramRecords, HopfCurvePoint};
 use super::{params_json, significant, SceneArgs, Setup, TextUnits};
-use crate::analysis::diagram::{stability_diagram_with, StabilityDiagram, DEFAULT_CURVE_STEPS};
-use crate::appendix_c;
+use crate::analysis::diagram::{
+    stability_diagram_with, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
+};
+use crate::analysis::hopf::Criticality;
 use crate::error::{Error, InputError, NumericalError};
 use clap::Args;
 use continuation::{AsIs, Wrap};
@@ -66,6 +70,8 @@ struct SceneResult {
     setup: Setup,
     range: (f64, f64),
     diagram: StabilityDiagram,
+    /// The diagram's records, for its CSV, JSON and text.
+    records: DiagramRecords,
     files: Vec<PathBuf>,
     seconds: f64,
     /// `--max-steps`, to name it in the stop reason.
@@ -145,9 +151,10 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
                         "scene {}: ended at {} (V = {} um/s)",
                         r.setup.scene.name,
                         stop_text(&r),
-                        r.diagram.points.last().map_or("-".into(), |p| significant(
-                            r.setup.scene.units.velocity_um_s(p.nu)
-                        ))
+                        r.records
+                            .curve
+                            .last()
+                            .map_or("-".into(), |p| significant(p.physical.v_um_per_s))
                     ));
                 }
                 if args.json {
@@ -233,12 +240,14 @@ fn one_scene<F: Wrap>(
         ))
         .into());
     }
-    let mut files = write_csv(&setup, &diagram, &stem)?;
+    let records = DiagramRecords::new(&diagram, &setup.params, &setup.scene.units);
+    let mut files = write_csv(&setup, &diagram, &records, &stem)?;
     files.extend(write_figures(&setup, &diagram, (lo, hi), &stem)?);
     let mut result = SceneResult {
         setup,
         range: (lo, hi),
         diagram,
+        records,
         files,
         seconds: 0.0,
         max_steps: args.max_steps,
@@ -253,10 +262,16 @@ fn one_scene<F: Wrap>(
     Ok(result)
 }
 
-fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<PathBuf>, Error> {
+/// Writes `-hopf-curve.csv` (and `-lpc-curve.csv` with fold curves) from
+/// the records.
+fn write_csv(
+    setup: &Setup,
+    d: &StabilityDiagram,
+    records: &DiagramRecords,
+    stem: &Path,
+) -> Result<Vec<PathBuf>, Error> {
     let path = with_suffix(stem, "-hopf-curve.csv");
     let mut w = crate::cli::files::create_file(&path)?;
-    let u = &setup.scene.units;
     writeln!(
         w,
         "# scene {}; model {}; {}",
@@ -267,104 +282,37 @@ fn write_csv(setup: &Setup, d: &StabilityDiagram, stem: &Path) -> Result<Vec<Pat
     if let Some(why) = &d.reason {
         writeln!(w, "# {why}")?;
     }
-    writeln!(w, "nu,kappa,omega,l1,criticality,kappa_appendix_c,V_um_per_s,K_over_W_per_m,K_over_M_per_s2,frequency_hz")?;
-    for p in &d.points {
-        let mut at = setup.params;
-        at.nu = p.nu;
-        let km = u
-            .k_over_m(p.kappa)
-            .map(|v| format!("{v:.12e}"))
-            .unwrap_or_default();
-        writeln!(
-            w,
-            "{:.15e},{:.15e},{:.15e},{:.15e},{},{:.15e},{:.12e},{:.12e},{km},{:.12e}",
-            p.nu,
-            p.kappa,
-            p.omega,
-            p.l1,
-            p.criticality.name(),
-            appendix_c::critical_stiffness(&at),
-            u.velocity_um_s(p.nu),
-            u.k_over_w(p.kappa),
-            u.frequency_hz(p.omega)
-        )?;
+    writeln!(w, "{}", header::<HopfCurvePoint>()?)?;
+    for p in &records.curve {
+        writeln!(w, "{}", row(p)?)?;
     }
     w.flush()?;
     let mut files = vec![path];
     if !d.lpc.points.is_empty() {
-        files.push(write_lpc_csv(stem, &setup.scene.name, &d.lpc, u)?);
+        files.push(write_lpc_csv(stem, &setup.scene.name, &records.folds)?);
     }
     Ok(files)
 }
 
 fn to_json(r: &SceneResult) -> Value {
-    let u = &r.setup.scene.units;
-    let params = &r.setup.params;
-    let curve: Vec<Value> = r
-        .diagram
-        .points
-        .iter()
-        .map(|p| {
-            let mut at = *params;
-            at.nu = p.nu;
-            json!({
-                "nu": p.nu, "kappa": p.kappa, "omega": p.omega, "l1": p.l1, "l1_error_bound": p.l1_error_bound,
-                "criticality": p.criticality.name(),
-                "kappa_appendix_c": appendix_c::critical_stiffness(&at),
-                "V_um_per_s": u.velocity_um_s(p.nu),
-                "K_over_W_per_m": u.k_over_w(p.kappa),
-                "K_over_M_per_s2": u.k_over_m(p.kappa),
-                "frequency_hz": u.frequency_hz(p.omega),
-            })
-        })
-        .collect();
-    let special: Vec<Value> = r
-        .diagram
-        .special
-        .iter()
-        .map(|s| {
-            let mut v = json!({
-                "kind": s.kind, "nu": s.nu, "kappa": s.kappa, "omega": s.omega,
-                "V_um_per_s": u.velocity_um_s(s.nu),
-                "K_over_W_per_m": u.k_over_w(s.kappa),
-                "K_over_M_per_s2": u.k_over_m(s.kappa),
-                "frequency_hz": u.frequency_hz(s.omega),
-            });
-            if s.kind == "bautin" {
-                v["l2"] = json!(s.l2);
-                v["l2_error_bound"] = json!(s.l2_error_bound);
-            }
-            v
-        })
-        .collect();
-    let lpc = lpc_json(&r.diagram.lpc, u);
-    let strengthening: Vec<Value> = r
-        .diagram
-        .strengthening
-        .iter()
-        .map(|&(a, b)| {
-            json!({
-                "nu_from": a, "nu_to": b,
-                "V_from_um_per_s": u.velocity_um_s(a), "V_to_um_per_s": u.velocity_um_s(b),
-            })
-        })
-        .collect();
+    let records = &r.records;
     let mut out = json!({
         "scene": r.setup.scene.name,
-        "model": r.setup.choice.kind.name(),
+        "model": r.setup.choice.kind,
         "model_reason": r.setup.choice.reason,
-        "params": params_json(params),
+        "params": params_json(&r.setup.params),
         "nu_range": [r.range.0, r.range.1],
-        "hopf_curve": curve,
-        "special_points": special,
+        "hopf_curve": records.curve,
+        "special_points": records.special,
         "complete": r.diagram.complete,
         "stop": stop_text(r),
-        "lpc_curve": lpc,
+        "stop_reason": r.diagram.stop,
+        "lpc_curve": records.folds,
         "lpc_stops": r.diagram.lpc.stops,
         "lpc_complete": !r.diagram.lpc.incomplete,
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
         "elapsed_s": r.seconds,
-        "velocity_strengthening": strengthening,
+        "velocity_strengthening": records.strengthening,
     });
     if let Some(why) = &r.diagram.reason {
         out["reason"] = json!(why);
@@ -372,15 +320,14 @@ fn to_json(r: &SceneResult) -> Value {
     out
 }
 
-/// The stop reason; a step limit names the option that raises it.
+/// The stop reason in words; a step limit names the option that raises it.
 fn stop_text(r: &SceneResult) -> String {
-    if r.diagram.stop == "step limit" {
-        format!(
+    match r.diagram.stop {
+        CurveEnd::StepLimit => format!(
             "step limit ({} steps, --max-steps) before the end of the range",
             r.max_steps
-        )
-    } else {
-        r.diagram.stop.to_string()
+        ),
+        stop => stop.words().to_string(),
     }
 }
 
@@ -389,6 +336,7 @@ fn print_text(r: &SceneResult, units: TextUnits) {
     let _whole = std::io::stdout().lock();
     let u = &r.setup.scene.units;
     let d = &r.diagram;
+    let records = &r.records;
     println!(
         "scene: {} — {}",
         r.setup.scene.name, r.setup.scene.description
@@ -398,74 +346,83 @@ fn print_text(r: &SceneResult, units: TextUnits) {
         "Hopf curve over V = {} .. {} um/s: {} points, ended at {}",
         significant(u.velocity_um_s(r.range.0)),
         significant(u.velocity_um_s(r.range.1)),
-        d.points.len(),
+        records.curve.len(),
         stop_text(r)
     );
     if let Some(why) = &d.reason {
         println!("  {why}");
     }
-    for &(a, b) in d.strengthening.iter().filter(|_| !d.points.is_empty()) {
+    for s in records
+        .strengthening
+        .iter()
+        .filter(|_| !records.curve.is_empty())
+    {
         println!(
             "  velocity strengthening for V = {:.6e} .. {:.6e} um/s: steady sliding stable for every stiffness",
-            u.velocity_um_s(a),
-            u.velocity_um_s(b)
+            s.v_from_um_per_s, s.v_to_um_per_s
         );
     }
-    if let (Some(a), Some(b)) = (d.points.first(), d.points.last()) {
+    if let (Some(a), Some(b)) = (records.curve.first(), records.curve.last()) {
         // Where the curve ends at kappa_c -> 0 its last computed point is only
         // where the continuation stopped (1e-6 of its start): the end is the
         // friction minimum, located on the law itself.
-        let end = match d.special.iter().find(|s| s.kind == "endpoint") {
+        let end = match records
+            .special
+            .iter()
+            .find(|s| s.kind == SpecialKind::Endpoint)
+        {
             Some(e) => format!(
                 "0 at the friction minimum V_min = {} um/s",
-                significant(u.velocity_um_s(e.nu))
+                significant(e.physical.v_um_per_s)
             ),
             None => format!(
                 "{} (V = {} um/s)",
-                units.stiffness(b.kappa, u, 6),
-                significant(u.velocity_um_s(b.nu))
+                units.stiffness(b.kappa, b.physical.k_over_w_per_m, 6),
+                significant(b.physical.v_um_per_s)
             ),
         };
         println!(
             "  critical stiffness from {} (V = {} um/s) to {end}",
-            units.stiffness(a.kappa, u, 6),
-            significant(u.velocity_um_s(a.nu)),
+            units.stiffness(a.kappa, a.physical.k_over_w_per_m, 6),
+            significant(a.physical.v_um_per_s),
         );
         // Relative to the largest kappa_c on the curve where kappa_c -> 0 (an end point).
-        let scale = d.points.iter().map(|p| p.kappa.abs()).fold(0.0, f64::max);
-        let max_rel = d
-            .points
+        let scale = records
+            .curve
+            .iter()
+            .map(|p| p.kappa.abs())
+            .fold(0.0, f64::max);
+        let max_rel = records
+            .curve
             .iter()
             .map(|p| {
-                let mut at = r.setup.params;
-                at.nu = p.nu;
-                let k = appendix_c::critical_stiffness(&at);
+                let k = p.kappa_appendix_c;
                 (p.kappa - k).abs() / k.abs().max(1e-6 * scale)
             })
             .fold(0.0, f64::max);
         println!("  largest relative difference from Appendix C along the curve: {max_rel:.1e}");
     }
-    for s in &d.special {
+    for s in &records.special {
         let l2 =
             s.l2.map(|l2| format!(", l2 = {l2:.6e} ± {:.1e}", s.l2_error_bound.unwrap_or(0.0)))
                 .unwrap_or_default();
         println!(
             "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), {}, omega = {:.6e}{l2}",
-            s.kind,
-            u.velocity_um_s(s.nu),
+            s.kind.name(),
+            s.physical.v_um_per_s,
             s.nu,
-            units.stiffness(s.kappa, u, 10),
+            units.stiffness(s.kappa, s.physical.k_over_w_per_m, 10),
             s.omega
         );
     }
-    for line in lpc_summary(&d.lpc, u, units) {
+    for line in lpc_summary(&records.folds, &d.lpc.stops, units) {
         println!("{line}");
     }
-    let subcritical = d
-        .points
+    let subcritical = records
+        .curve
         .iter()
-        .any(|p| p.criticality == crate::analysis::hopf::Criticality::Subcritical);
-    if subcritical && d.lpc.points.iter().all(Vec::is_empty) {
+        .any(|p| p.criticality == Criticality::Subcritical);
+    if subcritical && records.folds.is_empty() {
         println!(
             "  the onset is subcritical (hysteretic) but no Bautin point lies in the range, and the \
              curves of folds of cycles bounding the hysteretic region are traced from Bautin \

@@ -1,0 +1,327 @@
+//! The records of `cycles`: one stick-slip cycle (a row of `-cycles.csv`,
+//! with its Floquet multipliers in the JSON), a bifurcation located on the
+//! branch, a requested stiffness, and how each leg of the branch ended.
+
+use crate::analysis::cycles::{
+    CycleBifurcation, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
+    ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
+};
+use crate::cli::csv::CsvRecord;
+use crate::error::Error;
+use crate::model::ModelKind;
+use crate::scene::Units;
+use continuation::periodic::branch::BranchEnd;
+use serde::{Serialize, Serializer};
+use std::fmt;
+
+/// A cycle's stability as presented: `true`, `false`, or undecidable within
+/// the multipliers' error (JSON `null`, CSV `undecidable`). The default only
+/// fills the record the CSV header is named from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Verdict {
+    #[default]
+    Stable,
+    Unstable,
+    Undecidable,
+}
+
+impl Verdict {
+    /// The verdict on a cycle of stability `s`.
+    pub fn of(s: Stability) -> Verdict {
+        match s {
+            Stability::Stable => Verdict::Stable,
+            Stability::Unstable => Verdict::Unstable,
+            Stability::Undecidable { .. } | Stability::Undetermined { .. } => Verdict::Undecidable,
+        }
+    }
+
+    /// `stable`, `unstable` or `undecidable`.
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Stable => "stable",
+            Verdict::Unstable => "unstable",
+            Verdict::Undecidable => "undecidable",
+        }
+    }
+}
+
+impl Serialize for Verdict {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Verdict::Stable => s.serialize_bool(true),
+            Verdict::Unstable => s.serialize_bool(false),
+            // A unit struct: `null` in JSON, its name in the CSV.
+            Verdict::Undecidable => s.serialize_unit_struct("undecidable"),
+        }
+    }
+}
+
+/// `value`, or where it is unavailable `null` in JSON and `n/a` in the CSV
+/// (the JSON gives the reason beside it).
+fn or_na<S: Serializer>(value: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+    match value {
+        Some(v) => s.serialize_f64(*v),
+        None => s.serialize_unit_struct("n/a"),
+    }
+}
+
+/// One stick-slip cycle: a row of `-cycles.csv`, the scalar fields of an
+/// entry of `cycles` ([`CycleDetail`]), a line of the text.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Cycle {
+    pub kappa: f64,
+    /// Period in units of `D0/V0`.
+    pub period: f64,
+    /// Peak-to-peak spring force.
+    pub delta_s: f64,
+    pub s_min: f64,
+    pub s_max: f64,
+    /// Slowest and fastest slip velocity (units of `V0`).
+    pub v_min: f64,
+    pub v_max: f64,
+    pub stable: Verdict,
+    /// `min |mu - 1|`: the error of the trivial Floquet multiplier.
+    #[serde(serialize_with = "or_na")]
+    pub trivial_multiplier_error: Option<f64>,
+    /// Estimated discretization error (relative).
+    #[serde(serialize_with = "or_na")]
+    pub error_estimate: Option<f64>,
+    /// Mesh intervals.
+    pub ntst: usize,
+    /// Whether the cycle is at a requested stiffness (`--at-kappa`).
+    pub user_point: bool,
+    pub model: ModelKind,
+    /// `chi = max m |dv/dt| / A` with the scene's inertia.
+    pub inertial_imbalance: f64,
+    #[serde(rename = "K_over_W_per_m")]
+    pub k_over_w_per_m: f64,
+    /// Period [s].
+    pub period_s: f64,
+    /// Slowest and fastest slip velocity [µm/s].
+    pub v_min_um_per_s: f64,
+    pub v_max_um_per_s: f64,
+}
+
+impl CsvRecord for Cycle {
+    const DIGITS: usize = 15;
+}
+
+impl Cycle {
+    /// The cycle `c` in the units `u`.
+    pub fn new(c: &CycleRecord, u: &Units) -> Self {
+        Cycle {
+            kappa: c.kappa,
+            period: c.period,
+            delta_s: c.delta_s,
+            s_min: c.s_min,
+            s_max: c.s_max,
+            v_min: c.v_min,
+            v_max: c.v_max,
+            stable: Verdict::of(c.stability),
+            trivial_multiplier_error: c.trivial_error,
+            error_estimate: c.error_estimate,
+            ntst: c.ntst,
+            user_point: c.user_point,
+            model: c.model,
+            inertial_imbalance: c.inertial_imbalance,
+            k_over_w_per_m: u.k_over_w(c.kappa),
+            period_s: c.period * u.d0 / u.v0,
+            v_min_um_per_s: u.velocity_um_s(c.v_min),
+            v_max_um_per_s: u.velocity_um_s(c.v_max),
+        }
+    }
+}
+
+/// An entry of `cycles` in the JSON: the [`Cycle`] with its Floquet
+/// multipliers and the reasons for what is unavailable.
+#[derive(Clone, Debug, Serialize)]
+pub struct CycleDetail {
+    #[serde(flatten)]
+    pub cycle: Cycle,
+    /// `[re, im]` of each multiplier, by decreasing modulus.
+    pub multipliers: Vec<[f64; 2]>,
+    pub trivial_multiplier_index: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trivial_multiplier_error_reason: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_estimate_reason: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stability_reason: Option<String>,
+}
+
+impl CycleDetail {
+    /// The cycle `c` in the units `u`.
+    pub fn new(c: &CycleRecord, u: &Units) -> Self {
+        CycleDetail {
+            cycle: Cycle::new(c, u),
+            multipliers: c.multipliers.iter().map(|z| [z.re, z.im]).collect(),
+            trivial_multiplier_index: c.trivial,
+            trivial_multiplier_error_reason: c
+                .trivial_error
+                .is_none()
+                .then_some(TRIVIAL_UNAVAILABLE),
+            error_estimate_reason: c.error_estimate.is_none().then_some(ESTIMATE_UNAVAILABLE),
+            stability_reason: c.stability_reason(),
+        }
+    }
+}
+
+/// A bifurcation of cycles located on the branch, with the cycle there (an
+/// entry of `special_points`).
+#[derive(Clone, Debug, Serialize)]
+pub struct CycleSpecialPoint {
+    pub kind: CycleBifurcation,
+    #[serde(flatten)]
+    pub cycle: Cycle,
+}
+
+/// A stiffness asked for with `--at-kappa`: an entry of `requested_points`,
+/// a line of the text, a comment of the CSV when not delivered.
+#[derive(Clone, Debug, Serialize)]
+pub struct Requested {
+    pub kappa: f64,
+    #[serde(rename = "K_over_W_per_m")]
+    pub k_over_w_per_m: f64,
+    /// Whether a cycle was delivered at it.
+    pub delivered: bool,
+    /// How many (a branch that turns at folds passes some stiffnesses twice).
+    pub cycles: usize,
+    /// Why none was delivered (JSON: in words, the stiffnesses as kappa).
+    #[serde(skip_serializing_if = "Option::is_none", serialize_with = "in_words")]
+    pub reason: Option<NotDelivered>,
+}
+
+/// The reason in words.
+fn in_words<S: Serializer>(reason: &Option<NotDelivered>, s: S) -> Result<S::Ok, S::Error> {
+    match reason {
+        Some(why) => s.collect_str(why),
+        None => s.serialize_none(),
+    }
+}
+
+impl Requested {
+    /// What became of `r`, in the units `u`.
+    pub fn new(r: &RequestedPoint, u: &Units) -> Self {
+        Requested {
+            kappa: r.kappa,
+            k_over_w_per_m: u.k_over_w(r.kappa),
+            delivered: r.delivered > 0,
+            cycles: r.delivered,
+            reason: r.reason.clone(),
+        }
+    }
+}
+
+/// How a leg of the branch ended (JSON `reason`, snake case).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The leg covered the requested range.
+    EndOfRange,
+    /// `--max-steps` continuation steps were taken first.
+    StepLimit,
+    /// The period grew beyond the engine's limit.
+    PeriodLimit,
+    /// A numerical failure (the message says which).
+    Failed,
+    /// Ctrl-C.
+    Interrupted,
+}
+
+/// How one leg of the branch ended: an entry of `leg_stops`; in words, a
+/// part of `stop`.
+#[derive(Clone, Debug, Serialize)]
+pub struct LegStop {
+    /// The leg; `None` when the simulated orbit to start from failed.
+    pub leg: Option<Leg>,
+    pub reason: StopReason,
+    /// The reason in words.
+    pub message: String,
+}
+
+impl LegStop {
+    /// The end `outcome` of the leg `leg` traced with the step limit `max_steps`.
+    pub fn new(leg: Option<Leg>, outcome: &Result<BranchEnd, Error>, max_steps: usize) -> Self {
+        let (reason, message) = match outcome {
+            Ok(BranchEnd::ParameterBound) => {
+                (StopReason::EndOfRange, "end of the requested range".into())
+            }
+            Ok(BranchEnd::MaxSteps) => (
+                StopReason::StepLimit,
+                format!(
+                    "step limit: {max_steps} continuation steps (--max-steps) taken; the range is not covered"
+                ),
+            ),
+            Ok(BranchEnd::MaxPeriod) => (
+                StopReason::PeriodLimit,
+                "period limit reached; the range is not covered".into(),
+            ),
+            Err(e @ Error::Interrupted(_)) => (StopReason::Interrupted, e.to_string()),
+            Err(e) => (StopReason::Failed, e.to_string()),
+        };
+        LegStop {
+            leg,
+            reason,
+            message,
+        }
+    }
+
+    /// Whether the leg covered the requested range.
+    pub fn complete(&self) -> bool {
+        self.reason == StopReason::EndOfRange
+    }
+}
+
+/// The message, after the leg's direction when the branch has two legs.
+impl fmt::Display for LegStop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.leg {
+            Some(Leg::Up) => write!(f, "toward larger stiffness: {}", self.message),
+            Some(Leg::Down) => write!(f, "toward smaller stiffness: {}", self.message),
+            Some(Leg::FromHopf) | None => f.write_str(&self.message),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::csv::{header, row};
+
+    /// What a cycle lacks is `null` in its JSON and a word in its CSV row,
+    /// and the CSV's columns are the JSON's fields.
+    #[test]
+    fn missing_values_are_null_in_json_and_words_in_csv() {
+        let c = Cycle {
+            kappa: 0.01,
+            stable: Verdict::Undecidable,
+            trivial_multiplier_error: None,
+            error_estimate: Some(2.5e-11),
+            ..Cycle::default()
+        };
+        let json = serde_json::to_value(&c).unwrap();
+        let names = header::<Cycle>().unwrap();
+        let names: Vec<&str> = names.split(',').collect();
+        let mut fields: Vec<&str> = json
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(|k| k.as_str())
+            .collect();
+        let mut columns = names.clone();
+        fields.sort_unstable();
+        columns.sort_unstable();
+        assert_eq!(columns, fields);
+        let line = row(&c).unwrap();
+        let cell = |name: &str| {
+            line.split(',')
+                .nth(names.iter().position(|n| *n == name).unwrap())
+        };
+        assert_eq!(cell("stable"), Some("undecidable"));
+        assert_eq!(cell("trivial_multiplier_error"), Some("n/a"));
+        assert!(json["stable"].is_null() && json["trivial_multiplier_error"].is_null());
+        let estimate: f64 = cell("error_estimate").unwrap().parse().unwrap();
+        assert_eq!(Some(estimate), json["error_estimate"].as_f64());
+        assert_eq!(cell("model"), json["model"].as_str());
+    }
+}
