@@ -6,8 +6,8 @@
 //! multilinear forms `B(u, w) = D^2 f [u, w]` to machine precision, with no
 //! finite differences.
 
-use nalgebra::{Const, DMatrix, DVector, U1};
-use num_dual::{Dual64, DualNum, DualSVec64, HyperDual64};
+use nalgebra::{Const, DMatrix, DVector, SMatrix, U1};
+use num_dual::{Derivative, Dual64, DualNum, DualSVec64, HyperDual64, HyperDualSVec64};
 use smallvec::SmallVec;
 
 /// A buffer of scalars (dual-number copies of a state or parameter vector)
@@ -253,6 +253,82 @@ pub fn derivatives_into<S: VectorField>(
             (du[i], dw[i], duw[i]) = (d.eps1, d.eps2, d.eps1eps2);
         }
     });
+}
+
+/// [`derivatives_into`] for one direction `u` and several `ws` at once: `D
+/// f[u]` into `du`, and for every `w_j` of `ws` `D f[w_j]` and `D^2 f[u,
+/// w_j]` into `dw` and `duw` (`n` entries per direction, direction-major),
+/// from one evaluation in vector hyper-dual numbers (`eps1` along `u`,
+/// `eps2` along the `w_j`) when there are at most 8 directions: every
+/// transcendental function of the field is evaluated once, not once per
+/// direction.
+pub fn derivatives_along_into<S: VectorField>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    u: JointDirection,
+    ws: &[JointDirection],
+    (du, dw, duw): (&mut [f64], &mut [f64], &mut [f64]),
+) {
+    let n = sys.dim();
+    match ws.len() {
+        0..=4 => along_in::<S, 4>(sys, x, p, u, ws, (du, dw, duw)),
+        5..=8 => along_in::<S, 8>(sys, x, p, u, ws, (du, dw, duw)),
+        _ => {
+            for (j, w) in ws.iter().enumerate() {
+                let block = j * n..(j + 1) * n;
+                derivatives_into(
+                    sys,
+                    x,
+                    p,
+                    u,
+                    *w,
+                    (du, &mut dw[block.clone()], &mut duw[block]),
+                );
+            }
+        }
+    }
+}
+
+/// [`derivatives_along_into`] with `N >= ws.len()` directions.
+fn along_in<S: VectorField, const N: usize>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    u: JointDirection,
+    ws: &[JointDirection],
+    (du, dw, duw): (&mut [f64], &mut [f64], &mut [f64]),
+) {
+    type H<const N: usize> = HyperDualSVec64<1, N>;
+    let comp = |d: &[f64], i: usize| d.get(i).copied().unwrap_or(0.0);
+    // Entry i of the state part (or of the parameter part) of a direction.
+    let entry = |d: &JointDirection, state: bool, i: usize| comp(if state { d.x } else { d.p }, i);
+    let lift = |v: f64, i: usize, state: bool| {
+        let along_ws =
+            SMatrix::<f64, 1, N>::from_fn(|_, j| ws.get(j).map_or(0.0, |w| entry(w, state, i)));
+        H::<N>::new(
+            v,
+            Derivative::some(SMatrix::<f64, 1, 1>::new(entry(&u, state, i))),
+            Derivative::some(along_ws),
+            Derivative::none(),
+        )
+    };
+    let xd: Buf<H<N>> = (0..x.len()).map(|i| lift(x[i], i, true)).collect();
+    let pd: Buf<H<N>> = (0..p.len()).map(|i| lift(p[i], i, false)).collect();
+    let mut res: Buf<H<N>> = SmallVec::from_elem(H::<N>::from_re(0.0), sys.dim());
+    sys.rhs(&xd, &pd, &mut res);
+    let n = sys.dim();
+    for (i, y) in res.iter().enumerate() {
+        du[i] = y.eps1.clone().unwrap_generic(U1, U1)[0];
+        let (first, second) = (
+            y.eps2.clone().unwrap_generic(U1, Const::<N>),
+            y.eps1eps2.clone().unwrap_generic(U1, Const::<N>),
+        );
+        for j in 0..ws.len() {
+            dw[j * n + i] = first[j];
+            duw[j * n + i] = second[j];
+        }
+    }
 }
 
 /// `f(x + t u + s w)` in hyper-dual numbers (`eps1` along `u`, `eps2` along

@@ -4,7 +4,7 @@
 //! evaluations, which give the first derivatives it needs as well).
 
 use crate::periodic::collocation::Collocation;
-use crate::system::{derivatives_into, JointDirection, VectorField};
+use crate::system::{derivatives_along_into, JointDirection, VectorField};
 
 /// The gradient of `phi = psi^T A v` over `(u, T, p1[, p2])` and, with a
 /// second parameter `k2`, the column `dF/dp2`. On the collocation row of
@@ -25,9 +25,25 @@ pub(super) fn adjoint_gradient<S: VectorField>(
     p[coll.k] = z[nn + 1];
     let mut grad = vec![0.0; nn + 2 + usize::from(k2.is_some())];
     let mut fp2 = vec![0.0; nn + 1];
-    let (mut x, mut vx, mut unit, mut pdir) =
-        (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; p.len()]);
-    let (mut d2, mut jv, mut first) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    // The directions of the derivatives: the state's unit vectors, then
+    // p_k and p_k2.
+    let params: Vec<(usize, usize)> = std::iter::once((coll.k, nn + 1))
+        .chain(k2.map(|k| (k, nn + 2)))
+        .collect();
+    let unit = |len: usize, at: usize| {
+        let mut e = vec![0.0; len];
+        e[at] = 1.0;
+        e
+    };
+    let states: Vec<Vec<f64>> = (0..n).map(|j| unit(n, j)).collect();
+    let param_units: Vec<Vec<f64>> = params.iter().map(|&(k, _)| unit(p.len(), k)).collect();
+    let ws: Vec<JointDirection> = states
+        .iter()
+        .map(|e| JointDirection::state(e))
+        .chain(param_units.iter().map(|e| JointDirection { x: &[], p: e }))
+        .collect();
+    let (mut x, mut vx, mut jv) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut first, mut second) = (vec![0.0; ws.len() * n], vec![0.0; ws.len() * n]);
     for i in 0..coll.mesh.ntst() {
         let h = coll.mesh.t[i + 1] - coll.mesh.t[i];
         for kk in 0..m {
@@ -43,42 +59,35 @@ pub(super) fn adjoint_gradient<S: VectorField>(
             let row = (i * m + kk) * n;
             let psi_k = &psi[row..row + n];
             let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
-            // d phi / d x_j, spread to the interval's nodes by the basis; each
-            // evaluation also gives J v_x and the column J e_j.
+            // One evaluation gives J v_x and, along each direction w, the
+            // column J w (or dF/dp) and the second derivative along v_x and w.
+            derivatives_along_into(
+                sys,
+                &x,
+                &p,
+                JointDirection::state(&vx),
+                &ws,
+                (&mut jv, &mut first, &mut second),
+            );
+            // The part of d phi along direction `d`.
+            let along = |d: usize| {
+                let block = d * n..(d + 1) * n;
+                -h * period * dot(psi_k, &second[block.clone()])
+                    - h * v_t * dot(psi_k, &first[block])
+            };
+            // d phi / d x_j, spread to the interval's nodes by the basis.
             for j in 0..n {
-                unit.fill(0.0);
-                unit[j] = 1.0;
-                derivatives_into(
-                    sys,
-                    &x,
-                    &p,
-                    JointDirection::state(&vx),
-                    JointDirection::state(&unit),
-                    (&mut jv, &mut first, &mut d2),
-                );
-                let dphi = -h * period * dot(psi_k, &d2) - h * v_t * dot(psi_k, &first);
+                let dphi = along(j);
                 for l in 0..=m {
                     grad[coll.mesh.node(i, l) * n + j] += coll.mesh.basis[kk][l] * dphi;
                 }
             }
             grad[nn] -= h * dot(psi_k, &jv);
-            let params = std::iter::once((coll.k, nn + 1)).chain(k2.map(|k| (k, nn + 2)));
-            for (k, col) in params {
-                pdir.fill(0.0);
-                pdir[k] = 1.0;
-                // The first derivative along p_k is dF/dp_k.
-                derivatives_into(
-                    sys,
-                    &x,
-                    &p,
-                    JointDirection::state(&vx),
-                    JointDirection { x: &[], p: &pdir },
-                    (&mut jv, &mut first, &mut d2),
-                );
-                grad[col] -= h * period * dot(psi_k, &d2) + h * v_t * dot(psi_k, &first);
+            for (d, &(k, col)) in params.iter().enumerate() {
+                grad[col] += along(n + d);
                 if Some(k) == k2 {
                     for j in 0..n {
-                        fp2[row + j] = -h * period * first[j];
+                        fp2[row + j] = -h * period * first[(n + d) * n + j];
                     }
                 }
             }
