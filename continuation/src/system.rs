@@ -319,10 +319,10 @@ fn along_in<S: VectorField, const N: usize>(
     sys.rhs(&xd, &pd, &mut res);
     let n = sys.dim();
     for (i, y) in res.iter().enumerate() {
-        du[i] = y.eps1.clone().unwrap_generic(U1, U1)[0];
+        du[i] = y.eps1.unwrap_generic(U1, U1)[0];
         let (first, second) = (
-            y.eps2.clone().unwrap_generic(U1, Const::<N>),
-            y.eps1eps2.clone().unwrap_generic(U1, Const::<N>),
+            y.eps2.unwrap_generic(U1, Const::<N>),
+            y.eps1eps2.unwrap_generic(U1, Const::<N>),
         );
         for j in 0..ws.len() {
             dw[j * n + i] = first[j];
