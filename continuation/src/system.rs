@@ -426,6 +426,112 @@ mod tests {
         }
     }
 
+    /// `f_i = exp(p0 x_i) sin(x_{i+1}) + p1 x_i^2` (indices mod `n`): any
+    /// dimension, so that every width of the one-pass derivatives is used.
+    struct Ring(usize);
+    impl VectorField for Ring {
+        fn dim(&self) -> usize {
+            self.0
+        }
+        fn n_params(&self) -> usize {
+            2
+        }
+        fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+            let n = self.0;
+            for i in 0..n {
+                out[i] = (p[0] * x[i]).exp() * x[(i + 1) % n].sin() + p[1] * x[i] * x[i];
+            }
+        }
+    }
+
+    fn ring_point(n: usize) -> (Vec<f64>, Vec<f64>) {
+        (
+            (0..n).map(|i| 0.3 + 0.17 * i as f64).collect(),
+            vec![0.8, -1.4],
+        )
+    }
+
+    fn close(a: f64, b: f64, what: &str) {
+        assert!(
+            (a - b).abs() <= 1e-14 * (1.0 + b.abs()),
+            "{what}: {a} vs {b}"
+        );
+    }
+
+    /// The one-pass value, Jacobian and parameter column equal the value, the
+    /// column-by-column dual Jacobian and the dual parameter derivative, in
+    /// the 4- and 8-wide passes and the fallback beyond.
+    #[test]
+    fn first_order_in_one_pass_matches_column_by_column() {
+        for n in [1, 2, 3, 4, 7, 8, 9] {
+            let (x, p) = ring_point(n);
+            let sys = Ring(n);
+            let (mut f, mut fp, mut jac) = (vec![0.0; n], vec![0.0; n], DMatrix::zeros(n, n));
+            sys.first_order(&x, &p, 1, (&mut f, &mut jac, &mut fp));
+            let (f0, j0, fp0) = (
+                eval(&sys, &x, &p),
+                jacobian(&sys, &x, &p),
+                param_derivative(&sys, &x, &p, 1),
+            );
+            for i in 0..n {
+                close(f[i], f0[i], "f");
+                close(fp[i], fp0[i], "df/dp");
+                for c in 0..n {
+                    close(jac[(i, c)], j0[(i, c)], "J");
+                }
+            }
+        }
+    }
+
+    /// The second derivatives along several directions at once equal those
+    /// of one hyper-dual evaluation per direction.
+    #[test]
+    fn derivatives_along_several_directions_match_one_at_a_time() {
+        for n in [2, 3, 6, 9] {
+            let (x, p) = ring_point(n);
+            let sys = Ring(n);
+            let u: Vec<f64> = (0..n).map(|i| 0.5 - 0.1 * i as f64).collect();
+            let states: Vec<Vec<f64>> = (0..n)
+                .map(|j| (0..n).map(|i| if i == j { 1.0 } else { 0.2 }).collect())
+                .collect();
+            let pdir = [0.0, 1.0];
+            let ws: Vec<JointDirection> = states
+                .iter()
+                .map(|e| JointDirection::state(e))
+                .chain([JointDirection { x: &[], p: &pdir }])
+                .collect();
+            let (mut du, mut dw, mut duw) = (
+                vec![0.0; n],
+                vec![0.0; ws.len() * n],
+                vec![0.0; ws.len() * n],
+            );
+            derivatives_along_into(
+                &sys,
+                &x,
+                &p,
+                JointDirection::state(&u),
+                &ws,
+                (&mut du, &mut dw, &mut duw),
+            );
+            for (d, w) in ws.iter().enumerate() {
+                let (mut a, mut b, mut c) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                derivatives_into(
+                    &sys,
+                    &x,
+                    &p,
+                    JointDirection::state(&u),
+                    *w,
+                    (&mut a, &mut b, &mut c),
+                );
+                for i in 0..n {
+                    close(du[i], a[i], "D f[u]");
+                    close(dw[d * n + i], b[i], "D f[w]");
+                    close(duw[d * n + i], c[i], "D2 f[u, w]");
+                }
+            }
+        }
+    }
+
     #[test]
     fn dual_derivatives_match_hand_derivatives() {
         let (x, p) = ([0.7, -1.3], [0.4, 2.5]);
