@@ -273,7 +273,9 @@ pub fn derivatives_along_into<S: VectorField>(
     let n = sys.dim();
     match ws.len() {
         0..=4 => along_in::<S, 4>(sys, x, p, u, ws, (du, dw, duw)),
-        5..=8 => along_in::<S, 8>(sys, x, p, u, ws, (du, dw, duw)),
+        // n + 2 for n = 3: the fold of cycles of the inertial block in two parameters.
+        5 => along_in::<S, 5>(sys, x, p, u, ws, (du, dw, duw)),
+        6..=8 => along_in::<S, 8>(sys, x, p, u, ws, (du, dw, duw)),
         _ => {
             for (j, w) in ws.iter().enumerate() {
                 let block = j * n..(j + 1) * n;
@@ -487,7 +489,7 @@ mod tests {
     /// of one hyper-dual evaluation per direction.
     #[test]
     fn derivatives_along_several_directions_match_one_at_a_time() {
-        for n in [2, 3, 6, 9] {
+        for n in [2, 3, 4, 6, 9] {
             let (x, p) = ring_point(n);
             let sys = Ring(n);
             let u: Vec<f64> = (0..n).map(|i| 0.5 - 0.1 * i as f64).collect();
