@@ -3,6 +3,7 @@
 use super::mesh::{lagrange_values, Mesh};
 use crate::system::{eval, jacobian, VectorField};
 use nalgebra::{DMatrix, DVector, Dyn};
+use std::cell::RefCell;
 
 /// A periodic orbit `x(t)`, `t` in `[0, T]`, as piecewise polynomials on a
 /// [`Mesh`] of normalized time `tau = t / T`.
@@ -181,7 +182,20 @@ struct Stepper<'a, S: VectorField> {
     a: Vec<f64>,
     /// The Lagrange basis on the nodes `0, c_1, .., c_m`, at 1.
     end: Vec<f64>,
+    /// The stage Jacobian last factored, with its interval and step: the
+    /// searches for an extreme step from one mesh point by ever closer
+    /// lengths, and a step within [`NEAR_STEP`] of that length starts its
+    /// chord iterations from it.
+    factored: RefCell<Option<(usize, f64, StageLu)>>,
 }
+
+/// The factored stage Jacobian of a [`Stepper`].
+type StageLu = nalgebra::LU<f64, Dyn, Dyn>;
+
+/// Steps within this fraction of the step of the last factored stage
+/// Jacobian reuse it: the chord iterations then contract by about this
+/// factor on the stiff components (where `delta T J` dominates).
+const NEAR_STEP: f64 = 1e-2;
 
 impl<'a, S: VectorField> Stepper<'a, S> {
     fn new(sys: &'a S, cycle: &'a Cycle) -> Self {
@@ -207,12 +221,18 @@ impl<'a, S: VectorField> Stepper<'a, S> {
                     .product()
             })
             .collect();
-        Stepper { sys, cycle, a, end }
+        Stepper {
+            sys,
+            cycle,
+            a,
+            end,
+            factored: RefCell::new(None),
+        }
     }
 
     /// The stages' Jacobian `I - delta T (a_kl J(X_l))` at the stages `stages`
     /// (`n` per stage), factored.
-    fn stage_jacobian(&self, stages: &[f64], ht: f64) -> nalgebra::LU<f64, Dyn, Dyn> {
+    fn stage_jacobian(&self, stages: &[f64], ht: f64) -> StageLu {
         let (n, m) = (self.cycle.n, self.cycle.mesh.degree);
         let mut jac = DMatrix::<f64>::identity(m * n, m * n);
         for l in 0..m {
@@ -254,10 +274,16 @@ impl<'a, S: VectorField> Stepper<'a, S> {
         }
         let mut fs = vec![0.0; m * n];
         let mut residual = DVector::zeros(m * n);
-        let mut lu = self.stage_jacobian(&stages, ht);
+        let kept = self.factored.borrow_mut().take();
         // `fresh`: the Jacobian was computed at the iterate the last
         // correction started from (full Newton there).
-        let (mut converged, mut last, mut fresh) = (false, f64::INFINITY, true);
+        let (mut lu_delta, mut lu, mut fresh) = match kept {
+            Some((j, d, lu)) if j == i && (d - delta).abs() <= NEAR_STEP * delta.abs() => {
+                (d, lu, false)
+            }
+            _ => (delta, self.stage_jacobian(&stages, ht), true),
+        };
+        let (mut converged, mut last) = (false, f64::INFINITY);
         for _ in 0..16 {
             for l in 0..m {
                 let f = eval(self.sys, &stages[l * n..(l + 1) * n], &cyc.p);
@@ -294,9 +320,11 @@ impl<'a, S: VectorField> Stepper<'a, S> {
             fresh = stalled;
             if fresh {
                 lu = self.stage_jacobian(&stages, ht);
+                lu_delta = delta;
             }
             last = size;
         }
+        *self.factored.borrow_mut() = Some((i, lu_delta, lu));
         converged.then_some(stages)
     }
 
