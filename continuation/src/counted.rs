@@ -13,7 +13,7 @@
 //! builds (an equilibrium model, the same model in other variables for its
 //! cycles) add up.
 
-use crate::system::VectorField;
+use crate::system::{JointDirection, VectorField};
 use crate::Scalar;
 use nalgebra::DMatrix;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -144,6 +144,20 @@ impl<S: VectorField> VectorField for Counted<S> {
         self.counts
             .add(eval_kind::<num_dual::Dual64>(), self.dim() as u64 + 1);
         self.inner.first_order(x, p, k, out);
+    }
+    /// Counted at its nominal cost, as before it was one evaluation: one
+    /// hyper-dual evaluation per direction `w_j`.
+    fn derivatives_along(
+        &self,
+        x: &[f64],
+        p: &[f64],
+        u: JointDirection,
+        ws: &[JointDirection],
+        out: (&mut [f64], &mut [f64], &mut [f64]),
+    ) {
+        self.counts
+            .add(eval_kind::<num_dual::HyperDual64>(), ws.len() as u64);
+        self.inner.derivatives_along(x, p, u, ws, out);
     }
     fn jacobian(&self, x: &[f64], p: &[f64], jac: &mut DMatrix<f64>) {
         self.counts
@@ -302,6 +316,33 @@ mod tests {
             (c.n_observables(), c.observable(0, &x, &p)),
             (1, x[0] + x[1])
         );
+    }
+
+    /// The one-pass derivatives are delegated and counted at the cost of
+    /// the evaluations they replace: a value and `n + 1` dual columns, one
+    /// hyper-dual evaluation per direction.
+    #[test]
+    fn one_pass_derivatives_are_counted_at_their_nominal_cost() {
+        let c = Counted::new(Toy);
+        let (x, p) = ([0.3, -1.2], [0.7]);
+        let (mut f, mut fp, mut jac) = ([0.0; 2], [0.0; 2], DMatrix::zeros(2, 2));
+        c.first_order(&x, &p, 0, (&mut f, &mut jac, &mut fp));
+        assert_eq!(jac, jacobian(&Toy, &x, &p));
+        let (u, e0, e1) = ([1.0, 0.5], [1.0, 0.0], [0.0, 1.0]);
+        let ws = [
+            JointDirection::state(&e0),
+            JointDirection::state(&e1),
+            JointDirection { x: &[], p: &[1.0] },
+        ];
+        let (mut du, mut dw, mut duw) = ([0.0; 2], [0.0; 6], [0.0; 6]);
+        c.derivatives_along(
+            &x,
+            &p,
+            JointDirection::state(&u),
+            &ws,
+            (&mut du, &mut dw, &mut duw),
+        );
+        assert_eq!(c.counts(), [1, 2 + 1, 3, 0, 0, 0]);
     }
 
     #[test]

@@ -64,6 +64,19 @@ pub trait VectorField: Sync {
         first_order_by_duals(self, x, p, k, out)
     }
 
+    /// `D f[u]`, and for every `w_j` of `ws` `D f[w_j]` and `D^2 f[u, w_j]`
+    /// (see [`derivatives_along_into`], which the default is).
+    fn derivatives_along(
+        &self,
+        x: &[f64],
+        p: &[f64],
+        u: JointDirection,
+        ws: &[JointDirection],
+        out: (&mut [f64], &mut [f64], &mut [f64]),
+    ) {
+        derivatives_along_into(self, x, p, u, ws, out)
+    }
+
     /// Writes the Jacobian `J_ij = d f_i / d x_j` into `jac`. The default
     /// differentiates [`rhs`](Self::rhs) with dual numbers, one column per
     /// evaluation; a system may override it with a hand-written one.
@@ -240,7 +253,7 @@ pub fn second_derivative_into<S: VectorField>(
 /// `D^2 f(x, p)[u, w]` over the joint space, from one evaluation in
 /// hyper-dual numbers (its three derivative parts), written into `du`, `dw`
 /// and `duw` (length `dim`).
-pub fn derivatives_into<S: VectorField>(
+pub fn derivatives_into<S: VectorField + ?Sized>(
     sys: &S,
     x: &[f64],
     p: &[f64],
@@ -261,8 +274,8 @@ pub fn derivatives_into<S: VectorField>(
 /// from one evaluation in vector hyper-dual numbers (`eps1` along `u`,
 /// `eps2` along the `w_j`) when there are at most 8 directions: every
 /// transcendental function of the field is evaluated once, not once per
-/// direction.
-pub fn derivatives_along_into<S: VectorField>(
+/// direction. Used through [`VectorField::derivatives_along`].
+pub fn derivatives_along_into<S: VectorField + ?Sized>(
     sys: &S,
     x: &[f64],
     p: &[f64],
@@ -293,7 +306,7 @@ pub fn derivatives_along_into<S: VectorField>(
 }
 
 /// [`derivatives_along_into`] with `N >= ws.len()` directions.
-fn along_in<S: VectorField, const N: usize>(
+fn along_in<S: VectorField + ?Sized, const N: usize>(
     sys: &S,
     x: &[f64],
     p: &[f64],
@@ -335,7 +348,7 @@ fn along_in<S: VectorField, const N: usize>(
 
 /// `f(x + t u + s w)` in hyper-dual numbers (`eps1` along `u`, `eps2` along
 /// `w`), handed to `read`.
-fn hyper_dual<S: VectorField>(
+fn hyper_dual<S: VectorField + ?Sized>(
     sys: &S,
     x: &[f64],
     p: &[f64],

@@ -4,7 +4,7 @@
 //! evaluations, which give the first derivatives it needs as well).
 
 use crate::periodic::collocation::Collocation;
-use crate::system::{derivatives_along_into, JointDirection, VectorField};
+use crate::system::{JointDirection, VectorField};
 
 /// The gradient of `phi = psi^T A v` over `(u, T, p1[, p2])` and, with a
 /// second parameter `k2`, the column `dF/dp2`. On the collocation row of
@@ -61,8 +61,7 @@ pub(super) fn adjoint_gradient<S: VectorField>(
             let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
             // One evaluation gives J v_x and, along each direction w, the
             // column J w (or dF/dp) and the second derivative along v_x and w.
-            derivatives_along_into(
-                sys,
+            sys.derivatives_along(
                 &x,
                 &p,
                 JointDirection::state(&vx),
