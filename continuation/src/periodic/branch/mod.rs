@@ -84,7 +84,11 @@ pub struct CycleSettings {
     pub mesh_accept: f64,
     /// The mesh is also refined while the trivial multiplier is off by more
     /// than this and refining reduces that error (it is then discretization,
-    /// not rounding). Default `1e-8`.
+    /// not rounding) — where a nontrivial multiplier lies within `1e7` times
+    /// this of the unit circle; farther, while it is off by more than `1e-7`
+    /// of that distance (which decides stability, period doublings and
+    /// tori). Not in the plane, where the nontrivial multiplier is
+    /// Liouville's. Default `1e-8`.
     pub trivial_tol: f64,
     /// Beyond this distance of the trivial multiplier from 1, the branch
     /// stops when another multiplier lies within ten times that distance of

@@ -4,7 +4,9 @@
 //!
 //! The multipliers can need a finer mesh than the orbit itself, so the mesh
 //! is also refined while the trivial multiplier is off by more than
-//! `trivial_tol` — as long as that helps: on stiff stick-slip orbits
+//! `trivial_tol` (or, when larger, 1e-7 of the distance of the other
+//! multipliers from the unit circle, which decides what they are used for)
+//! — as long as that helps: on stiff stick-slip orbits
 //! perturbations grow by many decades during the slip, and the multiplier 1
 //! is then so ill-conditioned that its computed distance from 1 is set by
 //! rounding (`eps` times that growth), whatever the mesh. That floor is
@@ -24,6 +26,11 @@ use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::Mesh;
 use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights, OrbitJacobian};
 use crate::system::VectorField;
+
+/// The share of the distance of the nontrivial multipliers from the unit
+/// circle the trivial multiplier's error is refined below
+/// ([`CycleBranch::multiplier_tol`]).
+const MARGIN_SHARE: f64 = 1e-7;
 
 /// Largest difference between two approximations `a` (the finer) and `b`
 /// of an orbit of `sys`: of the periods, relative, and of the least and
@@ -79,7 +86,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             pt.error_estimate = self.last_estimate;
             let ntst = self.coll.mesh.ntst();
             let orbit_resolved = pt.error_estimate <= orbit_tol;
-            if orbit_resolved && pt.trivial_error <= self.trivial_tol {
+            if orbit_resolved && pt.trivial_error <= self.multiplier_tol(&pt) {
                 break;
             }
             if ntst >= self.settings.ntst_max {
@@ -169,6 +176,27 @@ impl<S: VectorField> CycleBranch<'_, S> {
             });
         }
         Ok(pt)
+    }
+
+    /// The error of the trivial multiplier the mesh is refined for:
+    /// `trivial_tol` (as raised to a rounding floor), or [`MARGIN_SHARE`] of
+    /// the distance of the nearest nontrivial multiplier from the unit
+    /// circle if that is larger — the multipliers decide stability, period
+    /// doublings and tori by that distance, and a finer mesh would not change
+    /// the decision. None in the plane: the nontrivial multiplier is then
+    /// Liouville's, `exp(int_0^T tr J dt)`, whatever the trivial one's error.
+    fn multiplier_tol(&self, pt: &CyclePoint) -> f64 {
+        if self.sys.dim() <= 2 {
+            return f64::INFINITY;
+        }
+        let margin = pt
+            .multipliers
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| Some(*i) != pt.trivial)
+            .map(|(_, z)| (z.norm() - 1.0).abs())
+            .fold(f64::INFINITY, f64::min);
+        self.trivial_tol.max(MARGIN_SHARE * margin)
     }
 
     /// Corrects the current orbit, just moved onto a new mesh, on the
