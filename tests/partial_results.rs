@@ -112,7 +112,7 @@ fn a_hopf_curve_cut_by_the_step_limit_is_partial() {
     assert!(out.contains("step limit (50 steps, --max-steps)"), "{out}");
     // Small velocities with significant digits, never 0.0000.
     assert!(
-        out.contains("V = 1.0000e-6 um/s") && !out.contains("0.0000 um/s"),
+        out.contains("V = 1.0000e-6 µm/s") && !out.contains("0.0000 µm/s"),
         "{out}"
     );
     let (code, out, err) = stickslip(&[

@@ -81,7 +81,7 @@ fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
     };
     println!("parameters (dimensionless, docs/model.md; {listed}");
     println!(
-        "steady sliding at V = {:.4e} um/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
+        "steady sliding at V = {:.4e} µm/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
         setup.scene.units.velocity_um_s(p.nu),
         report.mu_v,
         report.mu_phi,

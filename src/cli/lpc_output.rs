@@ -17,8 +17,8 @@ pub fn lpc_summary(folds: &[FoldPoint], stops: &[String], units: TextUnits) -> V
         .filter_map(|curve| {
             let (a, b) = (curve.first()?, curve.last()?);
             Some(format!(
-                "  fold of cycles (LPC) curve: {} points from V = {:.6e} um/s ({}) to \
-             V = {:.6e} um/s ({}); below it stick-slip coexists with stable steady \
+                "  fold of cycles (LPC) curve: {} points from V = {:.6e} µm/s ({}) to \
+             V = {:.6e} µm/s ({}); below it stick-slip coexists with stable steady \
              sliding (hysteresis) down to the Hopf curve, where there is one",
                 curve.len(),
                 a.physical.v_um_per_s,

@@ -127,7 +127,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             "{} (at the protocol's fastest pulling velocity, {})",
             setup.choice.reason,
             match args.units {
-                TextUnits::Physical => format!("{:.4e} um/s", u.velocity_um_s(top)),
+                TextUnits::Physical => format!("{:.4e} µm/s", u.velocity_um_s(top)),
                 TextUnits::Dimensionless => format!("nu = {top:.4e}"),
             }
         );

@@ -148,7 +148,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
                 let r = r?;
                 if !r.diagram.complete {
                     results_partial.push(format!(
-                        "scene {}: ended at {} (V = {} um/s)",
+                        "scene {}: ended at {} (V = {} µm/s)",
                         r.setup.scene.name,
                         stop_text(&r),
                         r.records
@@ -343,7 +343,7 @@ fn print_text(r: &SceneResult, units: TextUnits) {
     );
     println!("model: {}", r.setup.choice.reason);
     println!(
-        "Hopf curve over V = {} .. {} um/s: {} points, ended at {}",
+        "Hopf curve over V = {} .. {} µm/s: {} points, ended at {}",
         significant(u.velocity_um_s(r.range.0)),
         significant(u.velocity_um_s(r.range.1)),
         records.curve.len(),
@@ -358,7 +358,7 @@ fn print_text(r: &SceneResult, units: TextUnits) {
         .filter(|_| !records.curve.is_empty())
     {
         println!(
-            "  velocity strengthening for V = {:.6e} .. {:.6e} um/s: steady sliding stable for every stiffness",
+            "  velocity strengthening for V = {:.6e} .. {:.6e} µm/s: steady sliding stable for every stiffness",
             s.v_from_um_per_s, s.v_to_um_per_s
         );
     }
@@ -372,17 +372,17 @@ fn print_text(r: &SceneResult, units: TextUnits) {
             .find(|s| s.kind == SpecialKind::Endpoint)
         {
             Some(e) => format!(
-                "0 at the friction minimum V_min = {} um/s",
+                "0 at the friction minimum V_min = {} µm/s",
                 significant(e.physical.v_um_per_s)
             ),
             None => format!(
-                "{} (V = {} um/s)",
+                "{} (V = {} µm/s)",
                 units.stiffness(b.kappa, b.physical.k_over_w_per_m, 6),
                 significant(b.physical.v_um_per_s)
             ),
         };
         println!(
-            "  critical stiffness from {} (V = {} um/s) to {end}",
+            "  critical stiffness from {} (V = {} µm/s) to {end}",
             units.stiffness(a.kappa, a.physical.k_over_w_per_m, 6),
             significant(a.physical.v_um_per_s),
         );
@@ -407,7 +407,7 @@ fn print_text(r: &SceneResult, units: TextUnits) {
             s.l2.map(|l2| format!(", l2 = {l2:.6e} ± {:.1e}", s.l2_error_bound.unwrap_or(0.0)))
                 .unwrap_or_default();
         println!(
-            "  {:<9} at V = {:.10e} um/s (nu = {:.10e}), {}, omega = {:.6e}{l2}",
+            "  {:<9} at V = {:.10e} µm/s (nu = {:.10e}), {}, omega = {:.6e}{l2}",
             s.kind.name(),
             s.physical.v_um_per_s,
             s.nu,

@@ -87,8 +87,7 @@ pub struct CycleSettings {
     /// not rounding) — where a nontrivial multiplier lies within `1e7` times
     /// this of the unit circle; farther, while it is off by more than `1e-7`
     /// of that distance (which decides stability, period doublings and
-    /// tori). Not in the plane, where the nontrivial multiplier is
-    /// Liouville's. Default `1e-8`.
+    /// tori). Default `1e-8`.
     pub trivial_tol: f64,
     /// Beyond this distance of the trivial multiplier from 1, the branch
     /// stops when another multiplier lies within ten times that distance of

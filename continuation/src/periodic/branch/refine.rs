@@ -183,12 +183,8 @@ impl<S: VectorField> CycleBranch<'_, S> {
     /// the distance of the nearest nontrivial multiplier from the unit
     /// circle if that is larger — the multipliers decide stability, period
     /// doublings and tori by that distance, and a finer mesh would not change
-    /// the decision. None in the plane: the nontrivial multiplier is then
-    /// Liouville's, `exp(int_0^T tr J dt)`, whatever the trivial one's error.
+    /// the decision.
     fn multiplier_tol(&self, pt: &CyclePoint) -> f64 {
-        if self.sys.dim() <= 2 {
-            return f64::INFINITY;
-        }
         let margin = pt
             .multipliers
             .iter()
