@@ -171,6 +171,35 @@ fn bad_input_exits_2_naming_the_field() {
     assert!(err.contains("W = 1e-300"), "{err}");
 }
 
+/// A quasi-static block below its critical stiffness (plain law) slips
+/// without bound in finite time: `simulate` fails with exit 3 and names
+/// what the user can change with this program's options, not the
+/// integrator's settings.
+#[test]
+fn a_quasi_static_blow_up_names_the_options_that_help() {
+    let dir = common::temp_dir("blow_up");
+    let scene = dir.join("massless.toml");
+    std::fs::write(
+        &scene,
+        "name = \"massless\"\nA = 0.01\nB = 0.02\nM = 0\nW = 100\nD0 = 2\nV = 3\n",
+    )
+    .unwrap();
+    let (code, _, err) = stickslip(&[
+        "simulate",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--set",
+        "kappa=0.005",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 3, "{err}");
+    for option in ["--rtol", "--model inertial"] {
+        assert!(err.contains(option), "should suggest {option}: {err}");
+    }
+    assert!(!err.contains("h_min") && !err.contains("atol"), "{err}");
+}
+
 #[test]
 fn hopf_json_reports_the_onset_type() {
     let v = hopf_json(&[]);

@@ -216,6 +216,16 @@ fn check_error(what: &str, e: &impl std::fmt::Display) -> Result<(), TestCaseErr
         bad.is_empty(),
         "{what}: the error message names non-finite numbers ({bad:?}): {text}"
     );
+    // What it suggests is an option of this program, not a setting of the
+    // integrator inside it.
+    let settings: Vec<&str> = text
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| ["h_min", "h_max", "h0", "atol", "max_steps"].contains(w))
+        .collect();
+    prop_assert!(
+        settings.is_empty(),
+        "{what}: the error message suggests the integrator's settings {settings:?}: {text}"
+    );
     Ok(())
 }
 

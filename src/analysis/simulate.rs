@@ -304,8 +304,9 @@ pub fn simulate_watched(
                     String::new()
                 };
                 return Err(NumericalError::Analysis(format!(
-                    "simulation at nu = {}{segment}: {e}{start}",
-                    seg.nu
+                    "simulation at nu = {}{segment}: {}{start}",
+                    seg.nu,
+                    integration_failure(&e)
                 )));
             }
             Outcome::ReachedEnd | Outcome::TerminalEvent { .. } => {}
@@ -315,6 +316,29 @@ pub fn simulate_watched(
         x = sol.x_final;
     }
     out.finish(t0, t_end, false).map(|e| RunEnd { switch, ..e })
+}
+
+/// An integrator failure in this program's terms: where it stopped (time
+/// in `D0/V0`) and which of `simulate`'s options can help. The step-size
+/// failures are how a slip that blows up or jumps shows; a quasi-static
+/// block has no solution once its spring cannot follow the slip it asks for.
+fn integration_failure(e: &integrate::IntegrateError) -> String {
+    use integrate::IntegrateError as E;
+    match e {
+        E::StepSizeUnderflow { t, h, .. }
+        | E::NewtonFailed { t, h, .. }
+        | E::SingularMatrix { t, h, .. } => format!(
+            "the integrator could not go on past t = {t:.10e} D0/V0 (step size down to \
+             {h:.3e}): the slip velocity blows up or jumps there; try a tighter --rtol, a \
+             shorter protocol, or --model inertial with a mass M in the scene (the \
+             quasi-static block has no solution where its spring cannot follow the slip)"
+        ),
+        E::MaxSteps { t, .. } => format!(
+            "the integrator's step limit was reached at t = {t:.10e} D0/V0; raise --max-steps \
+             or shorten the protocol"
+        ),
+        other => other.to_string(),
+    }
 }
 
 /// Where a quasi-static simulation handed over to the inertial model.
@@ -483,7 +507,9 @@ pub fn cycle_by_integration(
         atol: rtol * 1e-3,
         ..Settings::default()
     };
-    let fail = |e: integrate::IntegrateError| NumericalError::Analysis(format!("simulation: {e}"));
+    let fail = |e: integrate::IntegrateError| {
+        NumericalError::Analysis(format!("simulation: {}", integration_failure(&e)))
+    };
     let x0 = log.from_model(start[0], start[1], start[2]);
     let warm = Radau5::new(&log, &pv, settings.clone())
         .solve(0.0, &x0, transient, Output::Final)
