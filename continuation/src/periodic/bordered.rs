@@ -56,8 +56,10 @@ impl Householder {
         }
     }
 
-    /// Factors the block held in `self.v` (overwritten by the reflectors).
-    fn factor(&mut self) {
+    /// Factors the block held in `self.v` (overwritten by the reflectors)
+    /// and applies `Q^T` to the columns of `trailing` (column-major, as many
+    /// rows as the block), each reflector as soon as it is formed.
+    fn factor_applying(&mut self, trailing: &mut [f64]) {
         let (rows, cols) = self.v.shape();
         self.r.fill(0.0);
         let data = self.v.as_mut_slice();
@@ -77,6 +79,9 @@ impl Householder {
                 let col = &mut right[(c - j - 1) * rows..(c - j) * rows];
                 reflect(v, &mut col[j..]);
                 self.r[(j, c)] = col[j];
+            }
+            for col in trailing.chunks_exact_mut(rows) {
+                reflect(v, &mut col[j..]);
             }
         }
     }
@@ -235,11 +240,7 @@ impl CyclicReduction {
             for c in 0..(m - 1) * n {
                 scaled(&mut interior[c * mn..(c + 1) * mn], n + c);
             }
-            iv.qr.factor();
-            for c in 0..2 * n {
-                iv.qr
-                    .apply_qt(&mut ends.as_mut_slice()[c * mn..(c + 1) * mn]);
-            }
+            iv.qr.factor_applying(ends.as_mut_slice());
             iv.top.copy_from(&ends.rows(0, (m - 1) * n));
             self.a[i].copy_from(&ends.view(((m - 1) * n, 0), (n, n)));
             self.b[i].copy_from(&ends.view(((m - 1) * n, n), (n, n)));
@@ -262,14 +263,10 @@ impl CyclicReduction {
                     (node, left, right, upper, lower);
                 el.qr.v.rows_mut(0, n).copy_from(&self.b[upper]);
                 el.qr.v.rows_mut(n, n).copy_from(&self.a[lower]);
-                el.qr.factor();
                 rest.fill(0.0);
                 rest.view_mut((0, 0), (n, n)).copy_from(&self.a[upper]);
                 rest.view_mut((n, n), (n, n)).copy_from(&self.b[lower]);
-                for c in 0..2 * n {
-                    el.qr
-                        .apply_qt(&mut rest.as_mut_slice()[c * 2 * n..(c + 1) * 2 * n]);
-                }
+                el.qr.factor_applying(rest.as_mut_slice());
                 el.x.copy_from(&rest.view((0, 0), (n, n)));
                 el.z.copy_from(&rest.view((0, n), (n, n)));
                 self.a[lower].copy_from(&rest.view((n, 0), (n, n)));
