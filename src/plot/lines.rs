@@ -736,9 +736,6 @@ mod tests {
         assert!(y1 / y0 > 1.5 && y0 < 3.0 && y1 > 3.0, "{y0} {y1}");
     }
 
-    /// A spike train of a million samples, one sample wide each: the
-    /// decimated line keeps every tip and the overall extremes, in order, with
-    /// at most four points per column.
     /// A curve through the upper right leaves the legend elsewhere.
     #[test]
     fn legend_goes_to_the_emptiest_corner() {
@@ -750,84 +747,9 @@ mod tests {
         ));
     }
 
-    /// On awkward data (a constant series, a curve through every corner, a
-    /// family of 40 cycles, a million-sample spike train) the legend's box
-    /// holds no point and no line sample of the data.
-    #[test]
-    fn legends_never_cover_data() {
-        let labelled = |points: Vec<(f64, f64)>, log_y: bool| {
-            let mut f = figure(points, log_y);
-            f.series[0].label = Some("a fairly long legend entry".into());
-            f
-        };
-        let zigzag: Vec<(f64, f64)> = (0..400)
-            .map(|i| (i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }))
-            .collect();
-        let mut family = figure(Vec::new(), true);
-        for k in 0..40 {
-            let r = 0.1 + k as f64 * 0.02;
-            family.series.push(Series {
-                label: (k == 0).then(|| "switch".to_string()),
-                points: (0..=200)
-                    .map(|i| {
-                        let a = i as f64 / 200.0 * std::f64::consts::TAU;
-                        (0.5 + r * a.cos(), (3.0 * r * a.sin()).exp())
-                    })
-                    .collect(),
-                color: RGBColor(0, 0, 0),
-                dashed: false,
-                markers: false,
-            });
-        }
-        let spikes = labelled(
-            (0..1_000_000)
-                .map(|i| (i as f64, if i % 10_000 == 5_000 { 1e6 } else { 1.0 }))
-                .collect(),
-            true,
-        );
-        for fig in [
-            labelled(vec![(0.0, 3.0), (1.0, 3.0)], false),
-            labelled(zigzag, false),
-            family,
-            spikes,
-        ] {
-            let px = plot_pixels(1000);
-            let l = layout(&fig, px);
-            let (corner, b) = l.legend.clone();
-            // Independently of `occupancy`'s sampling: no segment of any
-            // series meets the legend's box (Liang-Barsky clipping).
-            let ((x0, x1), (y0, y1)) = (l.x, l.y);
-            let to_unit =
-                |&(x, y): &(f64, f64)| (unit(x, x0, x1, fig.log_x), unit(y, y0, y1, fig.log_y));
-            for s in &fig.series {
-                let pts: Vec<(f64, f64)> = s.points.iter().map(to_unit).collect();
-                for w in pts.windows(2) {
-                    assert!(!segment_meets_box(w[0], w[1], b), "{corner:?}: {w:?}");
-                }
-            }
-            let (x, y) = bounds(&fig);
-            assert!(l.x == x && l.y.0 == y.0 && l.y.1 >= y.1);
-        }
-    }
-
-    /// Whether the segment `p`–`q` has a point in the box `((x0, x1), (y0, y1))`.
-    fn segment_meets_box(p: (f64, f64), q: (f64, f64), ((x0, x1), (y0, y1)): UnitBox) -> bool {
-        let (dx, dy) = (q.0 - p.0, q.1 - p.1);
-        let (mut t0, mut t1) = (0.0f64, 1.0f64);
-        for (d, lo, hi, start) in [(dx, x0, x1, p.0), (dy, y0, y1, p.1)] {
-            if d == 0.0 {
-                if start < lo || start > hi {
-                    return false;
-                }
-                continue;
-            }
-            let (a, b) = ((lo - start) / d, (hi - start) / d);
-            t0 = t0.max(a.min(b));
-            t1 = t1.min(a.max(b));
-        }
-        t0 <= t1
-    }
-
+    /// A spike train of a million samples, one sample wide each: the
+    /// decimated line keeps every tip and the overall extremes, in order, with
+    /// at most four points per column.
     #[test]
     fn decimation_keeps_every_spike_tip() {
         let n = 1_000_000;
