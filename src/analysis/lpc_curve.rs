@@ -350,3 +350,19 @@ fn trace_through<S: VectorField>(
     }
     (curve, stops, short)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::gap_toward;
+
+    /// A curve that stopped short leaves unknown the span to the edge of
+    /// the range, or to the next Bautin point on the way (where the band
+    /// closes); a Bautin point at the end itself does not cut it.
+    #[test]
+    fn a_short_end_leaves_unknown_the_span_beyond_it() {
+        assert_eq!(gap_toward(0.39, 0.1, &[79.0]), (0.1, 0.39));
+        assert_eq!(gap_toward(5.9e4, 1e5, &[1.6e3]), (5.9e4, 1e5));
+        assert_eq!(gap_toward(3.0, 100.0, &[3.01, 20.0, 50.0]), (3.0, 20.0));
+        assert_eq!(gap_toward(3.0, 0.1, &[0.5, 2.0, 20.0]), (2.0, 3.0));
+    }
+}

@@ -793,6 +793,22 @@ mod tests {
         }
     }
 
+    /// A span where the fold curve was not computed has its legend entry,
+    /// and the legend does not otherwise change: the band's own entries
+    /// stay as they are.
+    #[test]
+    fn an_uncomputed_fold_curve_is_in_the_legend() {
+        let mut fig = figure(vec![(1.0, 1.0), (10.0, 2.0)]);
+        fig.lpc = vec![vec![(2.0, 1.3), (5.0, 1.7)]];
+        fig.bistable = vec![vec![(2.0, 1.3, Some(1.2)), (5.0, 1.7, Some(1.6))]];
+        let before: Vec<String> = legend(&fig).into_iter().map(|e| e.0).collect();
+        fig.unknown = vec![(0.1, 2.0)];
+        let after: Vec<String> = legend(&fig).into_iter().map(|e| e.0).collect();
+        assert_eq!(after.len(), before.len() + 1);
+        assert!(after.iter().any(|l| l.contains("not computed")));
+        assert!(before.iter().all(|l| after.contains(l)));
+    }
+
     #[test]
     fn rendering_never_fails_on_awkward_diagrams() {
         let dir = std::env::temp_dir().join(format!("stickslip-stab-{}", std::process::id()));
@@ -804,6 +820,7 @@ mod tests {
         ]];
         thin.lpc = vec![vec![(30.0, 2.3e5 * 1.002), (60.0, 2.4e5 * 1.001)]];
         thin.markers = vec![("Bautin (l1 = 0)".into(), 30.0, 2.3e5)];
+        thin.unknown = vec![(0.1, 30.0)];
         let mut empty = figure(Vec::new());
         empty.segments.clear();
         empty.notes = vec![Note {
