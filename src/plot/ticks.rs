@@ -154,13 +154,13 @@ fn exponent_label(v: f64) -> String {
 }
 
 /// Tick values of a linear axis over `lo .. hi`: labelled ones at
-/// multiples of a round step ([`round_step`], about eight of them), grid
+/// multiples of a round step ([`round_step`], five to ten of them), grid
 /// lines at a fifth of it.
 pub fn linear_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     if !(lo.is_finite() && hi.is_finite() && hi > lo) {
         return (Vec::new(), Vec::new());
     }
-    let step = round_step((hi - lo) / 8.0);
+    let step = round_step((hi - lo) / 10.0);
     let multiples = |step: f64| -> Vec<f64> {
         let (first, last) = ((lo / step).ceil() as i64, (hi / step).floor() as i64);
         (first..=last).map(|i| i as f64 * step).collect()
@@ -281,8 +281,8 @@ mod tests {
             labels_of(30.0, 3e5, true),
             ["5e1", "1e2", "2e2", "5e2", "1e3", "2e3", "5e3", "1e4", "2e4", "5e4", "1e5", "2e5"]
         );
-        assert_eq!(labels_of(0.0, 2e4, false)[1..3], ["2500", "5000"]);
-        assert_eq!(labels_of(0.0, 2.2e5, false)[1..3], ["5e4", "1e5"]);
+        assert_eq!(labels_of(0.0, 2e4, false)[1..3], ["2000", "4000"]);
+        assert_eq!(labels_of(0.0, 2.2e5, false)[1..3], ["2.5e4", "5e4"]);
         assert_eq!(labels_of(1.7e5, 4e5, true), ["2e5", "2.5e5", "3e5", "4e5"]);
         for (lo, hi, log) in [
             (1e-3, 1e9, true),
