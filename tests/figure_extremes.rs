@@ -351,6 +351,25 @@ fn legends_never_cover_data() {
     }
 }
 
+/// A stability diagram of the Hopf curve `curve` alone over `x_range`.
+fn diagram(curve: &[(f64, f64, Criticality)], x_range: (f64, f64)) -> StabilityFigure {
+    StabilityFigure {
+        title: "t".into(),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        segments: segments(curve),
+        reference: Vec::new(),
+        reference_label: "Appendix C".into(),
+        markers: Vec::new(),
+        vlines: Vec::new(),
+        lpc: Vec::new(),
+        unknown: Vec::new(),
+        bistable: Vec::new(),
+        x_range,
+        notes: Vec::new(),
+    }
+}
+
 /// A stability diagram whose curves vary by less than a decade (physical:
 /// K/M 1.7e5 .. 4e5; dimensionless: kappa 7.8e-3 .. 1.6e-2), a thin
 /// hysteretic band with a span where its fold curve was not computed, and
@@ -380,19 +399,12 @@ fn stability_diagrams_draw_their_extremes_with_clean_labels() {
             .map(|p| (p.0, p.1 * (1.0 + 0.007 * (p.0 / 80.0).sqrt()), Some(p.1)))
             .collect();
         let fig = StabilityFigure {
-            title: "t".into(),
-            x_label: "x".into(),
-            y_label: "y".into(),
-            segments: segments(&curve),
             reference: curve.iter().step_by(4).map(|p| (p.0, p.1)).collect(),
-            reference_label: "Appendix C".into(),
             markers: vec![("Bautin (l1 = 0)".into(), 80.0, k(80.0))],
-            vlines: Vec::new(),
             lpc: vec![band.iter().map(|p| (p.0, p.1)).collect()],
             unknown: vec![(0.1, 0.4)],
             bistable: vec![band.clone()],
-            x_range: (0.1, 100.0),
-            notes: Vec::new(),
+            ..diagram(&curve, (0.1, 100.0))
         };
         let axes = panels(&fig);
         assert_labelled(&axes.x, kind);
@@ -424,22 +436,7 @@ fn stability_diagrams_draw_their_extremes_with_clean_labels() {
     let flat: Vec<(f64, f64, Criticality)> = (0..10)
         .map(|i| (1.0 + i as f64, 3e-3, Criticality::Supercritical))
         .collect();
-    let fig = StabilityFigure {
-        title: "t".into(),
-        x_label: "x".into(),
-        y_label: "y".into(),
-        segments: segments(&flat),
-        reference: Vec::new(),
-        reference_label: String::new(),
-        markers: Vec::new(),
-        vlines: Vec::new(),
-        lpc: Vec::new(),
-        unknown: Vec::new(),
-        bistable: Vec::new(),
-        x_range: (1.0, 10.0),
-        notes: Vec::new(),
-    };
-    let axes = panels(&fig);
+    let axes = panels(&diagram(&flat, (1.0, 10.0)));
     assert_labelled(&axes.x, "flat");
     assert_labelled(&axes.y, "flat");
     assert!(axes.y.range.0 < 3e-3 && axes.y.range.1 > 3e-3);
