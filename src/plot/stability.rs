@@ -659,16 +659,12 @@ fn hatch<DB: DrawingBackend>(
     .map_err(e)?;
     // Lines x - y = c, clipped to the box.
     let style = UNKNOWN.mix(0.6).stroke_width(1);
-    let mut c = x0 - y1;
-    while c <= x1 - y0 {
-        let (a, b) = (
-            (x0.max(c + y0), (x0.max(c + y0)) - c),
-            (x1.min(c + y1), x1.min(c + y1) - c),
-        );
-        if a.0 <= b.0 {
-            area.draw(&PathElement::new(vec![a, b], style)).map_err(e)?;
+    for c in (x0 - y1..=x1 - y0).step_by(8) {
+        let (from, to) = (x0.max(c + y0), x1.min(c + y1));
+        if from <= to {
+            let line = vec![(from, from - c), (to, to - c)];
+            area.draw(&PathElement::new(line, style)).map_err(e)?;
         }
-        c += 8;
     }
     Ok(())
 }
