@@ -49,6 +49,31 @@ pub struct LpcCurves {
     /// its expected end at a Bautin point (a failed start, stiff cycles):
     /// the request is then incomplete.
     pub incomplete: bool,
+    /// The velocity spans `(lo, hi)` in `nu` where a curve was not computed
+    /// though it may exist: beyond each end that stopped short, to the edge
+    /// of the range or the next Bautin point. The hysteretic region there
+    /// is unknown, not absent.
+    pub gaps: Vec<(f64, f64)>,
+}
+
+/// The span from `from` toward `edge`, cut at the first Bautin point of
+/// `bautin` on the way (one at `from` itself, within 1 %, does not cut),
+/// as `(lo, hi)`.
+fn gap_toward(from: f64, edge: f64, bautin: &[f64]) -> (f64, f64) {
+    let beyond = |b: f64| (b / from).ln().abs() >= 0.01 && (b - from) * (edge - from) > 0.0;
+    let to = bautin
+        .iter()
+        .copied()
+        .filter(|&b| beyond(b))
+        .min_by(|a, b| (a - from).abs().total_cmp(&(b - from).abs()))
+        .map_or(edge, |b| {
+            if (b - from).abs() < (edge - from).abs() {
+                b
+            } else {
+                edge
+            }
+        });
+    (from.min(to), from.max(to))
 }
 
 fn record<S: VectorField>(log: &S, c: &Cycle) -> LpcCurvePoint {
@@ -132,6 +157,7 @@ pub fn lpc_curves<F: Wrap>(
 ) -> LpcCurves {
     let log = LogBlock::new(kind, params);
     let mut out = LpcCurves::default();
+    let bautin: Vec<f64> = starts.iter().map(|b| b.bautin_nu).collect();
     let near = |nu: f64, b: f64| (nu / b).ln().abs() < 0.01;
     for start in starts {
         // A curve already traced from another Bautin point may end here.
@@ -153,14 +179,25 @@ pub fn lpc_curves<F: Wrap>(
                     start.hopf_nu
                 ));
                 out.incomplete = true;
+                // Unknown on the subcritical side of the Bautin point.
+                let edge = if start.hopf_nu < start.bautin_nu {
+                    lo
+                } else {
+                    hi
+                };
+                out.gaps.push(gap_toward(start.bautin_nu, edge, &bautin));
                 continue;
             }
         };
-        let (curve, stops, short) = trace_through(&fields.field(log), &fold, (lo, hi), &|nu| {
+        let (curve, stops, ends) = trace_through(&fields.field(log), &fold, (lo, hi), &|nu| {
             starts.iter().any(|b| near(nu, b.bautin_nu))
         });
         out.stops.extend(stops);
-        out.incomplete |= short;
+        out.incomplete |= !ends.is_empty();
+        out.gaps.extend(
+            ends.into_iter()
+                .map(|(from, edge)| gap_toward(from, edge, &bautin)),
+        );
         out.points.push(curve);
     }
     out
@@ -177,24 +214,29 @@ pub fn lpc_curve_through(
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
     let log = LogBlock::centered(kind, params);
-    let (curve, stops, incomplete) = trace_through(&log, fold, (lo, hi), &|_| false);
+    let (curve, stops, ends) = trace_through(&log, fold, (lo, hi), &|_| false);
     LpcCurves {
         points: vec![curve],
         stops,
-        incomplete,
+        incomplete: !ends.is_empty(),
+        gaps: ends
+            .into_iter()
+            .map(|(from, edge)| gap_toward(from, edge, &[]))
+            .collect(),
     }
 }
 
 /// The curve of folds through `fold`, both ways at once, in increasing `nu`,
 /// with a message for each end that stopped on a failure away from a Bautin
 /// point (`at_bautin(nu)`: where the folded cycles shrink to nothing and the
-/// fold system degenerates, the expected end).
+/// fold system degenerates, the expected end), and the ends that stopped
+/// short of the range, as `(nu at the end, edge of the range beyond it)`.
 fn trace_through<S: VectorField>(
     log: &S,
     fold: &Cycle,
     (lo, hi): (f64, f64),
     at_bautin: &(dyn Fn(f64) -> bool + Sync),
-) -> (Vec<LpcCurvePoint>, Vec<String>, bool) {
+) -> (Vec<LpcCurvePoint>, Vec<String>, Vec<(f64, f64)>) {
     let ntst = fold.mesh.ntst();
     let trace = |direction: f64| {
         let settings = LpcCurveSettings {
@@ -243,12 +285,13 @@ fn trace_through<S: VectorField>(
         (half, failure, last_ntst)
     };
     let (down, up) = rayon::join(|| trace(-1.0), || trace(1.0));
-    let (mut curve, mut stops, mut short) = (Vec::new(), Vec::new(), false);
+    let (mut curve, mut stops, mut short) = (Vec::new(), Vec::new(), Vec::new());
     for (direction, (mut half, failure, last_ntst)) in [(-1.0, down), (1.0, up)] {
         let largest = half.iter().fold(0.0f64, |a, p| a.max(p.delta_s));
+        let edge = if direction < 0.0 { lo } else { hi };
         match (failure, half.last()) {
             (Some(cause), None) => {
-                short = true;
+                short.push((fold.p[Param::Nu as usize], edge));
                 stops.push(format!(
                     "the fold-of-cycles curve did not start toward {} nu: {cause}",
                     if direction < 0.0 { "smaller" } else { "larger" }
@@ -259,7 +302,9 @@ fn trace_through<S: VectorField>(
                 // where the fold system degenerates; else, most likely,
                 // cycles too stiff for the mesh.
                 let shrinking = end.delta_s < 0.2 * largest;
-                short |= !shrinking;
+                if !shrinking {
+                    short.push((end.nu, edge));
+                }
                 let (cause, why) = match cause {
                     ContinuationError::Unresolved {
                         ntst, error, tol, ..
@@ -304,4 +349,20 @@ fn trace_through<S: VectorField>(
         curve.extend(half);
     }
     (curve, stops, short)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gap_toward;
+
+    /// A curve that stopped short leaves unknown the span to the edge of
+    /// the range, or to the next Bautin point on the way (where the band
+    /// closes); a Bautin point at the end itself does not cut it.
+    #[test]
+    fn a_short_end_leaves_unknown_the_span_beyond_it() {
+        assert_eq!(gap_toward(0.39, 0.1, &[79.0]), (0.1, 0.39));
+        assert_eq!(gap_toward(5.9e4, 1e5, &[1.6e3]), (5.9e4, 1e5));
+        assert_eq!(gap_toward(3.0, 100.0, &[3.01, 20.0, 50.0]), (3.0, 20.0));
+        assert_eq!(gap_toward(3.0, 0.1, &[0.5, 2.0, 20.0]), (2.0, 3.0));
+    }
 }

@@ -2,7 +2,7 @@
 //! logarithmic axes. Cycle diagrams, orbits and time series use it.
 
 use super::colormap::{viridis, LINE_END};
-use super::{frame, log_axis, render_both, Axis, Chart, PlotError, FONT};
+use super::{frame, render_both, Axis, Chart, PlotError, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -278,16 +278,17 @@ fn legend_fraction(fig: &LineFigure, pixels: (f64, f64)) -> (f64, f64) {
     (width / pixels.0, height / pixels.1)
 }
 
-/// How a line figure is laid out: the axis ranges and the legend's corner.
+/// How a line figure is laid out: the axis ranges and the legend's corner
+/// with its box.
 #[derive(Clone, Debug)]
 struct Layout {
     x: (f64, f64),
     y: (f64, f64),
-    legend: SeriesLabelPosition,
+    legend: (SeriesLabelPosition, UnitBox),
 }
 
 /// A box of the plotting area in unit coordinates: `(x span, y span)`.
-type UnitBox = ((f64, f64), (f64, f64));
+pub type UnitBox = ((f64, f64), (f64, f64));
 
 /// Corners of the plotting area as `(position, box)` in unit
 /// coordinates, for a legend of size `(w, h)` (fractions of the area).
@@ -338,12 +339,13 @@ fn occupancy(fig: &LineFigure, ranges: ((f64, f64), (f64, f64)), (xs, ys): UnitB
 fn layout(fig: &LineFigure, pixels: (f64, f64)) -> Layout {
     let (x, y) = bounds(fig);
     let size = legend_fraction(fig, pixels);
-    let counts = corners(size).map(|(pos, b)| (pos, occupancy(fig, (x, y), b)));
+    let counts = corners(size).map(|(pos, b)| (pos, b, occupancy(fig, (x, y), b)));
     let best = counts
         .iter()
-        .min_by_key(|c| c.1)
-        .map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone());
-    if counts.iter().any(|c| c.1 == 0) || !fig.series.iter().any(|s| s.label.is_some()) {
+        .min_by_key(|c| c.2)
+        .map(|c| (c.0.clone(), c.1))
+        .expect("four corners");
+    if counts.iter().any(|c| c.2 == 0) || !fig.series.iter().any(|s| s.label.is_some()) {
         return Layout { x, y, legend: best };
     }
     // Data below a fraction `1 - h` of the extended axis (with 2 % to spare).
@@ -357,7 +359,8 @@ fn layout(fig: &LineFigure, pixels: (f64, f64)) -> Layout {
     let upper = corners(size)[..2]
         .iter()
         .min_by_key(|(_, b)| occupancy(fig, (x, y), *b))
-        .map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone());
+        .cloned()
+        .expect("two upper corners");
     Layout {
         x,
         y,
@@ -368,12 +371,59 @@ fn layout(fig: &LineFigure, pixels: (f64, f64)) -> Layout {
 /// Width of the colour bar beside a family's plot, in pixels.
 const COLORBAR_WIDTH: u32 = 140;
 
-/// Writes `stem.png` and `stem.svg`. Never fails on the data: points a
-/// log axis cannot draw are left out with a note in the title, and a
-/// constant series gets a sane range. Dense lines are drawn from their
-/// min/max decimation ([`decimated`]), orbits from the points half a pixel
-/// apart ([`thinned`]); the legend goes where it covers no data
-/// ([`layout`]).
+/// What the plotting layer decides for a line figure before it draws:
+/// the points drawn, the axes and the legend's place.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// The figure as drawn: the points its axes can draw ([`drawable_only`],
+    /// with the title's note), dense lines decimated ([`decimated`]),
+    /// orbits thinned ([`thinned`]).
+    pub figure: LineFigure,
+    /// The x axis drawn.
+    pub x: Axis,
+    /// The y axis drawn.
+    pub y: Axis,
+    /// The colour bar's axis, for a family.
+    pub bar: Option<Axis>,
+    /// The legend's box in unit coordinates of the plotting area; `None`
+    /// without a labelled series.
+    pub legend: Option<UnitBox>,
+    corner: SeriesLabelPosition,
+}
+
+/// The [`Plan`] of `fig` (a family coloured by `bar`, if any). Never fails
+/// on the data: points a log axis cannot draw are left out with a note in
+/// the title, and a constant series gets a sane range. Dense lines keep
+/// their min/max decimation, orbits the points half a pixel apart; the
+/// legend goes where it covers no data ([`layout`]).
+pub fn plan(fig: &LineFigure, bar: Option<&Colorbar>) -> Plan {
+    let mut fig = drawable_only(fig);
+    let pixels = plot_pixels(WIDTH - bar.map_or(0, |_| COLORBAR_WIDTH));
+    let ranges = bounds(&fig);
+    for s in fig.series.iter_mut().filter(|s| !s.markers) {
+        s.points = if monotonic_in_x(&s.points) {
+            decimated(&s.points, ranges.0, fig.log_x)
+        } else {
+            thinned(&s.points, ranges, (fig.log_x, fig.log_y), pixels)
+        };
+    }
+    let layout = layout(&fig, pixels);
+    let labelled = fig.series.iter().any(|s| s.label.is_some());
+    let ((x0, x1), (y0, y1)) = (layout.x, layout.y);
+    Plan {
+        x: Axis::new(x0, x1, fig.log_x),
+        y: Axis::new(y0, y1, fig.log_y),
+        bar: bar.map(bar_axis),
+        legend: labelled.then_some(layout.legend.1),
+        corner: layout.legend.0,
+        figure: fig,
+    }
+}
+
+/// Width of a line figure in pixels (a family's includes its colour bar).
+const WIDTH: u32 = 1000;
+
+/// Writes `stem.png` and `stem.svg`, as [`plan`] lays the figure out.
 pub fn render(fig: &LineFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     render_with(fig, None, stem)
 }
@@ -393,60 +443,42 @@ fn render_with(
     bar: Option<&Colorbar>,
     stem: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
-    let mut fig = drawable_only(fig);
-    let width = 1000;
-    let pixels = plot_pixels(width - bar.map_or(0, |_| COLORBAR_WIDTH));
-    let ranges = bounds(&fig);
-    for s in fig.series.iter_mut().filter(|s| !s.markers) {
-        s.points = if monotonic_in_x(&s.points) {
-            decimated(&s.points, ranges.0, fig.log_x)
-        } else {
-            thinned(&s.points, ranges, (fig.log_x, fig.log_y), pixels)
-        };
-    }
-    let layout = layout(&fig, pixels);
+    let plan = plan(fig, bar);
     render_both(
         stem,
-        (width, 650),
-        |a| draw_any(a, &fig, &layout, bar),
-        |a| draw_any(a, &fig, &layout, bar),
+        (WIDTH, 650),
+        |a| draw_any(a, &plan, bar),
+        |a| draw_any(a, &plan, bar),
     )
 }
 
 fn draw_any<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
-    fig: &LineFigure,
-    layout: &Layout,
+    plan: &Plan,
     bar: Option<&Colorbar>,
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
-    let root = match bar {
-        Some(bar) => {
+    let root = match (bar, &plan.bar) {
+        (Some(bar), Some(axis)) => {
             let width = root.dim_in_pixel().0;
             let (main, side) = root.split_horizontally(width - COLORBAR_WIDTH);
-            draw_colorbar(&side, bar)?;
+            draw_colorbar(&side, bar, axis)?;
             main
         }
-        None => root,
+        _ => root,
     };
-    let ((x0, x1), (y0, y1)) = (layout.x, layout.y);
-    let axes = (Axis::over(x0, x1, fig.log_x), Axis::over(y0, y1, fig.log_y));
-    let legend = layout.legend.clone();
-    match (fig.log_x, fig.log_y) {
-        (false, false) => draw(root, fig, axes, legend, x0..x1, y0..y1),
-        (true, false) => draw(root, fig, axes, legend, log_axis(x0, x1), y0..y1),
-        (false, true) => draw(root, fig, axes, legend, x0..x1, log_axis(y0, y1)),
-        (true, true) => draw(root, fig, axes, legend, log_axis(x0, x1), log_axis(y0, y1)),
+    let (x, y) = (&plan.x, &plan.y);
+    match (x.log, y.log) {
+        (false, false) => draw(root, plan, x.linear_coord(), y.linear_coord()),
+        (true, false) => draw(root, plan, x.log_coord(), y.linear_coord()),
+        (false, true) => draw(root, plan, x.linear_coord(), y.log_coord()),
+        (true, true) => draw(root, plan, x.log_coord(), y.log_coord()),
     }
 }
 
-/// The colour bar of a family: the scale as a strip of 200 colours with
-/// the values labelled, aligned with the plotting area beside it.
-fn draw_colorbar<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    bar: &Colorbar,
-) -> Result<(), String> {
+/// The axis of a colour bar: its scale, widened about a single value.
+fn bar_axis(bar: &Colorbar) -> Axis {
     let (lo, hi) = bar.range;
     let (lo, hi) = if hi > lo {
         (lo, hi)
@@ -454,7 +486,17 @@ fn draw_colorbar<DB: DrawingBackend>(
         let half = if lo != 0.0 { 0.05 * lo.abs() } else { 1.0 };
         (lo - half, hi + half)
     };
-    let axis = Axis::over(lo, hi, bar.log);
+    Axis::new(lo, hi, bar.log)
+}
+
+/// The colour bar of a family: the scale as a strip of 200 colours with
+/// the values labelled on `axis`, aligned with the plotting area beside it.
+fn draw_colorbar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    bar: &Colorbar,
+    axis: &Axis,
+) -> Result<(), String> {
+    let (lo, hi) = axis.range;
     // The strip in unit steps of the scale (log or linear), labelled on its axis.
     let n = 200;
     let strip: Vec<_> = (0..n)
@@ -474,9 +516,9 @@ fn draw_colorbar<DB: DrawingBackend>(
         })
         .collect();
     if bar.log {
-        draw_strip(area, &bar.label, axis, log_axis(lo, hi), strip)
+        draw_strip(area, &bar.label, axis, axis.log_coord(), strip)
     } else {
-        draw_strip(area, &bar.label, axis, lo..hi, strip)
+        draw_strip(area, &bar.label, axis, axis.linear_coord(), strip)
     }
 }
 
@@ -486,7 +528,7 @@ fn draw_colorbar<DB: DrawingBackend>(
 fn draw_strip<DB: DrawingBackend, Y>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     label: &str,
-    axis: Axis,
+    axis: &Axis,
     yr: Y,
     strip: Vec<Rectangle<(f64, f64)>>,
 ) -> Result<(), String>
@@ -519,11 +561,31 @@ where
     Ok(())
 }
 
+/// The pixel path `pixels` with both ends of every right-to-left
+/// horizontal step doubled. plotters' bitmap backend fills such a step
+/// without its two end pixels (a one-pixel step not at all), and draws a
+/// zero-length step as its pixel: the slips of stiff orbits, long leftward
+/// runs of short flat steps, were drawn dotted.
+fn with_step_ends(pixels: &[(i32, i32)]) -> Vec<(i32, i32)> {
+    let leftward = |a: (i32, i32), b: (i32, i32)| a.1 == b.1 && b.0 < a.0;
+    let mut out = Vec::with_capacity(pixels.len());
+    for (i, &p) in pixels.iter().enumerate() {
+        out.push(p);
+        let before = i > 0 && leftward(pixels[i - 1], p);
+        let after = pixels.get(i + 1).is_some_and(|&q| leftward(p, q));
+        if before || after {
+            out.push(p);
+        }
+    }
+    out
+}
+
 /// A solid line two pixels wide through `points`, drawn as one-pixel lines
 /// offset by a pixel right and down: plotters draws a wide line as a polygon
 /// that degenerates on (nearly) vertical pixel steps, such as the slips of a
 /// stick-slip time series (spikes went missing, stray lines left the frame),
-/// while its one-pixel lines are exact.
+/// while its one-pixel lines are exact but for the ends of leftward
+/// horizontal steps ([`with_step_ends`]).
 fn thick_line<DB: DrawingBackend, X, Y>(
     chart: &Chart<'_, DB, X, Y>,
     points: &[(f64, f64)],
@@ -543,6 +605,7 @@ where
             (x - bx, y - by)
         })
         .collect();
+    let pixels = with_step_ends(&pixels);
     let area = plot.strip_coord_spec();
     for (dx, dy) in [(0, 0), (1, 0), (0, 1)] {
         let shifted: Vec<(i32, i32)> = pixels.iter().map(|&(x, y)| (x + dx, y + dy)).collect();
@@ -554,9 +617,7 @@ where
 
 fn draw<DB: DrawingBackend, X, Y>(
     root: DrawingArea<DB, plotters::coord::Shift>,
-    fig: &LineFigure,
-    axes: (Axis, Axis),
-    legend: SeriesLabelPosition,
+    plan: &Plan,
     xr: X,
     yr: Y,
 ) -> Result<(), String>
@@ -567,10 +628,11 @@ where
     Y::CoordDescType: ValueFormatter<f64>,
 {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let fig = &plan.figure;
     let mut chart = frame(
         &root,
         (&fig.title, &fig.x_label, &fig.y_label),
-        axes,
+        (&plan.x, &plan.y),
         xr,
         yr,
     )?;
@@ -618,7 +680,7 @@ where
     if any_label {
         chart
             .configure_series_labels()
-            .position(legend)
+            .position(plan.corner.clone())
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
             .label_font((FONT, 14))
@@ -674,101 +736,20 @@ mod tests {
         assert!(y1 / y0 > 1.5 && y0 < 3.0 && y1 > 3.0, "{y0} {y1}");
     }
 
-    /// A spike train of a million samples, one sample wide each: the
-    /// decimated line keeps every tip and the overall extremes, in order, with
-    /// at most four points per column.
     /// A curve through the upper right leaves the legend elsewhere.
     #[test]
     fn legend_goes_to_the_emptiest_corner() {
         let mut fig = figure((0..100).map(|i| (i as f64, i as f64)).collect(), false);
         fig.series[0].label = Some("a line".into());
         assert!(matches!(
-            layout(&fig, plot_pixels(1000)).legend,
+            layout(&fig, plot_pixels(1000)).legend.0,
             SeriesLabelPosition::UpperLeft
         ));
     }
 
-    /// On awkward data (a constant series, a curve through every corner, a
-    /// family of 40 cycles, a million-sample spike train) the legend's box
-    /// holds no point and no line sample of the data.
-    #[test]
-    fn legends_never_cover_data() {
-        let labelled = |points: Vec<(f64, f64)>, log_y: bool| {
-            let mut f = figure(points, log_y);
-            f.series[0].label = Some("a fairly long legend entry".into());
-            f
-        };
-        let zigzag: Vec<(f64, f64)> = (0..400)
-            .map(|i| (i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }))
-            .collect();
-        let mut family = figure(Vec::new(), true);
-        for k in 0..40 {
-            let r = 0.1 + k as f64 * 0.02;
-            family.series.push(Series {
-                label: (k == 0).then(|| "switch".to_string()),
-                points: (0..=200)
-                    .map(|i| {
-                        let a = i as f64 / 200.0 * std::f64::consts::TAU;
-                        (0.5 + r * a.cos(), (3.0 * r * a.sin()).exp())
-                    })
-                    .collect(),
-                color: RGBColor(0, 0, 0),
-                dashed: false,
-                markers: false,
-            });
-        }
-        let spikes = labelled(
-            (0..1_000_000)
-                .map(|i| (i as f64, if i % 10_000 == 5_000 { 1e6 } else { 1.0 }))
-                .collect(),
-            true,
-        );
-        for fig in [
-            labelled(vec![(0.0, 3.0), (1.0, 3.0)], false),
-            labelled(zigzag, false),
-            family,
-            spikes,
-        ] {
-            let px = plot_pixels(1000);
-            let l = layout(&fig, px);
-            let (_, b) = corners(legend_fraction(&fig, px))
-                .into_iter()
-                .find(|(pos, _)| format!("{pos:?}") == format!("{:?}", l.legend))
-                .unwrap();
-            // Independently of `occupancy`'s sampling: no segment of any
-            // series meets the legend's box (Liang-Barsky clipping).
-            let ((x0, x1), (y0, y1)) = (l.x, l.y);
-            let to_unit =
-                |&(x, y): &(f64, f64)| (unit(x, x0, x1, fig.log_x), unit(y, y0, y1, fig.log_y));
-            for s in &fig.series {
-                let pts: Vec<(f64, f64)> = s.points.iter().map(to_unit).collect();
-                for w in pts.windows(2) {
-                    assert!(!segment_meets_box(w[0], w[1], b), "{:?}: {:?}", l.legend, w);
-                }
-            }
-            let (x, y) = bounds(&fig);
-            assert!(l.x == x && l.y.0 == y.0 && l.y.1 >= y.1);
-        }
-    }
-
-    /// Whether the segment `p`–`q` has a point in the box `((x0, x1), (y0, y1))`.
-    fn segment_meets_box(p: (f64, f64), q: (f64, f64), ((x0, x1), (y0, y1)): UnitBox) -> bool {
-        let (dx, dy) = (q.0 - p.0, q.1 - p.1);
-        let (mut t0, mut t1) = (0.0f64, 1.0f64);
-        for (d, lo, hi, start) in [(dx, x0, x1, p.0), (dy, y0, y1, p.1)] {
-            if d == 0.0 {
-                if start < lo || start > hi {
-                    return false;
-                }
-                continue;
-            }
-            let (a, b) = ((lo - start) / d, (hi - start) / d);
-            t0 = t0.max(a.min(b));
-            t1 = t1.min(a.max(b));
-        }
-        t0 <= t1
-    }
-
+    /// A spike train of a million samples, one sample wide each: the
+    /// decimated line keeps every tip and the overall extremes, in order, with
+    /// at most four points per column.
     #[test]
     fn decimation_keeps_every_spike_tip() {
         let n = 1_000_000;
@@ -793,6 +774,38 @@ mod tests {
         let lowest = d.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
         assert_eq!(lowest, 1.0);
         assert_eq!((d[0], *d.last().unwrap()), (points[0], points[n - 1]));
+    }
+
+    /// A leftward run of flat steps one or two pixels long (the slip of a
+    /// stiff orbit) is drawn solid, both of its rows: plotters' bitmap
+    /// backend left out the ends of every right-to-left horizontal step,
+    /// and the line's lower row came out dotted.
+    #[test]
+    fn leftward_flat_steps_are_drawn_solid() {
+        let (w, h) = (300u32, 100u32);
+        let mut buffer = vec![255u8; (w * h * 3) as usize];
+        let pixels: Vec<(i32, i32)> = {
+            let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+            let chart = ChartBuilder::on(&root)
+                .build_cartesian_2d(0.0..300.0, 0.0..100.0)
+                .unwrap();
+            let points: Vec<(f64, f64)> =
+                (0..180).map(|i| (280.0 - 1.5 * i as f64, 50.0)).collect();
+            thick_line::<_, std::ops::Range<f64>, std::ops::Range<f64>>(&chart, &points, BLACK)
+                .unwrap();
+            root.present().unwrap();
+            points
+                .iter()
+                .map(|p| chart.plotting_area().map_coordinate(p))
+                .collect()
+        };
+        let y = pixels[0].1;
+        assert!(pixels.iter().all(|p| p.1 == y));
+        let (left, right) = (pixels.last().unwrap().0, pixels[0].0);
+        let painted = |x: i32, y: i32| buffer[((y as u32 * w + x as u32) * 3) as usize] < 128;
+        for x in left..=right {
+            assert!(painted(x, y) && painted(x, y + 1), "gap at x = {x}");
+        }
     }
 
     #[test]

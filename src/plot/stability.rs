@@ -2,8 +2,9 @@
 //! parts drawn differently, the Appendix C curve overlaid, special points
 //! marked, stable and unstable regions labelled.
 
-use super::{frame, log_axis, render_both, Axis, PlotError, FONT};
+use super::{frame, render_both, Axis, PlotError, FONT};
 use crate::analysis::hopf::Criticality;
+use plotters::coord::ranged1d::Ranged;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -37,6 +38,10 @@ pub struct StabilityFigure {
     /// the lower bound `None` where it is the bottom of the axes (no Hopf
     /// point at that velocity: steady sliding stable for every stiffness).
     pub bistable: Vec<Vec<(f64, f64, Option<f64>)>>,
+    /// x spans where the fold-of-cycles curve, the hysteretic region's
+    /// upper edge, was not computed (it stopped short): the region there is
+    /// unknown, drawn hatched and labelled, not left blank as if absent.
+    pub unknown: Vec<(f64, f64)>,
     /// x range of the axes.
     pub x_range: (f64, f64),
     /// Text written in the plot (e.g. "velocity strengthening: stable for
@@ -114,7 +119,13 @@ enum Swatch {
     Fill(RGBColor),
     Circle,
     Triangle,
+    Hatch,
 }
+
+/// Grey of the hatching over spans where the fold curve was not computed.
+const UNKNOWN: RGBColor = RGBColor(150, 150, 150);
+/// What the hatching over such a span says.
+const UNKNOWN_LABEL: &str = "fold curve not computed here";
 
 /// The legend of `fig`, in drawing order.
 fn legend(fig: &StabilityFigure) -> Vec<(String, Swatch)> {
@@ -123,6 +134,12 @@ fn legend(fig: &StabilityFigure) -> Vec<(String, Swatch)> {
         out.push((
             "bistable: stick-slip coexists with steady sliding".to_string(),
             Swatch::Fill(FOLD),
+        ));
+    }
+    if !fig.unknown.is_empty() {
+        out.push((
+            "fold curve not computed: hysteresis there unknown".to_string(),
+            Swatch::Hatch,
         ));
     }
     if !fig.lpc.is_empty() {
@@ -196,18 +213,52 @@ fn band_is_thin(fig: &StabilityFigure, (y0, y1): (f64, f64)) -> bool {
     !widths.is_empty() && px < THIN_BAND_PX
 }
 
+/// The axes of a stability diagram, as the plotting layer draws them.
+#[derive(Clone, Debug)]
+pub struct Panels {
+    /// Velocity, shared by both panels (log).
+    pub x: Axis,
+    /// Stiffness in the main panel (log).
+    pub y: Axis,
+    /// Band width in percent, in the panel magnifying a thin hysteretic band
+    /// ([`band_is_thin`]); `None` without that panel.
+    pub band: Option<Axis>,
+}
+
+/// The [`Panels`] of `fig`: the x range with a little room at both ends (so
+/// the end ticks and markers show), the y range of [`y_range`], and the
+/// band panel's `0 ..` 1.15 times the widest band.
+pub fn panels(fig: &StabilityFigure) -> Panels {
+    let (x0, x1) = (fig.x_range.0 / 1.12, fig.x_range.1 * 1.12);
+    let (y0, y1) = y_range(fig);
+    let band = band_is_thin(fig, (y0, y1)).then(|| {
+        let top = band_widths(fig)
+            .iter()
+            .flatten()
+            .map(|p| 100.0 * p.1)
+            .fold(0.0f64, f64::max);
+        Axis::new(0.0, if top > 0.0 { 1.15 * top } else { 1.0 }, false)
+    });
+    Panels {
+        x: Axis::new(x0, x1, true),
+        y: Axis::new(y0, y1, true),
+        band,
+    }
+}
+
 /// Writes `stem.png` and `stem.svg`; returns their paths. The figure is the
 /// main panel, a panel magnifying the hysteretic band when it is too thin to
 /// see ([`band_is_thin`]), and the legend below them (outside the data).
 pub fn render(fig: &StabilityFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let rows = legend(fig).len().div_ceil(2) as u32;
-    let band = band_is_thin(fig, y_range(fig));
-    let height = MAIN_HEIGHT + if band { BAND_HEIGHT } else { 0 } + rows * LEGEND_ROW + 16;
+    let axes = panels(fig);
+    let band = if axes.band.is_some() { BAND_HEIGHT } else { 0 };
+    let height = MAIN_HEIGHT + band + rows * LEGEND_ROW + 16;
     render_both(
         stem,
         (WIDTH, height),
-        |a| draw(a, fig, band),
-        |a| draw(a, fig, band),
+        |a| draw(a, fig, &axes),
+        |a| draw(a, fig, &axes),
     )
 }
 
@@ -353,21 +404,20 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     fig: &StabilityFigure,
-    band: bool,
+    axes: &Panels,
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
     let (main, rest) = root.split_vertically(MAIN_HEIGHT);
+    let band = axes.band.is_some();
     let (band_area, legend_area) = rest.split_vertically(if band { BAND_HEIGHT } else { 0 });
-    let (y0, y1) = y_range(fig);
-    // A little room at both ends so the end ticks and markers show.
-    let (x0, x1) = (fig.x_range.0 / 1.12, fig.x_range.1 * 1.12);
+    let ((x0, x1), (y0, y1)) = (axes.x.range, axes.y.range);
     let mut chart = frame(
         &main,
         (&fig.title, &fig.x_label, &fig.y_label),
-        (Axis::over(x0, x1, true), Axis::over(y0, y1, true)),
-        log_axis(x0, x1),
-        log_axis(y0, y1),
+        (&axes.x, &axes.y),
+        axes.x.log_coord(),
+        axes.y.log_coord(),
     )?;
     let plot_px = {
         let (w, h) = chart.plotting_area().dim_in_pixel();
@@ -380,6 +430,9 @@ fn draw<DB: DrawingBackend>(
         chart
             .draw_series([Polygon::new(polygon, FOLD.mix(0.18).filled())])
             .map_err(e)?;
+    }
+    if !band {
+        hatch_unknown(chart.plotting_area(), &fig.unknown)?;
     }
     for curve in &fig.lpc {
         chart
@@ -488,8 +541,8 @@ fn draw<DB: DrawingBackend>(
             }))
             .map_err(e)?;
     }
-    if band {
-        draw_band(&band_area, fig, (x0, x1))?;
+    if let Some(band) = &axes.band {
+        draw_band(&band_area, fig, (&axes.x, band))?;
     }
     draw_legend(&legend_area, &legend(fig))?;
     root.present().map_err(e)?;
@@ -497,29 +550,24 @@ fn draw<DB: DrawingBackend>(
 }
 
 /// The panel magnifying a thin hysteretic band: its relative width
-/// `K_fold / K_c - 1` in percent against velocity, on the main panel's x axis.
+/// `K_fold / K_c - 1` in percent (axis `ya`) against velocity, on the main
+/// panel's x axis `xa`; the spans where the fold curve was not computed
+/// hatched.
 fn draw_band<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     fig: &StabilityFigure,
-    (x0, x1): (f64, f64),
+    (xa, ya): (&Axis, &Axis),
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     let widths = band_widths(fig);
-    let top = widths
-        .iter()
-        .flatten()
-        .map(|p| 100.0 * p.1)
-        .fold(0.0f64, f64::max);
-    let top = if top > 0.0 { 1.15 * top } else { 1.0 };
     let mut chart = ChartBuilder::on(area)
         .margin_left(18)
         .margin_right(18)
         .margin_top(30)
         .x_label_area_size(45)
         .y_label_area_size(85)
-        .build_cartesian_2d(log_axis(x0, x1), 0.0..top)
+        .build_cartesian_2d(xa.log_coord(), ya.linear_coord())
         .map_err(e)?;
-    let (xa, ya) = (Axis::over(x0, x1, true), Axis::over(0.0, top, false));
     chart
         .configure_mesh()
         .x_desc(fig.x_label.as_str())
@@ -544,15 +592,80 @@ fn draw_band<DB: DrawingBackend>(
             ))
             .map_err(e)?;
     }
+    hatch_unknown(chart.plotting_area(), &fig.unknown)?;
     let text = TextStyle::from((FONT, 16).into_font())
         .color(&RGBColor(60, 60, 60))
         .pos(Pos::new(HPos::Left, VPos::Top));
-    area.draw(&Text::new(
-        "hysteretic band magnified: fold-of-cycles stiffness over critical stiffness, minus 1",
-        (110, 6),
-        text,
+    let caption = if fig.unknown.is_empty() {
+        "hysteretic band magnified: fold-of-cycles stiffness over critical stiffness, minus 1"
+    } else {
+        "hysteretic band magnified: fold-of-cycles stiffness over critical stiffness, minus 1 \
+         (hatched: not computed)"
+    };
+    area.draw(&Text::new(caption, (110, 6), text)).map_err(e)?;
+    Ok(())
+}
+
+/// Hatches the x spans `unknown` of a plotting area over its whole height
+/// and writes [`UNKNOWN_LABEL`] in each, wrapped to its width.
+fn hatch_unknown<DB: DrawingBackend, X, Y>(
+    plot: &DrawingArea<DB, Cartesian2d<X, Y>>,
+    unknown: &[(f64, f64)],
+) -> Result<(), String>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let (base, (w, h)) = (plot.get_base_pixel(), plot.dim_in_pixel());
+    let y_lo = plot.get_y_range().start;
+    let area = plot.strip_coord_spec();
+    let text = TextStyle::from((FONT, 15).into_font())
+        .color(&RGBColor(70, 70, 70))
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    for &(a, b) in unknown {
+        let px = |x: f64| (plot.map_coordinate(&(x, y_lo)).0 - base.0).clamp(0, w as i32);
+        let (left, right) = (px(a.min(b)), px(a.max(b)));
+        if right <= left {
+            continue;
+        }
+        hatch(&area, ((left, 0), (right, h as i32)))?;
+        let chars = ((right - left) as usize / 9).max(8);
+        let lines = wrap(UNKNOWN_LABEL, chars);
+        let top = h as i32 / 2 - 9 * (lines.len() as i32 - 1);
+        for (i, line) in lines.iter().enumerate() {
+            area.draw(&Text::new(
+                line.clone(),
+                ((left + right) / 2, top + 18 * i as i32),
+                text.clone(),
+            ))
+            .map_err(e)?;
+        }
+    }
+    Ok(())
+}
+
+/// A light grey box `corners` (pixels of `area`) hatched by diagonal lines
+/// 8 pixels apart.
+fn hatch<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    ((x0, y0), (x1, y1)): ((i32, i32), (i32, i32)),
+) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    area.draw(&Rectangle::new(
+        [(x0, y0), (x1, y1)],
+        UNKNOWN.mix(0.12).filled(),
     ))
     .map_err(e)?;
+    // Lines x - y = c, clipped to the box.
+    let style = UNKNOWN.mix(0.6).stroke_width(1);
+    for c in (x0 - y1..=x1 - y0).step_by(8) {
+        let (from, to) = (x0.max(c + y0), x1.min(c + y1));
+        if from <= to {
+            let line = vec![(from, from - c), (to, to - c)];
+            area.draw(&PathElement::new(line, style)).map_err(e)?;
+        }
+    }
     Ok(())
 }
 
@@ -596,6 +709,7 @@ fn draw_legend<DB: DrawingBackend>(
                 area.draw(&TriangleMarker::new((x + 14, y), 8, BLACK.filled()))
                     .map_err(e)?;
             }
+            Swatch::Hatch => hatch(area, ((x, y - 7), (x + 28, y + 7)))?,
         }
         area.draw(&Text::new(label.clone(), (x + 38, y), text.clone()))
             .map_err(e)?;
@@ -622,6 +736,7 @@ mod tests {
             vlines: Vec::new(),
             lpc: Vec::new(),
             bistable: Vec::new(),
+            unknown: Vec::new(),
             x_range: (0.1, 100.0),
             notes: Vec::new(),
         }
@@ -674,6 +789,22 @@ mod tests {
         }
     }
 
+    /// A span where the fold curve was not computed has its legend entry,
+    /// and the legend does not otherwise change: the band's own entries
+    /// stay as they are.
+    #[test]
+    fn an_uncomputed_fold_curve_is_in_the_legend() {
+        let mut fig = figure(vec![(1.0, 1.0), (10.0, 2.0)]);
+        fig.lpc = vec![vec![(2.0, 1.3), (5.0, 1.7)]];
+        fig.bistable = vec![vec![(2.0, 1.3, Some(1.2)), (5.0, 1.7, Some(1.6))]];
+        let before: Vec<String> = legend(&fig).into_iter().map(|e| e.0).collect();
+        fig.unknown = vec![(0.1, 2.0)];
+        let after: Vec<String> = legend(&fig).into_iter().map(|e| e.0).collect();
+        assert_eq!(after.len(), before.len() + 1);
+        assert!(after.iter().any(|l| l.contains("not computed")));
+        assert!(before.iter().all(|l| after.contains(l)));
+    }
+
     #[test]
     fn rendering_never_fails_on_awkward_diagrams() {
         let dir = std::env::temp_dir().join(format!("stickslip-stab-{}", std::process::id()));
@@ -685,6 +816,7 @@ mod tests {
         ]];
         thin.lpc = vec![vec![(30.0, 2.3e5 * 1.002), (60.0, 2.4e5 * 1.001)]];
         thin.markers = vec![("Bautin (l1 = 0)".into(), 30.0, 2.3e5)];
+        thin.unknown = vec![(0.1, 30.0)];
         let mut empty = figure(Vec::new());
         empty.segments.clear();
         empty.notes = vec![Note {

@@ -158,6 +158,7 @@ pub(super) fn write_figures(
             vlines,
             lpc,
             bistable,
+            unknown: d.lpc.gaps.iter().map(|&(a, b)| (fx(a), fx(b))).collect(),
             x_range: (fx(lo), fx(hi)),
             notes: strengthening_notes(d, &fx, &x_span),
         };
