@@ -86,3 +86,84 @@ fn collocation_cycles_agree_with_long_time_integration() {
         common::assert_reproduced_by_integration(kind, &p, r, &format!("{kind:?}"));
     }
 }
+
+/// A branch continued back to the Hopf point ends there: Brockley-type
+/// subcritical onset (cutoff law, `nu = 90`, `m = 1e-3`), cycles through a
+/// simulated stable orbit at `kappa = 0.45`. Toward larger stiffness the
+/// stable cycles fold at the LPC and return, unstable, down to `kappa_c`,
+/// where their amplitude passes through zero and the parameter turns: that
+/// turn is neither a fold (none reported there) nor a reason to go on (past
+/// it the same cycles come back shifted by half a period, and were drawn
+/// twice). Independent values: `kappa_c` of steady sliding by `find_hopf`.
+#[test]
+fn a_branch_that_returns_to_the_hopf_point_ends_there() {
+    use continuation::periodic::branch::BranchEnd;
+    use stickslip::analysis::cycles::trace_cycles_from_orbit;
+    use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+    use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+    use stickslip::analysis::orbit_inertia::InertiaWatch;
+    use stickslip::analysis::settle::{settle, stuck_start, SettleSettings};
+    let params = |kappa: f64| Params {
+        kappa,
+        nu: 90.0,
+        m: 1e-3,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.5,
+        mu2: 0.0,
+        theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
+    };
+    let kind = ModelKind::Inertial;
+    let HopfOutcome::Found(hopf) = find_hopf(kind, &params(0.5)).unwrap() else {
+        panic!("a Hopf point")
+    };
+    let p = params(0.45);
+    let orbit = settle(kind, &p, stuck_start(&p), &SettleSettings::for_params(&p)).unwrap();
+    let req = CycleRequest {
+        kappa_min: 0.34,
+        kappa_max: 0.50,
+        max_steps: 60,
+        ntst: 40,
+        at_kappa: Vec::new(),
+        ntst_max: 1600,
+        collocation: None,
+    };
+    let watch = InertiaWatch::new(&p, DEFAULT_INERTIA_THRESHOLD, false);
+    let mut cycles: Vec<CycleRecord> = Vec::new();
+    let legs = trace_cycles_from_orbit(kind, &p, &orbit, &req, &watch, |c: &CycleRecord| {
+        cycles.push(c.clone());
+        Ok(())
+    })
+    .unwrap();
+    assert!(
+        matches!(legs[0], Ok(BranchEnd::HopfPoint)),
+        "the leg toward larger stiffness ends at the Hopf point: {:?}",
+        legs[0].as_ref().map_err(|e| e.to_string())
+    );
+    // One fold, the real one, well above kappa_c.
+    let folds: Vec<f64> = cycles
+        .iter()
+        .filter_map(|c| c.lpc.as_ref().map(|l| l.kappa))
+        .collect();
+    assert_eq!(folds.len(), 1, "{folds:?}");
+    assert!(
+        folds[0] > hopf.kappa_c * 1.1,
+        "{folds:?} vs kappa_c {}",
+        hopf.kappa_c
+    );
+    // The unstable cycles, in the order handed out, come down toward kappa_c
+    // and end near it, without coming back.
+    let unstable: Vec<&CycleRecord> = cycles.iter().filter(|c| !c.stability.is_stable()).collect();
+    assert!(
+        unstable.windows(2).all(|w| w[1].kappa < w[0].kappa),
+        "unstable cycles go one way"
+    );
+    let last = unstable.last().unwrap();
+    assert!(
+        (last.kappa - hopf.kappa_c) / hopf.kappa_c < 0.01 && last.delta_s < 0.3,
+        "last unstable cycle at kappa {} (kappa_c {}), Delta_s {}",
+        last.kappa,
+        hopf.kappa_c,
+        last.delta_s
+    );
+}

@@ -222,6 +222,8 @@ pub enum StopReason {
     StepLimit,
     /// The period grew beyond the engine's limit.
     PeriodLimit,
+    /// The cycles shrank to steady sliding at a Hopf point, where they are born.
+    HopfPoint,
     /// A numerical failure (the message says which).
     Failed,
     /// Ctrl-C.
@@ -256,6 +258,10 @@ impl LegStop {
                 StopReason::PeriodLimit,
                 "period limit reached; the range is not covered".into(),
             ),
+            Ok(BranchEnd::HopfPoint) => (
+                StopReason::HopfPoint,
+                "the cycles shrink to steady sliding at the Hopf point, where they are born".into(),
+            ),
             Err(e @ Error::Interrupted(_)) => (StopReason::Interrupted, e.to_string()),
             Err(e) => (StopReason::Failed, e.to_string()),
         };
@@ -266,9 +272,10 @@ impl LegStop {
         }
     }
 
-    /// Whether the leg covered the requested range.
+    /// Whether the leg ended where it had to: at the end of the requested
+    /// range, or where its cycles end (at a Hopf point).
     pub fn complete(&self) -> bool {
-        self.reason == StopReason::EndOfRange
+        matches!(self.reason, StopReason::EndOfRange | StopReason::HopfPoint)
     }
 }
 

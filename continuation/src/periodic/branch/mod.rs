@@ -209,6 +209,31 @@ pub enum BranchEnd {
     MaxSteps,
     /// The period exceeded `max_period`.
     MaxPeriod,
+    /// The cycles shrank to the equilibrium: the branch came back to a Hopf
+    /// point, where they are born (their amplitude passes through zero there,
+    /// and the parameter turns; past it the same cycles would return, shifted
+    /// by half a period). The last orbit is the one the step through it
+    /// reached.
+    HopfPoint,
+}
+
+/// A turn of the parameter whose located orbit has, on every observable,
+/// less than this fraction of the amplitude of the orbit before it is the
+/// branch passing through the equilibrium (a Hopf point), not a fold.
+const COLLAPSE: f64 = 1e-2;
+
+/// Whether `located` (where the parameter turns) is the equilibrium the
+/// cycles shrink to: every observable's amplitude there below
+/// [`COLLAPSE`] of its amplitude on `before`, the orbit of the step before.
+fn collapsed<S: VectorField>(sys: &S, located: &CyclePoint, before: &Cycle) -> bool {
+    located
+        .extremes(sys)
+        .iter()
+        .enumerate()
+        .all(|(k, &(lo, hi))| {
+            let (b_lo, b_hi) = before.observable_range(sys, k);
+            hi - lo <= COLLAPSE * (b_hi - b_lo)
+        })
 }
 
 /// One orbit of the branch.
@@ -758,6 +783,8 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
         if self.done {
             return None;
         }
+        // The branch came back to a Hopf point (see `BranchEnd::HopfPoint`).
+        let mut at_hopf = false;
         let result = if self.steps == 0 {
             // The first orbit, like every other, on a mesh fine enough for it.
             self.refined_point(NewtonReport {
@@ -780,7 +807,9 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
                         let excursion = (p_fold - z0[nz - 1])
                             .abs()
                             .max((p_fold - pt.cycle.p[self.k]).abs());
-                        if is_fold(&lpc, self.sys.dim())
+                        if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
+                            at_hopf = true;
+                        } else if is_fold(&lpc, self.sys.dim())
                             && excursion > self.parameter_resolution(&z0)
                         {
                             pt.lpc = Some(Box::new(lpc));
@@ -810,7 +839,9 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
             Ok(pt) => {
                 self.previous_mu.clone_from(&pt.multipliers);
                 let p = pt.cycle.p[self.k];
-                self.end = if p <= self.settings.p_min || p >= self.settings.p_max {
+                self.end = if at_hopf {
+                    Some(BranchEnd::HopfPoint)
+                } else if p <= self.settings.p_min || p >= self.settings.p_max {
                     Some(BranchEnd::ParameterBound)
                 } else if pt.cycle.period > self.settings.max_period {
                     Some(BranchEnd::MaxPeriod)
