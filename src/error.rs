@@ -32,6 +32,32 @@ pub enum InputError {
 }
 
 impl InputError {
+    /// This error of a value read from the scene file `path`, with the file
+    /// named before the field (the errors that name no file otherwise).
+    pub fn in_file(self, path: &str) -> Self {
+        match self {
+            InputError::OutOfRange {
+                field,
+                value,
+                expected,
+            } => InputError::OutOfRange {
+                field: format!("{path}: {field}"),
+                value,
+                expected,
+            },
+            InputError::Malformed {
+                field,
+                value,
+                expected,
+            } => InputError::Malformed {
+                field: format!("{path}: {field}"),
+                value,
+                expected,
+            },
+            other => other,
+        }
+    }
+
     /// A value outside its allowed range.
     pub fn out_of_range(field: &str, value: f64, expected: &str) -> Self {
         InputError::OutOfRange {

@@ -151,7 +151,7 @@ pub fn load(name_or_path: &str) -> Result<Scene, InputError> {
         });
     }
     let text = std::fs::read_to_string(path).map_err(|e| file_error(name_or_path, e))?;
-    from_toml_str(&text, name_or_path)
+    from_toml_str(&text, name_or_path).map_err(|e| e.in_file(name_or_path))
 }
 
 /// Parses a scene from TOML text; `origin` (a file name) names it in errors

@@ -169,6 +169,13 @@ fn bad_input_exits_2_naming_the_field() {
     let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("W = 1e-300"), "{err}");
+    // A value out of range in a scene file: the message names the file too.
+    let negative = dir.join("negative_d0.toml");
+    std::fs::write(&negative, "name = \"neg\"\nA = 0.01\nB = 0.015\nD0 = -5\n").unwrap();
+    let path = negative.to_str().unwrap();
+    let (code, _, err) = stickslip(&["hopf", "--scene", path]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(&format!("{path}: D0 = -5")), "{err}");
 }
 
 /// A quasi-static block below its critical stiffness (plain law) slips
