@@ -399,3 +399,45 @@ fn requested_stiffnesses_are_explained_in_kappa_and_k_over_w() {
     assert_eq!(r["reason"].as_str().unwrap(), in_kappa);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The stops of a fold-of-cycles curve are records like the legs' stops:
+/// a reason from a fixed set, where it stopped, and words that say the
+/// same (pmma-rr's curve stops short at low velocity, on cycles too stiff
+/// for the mesh; brockley's at high velocity).
+#[test]
+fn fold_curve_stops_are_typed_and_agree_with_their_words() {
+    let dir = common::temp_dir("lpc_stops");
+    let (code, out, err) = common::stickslip(&[
+        "diagram",
+        "--scene",
+        "pmma-rr",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let stops = v["lpc_stops"].as_array().expect("lpc_stops");
+    assert!(!stops.is_empty(), "pmma-rr's fold curve stops short");
+    for stop in stops {
+        let reason = stop["reason"].as_str().expect("a reason");
+        assert!(
+            ["no_fold", "no_start", "bautin_point", "too_stiff"].contains(&reason),
+            "{stop}"
+        );
+        let message = stop["message"].as_str().unwrap();
+        let words: Vec<&str> = message
+            .split(|c: char| !c.is_ascii_alphanumeric())
+            .filter(|w| ["inf", "nan", "NaN"].contains(w))
+            .collect();
+        assert!(words.is_empty(), "{message}");
+        if let Some(nu) = stop["nu"].as_f64() {
+            assert!(message.contains(&format!("nu = {nu:.6e}")), "{stop}");
+        }
+        assert_eq!(
+            reason == "too_stiff",
+            message.contains("too stiff"),
+            "{stop}"
+        );
+    }
+}

@@ -39,12 +39,44 @@ pub struct LpcCurvePoint {
     pub delta_s: f64,
 }
 
+/// Why a curve of folds of cycles, or one end of it, stopped short.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LpcStopReason {
+    /// No fold of cycles was found near a Hopf point to start a curve from.
+    NoFold,
+    /// The curve did not start in one direction from its first fold.
+    NoStart,
+    /// The folded cycles shrink toward the end: the curve ends at a Bautin
+    /// point of the Hopf curve nearby, where the fold system degenerates.
+    BautinPoint,
+    /// The next fold could not be computed on the mesh the curve may use:
+    /// its cycles have (most likely) become too stiff for it.
+    TooStiff,
+}
+
+/// One stop of a curve of folds of cycles: why, where (`nu`, `kappa` of its
+/// last fold, when there is one) and in words.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct LpcStop {
+    pub reason: LpcStopReason,
+    pub nu: Option<f64>,
+    pub kappa: Option<f64>,
+    pub message: String,
+}
+
+impl std::fmt::Display for LpcStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
 /// The curves of folds of cycles of a diagram (one per Bautin point), in
 /// increasing `nu`, and why each end stopped.
 #[derive(Clone, Debug, Default)]
 pub struct LpcCurves {
     pub points: Vec<Vec<LpcCurvePoint>>,
-    pub stops: Vec<String>,
+    pub stops: Vec<LpcStop>,
     /// Whether a curve stopped short of the range for a reason other than
     /// its expected end at a Bautin point (a failed start, stiff cycles):
     /// the request is then incomplete.
@@ -174,10 +206,12 @@ pub fn lpc_curves<F: Wrap>(
         let fold = match first_fold(fields, &log, &at) {
             Ok(f) => f,
             Err(e) => {
-                out.stops.push(format!(
-                    "no fold of cycles near nu = {:.6e}: {e}",
-                    start.hopf_nu
-                ));
+                out.stops.push(LpcStop {
+                    reason: LpcStopReason::NoFold,
+                    nu: None,
+                    kappa: None,
+                    message: format!("no fold of cycles near nu = {:.6e}: {e}", start.hopf_nu),
+                });
                 out.incomplete = true;
                 // Unknown on the subcritical side of the Bautin point.
                 let edge = if start.hopf_nu < start.bautin_nu {
@@ -236,7 +270,7 @@ fn trace_through<S: VectorField>(
     fold: &Cycle,
     (lo, hi): (f64, f64),
     at_bautin: &(dyn Fn(f64) -> bool + Sync),
-) -> (Vec<LpcCurvePoint>, Vec<String>, Vec<(f64, f64)>) {
+) -> (Vec<LpcCurvePoint>, Vec<LpcStop>, Vec<(f64, f64)>) {
     let ntst = fold.mesh.ntst();
     let trace = |direction: f64| {
         let settings = LpcCurveSettings {
@@ -292,10 +326,15 @@ fn trace_through<S: VectorField>(
         match (failure, half.last()) {
             (Some(cause), None) => {
                 short.push((fold.p[Param::Nu as usize], edge));
-                stops.push(format!(
-                    "the fold-of-cycles curve did not start toward {} nu: {cause}",
-                    if direction < 0.0 { "smaller" } else { "larger" }
-                ))
+                stops.push(LpcStop {
+                    reason: LpcStopReason::NoStart,
+                    nu: None,
+                    kappa: None,
+                    message: format!(
+                        "the fold-of-cycles curve did not start toward {} nu: {cause}",
+                        if direction < 0.0 { "smaller" } else { "larger" }
+                    ),
+                })
             }
             (Some(cause), Some(end)) if !at_bautin(end.nu) => {
                 // Folded cycles shrinking toward the end: a Bautin point,
@@ -305,16 +344,25 @@ fn trace_through<S: VectorField>(
                 if !shrinking {
                     short.push((end.nu, edge));
                 }
-                let (cause, why) = match cause {
+                let (cause, why, reason) = match cause {
                     ContinuationError::Unresolved {
                         ntst, error, tol, ..
                     } => (
-                        format!(
-                            "the next fold is no longer resolved: its estimated discretization \
-                             error is {error:.3e} (tolerance {tol:.0e}) with {ntst} mesh \
-                             intervals, the limit"
-                        ),
+                        if error.is_finite() {
+                            format!(
+                                "the next fold is no longer resolved: its estimated \
+                                 discretization error is {error:.3e} (tolerance {tol:.0e}) with \
+                                 {ntst} mesh intervals, the limit"
+                            )
+                        } else {
+                            format!(
+                                "the next fold is no longer resolved with {ntst} mesh \
+                                 intervals, the limit: half of them cannot carry its cycle, so \
+                                 its error cannot even be estimated (tolerance {tol:.0e})"
+                            )
+                        },
                         "its cycles have become too stiff for the mesh".to_string(),
+                        LpcStopReason::TooStiff,
                     ),
                     cause => (
                         cause
@@ -333,12 +381,22 @@ fn trace_through<S: VectorField>(
                                  cycles may have become too stiff for them"
                             )
                         },
+                        if shrinking {
+                            LpcStopReason::BautinPoint
+                        } else {
+                            LpcStopReason::TooStiff
+                        },
                     ),
                 };
-                stops.push(format!(
-                    "the fold-of-cycles curve ends at nu = {:.6e}, kappa = {:.6e}: {cause} ({why})",
-                    end.nu, end.kappa,
-                ));
+                stops.push(LpcStop {
+                    reason,
+                    nu: Some(end.nu),
+                    kappa: Some(end.kappa),
+                    message: format!(
+                        "the fold-of-cycles curve ends at nu = {:.6e}, kappa = {:.6e}: {cause} ({why})",
+                        end.nu, end.kappa,
+                    ),
+                });
             }
             _ => {}
         }

@@ -13,7 +13,7 @@ use crate::analysis::cycles::{
     along_branch, collocation_for, requested_points, BranchEnds, CycleBifurcation, CycleRecord,
     CycleRequest, Stability,
 };
-use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves};
+use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves, LpcStop};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::appendix_c;
 use crate::error::{Error, InputError};
@@ -449,8 +449,8 @@ fn write_requested_csv(csv: &mut impl Write, requested: &[Requested]) -> Result<
 struct FoldCurves {
     /// Their points.
     folds: Vec<FoldPoint>,
-    /// Why their ends stopped, in words.
-    stops: Vec<String>,
+    /// Why their ends stopped.
+    stops: Vec<LpcStop>,
     /// Their CSV and figure.
     files: Vec<PathBuf>,
 }

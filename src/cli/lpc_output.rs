@@ -6,12 +6,13 @@ use super::csv::{header, row};
 use super::files::with_suffix;
 use super::records::diagram::FoldPoint;
 use super::TextUnits;
+use crate::analysis::lpc_curve::LpcStop;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The text lines of the summary: the extent of every curve of `folds` and
 /// why an end stopped (`stops`).
-pub fn lpc_summary(folds: &[FoldPoint], stops: &[String], units: TextUnits) -> Vec<String> {
+pub fn lpc_summary(folds: &[FoldPoint], stops: &[LpcStop], units: TextUnits) -> Vec<String> {
     let extents = folds
         .chunk_by(|a, b| a.curve == b.curve)
         .filter_map(|curve| {
