@@ -36,6 +36,12 @@ fn cycles_cut_by_the_step_limit_are_partial() {
     assert_eq!(v["cycles"].as_array().unwrap().len(), 4);
     let csv = std::fs::read_to_string(dir.join("pmma-cycles.csv")).unwrap();
     assert_eq!(csv.lines().filter(|l| !l.starts_with('#')).count(), 1 + 4);
+    // The CSV alone says it is not the whole branch, and why.
+    assert_eq!(
+        csv.lines().last(),
+        Some(format!("# incomplete: {stop}").as_str()),
+        "{csv}"
+    );
 }
 
 /// A branch that fails after many cycles (here a stiff branch that outgrows
@@ -87,6 +93,8 @@ fn cycles_that_reach_the_range_are_complete() {
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["complete"], true);
     assert_eq!(v["stop"], "end of the requested range");
+    let csv = std::fs::read_to_string(dir.join("pmma-rr-cycles.csv")).unwrap();
+    assert!(!csv.contains("# incomplete"), "a complete branch's CSV");
     // The last cycle lies beyond the requested end, kappa_fraction * kappa_c.
     let kappa_c = v["kappa_c"].as_f64().unwrap();
     let last = v["cycles"].as_array().unwrap().last().unwrap()["kappa"]

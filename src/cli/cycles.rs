@@ -294,6 +294,11 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     // fold, no branch at all) is answered by its reason.
     let complete = start.conclusive() && legs_complete;
     write_requested_csv(&mut csv, &requested)?;
+    if !complete {
+        // A script reading the CSV alone learns that it is not the whole branch.
+        writeln!(csv, "# incomplete: {stop}")?;
+        csv.flush()?;
+    }
     if args.json {
         let v = json!({
             "scene": setup.scene.name,
