@@ -112,11 +112,16 @@ fn ctrl_c_keeps_the_cycles_computed_so_far() {
         "cycles written before the interrupt are kept"
     );
     let csv = std::fs::read_to_string(&csv_path).unwrap();
-    let header = csv.lines().nth(1).unwrap().split(',').count();
+    // The comment lines (the model first, the incomplete branch last) aside,
+    // every row matches the header.
+    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
+    let header = rows.next().unwrap().split(',').count();
     assert!(
-        csv.lines().skip(2).all(|l| l.split(',').count() == header),
+        rows.all(|l| l.split(',').count() == header),
         "every row matches the header"
     );
+    let last = csv.lines().last().unwrap();
+    assert!(last.starts_with("# incomplete: "), "{last}");
     assert!(
         dir.join("pmma_m=0.01-cycles-amplitude.png").exists(),
         "figures of the computed cycles"
@@ -155,7 +160,13 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     assert!(err.contains(" s of 3.000000e5 s"), "{err}");
     assert!(reached > 0.0 && reached < 3e5, "{err}");
     let csv = std::fs::read_to_string(&csv_path).unwrap();
-    let mut rows = csv.lines();
+    // The CSV alone says it stops short.
+    let last = csv.lines().last().unwrap();
+    assert!(
+        last.starts_with("# incomplete: interrupted at t = "),
+        "{last}"
+    );
+    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
     assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip,log10_v,model"));
     // The numeric columns; the last one names the model of the row.
     let values: Vec<Vec<f64>> = rows

@@ -151,6 +151,7 @@ fn simulate_chooses_and_switches_the_model_from_the_velocities() {
     let csv = std::fs::read_to_string(dir.join("pmma_kappa=0.009-simulation.csv")).unwrap();
     let models: Vec<&str> = csv
         .lines()
+        .filter(|l| !l.starts_with('#'))
         .skip(1)
         .map(|l| l.rsplit(',').next().unwrap())
         .collect();

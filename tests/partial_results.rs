@@ -190,7 +190,13 @@ fn a_simulation_cut_by_the_step_limit_is_partial() {
     );
     assert!(out.contains("10 steps"), "{out}");
     let csv = std::fs::read_to_string(dir.join("pmma_kappa=0.009-simulation.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 10);
+    assert_eq!(csv.lines().filter(|l| !l.starts_with('#')).count(), 1 + 10);
+    // The CSV alone says it stops short, and why.
+    let last = csv.lines().last().unwrap();
+    assert!(
+        last.starts_with("# incomplete: stopped by --max-steps at t = "),
+        "{last}"
+    );
     // The whole default protocol is delivered without the limit (the same
     // run again, its files replaced).
     let (code, _, err) = stickslip(&[

@@ -235,11 +235,18 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         Err(_) => Some("failed"),
     };
     let name = match cut {
-        Some(why) => format!(
-            "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
-            setup.label,
-            t_end * time_unit
-        ),
+        Some(why) => {
+            // A script reading the CSV alone learns that it stops short.
+            rows.note(&format!(
+                "# incomplete: {why} at t = {t_reached:.6e} s of {:.6e} s",
+                t_end * time_unit
+            ))?;
+            format!(
+                "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
+                setup.label,
+                t_end * time_unit
+            )
+        }
         None => setup.label.clone(),
     };
     let figs = if traj.t.len() >= 2 {
@@ -335,6 +342,12 @@ impl Rows {
     fn flush(&mut self) -> std::io::Result<()> {
         self.flushed = Instant::now();
         self.w.flush()
+    }
+
+    /// A comment line after the rows, written at once.
+    fn note(&mut self, line: &str) -> std::io::Result<()> {
+        writeln!(self.w, "{line}")?;
+        self.flush()
     }
 }
 
