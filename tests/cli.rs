@@ -676,3 +676,27 @@ fn named_runs_of_several_scenes_keep_every_scene() {
     assert!(!text.contains("wrote"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `cycles` opens its text as `hopf` and `diagram` do: the scene, the
+/// model, and where the branch starts (pmma: kappa_c = 0.011 quasi-statically,
+/// K/W = kappa_c / D0 = 0.011 / 0.4 um = 2.75e4 1/m).
+#[test]
+fn cycles_text_opens_with_the_scene_the_model_and_the_start() {
+    let dir = common::temp_dir("cycles_header");
+    let (code, out, err) =
+        stickslip(&["cycles", "--max-steps", "2", "--out", dir.to_str().unwrap()]);
+    assert!(code == 0 || code == 4, "{err}");
+    let mut lines = out.lines();
+    assert!(lines.next().unwrap().starts_with("scene: pmma — "), "{out}");
+    assert!(
+        lines.next().unwrap().starts_with("model: quasi-static"),
+        "{out}"
+    );
+    let start = lines.next().unwrap();
+    let k_over_w: f64 = start
+        .strip_prefix("from the Hopf point at K/W = ")
+        .and_then(|r| r.strip_suffix(" 1/m"))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{start}"));
+    assert!((k_over_w / (0.011 / 0.4e-6) - 1.0).abs() < 1e-9, "{start}");
+}

@@ -48,7 +48,8 @@ pub struct CyclesArgs {
     #[arg(long)]
     pub from_simulation: bool,
     /// Largest number of continuation steps, i.e. cycles after the first
-    /// (per leg from a simulated orbit); the branch usually ends first, at
+    /// (per leg from a simulated orbit, and counted afresh after a switch to
+    /// the inertial model); the branch usually ends first, at
     /// the requested range. Reaching it keeps the cycles and exits with
     /// status 4 (partial).
     #[arg(long, default_value_t = 500)]
@@ -133,8 +134,20 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
     let onset = super::onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
     let start = Start::choose(&setup, onset, args.from_simulation)?;
-    if let (Some(text), false) = (start.describe(&setup), args.json) {
-        println!("{text}");
+    if !args.json {
+        // What is computed, as `hopf` and `diagram` open: the scene, the
+        // model, and where the branch starts.
+        println!("scene: {} — {}", setup.scene.name, setup.scene.description);
+        println!("model: {}", setup.choice.reason);
+        match (&start, start.describe(&setup)) {
+            (Start::Hopf(h), _) => println!(
+                "from the Hopf point at {}",
+                args.units
+                    .stiffness(h.kappa_c, setup.scene.units.k_over_w(h.kappa_c), 10)
+            ),
+            (_, Some(text)) => println!("{text}"),
+            (_, None) => {}
+        }
     }
     let points = args
         .collocation
