@@ -148,6 +148,10 @@ fn bad_input_exits_2_naming_the_field() {
         (vec!["hopf", "--set", "m=0", "--model", "inertial"], "m = 0"),
         // Beyond what products like m nu^2 / A keep within the float range.
         (vec!["hopf", "--set", "A=1e-300"], "A = 1e-300"),
+        (
+            vec!["diagram", "--nu-range", "1e-300:1"],
+            "--nu-range = 1e-300",
+        ),
         (vec!["cycles", "--set", "theta_c=1e200"], "theta_c = 1e200"),
     ] {
         let (code, out, err) = stickslip(&args);

@@ -58,11 +58,22 @@ fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
         a.trim().parse().map_err(|_| bad())?,
         b.trim().parse().map_err(|_| bad())?,
     );
-    if lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo {
-        Ok((lo, hi))
-    } else {
-        Err(bad())
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
+        return Err(bad());
     }
+    // As `--set nu` allows: beyond it the steady state's velocity and age
+    // leave the range the model is evaluated in.
+    let (min, max) = crate::params::MAGNITUDE_RANGE;
+    for v in [lo, hi] {
+        if !(min..=max).contains(&v) {
+            return Err(InputError::out_of_range(
+                "--nu-range",
+                v,
+                "velocities of magnitude 1e-100 to 1e100 (units of V0)",
+            ));
+        }
+    }
+    Ok((lo, hi))
 }
 
 /// One scene's result.
