@@ -113,7 +113,7 @@ fn branch_csv_has_a_located_hopf_row_and_no_nan() {
     // At fixed kappa the onset velocity solves kappa = (B - A - 2 mu2 ln nu)(1 + m nu^2/A)
     // (C11 with the ln² law); pmma has m = V0^2/(g D0) if the model kept inertia.
     assert!(
-        out.starts_with("# model: inertial"),
+        out.starts_with("# scene pmma; model inertial; "),
         "nu up to 10 makes the inertia ratio 2e-3: {out}"
     );
     let (a, b, mu2, kappa, m) = (0.012, 0.023, 2.4e-4, 0.0105, 1e-12 / (9.81 * 0.4e-6));
