@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::stickslip;
+use common::{stickslip, VELOCITY_BRANCH};
 
 use serde_json::Value;
 
@@ -93,18 +93,7 @@ fn velocity_strengthening_is_stable_for_all_stiffness() {
 
 #[test]
 fn branch_csv_has_a_located_hopf_row_and_no_nan() {
-    let (code, out, err) = stickslip(&[
-        "branch",
-        "--param",
-        "nu",
-        "--csv",
-        "--set",
-        "kappa=0.0105",
-        "--from",
-        "0.5",
-        "--to",
-        "10",
-    ]);
+    let (code, out, err) = stickslip(&[&VELOCITY_BRANCH[..], &["--csv"]].concat());
     assert_eq!(code, 0, "{err}");
     assert!(!out.to_lowercase().contains("nan") && !out.contains("inf"));
     let hopf: Vec<&str> = out.lines().filter(|l| l.contains(",hopf,")).collect();

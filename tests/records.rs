@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{stickslip, temp_dir};
+use common::{stickslip, temp_dir, VELOCITY_BRANCH};
 use serde_json::Value;
 use std::collections::BTreeSet;
 
@@ -421,19 +421,8 @@ fn complex(token: &str) -> (f64, f64) {
 /// same numbers in either units.
 #[test]
 fn branch_csv_json_and_text_agree() {
-    let base = [
-        "branch",
-        "--param",
-        "nu",
-        "--set",
-        "kappa=0.0105",
-        "--from",
-        "0.5",
-        "--to",
-        "10",
-    ];
     let run = |extra: &[&str]| {
-        let (code, out, err) = stickslip(&[&base[..], extra].concat());
+        let (code, out, err) = stickslip(&[&VELOCITY_BRANCH[..], extra].concat());
         assert_eq!(code, 0, "{extra:?}: {err}");
         out
     };
