@@ -1,6 +1,7 @@
 //! `stickslip branch`: steady sliding continued in `kappa` or `nu`, with the
-//! eigenvalues at every point and the located bifurcations. Rows are written
-//! as they are computed.
+//! eigenvalues at every point and the located bifurcations, as text (in
+//! physical or dimensionless units), CSV or JSON, each point one
+//! [`BranchRow`]. Text and CSV rows are written as they are computed.
 
 use super::csv::{self, header_of};
 use super::records::branch::{BranchRow, ParamValue};
@@ -14,12 +15,14 @@ use clap::{Args, ValueEnum};
 use serde_json::json;
 use std::io::Write;
 
+/// `--param`: the parameter continued.
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BranchParam {
     Kappa,
     Nu,
 }
 
+/// The options of `stickslip branch`.
 #[derive(Args, Debug)]
 pub struct BranchArgs {
     #[command(flatten)]
@@ -159,24 +162,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         Err(e) => Some(e.to_string()),
     };
     if matches!(format, Format::Json) {
-        let v = json!({
-            "scene": setup.scene.name,
-            "model": kind,
-            "model_reason": setup.choice.reason,
-            "params": params_json(&params),
-            "param": param.name(),
-            "from": from,
-            "to": to,
-            "units": {"D0_um": units.d0 * 1e6, "V0_um_per_s": units.velocity_um_s(1.0)},
-            "points": points,
-            "complete": stop.is_none(),
-            "stop": stop,
-        });
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
-        )?;
+        print_json(&mut out, &setup, &req, &points, stop.as_deref())?;
     }
     // The rows are kept (written, or in the JSON); a failure is then
     // reported as it is, a branch short of `--to` as partial.
@@ -184,6 +170,34 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         (Some(_), Some(why)) => Err(Error::Partial(why)),
         _ => Ok(()),
     }
+}
+
+/// The JSON object of the branch `req` of `setup`: the run, its `points`,
+/// and whether it reached `--to` (`complete`; else why not, `stop`).
+fn print_json(
+    out: &mut impl Write,
+    setup: &Setup,
+    req: &BranchRequest,
+    points: &[BranchRow],
+    stop: Option<&str>,
+) -> Result<(), Error> {
+    let units = setup.scene.units;
+    let v = json!({
+        "scene": setup.scene.name,
+        "model": setup.choice.kind,
+        "model_reason": setup.choice.reason,
+        "params": params_json(&setup.params),
+        "param": req.param.name(),
+        "from": req.from,
+        "to": req.to,
+        "units": {"D0_um": units.d0 * 1e6, "V0_um_per_s": units.velocity_um_s(1.0)},
+        "points": points,
+        "complete": stop.is_none(),
+        "stop": stop,
+    });
+    let text = serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?;
+    writeln!(out, "{text}")?;
+    Ok(())
 }
 
 /// How the points are presented: text lines in some units, CSV rows, or
