@@ -81,6 +81,7 @@ impl BranchEvent {
 pub struct ParamValue {
     /// `kappa` or `nu`.
     pub name: &'static str,
+    /// Its value.
     pub value: f64,
 }
 
