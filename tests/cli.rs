@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::stickslip;
+use common::{stickslip, VELOCITY_BRANCH};
 
 use serde_json::Value;
 
@@ -93,18 +93,7 @@ fn velocity_strengthening_is_stable_for_all_stiffness() {
 
 #[test]
 fn branch_csv_has_a_located_hopf_row_and_no_nan() {
-    let (code, out, err) = stickslip(&[
-        "branch",
-        "--param",
-        "nu",
-        "--csv",
-        "--set",
-        "kappa=0.0105",
-        "--from",
-        "0.5",
-        "--to",
-        "10",
-    ]);
+    let (code, out, err) = stickslip(&[&VELOCITY_BRANCH[..], &["--csv"]].concat());
     assert_eq!(code, 0, "{err}");
     assert!(!out.to_lowercase().contains("nan") && !out.contains("inf"));
     let hopf: Vec<&str> = out.lines().filter(|l| l.contains(",hopf,")).collect();
@@ -113,7 +102,7 @@ fn branch_csv_has_a_located_hopf_row_and_no_nan() {
     // At fixed kappa the onset velocity solves kappa = (B - A - 2 mu2 ln nu)(1 + m nu^2/A)
     // (C11 with the ln² law); pmma has m = V0^2/(g D0) if the model kept inertia.
     assert!(
-        out.starts_with("# model: inertial"),
+        out.starts_with("# scene pmma; model inertial; "),
         "nu up to 10 makes the inertia ratio 2e-3: {out}"
     );
     let (a, b, mu2, kappa, m) = (0.012, 0.023, 2.4e-4, 0.0105, 1e-12 / (9.81 * 0.4e-6));

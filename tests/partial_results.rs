@@ -229,6 +229,15 @@ fn a_steady_branch_cut_by_the_step_limit_is_partial() {
     let (code, full, err) = stickslip(&args);
     assert_eq!(code, 0, "{err}");
     assert!(full.lines().count() > out.lines().count());
+    // With --json the points computed are kept, with complete: false and
+    // the reason.
+    let json_args = [&args[..5], &["--json", "--max-steps", "3"]].concat();
+    let (code, json, err) = stickslip(&json_args);
+    assert_eq!(code, 4, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["complete"], Value::Bool(false));
+    assert!(v["stop"].as_str().unwrap().contains("--max-steps 3"), "{v}");
+    assert_eq!(v["points"].as_array().unwrap().len(), rows - 1);
 }
 
 #[test]

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{stickslip, temp_dir};
+use common::{stickslip, temp_dir, VELOCITY_BRANCH};
 use serde_json::Value;
 use std::collections::BTreeSet;
 
@@ -439,5 +439,116 @@ fn fold_curve_stops_are_typed_and_agree_with_their_words() {
             message.contains("too stiff"),
             "{stop}"
         );
+
+/// The parts of a text eigenvalue `+1.7349e-2-4.6738e-1i`: its real and
+/// imaginary parts.
+fn complex(token: &str) -> (f64, f64) {
+    let body = token.trim_end_matches('i');
+    // The imaginary part starts at the last sign that follows no exponent 'e'.
+    let split = (1..body.len())
+        .rev()
+        .find(|&i| body[i..].starts_with(['+', '-']) && !body[..i].ends_with('e'))
+        .unwrap_or_else(|| panic!("not a complex number: {token}"));
+    (
+        body[..split].parse().unwrap(),
+        body[split..].parse().unwrap(),
+    )
+}
+
+/// `branch`: the CSV rows are the JSON's points column by column (the old
+/// columns first, in their order); the physical columns are the
+/// dimensionless ones converted by pmma's D0 and V0; the text shows the
+/// same numbers in either units.
+#[test]
+fn branch_csv_json_and_text_agree() {
+    let run = |extra: &[&str]| {
+        let (code, out, err) = stickslip(&[&VELOCITY_BRANCH[..], extra].concat());
+        assert_eq!(code, 0, "{extra:?}: {err}");
+        out
+    };
+    let v: Value = serde_json::from_str(&run(&["--json"])).unwrap();
+    assert_eq!(v["complete"], Value::Bool(true));
+    let points = v["points"].as_array().unwrap();
+    let csv = run(&["--csv"]);
+    assert!(csv.starts_with("# scene pmma; model inertial; "), "{csv}");
+    let (header, rows) = csv_table(&csv);
+    let old =
+        "nu,s,v,theta,n_unstable,eig_re_1,eig_im_1,eig_re_2,eig_im_2,eig_re_3,eig_im_3,event,omega";
+    assert!(header.join(",").starts_with(old), "{header:?}");
+    let columns: BTreeSet<String> = header.iter().cloned().collect();
+    assert_eq!(columns, keys(&points[0]));
+    assert_rows_match(&header, &rows, points, 1e-15);
+
+    let f = |p: &Value, k: &str| p[k].as_f64().unwrap_or_else(|| panic!("{k}: {p}"));
+    let hopf: Vec<&Value> = points.iter().filter(|p| p["event"] == "hopf").collect();
+    assert_eq!(hopf.len(), 1);
+    let g = 9.81;
+    for p in points {
+        let kappa = 0.0105;
+        assert!(close(f(p, "K_over_W_per_m"), kappa / D0, 1e-14));
+        assert!(close(f(p, "K_over_M_per_s2"), kappa * g / D0, 1e-14));
+        assert!(close(f(p, "V_um_per_s"), f(p, "nu") * V0 * 1e6, 1e-14));
+        assert!(close(f(p, "theta_s"), f(p, "theta") * D0 / V0, 1e-14));
+        match p["event"].as_str() {
+            Some("hopf") => {
+                let hz = f(p, "omega") * V0 / D0 / (2.0 * std::f64::consts::PI);
+                assert!(close(f(p, "frequency_hz"), hz, 1e-14));
+            }
+            _ => assert!(p["frequency_hz"].is_null() && p["omega"].is_null()),
+        }
+    }
+
+    // The table's rows: those after the column titles ("#u").
+    let table = |units: &str| {
+        let text = run(&["--units", units]);
+        let rows: Vec<String> = text
+            .lines()
+            .skip_while(|l| !l.contains(" #u "))
+            .skip(1)
+            .map(str::to_string)
+            .collect();
+        assert_eq!(rows.len(), points.len(), "{text}");
+        rows
+    };
+    let physical = table("physical");
+    let dimensionless = table("dimensionless");
+    // Where each number stands in the row, its JSON field, and the
+    // precision of the text (9 digits, 7 for s and theta).
+    let physical_fields = [
+        ("K_over_W_per_m", 1e-8),
+        ("V_um_per_s", 1e-8),
+        ("s", 1e-6),
+        ("theta_s", 1e-6),
+    ];
+    let dimensionless_fields = [("nu", 1e-8), ("s", 1e-8), ("v", 1e-6), ("theta", 1e-6)];
+    let rate = V0 / D0;
+    for ((p_line, d_line), p) in physical.iter().zip(&dimensionless).zip(points) {
+        for (line, fields, per) in [
+            (p_line, &physical_fields, rate),
+            (d_line, &dimensionless_fields, 1.0),
+        ] {
+            let tokens: Vec<&str> = line.split_whitespace().collect();
+            for (i, (field, rel)) in fields.iter().enumerate() {
+                let text: f64 = tokens[i].parse().unwrap();
+                assert!(close(text, f(p, field), *rel), "{field}: {line}");
+            }
+            assert_eq!(tokens[4], p["n_unstable"].to_string(), "{line}");
+            // The leading eigenvalue, in 1/s or in V0/D0.
+            let (re, im) = complex(tokens[5]);
+            assert!(close(re, per * f(p, "eig_re_1"), 1e-4), "{line}");
+            assert!(close(im, per * f(p, "eig_im_1"), 1e-4), "{line}");
+        }
+        if p["event"] == "hopf" {
+            assert!(close(
+                number_after(p_line, "<- HOPF (f = "),
+                f(p, "frequency_hz"),
+                1e-10
+            ));
+            assert!(close(
+                number_after(d_line, "<- HOPF (omega = "),
+                f(p, "omega"),
+                1e-10
+            ));
+        }
     }
 }

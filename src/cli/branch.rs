@@ -1,23 +1,28 @@
 //! `stickslip branch`: steady sliding continued in `kappa` or `nu`, with the
-//! eigenvalues at every point and the located bifurcations. Rows are written
-//! as they are computed.
+//! eigenvalues at every point and the located bifurcations, as text (in
+//! physical or dimensionless units), CSV or JSON, each point one
+//! [`BranchRow`]. Text and CSV rows are written as they are computed.
 
-use super::{describe_params, SceneArgs, Setup};
+use super::csv::{self, header_of};
+use super::records::branch::{BranchRow, ParamValue};
+use super::{describe_params, params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::branch::{trace, BranchRequest};
 use crate::analysis::hopf::{find_hopf, stable_stiffness, HopfOutcome};
 use crate::error::{Error, InputError};
-use crate::model::{full_state, DrivenBlock};
-use crate::params::{Param, Params};
+use crate::model::DrivenBlock;
+use crate::params::Param;
 use clap::{Args, ValueEnum};
-use continuation::{BranchPoint, EventKind};
+use serde_json::json;
 use std::io::Write;
 
+/// `--param`: the parameter continued.
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BranchParam {
     Kappa,
     Nu,
 }
 
+/// The options of `stickslip branch`.
 #[derive(Args, Debug)]
 pub struct BranchArgs {
     #[command(flatten)]
@@ -38,9 +43,21 @@ pub struct BranchArgs {
     /// (partial).
     #[arg(long, default_value_t = 2000)]
     pub max_steps: usize,
-    /// Comma-separated values instead of an aligned table.
-    #[arg(long)]
+    /// Comma-separated values instead of an aligned table: a `# scene`
+    /// comment line, then the parameter, the state, the eigenvalues, the
+    /// bifurcation, and the point in physical units.
+    #[arg(long, conflicts_with = "json")]
     pub csv: bool,
+    /// Print one JSON object instead of text: the points (the CSV's rows)
+    /// under `points`, `complete` and `stop`.
+    #[arg(long)]
+    pub json: bool,
+    /// Units of the text: physical (K/W in 1/m, V in µm/s, theta in s,
+    /// eigenvalues in 1/s, frequencies in Hz) or dimensionless (kappa or nu,
+    /// v/V0, theta and eigenvalues in D0/V0 and V0/D0, omega). The CSV and
+    /// the JSON carry both.
+    #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
+    pub units: TextUnits,
 }
 
 /// Runs the command.
@@ -95,83 +112,226 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         ))
         .into());
     }
+    let format = match (args.json, args.csv) {
+        (true, _) => Format::Json,
+        (false, true) => Format::Csv,
+        (false, false) => Format::Text {
+            units: args.units,
+            rate: match args.units {
+                TextUnits::Physical => setup.scene.units.v0 / setup.scene.units.d0,
+                TextUnits::Dimensionless => 1.0,
+            },
+        },
+    };
     let mut out = std::io::stdout().lock();
-    let names = ["s", "v", "theta"];
-    if args.csv {
-        writeln!(out, "# model: {}", setup.choice.reason)?;
-        writeln!(out, "{},s,v,theta,n_unstable,eig_re_1,eig_im_1,eig_re_2,eig_im_2,eig_re_3,eig_im_3,event,omega", param.name())?;
-    } else {
-        writeln!(
-            out,
-            "scene: {} — {}",
-            setup.scene.name, setup.scene.description
-        )?;
-        writeln!(out, "model: {}", setup.choice.reason)?;
-        writeln!(out, "parameters: {}", describe_params(&setup.params))?;
-        writeln!(
-            out,
-            "continuing steady sliding in {} from {from:.6e} to {to:.6e}",
-            param.name()
-        )?;
-        writeln!(
-            out,
-            "{:>14} {:>14} {:>12} {:>12} {:>3}  eigenvalues",
-            param.name(),
-            names[0],
-            names[1],
-            names[2],
-            "#u"
-        )?;
-    }
+    write_head(&mut out, format, &setup, param, (from, to))?;
     let req = BranchRequest {
         param,
         from,
         to,
         max_steps: args.max_steps,
     };
-    let params = setup.params;
-    let short = trace(kind, &params, &req, |point| {
+    let (params, units) = (setup.params, setup.scene.units);
+    let mut points = Vec::new();
+    let traced = trace(kind, &params, &req, |point| {
         for e in &point.events {
-            let omega = match e.kind {
-                EventKind::Hopf { omega } => omega,
-                EventKind::Fold { .. } => f64::NAN,
-            };
             let at = params.with_vec(&e.p);
-            write_row(
-                &mut out,
-                args.csv,
-                &at,
+            let row = BranchRow::new(
                 kind,
+                &at,
                 param,
                 &e.x,
                 &e.eigenvalues,
-                None,
-                Some((e.kind.name(), omega)),
-            )?;
+                Some(&e.kind),
+                &units,
+            );
+            present(&mut out, format, row, &mut points)?;
         }
         let at = params.with_vec(&point.p);
-        write_row(
-            &mut out,
-            args.csv,
-            &at,
-            kind,
-            param,
-            &point.x,
-            &point.eigenvalues,
-            Some(point),
-            None,
-        )?;
-        Ok(())
-    })?;
-    match short {
-        None => Ok(()),
-        Some(last) => Err(Error::Partial(format!(
+        let row = BranchRow::new(kind, &at, param, &point.x, &point.eigenvalues, None, &units);
+        present(&mut out, format, row, &mut points)
+    });
+    let stop = match &traced {
+        Ok(None) => None,
+        Ok(Some(last)) => Some(format!(
             "the branch ended at {} = {last:.10e}, before --to {to:.6e}: the step limit \
              (--max-steps {}) or a turn of the branch; raise --max-steps or check the range",
             param.name(),
             args.max_steps
-        ))),
+        )),
+        Err(e) => Some(e.to_string()),
+    };
+    if matches!(format, Format::Json) {
+        print_json(&mut out, &setup, &req, &points, stop.as_deref())?;
     }
+    // The rows are kept (written, or in the JSON); a failure is then
+    // reported as it is, a branch short of `--to` as partial.
+    match (traced?, stop) {
+        (Some(_), Some(why)) => Err(Error::Partial(why)),
+        _ => Ok(()),
+    }
+}
+
+/// The JSON object of the branch `req` of `setup`: the run, its `points`,
+/// and whether it reached `--to` (`complete`; else why not, `stop`).
+fn print_json(
+    out: &mut impl Write,
+    setup: &Setup,
+    req: &BranchRequest,
+    points: &[BranchRow],
+    stop: Option<&str>,
+) -> Result<(), Error> {
+    let units = setup.scene.units;
+    let v = json!({
+        "scene": setup.scene.name,
+        "model": setup.choice.kind,
+        "model_reason": setup.choice.reason,
+        "params": params_json(&setup.params),
+        "param": req.param.name(),
+        "from": req.from,
+        "to": req.to,
+        "units": {"D0_um": units.d0 * 1e6, "V0_um_per_s": units.velocity_um_s(1.0)},
+        "points": points,
+        "complete": stop.is_none(),
+        "stop": stop,
+    });
+    let text = serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?;
+    writeln!(out, "{text}")?;
+    Ok(())
+}
+
+/// How the points are presented: text lines in some units, CSV rows, or
+/// entries of one JSON object printed at the end.
+#[derive(Clone, Copy, Debug)]
+enum Format {
+    /// Text in `units`, the eigenvalues in units of `1/rate` (1/s or `V0/D0`).
+    Text {
+        units: TextUnits,
+        rate: f64,
+    },
+    Csv,
+    Json,
+}
+
+/// What comes before the points: the CSV's comment and header lines, or the
+/// text's scene, model, range and column titles (nothing for JSON).
+fn write_head(
+    out: &mut impl Write,
+    format: Format,
+    setup: &Setup,
+    param: Param,
+    (from, to): (f64, f64),
+) -> Result<(), Error> {
+    let units = match format {
+        Format::Json => return Ok(()),
+        Format::Csv => {
+            writeln!(
+                out,
+                "# scene {}; model {}; {}",
+                setup.scene.name,
+                setup.choice.kind.name(),
+                setup.choice.reason
+            )?;
+            let named = BranchRow {
+                param: ParamValue {
+                    name: param.name(),
+                    value: 0.0,
+                },
+                ..BranchRow::default()
+            };
+            writeln!(out, "{}", header_of(&named)?)?;
+            return Ok(());
+        }
+        Format::Text { units, .. } => units,
+    };
+    writeln!(
+        out,
+        "scene: {} — {}",
+        setup.scene.name, setup.scene.description
+    )?;
+    writeln!(out, "model: {}", setup.choice.reason)?;
+    writeln!(out, "parameters: {}", describe_params(&setup.params))?;
+    let u = &setup.scene.units;
+    let range = match (units, param) {
+        (TextUnits::Dimensionless, _) => format!("{} from {from:.6e} to {to:.6e}", param.name()),
+        (TextUnits::Physical, Param::Nu) => format!(
+            "V from {:.6e} µm/s to {:.6e} µm/s",
+            u.velocity_um_s(from),
+            u.velocity_um_s(to)
+        ),
+        (TextUnits::Physical, _) => format!(
+            "K/W from {:.6e} 1/m to {:.6e} 1/m",
+            u.k_over_w(from),
+            u.k_over_w(to)
+        ),
+    };
+    writeln!(out, "continuing steady sliding in {range}")?;
+    let titles = match units {
+        TextUnits::Physical => [
+            "K/W [1/m]",
+            "V [µm/s]",
+            "s",
+            "theta [s]",
+            "eigenvalues [1/s]",
+        ],
+        TextUnits::Dimensionless => [param.name(), "s", "v", "theta", "eigenvalues"],
+    };
+    writeln!(
+        out,
+        "{:>14} {:>14} {:>12} {:>12} {:>3}  {}",
+        titles[0], titles[1], titles[2], titles[3], "#u", titles[4]
+    )?;
+    Ok(())
+}
+
+/// Presents one point: a text line or a CSV row at once, a JSON entry kept.
+fn present(
+    out: &mut impl Write,
+    format: Format,
+    row: BranchRow,
+    points: &mut Vec<BranchRow>,
+) -> Result<(), Error> {
+    match format {
+        Format::Json => points.push(row),
+        Format::Csv => writeln!(out, "{}", csv::row(&row)?)?,
+        Format::Text { units, rate } => writeln!(out, "{}", text_line(&row, units, rate))?,
+    }
+    Ok(())
+}
+
+/// A point as a line of the text: the parameter, the state, `#u`, the
+/// eigenvalues and the bifurcation located there, in `units` (physical:
+/// K/W, V, theta in s, the frequency in Hz), the eigenvalues times `rate`.
+fn text_line(r: &BranchRow, units: TextUnits, rate: f64) -> String {
+    let (columns, tag) = match units {
+        TextUnits::Physical => (
+            format!(
+                "{:>14.8e} {:>14.8e} {:>12.6e} {:>12.6e}",
+                r.k_over_w_per_m, r.v_um_per_s, r.s, r.theta_s
+            ),
+            r.frequency_hz.map(|f| format!("f = {f:.10e} Hz")),
+        ),
+        TextUnits::Dimensionless => (
+            format!(
+                "{:>14.8e} {:>14.8e} {:>12.6e} {:>12.6e}",
+                r.param.value, r.s, r.v, r.theta
+            ),
+            r.omega.map(|w| format!("omega = {w:.10e}")),
+        ),
+    };
+    let evs: Vec<String> = r
+        .eigenvalues
+        .0
+        .iter()
+        .flatten()
+        .map(|l| format!("{:+.4e}{:+.4e}i", rate * l.re, rate * l.im))
+        .collect();
+    let tag = match (r.event, tag) {
+        (Some(e), Some(t)) => format!("  <- {} ({t})", e.name().to_uppercase()),
+        (Some(e), None) => format!("  <- {}", e.name().to_uppercase()),
+        (None, _) => String::new(),
+    };
+    format!("{columns} {:>3}  {}{tag}", r.n_unstable, evs.join("  "))
 }
 
 /// The refusal of a velocity branch without a stiffness, with `kappa_c` at
@@ -198,65 +358,4 @@ fn no_stiffness(setup: &Setup) -> InputError {
          spring steady sliding has a zero eigenvalue at every velocity (no isolated equilibrium to \
          continue); give --set kappa=... (kappa = K D0/W){hint}"
     ))
-}
-
-#[allow(clippy::too_many_arguments)]
-fn write_row(
-    out: &mut impl Write,
-    csv: bool,
-    at: &Params,
-    kind: crate::model::ModelKind,
-    param: Param,
-    x: &[f64],
-    ev: &[continuation::Complex64],
-    point: Option<&BranchPoint>,
-    event: Option<(&str, f64)>,
-) -> Result<(), Error> {
-    let state = full_state(kind, at, x);
-    let value = at.get(param);
-    let n_unstable = ev.iter().filter(|l| l.re > 0.0).count();
-    if csv {
-        let mut cells = vec![format!("{value:.15e}")];
-        cells.extend(state.iter().map(|v| format!("{v:.15e}")));
-        cells.push(n_unstable.to_string());
-        for i in 0..3 {
-            match ev.get(i) {
-                Some(l) => cells.extend([format!("{:.15e}", l.re), format!("{:.15e}", l.im)]),
-                None => cells.extend([String::new(), String::new()]),
-            }
-        }
-        match event {
-            Some((name, omega)) if omega.is_finite() => {
-                cells.extend([name.to_string(), format!("{omega:.15e}")])
-            }
-            Some((name, _)) => cells.extend([name.to_string(), String::new()]),
-            None => cells.extend([String::new(), String::new()]),
-        }
-        writeln!(out, "{}", cells.join(","))?;
-    } else {
-        let evs: Vec<String> = ev
-            .iter()
-            .map(|l| format!("{:+.4e}{:+.4e}i", l.re, l.im))
-            .collect();
-        let tag = match event {
-            Some((name, omega)) if omega.is_finite() => {
-                format!("  <- {} (omega = {omega:.10e})", name.to_uppercase())
-            }
-            Some((name, _)) => format!("  <- {}", name.to_uppercase()),
-            None => String::new(),
-        };
-        let _ = point;
-        writeln!(
-            out,
-            "{:>14.8e} {:>14.8e} {:>12.6e} {:>12.6e} {:>3}  {}{}",
-            value,
-            state[0],
-            state[1],
-            state[2],
-            n_unstable,
-            evs.join("  "),
-            tag
-        )?;
-    }
-    Ok(())
 }

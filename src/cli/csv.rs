@@ -23,10 +23,14 @@ pub trait CsvRecord: Serialize + Default {
 
 /// The header line of `T` (without the newline): its field names.
 pub fn header<T: CsvRecord>() -> std::io::Result<String> {
-    let names: Vec<Cow<'static, str>> = cells(&T::default())?
-        .into_iter()
-        .map(|(name, _)| name)
-        .collect();
+    header_of(&T::default())
+}
+
+/// The header line of the rows like `record` (without the newline): its
+/// field names, for a record whose names depend on its values (a column
+/// named after a parameter).
+pub fn header_of<T: CsvRecord>(record: &T) -> std::io::Result<String> {
+    let names: Vec<Cow<'static, str>> = cells(record)?.into_iter().map(|(name, _)| name).collect();
     Ok(names.join(","))
 }
 

@@ -44,6 +44,20 @@ pub fn pmma(m: f64, mu2: f64) -> Params {
     }
 }
 
+/// `branch` across pmma's onset in velocity: `nu` from 0.5 to 10 at
+/// `kappa = 0.0105` (the Hopf point at `nu = 2.8446`, eq. C11).
+pub const VELOCITY_BRANCH: [&str; 9] = [
+    "branch",
+    "--param",
+    "nu",
+    "--set",
+    "kappa=0.0105",
+    "--from",
+    "0.5",
+    "--to",
+    "10",
+];
+
 /// Runs the `stickslip` binary with `args`: `(exit status, stdout, stderr)`.
 pub fn stickslip(args: &[&str]) -> (i32, String, String) {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))

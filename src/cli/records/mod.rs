@@ -1,11 +1,12 @@
-//! The records the commands present, one definition each: the onset of
-//! `hopf`, the points of the stability diagram and of its fold curves, the
+//! The records the commands present, one definition each: the points of
+//! `branch`, the onset of `hopf`, the points of the stability diagram and of its fold curves, the
 //! stick-slip cycles, the rows of a simulation. Each is built once from an
 //! analysis result and the scene's units, in docs/model.md's variables and
 //! in physical units. Serde gives the JSON (the record itself) and the CSV
 //! (header: its field names; rows: the same serialization, [`super::csv`]);
 //! the text lines select and format its fields.
 
+pub mod branch;
 pub mod cycle;
 pub mod diagram;
 pub mod hopf;
@@ -46,6 +47,7 @@ impl PhysicalPoint {
 
 #[cfg(test)]
 mod tests {
+    use super::branch::BranchEvent;
     use crate::analysis::diagram::SpecialKind;
     use crate::analysis::hopf::{Arithmetic, Criticality};
     use crate::model::ModelKind;
@@ -85,6 +87,8 @@ mod tests {
             ),
             (json(SpecialKind::Bautin), SpecialKind::Bautin.name()),
             (json(SpecialKind::Endpoint), SpecialKind::Endpoint.name()),
+            (json(BranchEvent::Hopf), BranchEvent::Hopf.name()),
+            (json(BranchEvent::Fold), BranchEvent::Fold.name()),
         ] {
             assert_eq!(kind, name);
         }

@@ -1,0 +1,181 @@
+//! The record of `branch`: one point of steady sliding continued in `kappa`
+//! or `nu` (a row of its CSV, an entry of its JSON `points`), or a
+//! bifurcation located between two points.
+
+use crate::cli::csv::CsvRecord;
+use crate::model::{full_state, ModelKind};
+use crate::params::{Param, Params};
+use crate::scene::Units;
+use continuation::{Complex64, EventKind};
+use serde::ser::{SerializeMap, Serializer};
+use serde::Serialize;
+
+/// Eigenvalues a row has room for (the inertial block has three).
+const EIGENVALUES: usize = 3;
+
+/// A point of the branch: the continuation parameter, steady sliding there,
+/// its eigenvalues, the bifurcation located there if any, and the point in
+/// physical units. The CSV columns up to `omega` are those `branch --csv`
+/// has always written; the physical ones follow.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BranchRow {
+    /// The continuation parameter, in a column named after it (`kappa` or `nu`).
+    #[serde(flatten)]
+    pub param: ParamValue,
+    /// Spring force over the load, in units of the friction coefficient.
+    pub s: f64,
+    /// Slip velocity `v/V0`.
+    pub v: f64,
+    /// State (age) `theta`, units `D0/V0`.
+    pub theta: f64,
+    /// Number of eigenvalues with a positive real part.
+    pub n_unstable: usize,
+    #[serde(flatten)]
+    pub eigenvalues: Eigenvalues,
+    /// The bifurcation this row locates, if any.
+    pub event: Option<BranchEvent>,
+    /// Angular frequency at a Hopf point (units `V0/D0`).
+    pub omega: Option<f64>,
+    /// `K/W = kappa / D0` [1/m].
+    #[serde(rename = "K_over_W_per_m")]
+    pub k_over_w_per_m: f64,
+    /// Driving velocity `V = nu V0` [µm/s] (in steady sliding, also the slip velocity).
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    /// Age `theta D0/V0` [s].
+    pub theta_s: f64,
+    /// `K/M` [1/s²]; `None` for a massless block.
+    #[serde(rename = "K_over_M_per_s2")]
+    pub k_over_m_per_s2: Option<f64>,
+    /// Frequency at a Hopf point, `omega V0 / (2 pi D0)` [Hz].
+    pub frequency_hz: Option<f64>,
+}
+
+impl CsvRecord for BranchRow {
+    const DIGITS: usize = 15;
+}
+
+/// A bifurcation located on the branch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BranchEvent {
+    /// A Hopf point: an oscillation (stick-slip) sets in or dies.
+    Hopf,
+    /// A fold: the branch turns.
+    Fold,
+}
+
+impl BranchEvent {
+    /// Its name in the CSV, the JSON and the text: `hopf` or `fold`.
+    pub fn name(self) -> &'static str {
+        match self {
+            BranchEvent::Hopf => "hopf",
+            BranchEvent::Fold => "fold",
+        }
+    }
+}
+
+/// The continuation parameter's value, serialized as one field named after
+/// the parameter.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ParamValue {
+    /// `kappa` or `nu`.
+    pub name: &'static str,
+    /// Its value.
+    pub value: f64,
+}
+
+impl Serialize for ParamValue {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut map = s.serialize_map(Some(1))?;
+        map.serialize_entry(self.name, &self.value)?;
+        map.end()
+    }
+}
+
+/// The eigenvalues by decreasing real part, `eig_re_i`, `eig_im_i` for
+/// `i = 1..3`; `None` beyond the model's dimension.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Eigenvalues(pub [Option<Complex64>; EIGENVALUES]);
+
+impl Serialize for Eigenvalues {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut map = s.serialize_map(Some(2 * EIGENVALUES))?;
+        for (i, l) in self.0.iter().enumerate() {
+            map.serialize_entry(&format!("eig_re_{}", i + 1), &l.map(|l| l.re))?;
+            map.serialize_entry(&format!("eig_im_{}", i + 1), &l.map(|l| l.im))?;
+        }
+        map.end()
+    }
+}
+
+impl BranchRow {
+    /// The point `x` of the `kind` model at the parameters `at`, continued
+    /// in `param`, with its eigenvalues `ev` and the bifurcation `event`
+    /// located there, in the units `u`.
+    pub fn new(
+        kind: ModelKind,
+        at: &Params,
+        param: Param,
+        x: &[f64],
+        ev: &[Complex64],
+        event: Option<&EventKind>,
+        u: &Units,
+    ) -> Self {
+        let state = full_state(kind, at, x);
+        let mut eigenvalues = [None; EIGENVALUES];
+        for (slot, l) in eigenvalues.iter_mut().zip(ev) {
+            *slot = Some(*l);
+        }
+        let omega = match event {
+            Some(EventKind::Hopf { omega }) => Some(*omega),
+            _ => None,
+        };
+        BranchRow {
+            param: ParamValue {
+                name: param.name(),
+                value: at.get(param),
+            },
+            s: state[0],
+            v: state[1],
+            theta: state[2],
+            n_unstable: ev.iter().filter(|l| l.re > 0.0).count(),
+            eigenvalues: Eigenvalues(eigenvalues),
+            event: event.map(|e| match e {
+                EventKind::Hopf { .. } => BranchEvent::Hopf,
+                EventKind::Fold { .. } => BranchEvent::Fold,
+            }),
+            omega,
+            k_over_w_per_m: u.k_over_w(at.kappa),
+            v_um_per_s: u.velocity_um_s(at.nu),
+            theta_s: state[2] * u.d0 / u.v0,
+            k_over_m_per_s2: u.k_over_m(at.kappa),
+            frequency_hz: omega.map(|w| u.frequency_hz(w)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::csv::{header_of, row};
+
+    /// The columns `branch --csv` has always written come first, in their
+    /// order, the parameter's named after it; `None` is an empty cell.
+    #[test]
+    fn columns_keep_their_names_and_order() {
+        let r = BranchRow {
+            param: ParamValue {
+                name: "nu",
+                value: 2.0,
+            },
+            ..BranchRow::default()
+        };
+        assert_eq!(
+            header_of(&r).unwrap(),
+            "nu,s,v,theta,n_unstable,eig_re_1,eig_im_1,eig_re_2,eig_im_2,eig_re_3,eig_im_3,\
+             event,omega,K_over_W_per_m,V_um_per_s,theta_s,K_over_M_per_s2,frequency_hz"
+        );
+        assert!(row(&r).unwrap().starts_with("2.000000000000000e0,"));
+    }
+}
