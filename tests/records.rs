@@ -439,6 +439,8 @@ fn fold_curve_stops_are_typed_and_agree_with_their_words() {
             message.contains("too stiff"),
             "{stop}"
         );
+    }
+}
 
 /// The parts of a text eigenvalue `+1.7349e-2-4.6738e-1i`: its real and
 /// imaginary parts.
