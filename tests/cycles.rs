@@ -105,13 +105,7 @@ fn a_branch_that_returns_to_the_hopf_point_ends_there() {
     use stickslip::analysis::settle::{settle, stuck_start, SettleSettings};
     let params = |kappa: f64| Params {
         kappa,
-        nu: 90.0,
-        m: 1e-3,
-        a: 0.012,
-        b: 0.023,
-        mu0: 0.5,
-        mu2: 0.0,
-        theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
+        ..common::brockley(90.0)
     };
     let kind = ModelKind::Inertial;
     let HopfOutcome::Found(hopf) = find_hopf(kind, &params(0.5)).unwrap() else {

@@ -1,6 +1,9 @@
 //! Folds of cycles (LPC): two independent routes, a reference from another
 //! code, and the curve of folds that bounds the hysteretic region.
 
+mod common;
+
+use common::brockley;
 use continuation::newton::NewtonSettings;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::lpc::locate_lpc;
@@ -12,21 +15,6 @@ use stickslip::analysis::lpc_curve::{lpc_curve_through, LpcCurvePoint};
 use stickslip::log_model::LogBlock;
 use stickslip::model::ModelKind;
 use stickslip::params::{Param, Params};
-
-/// Cutoff law with V_min = 100 V0 and enough inertia for a subcritical onset
-/// just below V_min (a Bautin point near nu = 81.35).
-fn brockley(nu: f64) -> Params {
-    Params {
-        kappa: 0.0,
-        nu,
-        m: 1e-3,
-        a: 0.012,
-        b: 0.023,
-        mu0: 0.5,
-        mu2: 0.0,
-        theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
-    }
-}
 
 /// The inertial block of `p` in the variables of the cycle branches
 /// (measured from steady sliding), those `lpc_curve_through` takes its fold in.

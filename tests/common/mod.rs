@@ -44,6 +44,22 @@ pub fn pmma(m: f64, mu2: f64) -> Params {
     }
 }
 
+/// Cutoff law with V_min = 100 V0 and enough inertia (`m = 1e-3`) for a
+/// subcritical onset just below V_min (a Bautin point near nu = 81.35): the
+/// Brockley-type scene of the hysteresis tests, at stiffness 0.
+pub fn brockley(nu: f64) -> Params {
+    Params {
+        kappa: 0.0,
+        nu,
+        m: 1e-3,
+        a: 0.012,
+        b: 0.023,
+        mu0: 0.5,
+        mu2: 0.0,
+        theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
+    }
+}
+
 /// `branch` across pmma's onset in velocity: `nu` from 0.5 to 10 at
 /// `kappa = 0.0105` (the Hopf point at `nu = 2.8446`, eq. C11).
 pub const VELOCITY_BRANCH: [&str; 9] = [
