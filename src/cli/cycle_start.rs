@@ -1,7 +1,7 @@
 //! Where `stickslip cycles` starts its branch: at the Hopf point, or from a
 //! simulated stick-slip orbit when there is none (or `--from-simulation`).
 
-use super::Setup;
+use super::{Setup, TextUnits};
 use crate::analysis::cycles::{
     trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest, Leg,
 };
@@ -102,12 +102,18 @@ impl Start {
         }
     }
 
-    /// What the text output says about the start (nothing for a Hopf start).
-    pub fn describe(&self, setup: &Setup) -> Option<String> {
+    /// What the text output says about the start, stiffnesses in `units`.
+    pub fn describe(&self, setup: &Setup, units: TextUnits) -> String {
         let (orbit, hopf) = match self {
             Start::Simulation { orbit, hopf } => (orbit, hopf),
-            Start::NoCycle { reason, .. } => return Some(format!("no cycles: {reason}")),
-            Start::Hopf(_) => return None,
+            Start::NoCycle { reason, .. } => return format!("no cycles: {reason}"),
+            Start::Hopf(h) => {
+                let k_over_w = setup.scene.units.k_over_w(h.kappa_c);
+                return format!(
+                    "from the Hopf point at {}",
+                    units.stiffness(h.kappa_c, k_over_w, 10)
+                );
+            }
         };
         let kappa = orbit.params.kappa;
         let why = match hopf {
@@ -119,7 +125,7 @@ impl Start {
             .iter()
             .map(|e| format!("  tried first: {}", e.summary()))
             .collect();
-        Some(format!(
+        format!(
             "{}{why}: starting from a simulated stick-slip orbit at kappa = {kappa:.6e} \
              (K/W = {:.6e} 1/m), settled after {} (t = {:.4e}), period {:.6e}",
             tried.iter().map(|l| format!("{l}\n")).collect::<String>(),
@@ -127,7 +133,7 @@ impl Start {
             oscillations(orbit.orbit.periods),
             orbit.orbit.time,
             orbit.orbit.period,
-        ))
+        )
     }
 
     /// The start as JSON.

@@ -139,15 +139,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         // model, and where the branch starts.
         println!("scene: {} — {}", setup.scene.name, setup.scene.description);
         println!("model: {}", setup.choice.reason);
-        match (&start, start.describe(&setup)) {
-            (Start::Hopf(h), _) => println!(
-                "from the Hopf point at {}",
-                args.units
-                    .stiffness(h.kappa_c, setup.scene.units.k_over_w(h.kappa_c), 10)
-            ),
-            (_, Some(text)) => println!("{text}"),
-            (_, None) => {}
-        }
+        println!("{}", start.describe(&setup, args.units));
     }
     let points = args
         .collocation

@@ -234,19 +234,19 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         Ok(_) => None,
         Err(_) => Some("failed"),
     };
+    if let Some(why) = cut {
+        // A script reading the CSV alone learns that it stops short.
+        rows.note(&format!(
+            "# incomplete: {why} at t = {t_reached:.6e} s of {:.6e} s",
+            t_end * time_unit
+        ))?;
+    }
     let name = match cut {
-        Some(why) => {
-            // A script reading the CSV alone learns that it stops short.
-            rows.note(&format!(
-                "# incomplete: {why} at t = {t_reached:.6e} s of {:.6e} s",
-                t_end * time_unit
-            ))?;
-            format!(
-                "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
-                setup.label,
-                t_end * time_unit
-            )
-        }
+        Some(why) => format!(
+            "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
+            setup.label,
+            t_end * time_unit
+        ),
         None => setup.label.clone(),
     };
     let figs = if traj.t.len() >= 2 {
