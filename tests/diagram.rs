@@ -315,3 +315,38 @@ fn curve_points_resolve_l1_at_small_inertia() {
         .iter()
         .all(|q| q.criticality == Criticality::Subcritical));
 }
+
+/// Fourteen decades of driving velocity, where the steady state's age
+/// `phi = 1/nu` spans as many: the curve covers the range in a few hundred
+/// points (with the state's arclength weight fixed, the one decade above
+/// nu = 1e-12 took the whole 50 000-step budget), and every point is on
+/// Appendix C's curve.
+#[test]
+fn hopf_curve_spans_fourteen_decades_of_velocity() {
+    let pmma = scene::builtin("pmma").unwrap().params;
+    for (kind, p) in [
+        (ModelKind::QuasiStatic, Params { m: 0.0, ..pmma }),
+        (ModelKind::Inertial, Params { m: 1e-3, ..pmma }),
+    ] {
+        let d = stability_diagram(kind, &p, (1e-12, 1e2)).unwrap();
+        assert!(d.complete, "{kind:?}: {:?}", d.stop);
+        assert_eq!(d.stop, CurveEnd::EndOfRange, "{kind:?}");
+        let (first, last) = (d.points.first().unwrap(), d.points.last().unwrap());
+        assert!(
+            (first.nu / 1e-12 - 1.0).abs() < 1e-10,
+            "{kind:?}: {}",
+            first.nu
+        );
+        assert!((last.nu / 1e2 - 1.0).abs() < 1e-10, "{kind:?}: {}", last.nu);
+        assert!(d.points.len() < 1000, "{kind:?}: {} points", d.points.len());
+        for pt in &d.points {
+            let want = c11(&p, pt.nu);
+            assert!(
+                (pt.kappa / want - 1.0).abs() < 1e-10,
+                "{kind:?} nu = {}: {} vs {want}",
+                pt.nu,
+                pt.kappa
+            );
+        }
+    }
+}

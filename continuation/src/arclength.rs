@@ -26,9 +26,27 @@ pub struct CurveControl {
     /// (empty: all 1). Small weights on the state let the step follow the
     /// parameters, as AUTO's THL/THU do.
     pub weights: Vec<f64>,
+    /// The unknowns whose weights are relative to the current point, `w_i /
+    /// max(1, z_i^2)`: such an unknown spanning decades along the curve
+    /// counts by its relative change, not by its size (with a fixed weight a
+    /// state growing like `1/p` takes over the step as `p` goes to zero).
+    pub relative: Vec<usize>,
 }
 
 impl CurveControl {
+    /// The control in force at `z`: the weights of the unknowns
+    /// [`CurveControl::relative`] made relative there.
+    fn at(&self, z: &DVector<f64>) -> CurveControl {
+        let mut control = self.clone();
+        if !self.relative.is_empty() {
+            control.weights = (0..z.len()).map(|i| self.weight(i)).collect();
+            for &i in &self.relative {
+                control.weights[i] /= z[i].abs().max(1.0).powi(2);
+            }
+        }
+        control
+    }
+
     fn weight(&self, i: usize) -> f64 {
         self.weights.get(i).copied().unwrap_or(1.0)
     }
@@ -91,7 +109,7 @@ impl<G: DefiningSystem> Stepper<G> {
         bounds: Vec<Bound>,
     ) -> Result<Self, ContinuationError> {
         system.accept(&z0)?;
-        let tangent = tangent_at(&system, &z0, seed, &control)?;
+        let tangent = tangent_at(&system, &z0, seed, &control.at(&z0))?;
         let ds = control.step.ds.abs();
         Ok(Stepper {
             system,
@@ -142,7 +160,8 @@ impl<G: DefiningSystem> Stepper<G> {
         fixed: Option<(usize, f64)>,
         settings: &NewtonSettings,
     ) -> Result<NewtonReport, ContinuationError> {
-        correct(&self.system, &self.control, z, tangent, fixed, settings).map(|(report, _)| report)
+        let control = self.control.at(&self.z);
+        correct(&self.system, &control, z, tangent, fixed, settings).map(|(report, _)| report)
     }
 
     /// Takes one step that the corrector accepts ([`predictor_corrector::step`]).
@@ -150,11 +169,12 @@ impl<G: DefiningSystem> Stepper<G> {
     /// beyond one (the corrector moves across the tangent), is retaken to
     /// land on the bound.
     pub fn step(&mut self) -> Result<Step, ContinuationError> {
+        let control = self.control.at(&self.z);
         let mut curve = Arclength {
             system: &mut self.system,
             z: &mut self.z,
             tangent: &mut self.tangent,
-            control: &self.control,
+            control: &control,
             bounds: &self.bounds,
             overshot: None,
             landed: None,
@@ -401,6 +421,7 @@ mod tests {
             },
             corrector: NewtonSettings::default(),
             weights: Vec::new(),
+            relative: Vec::new(),
         };
         let z0 = DVector::from_vec(vec![a.cos(), a.sin()]);
         let seed = DVector::from_vec(vec![-a.sin(), a.cos()]);

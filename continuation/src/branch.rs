@@ -175,6 +175,7 @@ impl<'a, S: VectorField> Branch<'a, S> {
             step: settings.step,
             corrector: settings.corrector,
             weights: Vec::new(),
+            relative: Vec::new(),
         };
         let bounds = vec![Bound {
             index: n,

@@ -47,6 +47,7 @@ impl Default for CurveSettings {
                     min_tangent_cos: 0.95,
                 },
                 weights: Vec::new(),
+                relative: Vec::new(),
                 corrector: NewtonSettings {
                     max_iter: 8,
                     ..NewtonSettings::default()
