@@ -417,11 +417,11 @@ pub fn hopf_curve_with<F: Wrap>(
                     },
                     // Arclength measured in (ln kappa, ln second): the state and
                     // omega get small weights, relative to their size, so that a
-                    // state spanning decades (theta = 1/nu is 1e12 at nu = 1e-12)
-                    // does not take over the step (with a fixed 1e-16 the decade
-                    // above nu = 1e-12 took 50 000 points).
+                    // state or frequency spanning decades (phi = 1/nu is 1e12 at
+                    // nu = 1e-12) does not take over the step (with a fixed 1e-16
+                    // the decade above nu = 1e-12 took 50 000 points).
                     weights: [vec![1e-16; x0.len() + 1], vec![1.0, 1.0]].concat(),
-                    relative: (0..x0.len()).collect(),
+                    relative: (0..=x0.len()).collect(),
                 },
                 max_steps,
                 // Stop a factor 1e6 below the starting stiffness: closer to kappa_c = 0
