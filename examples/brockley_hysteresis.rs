@@ -227,13 +227,26 @@ fn figure(
         dashed,
         markers,
     };
+    // Each branch ends at the located fold, the cycle where they meet
+    // (between the last continued cycle of one and the first of the other).
     let ordered = along_branch(cycles);
+    let fold = cycles.iter().find_map(|c| c.lpc.as_deref());
     let branch = |stable: bool| -> Vec<(f64, f64)> {
-        ordered
-            .iter()
-            .filter(|c| c.stability.is_stable() == stable)
-            .map(|c| (c.kappa, c.delta_s))
-            .collect()
+        let mut points = Vec::new();
+        for (i, c) in ordered.iter().enumerate() {
+            let turns = ordered
+                .get(i + 1)
+                .is_some_and(|d| d.stability.is_stable() != c.stability.is_stable());
+            if c.stability.is_stable() == stable {
+                points.push((c.kappa, c.delta_s));
+                if let (true, Some(f)) = (turns, fold) {
+                    points.push((f.kappa, f.delta_s));
+                }
+            } else if let (true, Some(f)) = (turns, fold) {
+                points.push((f.kappa, f.delta_s));
+            }
+        }
+        points
     };
     let mut series = vec![
         line(
