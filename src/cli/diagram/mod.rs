@@ -321,6 +321,7 @@ fn to_json(r: &SceneResult) -> Value {
         "lpc_curve": records.folds,
         "lpc_stops": r.diagram.lpc.stops,
         "lpc_complete": !r.diagram.lpc.incomplete,
+        "lpc_gaps": records.fold_gaps,
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
         "elapsed_s": r.seconds,
         "velocity_strengthening": records.strengthening,

@@ -1,6 +1,7 @@
 //! The records of the stability diagram: the points of the Hopf curve, its
-//! special points, the velocity-strengthening stretches, and the points of
-//! the curves of folds of cycles (also those of `cycles --lpc-curve`).
+//! special points, the velocity-strengthening stretches, the points of the
+//! curves of folds of cycles (also those of `cycles --lpc-curve`) and the
+//! stretches where those curves were not computed.
 
 use super::PhysicalPoint;
 use crate::analysis::diagram::{self, SpecialKind, StabilityDiagram};
@@ -19,7 +20,10 @@ pub struct DiagramRecords {
     pub curve: Vec<HopfCurvePoint>,
     pub special: Vec<SpecialPoint>,
     pub folds: Vec<FoldPoint>,
-    pub strengthening: Vec<Strengthening>,
+    pub strengthening: Vec<VelocitySpan>,
+    /// Where a fold-of-cycles curve stopped short: the hysteretic region
+    /// there is unknown, not absent.
+    pub fold_gaps: Vec<VelocitySpan>,
 }
 
 impl DiagramRecords {
@@ -36,7 +40,13 @@ impl DiagramRecords {
             strengthening: d
                 .strengthening
                 .iter()
-                .map(|&stretch| Strengthening::new(stretch, u))
+                .map(|&stretch| VelocitySpan::new(stretch, u))
+                .collect(),
+            fold_gaps: d
+                .lpc
+                .gaps
+                .iter()
+                .map(|&gap| VelocitySpan::new(gap, u))
                 .collect(),
         }
     }
@@ -117,10 +127,11 @@ impl SpecialPoint {
     }
 }
 
-/// A stretch of velocities where steady friction is velocity strengthening
-/// (stable for every stiffness): an entry of `velocity_strengthening`.
+/// A stretch of driving velocities: an entry of `velocity_strengthening`
+/// (steady friction velocity strengthening there, stable for every
+/// stiffness) or of `lpc_gaps` (a fold-of-cycles curve not computed there).
 #[derive(Clone, Debug, Serialize)]
-pub struct Strengthening {
+pub struct VelocitySpan {
     pub nu_from: f64,
     pub nu_to: f64,
     #[serde(rename = "V_from_um_per_s")]
@@ -129,10 +140,10 @@ pub struct Strengthening {
     pub v_to_um_per_s: f64,
 }
 
-impl Strengthening {
+impl VelocitySpan {
     /// The stretch `nu_from .. nu_to` in the units `u`.
     pub fn new((nu_from, nu_to): (f64, f64), u: &Units) -> Self {
-        Strengthening {
+        VelocitySpan {
             nu_from,
             nu_to,
             v_from_um_per_s: u.velocity_um_s(nu_from),
