@@ -33,9 +33,58 @@ thread_local! {
     });
 }
 
+/// The diagonal balancing of `a` (Parlett & Reinsch 1969; LAPACK's
+/// `gebal` without permutations): powers of two `d_i` such that the rows
+/// and columns of `D^-1 a D` have comparable sizes. The similarity is exact
+/// (powers of two) and leaves the eigenvalues as they are, but a
+/// backward-stable eigenvalue routine errs by `eps` times the norm of the
+/// matrix it is given: a Jacobian in variables of very different sizes (the
+/// age `phi = 1/nu` is 1e7 at nu = 1e-7, where the frequency is 1e-7) has
+/// entries far larger than its slow eigenvalues, which balancing brings
+/// down. An already balanced matrix keeps `d = 1`.
+fn balancing(a: &DMatrix<f64>) -> Vec<f64> {
+    let n = a.nrows();
+    let mut b = a.clone();
+    let mut d = vec![1.0; n];
+    for _sweep in 0..64 {
+        let mut done = true;
+        for i in 0..n {
+            let (mut c, mut r) = (0.0, 0.0);
+            for j in (0..n).filter(|&j| j != i) {
+                c += b[(j, i)].abs();
+                r += b[(i, j)].abs();
+            }
+            if c == 0.0 || r == 0.0 || !(c + r).is_finite() {
+                continue;
+            }
+            let total = c + r;
+            let mut f = 1.0;
+            while c < r / 2.0 {
+                f *= 2.0;
+                c *= 4.0;
+            }
+            while c >= 2.0 * r {
+                f /= 2.0;
+                c /= 4.0;
+            }
+            if (c + r) / f < 0.95 * total {
+                done = false;
+                d[i] *= f;
+                b.row_mut(i).iter_mut().for_each(|v| *v /= f);
+                b.column_mut(i).iter_mut().for_each(|v| *v *= f);
+            }
+        }
+        if done {
+            break;
+        }
+    }
+    d
+}
+
 /// Runs faer's real eigenvalue decomposition of `a` in the thread's reused
 /// buffers (with the right eigenvectors if `vectors`), then hands the buffers
-/// to `read`.
+/// to `read`. The decomposition is of the balanced matrix `D^-1 a D`
+/// ([`balancing`]), its eigenvectors `v` turned back into `a`'s, `D v`.
 fn with_evd<R>(
     a: &DMatrix<f64>,
     vectors: bool,
@@ -52,10 +101,12 @@ fn with_evd<R>(
             w.s_re = faer::diag::Diag::zeros(n);
             w.s_im = faer::diag::Diag::zeros(n);
         }
-        // Same inputs as faer's convenience calls: the matrix, and zeroed outputs.
+        // Same inputs as faer's convenience calls: the (balanced) matrix, and
+        // zeroed outputs.
+        let d = balancing(a);
         for j in 0..n {
             for i in 0..n {
-                w.a[(i, j)] = a[(i, j)];
+                w.a[(i, j)] = a[(i, j)] / d[i] * d[j];
                 w.u[(i, j)] = 0.0;
             }
             w.s_re[j] = 0.0;
@@ -83,6 +134,13 @@ fn with_evd<R>(
             Default::default(),
         )
         .map_err(|e| ContinuationError::Eigen(format!("{e:?}")))?;
+        if vectors {
+            for (i, di) in d.iter().enumerate() {
+                for j in 0..n {
+                    w.u[(i, j)] *= di;
+                }
+            }
+        }
         Ok(read(w))
     })
 }

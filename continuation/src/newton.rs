@@ -6,7 +6,7 @@
 //! LU, the structured bordered reduction of collocation, ...) and returns the
 //! Newton step `DG(z)^{-1} G(z)`. [`iterate`] runs `z <- z - DG^{-1} G` and
 //! judges convergence in max norms: the last step below
-//! `step_tol (1 + |z|)` and the residual below the bound the linearized point
+//! `step_tol` relative to the iterate and the residual below the bound the linearized point
 //! gives ([`Linearized::residual_bound`]: `residual_tol (1 + |z|)`, or a
 //! backward-error bound, or a rounding floor), with a [`Stall`] rule for a
 //! step that stops shrinking at the rounding floor of the system.
@@ -140,6 +140,14 @@ pub trait NewtonProblem {
         Stall::Iterate
     }
 
+    /// The size of the step `dz` that led to `z`, relative to the scale the
+    /// step tolerance applies to: Newton's method has converged (as far as
+    /// the step goes) when it is at most `step_tol`. Default: the max norm
+    /// relative to the iterate's, `max|dz| / (1 + max|z|)`.
+    fn relative_step(&self, dz: &[f64], z: &[f64]) -> f64 {
+        max_norm(dz) / (1.0 + max_norm(z))
+    }
+
     /// The error for `failure`; `cause` is the error of a failed evaluation
     /// or linear solve (then `failure.reason` is
     /// [`NewtonFailure::SingularJacobian`]).
@@ -150,8 +158,9 @@ pub trait NewtonProblem {
 /// solution; returns the report and the system linearized at the solution.
 ///
 /// Iterates `z <- z - DG(z)^{-1} G(z)` until the last step is at most
-/// `step_tol (1 + |z|)` and the residual ([`Linearized::residual_norm`]) at
-/// most [`Linearized::residual_bound`], or the step stalls
+/// `step_tol` relative to the iterate ([`NewtonProblem::relative_step`]) and
+/// the residual ([`Linearized::residual_norm`]) at most
+/// [`Linearized::residual_bound`], or the step stalls
 /// ([`NewtonProblem::stall`]). A residual or step that is not finite, a
 /// failed solve and the iteration limit are failures.
 pub fn iterate<P: NewtonProblem>(
@@ -159,7 +168,9 @@ pub fn iterate<P: NewtonProblem>(
     z: &mut [f64],
     settings: &NewtonSettings,
 ) -> Result<(NewtonReport, P::Point), ContinuationError> {
-    let (mut last_step, mut previous_step) = (f64::INFINITY, f64::INFINITY);
+    let mut last_step = f64::INFINITY;
+    // The last two steps relative to their iterates.
+    let (mut last_relative, mut previous_relative) = (f64::INFINITY, f64::INFINITY);
     let mut residual = f64::INFINITY;
     let failure = |iterations, residual, step, reason| Failure {
         iterations,
@@ -181,17 +192,17 @@ pub fn iterate<P: NewtonProblem>(
             return Err(problem.error(f, None));
         }
         let z_max = max_norm(z);
-        let tol = settings.step_tol * (1.0 + z_max);
+        let tol = settings.step_tol;
         let small_residual = residual <= point.residual_bound(settings.residual_tol, z_max);
         let report = NewtonReport {
             iterations: it,
             residual,
             step: last_step,
         };
-        if small_residual && last_step <= tol {
+        if small_residual && last_relative <= tol {
             return Ok((report, point));
         }
-        if small_residual && last_step <= 1e3 * tol && last_step > 0.5 * previous_step {
+        if small_residual && last_relative <= 1e3 * tol && last_relative > 0.5 * previous_relative {
             match problem.stall() {
                 Stall::Iterate => {}
                 Stall::Converged => return Ok((report, point)),
@@ -216,9 +227,11 @@ pub fn iterate<P: NewtonProblem>(
             let f = failure(it, residual, step, NewtonFailure::SingularJacobian);
             return Err(problem.error(f, None));
         }
-        (previous_step, last_step) = (last_step, step);
+        last_step = step;
         problem.recycle(point);
         z.iter_mut().zip(&dz).for_each(|(zi, d)| *zi -= d);
+        previous_relative = last_relative;
+        last_relative = problem.relative_step(&dz, z);
     }
     let f = failure(
         settings.max_iter,
@@ -256,6 +269,9 @@ struct Dense<'c, F> {
     system: F,
     z: DVector<f64>,
     context: &'c str,
+    /// Per unknown, the absolute part of its step tolerance:
+    /// `min(1, |z_i|)` at the starting point (1 where that is zero).
+    floor: Vec<f64>,
 }
 
 impl<F> NewtonProblem for Dense<'_, F>
@@ -274,6 +290,26 @@ where
             .map(|r| r.iter().fold(0.0, |acc, v| acc + v.abs()))
             .fold(0.0, f64::max);
         Ok(DensePoint { g, dg, dg_norm })
+    }
+
+    /// Component by component, `max_i |dz_i| / (|z_i| + floor_i)`, relative
+    /// to each unknown's own size (down to its size at the start, or 1): the
+    /// unknowns of a dense system can differ by many orders of magnitude
+    /// (the age `phi = 1/nu` is 1e7 at nu = 1e-7, where the frequency is
+    /// 1e-7), and a step judged against the largest would leave the small
+    /// ones unconverged.
+    fn relative_step(&self, dz: &[f64], z: &[f64]) -> f64 {
+        dz.iter()
+            .zip(z)
+            .zip(&self.floor)
+            .map(|((d, v), f)| d.abs() / (v.abs() + f))
+            .fold(0.0, f64::max)
+    }
+
+    /// A step that no longer shrinks within 1e3 of the tolerance is the
+    /// rounding floor of an unknown judged relative to its own size.
+    fn stall(&self) -> Stall {
+        Stall::Converged
     }
 
     fn newton_step(&mut self, point: &DensePoint) -> Result<Vec<f64>, ContinuationError> {
@@ -309,10 +345,15 @@ pub fn solve_dense<F>(
 where
     F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
 {
+    let floor = z
+        .iter()
+        .map(|v| if *v == 0.0 { 1.0 } else { v.abs().min(1.0) })
+        .collect();
     let mut dense = Dense {
         system,
         z: z.clone(),
         context,
+        floor,
     };
     iterate(&mut dense, z.as_mut_slice(), settings)
 }

@@ -331,6 +331,13 @@ def cases():
         out.append(('cutoff', dict(base, thc='10', nu='0.085', m=mm)))
     for mm in ['1', '1e-6', '1e-12']:
         out.append(('cutoff', dict(base, thc='0.01', nu='1', m=mm)))
+    # Slow driving: the age phi = 1/nu spans decades (Newton must converge on
+    # the frequency ~ nu, not only on phi)
+    for nu in ['1e-3', '1e-6', '1e-7', '1e-9']:
+        for mm in ['1e-2', '1e-10']:
+            out.append(('ln2', dict(base, mu2='2.4e-4', nu=nu, m=mm)))
+    for nu in ['1e-6', '1e-3']:
+        out.append(('cutoff', dict(base, thc='4.583333333333333e-4', nu=nu, m='2.5e-7')))
     gran = dict(A='0.008', B='0.012', mu0='0.7', mu2='0')
     out.append(('RR', dict(gran, nu='10', m='2e-9')))
     out.append(('RR', dict(gran, nu='1', m='2e-11')))

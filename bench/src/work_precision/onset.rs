@@ -79,7 +79,17 @@ pub fn l1_finite_differences<S: VectorField>(
     };
     let a = jacobian(sys, x, p);
     let iw = Complex64::new(0.0, omega);
+    // The phase of q fixed (its largest entry real and positive): the
+    // differences below step along Re q and Im q, so their truncation and
+    // rounding depend on it, and this way not on the eigenvalue routine.
     let (_, q) = eigenpair_near(&a, iw)?;
+    let largest = q
+        .iter()
+        .copied()
+        .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+        .filter(|z| z.norm() > 0.0)
+        .unwrap_or(Complex64::new(1.0, 0.0));
+    let q = &q * (largest.conj() / largest.norm());
     let (_, pt) = eigenpair_near(&a.transpose(), -iw)?;
     let padj = &pt / pt.dotc(&q).conj();
     let qb = q.map(|z| z.conj());
