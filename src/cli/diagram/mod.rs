@@ -412,7 +412,15 @@ fn print_text(r: &SceneResult, units: TextUnits) {
                 (p.kappa - k).abs() / k.abs().max(1e-6 * scale)
             })
             .fold(0.0, f64::max);
-        println!("  largest relative difference from Appendix C along the curve: {max_rel:.1e}");
+        let max_rel_omega = records
+            .curve
+            .iter()
+            .filter_map(|p| p.omega_appendix_c.map(|w| (p.omega / w - 1.0).abs()))
+            .fold(0.0, f64::max);
+        println!(
+            "  largest relative difference from Appendix C along the curve: {max_rel:.1e} \
+             (kappa_c), {max_rel_omega:.1e} (omega_c)"
+        );
     }
     for s in &records.special {
         let l2 =

@@ -70,6 +70,8 @@ pub struct HopfCurvePoint {
     pub physical: PhysicalPoint,
     /// Bound on the rounding error of `l1`.
     pub l1_error_bound: f64,
+    /// `omega_c` of Appendix C (eq. C13) at `nu`.
+    pub omega_appendix_c: Option<f64>,
 }
 
 impl CsvRecord for HopfCurvePoint {
@@ -90,6 +92,7 @@ impl HopfCurvePoint {
             kappa_appendix_c: appendix_c::critical_stiffness(&at),
             physical: PhysicalPoint::new(u, p.nu, p.kappa, p.omega),
             l1_error_bound: p.l1_error_bound,
+            omega_appendix_c: appendix_c::critical_frequency(&at),
         }
     }
 }

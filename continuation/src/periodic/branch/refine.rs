@@ -77,7 +77,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             self.since_estimate += 1;
         }
         let (floor, since) = self.orbit_floor;
-        let orbit_tol = if self.steps < since + ORBIT_FLOOR_MEMORY {
+        let mut orbit_tol = if self.steps < since + ORBIT_FLOOR_MEMORY {
             self.settings.mesh_tol.max(floor)
         } else {
             self.settings.mesh_tol
@@ -119,13 +119,15 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     pt = finer;
                     continue;
                 }
-                // Rounding floor: back to the coarser mesh.
+                // Rounding floor: back to the coarser mesh, where the
+                // multipliers are still to be judged.
                 self.orbit_floor = (2.0 * coarse_estimate, self.steps);
+                orbit_tol = orbit_tol.max(2.0 * coarse_estimate);
                 self.restore(coarser);
                 self.last_estimate = coarse_estimate;
                 self.last_ntst = ntst;
                 pt.error_estimate = coarse_estimate;
-                break;
+                continue;
             }
             match finer {
                 Ok(finer)
@@ -133,9 +135,15 @@ impl<S: VectorField> CycleBranch<'_, S> {
                         && finer.trivial_error <= 0.25 * pt.trivial_error =>
                 {
                     // The multipliers needed the intervals: halving stops here
-                    // until their error is found to be rounding.
+                    // until their error is found to be rounding. (Where half the
+                    // new mesh cannot carry the orbit, its estimate stays the
+                    // coarser orbit's: more intervals do not resolve it worse.)
                     self.multiplier_ntst = (self.coll.mesh.ntst(), self.steps);
+                    let coarse_estimate = pt.error_estimate;
                     self.renew_estimate(&finer);
+                    if !self.last_estimate.is_finite() {
+                        self.last_estimate = coarse_estimate;
+                    }
                     pt = finer;
                 }
                 _ => {
