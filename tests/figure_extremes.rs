@@ -442,3 +442,36 @@ fn stability_diagrams_draw_their_extremes_with_clean_labels() {
     assert!(axes.y.range.0 < 3e-3 && axes.y.range.1 > 3e-3);
     assert!(axes.band.is_none());
 }
+
+/// A Hopf curve plunging to `kappa_c -> 0` at a friction minimum (drawn as
+/// a vertical line, the y axis cut four decades below the top) with a fold
+/// curve running on beyond it seven decades down (brockley's reaches the end
+/// of its velocity range): the axes still hold the whole fold curve (it was
+/// drawn along the bottom frame, at a false height).
+#[test]
+fn a_fold_curve_below_a_plunging_hopf_curve_stays_inside_the_axes() {
+    let v_min = 2000.0;
+    let curve: Vec<(f64, f64, Criticality)> = (0..=60)
+        .map(|i| {
+            let v = 100.0 + (v_min - 100.0) * (1.0 - 10f64.powf(-(i as f64) / 6.0));
+            (v, 1e6 * (1.0 - v / v_min).max(1e-12), Criticality::Subcritical)
+        })
+        .collect();
+    let fold: Vec<(f64, f64)> = (0..=50)
+        .map(|i| {
+            let v = 1700.0 * (1e5 / 1700.0f64).powf(i as f64 / 50.0);
+            (v, 1.2e6 * (v / 1700.0).powf(-3.0))
+        })
+        .collect();
+    let fig = StabilityFigure {
+        vlines: vec![("friction minimum".into(), v_min)],
+        lpc: vec![fold.clone()],
+        ..diagram(&curve, (100.0, 1e5))
+    };
+    let axes = panels(&fig);
+    let (lo, hi) = extent(fold.iter().map(|p| p.1));
+    let (y0, y1) = axes.y.range;
+    assert!(y0 <= lo && hi <= y1, "fold {lo}..{hi} outside {y0}..{y1}");
+    // The plunge itself is still cut: the axis does not reach its 1e-6.
+    assert!(y0 > 1e-6, "{y0}");
+}

@@ -265,28 +265,35 @@ pub fn render(fig: &StabilityFigure, stem: &Path) -> Result<Vec<PathBuf>, PlotEr
 /// The y range of the main panel: the curves with room above and below for
 /// the region labels (a quarter of their log span, at least a factor 1.35);
 /// where a curve plunges to `kappa_c -> 0` (an end point, drawn as a
-/// vertical line), at most four decades below the top. Without one the
-/// whole curve is shown, however many decades it spans (a wide velocity
-/// range was drawn along the bottom frame, at a false height).
+/// vertical line), at most four decades below the top, unless a curve of
+/// folds of cycles reaches lower. Without one the whole curve is shown,
+/// however many decades it spans (a wide velocity range was drawn along the
+/// bottom frame, at a false height; so was a fold curve below the four
+/// decades).
 fn y_range(fig: &StabilityFigure) -> (f64, f64) {
-    let ys = fig
-        .segments
-        .iter()
-        .flat_map(|s| s.points.iter().map(|p| p.1))
-        .chain(fig.reference.iter().map(|p| p.1))
-        .chain(fig.lpc.iter().flatten().map(|p| p.1))
-        .chain(fig.markers.iter().map(|m| m.2));
-    let (lo, hi) = ys
-        .filter(|y| *y > 0.0 && y.is_finite())
-        .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
-    if !lo.is_finite() {
+    let span = |ys: &mut dyn Iterator<Item = f64>| {
+        ys.filter(|y| *y > 0.0 && y.is_finite())
+            .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)))
+    };
+    let (lo, hi) = span(
+        &mut fig
+            .segments
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.1))
+            .chain(fig.reference.iter().map(|p| p.1))
+            .chain(fig.markers.iter().map(|m| m.2)),
+    );
+    let (fold_lo, fold_hi) = span(&mut fig.lpc.iter().flatten().map(|p| p.1));
+    let hi = hi.max(fold_hi);
+    if !lo.min(fold_lo).is_finite() {
         return (1e-3, 1.0);
     }
     let lo = if fig.vlines.is_empty() {
         lo
     } else {
         lo.max(hi * 1e-4)
-    };
+    }
+    .min(fold_lo);
     let room = (hi / lo).powf(0.25).max(1.35);
     (lo / room, hi * room)
 }
