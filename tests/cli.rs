@@ -693,3 +693,14 @@ fn cycles_text_opens_with_the_scene_the_model_and_the_start() {
         .unwrap_or_else(|| panic!("{start}"));
     assert!((k_over_w / (0.011 / 0.4e-6) - 1.0).abs() < 1e-9, "{start}");
 }
+
+/// Next to the friction minimum (brockley's V_min = 2000 µm/s, here 5e-8
+/// below it) the Hopf point degenerates: the failure says why and gives
+/// Appendix C's stiffness, not only "reduce the step size".
+#[test]
+fn a_degenerate_hopf_point_at_the_friction_minimum_is_explained() {
+    let (code, _, err) = stickslip(&["hopf", "--scene", "brockley", "--set", "nu=1999.9999"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("velocity neutral"), "{err}");
+    assert!(err.contains("Appendix C gives kappa_c = 2.46"), "{err}");
+}

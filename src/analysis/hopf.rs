@@ -5,6 +5,7 @@
 //! minimally augmented Hopf system (engine, [`continuation::events`]). The
 //! closed forms of Appendix C are not used to find the point.
 
+use crate::appendix_c;
 use crate::error::NumericalError;
 use crate::model::{full_state, steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
@@ -18,8 +19,8 @@ use continuation::normal_form::{
 use continuation::predictor_corrector::StepControl;
 use continuation::system::jacobian;
 use continuation::{
-    AsIs, Branch, Complex64, ContinuationSettings, Direction, EventKind, NewtonSettings,
-    VectorField, Wrap,
+    AsIs, Branch, Complex64, ContinuationError, ContinuationSettings, Direction, EventKind,
+    NewtonSettings, VectorField, Wrap,
 };
 
 /// Sub- or supercritical onset, from the sign of `l1` (JSON and CSV: its
@@ -264,11 +265,17 @@ pub fn second_lyapunov(
 /// system is ill-conditioned (small `omega`, e.g. near `V_min` of the cutoff
 /// law) this is well above rounding.
 fn location_error(kind: ModelKind, params: &Params, kappa: f64) -> f64 {
-    let exact = match kind {
-        ModelKind::Inertial => crate::appendix_c::critical_stiffness(params),
-        ModelKind::QuasiStatic => crate::appendix_c::critical_stiffness_quasi_static(params),
-    };
+    let exact = closed_form_kappa_c(kind, params);
     (kappa - exact).abs().max(4.0 * f64::EPSILON * kappa.abs())
+}
+
+/// The critical stiffness of Appendix C for the model `kind`: eq. C11 with
+/// inertia, C12 without.
+fn closed_form_kappa_c(kind: ModelKind, params: &Params) -> f64 {
+    match kind {
+        ModelKind::Inertial => appendix_c::critical_stiffness(params),
+        ModelKind::QuasiStatic => appendix_c::critical_stiffness_quasi_static(params),
+    }
 }
 
 /// Where the search for the onset stops, relative to its stable starting
@@ -337,6 +344,32 @@ pub fn stable_stiffness<S: VectorField>(
     )))
 }
 
+/// Steady friction within this fraction of velocity neutral, `mu_phi - mu_v <
+/// NEUTRAL_SHARE mu_v`, has an onset frequency `omega_c = nu sqrt(mu_phi/mu_v
+/// - 1)` (C13) below 1 % of `nu`: near the friction minimum.
+const NEUTRAL_SHARE: f64 = 1e-4;
+
+/// A failure of the steady-sliding branch `e`, explained where steady friction
+/// is all but velocity neutral: there `omega_c` vanishes (C13), the Hopf
+/// system degenerates (a Bogdanov-Takens point at the friction minimum) and
+/// Newton's method cannot pin the point down; Appendix C's critical
+/// stiffness (C11) is given instead.
+fn near_velocity_neutral(kind: ModelKind, params: &Params, e: ContinuationError) -> NumericalError {
+    let margin = params.mu_phi() - params.mu_v();
+    if !(margin > 0.0 && margin < NEUTRAL_SHARE * params.mu_v()) {
+        return e.into();
+    }
+    let kappa_c = closed_form_kappa_c(kind, params);
+    NumericalError::Analysis(format!(
+        "{e}: steady friction is within {:.1e} of velocity neutral here (mu_phi - mu_v = \
+         {margin:.3e}, next to the friction minimum), where the onset frequency vanishes and \
+         the Hopf point degenerates; Appendix C gives kappa_c = {kappa_c:.6e} (eq. C11/C12), \
+         omega_c = {:.3e} (C13), and the onset type is not determined this close to it",
+        margin / params.mu_v(),
+        appendix_c::critical_frequency(params).unwrap_or(0.0),
+    ))
+}
+
 /// Continues steady sliding in `kappa` downward from a stable stiffness and
 /// locates the first Hopf point.
 pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, NumericalError> {
@@ -385,7 +418,7 @@ pub fn find_hopf_with<F: Wrap>(
     let branch = Branch::new(&block, &x0, &p.to_vec(), Param::Kappa as usize, settings)
         .map_err(NumericalError::from)?;
     for (steps, point) in branch.enumerate() {
-        let point = point.map_err(NumericalError::from)?;
+        let point = point.map_err(|e| near_velocity_neutral(kind, params, e))?;
         let hopf = point.events.iter().find_map(|e| match e.kind {
             EventKind::Hopf { omega } => Some((e, omega)),
             EventKind::Fold { .. } => None,
