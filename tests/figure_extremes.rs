@@ -454,7 +454,11 @@ fn a_fold_curve_below_a_plunging_hopf_curve_stays_inside_the_axes() {
     let curve: Vec<(f64, f64, Criticality)> = (0..=60)
         .map(|i| {
             let v = 100.0 + (v_min - 100.0) * (1.0 - 10f64.powf(-(i as f64) / 6.0));
-            (v, 1e6 * (1.0 - v / v_min).max(1e-12), Criticality::Subcritical)
+            (
+                v,
+                1e6 * (1.0 - v / v_min).max(1e-12),
+                Criticality::Subcritical,
+            )
         })
         .collect();
     let fold: Vec<(f64, f64)> = (0..=50)
