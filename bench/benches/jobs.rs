@@ -19,8 +19,9 @@ fn jobs(c: &mut Criterion) {
         } else {
             SamplingMode::Flat
         });
-        // Cycle branches take a few tenths of a second: criterion's fewest samples.
-        let cycles = name.starts_with("cycle_branch");
+        // Cycle branches take a few tenths of a second, the jobs compared with
+        // AUTO-07p up to seconds: criterion's fewest samples.
+        let cycles = name.starts_with("cycle_branch") || name.starts_with("auto_job");
         group
             .sample_size(if cycles { 10 } else { 20 })
             .measurement_time(Duration::from_secs(if cycles { 5 } else { 3 }));

@@ -2,6 +2,7 @@
 
 use super::cycles::{CycleWork, LastCycle};
 use super::sandbox::{silence_stdout, TempDir};
+use clap::Parser;
 use continuation::counted::N_EVAL_KINDS;
 use continuation::{AsIs, ContinuationSettings, Counting, Wrap};
 use serde_json::Value;
@@ -11,13 +12,13 @@ use stickslip::analysis::hopf::{find_hopf_with, HopfOutcome};
 use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use stickslip::cli::diagram::DiagramArgs;
 use stickslip::cli::files::OutputArgs;
-use stickslip::cli::{SceneArgs, TextUnits};
+use stickslip::cli::{Cli, SceneArgs, TextUnits};
 use stickslip::error::{Error, NumericalError};
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
 /// Names of the jobs, in the order they run.
-pub const JOB_NAMES: [&str; 7] = [
+pub const JOB_NAMES: [&str; 11] = [
     "hopf_point_l1",
     "hopf_point_l1_inertial",
     "hopf_curve_4_decades",
@@ -25,6 +26,44 @@ pub const JOB_NAMES: [&str; 7] = [
     "diagram_three_scenes_parallel",
     "cycle_branch_100",
     "cycle_branch_100_inertial",
+    "auto_job2_diagram",
+    "auto_job3_cycles",
+    "auto_job4_stiff_branch",
+    "auto_job5_fold_curve",
+];
+
+/// The command lines of the jobs compared with AUTO-07p (docs/performance.md,
+/// "Side by side"), after `stickslip`; each writes into a temporary `--out`.
+const AUTO_JOBS: [(&str, &str, &[&str]); 4] = [
+    (
+        "auto_job2_diagram",
+        "job 2: `diagram --set m=0.01 --model inertial --nu-range 0.01:100` end to end",
+        &["diagram", "--json", "--set", "m=0.01", "--model", "inertial", "--nu-range", "0.01:100"],
+    ),
+    (
+        "auto_job3_cycles",
+        "job 3: `cycles --set m=0.01 --model inertial --ntst 50 --ntst-max 50 --kappa-fraction 0.44504` end to end",
+        &[
+            "cycles", "--json", "--set", "m=0.01", "--model", "inertial", "--ntst", "50",
+            "--ntst-max", "50", "--kappa-fraction", "0.44504",
+        ],
+    ),
+    (
+        "auto_job4_stiff_branch",
+        "job 4: `cycles --set m=0.01 --model inertial --kappa-fraction 0.023223` end to end",
+        &[
+            "cycles", "--json", "--set", "m=0.01", "--model", "inertial", "--kappa-fraction",
+            "0.023223",
+        ],
+    ),
+    (
+        "auto_job5_fold_curve",
+        "job 5: `cycles` on the cutoff law (theta_c = 10, m = 1, nu = 0.085) with `--lpc-curve`, end to end",
+        &[
+            "cycles", "--json", "--set", "A=0.012", "--set", "B=0.023", "--set", "mu0=0.5",
+            "--set", "theta_c=10", "--set", "m=1", "--set", "nu=0.085", "--lpc-curve",
+        ],
+    ),
 ];
 
 /// The inertial variant of the worked example (docs/index.md §5).
@@ -36,7 +75,8 @@ const THREE_SCENES: &str = "pmma,pmma-rr,brockley";
 /// What one run of a job produced.
 #[derive(Clone, Debug)]
 pub struct Tally {
-    /// 1 for a Hopf point, the curve points of a diagram, the cycles of a branch.
+    /// 1 for a Hopf point, the curve points of a diagram, the cycles of a
+    /// branch; 1 for a whole command line.
     pub points: usize,
     /// The last cycle of a cycle branch.
     pub last_cycle: Option<LastCycle>,
@@ -72,6 +112,10 @@ enum Work {
     },
     /// A branch of cycles from the Hopf point on a fixed mesh, with Floquet multipliers.
     Cycles(Box<CycleWork>),
+    /// A whole command line (`stickslip` and `args`) run as `main` runs it,
+    /// its standard output discarded; its models are built by the command
+    /// itself, so its evaluations are not counted.
+    Command { args: Vec<String>, _dir: TempDir },
 }
 
 /// A scene with `--set` overrides, as the CLI would set it up.
@@ -145,6 +189,13 @@ impl Job {
                 "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, Radau points, multipliers",
                 cycle_work(&["m=0.01"], 0.3, 0.05)?,
             ),
+            other if AUTO_JOBS.iter().any(|j| j.0 == other) => {
+                let (name, description, args) = AUTO_JOBS
+                    .into_iter()
+                    .find(|j| j.0 == other)
+                    .expect("the guard found it");
+                (name, description, command_work(args)?)
+            }
             other => {
                 return Err(NumericalError::Analysis(format!(
                     "no benchmark job '{other}'; jobs: {}",
@@ -231,6 +282,12 @@ impl Job {
                     last_cycle: Some(last),
                 })
             }
+            Work::Command { args, .. } => {
+                let cli = Cli::try_parse_from(args)
+                    .map_err(|e| NumericalError::Analysis(format!("{}: {e}", self.name)))?;
+                silence_stdout(|| stickslip::cli::run(cli))?;
+                Ok(points(1))
+            }
         }
     }
 }
@@ -250,6 +307,19 @@ fn cycle_work(set: &[&str], fraction: f64, ds_max: f64) -> Result<Work, Error> {
         fraction,
         ds_max,
     )?)))
+}
+
+/// The command line `stickslip args --out <temporary> --force`.
+fn command_work(args: &[&str]) -> Result<Work, Error> {
+    let dir = TempDir::new()?;
+    let out = dir.0.display().to_string();
+    let args = ["stickslip"]
+        .iter()
+        .chain(args)
+        .map(|a| a.to_string())
+        .chain(["--out".to_string(), out, "--force".to_string()])
+        .collect();
+    Ok(Work::Command { args, _dir: dir })
 }
 
 fn diagram_work(scenes: &str) -> Result<Work, Error> {
