@@ -125,7 +125,7 @@ fn solve_square<G: DefiningSystem>(
     let m = system.n_equations();
     let mut gs = DVector::zeros(m);
     let mut dgs = DMatrix::zeros(m, z.len());
-    newton::solve(z, settings, context, |z, g, dg| {
+    newton::solve_scaled(z, settings, context, |z, g, dg| {
         system.eval(z, &mut gs, &mut dgs);
         g.copy_from(&gs);
         dg.copy_from(&dgs);

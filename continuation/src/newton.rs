@@ -269,9 +269,10 @@ struct Dense<'c, F> {
     system: F,
     z: DVector<f64>,
     context: &'c str,
-    /// Per unknown, the absolute part of its step tolerance:
-    /// `min(1, |z_i|)` at the starting point (1 where that is zero).
-    floor: Vec<f64>,
+    /// With [`solve_scaled`], per unknown, the absolute part of its step
+    /// tolerance: `min(1, |z_i|)` at the starting point (1 where that is
+    /// zero); `None`: the max norm.
+    floor: Option<Vec<f64>>,
 }
 
 impl<F> NewtonProblem for Dense<'_, F>
@@ -292,30 +293,56 @@ where
         Ok(DensePoint { g, dg, dg_norm })
     }
 
-    /// Component by component, `max_i |dz_i| / (|z_i| + floor_i)`, relative
-    /// to each unknown's own size (down to its size at the start, or 1): the
-    /// unknowns of a dense system can differ by many orders of magnitude
-    /// (the age `phi = 1/nu` is 1e7 at nu = 1e-7, where the frequency is
-    /// 1e-7), and a step judged against the largest would leave the small
-    /// ones unconverged.
+    /// With [`solve_scaled`] component by component,
+    /// `max_i |dz_i| / (|z_i| + floor_i)`, relative to each unknown's own
+    /// size (down to its size at the start, or 1); else the max norm.
     fn relative_step(&self, dz: &[f64], z: &[f64]) -> f64 {
-        dz.iter()
-            .zip(z)
-            .zip(&self.floor)
-            .map(|((d, v), f)| d.abs() / (v.abs() + f))
-            .fold(0.0, f64::max)
+        match &self.floor {
+            Some(floor) => dz
+                .iter()
+                .zip(z)
+                .zip(floor)
+                .map(|((d, v), f)| d.abs() / (v.abs() + f))
+                .fold(0.0, f64::max),
+            None => max_norm(dz) / (1.0 + max_norm(z)),
+        }
     }
 
-    /// A step that no longer shrinks within 1e3 of the tolerance is the
-    /// rounding floor of an unknown judged relative to its own size.
+    /// With [`solve_scaled`], a step that no longer shrinks within 1e3 of
+    /// the tolerance is the rounding floor of an unknown judged relative to
+    /// its own size.
     fn stall(&self) -> Stall {
-        Stall::Converged
+        match self.floor {
+            Some(_) => Stall::Converged,
+            None => Stall::Iterate,
+        }
     }
 
+    /// With [`solve_scaled`], solved in the unknowns' own scales, `DG C y =
+    /// G`, `dz = C y` with `C = diag(|z_i| + floor_i)` (the scales of
+    /// [`Self::relative_step`]), the rows of `DG C` equilibrated: the small
+    /// unknowns' steps then come out accurate relative to their size, as the
+    /// step test asks, also where others are many orders larger.
     fn newton_step(&mut self, point: &DensePoint) -> Result<Vec<f64>, ContinuationError> {
-        let dz = point.dg.clone().lu().solve(&point.g);
-        dz.map(|dz| dz.as_slice().to_vec())
-            .ok_or(ContinuationError::Singular)
+        let Some(floor) = &self.floor else {
+            let dz = point.dg.clone().lu().solve(&point.g);
+            return dz
+                .map(|dz| dz.as_slice().to_vec())
+                .ok_or(ContinuationError::Singular);
+        };
+        let scale: Vec<f64> = self.z.iter().zip(floor).map(|(v, f)| v.abs() + f).collect();
+        let mut a = point.dg.clone();
+        for (j, c) in scale.iter().enumerate() {
+            a.column_mut(j).iter_mut().for_each(|v| *v *= c);
+        }
+        let rows = crate::linalg::row_equilibration(&a);
+        let mut g = point.g.clone();
+        for (i, r) in rows.iter().enumerate() {
+            a.row_mut(i).iter_mut().for_each(|v| *v *= r);
+            g[i] *= r;
+        }
+        let y = a.lu().solve(&g).ok_or(ContinuationError::Singular)?;
+        Ok(y.iter().zip(&scale).map(|(y, c)| y * c).collect())
     }
 
     fn error(&self, failure: Failure, _cause: Option<ContinuationError>) -> ContinuationError {
@@ -345,6 +372,33 @@ pub fn solve_dense<F>(
 where
     F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
 {
+    let mut dense = Dense {
+        system,
+        z: z.clone(),
+        context,
+        floor: None,
+    };
+    iterate(&mut dense, z.as_mut_slice(), settings)
+}
+
+/// [`solve`] with each unknown judged against its own size: converged when
+/// `max_i |dz_i| / (|z_i| + min(1, |z0_i|)) <= step_tol` (`z0` the start), the
+/// steps solved in those scales, a step stalled within 1e3 of the tolerance
+/// taken as converged. For locating a point to rounding in every unknown
+/// where they differ by many orders of magnitude (at nu = 1e-7 the age
+/// `phi = 1/nu` is 1e7 and the frequency 1e-7: judged against the age, the
+/// frequency was left 4e-3 off). Continuation correctors keep the max norm:
+/// an unknown below its own rounding there (a step of `phi = 1e12` under
+/// its last place) converges only linearly in the others.
+pub fn solve_scaled<F>(
+    z: &mut DVector<f64>,
+    settings: &NewtonSettings,
+    context: &str,
+    system: F,
+) -> Result<NewtonReport, ContinuationError>
+where
+    F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
+{
     let floor = z
         .iter()
         .map(|v| if *v == 0.0 { 1.0 } else { v.abs().min(1.0) })
@@ -353,9 +407,9 @@ where
         system,
         z: z.clone(),
         context,
-        floor,
+        floor: Some(floor),
     };
-    iterate(&mut dense, z.as_mut_slice(), settings)
+    iterate(&mut dense, z.as_mut_slice(), settings).map(|(report, _)| report)
 }
 
 /// Runs Newton's method from `z`, which is overwritten with the solution

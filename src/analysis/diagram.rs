@@ -393,7 +393,8 @@ pub fn hopf_curve_with<F: Wrap>(
             m: p.m,
             omega: pt.omega,
             l1: pt.l1,
-            l1_error_bound: pt.l1_error_bound,
+            // Never below a few units in the last place of l1 itself.
+            l1_error_bound: pt.l1_error_bound.max(4.0 * f64::EPSILON * pt.l1.abs()),
             criticality: Criticality::of(pt.l1, pt.l1_error_bound),
             state: full_state(kind, &p, &pt.x),
         }

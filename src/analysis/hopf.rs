@@ -345,15 +345,17 @@ pub fn stable_stiffness<S: VectorField>(
 }
 
 /// Steady friction within this fraction of velocity neutral, `mu_phi - mu_v <
-/// NEUTRAL_SHARE mu_v`, has an onset frequency `omega_c = nu sqrt(mu_phi/mu_v
-/// - 1)` (C13) below 1 % of `nu`: near the friction minimum.
+/// NEUTRAL_SHARE mu_v`, is next to the friction minimum: the onset frequency
+/// `omega_c = nu sqrt(mu_phi/mu_v - 1)` (C13) is below 1 % of `nu`.
 const NEUTRAL_SHARE: f64 = 1e-4;
 
 /// A failure of the steady-sliding branch `e`, explained where steady friction
-/// is all but velocity neutral: there `omega_c` vanishes (C13), the Hopf
-/// system degenerates (a Bogdanov-Takens point at the friction minimum) and
-/// Newton's method cannot pin the point down; Appendix C's critical
-/// stiffness (C11) is given instead.
+/// is all but velocity neutral: `kappa_c` is there the difference `mu_phi -
+/// mu_v` of two slopes that cancel to a small fraction of their size, and
+/// rounding in the Hopf system moves its solution by more than the location
+/// accepts (near the Bogdanov-Takens point of the friction minimum, where
+/// `omega_c -> 0`). Appendix C's critical stiffness (C11/C12) and frequency
+/// (C13) are given instead.
 fn near_velocity_neutral(kind: ModelKind, params: &Params, e: ContinuationError) -> NumericalError {
     let margin = params.mu_phi() - params.mu_v();
     if !(margin > 0.0 && margin < NEUTRAL_SHARE * params.mu_v()) {
@@ -362,9 +364,10 @@ fn near_velocity_neutral(kind: ModelKind, params: &Params, e: ContinuationError)
     let kappa_c = closed_form_kappa_c(kind, params);
     NumericalError::Analysis(format!(
         "{e}: steady friction is within {:.1e} of velocity neutral here (mu_phi - mu_v = \
-         {margin:.3e}, next to the friction minimum), where the onset frequency vanishes and \
-         the Hopf point degenerates; Appendix C gives kappa_c = {kappa_c:.6e} (eq. C11/C12), \
-         omega_c = {:.3e} (C13), and the onset type is not determined this close to it",
+         {margin:.3e}, next to the friction minimum): kappa_c is a difference of friction \
+         slopes that cancel to that fraction of their size, and rounding keeps the Hopf system \
+         from locating it; Appendix C gives kappa_c = {kappa_c:.6e} (eq. C11/C12) and \
+         omega_c = {:.3e} (C13); the onset type was not computed",
         margin / params.mu_v(),
         appendix_c::critical_frequency(params).unwrap_or(0.0),
     ))

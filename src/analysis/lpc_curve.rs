@@ -223,9 +223,8 @@ pub fn lpc_curves<F: Wrap>(
                 continue;
             }
         };
-        let (curve, stops, ends) = trace_through(&fields.field(log), &fold, (lo, hi), &|nu| {
-            starts.iter().any(|b| near(nu, b.bautin_nu))
-        });
+        let points: Vec<f64> = starts.iter().map(|b| b.bautin_nu).collect();
+        let (curve, stops, ends) = trace_through(&fields.field(log), &fold, (lo, hi), &points);
         out.stops.extend(stops);
         out.incomplete |= !ends.is_empty();
         out.gaps.extend(
@@ -248,7 +247,7 @@ pub fn lpc_curve_through(
     (lo, hi): (f64, f64),
 ) -> LpcCurves {
     let log = LogBlock::centered(kind, params);
-    let (curve, stops, ends) = trace_through(&log, fold, (lo, hi), &|_| false);
+    let (curve, stops, ends) = trace_through(&log, fold, (lo, hi), &[]);
     LpcCurves {
         points: vec![curve],
         stops,
@@ -262,15 +261,26 @@ pub fn lpc_curve_through(
 
 /// The curve of folds through `fold`, both ways at once, in increasing `nu`,
 /// with a message for each end that stopped on a failure away from a Bautin
-/// point (`at_bautin(nu)`: where the folded cycles shrink to nothing and the
-/// fold system degenerates, the expected end), and the ends that stopped
-/// short of the range, as `(nu at the end, edge of the range beyond it)`.
+/// point (`bautin`: where the folded cycles shrink to nothing and the fold
+/// system degenerates, the expected end), and the ends that stopped short of
+/// the range, as `(nu at the end, edge of the range beyond it)`. A half that
+/// failed at or past a Bautin point on its way (within 1 % of it, or beyond:
+/// near the point the fold system is too ill-conditioned to see it passed)
+/// ended there; its folds beyond it are dropped.
 fn trace_through<S: VectorField>(
     log: &S,
     fold: &Cycle,
     (lo, hi): (f64, f64),
-    at_bautin: &(dyn Fn(f64) -> bool + Sync),
+    bautin: &[f64],
 ) -> (Vec<LpcCurvePoint>, Vec<LpcStop>, Vec<(f64, f64)>) {
+    let start = fold.p[Param::Nu as usize];
+    // The Bautin point at or before `nu` on the way from the start.
+    let reached = |nu: f64| {
+        bautin.iter().copied().find(|&b| {
+            let past = (b - start) * (nu - b) >= 0.0 && (b / start).ln().abs() >= 0.01;
+            (nu / b).ln().abs() < 0.01 || past
+        })
+    };
     let ntst = fold.mesh.ntst();
     let trace = |direction: f64| {
         let settings = LpcCurveSettings {
@@ -336,7 +346,11 @@ fn trace_through<S: VectorField>(
                     ),
                 })
             }
-            (Some(cause), Some(end)) if !at_bautin(end.nu) => {
+            (Some(_), Some(end)) if reached(end.nu).is_some() => {
+                let b = reached(end.nu).expect("the guard found it");
+                half.retain(|p| (p.nu - b) * (start - b) >= 0.0);
+            }
+            (Some(cause), Some(end)) => {
                 // Folded cycles shrinking toward the end: a Bautin point,
                 // where the fold system degenerates; else, most likely,
                 // cycles too stiff for the mesh.
