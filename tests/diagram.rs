@@ -350,3 +350,37 @@ fn hopf_curve_spans_fourteen_decades_of_velocity() {
         }
     }
 }
+
+/// The curve of folds of cycles between the two Bautin points of the
+/// inertial PMMA scene (`m = 0.01`, job 2 of docs/performance.md): near a
+/// Bautin point the fold system cannot see itself pass it, and the half
+/// that ran past it failed one fold later and was reported cut short. A half
+/// failing at or past a Bautin point on its way has ended there: the curve
+/// is complete, with no stop, and no fold lies beyond either Bautin point.
+#[test]
+fn a_fold_curve_ends_at_the_bautin_points_it_runs_into() {
+    let p = Params {
+        m: 0.01,
+        ..scene::builtin("pmma").unwrap().params
+    };
+    let d = stability_diagram(ModelKind::Inertial, &p, (0.01, 100.0)).unwrap();
+    let bautin: Vec<f64> = d
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Bautin)
+        .map(|s| s.nu)
+        .collect();
+    assert_eq!(bautin.len(), 2, "{bautin:?}");
+    assert!(!d.lpc.incomplete, "{:?}", d.lpc.stops);
+    assert!(d.lpc.stops.is_empty(), "{:?}", d.lpc.stops);
+    let folds: Vec<f64> = d.lpc.points.iter().flatten().map(|f| f.nu).collect();
+    assert!(folds.len() > 10, "{} folds", folds.len());
+    let (lo, hi) = (bautin[0].min(bautin[1]), bautin[0].max(bautin[1]));
+    assert!(
+        folds
+            .iter()
+            .all(|&nu| nu >= lo * (1.0 - 1e-9) && nu <= hi * (1.0 + 1e-9)),
+        "folds {:?} outside the Bautin points {lo} .. {hi}",
+        (folds.first(), folds.last())
+    );
+}
