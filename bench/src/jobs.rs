@@ -189,20 +189,16 @@ impl Job {
                 "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, Radau points, multipliers",
                 cycle_work(&["m=0.01"], 0.3, 0.05)?,
             ),
-            other if AUTO_JOBS.iter().any(|j| j.0 == other) => {
-                let (name, description, args) = AUTO_JOBS
-                    .into_iter()
-                    .find(|j| j.0 == other)
-                    .expect("the guard found it");
-                (name, description, command_work(args)?)
-            }
-            other => {
-                return Err(NumericalError::Analysis(format!(
-                    "no benchmark job '{other}'; jobs: {}",
-                    JOB_NAMES.join(", ")
-                ))
-                .into())
-            }
+            other => match AUTO_JOBS.into_iter().find(|j| j.0 == other) {
+                Some((name, description, args)) => (name, description, command_work(args)?),
+                None => {
+                    return Err(NumericalError::Analysis(format!(
+                        "no benchmark job '{other}'; jobs: {}",
+                        JOB_NAMES.join(", ")
+                    ))
+                    .into())
+                }
+            },
         };
         Ok(Job {
             name,

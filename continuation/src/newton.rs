@@ -372,11 +372,26 @@ pub fn solve_dense<F>(
 where
     F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
 {
+    run_dense(z, settings, context, system, None)
+}
+
+/// Newton's method on the [`Dense`] problem of `system` from `z`, with the
+/// per-unknown step floors `floor` of [`solve_scaled`] or the max norm.
+fn run_dense<F>(
+    z: &mut DVector<f64>,
+    settings: &NewtonSettings,
+    context: &str,
+    system: F,
+    floor: Option<Vec<f64>>,
+) -> Result<(NewtonReport, DensePoint), ContinuationError>
+where
+    F: FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
+{
     let mut dense = Dense {
         system,
         z: z.clone(),
         context,
-        floor: None,
+        floor,
     };
     iterate(&mut dense, z.as_mut_slice(), settings)
 }
@@ -403,13 +418,7 @@ where
         .iter()
         .map(|v| if *v == 0.0 { 1.0 } else { v.abs().min(1.0) })
         .collect();
-    let mut dense = Dense {
-        system,
-        z: z.clone(),
-        context,
-        floor: Some(floor),
-    };
-    iterate(&mut dense, z.as_mut_slice(), settings).map(|(report, _)| report)
+    run_dense(z, settings, context, system, Some(floor)).map(|(report, _)| report)
 }
 
 /// Runs Newton's method from `z`, which is overwritten with the solution

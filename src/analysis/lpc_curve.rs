@@ -333,8 +333,9 @@ fn trace_through<S: VectorField>(
     for (direction, (mut half, failure, last_ntst)) in [(-1.0, down), (1.0, up)] {
         let largest = half.iter().fold(0.0f64, |a, p| a.max(p.delta_s));
         let edge = if direction < 0.0 { lo } else { hi };
-        match (failure, half.last()) {
-            (Some(cause), None) => {
+        let passed = half.last().and_then(|end| reached(end.nu));
+        match (failure, half.last(), passed) {
+            (Some(cause), None, _) => {
                 short.push((fold.p[Param::Nu as usize], edge));
                 stops.push(LpcStop {
                     reason: LpcStopReason::NoStart,
@@ -346,11 +347,8 @@ fn trace_through<S: VectorField>(
                     ),
                 })
             }
-            (Some(_), Some(end)) if reached(end.nu).is_some() => {
-                let b = reached(end.nu).expect("the guard found it");
-                half.retain(|p| (p.nu - b) * (start - b) >= 0.0);
-            }
-            (Some(cause), Some(end)) => {
+            (Some(_), Some(_), Some(b)) => half.retain(|p| (p.nu - b) * (start - b) >= 0.0),
+            (Some(cause), Some(end), None) => {
                 // Folded cycles shrinking toward the end: a Bautin point,
                 // where the fold system degenerates; else, most likely,
                 // cycles too stiff for the mesh.

@@ -139,7 +139,6 @@ impl<S: VectorField> CycleBranch<'_, S> {
                     // new mesh cannot carry the orbit, its estimate stays the
                     // coarser orbit's: more intervals do not resolve it worse.)
                     self.multiplier_ntst = (self.coll.mesh.ntst(), self.steps);
-                    let coarse_estimate = pt.error_estimate;
                     self.renew_estimate(&finer);
                     if !self.last_estimate.is_finite() {
                         self.last_estimate = coarse_estimate;
