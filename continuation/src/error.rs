@@ -121,6 +121,15 @@ pub enum ContinuationError {
          (outside it, or with a vanishing frequency): Newton converged to another solution"
     )]
     OutsideBracket { found: f64, from: f64, to: f64 },
+    #[error(
+        "internal error: {what} has length {found} where the system has {expected} \
+         (a vector from another mesh?); please report"
+    )]
+    Shape {
+        what: &'static str,
+        expected: usize,
+        found: usize,
+    },
     #[error("sparse linear algebra failed: {0}")]
     Sparse(String),
     #[error("eigenvalue computation failed: {0}")]

@@ -3,7 +3,9 @@
 //! started from a simulated orbit ([`super::sampled_cycle`]) and followed
 //! both ways from it.
 
-use crate::analysis::hopf::{find_hopf, HopfOutcome, HopfPoint};
+use crate::analysis::hopf::{
+    find_hopf, location_error, resolved_normal_form, HopfOutcome, HopfPoint,
+};
 use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use crate::analysis::orbit_inertia::{inertial_guess, inertial_imbalance, InertiaWatch};
 use crate::analysis::sampled_cycle::sampled_cycle;
@@ -450,12 +452,21 @@ pub fn trace_cycles_from(
 ) -> Result<BranchEnd, crate::error::Error> {
     let log = LogBlock::centered(kind, params);
     let (x0, p) = hopf_start(&log, params, h);
-    let branch = CycleBranch::from_hopf(
+    // The side of the first cycle from `l1` in the arithmetic `hopf` uses
+    // (double-double where f64 cannot resolve its sign).
+    let (nf, _) = resolved_normal_form(
         &log,
         &x0,
+        &p,
         h.omega_c,
+        location_error(kind, params, h.kappa_c),
+    )?;
+    let branch = CycleBranch::from_hopf_normal_form(
+        &log,
+        &x0,
         &p,
         Param::Kappa as usize,
+        &nf,
         CycleSettings {
             start_amplitude: start_amplitude(&log),
             ..settings(kind, req, req.ntst)

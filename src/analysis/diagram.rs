@@ -8,7 +8,9 @@
 //! steady friction, `V_min` for the cutoff law — the end point is located on
 //! the friction law itself: `mu_phi(1/nu) = mu_v`.
 
-use crate::analysis::hopf::{find_hopf_with, Criticality, HopfOutcome};
+use crate::analysis::hopf::{
+    find_hopf_with, location_error, resolved_normal_form, Criticality, HopfOutcome, EXTENDED_DIGITS,
+};
 use crate::analysis::lpc_curve::{lpc_curves, BautinStart, LpcCurves};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
@@ -17,7 +19,7 @@ use continuation::arclength::CurveControl;
 use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
 use continuation::hopf_series::hopf_series;
 use continuation::predictor_corrector::StepControl;
-use continuation::{AsIs, ContinuationSettings, LogParameters, NewtonSettings, Wrap};
+use continuation::{AsIs, ContinuationSettings, LogParameters, NewtonSettings, VectorField, Wrap};
 
 /// One point of the Hopf curve, in docs/model.md's variables.
 #[derive(Clone, Debug)]
@@ -335,6 +337,28 @@ pub fn stability_diagram_with<F: Wrap>(
     Ok(d)
 }
 
+/// `l1` of the Hopf-curve point `pt` (parameters `p`) with its error bound,
+/// in the arithmetic `hopf` would use there: the curve's `f64` value where
+/// its bound leaves [`EXTENDED_DIGITS`] digits, else the normal form
+/// recomputed by [`resolved_normal_form`] (double-double where that
+/// resolves it), so that a curve point is never called degenerate where
+/// `hopf` at the same parameters resolves the sign.
+fn curve_l1<S: VectorField>(
+    block: &S,
+    kind: ModelKind,
+    p: &Params,
+    pt: &HopfCurvePoint,
+) -> (f64, f64) {
+    if pt.l1_error_bound <= 10f64.powi(-EXTENDED_DIGITS) * pt.l1.abs() {
+        return (pt.l1, pt.l1_error_bound);
+    }
+    let kappa_error = location_error(kind, p, p.kappa);
+    match resolved_normal_form(block, &pt.x, &p.to_vec(), pt.omega, kappa_error) {
+        Ok((nf, _)) if nf.l1_error_bound < pt.l1_error_bound => (nf.l1, nf.l1_error_bound),
+        _ => (pt.l1, pt.l1_error_bound),
+    }
+}
+
 /// Traces the Hopf curve `kappa_c(second)` for `second` (`nu` or `m`) in
 /// `range`, continued in `(ln kappa, ln second)`.
 pub fn hopf_curve(
@@ -387,15 +411,16 @@ pub fn hopf_curve_with<F: Wrap>(
     let q0 = logs.to_log(&p0.to_vec());
     let convert = |pt: &HopfCurvePoint| {
         let p = params.with_vec(&logs.from_log(&pt.p));
+        let (l1, bound) = curve_l1(&block, kind, &p, pt);
         CurvePoint {
             nu: p.nu,
             kappa: p.kappa,
             m: p.m,
             omega: pt.omega,
-            l1: pt.l1,
+            l1,
             // Never below a few units in the last place of l1 itself.
-            l1_error_bound: pt.l1_error_bound.max(4.0 * f64::EPSILON * pt.l1.abs()),
-            criticality: Criticality::of(pt.l1, pt.l1_error_bound),
+            l1_error_bound: bound.max(4.0 * f64::EPSILON * l1.abs()),
+            criticality: Criticality::of(l1, bound),
             state: full_state(kind, &p, &pt.x),
         }
     };

@@ -155,6 +155,40 @@ pub fn onset_at<S: VectorField>(
     omega: f64,
     kappa_error: f64,
 ) -> Result<Onset, NumericalError> {
+    let (nf, arithmetic) = resolved_normal_form(block, x, p, omega, kappa_error)?;
+    let k = Param::Kappa as usize;
+    let dl = eigenvalue_derivative(block, x, p, k, &nf)?;
+    let criticality = Criticality::of(nf.l1, nf.l1_error_bound);
+    let degenerate = criticality == Criticality::Degenerate;
+    let law = (!degenerate).then(|| onset_law(&nf, dl, 0));
+    Ok(Onset {
+        l1: nf.l1,
+        c1: nf.c1,
+        l1_scale: nf.term_scale,
+        l1_error_bound: nf.l1_error_bound,
+        arithmetic,
+        criticality,
+        dlambda_dkappa: dl,
+        amplitude_coefficient: law.map(|l| l.coefficient),
+        side: law.map(|l| l.side),
+        frequency_slope: law.map(|l| l.frequency_slope),
+    })
+}
+
+/// The normal form of the Hopf point of `block` at `x`, `p` (frequency
+/// `omega`, located to within `kappa_error` in the stiffness) in the
+/// arithmetic its error bound asks for, as described at [`onset_at`]: every
+/// onset type stickslip reports (`hopf`, each point of a `diagram` curve,
+/// the start of a cycle branch) comes from here, so no command calls
+/// degenerate what another resolves. `block` may be in any coordinates
+/// (the cycles' log variables too): the sign of `l1` does not depend on them.
+pub fn resolved_normal_form<S: VectorField>(
+    block: &S,
+    x: &[f64],
+    p: &[f64],
+    omega: f64,
+    kappa_error: f64,
+) -> Result<(HopfNormalForm, Arithmetic), NumericalError> {
     let nf64 = hopf_normal_form(block, x, p, omega)?;
     let k = Param::Kappa as usize;
     let h = 1e-6 * p[k].abs();
@@ -177,29 +211,13 @@ pub fn onset_at<S: VectorField>(
             nf
         })
         .filter(|nf| (nf.l1 - nf64.l1).abs() <= bound64 + nf.l1_error_bound);
-    let (nf, arithmetic) = match extended {
+    Ok(match extended {
         Some(nf) => (nf, Arithmetic::DoubleDouble),
         None => {
             let mut nf = nf64;
             nf.l1_error_bound = bound64;
             (nf, Arithmetic::Double)
         }
-    };
-    let dl = eigenvalue_derivative(block, x, p, k, &nf)?;
-    let criticality = Criticality::of(nf.l1, nf.l1_error_bound);
-    let degenerate = criticality == Criticality::Degenerate;
-    let law = (!degenerate).then(|| onset_law(&nf, dl, 0));
-    Ok(Onset {
-        l1: nf.l1,
-        c1: nf.c1,
-        l1_scale: nf.term_scale,
-        l1_error_bound: nf.l1_error_bound,
-        arithmetic,
-        criticality,
-        dlambda_dkappa: dl,
-        amplitude_coefficient: law.map(|l| l.coefficient),
-        side: law.map(|l| l.side),
-        frequency_slope: law.map(|l| l.frequency_slope),
     })
 }
 
@@ -264,7 +282,7 @@ pub fn second_lyapunov(
 /// docs/model.md), and at least the rounding of `kappa_c` itself. Where the Hopf
 /// system is ill-conditioned (small `omega`, e.g. near `V_min` of the cutoff
 /// law) this is well above rounding.
-fn location_error(kind: ModelKind, params: &Params, kappa: f64) -> f64 {
+pub(crate) fn location_error(kind: ModelKind, params: &Params, kappa: f64) -> f64 {
     let exact = closed_form_kappa_c(kind, params);
     (kappa - exact).abs().max(4.0 * f64::EPSILON * kappa.abs())
 }

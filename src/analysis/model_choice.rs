@@ -4,6 +4,10 @@
 //! `1 + m nu^2 / mu_v` (seed eq. C11). When that ratio is below a threshold
 //! the quasi-static model changes `kappa_c` by less than the threshold
 //! (relative), and it is the one used; otherwise the inertial model is.
+//! One exception, decided by [`inertia_decides`] for every command alike:
+//! where the quasi-static onset is degenerate (`l1 = 0` within its bound,
+//! the plain Rice–Ruina law) and the scene has inertia, that inertia,
+//! however small, decides the onset type, and the inertial model is used.
 
 use crate::model::ModelKind;
 use crate::params::Params;
@@ -64,4 +68,39 @@ pub fn params_for(kind: ModelKind, params: &Params) -> Params {
         p.m = 0.0;
     }
     p
+}
+
+/// The inertial model in place of an automatic quasi-static `choice` whose
+/// onset came out degenerate (`l1 = 0` within its bound) at `degenerate` of
+/// the `of` Hopf points computed (one for `hopf` and `cycles`, every point
+/// of a `diagram` curve): the scene's inertia `m > 0`, dropped because it
+/// shifts `kappa_c` so little, is what decides the onset type there.
+/// `None` (keep `choice`) when the model was forced, the scene has no
+/// inertia, the choice is already inertial, or no point is degenerate.
+pub fn inertia_decides(
+    choice: &ModelChoice,
+    forced: bool,
+    m: f64,
+    degenerate: usize,
+    of: usize,
+) -> Option<ModelChoice> {
+    if forced || m <= 0.0 || choice.kind != ModelKind::QuasiStatic || degenerate == 0 {
+        return None;
+    }
+    let where_ = if of == 1 {
+        "the quasi-static onset is degenerate".to_string()
+    } else {
+        format!(
+            "the quasi-static onset is degenerate at {degenerate} of the {of} points of the curve"
+        )
+    };
+    Some(ModelChoice {
+        kind: ModelKind::Inertial,
+        inertia_ratio: choice.inertia_ratio,
+        reason: format!(
+            "inertial: {where_} (l1 = 0 to rounding), so the scene's small inertia \
+             (m nu^2/mu_v = {:.3e}) decides the onset type",
+            choice.inertia_ratio
+        ),
+    })
 }

@@ -5,7 +5,7 @@ use super::{Setup, TextUnits};
 use crate::analysis::cycles::{
     trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest, Leg,
 };
-use crate::analysis::hopf::{velocity_strengthening, HopfOutcome, HopfPoint};
+use crate::analysis::hopf::{velocity_strengthening, Criticality, HopfOutcome, HopfPoint};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
 use crate::analysis::settle::SettleError;
@@ -31,7 +31,8 @@ pub enum Start {
 }
 
 impl Start {
-    /// The Hopf point unless `from_simulation` or there is none; then the
+    /// The Hopf point unless `from_simulation`, there is none or it is
+    /// degenerate; then the
     /// first stiffness at which a simulation settles on a cycle.
     pub fn choose(
         setup: &Setup,
@@ -43,7 +44,13 @@ impl Start {
             HopfOutcome::StableForAllStiffness { .. } => None,
         };
         match hopf {
-            Some(h) if !from_simulation => Ok(Start::Hopf(h)),
+            // At a degenerate Hopf point (l1 = 0 within its bound: the
+            // quasi-static Rice–Ruina law, a Bautin point) the normal form
+            // does not say on which side the cycles are: start from a
+            // simulated orbit instead.
+            Some(h) if !from_simulation && h.onset.criticality != Criticality::Degenerate => {
+                Ok(Start::Hopf(h))
+            }
             hopf => {
                 let kappa_c = hopf.as_ref().map(|h| h.kappa_c);
                 match simulated_start(setup.choice.kind, &setup.params, kappa_c) {
@@ -117,8 +124,13 @@ impl Start {
         };
         let kappa = orbit.params.kappa;
         let why = match hopf {
-            None => "no Hopf point (steady sliding stable for every stiffness)",
-            Some(_) => "--from-simulation",
+            None => "no Hopf point (steady sliding stable for every stiffness)".to_string(),
+            Some(h) if h.onset.criticality == Criticality::Degenerate => format!(
+                "degenerate Hopf point (l1 = {:.3e} within its error bound {:.1e}: the normal form \
+                 does not say on which side the cycles are)",
+                h.onset.l1, h.onset.l1_error_bound
+            ),
+            Some(_) => "--from-simulation".to_string(),
         };
         let tried: Vec<String> = orbit
             .rejected

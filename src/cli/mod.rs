@@ -18,7 +18,7 @@ pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::model_choice::{
-    choose_model, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD,
+    choose_model, inertia_decides, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD,
 };
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
@@ -196,19 +196,16 @@ pub fn onset_with_degeneracy_resolved(
     let outcome = find_hopf(setup.choice.kind, &setup.params)?;
     let degenerate =
         matches!(&outcome, HopfOutcome::Found(h) if h.onset.criticality == Criticality::Degenerate);
-    if !(degenerate
-        && !model_forced
-        && setup.scene_params.m > 0.0
-        && setup.choice.kind == ModelKind::QuasiStatic)
-    {
+    let Some(choice) = inertia_decides(
+        &setup.choice,
+        model_forced,
+        setup.scene_params.m,
+        usize::from(degenerate),
+        1,
+    ) else {
         return Ok(outcome);
-    }
-    setup.choice.kind = ModelKind::Inertial;
-    setup.choice.reason = format!(
-        "inertial: the quasi-static onset is degenerate (l1 = 0 to rounding), so the scene's small \
-         inertia (m nu^2/mu_v = {:.3e}) decides the onset type",
-        setup.choice.inertia_ratio
-    );
+    };
+    setup.choice = choice;
     setup.params = setup.scene_params;
     Ok(find_hopf(ModelKind::Inertial, &setup.params)?)
 }

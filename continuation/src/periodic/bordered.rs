@@ -455,9 +455,15 @@ impl<'a> Bordered<'a> {
         self.columns.nrows() + self.columns.ncols()
     }
 
+    /// `Ok` when `v` has one entry per unknown of the system.
+    fn check(&self, what: &'static str, v: &[f64]) -> Result<(), ContinuationError> {
+        shape(what, self.dim(), v)
+    }
+
     /// Solves `J z = rhs` (`rhs`: the collocation rows, then the dense rows;
     /// `z`: the node values, node-major, then the `k` border unknowns).
     pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        self.check("the right-hand side", rhs)?;
         let red = self.reduction;
         let (n, nn, k) = (red.n, self.columns.nrows(), self.columns.ncols());
         let mut c = rhs.to_vec();
@@ -521,6 +527,7 @@ impl<'a> Bordered<'a> {
     /// Solves `J^T w = rhs` (`rhs` indexed by the unknowns, `w` by the
     /// equations: collocation rows, then dense rows).
     pub fn solve_transpose(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        self.check("the right-hand side", rhs)?;
         let red = self.reduction;
         let (n, nn, k) = (red.n, self.columns.nrows(), self.columns.ncols());
         let ntst = red.intervals.len();
@@ -596,6 +603,20 @@ impl<'a> Bordered<'a> {
         }
         red.apply_rt(&mut s[..nn]);
         finite(s)
+    }
+}
+
+/// `Ok` when `v`, named `what` in the error, has `expected` entries: a
+/// vector from another mesh is an error, never a panic inside the algebra.
+pub fn shape(what: &'static str, expected: usize, v: &[f64]) -> Result<(), ContinuationError> {
+    if v.len() == expected {
+        Ok(())
+    } else {
+        Err(ContinuationError::Shape {
+            what,
+            expected,
+            found: v.len(),
+        })
     }
 }
 

@@ -3,7 +3,7 @@
 //! pseudo-arclength condition), solved by condensation and cyclic reduction
 //! ([`super::bordered`]).
 
-use super::bordered::{Bordered, CyclicReduction};
+use super::bordered::{shape, Bordered, CyclicReduction};
 use super::collocation::{Collocation, Linearization};
 use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{
@@ -121,6 +121,8 @@ impl OrbitJacobian {
     /// `p`) bordered by the phase condition and the row `extra`.
     pub fn solve(&self, extra: &[f64], rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
         let nn = self.lin.phase.len();
+        shape("the bordering row", nn + 2, extra)?;
+        shape("the right-hand side", nn + 2, rhs)?;
         let mut rows = DMatrix::zeros(2, nn + 2);
         rows.view_mut((0, 0), (1, nn))
             .copy_from_slice(&self.lin.phase);

@@ -14,6 +14,7 @@ use crate::analysis::diagram::{
     stability_diagram_with, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
 };
 use crate::analysis::hopf::Criticality;
+use crate::analysis::model_choice::inertia_decides;
 use crate::error::{Error, InputError, NumericalError};
 use clap::Args;
 use continuation::{AsIs, Wrap};
@@ -236,13 +237,39 @@ fn one_scene<F: Wrap>(
     let stem = args
         .output
         .stem(&setup.scene.name, &args.scene, several, OUTPUTS)?;
-    let diagram = stability_diagram_with(
+    let mut setup = setup;
+    let mut diagram = stability_diagram_with(
         fields,
         setup.choice.kind,
         &setup.params,
         (lo, hi),
         args.max_steps,
     )?;
+    // Where the quasi-static onset is degenerate anywhere on the curve, the
+    // scene's inertia decides its type: the whole curve in the inertial
+    // model (as `hopf` and `cycles` decide at one point).
+    let degenerate = diagram
+        .points
+        .iter()
+        .filter(|p| p.criticality == Criticality::Degenerate)
+        .count();
+    if let Some(choice) = inertia_decides(
+        &setup.choice,
+        args.scene.model.is_some(),
+        setup.scene_params.m,
+        degenerate,
+        diagram.points.len(),
+    ) {
+        setup.choice = choice;
+        setup.params = setup.scene_params;
+        diagram = stability_diagram_with(
+            fields,
+            setup.choice.kind,
+            &setup.params,
+            (lo, hi),
+            args.max_steps,
+        )?;
+    }
     if diagram.points.iter().any(|p| {
         !(p.kappa.is_finite() && p.nu.is_finite() && p.omega.is_finite() && p.l1.is_finite())
     }) {

@@ -19,7 +19,7 @@ use super::newton::{
 };
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
-use crate::normal_form::{eigenvalue_derivative, hopf_normal_form};
+use crate::normal_form::{eigenvalue_derivative, hopf_normal_form, HopfNormalForm};
 use crate::predictor_corrector::{self, Corrected, CurveProblem, StepControl};
 use crate::system::{jacobian, param_derivative, VectorField};
 use num_complex::Complex64;
@@ -346,13 +346,36 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let nf = hopf_normal_form(sys, x0, p0, omega)?;
         // The normal-form start needs |c1| well above rounding: the first
         // orbit's parameter offset is `-Re(c1) r^2 / Re(lambda')`.
-        if nf.is_degenerate() || nf.l1.abs() <= 1e-9 * nf.term_scale {
+        if nf.l1.abs() <= 1e-9 * nf.term_scale {
             return Err(ContinuationError::DegenerateHopf {
                 l1: nf.l1,
                 scale: nf.term_scale,
             });
         }
-        let dl = eigenvalue_derivative(sys, x0, p0, k, &nf)?;
+        Self::from_hopf_normal_form(sys, x0, p0, k, &nf, settings)
+    }
+
+    /// [`from_hopf`](Self::from_hopf) with the normal form `nf` at the Hopf
+    /// point computed by the caller (e.g. in extended precision where `l1`
+    /// is small against its terms): only its sign must be known, `|l1|`
+    /// above `nf.l1_error_bound`, else the point is degenerate and the
+    /// side of the cycles unknown.
+    pub fn from_hopf_normal_form(
+        sys: &'a S,
+        x0: &[f64],
+        p0: &[f64],
+        k: usize,
+        nf: &HopfNormalForm,
+        settings: CycleSettings,
+    ) -> Result<Self, ContinuationError> {
+        if nf.is_degenerate() {
+            return Err(ContinuationError::DegenerateHopf {
+                l1: nf.l1,
+                scale: nf.term_scale,
+            });
+        }
+        let omega = nf.omega;
+        let dl = eigenvalue_derivative(sys, x0, p0, k, nf)?;
         let n = sys.dim();
         let scale = 1.0 + x0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let r = settings.start_amplitude * scale;
@@ -518,7 +541,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     /// parameter fixed at `target` (Newton on the collocation system bordered
     /// by `p_k = target`, from `pt`): a user point then lies on the value
     /// asked for, not within the locator's tolerance of it (about `1e-11`
-    /// relative). `t0` orients the tangent. Like the orbits of the branch,
+    /// relative). `t0`, on the mesh of `coll0`, orients the tangent. Like the orbits of the branch,
     /// it is then put on a mesh fine enough for `mesh_tol` (doubled up to
     /// `ntst_max` while the error estimate exceeds it and doubling divides
     /// it by 4 or more; see `refine`). Where that Newton fails — at a fold
@@ -526,7 +549,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     /// kept as located, with its own parameter value.
     fn pin(
         &self,
-        coll: &Collocation<'a, S>,
+        coll0: &Collocation<'a, S>,
         (pt, t): (CyclePoint, Vec<f64>),
         t0: &[f64],
         target: f64,
@@ -539,12 +562,19 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             let (rep, at) =
                 correct_bordered(coll, &mut z, &LOCATOR, &unit_row(nz, nz - 1), &anchor)?;
             let w = ArcWeights::at(&z, self.settings.param_floor);
-            let t = tangent_from(&at.jacobian, t0, &w)?;
+            // `t0` lives on the mesh of `coll0`; a refined orbit is oriented
+            // by it moved onto its own mesh.
+            let reference = if coll.mesh.t == coll0.mesh.t {
+                t0.to_vec()
+            } else {
+                self.tangent_on(&coll0.mesh, t0, &coll.mesh, &z)
+            };
+            let t = tangent_from(&at.jacobian, &reference, &w)?;
             let mut pinned = point_at(coll, &z, &at.jacobian, &t, rep)?;
             pinned.error_estimate = self.error_estimate(&pinned, &t, Reading::AtParameter);
             Ok::<_, ContinuationError>(pinned)
         };
-        let Ok(mut pinned) = solve(coll, &pt.cycle) else {
+        let Ok(mut pinned) = solve(coll0, &pt.cycle) else {
             return Ok(self.estimated((pt, t), Reading::AtParameter));
         };
         loop {

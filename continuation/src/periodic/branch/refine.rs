@@ -332,7 +332,13 @@ impl<S: VectorField> CycleBranch<'_, S> {
 
     /// The tangent `tangent`, given on `from`, moved onto `mesh` (unit
     /// length there, in the arclength weights at the unknowns `z`).
-    fn tangent_on(&self, from: &Mesh, tangent: &[f64], mesh: &Mesh, z: &[f64]) -> Vec<f64> {
+    pub(super) fn tangent_on(
+        &self,
+        from: &Mesh,
+        tangent: &[f64],
+        mesh: &Mesh,
+        z: &[f64],
+    ) -> Vec<f64> {
         let n = self.sys.dim();
         let nn = from.n_nodes() * n;
         let mut t = Cycle {
