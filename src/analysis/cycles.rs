@@ -13,7 +13,7 @@ use crate::analysis::settle::SettledOrbit;
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
-use crate::params::{Param, Params};
+use crate::params::{friction_from, Param, Params};
 pub use continuation::periodic::branch::{BranchEnd, Stability};
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
 use continuation::periodic::cycle::Cycle;
@@ -67,6 +67,12 @@ pub struct CycleRecord {
     pub ntst: usize,
     /// The model the cycle was computed with.
     pub model: ModelKind,
+    /// The inertia `m` it was computed with (0 for the quasi-static model).
+    pub m: f64,
+    /// The least friction coefficient `mu(v, theta)` on the orbit (over its
+    /// samples); below zero the friction law has left its physical range
+    /// (e.g. `mu2 < 0` at long ages), as has a spring force `s_min < 0`.
+    pub friction_min: f64,
     /// How much inertia matters on this orbit: `chi = max m |dv/dt| / A`
     /// with the scene's `m` ([`super::orbit_inertia`]).
     pub inertial_imbalance: f64,
@@ -369,6 +375,19 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
     let ((x_min, x_max), (ln_v_min, ln_v_max)) = (extremes[0], extremes[1]);
     let (s_min, s_max) = (log.origin[0] + x_min, log.origin[0] + x_max);
     let (v_min, v_max) = (ln_v_min.exp(), ln_v_max.exp());
+    let samples: Vec<[f64; 4]> = c
+        .samples(4)
+        .iter()
+        .map(|(tau, x)| {
+            let [s, v, theta] = log.to_model(x, &c.p);
+            [*tau, s, v, theta]
+        })
+        .collect();
+    let law = friction_from(log.cutoff, &c.p);
+    let friction_min = samples
+        .iter()
+        .map(|&[_, _, v, theta]| law.mu(v, theta))
+        .fold(f64::INFINITY, f64::min);
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],
         period: c.period,
@@ -384,15 +403,10 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         stability: pt.stability,
         ntst: c.mesh.ntst(),
         model: log.kind,
+        m: c.p[Param::M as usize],
+        friction_min,
         inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
-        samples: c
-            .samples(4)
-            .iter()
-            .map(|(tau, x)| {
-                let [s, v, theta] = log.to_model(x, &c.p);
-                [*tau, s, v, theta]
-            })
-            .collect(),
+        samples,
         lpc: pt.lpc.as_ref().map(|l| {
             Box::new(CycleRecord {
                 orbit: Some(l.cycle.clone()),

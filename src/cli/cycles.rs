@@ -173,7 +173,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         kappa_max: 10.0 * kappa_ref,
         max_steps: args.max_steps,
         ntst: args.ntst,
-        at_kappa: args.at_kappa.clone(),
+        at_kappa: requested_once(&args.at_kappa),
         ntst_max: args.ntst_max,
         // Each model's own points unless forced (the branch may change model).
         collocation: args.collocation.map(Into::into),
@@ -242,6 +242,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if let Some(warning) = validity_warning(&records, &setup, &watch, args.scene.model.is_some()) {
         eprintln!("warning: {warning}");
     }
+    let unphysical = NegativeFriction::of(&records);
+    if let Some(n) = &unphysical {
+        eprintln!("warning: {}", n.describe());
+    }
     let leg_stops: Vec<LegStop> = outcomes
         .iter()
         .map(|(leg, outcome)| LegStop::new(*leg, outcome, args.max_steps))
@@ -279,7 +283,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         None => stop,
     };
     let requested: Vec<Requested> = requested_points(
-        &args.at_kappa,
+        &req.at_kappa,
         &records,
         &BranchEnds {
             hopf_start: match &start {
@@ -297,7 +301,19 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     // inconclusive. A requested value the branch did not reach is then among
     // what is missing; one where no cycle exists (above kappa_c, beyond a
     // fold, no branch at all) is answered by its reason.
-    let complete = start.conclusive() && legs_complete;
+    let undelivered = requested.iter().filter(|r| r.reason.is_some()).count();
+    let complete = start.conclusive() && legs_complete && !lpc.incomplete && undelivered == 0;
+    let mut stop = stop;
+    if lpc.incomplete {
+        let why: Vec<String> = lpc.stops.iter().map(ToString::to_string).collect();
+        stop = format!("{stop}; the fold-of-cycles curve is incomplete: {}", why.join("; "));
+    }
+    if undelivered > 0 {
+        stop = format!(
+            "{stop}; {undelivered} of the {} requested stiffnesses not delivered (see requested_points)",
+            requested.len()
+        );
+    }
     write_requested_csv(&mut csv, &requested)?;
     if !complete {
         // A script reading the CSV alone learns that it is not the whole branch.
@@ -308,7 +324,16 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         let v = json!({
             "scene": setup.scene.name,
             "model": setup.choice.kind,
-            "params": params_json(&setup.params),
+            // The parameters of the last model used (the scene's inertia
+            // after a switch to the inertial model).
+            "params": params_json(&match switch {
+                Some(_) => setup.scene_params,
+                None => setup.params,
+            }),
+            "negative_friction": unphysical.as_ref().map(|n| json!({
+                "cycles": n.cycles, "of": records.len(), "kappa_range": [n.kappa_lo, n.kappa_hi],
+                "friction_min": n.friction_min, "s_min": n.s_min, "reason": n.describe(),
+            })),
             "kappa_c": start.kappa_c(),
             "start": start.json(),
             "collocation": points_name(points),
@@ -365,13 +390,69 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut errors = outcomes.into_iter().filter_map(|(_, o)| o.err());
     match errors.next() {
         Some(e @ Error::Interrupted(_)) => Err(e),
-        Some(e) if records.len() < 2 => Err(e),
+        // Nothing kept: the failure is the answer (status 3); a run that
+        // kept a cycle is partial (status 4).
+        Some(e) if records.is_empty() => Err(e),
         _ if !complete => Err(Error::Partial(format!(
             "{} cycles written; stopped: {stop}",
             records.len()
         ))),
         _ => Ok(()),
     }
+}
+
+/// Cycles on which the friction coefficient, or the spring force that
+/// balances it, falls below zero: the friction law outside its physical
+/// range (a block pulled forward by friction), reported, not hidden.
+struct NegativeFriction {
+    cycles: usize,
+    kappa_lo: f64,
+    kappa_hi: f64,
+    friction_min: f64,
+    s_min: f64,
+}
+
+impl NegativeFriction {
+    /// `None` when friction and spring force stay non-negative on every cycle.
+    fn of(records: &[CycleRecord]) -> Option<Self> {
+        let bad: Vec<&CycleRecord> = records
+            .iter()
+            .filter(|c| c.friction_min < 0.0 || c.s_min < 0.0)
+            .collect();
+        let first = bad.first()?;
+        let fold = |init: f64, f: fn(f64, f64) -> f64, g: fn(&CycleRecord) -> f64| {
+            bad.iter().map(|c| g(c)).fold(init, f)
+        };
+        Some(NegativeFriction {
+            cycles: bad.len(),
+            kappa_lo: fold(first.kappa, f64::min, |c| c.kappa),
+            kappa_hi: fold(first.kappa, f64::max, |c| c.kappa),
+            friction_min: fold(f64::INFINITY, f64::min, |c| c.friction_min),
+            s_min: fold(f64::INFINITY, f64::min, |c| c.s_min),
+        })
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "negative friction on {} cycles (kappa = {:.6e} .. {:.6e}): the friction coefficient \
+             falls to {:.4e} and the spring force s to {:.4e}; the friction law is outside its \
+             physical range there (e.g. mu2 < 0 makes mu fall without bound at long ages), so \
+             these cycles are the model's, not a real interface's",
+            self.cycles, self.kappa_lo, self.kappa_hi, self.friction_min, self.s_min
+        )
+    }
+}
+
+/// The stiffnesses asked for by `--at-kappa`, each once (the first of
+/// values within `1e-12` relative of each other), in the order given.
+fn requested_once(at_kappa: &[f64]) -> Vec<f64> {
+    let mut once: Vec<f64> = Vec::with_capacity(at_kappa.len());
+    for &k in at_kappa {
+        if !once.iter().any(|&q| (q - k).abs() <= 1e-12 * k.abs()) {
+            once.push(k);
+        }
+    }
+    once
 }
 
 /// Where a quasi-static branch handed over to the inertial model.
@@ -463,6 +544,9 @@ struct FoldCurves {
     stops: Vec<LpcStop>,
     /// Their CSV and figure.
     files: Vec<PathBuf>,
+    /// Whether a curve did not start, or stopped short of its range other
+    /// than at a Bautin point: the request (`--lpc-curve`) is incomplete.
+    incomplete: bool,
 }
 
 /// The curves of folds of cycles through every fold on the branch, with
@@ -490,6 +574,7 @@ fn fold_curves(
         let c = lpc_curve_through(setup.choice.kind, &setup.params, fold, range);
         curves.points.extend(c.points);
         curves.stops.extend(c.stops);
+        curves.incomplete |= c.incomplete;
     }
     let folds = FoldPoint::all(&curves, &setup.scene.units);
     if !args.json {
@@ -502,6 +587,7 @@ fn fold_curves(
             folds,
             stops: curves.stops,
             files: Vec::new(),
+            incomplete: curves.incomplete,
         });
     }
     let mut files = vec![write_lpc_csv(stem, &setup.scene.name, &folds)?];
@@ -538,6 +624,7 @@ fn fold_curves(
         folds,
         stops: curves.stops,
         files,
+        incomplete: curves.incomplete,
     })
 }
 

@@ -400,6 +400,11 @@ pub fn plan(fig: &LineFigure, bar: Option<&Colorbar>) -> Plan {
     let mut fig = drawable_only(fig);
     let pixels = plot_pixels(WIDTH - bar.map_or(0, |_| COLORBAR_WIDTH));
     let ranges = bounds(&fig);
+    // A line through one point draws nothing: that point is drawn as a
+    // marker (a branch of one cycle, a curve of one point).
+    for s in fig.series.iter_mut().filter(|s| s.points.len() == 1) {
+        s.markers = true;
+    }
     for s in fig.series.iter_mut().filter(|s| !s.markers) {
         s.points = if monotonic_in_x(&s.points) {
             decimated(&s.points, ranges.0, fig.log_x)

@@ -158,6 +158,15 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
         match r {
             Some(r) => {
                 let r = r?;
+                if r.diagram.lpc.incomplete {
+                    let why: Vec<String> =
+                        r.diagram.lpc.stops.iter().map(ToString::to_string).collect();
+                    results_partial.push(format!(
+                        "scene {}: the curve of folds of cycles is incomplete: {}",
+                        r.setup.scene.name,
+                        why.join("; ")
+                    ));
+                }
                 if !r.diagram.complete {
                     results_partial.push(format!(
                         "scene {}: ended at {} (V = {} µm/s)",
@@ -194,7 +203,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
             return Ok(());
         }
         return Err(Error::Partial(format!(
-            "the Hopf curve does not cover the requested range: {}",
+            "the stability diagram is incomplete: {}",
             partial.join("; ")
         )));
     }

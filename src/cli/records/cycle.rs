@@ -100,6 +100,11 @@ pub struct Cycle {
     /// Slowest and fastest slip velocity [µm/s].
     pub v_min_um_per_s: f64,
     pub v_max_um_per_s: f64,
+    /// The inertia `m` the cycle was computed with (0: quasi-static).
+    pub m: f64,
+    /// The least friction coefficient on the orbit; negative: outside the
+    /// friction law's physical range.
+    pub friction_min: f64,
 }
 
 impl CsvRecord for Cycle {
@@ -125,6 +130,8 @@ impl Cycle {
             model: c.model,
             inertial_imbalance: c.inertial_imbalance,
             k_over_w_per_m: u.k_over_w(c.kappa),
+            m: c.m,
+            friction_min: c.friction_min,
             period_s: c.period * u.d0 / u.v0,
             v_min_um_per_s: u.velocity_um_s(c.v_min),
             v_max_um_per_s: u.velocity_um_s(c.v_max),

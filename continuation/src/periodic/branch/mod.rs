@@ -307,6 +307,8 @@ pub struct CycleBranch<'a, S: VectorField> {
     end: Option<BranchEnd>,
     /// Floquet multipliers of the last orbit handed out (for the PD and NS tests).
     previous_mu: Vec<Complex64>,
+    /// Their trivial multiplier's distance from 1 (their error's measure).
+    previous_trivial_error: f64,
     /// The last discretization error estimate, the mesh size it was made
     /// on, and the orbits since (see `refine`).
     last_estimate: f64,
@@ -465,6 +467,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             done: false,
             end: None,
             previous_mu: Vec::new(),
+            previous_trivial_error: f64::INFINITY,
             last_estimate: f64::INFINITY,
             last_ntst: 0,
             since_estimate: 0,
@@ -868,6 +871,7 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
         match result {
             Ok(pt) => {
                 self.previous_mu.clone_from(&pt.multipliers);
+                self.previous_trivial_error = pt.trivial_error;
                 let p = pt.cycle.p[self.k];
                 self.end = if at_hopf {
                     Some(BranchEnd::HopfPoint)
