@@ -89,6 +89,7 @@ fn remedy(e: &continuation::ContinuationError) -> &'static str {
     match e {
         E::Unresolved { .. } => " (`cycles --ntst-max`)",
         E::FloquetIllConditioned { .. } => " (`stickslip simulate`)",
+        E::DegenerateHopf { .. } => " (`cycles --from-simulation`)",
         _ => "",
     }
 }

@@ -82,9 +82,8 @@ pub enum ContinuationError {
     Singular,
     #[error(
         "degenerate Hopf point: l1 = {l1:.3e} vanishes against its terms ({scale:.3e}), so the \
-         normal form does not say on which side the cycles are (for the quasi-static Rice–Ruina \
-         law a whole family of cycles exists at the critical parameter); add the ln² term or \
-         inertia, or start from a simulated orbit"
+         normal form does not say on which side the cycles are; start the branch from a \
+         computed orbit instead"
     )]
     DegenerateHopf { l1: f64, scale: f64 },
     #[error(
@@ -170,7 +169,7 @@ mod tests {
             residual: f64::INFINITY,
             step: 3.784e6,
             reason: NewtonFailure::NonFinite,
-            hint: "use log variables or a smaller step",
+            hint: "a smaller step may stay inside it",
         }
         .to_string();
         assert!(

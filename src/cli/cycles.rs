@@ -306,7 +306,10 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let mut stop = stop;
     if lpc.incomplete {
         let why: Vec<String> = lpc.stops.iter().map(ToString::to_string).collect();
-        stop = format!("{stop}; the fold-of-cycles curve is incomplete: {}", why.join("; "));
+        stop = format!(
+            "{stop}; the fold-of-cycles curve is incomplete: {}",
+            why.join("; ")
+        );
     }
     if undelivered > 0 {
         stop = format!(

@@ -90,7 +90,7 @@ fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
     match &report.outcome {
         HopfStatus::Hopf(o) => {
             print_hopf(setup, report.model, o, units);
-            print_normal_form(o, p.mu0, units);
+            print_normal_form(setup, o, p.mu0, units);
             println!(
                 "  located by Newton on the minimally augmented Hopf system: {} iterations, residual {:.1e}, \
                  after {} continuation steps from a stable stiffness",
@@ -162,7 +162,37 @@ fn print_hopf(setup: &Setup, model: ModelKind, o: &Onset, units: TextUnits) {
 }
 
 /// The onset type and what the normal form predicts for the emerging cycle.
-fn print_normal_form(o: &Onset, mu0: f64, units: TextUnits) {
+/// What makes a degenerate onset decidable, naming only what the scene
+/// does not already have: for the quasi-static plain Rice–Ruina law the
+/// degeneracy is exact (Ranjith & Rice 1999), and the ln² term or inertia
+/// lifts it; elsewhere (a Bautin point) the cycles come from a simulation.
+fn degeneracy_remedy(setup: &Setup) -> String {
+    let p = &setup.params;
+    let plain = p.mu2 == 0.0 && p.theta_c.is_none();
+    let mut lifts = Vec::new();
+    if plain {
+        lifts.push("the ln² term (mu2)");
+    }
+    if setup.scene_params.m <= 0.0 {
+        lifts.push("inertia (a mass M)");
+    } else if setup.choice.kind == ModelKind::QuasiStatic {
+        lifts.push("the scene's own inertia (without --model quasi-static)");
+    }
+    let exact = if plain && setup.choice.kind == ModelKind::QuasiStatic {
+        " For the quasi-static Rice–Ruina law this is exact (Ranjith & Rice 1999): at kappa = \
+         kappa_c a whole family of cycles exists."
+    } else {
+        " l1 changes sign here (a Bautin point, where l2 decides)."
+    };
+    let remedy = if lifts.is_empty() {
+        " `cycles` starts its branch from a simulated orbit.".to_string()
+    } else {
+        format!(" Add {}.", lifts.join(" or "))
+    };
+    format!("{exact}{remedy}")
+}
+
+fn print_normal_form(setup: &Setup, o: &Onset, mu0: f64, units: TextUnits) {
     println!();
     println!(
         "Onset type: {} (first Lyapunov coefficient l1 = {:.10e} ± {:.1e}, docs/model.md convention{})",
@@ -177,11 +207,10 @@ fn print_normal_form(o: &Onset, mu0: f64, units: TextUnits) {
     match (o.criticality, o.amplitude_coefficient, o.onset.cycle_side) {
         (Criticality::Degenerate, ..) => println!(
             "  degenerate within rounding: |l1| < {:.2e}, the bound on its rounding error (its terms are of \
-             size {:.2e}): the cubic normal form does not decide. For the quasi-static Rice–Ruina law this is \
-             exact (Ranjith & Rice 1999): at kappa = kappa_c a whole family of cycles exists; add the ln² term \
-             (mu2) or inertia.",
+             size {:.2e}): the cubic normal form does not decide.{}",
             o.l1_error_bound,
-            o.l1_term_scale
+            o.l1_term_scale,
+            degeneracy_remedy(setup)
         ),
         (_, Some(c), Some(side)) => {
             let (k, kc) = match units {

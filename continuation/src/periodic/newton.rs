@@ -207,7 +207,7 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
                 "the orbit may be at a fold or period doubling; perturb the parameter"
             }
             NewtonFailure::NonFinite => {
-                "the orbit left the model's domain; use log variables or a smaller step"
+                "the orbit left the model's domain (a non-finite value); a smaller step may stay inside it"
             }
         };
         failure.error(" correcting a periodic orbit".into(), hint)

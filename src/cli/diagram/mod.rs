@@ -159,8 +159,13 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
             Some(r) => {
                 let r = r?;
                 if r.diagram.lpc.incomplete {
-                    let why: Vec<String> =
-                        r.diagram.lpc.stops.iter().map(ToString::to_string).collect();
+                    let why: Vec<String> = r
+                        .diagram
+                        .lpc
+                        .stops
+                        .iter()
+                        .map(ToString::to_string)
+                        .collect();
                     results_partial.push(format!(
                         "scene {}: the curve of folds of cycles is incomplete: {}",
                         r.setup.scene.name,

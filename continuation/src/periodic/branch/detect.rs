@@ -183,7 +183,10 @@ mod tests {
     use super::*;
 
     fn mu(values: &[(f64, f64)]) -> Vec<Complex64> {
-        values.iter().map(|&(re, im)| Complex64::new(re, im)).collect()
+        values
+            .iter()
+            .map(|&(re, im)| Complex64::new(re, im))
+            .collect()
     }
 
     #[test]

@@ -217,6 +217,12 @@ pub enum BranchEnd {
     HopfPoint,
 }
 
+/// An orbit whose every observable's amplitude is below this fraction of
+/// the largest the branch has had, followed by a larger one, is where the
+/// branch passed through the equilibrium (a Hopf point) between steps
+/// without the parameter turn being seen.
+const PASSED: f64 = 0.05;
+
 /// A turn of the parameter whose located orbit has, on every observable,
 /// less than this fraction of the amplitude of the orbit before it is the
 /// branch passing through the equilibrium (a Hopf point), not a fold.
@@ -309,6 +315,11 @@ pub struct CycleBranch<'a, S: VectorField> {
     previous_mu: Vec<Complex64>,
     /// Their trivial multiplier's distance from 1 (their error's measure).
     previous_trivial_error: f64,
+    /// The largest amplitude of each observable on the branch so far, and
+    /// the last orbit's amplitude relative to it (the largest over the
+    /// observables), with whether it had shrunk from the orbit before.
+    largest_amplitude: Vec<f64>,
+    last_relative: Option<(f64, bool)>,
     /// The last discretization error estimate, the mesh size it was made
     /// on, and the orbits since (see `refine`).
     last_estimate: f64,
@@ -468,6 +479,8 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             end: None,
             previous_mu: Vec::new(),
             previous_trivial_error: f64::INFINITY,
+            largest_amplitude: Vec::new(),
+            last_relative: None,
             last_estimate: f64::INFINITY,
             last_ntst: 0,
             since_estimate: 0,
@@ -598,6 +611,37 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
 }
 
 impl<S: VectorField> CycleBranch<'_, S> {
+    /// Whether the branch went through the equilibrium between the last
+    /// orbit and `pt`: the last one shrank below [`PASSED`] of the branch's
+    /// largest amplitude (on every observable) and `pt` is larger again. A
+    /// branch through a Hopf point whose parameter turn fell between the
+    /// steps (or was too flat to be seen) would otherwise retrace itself.
+    fn passed_through_equilibrium(&mut self, pt: &CyclePoint) -> bool {
+        let amplitudes: Vec<f64> = pt
+            .extremes(self.sys)
+            .iter()
+            .map(|(lo, hi)| hi - lo)
+            .collect();
+        if self.largest_amplitude.len() != amplitudes.len() {
+            self.largest_amplitude = vec![0.0; amplitudes.len()];
+        }
+        for (big, a) in self.largest_amplitude.iter_mut().zip(&amplitudes) {
+            *big = big.max(*a);
+        }
+        let relative = amplitudes
+            .iter()
+            .zip(&self.largest_amplitude)
+            .map(|(a, big)| if *big > 0.0 { a / big } else { 1.0 })
+            .fold(0.0f64, f64::max);
+        let passed = matches!(
+            self.last_relative,
+            Some((last, shrinking)) if shrinking && last < PASSED && relative > last
+        );
+        let shrinking = self.last_relative.is_some_and(|(last, _)| relative < last);
+        self.last_relative = Some((relative, shrinking));
+        passed
+    }
+
     /// How well the corrector fixes an orbit's parameter, relative to the
     /// parameter itself: `step_tol |p|`. A sign change of `dp/ds` whose
     /// parameter excursion stays below it is noise, not a fold: near a
@@ -870,6 +914,13 @@ impl<S: VectorField> Iterator for CycleBranch<'_, S> {
         self.steps += 1;
         match result {
             Ok(pt) => {
+                if self.passed_through_equilibrium(&pt) {
+                    // This orbit retraces the branch shifted by half a
+                    // period: not handed out.
+                    self.end = Some(BranchEnd::HopfPoint);
+                    self.done = true;
+                    return None;
+                }
                 self.previous_mu.clone_from(&pt.multipliers);
                 self.previous_trivial_error = pt.trivial_error;
                 let p = pt.cycle.p[self.k];
