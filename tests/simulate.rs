@@ -1,6 +1,8 @@
 //! Driven sliding in time: velocity jumps and stop-and-go (seed §II.D.2),
 //! and the samples handed over as they are computed.
 
+mod common;
+
 use std::ops::ControlFlow;
 use stickslip::analysis::simulate::{simulate, simulate_with, Sample, Segment};
 use stickslip::model::ModelKind;
@@ -235,4 +237,60 @@ fn a_stop_after_a_long_run_is_resolved_in_the_segment_own_time() {
         stopped < 1e-3,
         "fastest slip during the stop: v = {stopped:e}"
     );
+}
+
+/// Issue 22, item 7: `simulate --set nu=NU --set kappa=0.01 --protocol
+/// NU:T` in one long segment (the PMMA scene driven at 1e-4, 1e-6 and 1e-7
+/// um/s) failed after about 50 slips, at `t` near 2e7 D0/V0, where a slip's
+/// steps (about 4e-8) reached the rounding of the absolute time `t`. The
+/// integrator now keeps the time as a compensated sum: every run reaches
+/// the protocol's end (exit 0, the last row at the end, no `# incomplete`),
+/// and the period of the slips at nu = 1e-4 is the collocation cycle's at
+/// kappa = 0.01 (`cycles --set nu=1e-4 --at-kappa 0.01`: 4.07516e5 D0/V0).
+#[test]
+fn a_long_single_segment_runs_to_its_end_past_the_rounding_of_t() {
+    for (nu, seconds) in [("1e-4", 3e7), ("1e-6", 3e9), ("1e-7", 3e10)] {
+        let dir = common::temp_dir(&format!("long_segment_{nu}"));
+        let protocol = format!("{nu}:{seconds:e}");
+        let (code, _, err) = common::stickslip(&[
+            "simulate",
+            "--set",
+            &format!("nu={nu}"),
+            "--set",
+            "kappa=0.01",
+            "--protocol",
+            &protocol,
+            "--name",
+            "long",
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "nu = {nu}: {err}");
+        let csv = std::fs::read_to_string(dir.join("long-simulation.csv")).unwrap();
+        assert!(!csv.contains("# incomplete"), "nu = {nu}");
+        let rows: Vec<Vec<f64>> = csv
+            .lines()
+            .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+            .map(|l| l.split(',').take(7).map(|x| x.parse().unwrap()).collect())
+            .collect();
+        let last = rows.last().unwrap();
+        assert_eq!(last[0], seconds, "nu = {nu}: the last row's time in s");
+        // Slips: log10 v rising through log10 nu + 2 (column 7).
+        let threshold = nu.parse::<f64>().unwrap().log10() + 2.0;
+        let slips: Vec<f64> = rows
+            .windows(2)
+            .filter(|w| w[0][6] < threshold && w[1][6] >= threshold)
+            .map(|w| w[1][1])
+            .collect();
+        assert!(slips.len() > 60, "nu = {nu}: {} slips", slips.len());
+        if nu == "1e-4" {
+            let n = slips.len();
+            let period = (slips[n - 1] - slips[n - 11]) / 10.0;
+            assert!(
+                (period / 4.07516e5 - 1.0).abs() < 1e-4,
+                "period {period:e} D0/V0 of the last ten slips"
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -95,7 +95,8 @@ pub enum IntegrateError {
         /// Step size at that time.
         h: f64,
     },
-    /// The step size fell below `h_min` or below the rounding level of `t`.
+    /// The step size fell below `h_min` or below the rounding level of the
+    /// compensated time `t`.
     #[error(
         "step size underflow at t = {t:.10e}: h = {h:.3e} is below {h_min:.3e} ({cause}); \
          the solution may blow up or be non-smooth near t — check the model, \
@@ -108,7 +109,9 @@ pub enum IntegrateError {
         h: f64,
         /// The bound it fell below.
         h_min: f64,
-        /// Which bound: the user's `h_min` or the rounding level `0.1 |h| <= eps |t|`.
+        /// Which bound: the user's `h_min` or the rounding level of the
+        /// compensated time, `0.1 |h| <= eps^2 |t|` (at least the smallest
+        /// normal number).
         cause: &'static str,
     },
     /// The stage equations could not be solved, many times in a row.

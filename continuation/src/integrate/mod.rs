@@ -40,6 +40,13 @@
 //! * **Dense output.** The collocation polynomial of each accepted step (degree
 //!   3, through `y0, y0 + Z_1, y0 + Z_2, y1`) gives the solution anywhere in
 //!   the step ([`StepView::eval`], output grids, events).
+//! * **Time.** The time reached is kept as a compensated sum `t + t_lo`
+//!   (Knuth's two-sum at every step), so a long run resolves steps far below
+//!   the rounding of `t` (`eps |t|`): a slip at `t = 2e7` that needs steps of
+//!   `4e-8`, ten units in the last place of `t`, is integrated as at `t = 0`.
+//!   The times handed out (records, events, [`StepView`]) are the rounded
+//!   `t`; the dense output measures its offsets from the compensated step
+//!   end. The step size only underflows at `0.1 |h| <= eps^2 |t|`.
 //! * **Events.** Zeros of user functions `g(t, x)` are located on the dense
 //!   output by the Illinois method ([`EventFunction`]).
 //!
@@ -89,7 +96,8 @@ pub struct Settings {
     /// weighted RMS norm (or `1e-6` if either is tiny), capped by `h_max`.
     pub h0: Option<f64>,
     /// Smallest step size before [`IntegrateError::StepSizeUnderflow`].
-    /// Default `0` (only the rounding bound `0.1 |h| <= eps |t|` applies).
+    /// Default `0` (only the rounding bound `0.1 |h| <= eps^2 |t|` of the
+    /// compensated time applies, see the module documentation).
     pub h_min: f64,
     /// Largest step size. Default `inf` (bounded by the interval length).
     pub h_max: f64,

@@ -293,10 +293,12 @@ impl Work {
         }
     }
 
-    /// The dense output of the last accepted step.
-    pub(crate) fn dense(&self, t_new: f64, h: f64) -> Dense<'_> {
+    /// The dense output of the last accepted step, which ends at the
+    /// compensated time `t_new + t_new_lo`.
+    pub(crate) fn dense(&self, t_new: f64, t_new_lo: f64, h: f64) -> Dense<'_> {
         Dense {
             t_new,
+            t_new_lo,
             h,
             y: &self.y,
             cont: [&self.cont[0], &self.cont[1], &self.cont[2]],
@@ -307,21 +309,27 @@ impl Work {
 /// The collocation polynomial of one accepted step (a borrowed view).
 #[derive(Clone, Copy)]
 pub(crate) struct Dense<'w> {
+    /// The step end, rounded.
     t_new: f64,
+    /// The rounding error of `t_new` (the step ends at `t_new + t_new_lo`).
+    t_new_lo: f64,
     h: f64,
     y: &'w [f64],
     cont: [&'w [f64]; 3],
 }
 
 impl Dense<'_> {
-    /// Writes `u(t)` into `out`; exact at the step end, order-3 accurate
-    /// (uniformly) inside the step, extrapolation outside it.
+    /// Writes `u(t)` into `out`; exact at the step end (`t == t_new`, the
+    /// rounded end), order-3 accurate (uniformly) inside the step,
+    /// extrapolation outside it. The offset from the end is taken from the
+    /// compensated end time, so a step only a few units in the last place of
+    /// `t` long is still resolved.
     pub(crate) fn eval(&self, t: f64, out: &mut [f64]) {
         if t == self.t_new {
             out.copy_from_slice(self.y);
             return;
         }
-        let s = (t - self.t_new) / self.h;
+        let s = ((t - self.t_new) - self.t_new_lo) / self.h;
         let [a1, a2, a3] = self.cont;
         for i in 0..self.y.len() {
             out[i] = self.y[i] + s * (a1[i] + (s - C2M1) * (a2[i] + (s - C1M1) * a3[i]));
