@@ -15,7 +15,7 @@ use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
 pub use continuation::periodic::branch::{BranchEnd, Stability};
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, WhenUndecidable};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
@@ -116,6 +116,17 @@ impl CycleRecord {
             )),
             Stability::Undetermined { missing } => Some(format!(
                 "{missing} nontrivial Floquet multiplier(s) undetermined: {TRIVIAL_UNAVAILABLE}"
+            )),
+            Stability::IllConditioned { trivial_error } => Some(format!(
+                "rounding swamps the Floquet multipliers: the trivial one is off by {} and \
+                 another is that close to the unit circle (perturbations grow by so many decades \
+                 along the orbit); the orbit itself is resolved; judge stability by time \
+                 integration (`stickslip simulate`)",
+                if trivial_error.is_finite() {
+                    format!("{trivial_error:.1e}")
+                } else {
+                    "an undetermined amount (the pencil did not find it)".to_string()
+                }
             )),
         }
     }
@@ -567,6 +578,10 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
             ..CycleSettings::default().step
         },
         user_points: req.at_kappa.clone(),
+        // A cycle whose multipliers rounding swamps is still a resolved
+        // cycle: delivered with its stability undecidable (and why), not a
+        // failure of the branch.
+        when_undecidable: WhenUndecidable::KeepOrbits,
         ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
@@ -692,11 +707,6 @@ fn follow(
                  which collocation cannot continue ({e})"
                 ))
             }
-            (None, e @ continuation::ContinuationError::FloquetIllConditioned { .. })
-                if skip == 0 =>
-            {
-                first_cycle_undecidable(leg, &e)
-            }
             (_, e) => NumericalError::from(e),
         })?;
         let rec = record(log, &pt, leg, watch);
@@ -718,27 +728,6 @@ fn follow(
     // An iterator that ended without an error has a reason.
     Ok(FollowEnd::End(
         branch.end().unwrap_or(BranchEnd::ParameterBound),
-    ))
-}
-
-/// The failure `e` of a leg whose first cycle is already too stiff for its
-/// Floquet multipliers to decide its stability: no cycle is delivered, so
-/// the engine's words for a branch that got there ("can no longer",
-/// "from here on") are put for a first cycle.
-fn first_cycle_undecidable(leg: Leg, e: &continuation::ContinuationError) -> NumericalError {
-    let which = match leg {
-        Leg::FromHopf => "off the Hopf point",
-        Leg::Up | Leg::Down => "through the simulated orbit",
-    };
-    NumericalError::Analysis(format!(
-        "no cycle delivered: {} (`stickslip simulate`)",
-        e.to_string()
-            .replace(
-                "of the periodic orbit at",
-                &format!("of the first cycle {which} at")
-            )
-            .replace("can no longer decide", "cannot decide")
-            .replace(" from here on", "")
     ))
 }
 

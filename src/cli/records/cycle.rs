@@ -31,7 +31,9 @@ impl Verdict {
         match s {
             Stability::Stable => Verdict::Stable,
             Stability::Unstable => Verdict::Unstable,
-            Stability::Undecidable { .. } | Stability::Undetermined { .. } => Verdict::Undecidable,
+            Stability::Undecidable { .. }
+            | Stability::Undetermined { .. }
+            | Stability::IllConditioned { .. } => Verdict::Undecidable,
         }
     }
 

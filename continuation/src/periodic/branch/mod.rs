@@ -89,11 +89,14 @@ pub struct CycleSettings {
     /// of that distance (which decides stability, period doublings and
     /// tori). Default `1e-8`.
     pub trivial_tol: f64,
-    /// Beyond this distance of the trivial multiplier from 1, the branch
-    /// stops when another multiplier lies within ten times that distance of
-    /// the unit circle (stability undecidable) or the distance exceeds 0.1.
-    /// Default `1e-3`.
+    /// Beyond this distance of the trivial multiplier from 1, the
+    /// multipliers no longer decide stability when another lies within ten
+    /// times that distance of the unit circle or the distance exceeds 0.1;
+    /// what the branch then does is `when_undecidable`. Default `1e-3`.
     pub trivial_limit: f64,
+    /// What the branch does once rounding swamps the multipliers (see
+    /// `trivial_limit`). Default [`WhenUndecidable::Stop`].
+    pub when_undecidable: WhenUndecidable,
     /// Parameter values at which an orbit is located exactly and reported
     /// (AUTO's user points). Default none.
     pub user_points: Vec<f64>,
@@ -102,6 +105,18 @@ pub struct CycleSettings {
     /// (parameters that pass through 0 need a floor; set it to the smallest
     /// scale of interest for branches spanning decades).
     pub param_floor: f64,
+}
+
+/// What a branch does at an orbit whose Floquet multipliers rounding has
+/// swamped (the orbit itself resolved).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WhenUndecidable {
+    /// End with [`ContinuationError::FloquetIllConditioned`].
+    Stop,
+    /// Hand the orbit out with [`Stability::IllConditioned`] and go on:
+    /// orbits, periods and folds (from the parameter's turn) stay exact;
+    /// stability, period doublings and tori are not decided there.
+    KeepOrbits,
 }
 
 impl Default for CycleSettings {
@@ -134,6 +149,7 @@ impl Default for CycleSettings {
             mesh_accept: 1e-6,
             trivial_tol: 1e-8,
             trivial_limit: 1e-3,
+            when_undecidable: WhenUndecidable::Stop,
             user_points: Vec::new(),
             param_floor: 1.0,
         }
@@ -153,6 +169,11 @@ pub enum Stability {
     /// The Floquet pencil left `missing` nontrivial multipliers undetermined
     /// (singular to rounding, see [`super::floquet::pencil_multipliers`]).
     Undetermined { missing: usize },
+    /// Rounding swamps the multipliers: the trivial one is off by
+    /// `trivial_error` (infinite: not determined), beyond `trivial_limit`,
+    /// and another is that close to the unit circle, or the error exceeds
+    /// 0.1 ([`WhenUndecidable::KeepOrbits`]).
+    IllConditioned { trivial_error: f64 },
 }
 
 impl Stability {

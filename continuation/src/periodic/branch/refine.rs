@@ -17,7 +17,10 @@
 //! mesh ([`CycleBranch::mesh_size`]): the intervals a stretch of the branch
 //! needed are not carried along the rest of it.
 
-use super::{point_at, CycleBranch, CyclePoint, Reading, MULTIPLIER_MEMORY, ORBIT_FLOOR_MEMORY};
+use super::{
+    point_at, CycleBranch, CyclePoint, Reading, Stability, WhenUndecidable, MULTIPLIER_MEMORY,
+    ORBIT_FLOOR_MEMORY,
+};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
@@ -176,6 +179,12 @@ impl<S: VectorField> CycleBranch<'_, S> {
             && pt.trivial_error > self.settings.trivial_limit
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
+            if self.settings.when_undecidable == WhenUndecidable::KeepOrbits {
+                pt.stability = Stability::IllConditioned {
+                    trivial_error: pt.trivial_error,
+                };
+                return Ok(pt);
+            }
             return Err(ContinuationError::FloquetIllConditioned {
                 param_name: self.sys.param_name(self.k),
                 param: self.z[self.z.len() - 1],
