@@ -191,7 +191,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let bar = super::interrupt::progress("continuing cycles");
     let outcomes = start.trace(&setup, &req, &watch, |c| {
         if super::interrupt::interrupted() {
-            return Err(Error::Interrupted(match records.last() {
+            return Err(super::interrupt::stopped(match records.last() {
                 Some(r) => format!(
                     "after {} cycles, the last at kappa = {:.10e}",
                     records.len(),
@@ -304,6 +304,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         writeln!(csv, "# incomplete: {stop}")?;
         csv.flush()?;
     }
+    csv.finish()?;
     if args.json {
         let v = json!({
             "scene": setup.scene.name,
@@ -364,7 +365,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     }
     let mut errors = outcomes.into_iter().filter_map(|(_, o)| o.err());
     match errors.next() {
-        Some(e @ Error::Interrupted(_)) => Err(e),
+        // A signal, or a file that could not be written, is the run's answer.
+        Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
         Some(e) if records.len() < 2 => Err(e),
         _ if !complete => Err(Error::Partial(format!(
             "{} cycles written; stopped: {stop}",
