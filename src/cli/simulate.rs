@@ -1,7 +1,8 @@
 //! `stickslip simulate`: driven sliding in time under a driving protocol
 //! (steady pulling, velocity jumps, stop-and-go), with time-series figures.
 //! Rows are written as they are computed; a bar shows the simulated time on
-//! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
+//! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130
+//! (SIGTERM the same, with 143).
 
 use super::csv::{header, row};
 use super::files::OutputArgs;
