@@ -434,6 +434,79 @@ mod tests {
     }
 
     #[test]
+    fn a_line_file_not_finished_ends_with_an_incomplete_line() {
+        let dir = std::env::temp_dir().join(format!("stickslip-lines-{}", std::process::id()));
+        create_dir(&dir).unwrap();
+        let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+        // Finished: as written, a half line never reaches the file.
+        let mut f = create_file(&dir.join("done.csv")).unwrap();
+        write!(f, "a,b\n1,2\n3,").unwrap();
+        f.flush().unwrap();
+        assert_eq!(read("done.csv"), "a,b\n1,2\n");
+        writeln!(f, "4").unwrap();
+        f.finish().unwrap();
+        assert_eq!(read("done.csv"), "a,b\n1,2\n3,4\n");
+        // Dropped before finishing (the run stopped on an error): marked.
+        let mut f = create_file(&dir.join("cut.csv")).unwrap();
+        write!(f, "a,b\n1,2\n3,").unwrap();
+        drop(f);
+        let cut = read("cut.csv");
+        assert!(
+            cut.starts_with("a,b\n1,2\n# incomplete: the run stopped"),
+            "{cut}"
+        );
+        // Marked by the run already: not twice.
+        let mut f = create_file(&dir.join("marked.csv")).unwrap();
+        writeln!(f, "a,b\n1,2\n# incomplete: interrupted").unwrap();
+        drop(f);
+        assert_eq!(read("marked.csv"), "a,b\n1,2\n# incomplete: interrupted\n");
+        // A write in full or not at all, no temporary left.
+        write(&dir.join("x.json"), "{}").unwrap();
+        assert_eq!(read("x.json"), "{}");
+        assert!(write(&dir.join("no-such-folder/x.json"), "{}").is_err());
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 4, "{names:?}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn an_unfinished_run_is_replaced_a_finished_one_kept() {
+        let dir = std::env::temp_dir().join(format!("stickslip-rerun-{}", std::process::id()));
+        let args = OutputArgs {
+            out: dir.clone(),
+            name: None,
+            force: false,
+        };
+        args.create_dir().unwrap();
+        let scene = SceneArgs {
+            scene: "pmma".into(),
+            set: Vec::new(),
+            model: None,
+            inertia_threshold: 1e-3,
+        };
+        let csv_run = ["-cycles.csv", "-cycles-orbits.png"];
+        write(&dir.join("pmma-cycles-orbits.png"), "x").unwrap();
+        write(
+            &dir.join("pmma-cycles.csv"),
+            "a\n1\n# incomplete: write error\n",
+        )
+        .unwrap();
+        assert!(args.stem("pmma", &scene, false, &csv_run).is_ok());
+        write(&dir.join("pmma-cycles.csv"), "a\n1\n").unwrap();
+        assert!(args.stem("pmma", &scene, false, &csv_run).is_err());
+        // A run whose record is written last: unfinished while it is missing.
+        let json_run = ["-diagram.json", "-hopf-curve.csv"];
+        write(&dir.join("pmma-hopf-curve.csv"), "a\n1\n").unwrap();
+        assert!(args.stem("pmma", &scene, false, &json_run).is_ok());
+        write(&dir.join("pmma-diagram.json"), "{}").unwrap();
+        assert!(args.stem("pmma", &scene, false, &json_run).is_err());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
     fn scene_names_stay_inside_the_output_folder() {
         assert_eq!(stem(Path::new("out"), "../x"), PathBuf::from("out/_._x"));
         assert_eq!(stem(Path::new("out"), ".."), PathBuf::from("out/_."));
