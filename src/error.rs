@@ -103,8 +103,9 @@ pub enum Error {
     Numerical(#[from] NumericalError),
     #[error("cannot write output: {0}")]
     Output(#[from] std::io::Error),
-    #[error("interrupted (Ctrl-C) {0}; everything computed before is kept")]
-    Interrupted(String),
+    /// A run stopped by SIGINT or SIGTERM (exit status 130 or 143).
+    #[error("interrupted ({}) {}; everything computed before is kept", .0.signal, .0.at)]
+    Interrupted(crate::cli::interrupt::Interruption),
     /// Results were written but the request is incomplete (exit status 4).
     #[error("partial results: {0}; everything computed is kept")]
     Partial(String),
@@ -113,13 +114,13 @@ pub enum Error {
 impl Error {
     /// Exit status: 2 for bad input, 3 for a numerical failure, 4 for
     /// partial results (kept, but the request is incomplete), 1 for I/O,
-    /// 130 after Ctrl-C.
+    /// 130 after Ctrl-C (SIGINT), 143 after SIGTERM.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Input(_) => 2,
             Error::Numerical(_) => 3,
             Error::Output(_) => 1,
-            Error::Interrupted(_) => 130,
+            Error::Interrupted(i) => i.signal.exit_code(),
             Error::Partial(_) => 4,
         }
     }

@@ -11,6 +11,15 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // A file grown beyond the size limit (`ulimit -f`) makes the write fail
+    // (EFBIG), named in the message with exit status 1 and the file left
+    // complete or marked incomplete, instead of killing the process by
+    // SIGXFSZ with a half-written file.
+    #[cfg(unix)]
+    // SAFETY: ignoring SIGXFSZ before any thread starts; no handler is installed.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let cli = Cli::parse();
     // `println!` panics when standard output cannot be written (a full disk,
     // `> /dev/full`): that is an output error (status 1), not a crash.

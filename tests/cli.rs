@@ -16,7 +16,7 @@ fn hopf_json(extra: &[&str]) -> Value {
 }
 
 /// `(mu_phi - mu_v)(1 + m nu^2 / mu_v)` from the reported parameters, with
-/// `mu_phi = B - 2 mu2 ln nu` for the ln² law (MODEL.md), written out here
+/// `mu_phi = B - 2 mu2 ln nu` for the ln² law (docs/model.md), written out here
 /// rather than taken from the library.
 fn c11_from_json(params: &Value) -> f64 {
     let g = |k: &str| {

@@ -1,6 +1,7 @@
 //! Ctrl-C on long runs: `cycles`, `simulate` and a many-scene `diagram` are
 //! sent SIGINT part-way and must exit with status 130, keep what was computed
-//! (complete rows, no NaN, figures), and say where they stopped.
+//! (complete rows, no NaN, figures), and say where they stopped; SIGTERM
+//! does the same with exit status 143.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -19,6 +20,11 @@ struct Interrupted {
 /// far)` holds (polled every 20 ms, for at most 120 s), and waits for it to
 /// exit (killing it after another 120 s).
 fn interrupt_when(args: &[&str], ready: impl Fn(&str) -> bool) -> Interrupted {
+    signal_when(args, libc::SIGINT, ready)
+}
+
+/// [`interrupt_when`] with the signal `signal`.
+fn signal_when(args: &[&str], signal: libc::c_int, ready: impl Fn(&str) -> bool) -> Interrupted {
     let mut child = Command::new(env!("CARGO_BIN_EXE_stickslip"))
         .args(args)
         .stdout(Stdio::piped())
@@ -48,9 +54,9 @@ fn interrupt_when(args: &[&str], ready: impl Fn(&str) -> bool) -> Interrupted {
     {
         std::thread::sleep(Duration::from_millis(20));
     }
-    // SAFETY: sending SIGINT to our own child process.
+    // SAFETY: sending a signal to our own child process.
     unsafe {
-        libc::kill(child.id() as libc::pid_t, libc::SIGINT);
+        libc::kill(child.id() as libc::pid_t, signal);
     }
     let start = Instant::now();
     let status = loop {
@@ -59,7 +65,7 @@ fn interrupt_when(args: &[&str], ready: impl Fn(&str) -> bool) -> Interrupted {
         }
         if start.elapsed() > Duration::from_secs(120) {
             let _ = child.kill();
-            panic!("stickslip {args:?} did not stop within 120 s of SIGINT");
+            panic!("stickslip {args:?} did not stop within 120 s of signal {signal}");
         }
         std::thread::sleep(Duration::from_millis(20));
     };
@@ -262,5 +268,82 @@ fn ctrl_c_skips_the_scenes_not_started() {
             "{name} was skipped"
         );
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The CSV at `path` holds whole rows only (as many cells as its header)
+/// and ends with a `# incomplete` line; its rows.
+fn whole_rows_marked_incomplete(path: &Path) -> usize {
+    let csv = std::fs::read_to_string(path).unwrap();
+    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
+    let header = rows.next().unwrap().split(',').count();
+    let rows: Vec<&str> = rows.collect();
+    for row in &rows {
+        assert_eq!(row.split(',').count(), header, "half row: {row}");
+    }
+    let last = csv.lines().last().unwrap();
+    assert!(last.starts_with("# incomplete: "), "{last}");
+    rows.len()
+}
+
+#[test]
+fn sigterm_keeps_the_cycles_computed_so_far() {
+    let dir = out_dir("sigterm-cycles");
+    let out = dir.to_str().unwrap();
+    let csv_path = dir.join("pmma_m=0.01-cycles.csv");
+    let args = [
+        "cycles",
+        "--set",
+        "m=0.01",
+        "--kappa-fraction",
+        "0.01",
+        "--max-steps",
+        "100000",
+        "--out",
+        out,
+    ];
+    let run = signal_when(&args, libc::SIGTERM, |_| lines(&csv_path) >= 6);
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(143), "{err}");
+    assert!(
+        err.contains("interrupted (SIGTERM)") && err.contains("kept"),
+        "{err}"
+    );
+    assert!(whole_rows_marked_incomplete(&csv_path) >= 4, "rows kept");
+    assert!(
+        dir.join("pmma_m=0.01-cycles-amplitude.png").exists(),
+        "figures of the computed cycles"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn sigterm_keeps_the_simulated_time_series() {
+    let dir = out_dir("sigterm-simulate");
+    let out = dir.to_str().unwrap();
+    let protocol = vec!["1:1500"; 200].join(",");
+    let csv_path = dir.join("pmma_kappa=0.009-simulation.csv");
+    let args = [
+        "simulate",
+        "--set",
+        "kappa=0.009",
+        "--protocol",
+        &protocol,
+        "--out",
+        out,
+    ];
+    let run = signal_when(&args, libc::SIGTERM, |_| lines(&csv_path) >= 50);
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(143), "{err}");
+    assert!(
+        err.contains("interrupted (SIGTERM)") && err.contains("kept"),
+        "{err}"
+    );
+    assert!(whole_rows_marked_incomplete(&csv_path) >= 50, "rows kept");
+    assert!(
+        dir.join("pmma_kappa=0.009-simulation-velocity.png")
+            .exists(),
+        "figures of the computed part"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

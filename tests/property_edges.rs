@@ -115,7 +115,7 @@ enum Law {
     Cutoff { theta_c: f64 },
 }
 
-/// One drawn scene: dimensionless parameters of MODEL.md and the model.
+/// One drawn scene: dimensionless parameters of docs/model.md and the model.
 #[derive(Clone, Debug)]
 struct Case {
     m: f64,

@@ -13,7 +13,7 @@ use stickslip::analysis::diagram::{stability_diagram, strengthening_intervals, S
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome, STRENGTHENING_FLOOR};
 use stickslip::model::ModelKind;
 
-/// `mu_phi - mu_v = B - 2 mu2 ln nu - A` of the ln² law (MODEL.md), written out.
+/// `mu_phi - mu_v = B - 2 mu2 ln nu - A` of the ln² law (docs/model.md), written out.
 fn weakening(a: f64, b: f64, mu2: f64, nu: f64) -> f64 {
     b - 2.0 * mu2 * nu.ln() - a
 }
@@ -68,7 +68,7 @@ fn diagram_of_a_strengthening_range_is_empty_with_a_reason() {
 }
 
 /// With `A = 0.024` the ln² law weakens only below `nu* = exp((B - A)/(2 mu2))`
-/// (closed form, MODEL.md): the strengthening stretch starts there, to
+/// (closed form, docs/model.md): the strengthening stretch starts there, to
 /// rounding, and the Hopf curve covers the weakening part, ending at
 /// `kappa_c -> 0` next to it.
 #[test]

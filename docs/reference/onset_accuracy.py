@@ -4,9 +4,9 @@ with a Taylor-series integrator in mpmath.
 
 For each case and each distance from onset eps = (kappa_c - kappa)/kappa_c in
 {1e-5, 1e-4, 1e-3, 1e-2, 0.1, 0.5} it reports the period T, the peak-to-peak
-spring force Delta_s = max s - min s (MODEL.md's s = K (V t - x) / W), s_min,
+spring force Delta_s = max s - min s (docs/model.md's s = K (V t - x) / W), s_min,
 s_max, the slowest and fastest slip velocity v_min, v_max, and the nontrivial
-Floquet multipliers, in MODEL.md's variables and units.
+Floquet multipliers, in docs/model.md's variables and units.
 
 Why deviation variables. Near onset the cycle is a small oscillation around
 steady sliding (x* = (s*, nu, 1/nu)); at eps = 1e-5 its Delta_s is 1e-3 of
@@ -50,7 +50,7 @@ the same shooting (continued in eps from a scan of the amplitude along the
 linear Hopf mode at eps = 1e-3), then Newton at 40 digits.
 
 Every parameter is taken as the IEEE double stickslip reads (mpf(float)),
-kappa_c from the closed form of MODEL.md at those values, and kappa as the
+kappa_c from the closed form of docs/model.md at those values, and kappa as the
 double nearest kappa_c (1 - eps): the CSV gives that double to 17 digits, so
 stickslip is run at exactly the stiffness of the reference.
 
@@ -384,7 +384,7 @@ def shoot(block, z, st, scale, fd_step, max_iter=30, iterations=None):
 
 
 def kappa_c(case, ar):
-    """kappa_c = (mu_phi - mu_v)(1 + m nu^2 / mu_v) (MODEL.md)."""
+    """kappa_c = (mu_phi - mu_v)(1 + m nu^2 / mu_v) (docs/model.md)."""
     n = ar.num
     A, B, mu2, m, nu = n(case["A"]), n(case["B"]), n(case["mu2"]), n(case["m"]), n(case["nu"])
     if case["theta_c"] is not None:
@@ -720,7 +720,7 @@ def main():
     cases = [c for c in CASES if not names or c["name"] in names]
     lines = [
         "# Reference stick-slip cycles (docs/reference/onset_accuracy.py): shooting in deviation "
-        "variables, Taylor order 40, 40 digits; MODEL.md variables; eps = (kappa_c - kappa)/kappa_c, "
+        "variables, Taylor order 40, 40 digits; docs/model.md variables; eps = (kappa_c - kappa)/kappa_c, "
         "kappa the double nearest kappa_c (1 - eps)",
         ",".join(COLUMNS),
     ]

@@ -191,7 +191,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let bar = super::interrupt::progress("continuing cycles");
     let outcomes = start.trace(&setup, &req, &watch, |c| {
         if super::interrupt::interrupted() {
-            return Err(Error::Interrupted(match records.last() {
+            return Err(super::interrupt::stopped(match records.last() {
                 Some(r) => format!(
                     "after {} cycles, the last at kappa = {:.10e}",
                     records.len(),
@@ -323,6 +323,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         writeln!(csv, "# incomplete: {stop}")?;
         csv.flush()?;
     }
+    csv.finish()?;
     if args.json {
         let v = json!({
             "scene": setup.scene.name,
@@ -392,7 +393,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     }
     let mut errors = outcomes.into_iter().filter_map(|(_, o)| o.err());
     match errors.next() {
-        Some(e @ Error::Interrupted(_)) => Err(e),
+        // A signal, or a file that could not be written, is the run's answer.
+        Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
         // Nothing kept: the failure is the answer (status 3); a run that
         // kept a cycle is partial (status 4).
         Some(e) if records.is_empty() => Err(e),

@@ -7,7 +7,6 @@ use super::files::with_suffix;
 use super::records::diagram::FoldPoint;
 use super::TextUnits;
 use crate::analysis::lpc_curve::LpcStop;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The text lines of the summary: the extent of every curve of `folds` and
@@ -34,18 +33,18 @@ pub fn lpc_summary(folds: &[FoldPoint], stops: &[LpcStop], units: TextUnits) -> 
     extents.chain(stops).collect()
 }
 
-/// Writes `<stem>-lpc-curve.csv`: the folds of scene `scene`, one row each.
+/// Writes `<stem>-lpc-curve.csv`: the folds of scene `scene`, one row
+/// each; in full or not at all ([`crate::cli::files::write`]).
 pub fn write_lpc_csv(stem: &Path, scene: &str, folds: &[FoldPoint]) -> std::io::Result<PathBuf> {
     let path = with_suffix(stem, "-lpc-curve.csv");
-    let mut w = crate::cli::files::create_file(&path)?;
-    writeln!(
-        w,
-        "# folds of cycles (LPC) of scene {scene}: the hysteresis boundary"
-    )?;
-    writeln!(w, "{}", header::<FoldPoint>()?)?;
+    let mut text = format!(
+        "# folds of cycles (LPC) of scene {scene}: the hysteresis boundary\n{}\n",
+        header::<FoldPoint>()?
+    );
     for p in folds {
-        writeln!(w, "{}", row(p)?)?;
+        text.push_str(&row(p)?);
+        text.push('\n');
     }
-    w.flush()?;
+    crate::cli::files::write(&path, text)?;
     Ok(path)
 }

@@ -2,7 +2,8 @@
 //!
 //! Human-readable text by default; `--json` / `--csv` for machines. Bad input
 //! exits with status 2, a numerical failure with status 3, partial results
-//! (kept, but the request incomplete) with status 4.
+//! (kept, but the request incomplete) with status 4, a write error with
+//! status 1, Ctrl-C with 130 and SIGTERM with 143 (results kept).
 
 pub mod branch;
 pub mod csv;
@@ -38,7 +39,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
                   2 bad input (the message names the field); 3 numerical failure; \
                   4 partial results (kept, but the request is incomplete: a step limit, or a \
                   branch that failed after some results; the reason on stderr and, with \
-                  --json, complete: false and stop); 130 interrupted (results so far kept)."
+                  --json, complete: false and stop); 130 interrupted by Ctrl-C (SIGINT), \
+                  143 stopped by SIGTERM (results so far kept, the CSV ends with a \
+                  '# incomplete' line)."
 )]
 pub struct Cli {
     #[command(subcommand)]

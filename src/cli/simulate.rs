@@ -1,7 +1,8 @@
 //! `stickslip simulate`: driven sliding in time under a driving protocol
 //! (steady pulling, velocity jumps, stop-and-go), with time-series figures.
 //! Rows are written as they are computed; a bar shows the simulated time on
-//! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130.
+//! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130
+//! (SIGTERM the same, with 143).
 
 use super::csv::{header, row};
 use super::files::OutputArgs;
@@ -254,6 +255,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     } else {
         Vec::new()
     };
+    rows.finish()?;
     // A time `t` (units D0/V0) in the text's units.
     let time = |t: f64| match args.units {
         TextUnits::Physical => format!("{:.6e} s", t * time_unit),
@@ -288,7 +290,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             end.t * time_unit,
             end.t_end * time_unit,
         ))),
-        Ok(end) if end.stopped => Err(Error::Interrupted(format!(
+        Ok(end) if end.stopped => Err(super::interrupt::stopped(format!(
             "at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
             end.t * time_unit,
             end.t_end * time_unit,
@@ -309,9 +311,11 @@ const OUTPUTS: &[&str] = &[
 ];
 
 /// The CSV of the time series, written row by row as the integrator produces
-/// them; flushed at least every 0.1 s, so a killed run keeps its rows.
+/// them; flushed at least every 0.1 s, so a killed run keeps its rows; whole
+/// rows only, and a `# incomplete` line when the run does not finish it
+/// ([`LineFile`](super::files::LineFile)).
 struct Rows {
-    w: std::io::BufWriter<std::fs::File>,
+    w: super::files::LineFile,
     units: Units,
     flushed: Instant,
 }
@@ -329,7 +333,6 @@ impl Rows {
     }
 
     fn push(&mut self, p: &Sample) -> std::io::Result<()> {
-        // One write per row, so that a flush never splits it.
         let mut line = row(&SimulationRow::new(p, &self.units))?;
         line.push('\n');
         self.w.write_all(line.as_bytes())?;
@@ -348,6 +351,11 @@ impl Rows {
     fn note(&mut self, line: &str) -> std::io::Result<()> {
         writeln!(self.w, "{line}")?;
         self.flush()
+    }
+
+    /// Writes the rows gathered; the file is as the run meant it.
+    fn finish(self) -> std::io::Result<()> {
+        self.w.finish()
     }
 }
 

@@ -8,6 +8,8 @@ pub mod ticks;
 
 pub use ticks::Axis;
 
+use image::codecs::png::PngEncoder;
+use image::{ColorType, ImageEncoder};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::{
@@ -34,6 +36,9 @@ pub fn ensure_font() {
 
 /// Writes `<stem>.png` and `<stem>.svg` (appended, so dots in `stem` stay) of the given size; `png` and `svg` draw
 /// the same figure (one generic drawing function instantiated per backend).
+/// Each is drawn in memory and written in full or not at all
+/// ([`crate::cli::files::write_whole`]): a failed write (a full disk) never
+/// leaves a truncated figure under its name.
 pub fn render_both(
     stem: &Path,
     size: (u32, u32),
@@ -51,8 +56,20 @@ pub fn render_both(
         path: p.display().to_string(),
         reason,
     };
-    png(BitMapBackend::new(&png_path, size).into_drawing_area()).map_err(|e| err(&png_path, e))?;
-    svg(SVGBackend::new(&svg_path, size).into_drawing_area()).map_err(|e| err(&svg_path, e))?;
+    let (width, height) = size;
+    let mut rgb = vec![0u8; width as usize * height as usize * 3];
+    png(BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area())
+        .map_err(|e| err(&png_path, e))?;
+    let mut encoded = Vec::new();
+    PngEncoder::new(&mut encoded)
+        .write_image(&rgb, width, height, ColorType::Rgb8)
+        .map_err(|e| err(&png_path, e.to_string()))?;
+    crate::cli::files::write_whole(&png_path, encoded)
+        .map_err(|e| err(&png_path, e.to_string()))?;
+    let mut text = String::new();
+    svg(SVGBackend::with_string(&mut text, size).into_drawing_area())
+        .map_err(|e| err(&svg_path, e))?;
+    crate::cli::files::write_whole(&svg_path, text).map_err(|e| err(&svg_path, e.to_string()))?;
     Ok(vec![png_path, svg_path])
 }
 

@@ -21,7 +21,6 @@ use continuation::{AsIs, Wrap};
 use figures::write_figures;
 use rayon::prelude::*;
 use serde_json::{json, Value};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -219,7 +218,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
             v.join(", ")
         }
     };
-    Err(Error::Interrupted(format!(
+    Err(super::interrupt::stopped(format!(
         "after {} of {} scenes (completed: {}; skipped: {})",
         completed.len(),
         names.len(),
@@ -323,22 +322,23 @@ fn write_csv(
     stem: &Path,
 ) -> Result<Vec<PathBuf>, Error> {
     let path = with_suffix(stem, "-hopf-curve.csv");
-    let mut w = crate::cli::files::create_file(&path)?;
-    writeln!(
-        w,
-        "# scene {}; model {}; {}",
+    // Written in full or not at all.
+    let mut w = format!(
+        "# scene {}; model {}; {}\n",
         setup.scene.name,
         setup.choice.kind.name(),
         setup.choice.reason
-    )?;
+    );
     if let Some(why) = &d.reason {
-        writeln!(w, "# {why}")?;
+        w.push_str(&format!("# {why}\n"));
     }
-    writeln!(w, "{}", header::<HopfCurvePoint>()?)?;
+    w.push_str(&header::<HopfCurvePoint>()?);
+    w.push('\n');
     for p in &records.curve {
-        writeln!(w, "{}", row(p)?)?;
+        w.push_str(&row(p)?);
+        w.push('\n');
     }
-    w.flush()?;
+    crate::cli::files::write(&path, w)?;
     let mut files = vec![path];
     if !d.lpc.points.is_empty() {
         files.push(write_lpc_csv(stem, &setup.scene.name, &records.folds)?);

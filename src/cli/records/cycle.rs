@@ -235,7 +235,7 @@ pub enum StopReason {
     HopfPoint,
     /// A numerical failure (the message says which).
     Failed,
-    /// Ctrl-C.
+    /// Ctrl-C (SIGINT) or SIGTERM.
     Interrupted,
 }
 
