@@ -354,8 +354,11 @@ fn diagram_json_has_the_curve_of_folds_of_the_cutoff_scene() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
+    // The fold curve stops short at high velocity (cycles too stiff for its
+    // mesh, the gap hatched): the diagram is partial, status 4.
+    assert_eq!(code, 4, "{err}");
     let v: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["lpc_complete"], false);
     let curve = v["lpc_curve"].as_array().expect("lpc_curve");
     assert!(curve.len() > 20, "{} folds", curve.len());
     let bautin = v["special_points"]
@@ -407,8 +410,18 @@ fn cycles_lpc_curve_json_continues_the_fold_of_the_branch() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
+    // Toward large nu the curve plunges (kappa ~ 1e-8 at nu ~ 1e4) and takes
+    // its 300 steps short of the range's end: a stop entry, status 4.
+    assert_eq!(code, 4, "{err}");
     let v: Value = serde_json::from_str(&text).unwrap();
+    let stops: Vec<&str> = v["lpc_stops"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["reason"].as_str().unwrap())
+        .collect();
+    assert_eq!(stops, ["bautin_point", "step_limit"], "{err}");
+    assert_eq!(v["complete"], false);
     assert_eq!(v["collocation"], "radau", "the inertial block");
     let folds: Vec<f64> = v["special_points"]
         .as_array()
@@ -656,7 +669,8 @@ fn named_runs_of_several_scenes_keep_every_scene() {
         out,
     ];
     let (code, _, err) = stickslip(&args);
-    assert_eq!(code, 0, "{err}");
+    // pmma-rr's fold curve stops short (cycles too stiff): partial, status 4.
+    assert_eq!(code, 4, "{err}");
     for scene in ["pmma", "pmma-rr"] {
         let json = std::fs::read_to_string(dir.join(format!("foo_{scene}-diagram.json"))).unwrap();
         let v: Value = serde_json::from_str(&json).unwrap();

@@ -34,6 +34,19 @@ fn run_bounded(args: &[&str], seconds: u64) -> (i32, String, String) {
         .stderr(Stdio::piped())
         .spawn()
         .expect("run stickslip");
+    // The pipes are drained while the child runs: output beyond a pipe's
+    // buffer would otherwise block it until the time bound.
+    let drain = |pipe: Option<Box<dyn std::io::Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut text = Vec::new();
+            if let Some(mut pipe) = pipe {
+                std::io::Read::read_to_end(&mut pipe, &mut text).ok();
+            }
+            String::from_utf8_lossy(&text).into_owned()
+        })
+    };
+    let stdout = drain(child.stdout.take().map(|p| Box::new(p) as _));
+    let stderr = drain(child.stderr.take().map(|p| Box::new(p) as _));
     let start = Instant::now();
     let status = loop {
         if let Some(s) = child.try_wait().unwrap() {
@@ -45,11 +58,10 @@ fn run_bounded(args: &[&str], seconds: u64) -> (i32, String, String) {
         }
         std::thread::sleep(Duration::from_millis(20));
     };
-    let out = child.wait_with_output().unwrap();
     (
         status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
+        stdout.join().unwrap(),
+        stderr.join().unwrap(),
     )
 }
 

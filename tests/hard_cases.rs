@@ -55,7 +55,7 @@ fn degenerate_hopf_is_named_and_cycles_refuse_with_a_reason() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("degenerate") && err.contains("family of cycles"),
+        err.contains("degenerate Hopf point") && err.contains("--from-simulation"),
         "{err}"
     );
 }

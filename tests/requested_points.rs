@@ -92,7 +92,13 @@ fn requested_points_are_delivered_or_explained() {
         out,
         "--json",
     ]);
-    assert_eq!(code, 0, "{err}");
+    // 0.02 lies above kappa_c, where no cycle exists: not delivered, so the
+    // request is incomplete (status 4), with the reason below.
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        err.contains("1 of the 3 requested stiffnesses not delivered"),
+        "{err}"
+    );
     assert!(
         !stdout.contains("null") && !stdout.contains("NaN"),
         "{stdout}"
@@ -139,7 +145,7 @@ fn requested_points_are_delivered_or_explained() {
         // The same run as above, as text: its files are replaced.
         "--force",
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(code, 4, "{err}");
     assert!(
         text.contains(
             "requested kappa = 2.0000000000e-2 (K/W = 5.00000000e4 1/m): not delivered: above kappa_c"

@@ -260,7 +260,9 @@ impl Job {
                 Ok(points(std::hint::black_box(d).points.len()))
             }
             Work::Diagram { args, stems, .. } => {
-                silence_stdout(|| stickslip::cli::diagram::run_with(args, fields))?;
+                kept(silence_stdout(|| {
+                    stickslip::cli::diagram::run_with(args, fields)
+                }))?;
                 if tally {
                     stems
                         .iter()
@@ -281,10 +283,20 @@ impl Job {
             Work::Command { args, .. } => {
                 let cli = Cli::try_parse_from(args)
                     .map_err(|e| NumericalError::Analysis(format!("{}: {e}", self.name)))?;
-                silence_stdout(|| stickslip::cli::run(cli))?;
+                kept(silence_stdout(|| stickslip::cli::run(cli)))?;
                 Ok(points(1))
             }
         }
+    }
+}
+
+/// A command's outcome as work done: partial results (status 4: kept, the
+/// request incomplete, e.g. a fold-of-cycles curve that stops short where
+/// its cycles become too stiff) are the work measured.
+fn kept(outcome: Result<(), Error>) -> Result<(), Error> {
+    match outcome {
+        Err(Error::Partial(_)) => Ok(()),
+        other => other,
     }
 }
 

@@ -578,10 +578,10 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
             ..CycleSettings::default().step
         },
         user_points: req.at_kappa.clone(),
-        // A cycle whose multipliers rounding swamps is still a resolved
-        // cycle: delivered with its stability undecidable (and why), not a
-        // failure of the branch.
-        when_undecidable: WhenUndecidable::KeepOrbits,
+        // A first cycle whose multipliers rounding swamps is still a
+        // resolved cycle: delivered with its stability undecidable (and
+        // why); the branch ends at the next such cycle.
+        when_undecidable: WhenUndecidable::KeepFirst,
         ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
@@ -675,9 +675,24 @@ fn follow_switching(
         switch: false,
         ..*watch
     };
-    match follow(&inertial, branch, leg, 0, &watch, sink)? {
-        FollowEnd::End(end) => Ok(end),
-        FollowEnd::Switch { .. } => unreachable!("an inertial branch does not switch"),
+    // A failure before the first inertial cycle is said to follow the
+    // switch (no inertial record shows that it happened).
+    let mut delivered = 0usize;
+    let mut counted = |r: &CycleRecord| {
+        delivered += 1;
+        sink(r)
+    };
+    match follow(&inertial, branch, leg, 0, &watch, &mut counted) {
+        Ok(FollowEnd::End(end)) => Ok(end),
+        Ok(FollowEnd::Switch { .. }) => unreachable!("an inertial branch does not switch"),
+        Err(crate::error::Error::Numerical(e)) if delivered == 0 => Err(NumericalError::Analysis(format!(
+            "the branch switched to the inertial model at kappa = {:.6e} (inertia would shift ln v \
+             by chi > {:.0e} on the last quasi-static cycle), and the first inertial cycle failed: {e}",
+            cycle.p[Param::Kappa as usize],
+            watch.threshold
+        ))
+        .into()),
+        Err(e) => Err(e),
     }
 }
 

@@ -53,6 +53,11 @@ pub enum LpcStopReason {
     /// The next fold could not be computed on the mesh the curve may use:
     /// its cycles have (most likely) become too stiff for it.
     TooStiff,
+    /// The curve reached the end of the velocity range (its last fold lies
+    /// on it): complete there.
+    EndOfRange,
+    /// The curve took its most steps before reaching the range's end.
+    StepLimit,
 }
 
 /// One stop of a curve of folds of cycles: why, where (`nu`, `kappa` of its
@@ -259,6 +264,9 @@ pub fn lpc_curve_through(
     }
 }
 
+/// Steps of each half of a curve of folds of cycles.
+const LPC_MAX_STEPS: usize = 300;
+
 /// The curve of folds through `fold`, both ways at once, in increasing `nu`,
 /// with a message for each end that stopped on a failure away from a Bautin
 /// point (`bautin`: where the folded cycles shrink to nothing and the fold
@@ -288,7 +296,7 @@ fn trace_through<S: VectorField>(
             p2_max: hi,
             param_floor: [1e-9, lo],
             min_amplitude: 1e-3,
-            max_steps: 300,
+            max_steps: LPC_MAX_STEPS,
             step: StepControl {
                 ds: 0.05,
                 ds_max: 0.2,
@@ -409,6 +417,34 @@ fn trace_through<S: VectorField>(
                         end.nu, end.kappa,
                     ),
                 });
+            }
+            (None, Some(end), _) => {
+                let towards = if direction < 0.0 { "smaller" } else { "larger" };
+                if (end.nu / edge).ln().abs() <= 1e-9 {
+                    stops.push(LpcStop {
+                        reason: LpcStopReason::EndOfRange,
+                        nu: Some(end.nu),
+                        kappa: Some(end.kappa),
+                        message: format!(
+                            "the fold-of-cycles curve reaches the end of the range toward {towards} \
+                             nu at nu = {:.6e}, kappa = {:.6e}",
+                            end.nu, end.kappa
+                        ),
+                    });
+                } else if half.len() > LPC_MAX_STEPS {
+                    short.push((end.nu, edge));
+                    stops.push(LpcStop {
+                        reason: LpcStopReason::StepLimit,
+                        nu: Some(end.nu),
+                        kappa: Some(end.kappa),
+                        message: format!(
+                            "the fold-of-cycles curve took its {LPC_MAX_STEPS} steps toward \
+                             {towards} nu and ends at nu = {:.6e}, kappa = {:.6e}, short of \
+                             the range's end",
+                            end.nu, end.kappa
+                        ),
+                    });
+                }
             }
             _ => {}
         }

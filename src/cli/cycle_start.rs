@@ -152,10 +152,15 @@ impl Start {
     pub fn json(&self) -> Value {
         match self {
             Start::Hopf(h) => json!({"kind": "hopf", "kappa": h.kappa_c}),
-            Start::Simulation { orbit, .. } => json!({
+            Start::Simulation { orbit, hopf } => json!({
                 "kind": "simulation", "kappa": orbit.params.kappa,
                 "period": orbit.orbit.period, "oscillations": orbit.orbit.periods,
                 "time": orbit.orbit.time,
+                // Stiffnesses simulated first that did not settle on a cycle.
+                "rejected": orbit.rejected.iter().map(|t| json!({
+                    "kappa": t.kappa(), "outcome": t.summary(),
+                })).collect::<Vec<_>>(),
+                "degenerate_hopf": hopf.as_ref().is_some_and(|h| h.onset.criticality == Criticality::Degenerate),
             }),
             Start::NoCycle { tried, .. } => json!({
                 "kind": "none",

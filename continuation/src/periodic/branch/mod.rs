@@ -113,10 +113,12 @@ pub struct CycleSettings {
 pub enum WhenUndecidable {
     /// End with [`ContinuationError::FloquetIllConditioned`].
     Stop,
-    /// Hand the orbit out with [`Stability::IllConditioned`] and go on:
-    /// orbits, periods and folds (from the parameter's turn) stay exact;
-    /// stability, period doublings and tori are not decided there.
-    KeepOrbits,
+    /// The branch's first orbit is handed out with
+    /// [`Stability::IllConditioned`] (an orbit whose stability is unknown
+    /// rather than none at all); a later one ends the branch as `Stop`
+    /// does. Going on past it would trace orbits whose stability, period
+    /// doublings and tori cannot be decided, on ever finer meshes.
+    KeepFirst,
 }
 
 impl Default for CycleSettings {
@@ -172,7 +174,7 @@ pub enum Stability {
     /// Rounding swamps the multipliers: the trivial one is off by
     /// `trivial_error` (infinite: not determined), beyond `trivial_limit`,
     /// and another is that close to the unit circle, or the error exceeds
-    /// 0.1 ([`WhenUndecidable::KeepOrbits`]).
+    /// 0.1 ([`WhenUndecidable::KeepFirst`]).
     IllConditioned { trivial_error: f64 },
 }
 

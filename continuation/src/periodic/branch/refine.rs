@@ -179,7 +179,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             && pt.trivial_error > self.settings.trivial_limit
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
-            if self.settings.when_undecidable == WhenUndecidable::KeepOrbits {
+            if self.settings.when_undecidable == WhenUndecidable::KeepFirst && self.steps == 0 {
                 pt.stability = Stability::IllConditioned {
                     trivial_error: pt.trivial_error,
                 };

@@ -250,6 +250,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         if self.steps.is_multiple_of(5) {
             self.adapt()?;
         }
+        let before = (self.y.clone(), self.tangent.clone());
         let mut curve = FoldStep {
             w: weights(&self.y, &self.settings),
             aug: &mut self.aug,
@@ -263,10 +264,50 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         if curve.passed_bautin {
             return Ok(None);
         }
+        let newton = self.land(&before).unwrap_or(stepped.report);
         Ok(Some(LpcPoint {
             cycle: self.aug.cycle(&self.y),
-            newton: stepped.report,
+            newton,
         }))
+    }
+
+    /// Where the step from `before` (fold, tangent) went past `p2_min` or
+    /// `p2_max`: the fold exactly at that bound (predicted along the
+    /// tangent, corrected with `p2` fixed there) replaces it, so that the
+    /// curve ends on its range, not a step beyond. `None` when the step
+    /// stayed inside, or the fold at the bound did not converge (the step's
+    /// fold is kept).
+    fn land(&mut self, (y0, t0): &(Vec<f64>, Vec<f64>)) -> Option<NewtonReport> {
+        let d = self.y.len();
+        let p2 = self.y[d - 1];
+        let bound = if p2 > self.settings.p2_max {
+            self.settings.p2_max
+        } else if p2 < self.settings.p2_min {
+            self.settings.p2_min
+        } else {
+            return None;
+        };
+        if y0.len() != d || t0[d - 1] == 0.0 {
+            return None;
+        }
+        let s = (bound - y0[d - 1]) / t0[d - 1];
+        let mut y: Vec<f64> = y0.iter().zip(t0).map(|(y, t)| y + s * t).collect();
+        y[d - 1] = bound;
+        let anchor = y.clone();
+        let fix_p2 = unit_row(d, d - 1);
+        let (report, e) = self
+            .aug
+            .newton(
+                &mut y,
+                Some((&fix_p2, &anchor)),
+                &self.settings.corrector,
+                true,
+            )
+            .ok()?;
+        self.aug.update_borders(&e);
+        self.aug.recycle(e);
+        self.y = y;
+        Some(report)
     }
 }
 
