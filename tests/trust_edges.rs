@@ -1,0 +1,250 @@
+//! The edges a stranger found (issue 22), each as the command line that
+//! showed it: one model decision and one onset type for every command, no
+//! spurious period doublings, negative friction named, branches from a
+//! simulated orbit that end at the Hopf point they reach, exit statuses
+//! that tell the truth, requested points answered once, fold-of-cycles
+//! curves that end on their range, advice that is not already the case.
+
+mod common;
+
+use common::{stickslip, temp_dir};
+use serde_json::Value;
+
+/// A press-loaded rock rig driven at 0.01 µm/s with the plain ageing law:
+/// `m = M V0^2 / (W D0) = 2e-12`. The quasi-static onset is degenerate
+/// (`l1 = 0` exactly); the inertial one is subcritical, `l1 ~ 1e-18`, which
+/// only double-double resolves.
+const ROCK: &str = r#"
+name = "rock"
+description = "press-loaded granite rig, slow drive"
+A = 0.008
+B = 0.012
+mu2 = 0
+mu0 = 0.7
+D0 = 5.0
+V0 = 1.0
+M = 1.0
+W = 1.0e5
+V = 0.01
+V_range = [0.01, 10.0]
+"#;
+
+/// The rock scene written into `dir`, its path.
+fn rock(dir: &std::path::Path) -> String {
+    let path = dir.join("rock.toml");
+    std::fs::write(&path, ROCK).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+fn json(text: &str) -> Value {
+    serde_json::from_str(text).unwrap_or_else(|e| panic!("{e}: {text}"))
+}
+
+#[test]
+fn hopf_diagram_and_cycles_decide_the_same_model_and_onset_type() {
+    let dir = temp_dir("trust-rock");
+    let scene = rock(&dir);
+    let out = dir.to_str().unwrap();
+    let (code, text, err) = stickslip(&["hopf", "--scene", &scene, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let h = json(&text);
+    assert_eq!(h["model"], "inertial");
+    assert_eq!(h["criticality"], "subcritical");
+    let l1 = h["l1"].as_f64().unwrap();
+    assert!(l1 > 0.0 && l1 > h["l1_error_bound"].as_f64().unwrap());
+
+    // The diagram: the quasi-static curve is degenerate everywhere, so the
+    // whole curve is traced with the inertia (before: quasi-static, every
+    // point "degenerate", judged at the top of the range).
+    let (code, text, err) = stickslip(&["diagram", "--scene", &scene, "--json", "--out", out]);
+    assert_eq!(code, 0, "{err}");
+    let d = json(&text);
+    assert_eq!(d["model"], "inertial");
+    assert!(d["model_reason"].as_str().unwrap().contains("degenerate"));
+    let curve = d["hopf_curve"].as_array().unwrap();
+    assert!(curve.len() > 10);
+    for p in curve {
+        assert_eq!(p["criticality"], "subcritical", "{p}");
+    }
+    // Its first point is the scene's velocity: the same l1 as `hopf`.
+    let first = curve[0]["l1"].as_f64().unwrap();
+    assert!((first / l1 - 1.0).abs() < 1e-9, "{first} vs {l1}");
+
+    // Cycles start from the Hopf point `hopf` resolved (before: exit 3,
+    // "degenerate Hopf point: l1 = 3.6e-15 vanishes").
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        &scene,
+        "--max-steps",
+        "5",
+        "--json",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 4, "step limit: {err}");
+    let c = json(&text);
+    assert_eq!(c["model"], "inertial");
+    assert_eq!(c["start"]["kind"], "hopf");
+    assert_eq!(c["cycles"].as_array().unwrap().len(), 6);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_branch_from_a_simulated_orbit_ends_at_the_hopf_point_it_reaches() {
+    let dir = temp_dir("trust-rock-sim");
+    let scene = rock(&dir);
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        &scene,
+        "--from-simulation",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&text);
+    let up = &v["leg_stops"][0];
+    assert_eq!(up["leg"], "up");
+    assert_eq!(up["reason"], "hopf_point", "{up}");
+    // The cycles of the up leg shrink toward the onset and are not traced
+    // back (before: Delta_s down to 0.0017, then 27 cycles retraced).
+    let cycles = v["cycles"].as_array().unwrap();
+    let ds: Vec<f64> = cycles
+        .iter()
+        .map(|c| c["delta_s"].as_f64().unwrap())
+        .collect();
+    let smallest = ds.iter().copied().fold(f64::INFINITY, f64::min);
+    let at = ds.iter().position(|d| *d == smallest).unwrap();
+    assert!(smallest < 0.05 * ds[0], "{ds:?}");
+    // After the smallest cycle only the down leg, which starts again at
+    // the simulated orbit.
+    assert!((ds[at + 1] / ds[0] - 1.0).abs() < 0.01, "{ds:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn no_period_doubling_from_a_multiplier_through_infinity_and_negative_friction_is_named() {
+    let dir = temp_dir("trust-mu2");
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--set",
+        "mu2=-0.01",
+        "--max-steps",
+        "115",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "step limit: {err}");
+    let v = json(&text);
+    // Before: 58 period doublings, the one huge nontrivial multiplier
+    // (1e10 .. 1e12) changing sign by rounding.
+    let kinds: Vec<&Value> = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| &p["kind"])
+        .collect();
+    assert!(!kinds.iter().any(|k| *k == "pd" || *k == "ns"), "{kinds:?}");
+    let n = &v["negative_friction"];
+    assert!(n["cycles"].as_u64().unwrap() > 0, "{n}");
+    assert!(n["friction_min"].as_f64().unwrap() < 0.0);
+    assert!(err.contains("negative friction"), "{err}");
+    // After the switch to the inertial model, the parameters used carry its m.
+    assert!(!v["model_switch"].is_null());
+    assert!(v["params"]["m"].as_f64().unwrap() > 0.0);
+    let cycles = v["cycles"].as_array().unwrap();
+    let last = cycles.last().unwrap();
+    assert_eq!(last["model"], "inertial");
+    assert_eq!(last["m"], v["params"]["m"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_run_that_kept_a_cycle_is_partial_and_requested_points_are_answered_once() {
+    let dir = temp_dir("trust-exit");
+    let out = dir.to_str().unwrap();
+    // One cycle, then a failure: kept, so partial (before: exit 3).
+    let (code, text, err) = stickslip(&["cycles", "--set", "nu=1e6", "--json", "--out", out]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("partial results: 1 cycles written"), "{err}");
+    assert_eq!(json(&text)["cycles"].as_array().unwrap().len(), 1);
+    // A repeated stiffness once; one that cannot be delivered (above
+    // kappa_c) makes the request incomplete (before: exit 0).
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--kappa-fraction",
+        "0.9",
+        "--at-kappa",
+        "0.0105,0.02,0.0105",
+        "--json",
+        "--out",
+        out,
+        "--force",
+    ]);
+    assert_eq!(code, 4, "{err}");
+    let v = json(&text);
+    let requested = v["requested_points"].as_array().unwrap();
+    assert_eq!(requested.len(), 2, "{requested:?}");
+    let users = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["user_point"] == true)
+        .count();
+    assert_eq!(users, 1);
+    assert_eq!(v["complete"], false);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_fold_curve_ends_on_its_range_with_a_stop_entry() {
+    let dir = temp_dir("trust-lpc-range");
+    let (code, text, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "brockley",
+        "--nu-range",
+        "1000:20000",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&text);
+    let nus: Vec<f64> = v["lpc_curve"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["nu"].as_f64().unwrap())
+        .collect();
+    assert!(nus.len() > 10);
+    let hi = nus.iter().copied().fold(0.0, f64::max);
+    let lo = nus.iter().copied().fold(f64::INFINITY, f64::min);
+    // Before: the last fold a step beyond the range (e.g. 100 566 µm/s for
+    // a range ending at 1e5), with no stop entry.
+    assert!((hi / 20000.0 - 1.0).abs() < 1e-12, "ends at {hi}");
+    assert!(lo >= 1000.0, "starts at {lo}");
+    let stops = v["lpc_stops"].as_array().unwrap();
+    assert!(
+        stops
+            .iter()
+            .any(|s| s["reason"] == "end_of_range" && s["nu"] == 20000.0),
+        "{stops:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_degenerate_onset_is_not_told_to_add_what_the_scene_has() {
+    // pmma-rr has a mass: forced quasi-static, the advice is to drop the
+    // forcing, not to add inertia (before: "add the ln² term (mu2) or
+    // inertia" whatever the scene).
+    let (code, text, err) = stickslip(&["hopf", "--scene", "pmma-rr", "--model", "quasi-static"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("degenerate within rounding"), "{text}");
+    assert!(text.contains("without --model quasi-static"), "{text}");
+    assert!(!text.contains("inertia (a mass M)"), "{text}");
+}
