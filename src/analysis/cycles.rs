@@ -122,10 +122,9 @@ impl CycleRecord {
                  another is that close to the unit circle (perturbations grow by so many decades \
                  along the orbit); the orbit itself is resolved; judge stability by time \
                  integration (`stickslip simulate`)",
-                if trivial_error.is_finite() {
-                    format!("{trivial_error:.1e}")
-                } else {
-                    "an undetermined amount (the pencil did not find it)".to_string()
+                match trivial_error {
+                    Some(e) => format!("{e:.1e}"),
+                    None => "an undetermined amount (the pencil did not find it)".to_string(),
                 }
             )),
         }

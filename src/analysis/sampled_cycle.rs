@@ -14,6 +14,7 @@
 //!    first orbit ([`equidistribute`]), sampled again.
 
 use super::settle::{SettleError, SettledOrbit};
+use super::simulate::integration_stop;
 use crate::log_model::LogBlock;
 use crate::params::Params;
 use continuation::integrate::{Output, Radau5, Settings, Solution};
@@ -50,7 +51,7 @@ pub fn sampled_cycle(
             .map_err(|e| SettleError::Integration {
                 kappa: params.kappa,
                 time: period,
-                cause: format!("sampling one period: {e}"),
+                cause: format!("sampling one period: {}", integration_stop(&e)),
             })
     };
     let steps = integrate(Output::Steps)?.t;

@@ -24,6 +24,7 @@
 //! decays sevenfold in 60 time units where the true one grows by 2 %
 //! (`Re lambda = 4.5e-4`): a spurious decay to steady sliding.
 
+use crate::analysis::simulate::integration_stop;
 use crate::log_model::LogBlock;
 use crate::model::{steady_state, DrivenBlock, ModelKind};
 use crate::params::Params;
@@ -234,7 +235,7 @@ pub fn settle(
                 return Err(SettleError::Integration {
                     kappa,
                     time: t,
-                    cause: e.to_string(),
+                    cause: integration_stop(&e),
                 })
             }
             _ if decayed => {

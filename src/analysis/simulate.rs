@@ -306,7 +306,7 @@ pub fn simulate_watched(
                 return Err(NumericalError::Analysis(format!(
                     "simulation at nu = {}{segment}: {}{start}",
                     seg.nu,
-                    integration_failure(&e)
+                    integration_failure(&e, log.kind)
                 )));
             }
             Outcome::ReachedEnd | Outcome::TerminalEvent { .. } => {}
@@ -319,25 +319,48 @@ pub fn simulate_watched(
 }
 
 /// An integrator failure in this program's terms: where it stopped (time
-/// in `D0/V0`) and which of `simulate`'s options can help. The step-size
-/// failures are how a slip that blows up or jumps shows; a quasi-static
-/// block has no solution once its spring cannot follow the slip it asks for.
-fn integration_failure(e: &integrate::IntegrateError) -> String {
+/// in `D0/V0`), without a remedy (see [`integration_failure`]). The
+/// step-size failures are how a slip that blows up or jumps shows.
+pub fn integration_stop(e: &integrate::IntegrateError) -> String {
     use integrate::IntegrateError as E;
     match e {
         E::StepSizeUnderflow { t, h, .. }
         | E::NewtonFailed { t, h, .. }
         | E::SingularMatrix { t, h, .. } => format!(
             "the integrator could not go on past t = {t:.10e} D0/V0 (step size down to \
-             {h:.3e}): the slip velocity blows up or jumps there; try a tighter --rtol, a \
-             shorter protocol, or --model inertial with a mass M in the scene (the \
-             quasi-static block has no solution where its spring cannot follow the slip)"
+             {h:.3e}): the slip velocity blows up or jumps there"
         ),
-        E::MaxSteps { t, .. } => format!(
-            "the integrator's step limit was reached at t = {t:.10e} D0/V0; raise --max-steps \
-             or shorten the protocol"
-        ),
+        E::MaxSteps { t, .. } => {
+            format!("the integrator's step limit was reached at t = {t:.10e} D0/V0")
+        }
         other => other.to_string(),
+    }
+}
+
+/// [`integration_stop`] and which of `simulate`'s options can help with the
+/// model `kind`: a quasi-static block has no solution once its spring
+/// cannot follow the slip it asks for, so the inertial model is advised
+/// only to a quasi-static run.
+fn integration_failure(e: &integrate::IntegrateError, kind: ModelKind) -> String {
+    use integrate::IntegrateError as E;
+    let stop = integration_stop(e);
+    match (e, kind) {
+        (
+            E::StepSizeUnderflow { .. } | E::NewtonFailed { .. } | E::SingularMatrix { .. },
+            ModelKind::QuasiStatic,
+        ) => format!(
+            "{stop}; try a tighter --rtol, a shorter protocol, or --model inertial with a mass M \
+             in the scene (the quasi-static block has no solution where its spring cannot \
+             follow the slip)"
+        ),
+        (
+            E::StepSizeUnderflow { .. } | E::NewtonFailed { .. } | E::SingularMatrix { .. },
+            ModelKind::Inertial,
+        ) => {
+            format!("{stop}; try a tighter --rtol or a shorter protocol")
+        }
+        (E::MaxSteps { .. }, _) => format!("{stop}; raise --max-steps or shorten the protocol"),
+        _ => stop,
     }
 }
 
@@ -508,7 +531,7 @@ pub fn cycle_by_integration(
         ..Settings::default()
     };
     let fail = |e: integrate::IntegrateError| {
-        NumericalError::Analysis(format!("simulation: {}", integration_failure(&e)))
+        NumericalError::Analysis(format!("simulation: {}", integration_failure(&e, kind)))
     };
     let x0 = log.from_model(start[0], start[1], start[2]);
     let warm = Radau5::new(&log, &pv, settings.clone())

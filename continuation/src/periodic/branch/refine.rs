@@ -181,7 +181,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
         {
             if self.settings.when_undecidable == WhenUndecidable::KeepFirst && self.steps == 0 {
                 pt.stability = Stability::IllConditioned {
-                    trivial_error: pt.trivial_error,
+                    trivial_error: Some(pt.trivial_error).filter(|e| e.is_finite()),
                 };
                 return Ok(pt);
             }
