@@ -172,10 +172,10 @@ pub enum Stability {
     /// (singular to rounding, see [`super::floquet::pencil_multipliers`]).
     Undetermined { missing: usize },
     /// Rounding swamps the multipliers: the trivial one is off by
-    /// `trivial_error` (infinite: not determined), beyond `trivial_limit`,
-    /// and another is that close to the unit circle, or the error exceeds
-    /// 0.1 ([`WhenUndecidable::KeepFirst`]).
-    IllConditioned { trivial_error: f64 },
+    /// `trivial_error` (`None`: the pencil did not determine it), beyond
+    /// `trivial_limit`, and another is that close to the unit circle, or
+    /// the error exceeds 0.1 ([`WhenUndecidable::KeepFirst`]).
+    IllConditioned { trivial_error: Option<f64> },
 }
 
 impl Stability {
