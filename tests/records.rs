@@ -379,7 +379,7 @@ fn requested_stiffnesses_are_explained_in_kappa_and_k_over_w() {
         1e-14
     ));
     let (code, text, err) = stickslip(&[&base[..], &["--out", out, "--force"]].concat());
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(code, 4, "{err}");
     let line = text
         .lines()
         .find(|l| l.starts_with("requested kappa = "))

@@ -334,10 +334,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 Some(_) => setup.scene_params,
                 None => setup.params,
             }),
-            "negative_friction": unphysical.as_ref().map(|n| json!({
-                "cycles": n.cycles, "of": records.len(), "kappa_range": [n.kappa_lo, n.kappa_hi],
-                "friction_min": n.friction_min, "s_min": n.s_min, "reason": n.describe(),
-            })),
+
             "kappa_c": start.kappa_c(),
             "start": start.json(),
             "collocation": points_name(points),
@@ -359,6 +356,12 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         let mut v = v;
         if let Some(why) = start.reason() {
             v["reason"] = json!(why);
+        }
+        if let Some(n) = &unphysical {
+            v["negative_friction"] = json!({
+                "cycles": n.cycles, "of": records.len(), "kappa_range": [n.kappa_lo, n.kappa_hi],
+                "friction_min": n.friction_min, "s_min": n.s_min, "reason": n.describe(),
+            });
         }
         println!(
             "{}",
