@@ -248,3 +248,32 @@ fn a_degenerate_onset_is_not_told_to_add_what_the_scene_has() {
     assert!(text.contains("without --model quasi-static"), "{text}");
     assert!(!text.contains("inertia (a mass M)"), "{text}");
 }
+
+#[test]
+fn a_simulated_start_records_the_stiffnesses_it_rejected() {
+    // The scene's stiffness is above kappa_c: the simulation there decays,
+    // and the branch starts at 0.9 kappa_c; the JSON says so (before: the
+    // failed try was in the text only).
+    let dir = temp_dir("trust-rejected");
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--from-simulation",
+        "--set",
+        "kappa=0.02",
+        "--max-steps",
+        "3",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "step limit: {err}");
+    let start = &json(&text)["start"];
+    assert_eq!(start["kind"], "simulation");
+    let rejected = start["rejected"].as_array().unwrap();
+    assert_eq!(rejected.len(), 1, "{start}");
+    assert_eq!(rejected[0]["kappa"], 0.02);
+    assert!(rejected[0]["outcome"].as_str().unwrap().contains("decayed"));
+    let kappa_c = json(&text)["kappa_c"].as_f64().unwrap();
+    assert!((start["kappa"].as_f64().unwrap() / (0.9 * kappa_c) - 1.0).abs() < 1e-12);
+    let _ = std::fs::remove_dir_all(&dir);
+}

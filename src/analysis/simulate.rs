@@ -563,3 +563,26 @@ pub fn cycle_by_integration(
     let smin = lows.iter().map(|c| s_at(c)).sum::<f64>() / lows.len() as f64;
     Ok((period, smax - smin))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stopped_integration_advises_only_what_the_run_does_not_already_do() {
+        let e = integrate::IntegrateError::StepSizeUnderflow {
+            t: 2.0,
+            h: 1e-30,
+            h_min: 1e-29,
+            cause: "h_min",
+        };
+        let inertial = integration_failure(&e, ModelKind::Inertial);
+        assert!(!inertial.contains("--model inertial"), "{inertial}");
+        let quasi_static = integration_failure(&e, ModelKind::QuasiStatic);
+        assert!(quasi_static.contains("--model inertial"), "{quasi_static}");
+        // No integrator knob the command line does not have.
+        for text in [&inertial, &quasi_static, &integration_stop(&e)] {
+            assert!(!text.contains("h_min") && !text.contains("atol"), "{text}");
+        }
+    }
+}
