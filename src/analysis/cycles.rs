@@ -711,6 +711,7 @@ fn follow(
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<FollowEnd, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
+    let mut slowest = f64::INFINITY;
     let mut previous: Option<Box<Cycle>> = None;
     for pt in branch.by_ref().skip(skip) {
         let pt = pt.map_err(|e| match (last, e) {
@@ -721,11 +722,27 @@ fn follow(
                  which collocation cannot continue ({e})"
                 ))
             }
+            (Some((kappa, _)), e @ continuation::ContinuationError::Newton { .. })
+                if log.kind == ModelKind::Inertial
+                    && watch.m > 0.0
+                    && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64 =>
+            {
+                NumericalError::Analysis(format!(
+                    "{e}: near kappa = {kappa:.6e} the block sticks down to v = {slowest:.3e} V0, \
+                     where the inertial model's velocity relaxes at the rate A/(m v) = {:.3e} \
+                     V0/D0 and rounding in the friction balance s - mu is amplified by as much: \
+                     beyond what f64 collocation resolves, so the inertial branch ends here. \
+                     The quasi-static model has no such rate (--model quasi-static; each cycle's \
+                     chi then says where the inertia it drops would matter)",
+                    watch.a / (watch.m * slowest)
+                ))
+            }
             (_, e) => NumericalError::from(e),
         })?;
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
         last = Some((rec.kappa, rec.delta_s));
+        slowest = rec.v_min;
         sink(&rec)?;
         if watch.switch
             && log.kind == ModelKind::QuasiStatic
@@ -755,6 +772,13 @@ pub fn hopf_start(log: &LogBlock, params: &Params, h: &HopfPoint) -> (Vec<f64>, 
         p.to_vec(),
     )
 }
+
+/// Relaxation rate `A/(m v)` of the inertial block's velocity (units
+/// `V0/D0`) beyond which a failed correction is explained by it: rounding in
+/// the friction balance `s - mu` (about `eps`) is amplified by that rate in
+/// `d ln v/dt`, so that the collocation residual cannot fall to its
+/// tolerance (seen at `v_min ~ 1e-41`, `m = 1e-6`, `A = 1e-4`: `1e39`).
+const STIFF_BEYOND_F64: f64 = 1e30;
 
 /// Fraction of a leg's largest `Delta_s` below which a cycle counts as
 /// shrunk onto steady sliding.
