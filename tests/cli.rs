@@ -359,6 +359,7 @@ fn diagram_json_has_the_curve_of_folds_of_the_cutoff_scene() {
     assert_eq!(code, 4, "{err}");
     let v: Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["lpc_complete"], false);
+    assert_eq!(v["complete"], false, "partial, as the exit status says");
     let curve = v["lpc_curve"].as_array().expect("lpc_curve");
     assert!(curve.len() > 20, "{} folds", curve.len());
     let bautin = v["special_points"]

@@ -277,3 +277,82 @@ fn a_simulated_start_records_the_stiffnesses_it_rejected() {
     assert!((start["kappa"].as_f64().unwrap() / (0.9 * kappa_c) - 1.0).abs() < 1e-12);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn dropped_inertia_that_reverses_the_onset_type_decides_it_in_every_command() {
+    // m = 0.05 at nu = 0.01: the inertia ratio 6.25e-4 is below the 1e-3 that
+    // lets the quasi-static model shift kappa_c by that little, yet it turns
+    // the quasi-static supercritical onset (l1 = -8.8e-9) subcritical
+    // (l1 = +2.4e-8). Before: hopf and cycles quasi-static supercritical,
+    // diagram (judged at the top of its range) inertial subcritical.
+    let dir = temp_dir("trust-heavy");
+    let scene = dir.join("heavy.toml");
+    std::fs::write(
+        &scene,
+        ROCK.replace("mu2 = 0", "mu2 = 1e-6")
+            .replace("M = 1.0", "M = 2.5e10"),
+    )
+    .unwrap();
+    let scene = scene.to_str().unwrap();
+    let out = dir.to_str().unwrap();
+    let (code, text, err) = stickslip(&["hopf", "--scene", scene, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let h = json(&text);
+    assert_eq!(h["model"], "inertial", "{}", h["model_reason"]);
+    assert_eq!(h["criticality"], "subcritical");
+    assert!((h["params"]["m"].as_f64().unwrap() / 0.05 - 1.0).abs() < 1e-12);
+    let kappa_c = h["kappa_c"].as_f64().unwrap();
+    let (code, text, err) = stickslip(&["diagram", "--scene", scene, "--json", "--out", out]);
+    assert!(code == 0 || code == 4, "{err}");
+    let d = json(&text);
+    assert_eq!(d["model"], "inertial");
+    let first = &d["hopf_curve"][0];
+    assert_eq!(first["criticality"], "subcritical");
+    assert!((first["kappa"].as_f64().unwrap() / kappa_c - 1.0).abs() < 1e-12);
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        scene,
+        "--max-steps",
+        "2",
+        "--json",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 4, "step limit: {err}");
+    let c = json(&text);
+    assert_eq!(c["model"], "inertial");
+    assert!((c["kappa_c"].as_f64().unwrap() / kappa_c - 1.0).abs() < 1e-12);
+    // Subcritical: the cycles born there lie above kappa_c.
+    let cycles = c["cycles"].as_array().unwrap();
+    assert!(cycles
+        .iter()
+        .all(|x| x["kappa"].as_f64().unwrap() > kappa_c));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_stiffness_between_the_onset_and_the_first_cycle_is_explained_as_such() {
+    let dir = temp_dir("trust-near-onset");
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--at-kappa",
+        "0.0109999999",
+        "--max-steps",
+        "3",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    let r = &json(&text)["requested_points"][0];
+    assert_eq!(r["delivered"], false);
+    // Before: "the branch stopped at kappa = 1.0999999460e-2 before reaching
+    // it", of a branch that started above it and ran downward.
+    let why = r["reason"].as_str().unwrap();
+    assert!(
+        why.contains("between kappa_c") && why.contains("first cycle"),
+        "{why}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -221,6 +221,9 @@ pub enum NotDelivered {
     BeyondFold { above: bool, fold: f64 },
     /// On the side of `kappa_c` where the cycles born there do not exist.
     NoCyclesOnThisSide { above: bool, kappa_c: f64 },
+    /// Between `kappa_c` and the branch's first cycle at `first`: the cycles
+    /// there are smaller than the first one computed off the Hopf point.
+    BeforeFirstCycle { first: f64, kappa_c: f64 },
     /// The branch stopped at `end` before reaching it.
     Stopped { end: f64, stop: String },
 }
@@ -248,8 +251,15 @@ impl NotDelivered {
                 "{} kappa_c = {}, where no cycle exists on this side: the cycles born at the Hopf \
                  point exist for kappa {} kappa_c",
                 if *above { "above" } else { "below" },
-                stiffness(*kappa_c, 10),
+                stiffness(*kappa_c, 16),
                 if *above { "<" } else { ">" }
+            ),
+            NotDelivered::BeforeFirstCycle { first, kappa_c } => format!(
+                "between kappa_c = {} and the branch's first cycle at kappa = {}: the cycles \
+                 there are smaller than the first one computed off the Hopf point (the onset law \
+                 of `hopf` gives their size, Delta_s ~ C sqrt|kappa - kappa_c|)",
+                stiffness(*kappa_c, 16),
+                stiffness(*first, 16)
             ),
             NotDelivered::Stopped { end, stop } => format!(
                 "the branch stopped at kappa = {} before reaching it ({stop})",
@@ -331,6 +341,15 @@ pub fn requested_points(
                     };
                     match ends.hopf_start {
                         _ if fold => NotDelivered::BeyondFold { above, fold: end },
+                        Some(kc)
+                            if (above && target <= kc && hi <= kc * (1.0 + 1e-9))
+                                || (!above && target >= kc && lo >= kc * (1.0 - 1e-9)) =>
+                        {
+                            NotDelivered::BeforeFirstCycle {
+                                first: end,
+                                kappa_c: kc,
+                            }
+                        }
                         Some(kc)
                             if (above && target > kc && hi <= kc * (1.0 + 1e-9))
                                 || (!above && target < kc && lo >= kc * (1.0 - 1e-9)) =>

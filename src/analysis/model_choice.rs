@@ -5,9 +5,10 @@
 //! the quasi-static model changes `kappa_c` by less than the threshold
 //! (relative), and it is the one used; otherwise the inertial model is.
 //! One exception, decided by [`inertia_decides`] for every command alike:
-//! where the quasi-static onset is degenerate (`l1 = 0` within its bound,
-//! the plain Rice–Ruina law) and the scene has inertia, that inertia,
-//! however small, decides the onset type, and the inertial model is used.
+//! where dropping the scene's inertia changes the onset type (the
+//! quasi-static onset degenerate, `l1 = 0` within its bound as for the plain
+//! Rice–Ruina law, or of the other sign), that inertia, however small,
+//! decides it, and the inertial model is used.
 
 use crate::model::ModelKind;
 use crate::params::Params;
@@ -70,36 +71,39 @@ pub fn params_for(kind: ModelKind, params: &Params) -> Params {
     p
 }
 
-/// The inertial model in place of an automatic quasi-static `choice` whose
-/// onset came out degenerate (`l1 = 0` within its bound) at `degenerate` of
-/// the `of` Hopf points computed (one for `hopf` and `cycles`, every point
-/// of a `diagram` curve): the scene's inertia `m > 0`, dropped because it
-/// shifts `kappa_c` so little, is what decides the onset type there.
-/// `None` (keep `choice`) when the model was forced, the scene has no
-/// inertia, the choice is already inertial, or no point is degenerate.
+/// The inertial model in place of an automatic quasi-static `choice` where
+/// dropping the inertia changes the onset type: at `changed` of the `of`
+/// Hopf points compared (one for `hopf` and `cycles`, every point of a
+/// `diagram` curve) the quasi-static onset is degenerate (`l1 = 0` within
+/// its bound) or its type differs from the inertial one. The inertia ratio
+/// bounds the shift of `kappa_c`, not of `l1`: a small `l1` can change sign
+/// with an inertia that moves `kappa_c` by 1e-4 only. `None` (keep
+/// `choice`) when the model was forced, the scene has no inertia, the
+/// choice is already inertial, or no onset type changes.
 pub fn inertia_decides(
     choice: &ModelChoice,
     forced: bool,
     m: f64,
-    degenerate: usize,
+    changed: usize,
     of: usize,
 ) -> Option<ModelChoice> {
-    if forced || m <= 0.0 || choice.kind != ModelKind::QuasiStatic || degenerate == 0 {
+    if forced || m <= 0.0 || choice.kind != ModelKind::QuasiStatic || changed == 0 {
         return None;
     }
     let where_ = if of == 1 {
-        "the quasi-static onset is degenerate".to_string()
+        "the quasi-static onset type is not the inertial one".to_string()
     } else {
         format!(
-            "the quasi-static onset is degenerate at {degenerate} of the {of} points of the curve"
+            "the quasi-static onset type is not the inertial one at {changed} of the {of} \
+             points of the quasi-static curve"
         )
     };
     Some(ModelChoice {
         kind: ModelKind::Inertial,
         inertia_ratio: choice.inertia_ratio,
         reason: format!(
-            "inertial: {where_} (l1 = 0 to rounding), so the scene's small inertia \
-             (m nu^2/mu_v = {:.3e}) decides the onset type",
+            "inertial: {where_} (degenerate, l1 = 0 to rounding, or of the other sign), so the \
+             scene's small inertia (m nu^2/mu_v = {:.3e}) decides the onset type",
             choice.inertia_ratio
         ),
     })

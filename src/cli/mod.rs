@@ -161,11 +161,18 @@ impl SceneArgs {
             self.inertia_threshold,
         );
         if choice.kind == ModelKind::Inertial && scene_params.m <= 0.0 {
-            return Err(InputError::Conflict(
-                "the inertial model needs inertia: m = 0 here (M = 0 in the scene); give M > 0 or --set m=..., \
-                 or use --model quasi-static"
-                    .into(),
-            )
+            let set_m = self
+                .set
+                .iter()
+                .any(|s| s.split('=').next().map(str::trim) == Some("m"));
+            let why = if set_m {
+                "--set m=0; give m > 0"
+            } else {
+                "M = 0 in the scene; give M > 0 or --set m=..."
+            };
+            return Err(InputError::Conflict(format!(
+                "the inertial model needs inertia: m = 0 here ({why}), or use --model quasi-static"
+            ))
             .into());
         }
         let params = params_for(choice.kind, &scene_params);
@@ -188,29 +195,47 @@ impl SceneArgs {
     }
 }
 
-/// Locates the onset; when the quasi-static onset is degenerate (plain RR
-/// law) and the scene has some inertia that the automatic choice dropped,
-/// that inertia decides the onset type: the analysis is redone with the
-/// inertial model and the reason says so.
+/// Locates the onset; when the scene has some inertia that the automatic
+/// choice dropped and dropping it changes the onset type (the quasi-static
+/// onset degenerate, as for the plain RR law, or of the other sign), that
+/// inertia decides ([`inertia_decides`]): the inertial onset is the answer
+/// and the reason says so. An inertial onset that cannot be located leaves
+/// the quasi-static one.
 pub fn onset_with_degeneracy_resolved(
     setup: &mut Setup,
     model_forced: bool,
 ) -> Result<HopfOutcome, Error> {
     let outcome = find_hopf(setup.choice.kind, &setup.params)?;
-    let degenerate =
-        matches!(&outcome, HopfOutcome::Found(h) if h.onset.criticality == Criticality::Degenerate);
+    let HopfOutcome::Found(h) = &outcome else {
+        return Ok(outcome);
+    };
+    if model_forced || setup.choice.kind != ModelKind::QuasiStatic || setup.scene_params.m <= 0.0 {
+        return Ok(outcome);
+    }
+    // The onset with the scene's inertia: where its type differs from the
+    // quasi-static one (or that is degenerate), inertia decides.
+    let Ok(inertial) = find_hopf(ModelKind::Inertial, &setup.scene_params) else {
+        return Ok(outcome);
+    };
+    let changed = match &inertial {
+        HopfOutcome::Found(hi) => {
+            h.onset.criticality == Criticality::Degenerate
+                || hi.onset.criticality != h.onset.criticality
+        }
+        HopfOutcome::StableForAllStiffness { .. } => false,
+    };
     let Some(choice) = inertia_decides(
         &setup.choice,
         model_forced,
         setup.scene_params.m,
-        usize::from(degenerate),
+        usize::from(changed),
         1,
     ) else {
         return Ok(outcome);
     };
     setup.choice = choice;
     setup.params = setup.scene_params;
-    Ok(find_hopf(ModelKind::Inertial, &setup.params)?)
+    Ok(inertial)
 }
 
 /// Runs the parsed command line, writing to standard output.
