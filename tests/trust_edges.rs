@@ -356,3 +356,29 @@ fn a_stiffness_between_the_onset_and_the_first_cycle_is_explained_as_such() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_empty_branch_advises_only_what_was_not_tried() {
+    // mu2 < 0: steady friction has a maximum, not a minimum, and the
+    // simulations went down to kappa ~ 1e-7 (before: "try --set kappa=...
+    // smaller, or --set nu=... closer to the friction minimum").
+    let dir = temp_dir("trust-advice");
+    let scene = rock(&dir);
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        &scene,
+        "--set",
+        "mu2=-0.01",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&text);
+    assert_eq!(v["start"]["kind"], "none");
+    let why = v["reason"].as_str().unwrap();
+    assert!(!why.contains("friction minimum"), "{why}");
+    assert!(!why.contains("kappa=... smaller"), "{why}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

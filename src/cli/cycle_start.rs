@@ -222,15 +222,47 @@ fn no_cycle_reason(setup: &Setup, tried: &NoCycleFound) -> String {
          velocity strengthening at nu = {:.6e}: mu_phi - mu_v = {:.4e} <= 0 (mu_phi = {:.6e}, mu_v = {:.6e}, \
          slopes of the friction law at steady sliding), so steady sliding is linearly stable for every \
          stiffness and no cycle is born at a Hopf point. Finite-amplitude cycles coexisting with it, if \
-         any, were not reached from a stuck start: try --set kappa=... smaller, or --set nu=... closer to \
-         the friction minimum",
+         any, were not reached from a stuck start{}",
         kappas.join(", "),
         tried.tries.iter().map(SettleError::summary).collect::<Vec<_>>().join("; "),
         p.nu,
         p.mu_phi() - p.mu_v(),
         p.mu_phi(),
         p.mu_v(),
+        no_cycle_advice(p, tried),
     )
+}
+
+/// What else may reach a coexisting cycle, leaving out what was tried: a
+/// smaller stiffness only where the search stopped above its floor,
+/// `max(A, B) 1e-5` (see `orbit_start`), a velocity nearer the friction minimum only where
+/// steady friction has one (the cutoff law's `V_min`; the ln² law's at
+/// `ln nu = (B - A)/(2 mu2)` for `mu2 > 0`).
+fn no_cycle_advice(p: &crate::params::Params, tried: &NoCycleFound) -> String {
+    let smallest = tried
+        .tries
+        .iter()
+        .map(SettleError::kappa)
+        .fold(f64::INFINITY, f64::min);
+    let mut tries = Vec::new();
+    if smallest > 1.001e-5 * p.a.max(p.b) {
+        tries.push("--set kappa=... smaller".to_string());
+    }
+    let minimum = match p.friction().v_min() {
+        Some(v) => Some(v),
+        None if p.theta_c.is_none() && p.mu2 > 0.0 => Some(((p.b - p.a) / (2.0 * p.mu2)).exp()),
+        None => None,
+    };
+    if let Some(v) = minimum.filter(|v| v.is_finite() && *v > 0.0) {
+        tries.push(format!(
+            "--set nu=... closer to the friction minimum (nu = {v:.4e})"
+        ));
+    }
+    if tries.is_empty() {
+        String::new()
+    } else {
+        format!(": try {}", tries.join(", or "))
+    }
 }
 
 /// `n oscillation(s)`, in the singular for one.
