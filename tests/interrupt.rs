@@ -94,9 +94,15 @@ fn lines(path: &Path) -> usize {
 
 #[test]
 fn ctrl_c_keeps_the_cycles_computed_so_far() {
-    let dir = out_dir("interrupt-cycles");
+    cycles_stopped_by(libc::SIGINT, 130, "Ctrl-C", "interrupt-cycles");
+}
+
+/// `cycles` sent `signal` once a few cycles are on disk (rows are written
+/// as computed): exit `code`, the message names the signal (`word`), the
+/// rows computed are kept whole and marked incomplete, with their figures.
+fn cycles_stopped_by(signal: libc::c_int, code: i32, word: &str, dir_name: &str) {
+    let dir = out_dir(dir_name);
     let out = dir.to_str().unwrap();
-    // Interrupt once a few cycles are on disk (rows are written as computed).
     let csv_path = dir.join("pmma_m=0.01-cycles.csv");
     let args = [
         "cycles",
@@ -109,25 +115,20 @@ fn ctrl_c_keeps_the_cycles_computed_so_far() {
         "--out",
         out,
     ];
-    let run = interrupt_when(&args, |_| lines(&csv_path) >= 6);
+    let run = signal_when(&args, signal, |_| lines(&csv_path) >= 6);
     let err = &run.stderr;
-    assert_eq!(run.code, Some(130), "{err}");
-    assert!(err.contains("interrupted") && err.contains("kept"), "{err}");
+    assert_eq!(run.code, Some(code), "{err}");
+    assert!(
+        err.contains(&format!("interrupted ({word})")) && err.contains("kept"),
+        "{err}"
+    );
     assert!(
         lines(&csv_path) >= 6,
-        "cycles written before the interrupt are kept"
+        "cycles written before the signal are kept"
     );
-    let csv = std::fs::read_to_string(&csv_path).unwrap();
     // The comment lines (the model first, the incomplete branch last) aside,
     // every row matches the header.
-    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
-    let header = rows.next().unwrap().split(',').count();
-    assert!(
-        rows.all(|l| l.split(',').count() == header),
-        "every row matches the header"
-    );
-    let last = csv.lines().last().unwrap();
-    assert!(last.starts_with("# incomplete: "), "{last}");
+    assert!(whole_rows_marked_incomplete(&csv_path) >= 4, "rows kept");
     assert!(
         dir.join("pmma_m=0.01-cycles-amplitude.png").exists(),
         "figures of the computed cycles"
@@ -288,33 +289,7 @@ fn whole_rows_marked_incomplete(path: &Path) -> usize {
 
 #[test]
 fn sigterm_keeps_the_cycles_computed_so_far() {
-    let dir = out_dir("sigterm-cycles");
-    let out = dir.to_str().unwrap();
-    let csv_path = dir.join("pmma_m=0.01-cycles.csv");
-    let args = [
-        "cycles",
-        "--set",
-        "m=0.01",
-        "--kappa-fraction",
-        "0.01",
-        "--max-steps",
-        "100000",
-        "--out",
-        out,
-    ];
-    let run = signal_when(&args, libc::SIGTERM, |_| lines(&csv_path) >= 6);
-    let err = &run.stderr;
-    assert_eq!(run.code, Some(143), "{err}");
-    assert!(
-        err.contains("interrupted (SIGTERM)") && err.contains("kept"),
-        "{err}"
-    );
-    assert!(whole_rows_marked_incomplete(&csv_path) >= 4, "rows kept");
-    assert!(
-        dir.join("pmma_m=0.01-cycles-amplitude.png").exists(),
-        "figures of the computed cycles"
-    );
-    let _ = std::fs::remove_dir_all(&dir);
+    cycles_stopped_by(libc::SIGTERM, 143, "SIGTERM", "sigterm-cycles");
 }
 
 #[test]

@@ -19,7 +19,7 @@ use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, Whe
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
-use continuation::Complex64;
+use continuation::{Complex64, VectorField};
 
 /// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -494,29 +494,43 @@ pub fn trace_cycles_from(
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<BranchEnd, crate::error::Error> {
     let log = LogBlock::centered(kind, params);
-    let (x0, p) = hopf_start(&log, params, h);
-    // The side of the first cycle from `l1` in the arithmetic `hopf` uses
-    // (double-double where f64 cannot resolve its sign).
-    let (nf, _) = resolved_normal_form(
+    let branch = branch_at_hopf(
         &log,
-        &x0,
-        &p,
-        h.omega_c,
-        location_error(kind, params, h.kappa_c),
-    )?;
-    let branch = CycleBranch::from_hopf_normal_form(
         &log,
-        &x0,
-        &p,
-        Param::Kappa as usize,
-        &nf,
+        params,
+        h,
         CycleSettings {
             start_amplitude: start_amplitude(&log),
             ..settings(kind, req, req.ntst)
         },
-    )
-    .map_err(NumericalError::from)?;
+    )?;
     follow_switching(&log, branch, Leg::FromHopf, 0, req, watch, &mut sink)
+}
+
+/// The branch of the cycles born at the Hopf point `h` of `params`, in the
+/// variables of `log` evaluated through `field` (`log` itself, or wrapped,
+/// e.g. counted): its first cycle on the side the sign of `l1` gives, in
+/// the arithmetic `hopf` uses ([`resolved_normal_form`]: double-double
+/// where `f64` cannot resolve it, as next to a Bautin point or with a
+/// small inertia on the plain law).
+pub fn branch_at_hopf<'a, S: VectorField>(
+    field: &'a S,
+    log: &LogBlock,
+    params: &Params,
+    h: &HopfPoint,
+    settings: CycleSettings,
+) -> Result<CycleBranch<'a, S>, NumericalError> {
+    let (x0, p) = hopf_start(log, params, h);
+    let kappa_error = location_error(log.kind, params, h.kappa_c);
+    let (nf, _) = resolved_normal_form(field, &x0, &p, h.omega_c, kappa_error)?;
+    Ok(CycleBranch::from_hopf_normal_form(
+        field,
+        &x0,
+        &p,
+        Param::Kappa as usize,
+        &nf,
+        settings,
+    )?)
 }
 
 /// Mesh intervals of the first cycle sampled from a simulation: stick-slip

@@ -12,6 +12,7 @@ use crate::analysis::hopf::{
     find_hopf_with, location_error, resolved_normal_form, Criticality, HopfOutcome, EXTENDED_DIGITS,
 };
 use crate::analysis::lpc_curve::{lpc_curves, BautinStart, LpcCurves};
+use crate::analysis::model_choice::{inertia_decides, params_for, ModelChoice};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
@@ -328,13 +329,88 @@ pub fn stability_diagram_with<F: Wrap>(
     range: (f64, f64),
     max_steps: usize,
 ) -> Result<StabilityDiagram, NumericalError> {
-    let mut d = hopf_curve_with(fields, kind, params, Param::Nu, range, max_steps)?;
+    let d = hopf_curve_with(fields, kind, params, Param::Nu, range, max_steps)?;
+    Ok(with_fold_curves(fields, kind, params, range, d))
+}
+
+/// The stability diagram of the scene `scene` (its own inertia) over
+/// `range` in the model `choice` made, or in the inertial one where
+/// [`inertia_decides`] says so: the quasi-static Hopf curve is compared
+/// point by point with the inertial one ([`onset_types_changed`]), and only
+/// the curve kept gets its fold-of-cycles curves. Returns the diagram and
+/// the new choice, when the inertia decided.
+pub fn stability_diagram_deciding<F: Wrap>(
+    fields: &F,
+    choice: &ModelChoice,
+    forced: bool,
+    scene: &Params,
+    range: (f64, f64),
+    max_steps: usize,
+) -> Result<(StabilityDiagram, Option<ModelChoice>), NumericalError> {
+    let params = params_for(choice.kind, scene);
+    let curve = hopf_curve_with(fields, choice.kind, &params, Param::Nu, range, max_steps)?;
+    let mut inertial = None;
+    let decided = inertia_decides(choice, forced, scene.m, || {
+        let other = hopf_curve_with(
+            fields,
+            ModelKind::Inertial,
+            scene,
+            Param::Nu,
+            range,
+            max_steps,
+        )
+        .ok()?;
+        let changed = onset_types_changed(&curve, &other);
+        inertial = Some(other);
+        Some((changed, curve.points.len()))
+    });
+    Ok(match (decided, inertial) {
+        (Some(decided), Some(other)) => (
+            with_fold_curves(fields, ModelKind::Inertial, scene, range, other),
+            Some(decided),
+        ),
+        _ => (
+            with_fold_curves(fields, choice.kind, &params, range, curve),
+            None,
+        ),
+    })
+}
+
+/// The points of the quasi-static curve `qs` whose onset type is degenerate
+/// or differs from that of the inertial curve `inertial` at the nearest
+/// velocity (every point, when the inertial curve has none).
+fn onset_types_changed(qs: &StabilityDiagram, inertial: &StabilityDiagram) -> usize {
+    qs.points
+        .iter()
+        .filter(|p| {
+            let nearest = inertial.points.iter().min_by(|a, b| {
+                (a.nu / p.nu)
+                    .ln()
+                    .abs()
+                    .total_cmp(&(b.nu / p.nu).ln().abs())
+            });
+            p.criticality == Criticality::Degenerate
+                || nearest.is_none_or(|q| q.criticality != p.criticality)
+        })
+        .count()
+}
+
+/// The Hopf curve `d` completed into the stability diagram: the curves of
+/// folds of cycles from its Bautin points and the velocity-strengthening
+/// stretches of `range`.
+fn with_fold_curves<F: Wrap>(
+    fields: &F,
+    kind: ModelKind,
+    params: &Params,
+    range: (f64, f64),
+    mut d: StabilityDiagram,
+) -> StabilityDiagram {
     d.lpc = lpc_curves(fields, kind, params, &bautin_starts(&d), range);
     d.strengthening = strengthening_intervals(params, range);
     if let Some(why) = strengthening_reason(params, range, &d.strengthening) {
         d.reason = Some(why);
     }
-    Ok(d)
+    d
 }
 
 /// `l1` of the Hopf-curve point `pt` (parameters `p`) with its error bound,

@@ -7,14 +7,14 @@
 //! Appendix C). Past the friction minimum steady sliding is stable for every
 //! stiffness, and stick-slip below `kappa_LPC` is hysteretic alone.
 
-use crate::analysis::cycles::hopf_start;
+use crate::analysis::cycles::branch_at_hopf;
 use crate::analysis::hopf::{find_hopf_with, HopfOutcome};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::error::ContinuationError;
-use continuation::periodic::branch::{CycleBranch, CycleSettings};
+use continuation::periodic::branch::CycleSettings;
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
 use continuation::predictor_corrector::StepControl;
@@ -137,7 +137,6 @@ fn first_fold<F: Wrap>(
             "no Hopf point next to the Bautin point".into(),
         ));
     };
-    let (x0, p) = hopf_start(log, params, &h);
     // A seed for the curve, on its own mesh: no refinement (the fold is
     // corrected on the curve's mesh when the curve starts).
     let settings = CycleSettings {
@@ -158,9 +157,7 @@ fn first_fold<F: Wrap>(
         ..Default::default()
     };
     let field = fields.field(*log);
-    let branch =
-        CycleBranch::from_hopf(&field, &x0, h.omega_c, &p, Param::Kappa as usize, settings)
-            .map_err(NumericalError::from)?;
+    let branch = branch_at_hopf(&field, log, params, &h, settings)?;
     for pt in branch {
         let pt = pt.map_err(NumericalError::from)?;
         if let Some(lpc) = pt.lpc {

@@ -72,24 +72,26 @@ pub fn params_for(kind: ModelKind, params: &Params) -> Params {
 }
 
 /// The inertial model in place of an automatic quasi-static `choice` where
-/// dropping the inertia changes the onset type: at `changed` of the `of`
-/// Hopf points compared (one for `hopf` and `cycles`, every point of a
-/// `diagram` curve) the quasi-static onset is degenerate (`l1 = 0` within
-/// its bound) or its type differs from the inertial one. The inertia ratio
-/// bounds the shift of `kappa_c`, not of `l1`: a small `l1` can change sign
-/// with an inertia that moves `kappa_c` by 1e-4 only. `None` (keep
-/// `choice`) when the model was forced, the scene has no inertia, the
-/// choice is already inertial, or no onset type changes.
+/// dropping the inertia changes the onset type: `compare` (called only when
+/// the choice could change: not forced, the scene has inertia `m > 0`, the
+/// choice is quasi-static) gives `(changed, of)`, the count of the `of` Hopf
+/// points compared (one for `hopf` and `cycles`, every point of a `diagram`
+/// curve) where the quasi-static onset is degenerate (`l1 = 0` within its
+/// bound) or of another type than the inertial one, or `None` when the
+/// inertial onset could not be computed. The inertia ratio bounds the shift
+/// of `kappa_c`, not of `l1`: a small `l1` can change sign with an inertia
+/// that moves `kappa_c` by 1e-4 only. `None` (keep `choice`) when no onset
+/// type changes.
 pub fn inertia_decides(
     choice: &ModelChoice,
     forced: bool,
     m: f64,
-    changed: usize,
-    of: usize,
+    compare: impl FnOnce() -> Option<(usize, usize)>,
 ) -> Option<ModelChoice> {
-    if forced || m <= 0.0 || choice.kind != ModelKind::QuasiStatic || changed == 0 {
+    if forced || m <= 0.0 || choice.kind != ModelKind::QuasiStatic {
         return None;
     }
+    let (changed, of) = compare().filter(|&(changed, _)| changed > 0)?;
     let where_ = if of == 1 {
         "the quasi-static onset type is not the inertial one".to_string()
     } else {

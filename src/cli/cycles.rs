@@ -334,7 +334,6 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
                 Some(_) => setup.scene_params,
                 None => setup.params,
             }),
-
             "kappa_c": start.kappa_c(),
             "start": start.json(),
             "collocation": points_name(points),
@@ -427,16 +426,17 @@ impl NegativeFriction {
             .iter()
             .filter(|c| c.friction_min < 0.0 || c.s_min < 0.0)
             .collect();
-        let first = bad.first()?;
-        let fold = |init: f64, f: fn(f64, f64) -> f64, g: fn(&CycleRecord) -> f64| {
-            bad.iter().map(|c| g(c)).fold(init, f)
-        };
+        if bad.is_empty() {
+            return None;
+        }
+        let least =
+            |g: fn(&CycleRecord) -> f64| bad.iter().map(|c| g(c)).fold(f64::INFINITY, f64::min);
         Some(NegativeFriction {
             cycles: bad.len(),
-            kappa_lo: fold(first.kappa, f64::min, |c| c.kappa),
-            kappa_hi: fold(first.kappa, f64::max, |c| c.kappa),
-            friction_min: fold(f64::INFINITY, f64::min, |c| c.friction_min),
-            s_min: fold(f64::INFINITY, f64::min, |c| c.s_min),
+            kappa_lo: least(|c| c.kappa),
+            kappa_hi: -least(|c| -c.kappa),
+            friction_min: least(|c| c.friction_min),
+            s_min: least(|c| c.s_min),
         })
     }
 

@@ -120,6 +120,14 @@ impl LineFile {
         Ok(())
     }
 
+    /// `Ok` while no write has failed; else that write's error again.
+    fn open(&self) -> std::io::Result<()> {
+        match &self.failed {
+            Some((kind, message)) => Err(std::io::Error::new(*kind, message.clone())),
+            None => Ok(()),
+        }
+    }
+
     /// The file's length: the end of its last complete line.
     fn len(&self) -> u64 {
         self.ends.back().copied().unwrap_or(0)
@@ -145,9 +153,7 @@ impl LineFile {
 
     /// Writes the complete lines gathered, in one write.
     fn commit(&mut self) -> std::io::Result<()> {
-        if let Some((kind, message)) = &self.failed {
-            return Err(std::io::Error::new(*kind, message.clone()));
-        }
+        self.open()?;
         let Some(last) = self.pending.iter().rposition(|b| *b == b'\n') else {
             return Ok(());
         };
@@ -201,9 +207,7 @@ fn place(file: &mut File, len: u64, bytes: &[u8]) -> std::io::Result<()> {
 
 impl Write for LineFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        if let Some((kind, message)) = &self.failed {
-            return Err(std::io::Error::new(*kind, message.clone()));
-        }
+        self.open()?;
         self.pending.extend_from_slice(buf);
         if self.pending.len() >= CHUNK {
             self.commit()?;
@@ -472,9 +476,10 @@ mod tests {
         std::fs::remove_dir_all(&dir).ok();
     }
 
-    #[test]
-    fn an_unfinished_run_is_replaced_a_finished_one_kept() {
-        let dir = std::env::temp_dir().join(format!("stickslip-rerun-{}", std::process::id()));
+    /// Output into a new folder `name` of the temporary directory, without
+    /// `--force`, and the pmma scene with the overrides `set`.
+    fn output_and_scene(name: &str, set: Vec<String>) -> (PathBuf, OutputArgs, SceneArgs) {
+        let dir = std::env::temp_dir().join(format!("stickslip-{name}-{}", std::process::id()));
         let args = OutputArgs {
             out: dir.clone(),
             name: None,
@@ -483,10 +488,16 @@ mod tests {
         args.create_dir().unwrap();
         let scene = SceneArgs {
             scene: "pmma".into(),
-            set: Vec::new(),
+            set,
             model: None,
             inertia_threshold: 1e-3,
         };
+        (dir, args, scene)
+    }
+
+    #[test]
+    fn an_unfinished_run_is_replaced_a_finished_one_kept() {
+        let (dir, args, scene) = output_and_scene("rerun", Vec::new());
         let csv_run = ["-cycles.csv", "-cycles-orbits.png"];
         write(&dir.join("pmma-cycles-orbits.png"), "x").unwrap();
         write(
@@ -527,19 +538,7 @@ mod tests {
         let same = ["kappa=0.5", "m=1e-12", "kappa=9e-3"].map(String::from);
         assert_eq!(run_name("pmma", &same, None), "pmma_kappa=0.009_m=1e-12");
         assert_eq!(run_name("pmma", &[], None), "pmma");
-        let dir = std::env::temp_dir().join(format!("stickslip-names-{}", std::process::id()));
-        let mut args = OutputArgs {
-            out: dir.clone(),
-            name: None,
-            force: false,
-        };
-        args.create_dir().unwrap();
-        let scene = SceneArgs {
-            scene: "pmma".into(),
-            set: set.clone(),
-            model: None,
-            inertia_threshold: 1e-3,
-        };
+        let (dir, mut args, scene) = output_and_scene("names", set.clone());
         let plain = SceneArgs {
             set: Vec::new(),
             ..scene.clone()

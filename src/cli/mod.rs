@@ -206,36 +206,28 @@ pub fn onset_with_degeneracy_resolved(
     model_forced: bool,
 ) -> Result<HopfOutcome, Error> {
     let outcome = find_hopf(setup.choice.kind, &setup.params)?;
-    let HopfOutcome::Found(h) = &outcome else {
-        return Ok(outcome);
-    };
-    if model_forced || setup.choice.kind != ModelKind::QuasiStatic || setup.scene_params.m <= 0.0 {
-        return Ok(outcome);
-    }
-    // The onset with the scene's inertia: where its type differs from the
-    // quasi-static one (or that is degenerate), inertia decides.
-    let Ok(inertial) = find_hopf(ModelKind::Inertial, &setup.scene_params) else {
-        return Ok(outcome);
-    };
-    let changed = match &inertial {
-        HopfOutcome::Found(hi) => {
-            h.onset.criticality == Criticality::Degenerate
-                || hi.onset.criticality != h.onset.criticality
+    let mut inertial = None;
+    let choice = inertia_decides(&setup.choice, model_forced, setup.scene_params.m, || {
+        let HopfOutcome::Found(h) = &outcome else {
+            return None;
+        };
+        let HopfOutcome::Found(hi) = find_hopf(ModelKind::Inertial, &setup.scene_params).ok()?
+        else {
+            return None;
+        };
+        let changed = h.onset.criticality == Criticality::Degenerate
+            || hi.onset.criticality != h.onset.criticality;
+        inertial = Some(hi);
+        Some((usize::from(changed), 1))
+    });
+    match (choice, inertial) {
+        (Some(choice), Some(h)) => {
+            setup.choice = choice;
+            setup.params = setup.scene_params;
+            Ok(HopfOutcome::Found(h))
         }
-        HopfOutcome::StableForAllStiffness { .. } => false,
-    };
-    let Some(choice) = inertia_decides(
-        &setup.choice,
-        model_forced,
-        setup.scene_params.m,
-        usize::from(changed),
-        1,
-    ) else {
-        return Ok(outcome);
-    };
-    setup.choice = choice;
-    setup.params = setup.scene_params;
-    Ok(inertial)
+        _ => Ok(outcome),
+    }
 }
 
 /// Runs the parsed command line, writing to standard output.

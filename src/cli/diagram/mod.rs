@@ -11,12 +11,10 @@ use super::lpc_output::{lpc_summary, write_lpc_csv};
 use super::records::diagram::{DiagramRecords, HopfCurvePoint};
 use super::{params_json, significant, SceneArgs, Setup, TextUnits};
 use crate::analysis::diagram::{
-    stability_diagram_with, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
+    stability_diagram_deciding, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
 };
 use crate::analysis::hopf::Criticality;
-use crate::analysis::model_choice::inertia_decides;
 use crate::error::{Error, InputError, NumericalError};
-use crate::model::ModelKind;
 use clap::Args;
 use continuation::{AsIs, Wrap};
 use figures::write_figures;
@@ -252,42 +250,19 @@ fn one_scene<F: Wrap>(
         .output
         .stem(&setup.scene.name, &args.scene, several, OUTPUTS)?;
     let mut setup = setup;
-    let mut diagram = stability_diagram_with(
+    // Where dropping the scene's inertia changes the onset type anywhere on
+    // the curve, the inertia decides, as `hopf` and `cycles` decide at one point.
+    let (diagram, decided) = stability_diagram_deciding(
         fields,
-        setup.choice.kind,
-        &setup.params,
+        &setup.choice,
+        args.scene.model.is_some(),
+        &setup.scene_params,
         (lo, hi),
         args.max_steps,
     )?;
-    // Where dropping the scene's inertia changes the onset type anywhere on
-    // the curve (degenerate, or the other sign, against the inertial curve
-    // at the nearest velocity), the inertia decides: the whole curve in the
-    // inertial model (as `hopf` and `cycles` decide at one point).
-    if args.scene.model.is_none()
-        && setup.choice.kind == ModelKind::QuasiStatic
-        && setup.scene_params.m > 0.0
-    {
-        let inertial = stability_diagram_with(
-            fields,
-            ModelKind::Inertial,
-            &setup.scene_params,
-            (lo, hi),
-            args.max_steps,
-        );
-        if let Ok(inertial) = inertial {
-            let changed = onset_types_changed(&diagram, &inertial);
-            if let Some(choice) = inertia_decides(
-                &setup.choice,
-                false,
-                setup.scene_params.m,
-                changed,
-                diagram.points.len(),
-            ) {
-                setup.choice = choice;
-                setup.params = setup.scene_params;
-                diagram = inertial;
-            }
-        }
+    if let Some(choice) = decided {
+        setup.choice = choice;
+        setup.params = setup.scene_params;
     }
     if diagram.points.iter().any(|p| {
         !(p.kappa.is_finite() && p.nu.is_finite() && p.omega.is_finite() && p.l1.is_finite())
@@ -317,25 +292,6 @@ fn one_scene<F: Wrap>(
     )?;
     result.files.push(json_path);
     Ok(result)
-}
-
-/// The points of the quasi-static curve `qs` whose onset type is degenerate
-/// or differs from that of the inertial curve `inertial` at the nearest
-/// velocity (every point, when the inertial curve has none).
-fn onset_types_changed(qs: &StabilityDiagram, inertial: &StabilityDiagram) -> usize {
-    qs.points
-        .iter()
-        .filter(|p| {
-            let nearest = inertial.points.iter().min_by(|a, b| {
-                (a.nu / p.nu)
-                    .ln()
-                    .abs()
-                    .total_cmp(&(b.nu / p.nu).ln().abs())
-            });
-            p.criticality == Criticality::Degenerate
-                || nearest.is_none_or(|q| q.criticality != p.criticality)
-        })
-        .count()
 }
 
 /// Writes `-hopf-curve.csv` (and `-lpc-curve.csv` with fold curves) from
