@@ -423,8 +423,13 @@ impl Report {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        for (t, (_, v), case) in cases.iter().take(3) {
-            eprintln!("  {:.3} s  {v}  {case}", t.as_secs_f64());
+        // Every case with PROPERTY_CASES_ALL set (to compare two builds), else the slowest three.
+        let shown = match std::env::var_os("PROPERTY_CASES_ALL") {
+            Some(_) => cases.len(),
+            None => 3,
+        };
+        for (t, (class, v), case) in cases.iter().take(shown) {
+            eprintln!("  {:.3} s  {v} ({class:?})  {case}", t.as_secs_f64());
         }
     }
 }
