@@ -719,3 +719,54 @@ fn a_degenerate_hopf_point_at_the_friction_minimum_is_explained() {
     assert!(err.contains("velocity neutral"), "{err}");
     assert!(err.contains("Appendix C gives kappa_c = 2.46"), "{err}");
 }
+
+/// `diagram` states the onset type when the whole curve shares it, and the
+/// type it states is the one `hopf` gives at a velocity inside the range:
+/// pmma is subcritical between its two Bautin points (nu = 26.6 and 78.5)
+/// and supercritical outside them.
+#[test]
+fn diagram_states_an_onset_type_shared_by_the_whole_curve() {
+    let dir = std::env::temp_dir().join(format!("stickslip-onset-type-{}", std::process::id()));
+    let out = dir.to_str().unwrap();
+    for (range, nu, expected) in [
+        ("2:5", "3", "supercritical"),
+        ("30:70", "50", "subcritical"),
+        ("0.1:100", "50", "mixed"),
+    ] {
+        let (code, text, err) = stickslip(&[
+            "diagram",
+            "--json",
+            "--out",
+            out,
+            "--force",
+            "--nu-range",
+            range,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["onset_type"], expected, "range {range}");
+        let types: Vec<&str> = v["hopf_curve"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["criticality"].as_str().unwrap())
+            .collect();
+        assert!(types.len() > 5, "range {range}: {} points", types.len());
+        let shared = types.iter().all(|t| *t == types[0]);
+        assert_eq!(shared, expected != "mixed", "range {range}: {types:?}");
+        if expected != "mixed" {
+            assert_eq!(types[0], expected, "range {range}");
+            let onset = hopf_json(&["--set", &format!("nu={nu}")]);
+            assert_eq!(onset["criticality"], expected, "hopf at nu = {nu}: {onset}");
+        }
+        let (code, text, err) =
+            stickslip(&["diagram", "--out", out, "--force", "--nu-range", range]);
+        assert_eq!(code, 0, "{err}");
+        let said = match expected {
+            "mixed" => "onset type changes along the curve".to_string(),
+            t => format!("onset {t} ("),
+        };
+        assert!(text.contains(&said), "range {range}: {text}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -348,11 +348,56 @@ fn to_json(r: &SceneResult) -> Value {
         "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
         "elapsed_s": r.seconds,
         "velocity_strengthening": records.strengthening,
+        "onset_type": onset_type(records).map(Criticality::name).unwrap_or("mixed"),
     });
     if let Some(why) = &r.diagram.reason {
         out["reason"] = json!(why);
     }
     out
+}
+
+/// The onset type shared by every point of the Hopf curve, `None` where it
+/// differs between points (or the curve is empty).
+fn onset_type(records: &DiagramRecords) -> Option<Criticality> {
+    let first = records.curve.first()?.criticality;
+    records
+        .curve
+        .iter()
+        .all(|p| p.criticality == first)
+        .then_some(first)
+}
+
+/// The onset type along the curve in words: the one type where every point
+/// has it (with what it means), else where it changes.
+fn onset_type_line(records: &DiagramRecords) -> Option<String> {
+    let n = records.curve.len();
+    if n == 0 {
+        return None;
+    }
+    Some(match onset_type(records) {
+        Some(Criticality::Supercritical) => format!(
+            "onset supercritical (continuous: stick-slip grows from zero amplitude below the \
+             critical stiffness) at all {n} points of the curve"
+        ),
+        Some(Criticality::Subcritical) => format!(
+            "onset subcritical (hysteretic: stick-slip coexists with steady sliding above the \
+             critical stiffness) at all {n} points of the curve"
+        ),
+        Some(Criticality::Degenerate) => format!(
+            "onset type undecided (l1 within its rounding bound) at all {n} points of the curve"
+        ),
+        None => {
+            let count =
+                |c: Criticality| records.curve.iter().filter(|p| p.criticality == c).count();
+            format!(
+                "onset type changes along the curve: supercritical at {} points, subcritical at {}, \
+                 undecided at {} (the Bautin points below separate them)",
+                count(Criticality::Supercritical),
+                count(Criticality::Subcritical),
+                count(Criticality::Degenerate)
+            )
+        }
+    })
 }
 
 /// The stop reason in words; a step limit names the option that raises it.
@@ -444,6 +489,9 @@ fn print_text(r: &SceneResult, units: TextUnits) {
             "  largest relative difference from Appendix C along the curve: {max_rel:.1e} \
              (kappa_c), {max_rel_omega:.1e} (omega_c)"
         );
+    }
+    if let Some(line) = onset_type_line(records) {
+        println!("  {line}");
     }
     for s in &records.special {
         let l2 =
