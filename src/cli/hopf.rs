@@ -28,15 +28,19 @@ pub struct HopfArgs {
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
-    let kappa_set = args.scene.set.iter().any(|s| {
-        s.split_once('=')
-            .is_some_and(|(name, _)| Param::parse(name.trim()).is_ok_and(|p| p == Param::Kappa))
-    });
+    let kappa_set = setup.overrides.sets_stiffness();
     if kappa_set || setup.scene.stiffness_given {
+        let source = if setup.overrides.sets("K") {
+            "--set K"
+        } else if kappa_set {
+            "--set"
+        } else {
+            "the scene's K"
+        };
         eprintln!(
-            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({}) is not used",
+            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({source}) is not used \
+             to find it: it is the operating point, compared with K_c",
             setup.scene_params.kappa,
-            if kappa_set { "--set" } else { "the scene's K" }
         );
     }
     let outcome = onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
