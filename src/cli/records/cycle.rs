@@ -107,6 +107,12 @@ pub struct Cycle {
     /// The least friction coefficient on the orbit; negative: outside the
     /// friction law's physical range.
     pub friction_min: f64,
+    /// Spring stiffness `K = kappa W / D0` [N/m] (the scene's `W`, `D0`).
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+    /// Peak-to-peak spring force, the force drop of a slip, `Delta_s W` [N].
+    #[serde(rename = "delta_s_N")]
+    pub delta_s_n: f64,
 }
 
 impl CsvRecord for Cycle {
@@ -137,6 +143,8 @@ impl Cycle {
             period_s: c.period * u.d0 / u.v0,
             v_min_um_per_s: u.velocity_um_s(c.v_min),
             v_max_um_per_s: u.velocity_um_s(c.v_max),
+            k_n_per_m: u.stiffness(c.kappa),
+            delta_s_n: c.delta_s * u.load,
         }
     }
 }
