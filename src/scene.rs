@@ -477,6 +477,26 @@ mod tests {
     }
 
     #[test]
+    fn physical_overrides_apply_before_the_conversion() {
+        let set = |key: &'static str, value: Value| SceneOverride {
+            key,
+            shown: format!("{key}={value}"),
+            value,
+        };
+        // K: kappa = K D0 / W with the scene's D0 and W = M g.
+        let s = load_with("pmma", &[set("K", Value::Float(2e5))]).unwrap();
+        assert!(rel(s.params.kappa, 2e5 * 0.4e-6 / 9.81) < 1e-15);
+        assert!(s.stiffness_given && s.name == "pmma");
+        // tau selects the cutoff form, dropping the scene's mu2.
+        let s = load_with("pmma", &[set("tau", Value::Float(0.4))]).unwrap();
+        assert_eq!((s.params.mu2, s.params.theta_c), (0.0, Some(1.0)));
+        // An error of the changed scene names the overrides.
+        let e = load_with("pmma", &[set("M", Value::Float(0.0))]).unwrap_err();
+        assert!(e.to_string().starts_with("pmma with --set M=0"), "{e}");
+        assert_eq!(load_with("pmma", &[]).unwrap(), builtin("pmma").unwrap());
+    }
+
+    #[test]
     fn tau_and_mu2_conflict() {
         let e = err("A = 0.01\ntau = 0.1\nmu2 = 1e-4");
         assert!(e.contains("tau") && e.contains("mu2"), "{e}");

@@ -548,6 +548,13 @@ mod tests {
         let same = ["kappa=0.5", "m=1e-12", "kappa=9e-3"].map(String::from);
         assert_eq!(run_name("pmma", &same, None), "pmma_kappa=0.009_m=1e-12");
         assert_eq!(run_name("pmma", &[], None), "pmma");
+        // Physical overrides carry their unit (never a dimensionless name,
+        // also where file names ignore case: M_kg beside m).
+        let physical = ["m=2", "M=2", "K=200000.0", "V_range=0.10:1e2"].map(String::from);
+        assert_eq!(
+            run_name("pmma", &physical, None),
+            "pmma_K_N_per_m=2e5_M_kg=2_V_range_um_per_s=0.1:100_m=2"
+        );
         let (dir, mut args, scene) = output_and_scene("names", set.clone());
         let plain = SceneArgs {
             set: Vec::new(),
