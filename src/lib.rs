@@ -6,6 +6,7 @@ pub mod error;
 pub mod friction;
 pub mod log_model;
 pub mod model;
+pub mod overrides;
 pub mod params;
 pub mod plot;
 pub mod scene;

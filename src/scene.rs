@@ -154,10 +154,56 @@ pub fn load(name_or_path: &str) -> Result<Scene, InputError> {
     from_toml_str(&text, name_or_path).map_err(|e| e.in_file(name_or_path))
 }
 
+/// A scene key set in its physical unit from the command line (`--set
+/// K=2e5`, [`crate::overrides`]), applied before the scene is made
+/// dimensionless.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneOverride {
+    /// The scene key (`K`).
+    pub key: &'static str,
+    /// Its value, as the scene file would hold it.
+    pub value: Value,
+    /// As given, `K=2e5`, for messages.
+    pub shown: String,
+}
+
+/// [`load`], with the scene keys of `overrides` replaced (or added) before
+/// the scene is made dimensionless: `K` gives `kappa = K D0 / W` with the
+/// scene's `D0` and `W`, `W` changes `kappa` and `m` together, and so on.
+/// Setting `tau` selects the cutoff form (the scene's `mu2` is dropped, as
+/// `--set theta_c` does). An error of the scene so changed names the
+/// overrides (`pmma with --set M=0: ...`).
+pub fn load_with(name_or_path: &str, overrides: &[SceneOverride]) -> Result<Scene, InputError> {
+    let base = load(name_or_path)?;
+    if overrides.is_empty() {
+        return Ok(base);
+    }
+    let text = match BUILTINS.iter().find(|(n, _)| *n == name_or_path) {
+        Some((_, text)) => text.to_string(),
+        None => std::fs::read_to_string(name_or_path).map_err(|e| file_error(name_or_path, e))?,
+    };
+    let mut t: Table = text.parse().map_err(|e| file_error(name_or_path, e))?;
+    t.insert("name".into(), Value::String(base.name.clone()));
+    for o in overrides {
+        if o.key == "tau" {
+            t.remove("mu2");
+        }
+        t.insert(o.key.into(), o.value.clone());
+    }
+    let shown: Vec<&str> = overrides.iter().map(|o| o.shown.as_str()).collect();
+    let origin = format!("{name_or_path} with --set {}", shown.join(" --set "));
+    from_table(t, &origin).map_err(|e| e.in_file(&origin))
+}
+
 /// Parses a scene from TOML text; `origin` (a file name) names it in errors
 /// and gives the default scene name (its stem).
 pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
     let t: Table = text.parse().map_err(|e| file_error(origin, e))?;
+    from_table(t, origin)
+}
+
+/// A scene from its parsed TOML table; `origin` as for [`from_toml_str`].
+fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
     if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
         return Err(InputError::UnknownName {
             what: "scene key",
@@ -428,6 +474,26 @@ mod tests {
             let e = err(text);
             assert!(e.contains(field), "{text:?}: {e}");
         }
+    }
+
+    #[test]
+    fn physical_overrides_apply_before_the_conversion() {
+        let set = |key: &'static str, value: Value| SceneOverride {
+            key,
+            shown: format!("{key}={value}"),
+            value,
+        };
+        // K: kappa = K D0 / W with the scene's D0 and W = M g.
+        let s = load_with("pmma", &[set("K", Value::Float(2e5))]).unwrap();
+        assert!(rel(s.params.kappa, 2e5 * 0.4e-6 / 9.81) < 1e-15);
+        assert!(s.stiffness_given && s.name == "pmma");
+        // tau selects the cutoff form, dropping the scene's mu2.
+        let s = load_with("pmma", &[set("tau", Value::Float(0.4))]).unwrap();
+        assert_eq!((s.params.mu2, s.params.theta_c), (0.0, Some(1.0)));
+        // An error of the changed scene names the overrides.
+        let e = load_with("pmma", &[set("M", Value::Float(0.0))]).unwrap_err();
+        assert!(e.to_string().starts_with("pmma with --set M=0"), "{e}");
+        assert_eq!(load_with("pmma", &[]).unwrap(), builtin("pmma").unwrap());
     }
 
     #[test]

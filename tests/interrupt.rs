@@ -174,15 +174,22 @@ fn ctrl_c_keeps_the_simulated_time_series() {
         "{last}"
     );
     let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
-    assert_eq!(rows.next(), Some("t_s,t,s,v,theta,slip,log10_v,model"));
-    // The numeric columns; the last one names the model of the row.
+    // The columns simulate has always written, then the physical ones.
+    assert_eq!(
+        rows.next(),
+        Some("t_s,t,s,v,theta,slip,log10_v,model,spring_force_N,v_um_per_s,theta_s,slip_um")
+    );
+    // The numeric columns; the eighth names the model of the row.
     let values: Vec<Vec<f64>> = rows
         .map(|l| {
-            let (numbers, model) = l.rsplit_once(',').unwrap();
+            let cells: Vec<&str> = l.split(',').collect();
+            let model = cells.get(7).copied().unwrap_or_default();
             assert!(model == "quasi-static" || model == "inertial", "{l}");
-            numbers
-                .split(',')
-                .map(|x| x.parse::<f64>().unwrap())
+            cells
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != 7)
+                .map(|(_, x)| x.parse::<f64>().unwrap())
                 .collect()
         })
         .collect();
@@ -190,7 +197,7 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     assert!(
         values
             .iter()
-            .all(|r| r.len() == 7 && r.iter().all(|x| x.is_finite())),
+            .all(|r| r.len() == 11 && r.iter().all(|x| x.is_finite())),
         "complete rows, no NaN or infinity"
     );
     assert!(

@@ -149,12 +149,15 @@ fn simulate_chooses_and_switches_the_model_from_the_velocities() {
         "{stdout}"
     );
     let csv = std::fs::read_to_string(dir.join("pmma_kappa=0.009-simulation.csv")).unwrap();
-    let models: Vec<&str> = csv
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .skip(1)
-        .map(|l| l.rsplit(',').next().unwrap())
-        .collect();
+    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
+    // The column named `model` (physical columns follow it).
+    let column = rows
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|h| h == "model")
+        .unwrap();
+    let models: Vec<&str> = rows.map(|l| l.split(',').nth(column).unwrap()).collect();
     let switch = models.iter().position(|m| *m == "inertial").unwrap();
     assert!(switch > 0 && models[..switch].iter().all(|m| *m == "quasi-static"));
     assert!(models[switch..].iter().all(|m| *m == "inertial"));

@@ -6,7 +6,7 @@ use super::csv::{header, row};
 use super::cycle_start::Start;
 use super::files::{with_suffix, OutputArgs};
 use super::lpc_output::{lpc_summary, write_lpc_csv};
-use super::records::cycle::{Cycle, CycleDetail, CycleSpecialPoint, LegStop, Requested};
+use super::records::cycle::{Asked, Cycle, CycleDetail, CycleSpecialPoint, LegStop, Requested};
 use super::records::diagram::FoldPoint;
 use super::{params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::cycles::{
@@ -23,6 +23,7 @@ use crate::plot::lines::{
     render, render_family, vertical_marker, Colorbar, LineFigure, Series, SWITCH_MARKER,
 };
 use crate::plot::PlotError;
+use crate::scene::Units;
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use plotters::style::RGBColor;
@@ -77,6 +78,14 @@ pub struct CyclesArgs {
     /// D0); each is reported with both.
     #[arg(long, value_name = "K1,K2,...", value_delimiter = ',')]
     pub at_kappa: Vec<f64>,
+    /// Stiffnesses at which cycles are located exactly and reported, in a
+    /// unit of your choice: NAME=V1,V2,... with NAME kappa (dimensionless,
+    /// as --at-kappa), K (N/m, kappa = K D0/W with the scene's D0 and W) or
+    /// K_over_W (1/m, kappa = (K/W) D0). Repeatable; a value given twice
+    /// (in any unit, within 1e-12 relative) is reported once. Each
+    /// requested point carries the value as asked.
+    #[arg(long, value_name = "NAME=V1,V2,...")]
+    pub at: Vec<String>,
     #[command(flatten)]
     pub output: OutputArgs,
     /// Print one JSON object instead of text.
@@ -120,6 +129,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if let Some(k) = args.at_kappa.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
         return Err(InputError::out_of_range("--at-kappa", *k, "> 0").into());
     }
+    let asked = asked_stiffnesses(&args.at_kappa, &args.at)?;
     if args.ntst < 4 {
         return Err(InputError::out_of_range("--ntst", args.ntst as f64, ">= 4").into());
     }
@@ -167,13 +177,14 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         points_name(points)
     )?;
     writeln!(csv, "{}", header::<Cycle>()?)?;
+    let (at_kappa, asked) = requested_once(&asked, &units);
     let kappa_ref = start.reference_kappa();
     let mut req = CycleRequest {
         kappa_min: args.kappa_fraction * kappa_ref,
         kappa_max: 10.0 * kappa_ref,
         max_steps: args.max_steps,
         ntst: args.ntst,
-        at_kappa: requested_once(&args.at_kappa),
+        at_kappa,
         ntst_max: args.ntst_max,
         // Each model's own points unless forced (the branch may change model).
         collocation: args.collocation.map(Into::into),
@@ -295,7 +306,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         },
     )
     .iter()
-    .map(|r| Requested::new(r, &units))
+    .zip(&asked)
+    .map(|(r, a)| Requested::new(r, *a, &units))
     .collect();
     // Partial: a leg ended short of its range, or the search for a start was
     // inconclusive. A requested value the branch did not reach is then among
@@ -376,10 +388,19 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             )
         };
         for r in &requested {
-            let asked = format!(
-                "requested kappa = {:.10e} (K/W = {:.8e} 1/m)",
-                r.kappa, r.k_over_w_per_m
-            );
+            let asked = match r.asked.name {
+                "kappa" => format!(
+                    "requested kappa = {:.10e} (K/W = {:.8e} 1/m)",
+                    r.kappa, r.k_over_w_per_m
+                ),
+                _ => format!(
+                    "requested {} (kappa = {:.10e}, K/W = {:.8e} 1/m, K = {:.8e} N/m)",
+                    r.asked.describe(),
+                    r.kappa,
+                    r.k_over_w_per_m,
+                    r.k_n_per_m
+                ),
+            };
             match &r.reason {
                 None => println!(
                     "{asked}: delivered ({} cycle{})",
@@ -451,13 +472,71 @@ impl NegativeFriction {
     }
 }
 
-/// The stiffnesses asked for by `--at-kappa`, each once (the first of
-/// values within `1e-12` relative of each other), in the order given.
-fn requested_once(at_kappa: &[f64]) -> Vec<f64> {
-    let mut once: Vec<f64> = Vec::with_capacity(at_kappa.len());
-    for &k in at_kappa {
-        if !once.iter().any(|&q| (q - k).abs() <= 1e-12 * k.abs()) {
-            once.push(k);
+/// The stiffnesses asked for by `--at-kappa` (first) and `--at NAME=...`
+/// (in the order given), as asked: each name one of [`Asked::NAMES`], each
+/// value a finite number `> 0`; errors name the option and the name.
+fn asked_stiffnesses(at_kappa: &[f64], at: &[String]) -> Result<Vec<Asked>, InputError> {
+    let mut asked: Vec<Asked> = at_kappa
+        .iter()
+        .map(|&value| Asked {
+            name: "kappa",
+            value,
+            unit: "1",
+        })
+        .collect();
+    let allowed = || {
+        Asked::NAMES
+            .iter()
+            .map(|(n, u)| format!("{n} [{u}]"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for item in at {
+        let (name, values) = item.split_once('=').ok_or_else(|| InputError::Malformed {
+            field: "--at".into(),
+            value: item.clone(),
+            expected: format!("NAME=V1,V2,... with NAME one of {}", allowed()),
+        })?;
+        let name = name.trim();
+        let Some(&(name, unit)) = Asked::NAMES.iter().find(|(n, _)| *n == name) else {
+            return Err(InputError::UnknownName {
+                what: "--at stiffness",
+                name: name.to_string(),
+                suggestion: crate::error::closest(name, Asked::NAMES.iter().map(|(n, _)| *n)),
+                allowed: allowed(),
+            });
+        };
+        let field = format!("--at {name}");
+        for text in values.split(',') {
+            let value: f64 = text.trim().parse().map_err(|_| InputError::Malformed {
+                field: field.clone(),
+                value: text.to_string(),
+                expected: format!("a number ({unit})"),
+            })?;
+            if !(value.is_finite() && value > 0.0) {
+                return Err(InputError::out_of_range(
+                    &field,
+                    value,
+                    &format!("> 0 ({unit})"),
+                ));
+            }
+            asked.push(Asked { name, value, unit });
+        }
+    }
+    Ok(asked)
+}
+
+/// The stiffnesses asked for, each once (the first of values whose `kappa`
+/// lie within `1e-12` relative of each other, in whatever unit each was
+/// asked), in the order given: their `kappa` in the units `u`, and how
+/// each was asked.
+fn requested_once(asked: &[Asked], u: &Units) -> (Vec<f64>, Vec<Asked>) {
+    let mut once: (Vec<f64>, Vec<Asked>) = (Vec::new(), Vec::new());
+    for a in asked {
+        let k = a.kappa(u);
+        if !once.0.iter().any(|&q| (q - k).abs() <= 1e-12 * k.abs()) {
+            once.0.push(k);
+            once.1.push(*a);
         }
     }
     once
@@ -532,9 +611,13 @@ fn validity_warning(
 fn write_requested_csv(csv: &mut impl Write, requested: &[Requested]) -> Result<(), Error> {
     for r in requested {
         if let Some(why) = &r.reason {
+            let asked = match r.asked.name {
+                "kappa" => String::new(),
+                _ => format!(" (asked as {})", r.asked.describe()),
+            };
             writeln!(
                 csv,
-                "# requested kappa = {:.15e} not delivered: {why}",
+                "# requested kappa = {:.15e}{asked} not delivered: {why}",
                 r.kappa
             )?;
         }

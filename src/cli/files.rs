@@ -368,15 +368,25 @@ pub fn run_name(scene: &str, set: &[String], model: Option<&str>) -> String {
 }
 
 /// The overrides `NAME=VALUE` of `set` sorted by name, the last of a
-/// repeated one kept, numbers in one spelling ([`canonical_number`]).
+/// repeated one kept, numbers in one spelling ([`canonical_number`]); a
+/// scene key in its physical unit named with that unit
+/// ([`crate::overrides::file_key`]: `K_N_per_m=2e5`, `M_kg=2`), so that it
+/// never names the same file as a dimensionless parameter (`m`), also where
+/// file names ignore case; `V_range=LO:HI` with both numbers so spelt.
 pub fn canonical_overrides(set: &[String]) -> Vec<(String, String)> {
     let mut overrides: Vec<(String, String)> = Vec::new();
     for part in set {
         let (key, value) = part.split_once('=').unwrap_or((part.as_str(), ""));
-        let (key, value) = (key.trim().to_string(), value.trim());
-        let value = value
-            .parse::<f64>()
-            .map_or_else(|_| value.to_string(), canonical_number);
+        let (key, value) = (crate::overrides::file_key(key.trim()), value.trim());
+        let number = |v: &str| {
+            v.trim()
+                .parse::<f64>()
+                .map_or_else(|_| v.to_string(), canonical_number)
+        };
+        let value = match value.split_once(':') {
+            Some((lo, hi)) => format!("{}:{}", number(lo), number(hi)),
+            None => number(value),
+        };
         overrides.retain(|(k, _)| *k != key);
         overrides.push((key, value));
     }
@@ -538,6 +548,13 @@ mod tests {
         let same = ["kappa=0.5", "m=1e-12", "kappa=9e-3"].map(String::from);
         assert_eq!(run_name("pmma", &same, None), "pmma_kappa=0.009_m=1e-12");
         assert_eq!(run_name("pmma", &[], None), "pmma");
+        // Physical overrides carry their unit (never a dimensionless name,
+        // also where file names ignore case: M_kg beside m).
+        let physical = ["m=2", "M=2", "K=200000.0", "V_range=0.10:1e2"].map(String::from);
+        assert_eq!(
+            run_name("pmma", &physical, None),
+            "pmma_K_N_per_m=2e5_M_kg=2_V_range_um_per_s=0.1:100_m=2"
+        );
         let (dir, mut args, scene) = output_and_scene("names", set.clone());
         let plain = SceneArgs {
             set: Vec::new(),

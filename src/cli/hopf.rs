@@ -1,6 +1,6 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::records::hopf::{CycleSide, HopfReport, HopfStatus, Onset};
+use super::records::hopf::{CycleSide, HopfReport, HopfStatus, NoOnset, Onset, OperatingPoint};
 use super::{
     describe_params, describe_params_except, onset_with_degeneracy_resolved, SceneArgs, Setup,
     TextUnits,
@@ -28,15 +28,19 @@ pub struct HopfArgs {
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
-    let kappa_set = args.scene.set.iter().any(|s| {
-        s.split_once('=')
-            .is_some_and(|(name, _)| Param::parse(name.trim()).is_ok_and(|p| p == Param::Kappa))
-    });
+    let kappa_set = setup.overrides.sets_stiffness();
     if kappa_set || setup.scene.stiffness_given {
+        let source = if setup.overrides.sets("K") {
+            "--set K"
+        } else if kappa_set {
+            "--set"
+        } else {
+            "the scene's K"
+        };
         eprintln!(
-            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({}) is not used",
+            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({source}) is not used \
+             to find it: it is the operating point, compared with K_c",
             setup.scene_params.kappa,
-            if kappa_set { "--set" } else { "the scene's K" }
         );
     }
     let outcome = onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
@@ -62,6 +66,24 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
         print_text(&setup, &report, args.units);
     }
     Ok(())
+}
+
+/// The operating point in one line: the stiffness, its margin, the regime
+/// and why.
+fn operating_point_line(op: &OperatingPoint, units: TextUnits) -> String {
+    let at = match units {
+        TextUnits::Physical => format!("K = {:.6e} N/m", op.k_n_per_m),
+        TextUnits::Dimensionless => format!("kappa = {:.6e}", op.kappa),
+    };
+    let margin = op
+        .margin
+        .map(|m| format!(", (K - K_c)/K_c = {m:+.3e}"))
+        .unwrap_or_default();
+    format!(
+        "operating point: {at}{margin}: {} ({})",
+        op.regime.name(),
+        op.reason
+    )
 }
 
 fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
@@ -99,21 +121,30 @@ fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
         }
         HopfStatus::StableForAllStiffness(n) => {
             println!();
-            let weakening = report.mu_phi - report.mu_v;
-            if weakening <= 0.0 {
-                println!(
-                    "steady sliding is linearly stable for every stiffness: steady friction is velocity \
-                     strengthening here (mu_phi - mu_v = {weakening:.4e} <= 0). Finite-amplitude (hysteretic) \
-                     stick-slip may still exist with inertia."
-                );
-            } else {
-                println!(
-                    "no Hopf point down to {}, although steady friction weakens slightly \
-                     (mu_phi - mu_v = {weakening:.4e}): the critical stiffness, if any, lies below the searched range.",
-                    units.stiffness(n.kappa_min_checked, n.k_over_w_min_checked_per_m, 3)
-                );
-            }
+            print_no_onset(report, n, units);
         }
+    }
+    if let Some(op) = &report.operating_point {
+        println!();
+        println!("{}", operating_point_line(op, units));
+    }
+}
+
+/// Why there is no onset.
+fn print_no_onset(report: &HopfReport, n: &NoOnset, units: TextUnits) {
+    let weakening = report.mu_phi - report.mu_v;
+    if weakening <= 0.0 {
+        println!(
+            "steady sliding is linearly stable for every stiffness: steady friction is velocity \
+             strengthening here (mu_phi - mu_v = {weakening:.4e} <= 0). Finite-amplitude (hysteretic) \
+             stick-slip may still exist with inertia."
+        );
+    } else {
+        println!(
+            "no Hopf point down to {}, although steady friction weakens slightly \
+             (mu_phi - mu_v = {weakening:.4e}): the critical stiffness, if any, lies below the searched range.",
+            units.stiffness(n.kappa_min_checked, n.k_over_w_min_checked_per_m, 3)
+        );
     }
 }
 

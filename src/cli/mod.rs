@@ -23,6 +23,7 @@ use crate::analysis::model_choice::{
 };
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
+use crate::overrides::Overrides;
 use crate::params::{Param, Params};
 use crate::scene::{self, Scene};
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -77,8 +78,13 @@ pub struct SceneArgs {
     /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file.
     #[arg(long, default_value = scene::DEFAULT_SCENE)]
     pub scene: String,
-    /// Override a dimensionless parameter of docs/model.md: kappa, nu, m, A, B, mu0, mu2, theta_c.
-    /// Setting theta_c selects the cutoff ageing form, mu2 the ln² form. Repeatable.
+    /// Override a parameter, repeatable. Dimensionless (docs/model.md): kappa, nu, m, A, B,
+    /// mu0, mu2, theta_c. Or a scene key in its physical unit, applied before the scene is made
+    /// dimensionless: K [N/m], M [kg], W [N], V [um/s], V0 [um/s], D0 [um], tau [s],
+    /// g [m/s^2], V_range=LO:HI [um/s] (e.g. K=2e5 gives kappa = K D0/W with the scene's D0
+    /// and W; W=600 changes kappa and m). One quantity both ways (K and kappa, M and m, V
+    /// and nu, tau and theta_c) is refused. theta_c or tau selects the cutoff ageing form,
+    /// mu2 the ln² form.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v.
@@ -135,6 +141,8 @@ pub struct Setup {
     /// The scene's name with its overrides, for figure titles:
     /// `pmma (kappa=0.009, m=0.01)` ([`files::canonical_overrides`]).
     pub label: String,
+    /// The `--set` overrides, parsed (both kinds).
+    pub overrides: Overrides,
 }
 
 impl SceneArgs {
@@ -149,24 +157,23 @@ impl SceneArgs {
             )
             .into());
         }
-        let scene = scene::load(&self.scene)?;
+        let overrides = Overrides::parse(&self.set)?;
+        let scene = scene::load_with(&self.scene, &overrides.physical())?;
         for warning in scene.implausible() {
             eprintln!("warning: scene {}: {warning}", scene.name);
         }
         let mut scene_params = scene.params;
-        scene_params.apply_overrides(&self.set)?;
+        overrides.apply_dimensionless(&mut scene_params)?;
         let choice = choose_model(
             &params_at(&scene_params),
             self.model.map(Into::into),
             self.inertia_threshold,
         );
         if choice.kind == ModelKind::Inertial && scene_params.m <= 0.0 {
-            let set_m = self
-                .set
-                .iter()
-                .any(|s| s.split('=').next().map(str::trim) == Some("m"));
-            let why = if set_m {
+            let why = if overrides.sets("m") {
                 "--set m=0; give m > 0"
+            } else if overrides.sets("M") {
+                "--set M=0; give M > 0"
             } else {
                 "M = 0 in the scene; give M > 0 or --set m=..."
             };
@@ -176,14 +183,14 @@ impl SceneArgs {
             .into());
         }
         let params = params_for(choice.kind, &scene_params);
-        let overrides: Vec<String> = files::canonical_overrides(&self.set)
+        let shown: Vec<String> = files::canonical_overrides(&self.set)
             .into_iter()
             .map(|(k, v)| format!("{k}={v}"))
             .collect();
-        let label = if overrides.is_empty() {
+        let label = if shown.is_empty() {
             scene.name.clone()
         } else {
-            format!("{} ({})", scene.name, overrides.join(", "))
+            format!("{} ({})", scene.name, shown.join(", "))
         };
         Ok(Setup {
             scene,
@@ -191,6 +198,7 @@ impl SceneArgs {
             params,
             choice,
             label,
+            overrides,
         })
     }
 }

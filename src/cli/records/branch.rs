@@ -49,6 +49,12 @@ pub struct BranchRow {
     pub k_over_m_per_s2: Option<f64>,
     /// Frequency at a Hopf point, `omega V0 / (2 pi D0)` [Hz].
     pub frequency_hz: Option<f64>,
+    /// Spring stiffness `K = kappa W / D0` [N/m].
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+    /// Spring force in steady sliding, `s W` [N].
+    #[serde(rename = "spring_force_N")]
+    pub spring_force_n: f64,
 }
 
 impl CsvRecord for BranchRow {
@@ -151,6 +157,8 @@ impl BranchRow {
             theta_s: state[2] * u.d0 / u.v0,
             k_over_m_per_s2: u.k_over_m(at.kappa),
             frequency_hz: omega.map(|w| u.frequency_hz(w)),
+            k_n_per_m: u.stiffness(at.kappa),
+            spring_force_n: state[0] * u.load,
         }
     }
 }
@@ -174,7 +182,8 @@ mod tests {
         assert_eq!(
             header_of(&r).unwrap(),
             "nu,s,v,theta,n_unstable,eig_re_1,eig_im_1,eig_re_2,eig_im_2,eig_re_3,eig_im_3,\
-             event,omega,K_over_W_per_m,V_um_per_s,theta_s,K_over_M_per_s2,frequency_hz"
+             event,omega,K_over_W_per_m,V_um_per_s,theta_s,K_over_M_per_s2,frequency_hz,\
+             K_N_per_m,spring_force_N"
         );
         assert!(row(&r).unwrap().starts_with("2.000000000000000e0,"));
     }

@@ -107,6 +107,12 @@ pub struct Cycle {
     /// The least friction coefficient on the orbit; negative: outside the
     /// friction law's physical range.
     pub friction_min: f64,
+    /// Spring stiffness `K = kappa W / D0` [N/m] (the scene's `W`, `D0`).
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+    /// Peak-to-peak spring force, the force drop of a slip, `Delta_s W` [N].
+    #[serde(rename = "delta_s_N")]
+    pub delta_s_n: f64,
 }
 
 impl CsvRecord for Cycle {
@@ -137,6 +143,8 @@ impl Cycle {
             period_s: c.period * u.d0 / u.v0,
             v_min_um_per_s: u.velocity_um_s(c.v_min),
             v_max_um_per_s: u.velocity_um_s(c.v_max),
+            k_n_per_m: u.stiffness(c.kappa),
+            delta_s_n: c.delta_s * u.load,
         }
     }
 }
@@ -184,13 +192,56 @@ pub struct CycleSpecialPoint {
     pub cycle: Cycle,
 }
 
-/// A stiffness asked for with `--at-kappa`: an entry of `requested_points`,
-/// a line of the text, a comment of the CSV when not delivered.
+/// How a stiffness was asked for (`--at NAME=...` or `--at-kappa`): the
+/// name, the value as given and its unit.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Asked {
+    /// `kappa`, `K` or `K_over_W`.
+    pub name: &'static str,
+    /// The value as given.
+    pub value: f64,
+    /// Its unit: `1` (dimensionless), `N/m` or `1/m`.
+    pub unit: &'static str,
+}
+
+impl Asked {
+    /// The names `--at` takes, with their units.
+    pub const NAMES: [(&'static str, &'static str); 3] =
+        [("kappa", "1"), ("K", "N/m"), ("K_over_W", "1/m")];
+
+    /// The stiffness asked for, as `kappa`, in the units `u`: `K D0 / W`
+    /// for `K`, `(K/W) D0` for `K_over_W`.
+    pub fn kappa(&self, u: &Units) -> f64 {
+        match self.name {
+            "K" => self.value * u.d0 / u.load,
+            "K_over_W" => self.value * u.d0,
+            _ => self.value,
+        }
+    }
+
+    /// `K = 2.0000000000e5 N/m` (the value as given, in its unit).
+    pub fn describe(&self) -> String {
+        match self.name {
+            "K" => format!("K = {:.10e} N/m", self.value),
+            "K_over_W" => format!("K/W = {:.10e} 1/m", self.value),
+            _ => format!("kappa = {:.10e}", self.value),
+        }
+    }
+}
+
+/// A stiffness asked for with `--at` or `--at-kappa`: an entry of
+/// `requested_points`, a line of the text, a comment of the CSV when not
+/// delivered.
 #[derive(Clone, Debug, Serialize)]
 pub struct Requested {
     pub kappa: f64,
     #[serde(rename = "K_over_W_per_m")]
     pub k_over_w_per_m: f64,
+    /// `K = kappa W / D0` [N/m] (the scene's `W` and `D0`).
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+    /// As asked: name, value and unit.
+    pub asked: Asked,
     /// Whether a cycle was delivered at it.
     pub delivered: bool,
     /// How many (a branch that turns at folds passes some stiffnesses twice).
@@ -209,11 +260,13 @@ fn in_words<S: Serializer>(reason: &Option<NotDelivered>, s: S) -> Result<S::Ok,
 }
 
 impl Requested {
-    /// What became of `r`, in the units `u`.
-    pub fn new(r: &RequestedPoint, u: &Units) -> Self {
+    /// What became of `r`, asked for as `asked`, in the units `u`.
+    pub fn new(r: &RequestedPoint, asked: Asked, u: &Units) -> Self {
         Requested {
             kappa: r.kappa,
             k_over_w_per_m: u.k_over_w(r.kappa),
+            k_n_per_m: u.stiffness(r.kappa),
+            asked,
             delivered: r.delivered > 0,
             cycles: r.delivered,
             reason: r.reason.clone(),

@@ -72,6 +72,9 @@ pub struct HopfCurvePoint {
     pub l1_error_bound: f64,
     /// `omega_c` of Appendix C (eq. C13) at `nu`.
     pub omega_appendix_c: Option<f64>,
+    /// Critical spring stiffness `K_c = kappa W / D0` [N/m].
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
 }
 
 impl CsvRecord for HopfCurvePoint {
@@ -93,6 +96,7 @@ impl HopfCurvePoint {
             physical: PhysicalPoint::new(u, p.nu, p.kappa, p.omega),
             l1_error_bound: p.l1_error_bound,
             omega_appendix_c: appendix_c::critical_frequency(&at),
+            k_n_per_m: u.stiffness(p.kappa),
         }
     }
 }
@@ -113,6 +117,9 @@ pub struct SpecialPoint {
     /// Bound on the rounding error of `l2`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub l2_error_bound: Option<f64>,
+    /// Spring stiffness `K = kappa W / D0` [N/m].
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
 }
 
 impl SpecialPoint {
@@ -126,6 +133,7 @@ impl SpecialPoint {
             physical: PhysicalPoint::new(u, s.nu, s.kappa, s.omega),
             l2: s.l2,
             l2_error_bound: s.l2_error_bound,
+            k_n_per_m: u.stiffness(s.kappa),
         }
     }
 }
@@ -170,6 +178,14 @@ pub struct FoldPoint {
     /// The fold in physical units, with the frequency of its cycle.
     #[serde(flatten)]
     pub physical: PhysicalPoint,
+    /// Period of the cycle at the fold [s].
+    pub period_s: f64,
+    /// Its peak-to-peak spring force, `Delta_s W` [N].
+    #[serde(rename = "delta_s_N")]
+    pub delta_s_n: f64,
+    /// Spring stiffness `K = kappa W / D0` [N/m].
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
 }
 
 impl CsvRecord for FoldPoint {
@@ -191,6 +207,9 @@ impl FoldPoint {
                 period: p.period,
                 delta_s: p.delta_s,
                 physical: PhysicalPoint::new(u, p.nu, p.kappa, TAU / p.period),
+                period_s: p.period * u.d0 / u.v0,
+                delta_s_n: p.delta_s * u.load,
+                k_n_per_m: u.stiffness(p.kappa),
             })
             .collect()
     }

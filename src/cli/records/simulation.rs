@@ -7,7 +7,9 @@ use crate::scene::Units;
 use serde::{Serialize, Serializer};
 
 /// One integrator step: time in seconds and in `D0/V0`, the state, the slip
-/// since the start (units `D0`), `log10 v`, and the model that computed it.
+/// since the start (units `D0`), `log10 v`, and the model that computed it;
+/// then the state in physical units (the columns before them are those
+/// `simulate` has always written, in their order).
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct SimulationRow {
     pub t_s: f64,
@@ -18,6 +20,16 @@ pub struct SimulationRow {
     pub slip: f64,
     pub log10_v: f64,
     pub model: ModelKind,
+    /// Spring force `K (V t - x) = s W` [N].
+    #[serde(rename = "spring_force_N")]
+    pub spring_force_n: f64,
+    /// Slip velocity `v V0` [µm/s] (written from its logarithm below the
+    /// floating-point range, as `v`).
+    pub v_um_per_s: SlipVelocity,
+    /// Age `theta D0/V0` [s].
+    pub theta_s: f64,
+    /// Slip since the start, `slip D0` [µm].
+    pub slip_um: f64,
 }
 
 impl CsvRecord for SimulationRow {
@@ -39,6 +51,13 @@ impl SimulationRow {
             slip: p.slip,
             log10_v: p.log10_v,
             model: p.model,
+            spring_force_n: p.s * u.load,
+            v_um_per_s: SlipVelocity {
+                v: u.velocity_um_s(p.v),
+                log10_v: p.log10_v + (u.v0 * 1e6).log10(),
+            },
+            theta_s: p.theta * u.d0 / u.v0,
+            slip_um: p.slip * u.d0 * 1e6,
         }
     }
 }
