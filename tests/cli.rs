@@ -267,7 +267,7 @@ fn diagram_rejects_a_bad_range() {
 }
 
 #[test]
-fn physical_axis_says_w_equals_m_g_only_when_the_load_is_the_weight() {
+fn physical_axis_is_k_over_m_with_w_equal_m_g_and_k_over_w_for_a_loaded_rig() {
     let dir = std::env::temp_dir().join(format!("stickslip-load-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let loaded = dir.join("loaded.toml");
@@ -285,12 +285,21 @@ fn physical_axis_says_w_equals_m_g_only_when_the_load_is_the_weight() {
         assert_eq!(code, 0, "{err}");
         let svg =
             std::fs::read_to_string(dir.join(format!("{stem}-stability-physical.svg"))).unwrap();
-        assert!(svg.contains("critical K/M"), "{stem}: no K/M axis");
+        // K/M where the load is the weight (the seed's axes), K/W for a
+        // press-loaded rig, whose K/M says nothing of its stiffness against the load.
+        let axis = if weight {
+            "critical K/M"
+        } else {
+            "critical K/W"
+        };
+        assert!(svg.contains(axis), "{stem}: no {axis} axis");
         assert_eq!(
             svg.contains("W = M g"),
             weight,
             "{stem}: W = M g shown iff W is derived"
         );
+        // Neither scene gives K: no operating point.
+        assert!(!svg.contains("operating point"), "{stem}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -767,6 +776,66 @@ fn diagram_states_an_onset_type_shared_by_the_whole_curve() {
             t => format!("onset {t} ("),
         };
         assert!(text.contains(&said), "range {range}: {text}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `diagram` places a scene's own stiffness: below `K_c` stick-slip, between
+/// `K_c` and the fold of cycles bistable, above the fold steady. Independent
+/// values: `K_c` from `hopf` at the scene's velocity, and the fold located
+/// on the cycle branch at that velocity by `cycles` (a second method: the
+/// diagram reads it off its traced curve of folds, within the error bound
+/// it reports). pmma at nu = 50 lies between its two Bautin points.
+#[test]
+fn diagram_places_the_operating_point_against_the_onset_and_the_fold() {
+    let dir = std::env::temp_dir().join(format!("stickslip-operating-{}", std::process::id()));
+    let out = dir.to_str().unwrap();
+    let onset = hopf_json(&["--set", "nu=50"]);
+    let kappa_c = onset["params"]["kappa"].as_f64().unwrap();
+    let (code, text, err) = stickslip(&["cycles", "--json", "--set", "nu=50", "--out", out]);
+    assert_eq!(code, 0, "{err}");
+    let cycles: Value = serde_json::from_str(&text).unwrap();
+    let fold = cycles["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "lpc")
+        .and_then(|s| s["kappa"].as_f64())
+        .expect("a fold of cycles on the branch");
+    assert!(fold > kappa_c, "fold {fold} vs kappa_c {kappa_c}");
+    let between = 0.5 * (kappa_c + fold);
+    for (kappa, regime) in [
+        (0.99 * kappa_c, "stick-slip"),
+        (between, "bistable"),
+        (1.01 * fold, "steady"),
+    ] {
+        let set = format!("kappa={kappa}");
+        let (code, text, err) = stickslip(&[
+            "diagram", "--json", "--out", out, "--force", "--set", "nu=50", "--set", &set,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: Value = serde_json::from_str(&text).unwrap();
+        let op = &v["operating_point"];
+        assert_eq!(op["regime"], regime, "kappa = {kappa}: {op}");
+        let kc = op["kappa_c"].as_f64().unwrap();
+        assert!(
+            (kc / kappa_c - 1.0).abs() < 1e-13,
+            "kappa_c {kc} vs hopf {kappa_c}"
+        );
+        let margin = op["margin"].as_f64().unwrap();
+        assert!((margin - (kappa - kappa_c) / kappa_c).abs() < 1e-12, "{op}");
+        let read = op["kappa_fold"].as_f64().unwrap();
+        let error = op["kappa_fold_error"].as_f64().unwrap();
+        assert!(
+            (read - fold).abs() <= error,
+            "fold read {read} ± {error} vs located {fold}"
+        );
+        let stem = format!("pmma_{set}_nu=50-stability-physical.svg");
+        let svg = std::fs::read_to_string(dir.join(stem)).unwrap();
+        assert!(
+            svg.contains(&format!("({regime})")),
+            "figure legend names {regime}"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -8,6 +8,7 @@ pub mod diagram;
 pub mod hopf;
 pub mod lpc_curve;
 pub mod model_choice;
+pub mod operating_point;
 pub mod orbit_inertia;
 pub mod orbit_start;
 pub mod sampled_cycle;

@@ -30,6 +30,9 @@ pub struct StabilityFigure {
     pub reference_label: String,
     /// Codimension-2 points: (label, x, y).
     pub markers: Vec<(String, f64, f64)>,
+    /// The rig's own stiffness and velocity, when the scene gives `K`,
+    /// drawn as a large orange diamond.
+    pub operating_point: Option<OperatingMarker>,
     /// Vertical lines (label, x): the end of the curve where kappa_c -> 0.
     pub vlines: Vec<(String, f64)>,
     /// Curves of folds of cycles (LPC).
@@ -47,6 +50,17 @@ pub struct StabilityFigure {
     /// Text written in the plot (e.g. "velocity strengthening: stable for
     /// every stiffness" where there is no Hopf curve).
     pub notes: Vec<Note>,
+}
+
+/// The operating point in a figure: its legend label, its place `(x, y)`
+/// and its margin `K / K_c - 1` over the onset at its velocity (where the
+/// magnified hysteretic band shows it, when it lies within that band's range).
+#[derive(Clone, Debug)]
+pub struct OperatingMarker {
+    pub label: String,
+    pub x: f64,
+    pub y: f64,
+    pub margin: Option<f64>,
 }
 
 /// A note written in the plot, over the x span it is about (in the axis
@@ -119,8 +133,12 @@ enum Swatch {
     Fill(RGBColor),
     Circle,
     Triangle,
+    Diamond,
     Hatch,
 }
+
+/// Colour of the operating point's marker.
+const OPERATING: RGBColor = RGBColor(230, 120, 0);
 
 /// Grey of the hatching over spans where the fold curve was not computed.
 const UNKNOWN: RGBColor = RGBColor(150, 150, 150);
@@ -173,6 +191,9 @@ fn legend(fig: &StabilityFigure) -> Vec<(String, Swatch)> {
             names.push(name);
             out.push((name.clone(), Swatch::Triangle));
         }
+    }
+    if let Some(op) = &fig.operating_point {
+        out.push((op.label.clone(), Swatch::Diamond));
     }
     for (name, _) in &fig.vlines {
         if !names.contains(&name.as_str()) {
@@ -281,7 +302,8 @@ fn y_range(fig: &StabilityFigure) -> (f64, f64) {
             .iter()
             .flat_map(|s| s.points.iter().map(|p| p.1))
             .chain(fig.reference.iter().map(|p| p.1))
-            .chain(fig.markers.iter().map(|m| m.2)),
+            .chain(fig.markers.iter().map(|m| m.2))
+            .chain(fig.operating_point.iter().map(|m| m.y)),
     );
     let (fold_lo, fold_hi) = span(&mut fig.lpc.iter().flatten().map(|p| p.1));
     let hi = hi.max(fold_hi);
@@ -469,6 +491,14 @@ fn draw<DB: DrawingBackend>(
                 .map(|(_, x, y)| TriangleMarker::new((*x, *y), 9, BLACK.filled())),
         )
         .map_err(e)?;
+    if let Some(op) = &fig.operating_point {
+        let corners = diamond(0, 0, 11);
+        chart
+            .draw_series([EmptyElement::at((op.x, op.y))
+                + Polygon::new(corners.clone(), OPERATING.filled())
+                + PathElement::new(corners, BLACK.stroke_width(1))])
+            .map_err(e)?;
+    }
     for (_, x) in &fig.vlines {
         chart
             .draw_series(DashedLineSeries::new(
@@ -599,6 +629,21 @@ fn draw_band<DB: DrawingBackend>(
             ))
             .map_err(e)?;
     }
+    // The operating point where its margin lies within the band's axis.
+    let inside = |v: f64| ya.range.0 <= v && v <= ya.range.1;
+    if let Some((x, percent)) = fig
+        .operating_point
+        .as_ref()
+        .and_then(|op| op.margin.map(|r| (op.x, 100.0 * r)))
+        .filter(|&(_, percent)| inside(percent))
+    {
+        let corners = diamond(0, 0, 9);
+        chart
+            .draw_series([EmptyElement::at((x, percent))
+                + Polygon::new(corners.clone(), OPERATING.filled())
+                + PathElement::new(corners, BLACK.stroke_width(1))])
+            .map_err(e)?;
+    }
     hatch_unknown(chart.plotting_area(), &fig.unknown)?;
     let text = TextStyle::from((FONT, 16).into_font())
         .color(&RGBColor(60, 60, 60))
@@ -716,12 +761,25 @@ fn draw_legend<DB: DrawingBackend>(
                 area.draw(&TriangleMarker::new((x + 14, y), 8, BLACK.filled()))
                     .map_err(e)?;
             }
+            Swatch::Diamond => {
+                let corners = diamond(x + 14, y, 9);
+                area.draw(&Polygon::new(corners.clone(), OPERATING.filled()))
+                    .map_err(e)?;
+                area.draw(&PathElement::new(corners, BLACK.stroke_width(1)))
+                    .map_err(e)?;
+            }
             Swatch::Hatch => hatch(area, ((x, y - 7), (x + 28, y + 7)))?,
         }
         area.draw(&Text::new(label.clone(), (x + 38, y), text.clone()))
             .map_err(e)?;
     }
     Ok(())
+}
+
+/// The corners of a diamond of half-diagonal `r` pixels around `(x, y)`,
+/// closed (the first corner again at the end).
+fn diamond(x: i32, y: i32, r: i32) -> Vec<(i32, i32)> {
+    vec![(x, y - r), (x + r, y), (x, y + r), (x - r, y), (x, y - r)]
 }
 
 #[cfg(test)]
@@ -740,6 +798,7 @@ mod tests {
             reference: Vec::new(),
             reference_label: "ref".into(),
             markers: Vec::new(),
+            operating_point: None,
             vlines: Vec::new(),
             lpc: Vec::new(),
             bistable: Vec::new(),

@@ -3,10 +3,11 @@
 
 use super::super::files::with_suffix;
 use super::super::{significant, Setup};
+use super::OperatingPoint;
 use crate::analysis::diagram::{SpecialKind, StabilityDiagram};
 use crate::appendix_c;
 use crate::error::Error;
-use crate::plot::stability::{render, segments, Note, StabilityFigure};
+use crate::plot::stability::{render, segments, Note, OperatingMarker, StabilityFigure};
 use std::path::{Path, PathBuf};
 
 /// One pair of axes: how `(nu, kappa)` map to the plotted coordinates.
@@ -25,24 +26,23 @@ pub(super) fn write_figures(
     setup: &Setup,
     d: &StabilityDiagram,
     (lo, hi): (f64, f64),
+    operating: Option<&OperatingPoint>,
     stem: &Path,
 ) -> Result<Vec<PathBuf>, Error> {
     let u = setup.scene.units;
     let model = setup.choice.kind.name();
     let reference_every = (d.points.len() / 25).max(1);
     let mut files = Vec::new();
-    // Physical axes: (V, K/M), noting W = M g when the load is the weight;
-    // K/W for a massless block.
+    // Physical axes: (V, K/M) when the load is the block's weight, W = M g
+    // (the seed's diagram, where K/M alone decides); (V, K/W) when the scene
+    // gives its own load (a press-loaded rig, whose K/M would say nothing of
+    // its stiffness against the load) or the block is massless.
     let (y_of, y_label): (Box<dyn Fn(f64) -> f64>, &str) = match u.k_over_m(1.0) {
-        Some(_) => (
+        Some(_) if u.load_is_weight => (
             Box::new(move |k| u.k_over_m(k).unwrap_or(f64::NAN)),
-            if u.load_is_weight {
-                "critical K/M [1/s²]  (W = M g)"
-            } else {
-                "critical K/M [1/s²]"
-            },
+            "critical K/M [1/s²]  (W = M g)",
         ),
-        None => (Box::new(move |k| u.k_over_w(k)), "critical K/W [1/m]"),
+        _ => (Box::new(move |k| u.k_over_w(k)), "critical K/W [1/m]"),
     };
     let axes = [
         Axes {
@@ -155,6 +155,19 @@ pub(super) fn write_figures(
                 }
             ),
             markers,
+            operating_point: operating
+                .filter(|op| op.in_range)
+                .map(|op| OperatingMarker {
+                    label: format!(
+                        "operating point: K = {} N/m at V = {} µm/s ({})",
+                        significant(op.k_n_per_m),
+                        significant(op.v_um_per_s),
+                        op.regime.name()
+                    ),
+                    x: fx(op.nu),
+                    y: fy(op.kappa),
+                    margin: op.margin,
+                }),
             vlines,
             lpc,
             bistable,

@@ -13,12 +13,16 @@ use super::{params_json, significant, SceneArgs, Setup, TextUnits};
 use crate::analysis::diagram::{
     stability_diagram_deciding, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
 };
-use crate::analysis::hopf::Criticality;
+use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
+use crate::analysis::operating_point::{fold_at, judge, Onset, Regime};
+use crate::appendix_c;
 use crate::error::{Error, InputError, NumericalError};
+use crate::model::ModelKind;
 use clap::Args;
 use continuation::{AsIs, Wrap};
 use figures::write_figures;
 use rayon::prelude::*;
+use serde::Serialize;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -77,6 +81,8 @@ fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
 
 /// One scene's result.
 struct SceneResult {
+    /// The scene's own stiffness against the diagram, when it gives one.
+    operating: Option<OperatingPoint>,
     setup: Setup,
     range: (f64, f64),
     diagram: StabilityDiagram,
@@ -273,9 +279,20 @@ fn one_scene<F: Wrap>(
         .into());
     }
     let records = DiagramRecords::new(&diagram, &setup.params, &setup.scene.units);
+    let given = setup.scene.stiffness_given || setup.overrides.sets_stiffness();
+    let operating = given
+        .then(|| OperatingPoint::new(&setup, &diagram, (lo, hi)))
+        .transpose()?;
     let mut files = write_csv(&setup, &diagram, &records, &stem)?;
-    files.extend(write_figures(&setup, &diagram, (lo, hi), &stem)?);
+    files.extend(write_figures(
+        &setup,
+        &diagram,
+        (lo, hi),
+        operating.as_ref(),
+        &stem,
+    )?);
     let mut result = SceneResult {
+        operating,
         setup,
         range: (lo, hi),
         diagram,
@@ -349,11 +366,116 @@ fn to_json(r: &SceneResult) -> Value {
         "elapsed_s": r.seconds,
         "velocity_strengthening": records.strengthening,
         "onset_type": onset_type(records).map(Criticality::name).unwrap_or("mixed"),
+        "operating_point": r.operating,
     });
     if let Some(why) = &r.diagram.reason {
         out["reason"] = json!(why);
     }
     out
+}
+
+/// The scene's own stiffness and velocity against the diagram (JSON
+/// `operating_point`): the onset at the scene's velocity located exactly
+/// (as `hopf` does, with the model the diagram decided) and, where it is
+/// subcritical, the fold of cycles read off the diagram's traced curves
+/// ([`operating_point::judge`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct OperatingPoint {
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+    pub kappa: f64,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    pub nu: f64,
+    pub regime: Regime,
+    /// `(K - K_c) / K_c` at the scene's velocity; `null` without an onset.
+    pub margin: Option<f64>,
+    /// `kappa_c` at the scene's velocity; `null` without an onset.
+    pub kappa_c: Option<f64>,
+    #[serde(rename = "K_c_N_per_m")]
+    pub k_c_n_per_m: Option<f64>,
+    /// The fold of cycles at the scene's velocity, where a traced curve spans
+    /// it, and the bound on the error of reading it off that curve.
+    pub kappa_fold: Option<f64>,
+    pub kappa_fold_error: Option<f64>,
+    /// Whether the scene's velocity lies in the diagram's range (the point is drawn).
+    pub in_range: bool,
+    pub reason: String,
+}
+
+impl OperatingPoint {
+    fn new(setup: &Setup, d: &StabilityDiagram, (lo, hi): (f64, f64)) -> Result<Self, Error> {
+        let p = setup.params;
+        let u = &setup.scene.units;
+        let kappa = setup.scene_params.kappa;
+        let mut op = OperatingPoint {
+            k_n_per_m: u.stiffness(kappa),
+            kappa,
+            v_um_per_s: u.velocity_um_s(p.nu),
+            nu: p.nu,
+            regime: Regime::Undecided,
+            margin: None,
+            kappa_c: None,
+            k_c_n_per_m: None,
+            kappa_fold: None,
+            kappa_fold_error: None,
+            in_range: lo <= p.nu && p.nu <= hi,
+            reason: String::new(),
+        };
+        if kappa == 0.0 {
+            op.reason = "K = 0: no spring, hence no steady sliding driven through it".into();
+            return Ok(op);
+        }
+        let HopfOutcome::Found(h) = find_hopf(setup.choice.kind, &p)? else {
+            op.reason = "no Hopf point at this velocity: steady sliding is linearly stable at \
+                         every stiffness, but finite-amplitude stick-slip may coexist with it; \
+                         `stickslip cycles` looks for it by simulation"
+                .into();
+            return Ok(op);
+        };
+        let reference = appendix_c::critical_stiffness(&p);
+        let fold = fold_at(&d.lpc.points, p.nu);
+        let onset = Onset {
+            kappa_c: h.kappa_c,
+            criticality: h.onset.criticality,
+            tolerance: ((h.kappa_c - reference) / reference).abs(),
+            dropped_inertia: (setup.choice.kind == ModelKind::QuasiStatic
+                && setup.scene_params.m > 0.0)
+                .then(|| setup.scene_params.inertia_ratio()),
+            fold: Some(fold),
+        };
+        let (regime, margin, reason) = judge(kappa, &onset);
+        op.regime = regime;
+        op.margin = Some(margin);
+        op.kappa_c = Some(h.kappa_c);
+        op.k_c_n_per_m = Some(u.stiffness(h.kappa_c));
+        op.kappa_fold = fold.map(|f| f.kappa);
+        op.kappa_fold_error = fold.map(|f| f.error);
+        op.reason = if op.in_range {
+            reason
+        } else {
+            format!("{reason} (the scene's velocity lies outside the diagram's range: not drawn)")
+        };
+        Ok(op)
+    }
+
+    /// The text line: where the rig is, and why.
+    fn line(&self) -> String {
+        let at = match (self.kappa_c, self.k_c_n_per_m) {
+            (Some(kc), Some(k)) => {
+                format!(", where K_c = {} N/m (kappa_c = {kc:.6e})", significant(k))
+            }
+            _ => String::new(),
+        };
+        format!(
+            "operating point: K = {} N/m (kappa = {:.6e}) at V = {} µm/s{at}: {} — {}",
+            significant(self.k_n_per_m),
+            self.kappa,
+            significant(self.v_um_per_s),
+            self.regime.name(),
+            self.reason
+        )
+    }
 }
 
 /// The onset type shared by every point of the Hopf curve, `None` where it
@@ -492,6 +614,9 @@ fn print_text(r: &SceneResult, units: TextUnits) {
     }
     if let Some(line) = onset_type_line(records) {
         println!("  {line}");
+    }
+    if let Some(op) = &r.operating {
+        println!("  {}", op.line());
     }
     for s in &records.special {
         let l2 =
