@@ -839,3 +839,60 @@ fn diagram_places_the_operating_point_against_the_onset_and_the_fold() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Without a Hopf point at the scene's velocity (brockley's cutoff law past
+/// its friction minimum) steady sliding is stable at every stiffness, yet
+/// stick-slip coexists with it below the fold of cycles: `diagram` says
+/// `bistable` for a stiffness below the fold it reads off its traced curve.
+/// Independent values: `cycles --from-simulation` finds a stick-slip cycle
+/// at that stiffness and locates the fold on its branch, within the error
+/// bound the diagram reports.
+#[test]
+fn diagram_finds_bistability_without_an_onset_below_the_fold_of_cycles() {
+    let dir = std::env::temp_dir().join(format!("stickslip-no-onset-{}", std::process::id()));
+    let out = dir.to_str().unwrap();
+    let (code, text, err) = stickslip(&[
+        "diagram", "--json", "--out", out, "--scene", "brockley", "--set", "K=1e5",
+    ]);
+    // The fold curve stops short at the top of the range: partial (4).
+    assert!(code == 0 || code == 4, "{err}");
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let op = &v["operating_point"];
+    assert_eq!(op["regime"], "bistable", "{op}");
+    assert!(op["kappa_c"].is_null(), "{op}");
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--json",
+        "--out",
+        out,
+        "--scene",
+        "brockley",
+        "--set",
+        "K=1e5",
+        "--from-simulation",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let cycles: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(cycles["start"]["kind"], "simulation", "{}", cycles["start"]);
+    let kappa = op["kappa"].as_f64().unwrap();
+    let start = cycles["start"]["kappa"].as_f64().unwrap();
+    assert!(
+        (start / kappa - 1.0).abs() < 1e-12,
+        "stick-slip settled at the scene's K"
+    );
+    let fold = cycles["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "lpc")
+        .and_then(|s| s["kappa"].as_f64())
+        .expect("the fold of cycles on the branch");
+    let read = op["kappa_fold"].as_f64().unwrap();
+    let error = op["kappa_fold_error"].as_f64().unwrap();
+    assert!(kappa < fold, "{kappa} below the fold {fold}");
+    assert!(
+        (read - fold).abs() <= error,
+        "fold read {read} ± {error} vs located {fold}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -234,6 +234,51 @@ pub fn judge(kappa: f64, onset: &Onset) -> (Regime, f64, String) {
     (regime, margin, reason)
 }
 
+/// The regime at stiffness `kappa` where steady sliding has no Hopf point
+/// at the rig's velocity (linearly stable at every stiffness): stick-slip
+/// may still coexist with it below a fold of cycles that a traced curve of
+/// folds reaches at this velocity (past the friction minimum of the cutoff
+/// law, Brockley's hysteresis without an onset).
+pub fn judge_without_onset(kappa: f64, fold: Option<FoldAt>) -> (Regime, String) {
+    const STABLE: &str = "no Hopf point at this velocity: steady sliding is linearly stable at \
+                          every stiffness";
+    match fold {
+        None => (
+            Regime::Undecided,
+            format!(
+                "{STABLE}, but finite-amplitude stick-slip may coexist with it and no traced \
+                 curve of folds of cycles spans this velocity; `stickslip cycles` looks for it \
+                 by simulation"
+            ),
+        ),
+        Some(fold) if (kappa - fold.kappa).abs() <= fold.error => (
+            Regime::Undecided,
+            format!(
+                "{STABLE}; K is within {:.1e} relative (the reading's error) of the fold of \
+                 cycles at kappa = {:.6e}: whether stick-slip coexists is not decided",
+                fold.error / fold.kappa,
+                fold.kappa
+            ),
+        ),
+        Some(fold) if kappa < fold.kappa => (
+            Regime::Bistable,
+            format!(
+                "{STABLE}, and stick-slip coexists with it below the fold of cycles \
+                 (kappa_fold = {:.6e}): which one the rig shows depends on its history",
+                fold.kappa
+            ),
+        ),
+        Some(fold) => (
+            Regime::Steady,
+            format!(
+                "{STABLE}, and K lies above the fold of cycles (kappa_fold = {:.6e}): no \
+                 stick-slip cycle coexists with it there",
+                fold.kappa
+            ),
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -330,6 +375,19 @@ mod tests {
             let (regime, margin, reason) = judge(kappa, &o);
             assert_eq!(regime, expected, "kappa = {kappa}: {reason}");
             assert!((margin - (kappa - 1.0)).abs() < 1e-15);
+        }
+        let fold = Some(FoldAt {
+            kappa: 1.0,
+            error: 1e-3,
+        });
+        for (kappa, fold, expected) in [
+            (0.5, fold, Regime::Bistable),
+            (1.5, fold, Regime::Steady),
+            (1.0005, fold, Regime::Undecided),
+            (0.5, None, Regime::Undecided),
+        ] {
+            let (regime, reason) = judge_without_onset(kappa, fold);
+            assert_eq!(regime, expected, "kappa = {kappa}: {reason}");
         }
     }
 }

@@ -14,7 +14,7 @@ use crate::analysis::diagram::{
     stability_diagram_deciding, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
 };
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
-use crate::analysis::operating_point::{fold_at, judge, Onset, Regime};
+use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Onset, Regime};
 use crate::appendix_c;
 use crate::error::{Error, InputError, NumericalError};
 use crate::model::ModelKind;
@@ -426,15 +426,15 @@ impl OperatingPoint {
             op.reason = "K = 0: no spring, hence no steady sliding driven through it".into();
             return Ok(op);
         }
+        let fold = fold_at(&d.lpc.points, p.nu);
+        op.kappa_fold = fold.map(|f| f.kappa);
+        op.kappa_fold_error = fold.map(|f| f.error);
         let HopfOutcome::Found(h) = find_hopf(setup.choice.kind, &p)? else {
-            op.reason = "no Hopf point at this velocity: steady sliding is linearly stable at \
-                         every stiffness, but finite-amplitude stick-slip may coexist with it; \
-                         `stickslip cycles` looks for it by simulation"
-                .into();
+            (op.regime, op.reason) = judge_without_onset(kappa, fold);
+            op.reason = op.with_range_note(op.reason.clone());
             return Ok(op);
         };
         let reference = appendix_c::critical_stiffness(&p);
-        let fold = fold_at(&d.lpc.points, p.nu);
         let onset = Onset {
             kappa_c: h.kappa_c,
             criticality: h.onset.criticality,
@@ -449,14 +449,17 @@ impl OperatingPoint {
         op.margin = Some(margin);
         op.kappa_c = Some(h.kappa_c);
         op.k_c_n_per_m = Some(u.stiffness(h.kappa_c));
-        op.kappa_fold = fold.map(|f| f.kappa);
-        op.kappa_fold_error = fold.map(|f| f.error);
-        op.reason = if op.in_range {
+        op.reason = op.with_range_note(reason);
+        Ok(op)
+    }
+
+    /// `reason`, noting when the scene's velocity lies outside the range.
+    fn with_range_note(&self, reason: String) -> String {
+        if self.in_range {
             reason
         } else {
             format!("{reason} (the scene's velocity lies outside the diagram's range: not drawn)")
-        };
-        Ok(op)
+        }
     }
 
     /// The text line: where the rig is, and why.
