@@ -294,3 +294,69 @@ fn a_long_single_segment_runs_to_its_end_past_the_rounding_of_t() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// `simulate` names the regime the run reaches: below the onset the stick-slip
+/// cycle with its period in s, force drop and slip per event; the same cycle
+/// located by collocation (`cycles --at-kappa`, a second method) gives the
+/// same period and `Delta_s` to 1e-6. Above the (supercritical) onset the
+/// oscillation decays onto steady sliding.
+#[test]
+fn simulate_reports_the_regime_it_reaches() {
+    let dir = std::env::temp_dir().join(format!("stickslip-regime-{}", std::process::id()));
+    let out = dir.to_str().unwrap();
+    let number_after = |text: &str, key: &str| -> f64 {
+        let at = text.find(key).unwrap_or_else(|| panic!("no '{key}' in {text}")) + key.len();
+        text[at..]
+            .split(|c: char| c.is_whitespace() || c == ',' || c == ')')
+            .find(|w| !w.is_empty())
+            .and_then(|w| w.parse().ok())
+            .unwrap_or_else(|| panic!("no number after '{key}' in {text}"))
+    };
+    let (code, text, err) = common::stickslip(&[
+        "cycles", "--json", "--at-kappa", "0.009", "--out", out, "--force",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let cycle = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["user_point"].as_bool() == Some(true) || c["user_point"].is_object())
+        .expect("the cycle at kappa = 0.009")
+        .clone();
+    let (period, period_s, delta_s) = (
+        cycle["period"].as_f64().unwrap(),
+        cycle["period_s"].as_f64().unwrap(),
+        cycle["delta_s"].as_f64().unwrap(),
+    );
+    let run = |units: &str| {
+        let (code, text, err) = common::stickslip(&[
+            "simulate", "--set", "kappa=0.009", "--protocol", "1:500", "--out", out, "--force",
+            "--units", units,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        text.lines()
+            .find(|l| l.starts_with("regime reached"))
+            .unwrap_or_else(|| panic!("no regime line in {text}"))
+            .to_string()
+    };
+    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-6;
+    let line = run("dimensionless");
+    assert!(line.contains("stick-slip"), "{line}");
+    let p = number_after(&line, "period ");
+    assert!(close(p, period), "{p} vs {period}: {line}");
+    let d = number_after(&line, "Delta_s = ");
+    assert!(close(d, delta_s), "{d} vs {delta_s}: {line}");
+    // nu = 1: the slip per event is the drive's advance over one period.
+    assert!(close(number_after(&line, "slip per event "), period), "{line}");
+    let line = run("physical");
+    let ps = number_after(&line, "period ");
+    assert!(close(ps, period_s), "{ps} s vs {period_s} s: {line}");
+    assert!(line.contains(" N (Delta_s"), "{line}");
+    let (code, text, err) = common::stickslip(&[
+        "simulate", "--set", "kappa=0.012", "--protocol", "1:200", "--out", out, "--force",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("steady sliding (the oscillation decays)"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -7,6 +7,7 @@
 //! stop early); [`simulate`] collects them into a [`Trajectory`].
 
 use crate::analysis::orbit_inertia::{inertial_state, state_imbalance, InertiaWatch};
+use crate::analysis::settle::{settle, SettleError, SettleSettings};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -562,6 +563,65 @@ pub fn cycle_by_integration(
     let lows = &minima[minima.len() - periods..];
     let smin = lows.iter().map(|c| s_at(c)).sum::<f64>() / lows.len() as f64;
     Ok((period, smax - smin))
+}
+
+/// The regime a run reaches, continued from its last state at its last
+/// driving velocity ([`regime_reached`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum RegimeReached {
+    /// A stick-slip cycle: its period (units `D0/V0`), peak-to-peak spring
+    /// force `Delta_s` and slip per event `nu T` (units `D0`: over one period
+    /// the block slides as far as the drive moves, the spring returning to
+    /// its extension).
+    Periodic {
+        period: f64,
+        delta_s: f64,
+        slip: f64,
+    },
+    /// The oscillation decays onto steady sliding.
+    Steady,
+    /// Neither within the settling budget, or the integration failed (why).
+    Unsettled(String),
+}
+
+/// The regime reached from `last` (docs/model.md's `(s, v, theta)`) at
+/// `params` (the last segment's velocity): the return map on `v = nu`
+/// settled ([`settle`](crate::analysis::settle::settle)), then the period
+/// and `Delta_s` from the extremes of `s` located as events over five and a
+/// half more periods ([`cycle_by_integration`], averaged over the last three); the two periods must agree to
+/// `1e-6` relative, else the orbit is reported unsettled.
+pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> RegimeReached {
+    let settings = SettleSettings::for_params(params);
+    let orbit = match settle(kind, params, last, &settings) {
+        Ok(orbit) => orbit,
+        Err(SettleError::Decayed { .. }) => return RegimeReached::Steady,
+        Err(e) => return RegimeReached::Unsettled(e.summary()),
+    };
+    let log = LogBlock::new(kind, params);
+    let on_section = log.to_model(&orbit.section, &params.to_vec());
+    match cycle_by_integration(
+        kind,
+        params,
+        on_section,
+        0.0,
+        5.5 * orbit.period,
+        3,
+        settings.rtol,
+    ) {
+        Ok((period, delta_s)) if (period / orbit.period - 1.0).abs() <= 1e-6 => {
+            RegimeReached::Periodic {
+                period,
+                delta_s,
+                slip: params.nu * period,
+            }
+        }
+        Ok((period, _)) => RegimeReached::Unsettled(format!(
+            "the period between extremes ({period:.6e}) differs from the return map's \
+             ({:.6e}) by more than 1e-6 relative",
+            orbit.period
+        )),
+        Err(e) => RegimeReached::Unsettled(e.to_string()),
+    }
 }
 
 #[cfg(test)]

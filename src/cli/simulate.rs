@@ -11,8 +11,11 @@ use super::{SceneArgs, TextUnits};
 use crate::analysis::decimate::{Buckets, Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
-use crate::analysis::simulate::{simulate_watched, RunOptions, Sample, Segment, Trajectory};
+use crate::analysis::simulate::{
+    regime_reached, simulate_watched, RegimeReached, RunOptions, Sample, Segment, Trajectory,
+};
 use crate::error::{Error, InputError};
+use crate::model::ModelKind;
 use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
 use crate::scene::Units;
 use clap::Args;
@@ -172,6 +175,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let mut envelope = Envelope::new(args.plot_points);
     let mut csv_buckets = Buckets::new(args.every);
     let (mut count, mut step_limit) = (0usize, false);
+    let mut last: Option<Sample> = None;
     let mut write_error = None;
     // The integrator's own limit well above --max-steps, which the rows
     // enforce (status 4): the integrator also counts its rejected steps, and
@@ -195,6 +199,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                 return ControlFlow::Break(());
             }
             envelope.push(p);
+            last = Some(*p);
             count += 1;
             if count >= args.max_steps {
                 step_limit = true;
@@ -280,6 +285,19 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             String::new()
         }
     );
+    if let (Ok(end), Some(at), Some(seg)) = (&run, last, protocol.last()) {
+        if !end.stopped {
+            let kind = if switch.is_some() {
+                ModelKind::Inertial
+            } else {
+                setup.choice.kind
+            };
+            let mut params = params_for(kind, &setup.scene_params);
+            params.nu = seg.nu;
+            let reached = regime_reached(kind, &params, [at.s, at.v, at.theta]);
+            println!("{}", regime_line(&reached, &u, args.units, seg.nu));
+        }
+    }
     for f in figs.iter().chain([&csv_path]) {
         println!("wrote {}", f.display());
     }
@@ -477,4 +495,37 @@ fn figures(
         );
     }
     Ok(files)
+}
+
+/// The regime reached at the end of the run, in words and the text's units:
+/// period, force drop `Delta_s W` and slip per event of a stick-slip cycle.
+fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) -> String {
+    let time_unit = u.d0 / u.v0;
+    let at = match units {
+        TextUnits::Physical => format!("V = {:.4e} µm/s", u.velocity_um_s(nu)),
+        TextUnits::Dimensionless => format!("nu = {nu:.4e}"),
+    };
+    let head =
+        format!("regime reached at {at} (continued from the end of the run until it settles)");
+    match reached {
+        RegimeReached::Periodic {
+            period,
+            delta_s,
+            slip,
+        } => match units {
+            TextUnits::Physical => format!(
+                "{head}: stick-slip, period {:.6e} s, force drop {:.6e} N (Delta_s = {delta_s:.6e}), \
+                 slip per event {:.6e} µm",
+                period * time_unit,
+                delta_s * u.load,
+                slip * u.d0 * 1e6
+            ),
+            TextUnits::Dimensionless => format!(
+                "{head}: stick-slip, period {period:.6e} (D0/V0), Delta_s = {delta_s:.6e}, \
+                 slip per event {slip:.6e} (D0)"
+            ),
+        },
+        RegimeReached::Steady => format!("{head}: steady sliding (the oscillation decays)"),
+        RegimeReached::Unsettled(why) => format!("{head}: not settled — {why}"),
+    }
 }
