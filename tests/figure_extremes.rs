@@ -361,6 +361,7 @@ fn diagram(curve: &[(f64, f64, Criticality)], x_range: (f64, f64)) -> StabilityF
         reference: Vec::new(),
         reference_label: "Appendix C".into(),
         markers: Vec::new(),
+        operating_point: None,
         vlines: Vec::new(),
         lpc: Vec::new(),
         unknown: Vec::new(),
