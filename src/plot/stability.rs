@@ -858,6 +858,24 @@ mod tests {
     /// A span where the fold curve was not computed has its legend entry,
     /// and the legend does not otherwise change: the band's own entries
     /// stay as they are.
+    /// An operating point far below (or above) the curve widens the y
+    /// range to show it, and gets its legend entry.
+    #[test]
+    fn the_operating_point_is_inside_the_axes_and_in_the_legend() {
+        for y in [1e-3, 1e3] {
+            let mut fig = figure(vec![(1.0, 1.0), (10.0, 2.0)]);
+            fig.operating_point = Some(OperatingMarker {
+                label: "operating point".into(),
+                x: 3.0,
+                y,
+                margin: None,
+            });
+            let (lo, hi) = y_range(&fig);
+            assert!(lo < y && y < hi, "{y} outside ({lo}, {hi})");
+            assert!(legend(&fig).iter().any(|e| e.0 == "operating point"));
+        }
+    }
+
     #[test]
     fn an_uncomputed_fold_curve_is_in_the_legend() {
         let mut fig = figure(vec![(1.0, 1.0), (10.0, 2.0)]);
