@@ -229,6 +229,67 @@ impl Control {
         }
     }
 
+    /// The parameters at the end of `range` (its unit) where the inertia
+    /// ratio `m nu^2 / mu_v` (C11) is largest: where the model is judged
+    /// (the scene's own without a range).
+    pub fn inertia_judged_at(
+        self,
+        units: &Units,
+        params: &Params,
+        range: Option<(f64, f64)>,
+    ) -> Params {
+        let Some((lo, hi)) = range else {
+            return *params;
+        };
+        let (a, b) = (self.at(units, params, lo).0, self.at(units, params, hi).0);
+        if b.inertia_ratio() >= a.inertia_ratio() {
+            b
+        } else {
+            a
+        }
+    }
+
+    /// The dimensionless parameter a steady branch in this control
+    /// continues (`kappa` for `M` when `W = M g`, where `kappa = K D0/(M g)`);
+    /// `W` moves two at once and is refused, naming what is supported.
+    pub fn continued(self, units: &Units) -> Result<Param, InputError> {
+        match self.path(units) {
+            Path::Stiffness | Path::InverseStiffness => Ok(Param::Kappa),
+            Path::Index { param, .. } => Ok(param),
+            Path::Load => Err(InputError::Conflict(
+                "--param W moves kappa = K D0/W and m = M V0^2/(W D0) together, and a branch \
+                 continues one parameter: use hopf --param W for the onset in W, or branch \
+                 --param K, M, kappa or m"
+                    .to_string(),
+            )),
+        }
+    }
+
+    /// The continued dimensionless parameter ([`continued`](Self::continued))
+    /// at this control's `value` (its unit), the scene's `params` otherwise.
+    pub fn to_dimensionless(self, units: &Units, params: &Params, value: f64) -> f64 {
+        let (p, u) = self.at(units, params, value);
+        match self.continued(&u) {
+            Ok(q) => p.get(q),
+            Err(_) => f64::NAN,
+        }
+    }
+
+    /// This control's value (its unit) where the continued dimensionless
+    /// parameter is `x`, the inverse of [`to_dimensionless`](Self::to_dimensionless).
+    pub fn from_dimensionless(self, units: &Units, params: &Params, x: f64) -> f64 {
+        match self.path(units) {
+            Path::Stiffness => match self {
+                Control::K => x * units.load / units.d0,
+                _ => x,
+            },
+            // kappa = K D0 / (M g)
+            Path::InverseStiffness => units.stiffness(params.kappa) * units.d0 / (units.g * x),
+            Path::Index { scale, .. } => x / scale,
+            Path::Load => f64::NAN,
+        }
+    }
+
     /// Whether the onset is searched over a range of this control (every
     /// path but the stiffness ones, which search from a stable stiffness down).
     pub fn searches_range(self, units: &Units) -> bool {
@@ -588,13 +649,7 @@ pub fn choose_along(
     threshold: f64,
 ) -> crate::analysis::model_choice::ModelChoice {
     use crate::analysis::model_choice::choose_model;
-    let ends = range.map_or_else(Vec::new, |(lo, hi)| vec![lo, hi]);
-    let judged = ends
-        .iter()
-        .map(|&v| control.at(units, params, v).0)
-        .chain(std::iter::once(*params))
-        .max_by(|a, b| a.inertia_ratio().total_cmp(&b.inertia_ratio()))
-        .unwrap_or(*params);
+    let judged = control.inertia_judged_at(units, params, range);
     let mut choice = choose_model(&judged, forced, threshold);
     if forced.is_none() && choice.kind == ModelKind::QuasiStatic && control.moves_inertia(units) {
         choice.kind = ModelKind::Inertial;
