@@ -17,6 +17,7 @@
 //!
 //! `mu0` moves no onset (it shifts the friction level only) and is refused.
 
+use crate::analysis::cycles::CycleRecord;
 use crate::analysis::hopf::{find_hopf, HopfOutcome, HopfPoint};
 use crate::analysis::model_choice::params_for;
 use crate::error::{closest, Error, InputError, NumericalError};
@@ -661,4 +662,152 @@ pub fn choose_along(
         );
     }
     choice
+}
+
+/// A branch of stick-slip cycles in a control parameter (`cycles --param`).
+#[derive(Clone, Debug)]
+pub struct CyclesInRequest {
+    /// The control.
+    pub control: Control,
+    /// Where the branch ends, in the control's unit.
+    pub to: f64,
+    /// Where the onset is searched ([`onset_in`]), in the control's unit
+    /// (default: [`Control::default_range`] widened to include `to`).
+    pub search: Option<(f64, f64)>,
+    /// The scene's velocity range (dimensionless), for the default search in `V` and `nu`.
+    pub nu_range: (f64, f64),
+    /// Values of the control at which cycles are located exactly.
+    pub at: Vec<f64>,
+    /// Start from a simulated orbit at the scene's value instead of the Hopf point.
+    pub from_simulation: bool,
+    /// Step limit, mesh and collocation as for a stiffness branch (its
+    /// bounds and requested values are set here, in the continued parameter).
+    pub cycles: crate::analysis::cycles::CycleRequest,
+}
+
+/// Where a branch in a control parameter started.
+#[derive(Clone, Debug)]
+pub enum CyclesStart {
+    /// The Hopf point in the control.
+    Hopf(Box<OnsetIn>),
+    /// A simulated orbit at the scene's value of the control.
+    Simulation,
+}
+
+/// A branch of cycles in a control parameter, traced.
+#[derive(Debug)]
+pub struct CyclesIn {
+    /// Where it started.
+    pub start: CyclesStart,
+    /// The dimensionless parameter continued (`nu` for `V`).
+    pub param: Param,
+    /// The bounds of the continued parameter.
+    pub bounds: (f64, f64),
+    /// How each leg ended (one from a Hopf point, two from an orbit).
+    pub legs: Vec<(
+        crate::analysis::cycles::Leg,
+        Result<continuation::periodic::branch::BranchEnd, Error>,
+    )>,
+}
+
+/// Traces the cycles in `req.control` from its Hopf point (located by
+/// [`onset_in`], normal form as `hopf`'s) or from a simulated orbit at the
+/// scene's value, continued in the dimensionless parameter the control
+/// moves ([`Control::continued`]) up to `req.to`, and on the other side to
+/// ten times the start (a subcritical branch goes that way first, to its
+/// fold of cycles). Each cycle is handed to `sink` as it is computed; folds,
+/// period doublings and the requested values as on a stiffness branch.
+pub fn cycles_in(
+    kind: ModelKind,
+    params: &Params,
+    units: &Units,
+    req: &CyclesInRequest,
+    watch: &crate::analysis::orbit_inertia::InertiaWatch,
+    mut sink: impl FnMut(&CycleRecord) -> Result<(), Error>,
+) -> Result<CyclesIn, Error> {
+    use crate::analysis::cycles::{trace_cycles_from_in, trace_cycles_from_orbit_in, Leg};
+    let control = req.control;
+    let param = control.continued(units)?;
+    if !(req.to.is_finite() && req.to > 0.0) {
+        return Err(
+            InputError::out_of_range("--to", req.to, &format!("> 0 ({})", control.unit())).into(),
+        );
+    }
+    if let Some(v) = req.at.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(
+            InputError::out_of_range("--at", *v, &format!("> 0 ({})", control.unit())).into(),
+        );
+    }
+    if control.needs_stiffness() && params.kappa <= 0.0 {
+        return Err(InputError::Conflict(format!(
+            "cycles in {} need the spring: kappa = 0 here (the scene gives no K); give --set K=... (N/m)",
+            control.name()
+        ))
+        .into());
+    }
+    let to = control.to_dimensionless(units, params, req.to);
+    let bounds = |start: f64| {
+        if to < start {
+            (to, 10.0 * start)
+        } else {
+            (0.1 * start, to)
+        }
+    };
+    let mut cycles = req.cycles.clone();
+    cycles.at_kappa = req
+        .at
+        .iter()
+        .map(|&v| control.to_dimensionless(units, params, v))
+        .collect();
+    if req.from_simulation {
+        let start = params.get(param);
+        let (lo, hi) = bounds(start);
+        cycles.kappa_min = lo;
+        cycles.kappa_max = hi;
+        cycles.cover_requested();
+        let model = params_for(kind, params);
+        let orbit = crate::analysis::orbit_start::simulated_start(kind, &model, None)
+            .map_err(|e| NumericalError::Analysis(e.to_string()))?;
+        if orbit.params.kappa != model.kappa {
+            return Err(NumericalError::Analysis(format!(
+                "no stick-slip cycle settled at the scene's stiffness kappa = {:.6e} (a simulation \
+                 from a stuck state); start from the Hopf point (without --from-simulation)",
+                model.kappa
+            ))
+            .into());
+        }
+        let legs = trace_cycles_from_orbit_in(
+            kind,
+            &model,
+            &orbit.orbit,
+            param,
+            &cycles,
+            watch,
+            &mut sink,
+        )?;
+        let [up, down] = legs;
+        return Ok(CyclesIn {
+            start: CyclesStart::Simulation,
+            param,
+            bounds: (cycles.kappa_min, cycles.kappa_max),
+            legs: vec![(Leg::Up, up), (Leg::Down, down)],
+        });
+    }
+    let search = req.search.or_else(|| {
+        let (lo, hi) = control.default_range(units, params, req.nu_range)?;
+        Some((lo.min(req.to), hi.max(req.to)))
+    });
+    let onset = onset_in(kind, params, units, control, search)?;
+    let (lo, hi) = bounds(onset.params.get(param));
+    cycles.kappa_min = lo;
+    cycles.kappa_max = hi;
+    cycles.cover_requested();
+    let model = params_for(kind, &onset.params);
+    let end = trace_cycles_from_in(kind, &model, &onset.hopf, param, &cycles, watch, &mut sink);
+    Ok(CyclesIn {
+        start: CyclesStart::Hopf(Box::new(onset)),
+        param,
+        bounds: (cycles.kappa_min, cycles.kappa_max),
+        legs: vec![(Leg::FromHopf, end)],
+    })
 }
