@@ -481,7 +481,7 @@ pub fn onset_in(
         }
     };
     let disagreement = (h.kappa_c / at.kappa - 1.0).abs();
-    if !(disagreement <= AGREEMENT) {
+    if disagreement.is_nan() || disagreement > AGREEMENT {
         return Err(NumericalError::Analysis(format!(
             "the onset located at {} = {value:.10e} {} has kappa_c = {:.10e} there, {disagreement:.1e} \
              relative from the scene's kappa = {:.10e}: the two locations disagree",

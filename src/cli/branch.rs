@@ -85,7 +85,7 @@ fn control_range(
         }
         _ => {
             let start = args.from.unwrap_or_else(|| control.value(u, params));
-            if !(start > 0.0) {
+            if start.is_nan() || start <= 0.0 {
                 return Err(InputError::Conflict(format!(
                     "the scene's {} is 0: give --from and --to (in {})",
                     control.name(),

@@ -79,12 +79,21 @@ fn record_of(c: &CycleRecord, control: Control, param: Param, setup: &Setup) -> 
     d
 }
 
+/// The control's unit as the text writes it (`µm/s`; empty when dimensionless).
+fn text_unit(control: Control) -> &'static str {
+    match control.unit() {
+        "um/s" => "µm/s",
+        "1" => "",
+        u => u,
+    }
+}
+
 /// One line of the text: the control's value, period [s], force drop [N].
 fn line(c: &Cycle, control: Control, value: f64) -> String {
     format!(
         "{} = {value:.8e} {}  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s  {}{}",
         control.name(),
-        control.unit(),
+        text_unit(control),
         c.period_s,
         c.delta_s_n,
         c.delta_s,
@@ -293,7 +302,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
                 control.name(),
                 control.name(),
                 c.value,
-                control.unit(),
+                text_unit(control),
                 c.criticality.name()
             );
         }
