@@ -421,3 +421,85 @@ fn control_parameters_refused_by_name() {
         assert!(err.contains(expected), "{args:?}: {err}");
     }
 }
+
+/// `r = m nu^2 / mu_v` of the model a report used (0 when quasi-static).
+fn inertia_ratio(report: &Value, m: f64, nu: f64) -> f64 {
+    match report["model"].as_str() {
+        Some("inertial") => m * nu * nu / A,
+        _ => 0.0,
+    }
+}
+
+#[test]
+fn onset_in_the_friction_law_in_closed_form() {
+    let nu = V * 1e-6 / V0;
+    let (kappa, m) = (K * D0 / W, M * V0 * V0 / (W * D0));
+    // B: C11 is linear in B, B_c = A + 2 mu2 ln nu + kappa / (1 + r).
+    let (_dir, path) = scene("law", RIG);
+    let (code, out, err) = stickslip(&[
+        "hopf",
+        "--scene",
+        path.to_str().unwrap(),
+        "--param",
+        "B",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let r = inertia_ratio(&j, m, nu);
+    let b_c = A + 2.0 * MU2 * nu.ln() + kappa / (1.0 + r);
+    let c = &j["critical"];
+    assert_eq!(c["unit"], "1");
+    assert!(
+        rel(c["value"].as_f64().unwrap(), b_c) < 1e-10,
+        "{} vs {b_c}",
+        c["value"]
+    );
+    // tau (the cutoff form, mu_phi = B / (1 + nu theta_c)): B / (1 + nu
+    // theta_c) = A + kappa / (1 + r), theta_c = tau V0 / D0.
+    let cutoff = RIG.replace("mu2 = 1e-3\n", "tau = 0.01\n");
+    let (_dir, path) = scene("cutoff", &cutoff);
+    let (code, out, err) = stickslip(&[
+        "hopf",
+        "--scene",
+        path.to_str().unwrap(),
+        "--param",
+        "tau",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let r = inertia_ratio(&j, m, nu);
+    let theta_c = (B / (A + kappa / (1.0 + r)) - 1.0) / nu;
+    let tau = theta_c * D0 / V0;
+    let c = &j["critical"];
+    assert_eq!(c["unit"], "s");
+    assert!(
+        rel(c["value"].as_f64().unwrap(), tau) < 1e-10,
+        "{} vs {tau}",
+        c["value"]
+    );
+    assert!(rel(c["dimensionless"]["theta_c"].as_f64().unwrap(), theta_c) < 1e-10);
+}
+
+#[test]
+fn the_onset_in_k_is_todays_hopf_with_critical_beside() {
+    let (_dir, path) = scene("in_k", RIG);
+    let path = path.to_str().unwrap();
+    let (code, plain, _) = stickslip(&["hopf", "--scene", path, "--json"]);
+    assert_eq!(code, 0);
+    let (code, with, err) = stickslip(&["hopf", "--scene", path, "--param", "K", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let (plain, mut with) = (json(&plain), json(&with));
+    assert!(plain.get("critical").is_none());
+    let critical = with.as_object_mut().unwrap().remove("critical").unwrap();
+    assert_eq!(plain, with);
+    assert_eq!(critical["unit"], "N/m");
+    let k_c = plain["physical"]["K_N_per_m"].as_f64().unwrap();
+    assert_eq!(critical["value"].as_f64(), Some(k_c));
+    // K_c = kappa_c W / D0 with kappa_c of C11 at the scene's velocity.
+    let nu = V * 1e-6 / V0;
+    let r = inertia_ratio(&plain, M * V0 * V0 / (W * D0), nu);
+    let expected = (B - 2.0 * MU2 * nu.ln() - A) * (1.0 + r) * W / D0;
+    assert!(rel(k_c, expected) < 1e-12, "{k_c} vs {expected}");
+}
