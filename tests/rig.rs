@@ -338,6 +338,38 @@ fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
         "{header}"
     );
     assert_eq!(csv.lines().count(), 2 + cycles.len());
+    // The branch started instead from an orbit simulated at the rig's own
+    // velocity (both legs, up to 12 µm/s and a step below 10) holds the
+    // same cycle at 10 µm/s.
+    let (code, out, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        path,
+        "--param",
+        "V",
+        "--to",
+        "12",
+        "--from-simulation",
+        "--out",
+        out_dir,
+        "--force",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    assert_eq!(j["start"], "simulation");
+    assert_eq!(j["complete"], true, "{}", j["stop"]);
+    let cycles = j["cycles"].as_array().unwrap();
+    let vs: Vec<f64> = cycles
+        .iter()
+        .map(|c| c["V_um_per_s"].as_f64().unwrap())
+        .collect();
+    assert!(vs.iter().all(|v| *v > 9.9 && *v < 12.1), "{vs:?}");
+    assert!(vs.iter().any(|v| *v > 11.9), "{vs:?}");
+    let own: Vec<&Value> = cycles.iter().filter(|c| c["V_um_per_s"] == V).collect();
+    assert!(!own.is_empty());
+    assert!(rel(own[0]["period_s"].as_f64().unwrap(), period) < 1e-9);
+    assert!(rel(own[0]["delta_s_N"].as_f64().unwrap(), drop) < 1e-9);
     // An independent long-time integration at the rig's own velocity.
     let (code, _, err) = stickslip(&[
         "simulate",

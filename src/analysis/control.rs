@@ -703,6 +703,8 @@ pub struct CyclesIn {
     pub param: Param,
     /// The bounds of the continued parameter.
     pub bounds: (f64, f64),
+    /// The requested values, in the continued parameter.
+    pub at: Vec<f64>,
     /// How each leg ended (one from a Hopf point, two from an orbit).
     pub legs: Vec<(
         crate::analysis::cycles::Leg,
@@ -710,12 +712,29 @@ pub struct CyclesIn {
     )>,
 }
 
+impl CyclesIn {
+    /// Whether each requested value was delivered: a cycle located at it
+    /// (a user point within 1e-9 relative) among `records`.
+    pub fn delivered(&self, records: &[CycleRecord]) -> Vec<bool> {
+        let k = self.param as usize;
+        self.at
+            .iter()
+            .map(|&target| {
+                records
+                    .iter()
+                    .any(|c| c.user_point && (c.params[k] - target).abs() <= 1e-9 * target.abs())
+            })
+            .collect()
+    }
+}
+
 /// Traces the cycles in `req.control` from its Hopf point (located by
 /// [`onset_in`], normal form as `hopf`'s) or from a simulated orbit at the
 /// scene's value, continued in the dimensionless parameter the control
-/// moves ([`Control::continued`]) up to `req.to`, and on the other side to
-/// ten times the start (a subcritical branch goes that way first, to its
-/// fold of cycles). Each cycle is handed to `sink` as it is computed; folds,
+/// moves ([`Control::continued`]) up to `req.to`; from the Hopf point, on
+/// the other side to ten times the start (a subcritical branch goes that
+/// way first, to its fold of cycles); from an orbit, between the scene's
+/// value and `req.to`. Each cycle is handed to `sink` as it is computed; folds,
 /// period doublings and the requested values as on a stiffness branch.
 pub fn cycles_in(
     kind: ModelKind,
@@ -760,8 +779,10 @@ pub fn cycles_in(
         .map(|&v| control.to_dimensionless(units, params, v))
         .collect();
     if req.from_simulation {
+        // From the scene's value to --to; the other leg ends after a step
+        // (a margin of 1e-3: a start on the bound ends both legs at once).
         let start = params.get(param);
-        let (lo, hi) = bounds(start);
+        let (lo, hi) = (start.min(to) * (1.0 - 1e-3), start.max(to) * (1.0 + 1e-3));
         cycles.kappa_min = lo;
         cycles.kappa_max = hi;
         cycles.cover_requested();
@@ -790,6 +811,7 @@ pub fn cycles_in(
             start: CyclesStart::Simulation,
             param,
             bounds: (cycles.kappa_min, cycles.kappa_max),
+            at: cycles.at_kappa,
             legs: vec![(Leg::Up, up), (Leg::Down, down)],
         });
     }
@@ -808,6 +830,7 @@ pub fn cycles_in(
         start: CyclesStart::Hopf(Box::new(onset)),
         param,
         bounds: (cycles.kappa_min, cycles.kappa_max),
+        at: cycles.at_kappa,
         legs: vec![(Leg::FromHopf, end)],
     })
 }

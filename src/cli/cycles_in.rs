@@ -10,7 +10,7 @@ use super::records::cycle::{Cycle, CycleDetail, CycleSpecialPoint, LegStop};
 use super::records::hopf::Critical;
 use super::{params_json, Setup};
 use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest, CyclesStart};
-use crate::analysis::cycles::{CycleRecord, CycleRequest};
+use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
 use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
@@ -198,6 +198,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         args.scene.model.is_none(),
     );
     let mut details: Vec<CycleDetail> = Vec::new();
+    let mut records: Vec<CycleRecord> = Vec::new();
     let mut specials: Vec<CycleSpecialPoint> = Vec::new();
     let traced = cycles_in(kind, &scene_params, &units, &req, &watch, |c| {
         for rec in c.user.iter().chain([c]) {
@@ -219,6 +220,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
                 specials.push(CycleSpecialPoint { kind, cycle });
             }
             details.push(d);
+            records.push(rec.clone());
         }
         Ok(())
     })?;
@@ -228,24 +230,15 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         .map(|(leg, o)| LegStop::new(Some(*leg), o, args.max_steps))
         .collect();
     let value_of = |x: f64| control.from_dimensionless(&units, &scene_params, x);
-    let delivered: Vec<bool> = at
+    let delivered = traced.delivered(&records);
+    let mut stop: Vec<String> = leg_stops
         .iter()
-        .map(|&v| {
-            details.iter().any(|d| {
-                d.cycle.user_point && {
-                    let x = d.cycle.continued.map_or_else(
-                        || match param {
-                            Param::M => d.cycle.m,
-                            _ => d.cycle.kappa,
-                        },
-                        |c| c.value,
-                    );
-                    (value_of(x) / v - 1.0).abs() <= 1e-9
-                }
-            })
+        .map(|l| match l.leg {
+            Some(Leg::Up) => format!("toward larger {}: {}", param.name(), l.message),
+            Some(Leg::Down) => format!("toward smaller {}: {}", param.name(), l.message),
+            _ => l.message.clone(),
         })
         .collect();
-    let mut stop: Vec<String> = leg_stops.iter().map(ToString::to_string).collect();
     let missing = delivered.iter().filter(|d| !**d).count();
     if missing > 0 {
         stop.push(format!(
