@@ -83,7 +83,7 @@ pub enum NumericalError {
     /// No stick-slip onset along a control parameter over the range searched.
     #[error(
         "no stick-slip onset in {param} from {lo:.6e} to {hi:.6e} {unit}: {why}; search another \
-         range with --from and --to (in {unit})"
+         range with --from and --to ({unit})"
     )]
     NoOnsetInRange {
         /// The control parameter.

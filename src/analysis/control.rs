@@ -128,8 +128,17 @@ impl Control {
         match self {
             Control::Dimensionless(p) => p == Param::M,
             Control::M => !units.load_is_weight,
-            Control::W => true,
+            // m = M V0^2/(W D0): only a block with mass.
+            Control::W => units.mass > 0.0,
             _ => false,
+        }
+    }
+
+    /// The unit in messages: `um/s`, `kg`, ..., or `dimensionless`.
+    pub fn unit_in_words(self) -> &'static str {
+        match self.unit() {
+            "1" => "dimensionless",
+            u => u,
         }
     }
 
@@ -388,7 +397,7 @@ pub fn onset_in(
     let no_onset = |range: (f64, f64), why: String| -> Error {
         NumericalError::NoOnsetInRange {
             param: control.name().to_string(),
-            unit: control.unit().to_string(),
+            unit: control.unit_in_words().to_string(),
             lo: range.0,
             hi: range.1,
             why,
@@ -475,7 +484,7 @@ pub fn onset_in(
                 "the onset located at {} = {value:.10e} {} has no Hopf point in kappa there; \
                  the two locations disagree",
                 control.name(),
-                control.unit()
+                control.unit_in_words()
             ))
             .into())
         }
@@ -486,7 +495,7 @@ pub fn onset_in(
             "the onset located at {} = {value:.10e} {} has kappa_c = {:.10e} there, {disagreement:.1e} \
              relative from the scene's kappa = {:.10e}: the two locations disagree",
             control.name(),
-            control.unit(),
+            control.unit_in_words(),
             h.kappa_c,
             at.kappa
         ))
@@ -509,9 +518,10 @@ pub fn onset_in(
 fn checked_range(control: Control, range: Option<(f64, f64)>) -> Result<(f64, f64), InputError> {
     let Some((lo, hi)) = range else {
         return Err(InputError::Conflict(format!(
-            "the scene's {} is 0: give the range to search, --from and --to (in {})",
+            "the scene's {} is 0, so the range to search has no default: give --from and --to \
+             (in {})",
             control.name(),
-            control.unit()
+            control.unit_in_words()
         )));
     };
     for (field, v) in [("--from", lo), ("--to", hi)] {
@@ -519,7 +529,7 @@ fn checked_range(control: Control, range: Option<(f64, f64)>) -> Result<(f64, f6
             return Err(InputError::out_of_range(
                 field,
                 v,
-                &format!("> 0 ({})", control.unit()),
+                &format!("> 0 ({})", control.unit_in_words()),
             ));
         }
     }
@@ -748,14 +758,20 @@ pub fn cycles_in(
     let control = req.control;
     let param = control.continued(units)?;
     if !(req.to.is_finite() && req.to > 0.0) {
-        return Err(
-            InputError::out_of_range("--to", req.to, &format!("> 0 ({})", control.unit())).into(),
-        );
+        return Err(InputError::out_of_range(
+            "--to",
+            req.to,
+            &format!("> 0 ({})", control.unit_in_words()),
+        )
+        .into());
     }
     if let Some(v) = req.at.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-        return Err(
-            InputError::out_of_range("--at", *v, &format!("> 0 ({})", control.unit())).into(),
-        );
+        return Err(InputError::out_of_range(
+            "--at",
+            *v,
+            &format!("> 0 ({})", control.unit_in_words()),
+        )
+        .into());
     }
     if control.needs_stiffness() && params.kappa <= 0.0 {
         return Err(InputError::Conflict(format!(

@@ -47,11 +47,21 @@ pub struct HopfArgs {
 fn run_in_control(args: &HopfArgs, control: Control) -> Result<(), Error> {
     let mut setup = args.scene.setup(|p| *p)?;
     let (units, scene_params) = (setup.scene.units, setup.scene_params);
-    let range = match (args.from, args.to) {
-        (Some(lo), Some(hi)) => Some((lo, hi)),
-        (from, to) => control
-            .default_range(&units, &scene_params, setup.scene.nu_range)
-            .map(|(lo, hi)| (from.unwrap_or(lo), to.unwrap_or(hi))),
+    let default = control.default_range(&units, &scene_params, setup.scene.nu_range);
+    let range = match (args.from, args.to, default) {
+        (Some(lo), Some(hi), _) => Some((lo, hi)),
+        (from, to, Some((lo, hi))) => Some((from.unwrap_or(lo), to.unwrap_or(hi))),
+        (None, None, None) => None,
+        (from, _, None) => {
+            let missing = if from.is_none() { "--from" } else { "--to" };
+            return Err(InputError::Conflict(format!(
+                "the scene's {} is 0, so the range to search has no default: give {missing} too \
+                 (in {})",
+                control.name(),
+                control.unit_in_words()
+            ))
+            .into());
+        }
     };
     setup.choice = choose_along(
         control,
