@@ -83,7 +83,7 @@ pub enum NumericalError {
     /// No stick-slip onset along a control parameter over the range searched.
     #[error(
         "no stick-slip onset in {param} from {lo:.6e} to {hi:.6e} {unit}: {why}; search another \
-         range with --from and --to ({unit})"
+         range with {remedy} ({unit})"
     )]
     NoOnsetInRange {
         /// The control parameter.
@@ -95,6 +95,8 @@ pub enum NumericalError {
         hi: f64,
         /// What was seen along it.
         why: String,
+        /// The options that set the range (`--from and --to`, `--search LO:HI`).
+        remedy: &'static str,
     },
 }
 

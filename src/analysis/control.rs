@@ -134,6 +134,30 @@ impl Control {
         }
     }
 
+    /// Refuses a parameter of the ageing form the scene does not use
+    /// (`mu2` with the cutoff, `tau` or `theta_c` with the ln² form): it
+    /// would move nothing.
+    pub fn check_form(self, params: &Params) -> Result<(), InputError> {
+        let cutoff = params.theta_c.is_some();
+        let what = match self {
+            Control::Dimensionless(Param::Mu2) if cutoff => "mu2 is the ln² coefficient",
+            Control::Tau | Control::Dimensionless(Param::ThetaC) if !cutoff => {
+                "tau (theta_c) is the ageing cutoff"
+            }
+            _ => return Ok(()),
+        };
+        Err(InputError::Conflict(format!(
+            "--param {}: {what}, and the scene uses the other ageing form ({}); vary a \
+             parameter of its own form",
+            self.name(),
+            if cutoff {
+                "the short-age cutoff, tau"
+            } else {
+                "the ln² correction, mu2"
+            }
+        )))
+    }
+
     /// The unit in messages: `um/s`, `kg`, ..., or `dimensionless`.
     pub fn unit_in_words(self) -> &'static str {
         match self.unit() {
@@ -373,27 +397,7 @@ pub fn onset_in(
         ))
         .into());
     }
-    let cutoff = params.theta_c.is_some();
-    let form = match control {
-        Control::Dimensionless(Param::Mu2) if cutoff => Some("mu2 is the ln² coefficient"),
-        Control::Tau | Control::Dimensionless(Param::ThetaC) if !cutoff => {
-            Some("tau (theta_c) is the ageing cutoff")
-        }
-        _ => None,
-    };
-    if let Some(what) = form {
-        return Err(InputError::Conflict(format!(
-            "--param {}: {what}, and the scene uses the other ageing form ({}); vary a \
-             parameter of its own form",
-            control.name(),
-            if cutoff {
-                "the short-age cutoff, tau"
-            } else {
-                "the ln² correction, mu2"
-            }
-        ))
-        .into());
-    }
+    control.check_form(params)?;
     let no_onset = |range: (f64, f64), why: String| -> Error {
         NumericalError::NoOnsetInRange {
             param: control.name().to_string(),
@@ -401,6 +405,7 @@ pub fn onset_in(
             lo: range.0,
             hi: range.1,
             why,
+            remedy: "--from and --to",
         }
         .into()
     };
@@ -757,6 +762,7 @@ pub fn cycles_in(
     use crate::analysis::cycles::{trace_cycles_from_in, trace_cycles_from_orbit_in, Leg};
     let control = req.control;
     let param = control.continued(units)?;
+    control.check_form(params)?;
     if !(req.to.is_finite() && req.to > 0.0) {
         return Err(InputError::out_of_range(
             "--to",
@@ -835,7 +841,25 @@ pub fn cycles_in(
         let (lo, hi) = control.default_range(units, params, req.nu_range)?;
         Some((lo.min(req.to), hi.max(req.to)))
     });
-    let onset = onset_in(kind, params, units, control, search)?;
+    // The range of a cycle branch's onset is set by --search.
+    let onset = onset_in(kind, params, units, control, search).map_err(|e| match e {
+        Error::Numerical(NumericalError::NoOnsetInRange {
+            param,
+            unit,
+            lo,
+            hi,
+            why,
+            ..
+        }) => Error::Numerical(NumericalError::NoOnsetInRange {
+            param,
+            unit,
+            lo,
+            hi,
+            why,
+            remedy: "--search LO:HI",
+        }),
+        e => e,
+    })?;
     let (lo, hi) = bounds(onset.params.get(param));
     cycles.kappa_min = lo;
     cycles.kappa_max = hi;

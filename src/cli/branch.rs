@@ -87,9 +87,10 @@ fn control_range(
             let start = args.from.unwrap_or_else(|| control.value(u, params));
             if start.is_nan() || start <= 0.0 {
                 return Err(InputError::Conflict(format!(
-                    "the scene's {} is 0: give --from and --to (in {})",
+                    "the scene's {} is 0, so the branch has no default start: give --from \
+                     (in {})",
                     control.name(),
-                    control.unit()
+                    control.unit_in_words()
                 ))
                 .into());
             }
@@ -105,7 +106,7 @@ fn control_range(
                 return Err(InputError::out_of_range(
                     name,
                     g,
-                    &format!("a finite value > 0 ({})", control.unit()),
+                    &format!("a finite value > 0 ({})", control.unit_in_words()),
                 )
                 .into());
             }
@@ -122,6 +123,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let mut scene_params = scene.params;
     overrides.apply_dimensionless(&mut scene_params)?;
     let param = control.continued(&scene.units)?;
+    control.check_form(&scene_params)?;
     let (nu_lo, nu_hi) = scene.nu_range;
     // kappa and nu as always (the scene's velocity range as given in the
     // scene); other controls in their unit, converted.

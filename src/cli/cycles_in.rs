@@ -223,7 +223,17 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
             records.push(rec.clone());
         }
         Ok(())
-    })?;
+    });
+    // A run that found no branch says so in its CSV (a later run replaces
+    // it without --force).
+    let traced = match traced {
+        Ok(t) => t,
+        Err(e) => {
+            writeln!(csv, "# incomplete: {e}")?;
+            csv.finish()?;
+            return Err(e);
+        }
+    };
     let leg_stops: Vec<LegStop> = traced
         .legs
         .iter()
