@@ -283,6 +283,21 @@ fn settled_cycle(csv: &Path) -> (f64, f64) {
 fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
     let (dir, path) = scene("cycles_v", RIG);
     let (path, out_dir) = (path.to_str().unwrap(), dir.to_str().unwrap());
+    // Without --search the scene's velocity range holds no onset: said,
+    // naming the option that sets it, and the CSV says it is incomplete.
+    let (code, _, err) = stickslip(&[
+        "cycles", "--scene", path, "--param", "V", "--to", "10", "--out", out_dir,
+    ]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("search another range with --search LO:HI (um/s)"),
+        "{err}"
+    );
+    let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
+    assert!(
+        csv.lines().last().unwrap().starts_with("# incomplete: "),
+        "{csv}"
+    );
     let (code, out, err) = stickslip(&[
         "cycles", "--scene", path, "--param", "V", "--to", "10", "--at", "V=10", "--search",
         "1:1000", "--out", out_dir, "--json",
@@ -440,6 +455,10 @@ fn control_parameters_refused_by_name() {
         (
             vec!["cycles", "--to", "10"],
             "--to ends a branch in --param",
+        ),
+        (
+            vec!["branch", "--param", "tau", "--from", "0.01", "--to", "1"],
+            "--param tau: tau (theta_c) is the ageing cutoff",
         ),
         (
             vec!["cycles", "--param", "V", "--to", "10", "--search", "1-2"],
