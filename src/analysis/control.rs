@@ -324,6 +324,56 @@ impl Control {
         }
     }
 
+    /// The range of a steady branch in this control (`branch --param`), in
+    /// the dimensionless parameter it moves ([`continued`](Self::continued)):
+    /// `from`, `to` (in its unit) or their defaults: for the stiffness
+    /// (`K`, `kappa`, `M` when `W = M g`) none (a stable stiffness and 1e-3
+    /// of it, found by the caller); for `V` and `nu` the scene's velocity
+    /// range `nu_range`; otherwise the scene's value and 1e3 times it.
+    pub fn branch_range(
+        self,
+        units: &Units,
+        params: &Params,
+        nu_range: (f64, f64),
+        (from, to): (Option<f64>, Option<f64>),
+    ) -> Result<(Option<f64>, Option<f64>), InputError> {
+        for (name, given) in [("--from", from), ("--to", to)] {
+            if let Some(g) = given.filter(|g| !(g.is_finite() && *g > 0.0)) {
+                return Err(InputError::out_of_range(
+                    name,
+                    g,
+                    &format!("a finite value > 0 ({})", self.unit_in_words()),
+                ));
+            }
+        }
+        let dimensionless = |v: f64| self.to_dimensionless(units, params, v);
+        let (lo, hi) = match self {
+            Control::V | Control::Dimensionless(Param::Nu) => (
+                from.map_or(nu_range.0, dimensionless),
+                to.map_or(nu_range.1, dimensionless),
+            ),
+            _ if !self.searches_range(units) => {
+                return Ok((from.map(dimensionless), to.map(dimensionless)))
+            }
+            _ => {
+                let start = from.unwrap_or_else(|| self.value(units, params));
+                if start.is_nan() || start <= 0.0 {
+                    return Err(InputError::Conflict(format!(
+                        "the scene's {} is 0, so the branch has no default start: give --from \
+                         (in {})",
+                        self.name(),
+                        self.unit_in_words()
+                    )));
+                }
+                (
+                    dimensionless(start),
+                    dimensionless(to.unwrap_or(1e3 * start)),
+                )
+            }
+        };
+        Ok((Some(lo), Some(hi)))
+    }
+
     /// Whether the onset is searched over a range of this control (every
     /// path but the stiffness ones, which search from a stable stiffness down).
     pub fn searches_range(self, units: &Units) -> bool {

@@ -15,7 +15,6 @@ use crate::model::DrivenBlock;
 use crate::model::ModelKind;
 use crate::overrides::Overrides;
 use crate::params::Param;
-use crate::params::Params;
 use clap::Args;
 use serde_json::json;
 use std::io::Write;
@@ -63,58 +62,6 @@ pub struct BranchArgs {
     pub units: TextUnits,
 }
 
-/// The range of a branch in `control` other than `kappa` and `nu`, in the
-/// dimensionless parameter it moves: `--from`/`--to` (its unit) or their
-/// defaults (the stiffness: a stable one and 1e-3 of it, found later;
-/// `V`: the velocity range; others: the scene's value and 1e3 times it).
-fn control_range(
-    args: &BranchArgs,
-    control: Control,
-    scene: &crate::scene::Scene,
-    params: &Params,
-) -> Result<(Option<f64>, Option<f64>), Error> {
-    let u = &scene.units;
-    let dimensionless = |v: f64| control.to_dimensionless(u, params, v);
-    let (from, to) = match control {
-        Control::V => (
-            Some(args.from.map_or(scene.nu_range.0, dimensionless)),
-            Some(args.to.map_or(scene.nu_range.1, dimensionless)),
-        ),
-        _ if control.is_stiffness() || !control.searches_range(u) => {
-            (args.from.map(dimensionless), args.to.map(dimensionless))
-        }
-        _ => {
-            let start = args.from.unwrap_or_else(|| control.value(u, params));
-            if start.is_nan() || start <= 0.0 {
-                return Err(InputError::Conflict(format!(
-                    "the scene's {} is 0, so the branch has no default start: give --from \
-                     (in {})",
-                    control.name(),
-                    control.unit_in_words()
-                ))
-                .into());
-            }
-            (
-                Some(dimensionless(start)),
-                Some(dimensionless(args.to.unwrap_or(1e3 * start))),
-            )
-        }
-    };
-    for (name, given, v) in [("--from", args.from, from), ("--to", args.to, to)] {
-        if let (Some(g), Some(v)) = (given, v) {
-            if !(g.is_finite() && g > 0.0 && v.is_finite()) {
-                return Err(InputError::out_of_range(
-                    name,
-                    g,
-                    &format!("a finite value > 0 ({})", control.unit_in_words()),
-                )
-                .into());
-            }
-        }
-    }
-    Ok((from, to))
-}
-
 /// Runs the command.
 pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let control = Control::parse(&args.param, "--param")?;
@@ -129,7 +76,12 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     // scene); other controls in their unit, converted.
     let (arg_from, arg_to) = match control {
         Control::Dimensionless(Param::Kappa | Param::Nu) => (args.from, args.to),
-        _ => control_range(args, control, &scene, &scene_params)?,
+        _ => control.branch_range(
+            &scene.units,
+            &scene_params,
+            scene.nu_range,
+            (args.from, args.to),
+        )?,
     };
     // For a velocity branch, inertia is judged at the fastest velocity of the range.
     let top = arg_to.unwrap_or(nu_hi).max(arg_from.unwrap_or(nu_lo));
