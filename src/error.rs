@@ -80,6 +80,24 @@ pub enum NumericalError {
     Continuation(#[from] continuation::ContinuationError),
     #[error("{0}")]
     Analysis(String),
+    /// No stick-slip onset along a control parameter over the range searched.
+    #[error(
+        "no stick-slip onset in {param} from {lo:.6e} to {hi:.6e} {unit}: {why}; search another \
+         range with {remedy} ({unit})"
+    )]
+    NoOnsetInRange {
+        /// The control parameter.
+        param: String,
+        /// Its unit.
+        unit: String,
+        /// The range searched.
+        lo: f64,
+        hi: f64,
+        /// What was seen along it.
+        why: String,
+        /// The options that set the range (`--from and --to`, `--search LO:HI`).
+        remedy: &'static str,
+    },
 }
 
 /// The command-line remedy for an engine failure, appended to its message

@@ -37,6 +37,10 @@ pub enum Leg {
 #[derive(Clone, Debug)]
 pub struct CycleRecord {
     pub kappa: f64,
+    /// The full parameter vector of the cycle ([`Param`] order): the
+    /// continued parameter of a branch in another parameter than `kappa`
+    /// (`cycles --param`) is read from it.
+    pub params: Vec<f64>,
     /// Period in units of `D0/V0`.
     pub period: f64,
     /// Peak-to-peak spring force.
@@ -419,6 +423,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         .fold(f64::INFINITY, f64::min);
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],
+        params: c.p.clone(),
         period: c.period,
         delta_s: x_max - x_min,
         s_min,
@@ -491,20 +496,38 @@ pub fn trace_cycles_from(
     h: &HopfPoint,
     req: &CycleRequest,
     watch: &InertiaWatch,
+    sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<BranchEnd, crate::error::Error> {
+    trace_cycles_from_in(kind, params, h, Param::Kappa, req, watch, sink)
+}
+
+/// [`trace_cycles_from`] continued in the parameter `param` instead of
+/// `kappa` (`cycles --param`): `h` is a Hopf point of `params` (located in
+/// `kappa` at `params.kappa`, which is also a Hopf point in `param`, with
+/// the same normal form), and `req`'s bounds (`kappa_min`, `kappa_max`)
+/// and requested values (`at_kappa`) are values of `param`.
+pub fn trace_cycles_from_in(
+    kind: ModelKind,
+    params: &Params,
+    h: &HopfPoint,
+    param: Param,
+    req: &CycleRequest,
+    watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<BranchEnd, crate::error::Error> {
     let log = LogBlock::centered(kind, params);
-    let branch = branch_at_hopf(
+    let branch = branch_at_hopf_in(
         &log,
         &log,
         params,
         h,
+        param,
         CycleSettings {
             start_amplitude: start_amplitude(&log),
             ..settings(kind, req, req.ntst)
         },
     )?;
-    follow_switching(&log, branch, Leg::FromHopf, 0, req, watch, &mut sink)
+    follow_switching(&log, branch, Leg::FromHopf, 0, param, req, watch, &mut sink)
 }
 
 /// The branch of the cycles born at the Hopf point `h` of `params`, in the
@@ -520,6 +543,20 @@ pub fn branch_at_hopf<'a, S: VectorField>(
     h: &HopfPoint,
     settings: CycleSettings,
 ) -> Result<CycleBranch<'a, S>, NumericalError> {
+    branch_at_hopf_in(field, log, params, h, Param::Kappa, settings)
+}
+
+/// [`branch_at_hopf`] continued in `param`: the normal form is the point's
+/// (located and resolved in `kappa`, as `hopf` does); the engine takes the
+/// side of the first cycle from `l1` and `d lambda / d param`.
+pub fn branch_at_hopf_in<'a, S: VectorField>(
+    field: &'a S,
+    log: &LogBlock,
+    params: &Params,
+    h: &HopfPoint,
+    param: Param,
+    settings: CycleSettings,
+) -> Result<CycleBranch<'a, S>, NumericalError> {
     let (x0, p) = hopf_start(log, params, h);
     let kappa_error = location_error(log.kind, params, h.kappa_c);
     let (nf, _) = resolved_normal_form(field, &x0, &p, h.omega_c, kappa_error)?;
@@ -527,7 +564,7 @@ pub fn branch_at_hopf<'a, S: VectorField>(
         field,
         &x0,
         &p,
-        Param::Kappa as usize,
+        param as usize,
         &nf,
         settings,
     )?)
@@ -552,6 +589,21 @@ pub fn trace_cycles_from_orbit(
     orbit: &SettledOrbit,
     req: &CycleRequest,
     watch: &InertiaWatch,
+    sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
+    trace_cycles_from_orbit_in(kind, params, orbit, Param::Kappa, req, watch, sink)
+}
+
+/// [`trace_cycles_from_orbit`] continued in `param` (its legs [`Leg::Up`]
+/// and [`Leg::Down`] toward larger and smaller values of `param`); `req`'s
+/// bounds and requested values are values of `param`.
+pub fn trace_cycles_from_orbit_in(
+    kind: ModelKind,
+    params: &Params,
+    orbit: &SettledOrbit,
+    param: Param,
+    req: &CycleRequest,
+    watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
     let log = LogBlock::centered(kind, params);
@@ -567,12 +619,12 @@ pub fn trace_cycles_from_orbit(
         let outcome = CycleBranch::from_cycle(
             &log,
             guess.clone(),
-            Param::Kappa as usize,
+            param as usize,
             Some(seed),
             settings(kind, req, ntst),
         )
         .map_err(|e| NumericalError::from(e).into())
-        .and_then(|branch| follow_switching(&log, branch, leg, i, req, watch, &mut sink));
+        .and_then(|branch| follow_switching(&log, branch, leg, i, param, req, watch, &mut sink));
         match outcome {
             Err(e @ crate::error::Error::Interrupted(_)) => return Err(e),
             other => legs[i] = other,
@@ -646,11 +698,13 @@ enum FollowEnd {
 /// quasi-static orbit is corrected in the inertial model at the same
 /// stiffness ([`inertial_guess`]) and the branch continues from it, with
 /// Radau collocation unless `req` fixes the points.
+#[allow(clippy::too_many_arguments)]
 fn follow_switching(
     log: &LogBlock,
     branch: CycleBranch<'_, LogBlock>,
     leg: Leg,
     skip: usize,
+    param: Param,
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
@@ -683,7 +737,7 @@ fn follow_switching(
         CycleBranch::from_cycle(
             &inertial,
             guess,
-            Param::Kappa as usize,
+            param as usize,
             Some(seed),
             settings(ModelKind::Inertial, req, ntst),
         )

@@ -2,6 +2,7 @@
 //! branches of steady sliding.
 
 pub mod branch;
+pub mod control;
 pub mod cycles;
 pub mod decimate;
 pub mod diagram;

@@ -7,35 +7,37 @@ use super::csv::{self, header_of};
 use super::records::branch::{BranchRow, ParamValue};
 use super::{describe_params, params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::branch::{trace, BranchRequest};
+use crate::analysis::control::{choose_along, Control};
 use crate::analysis::hopf::{find_hopf, stable_stiffness, HopfOutcome};
+use crate::analysis::model_choice::params_for;
 use crate::error::{Error, InputError};
 use crate::model::DrivenBlock;
+use crate::model::ModelKind;
+use crate::overrides::Overrides;
 use crate::params::Param;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use serde_json::json;
 use std::io::Write;
-
-/// `--param`: the parameter continued.
-#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BranchParam {
-    Kappa,
-    Nu,
-}
 
 /// The options of `stickslip branch`.
 #[derive(Args, Debug)]
 pub struct BranchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// The continuation parameter.
-    #[arg(long, value_enum)]
-    pub param: BranchParam,
+    /// The continuation parameter: kappa or nu, or a control parameter in
+    /// its unit, K [N/m], V [um/s], M [kg], tau [s], or m, A, B, mu2,
+    /// theta_c (the rows are in the dimensionless parameter it moves: K in
+    /// kappa, V in nu, M in m, or in kappa when W = M g).
+    #[arg(long, value_name = "P")]
+    pub param: String,
     #[arg(allow_hyphen_values = true)]
-    /// Start value (default: kappa — a stable stiffness; nu — the bottom of the scene's velocity range).
+    /// Start value, in the unit of --param (default: kappa, K — a stable stiffness; nu, V — the
+    /// bottom of the scene's velocity range; others — the scene's value).
     #[arg(long)]
     pub from: Option<f64>,
     #[arg(allow_hyphen_values = true)]
-    /// End value (default: kappa — 1e-3 of the start; nu — the top of the scene's velocity range).
+    /// End value, in the unit of --param (default: kappa, K — 1e-3 of the start; nu, V — the top
+    /// of the scene's velocity range; others — 1e3 times the start, the stiffness 1e-3).
     #[arg(long)]
     pub to: Option<f64>,
     /// Largest number of continuation steps. A branch that ends before
@@ -62,30 +64,65 @@ pub struct BranchArgs {
 
 /// Runs the command.
 pub fn run(args: &BranchArgs) -> Result<(), Error> {
-    let param = match args.param {
-        BranchParam::Kappa => Param::Kappa,
-        BranchParam::Nu => Param::Nu,
+    let control = Control::parse(&args.param, "--param")?;
+    let overrides = Overrides::parse(&args.scene.set)?;
+    let scene = crate::scene::load_with(&args.scene.scene, &overrides.physical())?;
+    let mut scene_params = scene.params;
+    overrides.apply_dimensionless(&mut scene_params)?;
+    let param = control.continued(&scene.units)?;
+    control.check_form(&scene_params)?;
+    let (nu_lo, nu_hi) = scene.nu_range;
+    // kappa and nu as always (the scene's velocity range as given in the
+    // scene); other controls in their unit, converted.
+    let (arg_from, arg_to) = match control {
+        Control::Dimensionless(Param::Kappa | Param::Nu) => (args.from, args.to),
+        _ => control.branch_range(
+            &scene.units,
+            &scene_params,
+            scene.nu_range,
+            (args.from, args.to),
+        )?,
     };
     // For a velocity branch, inertia is judged at the fastest velocity of the range.
-    let scene = crate::scene::load(&args.scene.scene)?;
-    let (nu_lo, nu_hi) = scene.nu_range;
-    let top = args.to.unwrap_or(nu_hi).max(args.from.unwrap_or(nu_lo));
-    let setup = args.scene.setup(|p| {
+    let top = arg_to.unwrap_or(nu_hi).max(arg_from.unwrap_or(nu_lo));
+    let mut setup = args.scene.setup(|p| {
         let mut q = *p;
         if param == Param::Nu {
             q.nu = top;
         }
+        if param == Param::M {
+            q.m = arg_to.unwrap_or(q.m).max(arg_from.unwrap_or(q.m));
+        }
         q
     })?;
+    if control.moves_inertia(&setup.scene.units) && setup.choice.kind == ModelKind::QuasiStatic {
+        if args.scene.model.is_some() {
+            return Err(InputError::Conflict(format!(
+                "branch --param {} moves the inertia m, which the quasi-static model drops; \
+                 leave out --model quasi-static",
+                control.name()
+            ))
+            .into());
+        }
+        setup.choice = choose_along(
+            control,
+            &setup.scene.units,
+            &setup.scene_params,
+            None,
+            None,
+            args.scene.inertia_threshold,
+        );
+        setup.params = params_for(setup.choice.kind, &setup.scene_params);
+    }
     let kind = setup.choice.kind;
-    let from = match (args.from, param) {
+    let from = match (arg_from, param) {
         (Some(v), _) => v,
         (None, Param::Kappa) => {
             stable_stiffness(&DrivenBlock::new(kind, &setup.params), kind, &setup.params)?
         }
         (None, _) => nu_lo,
     };
-    let to = match (args.to, param) {
+    let to = match (arg_to, param) {
         (Some(v), _) => v,
         (None, Param::Kappa) => 1e-3 * from,
         (None, _) => nu_hi,
@@ -103,8 +140,8 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
             .into());
         }
     }
-    if param == Param::Nu && setup.params.kappa <= 0.0 {
-        return Err(no_stiffness(&setup).into());
+    if param != Param::Kappa && setup.params.kappa <= 0.0 {
+        return Err(no_stiffness(&setup, control).into());
     }
     if from == to {
         return Err(InputError::Conflict(format!(
@@ -125,13 +162,32 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     };
     let mut out = std::io::stdout().lock();
     write_head(&mut out, format, &setup, param, (from, to))?;
+    if matches!(format, Format::Text { .. }) && control.name() != param.name() {
+        let in_unit =
+            |x: f64| control.from_dimensionless(&setup.scene.units, &setup.scene_params, x);
+        writeln!(
+            out,
+            "--param {}: {} from {:.6e} to {:.6e} {} (the rows are in {})",
+            control.name(),
+            control.name(),
+            in_unit(from),
+            in_unit(to),
+            control.unit(),
+            param.name()
+        )?;
+    }
     let req = BranchRequest {
         param,
         from,
         to,
         max_steps: args.max_steps,
     };
-    let (params, units) = (setup.params, setup.scene.units);
+    let (params, scene_params, scene_units) = (setup.params, setup.scene_params, setup.scene.units);
+    // The units at a point: M and the load follow a branch in M.
+    let units = |x: f64| {
+        let value = control.from_dimensionless(&scene_units, &scene_params, x);
+        control.at(&scene_units, &scene_params, value).1
+    };
     let mut points = Vec::new();
     let traced = trace(kind, &params, &req, |point| {
         for e in &point.events {
@@ -143,12 +199,20 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
                 &e.x,
                 &e.eigenvalues,
                 Some(&e.kind),
-                &units,
+                &units(at.get(param)),
             );
             present(&mut out, format, row, &mut points)?;
         }
         let at = params.with_vec(&point.p);
-        let row = BranchRow::new(kind, &at, param, &point.x, &point.eigenvalues, None, &units);
+        let row = BranchRow::new(
+            kind,
+            &at,
+            param,
+            &point.x,
+            &point.eigenvalues,
+            None,
+            &units(at.get(param)),
+        );
         present(&mut out, format, row, &mut points)
     });
     let stop = match &traced {
@@ -162,7 +226,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         Err(e) => Some(e.to_string()),
     };
     if matches!(format, Format::Json) {
-        print_json(&mut out, &setup, &req, &points, stop.as_deref())?;
+        print_json(&mut out, &setup, &req, control, &points, stop.as_deref())?;
     }
     // The rows are kept (written, or in the JSON); a failure is then
     // reported as it is, a branch short of `--to` as partial.
@@ -178,11 +242,13 @@ fn print_json(
     out: &mut impl Write,
     setup: &Setup,
     req: &BranchRequest,
+    control: Control,
     points: &[BranchRow],
     stop: Option<&str>,
 ) -> Result<(), Error> {
     let units = setup.scene.units;
-    let v = json!({
+    let in_unit = |x: f64| control.from_dimensionless(&units, &setup.scene_params, x);
+    let mut v = json!({
         "scene": setup.scene.name,
         "model": setup.choice.kind,
         "model_reason": setup.choice.reason,
@@ -195,6 +261,15 @@ fn print_json(
         "complete": stop.is_none(),
         "stop": stop,
     });
+    // The control of --param when it is not the continued parameter itself.
+    if control.name() != req.param.name() {
+        v["control"] = json!({
+            "param": control.name(),
+            "unit": control.unit(),
+            "from": in_unit(req.from),
+            "to": in_unit(req.to),
+        });
+    }
     let text = serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?;
     writeln!(out, "{text}")?;
     Ok(())
@@ -336,7 +411,7 @@ fn text_line(r: &BranchRow, units: TextUnits, rate: f64) -> String {
 
 /// The refusal of a velocity branch without a stiffness, with `kappa_c` at
 /// the scene's velocity (located as by `stickslip hopf`) as a hint.
-fn no_stiffness(setup: &Setup) -> InputError {
+fn no_stiffness(setup: &Setup, control: Control) -> InputError {
     let p = &setup.params;
     let hint = match find_hopf(setup.choice.kind, p) {
         Ok(HopfOutcome::Found(h)) => format!(
@@ -354,8 +429,9 @@ fn no_stiffness(setup: &Setup) -> InputError {
         Err(_) => String::new(),
     };
     InputError::Conflict(format!(
-        "branch --param nu needs a stiffness: kappa = 0 here (the scene gives no K), and without a \
+        "branch --param {} needs a stiffness: kappa = 0 here (the scene gives no K), and without a \
          spring steady sliding has a zero eigenvalue at every velocity (no isolated equilibrium to \
-         continue); give --set kappa=... (kappa = K D0/W){hint}"
+         continue); give --set kappa=... (kappa = K D0/W){hint}",
+        control.name()
     ))
 }

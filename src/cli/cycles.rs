@@ -9,6 +9,7 @@ use super::lpc_output::{lpc_summary, write_lpc_csv};
 use super::records::cycle::{Asked, Cycle, CycleDetail, CycleSpecialPoint, LegStop, Requested};
 use super::records::diagram::FoldPoint;
 use super::{params_json, SceneArgs, Setup, TextUnits};
+use crate::analysis::control::Control;
 use crate::analysis::cycles::{
     along_branch, collocation_for, requested_points, BranchEnds, CycleBifurcation, CycleRecord,
     CycleRequest, Stability,
@@ -86,6 +87,25 @@ pub struct CyclesArgs {
     /// requested point carries the value as asked.
     #[arg(long, value_name = "NAME=V1,V2,...")]
     pub at: Vec<String>,
+    /// The parameter the cycles are continued in: K [N/m], V [um/s], M [kg],
+    /// tau [s], or kappa, nu, m, A, B, mu2, theta_c (default: the
+    /// stiffness, as without it). Other than K or kappa it needs --to;
+    /// the branch starts at the Hopf point in that parameter (hopf --param)
+    /// or, with --from-simulation, from an orbit simulated at the scene's
+    /// value; writes <run>-cycles-in-P.csv (no figures) and --at P=V1,...
+    /// takes values of P.
+    #[arg(long, value_name = "P")]
+    pub param: Option<String>,
+    /// With --param: where the branch ends, in the unit of P (for K or
+    /// kappa: in place of --kappa-fraction).
+    #[arg(long, allow_hyphen_values = true)]
+    pub to: Option<f64>,
+    /// With --param other than K or kappa: the range LO:HI (unit of P)
+    /// where the Hopf point in P is searched (default: the scene's V_range
+    /// for V and nu, three decades either side of the scene's value
+    /// otherwise, widened to include --to).
+    #[arg(long, value_name = "LO:HI")]
+    pub search: Option<String>,
     #[command(flatten)]
     pub output: OutputArgs,
     /// Print one JSON object instead of text.
@@ -119,8 +139,50 @@ fn or_na(value: Option<f64>, why: &str) -> String {
     value.map_or_else(|| format!("n/a ({why})"), |v| format!("{v:.1e}"))
 }
 
+/// Reads `--search LO:HI`.
+pub fn search_range(args: &CyclesArgs) -> Result<Option<(f64, f64)>, InputError> {
+    let Some(text) = &args.search else {
+        return Ok(None);
+    };
+    let bad = || InputError::Malformed {
+        field: "--search".into(),
+        value: text.clone(),
+        expected: "LO:HI, two numbers > 0 in the unit of --param".into(),
+    };
+    let (lo, hi) = text.split_once(':').ok_or_else(bad)?;
+    let (lo, hi): (f64, f64) = (
+        lo.trim().parse().map_err(|_| bad())?,
+        hi.trim().parse().map_err(|_| bad())?,
+    );
+    Ok(Some((lo, hi)))
+}
+
 /// Runs the command.
 pub fn run(args: &CyclesArgs) -> Result<(), Error> {
+    let control = args
+        .param
+        .as_deref()
+        .map(|name| Control::parse(name, "--param"))
+        .transpose()?;
+    if let Some(c) = control.filter(|c| !c.is_stiffness()) {
+        return super::cycles_in::run(args, c);
+    }
+    if args.to.is_some() && control.is_none() {
+        return Err(InputError::Conflict(
+            "--to ends a branch in --param; without it the branch is in the stiffness and ends \
+             at --kappa-fraction of its start"
+                .into(),
+        )
+        .into());
+    }
+    if args.search.is_some() {
+        return Err(InputError::Conflict(
+            "--search is where the Hopf point in --param V, M, tau, nu, m, ... is searched; \
+             the onset in the stiffness is searched from a stable stiffness downward"
+                .into(),
+        )
+        .into());
+    }
     if !(args.kappa_fraction > 0.0 && args.kappa_fraction < 1.0) {
         return Err(
             InputError::out_of_range("--kappa-fraction", args.kappa_fraction, "in (0, 1)").into(),
@@ -179,9 +241,19 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     writeln!(csv, "{}", header::<Cycle>()?)?;
     let (at_kappa, asked) = requested_once(&asked, &units);
     let kappa_ref = start.reference_kappa();
+    // --param K or kappa with --to: the branch ends there (kappa).
+    let to = match (control, args.to) {
+        (Some(c), Some(t)) if t.is_finite() && t > 0.0 => {
+            Some(c.to_dimensionless(&units, &setup.scene_params, t))
+        }
+        (Some(_), Some(t)) => {
+            return Err(InputError::out_of_range("--to", t, "> 0 (unit of --param)").into())
+        }
+        _ => None,
+    };
     let mut req = CycleRequest {
-        kappa_min: args.kappa_fraction * kappa_ref,
-        kappa_max: 10.0 * kappa_ref,
+        kappa_min: to.map_or(args.kappa_fraction * kappa_ref, |t| t.min(kappa_ref)),
+        kappa_max: to.map_or(10.0 * kappa_ref, |t| t.max(10.0 * kappa_ref)),
         max_steps: args.max_steps,
         ntst: args.ntst,
         at_kappa,

@@ -1,12 +1,16 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::records::hopf::{CycleSide, HopfReport, HopfStatus, NoOnset, Onset, OperatingPoint};
+use super::records::hopf::{
+    Critical, CycleSide, HopfReport, HopfStatus, NoOnset, Onset, OperatingPoint,
+};
 use super::{
     describe_params, describe_params_except, onset_with_degeneracy_resolved, SceneArgs, Setup,
     TextUnits,
 };
+use crate::analysis::control::{choose_along, onset_in, Control, OnsetIn};
 use crate::analysis::hopf::{Arithmetic, Criticality, HopfOutcome};
-use crate::error::{Error, NumericalError};
+use crate::analysis::model_choice::params_for;
+use crate::error::{Error, InputError, NumericalError};
 use crate::model::ModelKind;
 use crate::params::Param;
 use clap::Args;
@@ -23,10 +27,97 @@ pub struct HopfArgs {
     /// onset gives both, and so does the JSON.
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
+    /// The control parameter of the onset, with everything else at the
+    /// scene's values: K [N/m] (default), V [um/s], M [kg], W [N], tau [s],
+    /// or kappa, nu, m, A, B, mu2, theta_c. JSON: `critical`.
+    #[arg(long, value_name = "P")]
+    pub param: Option<String>,
+    /// Low end of the range searched, in the unit of --param (default: the
+    /// scene's V_range for V and nu, 1e-3 of the scene's value otherwise).
+    #[arg(long, allow_hyphen_values = true)]
+    pub from: Option<f64>,
+    /// High end of the range searched (default: the top of V_range for V
+    /// and nu, 1e3 times the scene's value otherwise).
+    #[arg(long, allow_hyphen_values = true)]
+    pub to: Option<f64>,
+}
+
+/// The onset in `--param` (not the stiffness): located by
+/// [`onset_in`], reported at the critical value with `critical`.
+fn run_in_control(args: &HopfArgs, control: Control) -> Result<(), Error> {
+    let mut setup = args.scene.setup(|p| *p)?;
+    let (units, scene_params) = (setup.scene.units, setup.scene_params);
+    let default = control.default_range(&units, &scene_params, setup.scene.nu_range);
+    let range = match (args.from, args.to, default) {
+        (Some(lo), Some(hi), _) => Some((lo, hi)),
+        (from, to, Some((lo, hi))) => Some((from.unwrap_or(lo), to.unwrap_or(hi))),
+        (None, None, None) => None,
+        (from, _, None) => {
+            let missing = if from.is_none() { "--from" } else { "--to" };
+            return Err(InputError::Conflict(format!(
+                "the scene's {} is 0, so the range to search has no default: give {missing} too \
+                 (in {})",
+                control.name(),
+                control.unit_in_words()
+            ))
+            .into());
+        }
+    };
+    setup.choice = choose_along(
+        control,
+        &units,
+        &scene_params,
+        range,
+        args.scene.model.map(Into::into),
+        args.scene.inertia_threshold,
+    );
+    let kind = setup.choice.kind;
+    let onset = onset_in(kind, &scene_params, &units, control, range)?;
+    let scene_value = control.value(&units, &scene_params);
+    setup.scene.units = onset.units;
+    setup.scene_params = onset.params;
+    setup.params = params_for(kind, &onset.params);
+    let mut report = HopfReport::new(&setup, &HopfOutcome::Found(onset.hopf.clone()));
+    report.operating_point = None;
+    report.critical = Some(Critical::new(&onset, scene_value));
+    present(args, &setup, &report)
+}
+
+/// Writes the report as JSON or text.
+fn present(args: &HopfArgs, setup: &Setup, report: &HopfReport) -> Result<(), Error> {
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_value(report)
+                .and_then(|v| serde_json::to_string_pretty(&v))
+                .map_err(std::io::Error::other)?
+        );
+    } else {
+        print_text(setup, report, args.units);
+    }
+    Ok(())
 }
 
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
+    let control = args
+        .param
+        .as_deref()
+        .map(|name| Control::parse(name, "--param"))
+        .transpose()?;
+    if let Some(c) = control.filter(|c| !c.is_stiffness()) {
+        return run_in_control(args, c);
+    }
+    if let Some(field) = [("--from", args.from), ("--to", args.to)]
+        .into_iter()
+        .find_map(|(f, v)| v.map(|_| f))
+    {
+        return Err(InputError::Conflict(format!(
+            "{field} bounds the range of --param V, M, W, tau or a dimensionless parameter other \
+             than kappa; the onset in the stiffness is searched from a stable stiffness downward"
+        ))
+        .into());
+    }
     let mut setup = args.scene.setup(|p| *p)?;
     let kappa_set = setup.overrides.sets_stiffness();
     if kappa_set || setup.scene.stiffness_given {
@@ -54,18 +145,25 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
             .into());
         }
     }
-    let report = HopfReport::new(&setup, &outcome);
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_value(&report)
-                .and_then(|v| serde_json::to_string_pretty(&v))
-                .map_err(std::io::Error::other)?
-        );
-    } else {
-        print_text(&setup, &report, args.units);
+    let mut report = HopfReport::new(&setup, &outcome);
+    if let (Some(control), HopfOutcome::Found(h)) = (control, &outcome) {
+        let mut at = setup.scene_params;
+        at.kappa = h.kappa_c;
+        let units = setup.scene.units;
+        let onset = OnsetIn {
+            control,
+            value: control.value(&units, &at),
+            params: at,
+            units,
+            hopf: h.clone(),
+            range: None,
+            method: "the Hopf point in kappa (continuation from a stable stiffness downward)"
+                .to_string(),
+        };
+        let scene_value = control.value(&units, &setup.scene_params);
+        report.critical = Some(Critical::new(&onset, scene_value));
     }
-    Ok(())
+    present(args, &setup, &report)
 }
 
 /// The operating point in one line: the stiffness, its margin, the regime
@@ -128,6 +226,56 @@ fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
         println!();
         println!("{}", operating_point_line(op, units));
     }
+    if let Some(c) = &report.critical {
+        println!();
+        println!("{}", critical_line(c));
+    }
+}
+
+/// The onset in the control parameter in one line: `onset at V = 214.1
+/// µm/s (nu = 214.1), supercritical (l1 = ...)`, the scene's value beside it.
+fn critical_line(c: &Critical) -> String {
+    let unit = match c.unit {
+        "1" => String::new(),
+        "um/s" => " µm/s".to_string(),
+        u => format!(" {u}"),
+    };
+    let moved: Vec<String> = c
+        .dimensionless
+        .as_object()
+        .map(|o| {
+            o.iter()
+                .filter(|(name, _)| name.as_str() != c.param)
+                .map(|(name, v)| {
+                    format!(
+                        "{name} = {}",
+                        v.as_f64().map_or("?".into(), |x| format!("{x:.6e}"))
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let moved = if moved.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", moved.join(", "))
+    };
+    let range = c
+        .range
+        .map(|[lo, hi]| format!("; searched {} from {lo:.4e} to {hi:.4e}{unit}", c.param))
+        .unwrap_or_default();
+    format!(
+        "onset at {} = {:.10e}{unit}{moved}: {} (l1 = {:.6e} ± {:.1e}); the scene's {} = {:.6e}{unit}, \
+         (value - critical)/critical = {:+.3e}{range}",
+        c.param,
+        c.value,
+        c.criticality.name(),
+        c.l1,
+        c.l1_error_bound,
+        c.param,
+        c.scene_value,
+        c.margin
+    )
 }
 
 /// Why there is no onset.

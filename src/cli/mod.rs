@@ -9,6 +9,7 @@ pub mod branch;
 pub mod csv;
 pub mod cycle_start;
 pub mod cycles;
+pub mod cycles_in;
 pub mod diagram;
 pub mod files;
 pub mod hopf;

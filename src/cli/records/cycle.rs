@@ -2,6 +2,7 @@
 //! with its Floquet multipliers in the JSON), a bifurcation located on the
 //! branch, a requested stiffness, and how each leg of the branch ended.
 
+use super::branch::ParamValue;
 use crate::analysis::cycles::{
     CycleBifurcation, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
     ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
@@ -113,6 +114,16 @@ pub struct Cycle {
     /// Peak-to-peak spring force, the force drop of a slip, `Delta_s W` [N].
     #[serde(rename = "delta_s_N")]
     pub delta_s_n: f64,
+    /// `cycles --param`: the dimensionless parameter continued, in a column
+    /// named after it (`nu` for `V`); absent without `--param` and where
+    /// it is `kappa` or `m`, which have their columns.
+    #[serde(flatten)]
+    pub continued: Option<ParamValue>,
+    /// `cycles --param`: the control parameter in its unit, in a column
+    /// named with it (`V_um_per_s`, `M_kg`, `tau_s`); absent without
+    /// `--param` and where another column gives it.
+    #[serde(flatten)]
+    pub control: Option<ParamValue>,
 }
 
 impl CsvRecord for Cycle {
@@ -145,6 +156,8 @@ impl Cycle {
             v_max_um_per_s: u.velocity_um_s(c.v_max),
             k_n_per_m: u.stiffness(c.kappa),
             delta_s_n: c.delta_s * u.load,
+            continued: None,
+            control: None,
         }
     }
 }

@@ -27,8 +27,67 @@ pub struct HopfReport {
     #[serde(flatten)]
     pub outcome: HopfStatus,
     /// Where the scene's stiffness (its `K`, or `--set K` / `--set kappa`)
-    /// lies with respect to the onset; `null` when none is given.
+    /// lies with respect to the onset; `null` when none is given, and with
+    /// `--param` other than `K` or `kappa` (then `critical` places the
+    /// scene's value of that parameter).
     pub operating_point: Option<OperatingPoint>,
+    /// The onset in the control parameter of `hopf --param` (absent without it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub critical: Option<Critical>,
+}
+
+/// The onset in a control parameter (`hopf --param P`): its critical value
+/// with everything else at the scene's values, and the onset type there.
+#[derive(Clone, Debug, Serialize)]
+pub struct Critical {
+    /// The control parameter (`K`, `V`, `M`, `W`, `tau`, or a dimensionless name).
+    pub param: &'static str,
+    /// Its critical value, in `unit`.
+    pub value: f64,
+    /// `N/m`, `um/s`, `kg`, `N`, `s`, or `1` (dimensionless).
+    pub unit: &'static str,
+    /// The dimensionless parameters it moves, at the onset (`V` gives `nu`).
+    pub dimensionless: serde_json::Value,
+    /// The scene's own value of the parameter (after `--set`).
+    pub scene_value: f64,
+    /// `(scene_value - value) / value`.
+    pub margin: f64,
+    /// The range searched `[lo, hi]` in `unit`; `null` for the stiffness
+    /// paths, searched from a stable stiffness downward as `hopf` does.
+    pub range: Option<[f64; 2]>,
+    /// First Lyapunov coefficient at the onset, its bound, and the onset
+    /// type, as in the report's `l1` and `criticality`.
+    pub l1: f64,
+    pub l1_error_bound: f64,
+    pub criticality: Criticality,
+    /// How the onset was located.
+    pub method: String,
+}
+
+impl Critical {
+    /// The onset `o` in its control, with the scene's value `scene_value`.
+    pub fn new(o: &crate::analysis::control::OnsetIn, scene_value: f64) -> Self {
+        let dimensionless = serde_json::Value::Object(
+            o.control
+                .moves(&o.units)
+                .into_iter()
+                .map(|p| (p.name().to_string(), serde_json::json!(o.params.get(p))))
+                .collect(),
+        );
+        Critical {
+            param: o.control.name(),
+            value: o.value,
+            unit: o.control.unit(),
+            dimensionless,
+            scene_value,
+            margin: (scene_value - o.value) / o.value,
+            range: o.range.map(|(lo, hi)| [lo, hi]),
+            l1: o.hopf.onset.l1,
+            l1_error_bound: o.hopf.onset.l1_error_bound,
+            criticality: o.hopf.onset.criticality,
+            method: o.method.clone(),
+        }
+    }
 }
 
 /// Relative distances `|K - K_c| / K_c` within which the operating point's
@@ -328,6 +387,7 @@ impl HopfReport {
         };
         HopfReport {
             operating_point,
+            critical: None,
             scene: setup.scene.name.clone(),
             model: setup.choice.kind,
             model_reason: setup.choice.reason.clone(),

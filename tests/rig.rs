@@ -1,0 +1,556 @@
+//! Issue 24's rig, one command per question (its Done-when, first bullet):
+//! a press-loaded PMMA rig (A = 0.012, B = 0.023, D0 = 0.4 µm, mu2 = 1e-3,
+//! K = 2e5 N/m, M = 1 kg, W = 300 N, V from 0.1 to 100 µm/s; mu0 = 0.6,
+//! V0 = 1 µm/s, the motor at V = 10 µm/s). Each answer is checked against a
+//! value computed here from the scene's numbers, not by the library:
+//! Appendix C's critical stiffness (C11, exact for this model at any
+//! inertia, docs/model.md)
+//!
+//!     kappa_c(nu, m) = (mu_phi - mu_v)(1 + m nu^2 / mu_v),
+//!     mu_v = A, mu_phi = B - 2 mu2 ln nu,
+//!
+//! with `kappa = K D0 / W`, `m = M V0^2 / (W D0)`, `nu = V / V0`, solved for
+//! the velocity by bisection, for the mass (`W = M g`: `M_c = K D0 / (g
+//! kappa_c)`) and for the load in closed form; and the cycle at the rig's
+//! own velocity against a long-time integration (`simulate`).
+
+mod common;
+
+use common::{stickslip, temp_dir};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+const A: f64 = 0.012;
+const B: f64 = 0.023;
+const MU2: f64 = 1e-3;
+/// Memory length and reference velocity [m], [m/s].
+const D0: f64 = 0.4e-6;
+const V0: f64 = 1e-6;
+/// Stiffness [N/m], mass [kg], load [N], gravity [m/s²].
+const K: f64 = 2e5;
+const M: f64 = 1.0;
+const W: f64 = 300.0;
+const G: f64 = 9.81;
+/// The motor's velocity [µm/s].
+const V: f64 = 10.0;
+
+/// The rig as its user writes it (the load given: a press, `W != M g`).
+const RIG: &str = r#"
+name = "rig"
+description = "press-loaded PMMA rig (issue 24)"
+A = 0.012
+B = 0.023
+mu0 = 0.6
+mu2 = 1e-3
+D0 = 0.4
+V0 = 1.0
+K = 2e5
+M = 1.0
+W = 300.0
+V = 10.0
+V_range = [0.1, 100.0]
+"#;
+
+/// The scene file `text` written as `name.toml` in a fresh folder.
+fn scene(name: &str, text: &str) -> (PathBuf, PathBuf) {
+    let dir = temp_dir(&format!("rig-{name}"));
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+/// The rig with the load its weight, `W = M g` (no `W` key).
+fn weighed() -> String {
+    RIG.replace("W = 300.0\n", "")
+}
+
+fn json(out: &str) -> Value {
+    serde_json::from_str(out).unwrap_or_else(|e| panic!("{e}: {out}"))
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// Eq. C11 at `nu` with inertia `m`.
+fn kappa_c(nu: f64, m: f64) -> f64 {
+    let mu_phi = B - 2.0 * MU2 * nu.ln();
+    (mu_phi - A) * (1.0 + m * nu * nu / A)
+}
+
+/// The velocity [µm/s] where `kappa_c(nu) = kappa` at the rig's stiffness
+/// and inertia, by bisection on `[lo, hi]` (µm/s), where `kappa_c - kappa`
+/// changes sign once.
+fn onset_velocity(lo: f64, hi: f64) -> f64 {
+    let kappa = K * D0 / W;
+    let m = M * V0 * V0 / (W * D0);
+    let f = |v_um: f64| kappa_c(v_um * 1e-6 / V0, m) - kappa;
+    let (mut a, mut b) = (lo, hi);
+    assert!(f(a) > 0.0 && f(b) < 0.0, "no sign change on [{lo}, {hi}]");
+    for _ in 0..200 {
+        let c = 0.5 * (a + b);
+        if f(c) > 0.0 {
+            a = c;
+        } else {
+            b = c;
+        }
+    }
+    0.5 * (a + b)
+}
+
+#[test]
+fn onset_velocity_at_the_rigs_stiffness() {
+    let (_dir, path) = scene("onset_v", RIG);
+    let path = path.to_str().unwrap();
+    // The scene's velocity range holds no onset: the answer says so and
+    // names the range searched.
+    let (code, _, err) = stickslip(&["hopf", "--scene", path, "--param", "V"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("no stick-slip onset in V from 1.000000e-1 to 1.000000e2 um/s")
+            && err.contains("unstable (stick-slip) along the whole range")
+            && err.contains("--from and --to"),
+        "{err}"
+    );
+    let (code, out, err) = stickslip(&[
+        "hopf", "--scene", path, "--param", "V", "--to", "1000", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let c = &j["critical"];
+    let v = c["value"].as_f64().unwrap();
+    // kappa_c - kappa falls through zero once between 100 µm/s and the
+    // velocity where mu_phi = mu_v (e^5.5 µm/s).
+    let expected = onset_velocity(100.0, 244.0);
+    assert!(rel(v, expected) < 1e-9, "V_c = {v} vs C11 {expected}");
+    assert_eq!(c["param"], "V");
+    assert_eq!(c["unit"], "um/s");
+    assert!(rel(c["dimensionless"]["nu"].as_f64().unwrap(), expected) < 1e-9);
+    assert_eq!(c["scene_value"].as_f64(), Some(V));
+    assert_eq!(c["range"][1].as_f64(), Some(1000.0));
+    // The onset type at that point, as hopf reports it.
+    assert_eq!(c["criticality"], j["criticality"]);
+    assert_eq!(c["criticality"], "supercritical");
+    assert_eq!(c["l1"], j["l1"]);
+    // Today's fields at the onset: kappa_c is the rig's own kappa.
+    assert!(rel(j["kappa_c"].as_f64().unwrap(), K * D0 / W) < 1e-12);
+    assert!(rel(j["physical"]["V_um_per_s"].as_f64().unwrap(), expected) < 1e-9);
+    // The text says it in one line.
+    let (code, out, _) = stickslip(&["hopf", "--scene", path, "--param", "V", "--to", "1000"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains(&format!("onset at V = {v:.10e} µm/s (nu = {:.6e})", v)),
+        "{out}"
+    );
+    // branch --param V in µm/s crosses the onset at the same velocity.
+    let (code, out, err) = stickslip(&[
+        "branch", "--scene", path, "--param", "V", "--to", "1000", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    assert_eq!(j["control"]["unit"], "um/s");
+    assert_eq!(j["control"]["to"].as_f64(), Some(1000.0));
+    let hopf: Vec<f64> = j["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["event"] == "hopf")
+        .map(|p| p["V_um_per_s"].as_f64().unwrap())
+        .collect();
+    assert_eq!(hopf.len(), 1, "{hopf:?}");
+    assert!(rel(hopf[0], expected) < 1e-9, "{} vs {expected}", hopf[0]);
+}
+
+#[test]
+fn critical_mass_at_fixed_stiffness_and_velocity() {
+    // W = M g: the mass moves kappa = K D0 / (M g), m = V0^2/(g D0) stays.
+    let (_dir, path) = scene("mass", &weighed());
+    let path = path.to_str().unwrap();
+    let (code, out, err) = stickslip(&["hopf", "--scene", path, "--param", "M", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let m = V0 * V0 / (G * D0);
+    let kc = kappa_c(V * 1e-6 / V0, m);
+    let expected = K * D0 / (G * kc);
+    let c = &j["critical"];
+    assert_eq!(c["unit"], "kg");
+    let mc = c["value"].as_f64().unwrap();
+    assert!(
+        rel(mc, expected) < 1e-10,
+        "M_c = {mc} vs K D0/(g kappa_c) = {expected}"
+    );
+    assert!(rel(c["dimensionless"]["kappa"].as_f64().unwrap(), kc) < 1e-10);
+    // The steady sliding of the scene's lighter block is stable: margin < 0.
+    assert!(c["margin"].as_f64().unwrap() < 0.0);
+    // Physical values at the critical mass: K is the rig's spring, K/M = (K/M)_c.
+    assert!(rel(j["physical"]["K_N_per_m"].as_f64().unwrap(), K) < 1e-10);
+    assert!(
+        rel(
+            j["physical"]["K_over_M_per_s2"].as_f64().unwrap(),
+            K / expected
+        ) < 1e-10
+    );
+    // branch --param M (kg) crosses it at the same mass.
+    let (code, out, err) = stickslip(&[
+        "branch", "--scene", path, "--param", "M", "--from", "1", "--to", "2", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let crossing: Vec<f64> = j["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["event"] == "hopf")
+        .map(|p| K * D0 / (G * p["kappa"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(crossing.len(), 1);
+    assert!(rel(crossing[0], expected) < 1e-9);
+}
+
+#[test]
+fn critical_load_and_inertia_in_closed_form() {
+    let (_dir, path) = scene("load", RIG);
+    let path = path.to_str().unwrap();
+    // W moves kappa = K D0/W and m = M V0^2/(W D0) together; C11 is then
+    // affine in 1/W: K D0/W = D (1 + M V0^2 nu^2/(W D0 A)), D = mu_phi - mu_v.
+    let nu = V * 1e-6 / V0;
+    let d = B - 2.0 * MU2 * nu.ln() - A;
+    let expected = K * D0 / d - M * V0 * V0 * nu * nu / (D0 * A);
+    let (code, out, err) = stickslip(&["hopf", "--scene", path, "--param", "W", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let c = &json(&out)["critical"];
+    assert_eq!(c["unit"], "N");
+    let w = c["value"].as_f64().unwrap();
+    assert!(rel(w, expected) < 1e-10, "W_c = {w} vs {expected}");
+    // The inertia alone (W given: M moves m only), in kg, and as m.
+    let kappa = K * D0 / W;
+    let (code, _, err) = stickslip(&["hopf", "--scene", path, "--param", "M"]);
+    // At the rig's stiffness steady sliding is unstable at every mass here.
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("no stick-slip onset in M from"), "{err}");
+    let stiff = ["--set", "K=1e7"];
+    let kappa_stiff = 50.0 * kappa;
+    let m_c = (kappa_stiff / d - 1.0) * A / (nu * nu);
+    let (code, out, err) = stickslip(&[
+        "hopf", "--scene", path, stiff[0], stiff[1], "--param", "M", "--to", "1e6", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let c = &json(&out)["critical"];
+    let expected_mass = m_c * W * D0 / (V0 * V0);
+    assert!(
+        rel(c["value"].as_f64().unwrap(), expected_mass) < 1e-9,
+        "{} vs {expected_mass}",
+        c["value"]
+    );
+    assert!(rel(c["dimensionless"]["m"].as_f64().unwrap(), m_c) < 1e-9);
+}
+
+/// Period [s] and force drop [N] of the regime a long integration settles
+/// on: up-crossings of the mid-level of the spring force over the last 150
+/// s (interpolated), its range there.
+fn settled_cycle(csv: &Path) -> (f64, f64) {
+    let text = std::fs::read_to_string(csv).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (it, iforce) = (col("t_s"), col("spring_force_N"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            (cells[it].parse().unwrap(), cells[iforce].parse().unwrap())
+        })
+        .collect();
+    let end = rows.last().unwrap().0;
+    let last: Vec<f64> = rows
+        .iter()
+        .filter(|(t, _)| *t > end - 150.0)
+        .map(|r| r.1)
+        .collect();
+    let hi = last.iter().cloned().fold(f64::MIN, f64::max);
+    let lo = last.iter().cloned().fold(f64::MAX, f64::min);
+    let mid = 0.5 * (hi + lo);
+    let ups: Vec<f64> = rows
+        .windows(2)
+        .filter(|w| w[0].1 < mid && mid <= w[1].1)
+        .map(|w| w[0].0 + (mid - w[0].1) * (w[1].0 - w[0].0) / (w[1].1 - w[0].1))
+        .collect();
+    let n = ups.len();
+    assert!(n >= 4, "{n} cycles");
+    ((ups[n - 1] - ups[n - 3]) / 2.0, hi - lo)
+}
+
+#[test]
+fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
+    let (dir, path) = scene("cycles_v", RIG);
+    let (path, out_dir) = (path.to_str().unwrap(), dir.to_str().unwrap());
+    // Without --search the scene's velocity range holds no onset: said,
+    // naming the option that sets it, and the CSV says it is incomplete.
+    let (code, _, err) = stickslip(&[
+        "cycles", "--scene", path, "--param", "V", "--to", "10", "--out", out_dir,
+    ]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("search another range with --search LO:HI (um/s)"),
+        "{err}"
+    );
+    let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
+    assert!(
+        csv.lines().last().unwrap().starts_with("# incomplete: "),
+        "{csv}"
+    );
+    let (code, out, err) = stickslip(&[
+        "cycles", "--scene", path, "--param", "V", "--to", "10", "--at", "V=10", "--search",
+        "1:1000", "--out", out_dir, "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    assert_eq!(j["complete"], true, "{}", j["stop"]);
+    assert_eq!(j["start"], "hopf");
+    let v_c = j["critical"]["value"].as_f64().unwrap();
+    assert!(rel(v_c, onset_velocity(100.0, 244.0)) < 1e-9);
+    let cycles = j["cycles"].as_array().unwrap();
+    assert!(cycles.len() > 10, "{} cycles", cycles.len());
+    for c in cycles {
+        for field in [
+            "V_um_per_s",
+            "nu",
+            "period_s",
+            "delta_s_N",
+            "kappa",
+            "v_min",
+            "v_max",
+        ] {
+            let x = c[field].as_f64().unwrap_or(f64::NAN);
+            assert!(x.is_finite() && x > 0.0, "{field} = {x} in {c}");
+        }
+        assert!(rel(c["kappa"].as_f64().unwrap(), K * D0 / W) < 1e-12);
+        assert!(rel(c["nu"].as_f64().unwrap(), c["V_um_per_s"].as_f64().unwrap()) < 1e-12);
+        assert!(
+            rel(
+                c["delta_s_N"].as_f64().unwrap(),
+                W * c["delta_s"].as_f64().unwrap()
+            ) < 1e-12
+        );
+        let v = c["V_um_per_s"].as_f64().unwrap();
+        assert!(v < v_c * (1.0 + 1e-9) && v > 9.0, "V = {v}");
+    }
+    // The branch leaves the onset toward slower driving (supercritical).
+    let first = cycles[0]["V_um_per_s"].as_f64().unwrap();
+    assert!(rel(first, v_c) < 0.02, "{first} vs {v_c}");
+    assert_eq!(j["requested_points"][0]["delivered"], true);
+    let at: Vec<&Value> = cycles.iter().filter(|c| c["user_point"] == true).collect();
+    assert_eq!(at.len(), 1);
+    let (period, drop) = (
+        at[0]["period_s"].as_f64().unwrap(),
+        at[0]["delta_s_N"].as_f64().unwrap(),
+    );
+    assert!(rel(at[0]["V_um_per_s"].as_f64().unwrap(), V) < 1e-12);
+    // The CSV has the same cycles, the control after the existing columns.
+    let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
+    let header = csv.lines().nth(1).unwrap();
+    assert!(
+        header.ends_with("K_N_per_m,delta_s_N,nu,V_um_per_s"),
+        "{header}"
+    );
+    assert_eq!(csv.lines().count(), 2 + cycles.len());
+    // The branch started instead from an orbit simulated at the rig's own
+    // velocity (both legs, up to 12 µm/s and a step below 10) holds the
+    // same cycle at 10 µm/s.
+    let (code, out, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        path,
+        "--param",
+        "V",
+        "--to",
+        "12",
+        "--from-simulation",
+        "--out",
+        out_dir,
+        "--force",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    assert_eq!(j["start"], "simulation");
+    assert_eq!(j["complete"], true, "{}", j["stop"]);
+    let cycles = j["cycles"].as_array().unwrap();
+    let vs: Vec<f64> = cycles
+        .iter()
+        .map(|c| c["V_um_per_s"].as_f64().unwrap())
+        .collect();
+    assert!(vs.iter().all(|v| *v > 9.9 && *v < 12.1), "{vs:?}");
+    assert!(vs.iter().any(|v| *v > 11.9), "{vs:?}");
+    let own: Vec<&Value> = cycles.iter().filter(|c| c["V_um_per_s"] == V).collect();
+    assert!(!own.is_empty());
+    assert!(rel(own[0]["period_s"].as_f64().unwrap(), period) < 1e-9);
+    assert!(rel(own[0]["delta_s_N"].as_f64().unwrap(), drop) < 1e-9);
+    // An independent long-time integration at the rig's own velocity.
+    let (code, _, err) = stickslip(&[
+        "simulate",
+        "--scene",
+        path,
+        "--model",
+        "inertial",
+        "--protocol",
+        "10:400",
+        "--rtol",
+        "1e-10",
+        "--every",
+        "1",
+        "--max-steps",
+        "2000000",
+        "--out",
+        out_dir,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (sim_period, sim_drop) = settled_cycle(&dir.join("rig_inertial-simulation.csv"));
+    assert!(
+        rel(sim_period, period) < 1e-6,
+        "period {sim_period} s (simulate) vs {period} s"
+    );
+    assert!(
+        rel(sim_drop, drop) < 1e-6,
+        "force drop {sim_drop} N (simulate) vs {drop} N"
+    );
+}
+
+#[test]
+fn control_parameters_refused_by_name() {
+    let (_dir, path) = scene("refused", RIG);
+    let path = path.to_str().unwrap();
+    for (args, expected) in [
+        (
+            vec!["hopf", "--param", "Q"],
+            "unknown --param value 'Q' (did you mean 'K'?)",
+        ),
+        (
+            vec!["hopf", "--param", "mu0"],
+            "--param mu0: mu0 shifts the friction level",
+        ),
+        (
+            vec!["hopf", "--param", "K", "--from", "1"],
+            "--from bounds the range of --param V",
+        ),
+        (
+            vec!["hopf", "--param", "tau"],
+            "--param tau: tau (theta_c) is the ageing cutoff",
+        ),
+        (
+            vec!["hopf", "--param", "V", "--from", "-1", "--to", "5"],
+            "--from = -1 is out of range",
+        ),
+        (
+            vec!["branch", "--param", "W"],
+            "--param W moves kappa = K D0/W and m",
+        ),
+        (
+            vec!["cycles", "--param", "V"],
+            "cycles --param V needs --to VALUE (in um/s)",
+        ),
+        (
+            vec!["cycles", "--param", "V", "--to", "10", "--at", "K=2e5"],
+            "--at K=2e5: the branch is in V (--param); give --at V=V1,V2,...",
+        ),
+        (
+            vec!["cycles", "--to", "10"],
+            "--to ends a branch in --param",
+        ),
+        (
+            vec!["branch", "--param", "tau", "--from", "0.01", "--to", "1"],
+            "--param tau: tau (theta_c) is the ageing cutoff",
+        ),
+        (
+            vec!["cycles", "--param", "V", "--to", "10", "--search", "1-2"],
+            "--search: cannot read '1-2'",
+        ),
+    ] {
+        let mut all = args.clone();
+        all.extend(["--scene", path]);
+        let (code, _, err) = stickslip(&all);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+    }
+}
+
+/// `r = m nu^2 / mu_v` of the model a report used (0 when quasi-static).
+fn inertia_ratio(report: &Value, m: f64, nu: f64) -> f64 {
+    match report["model"].as_str() {
+        Some("inertial") => m * nu * nu / A,
+        _ => 0.0,
+    }
+}
+
+#[test]
+fn onset_in_the_friction_law_in_closed_form() {
+    let nu = V * 1e-6 / V0;
+    let (kappa, m) = (K * D0 / W, M * V0 * V0 / (W * D0));
+    // B: C11 is linear in B, B_c = A + 2 mu2 ln nu + kappa / (1 + r).
+    let (_dir, path) = scene("law", RIG);
+    let (code, out, err) = stickslip(&[
+        "hopf",
+        "--scene",
+        path.to_str().unwrap(),
+        "--param",
+        "B",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let r = inertia_ratio(&j, m, nu);
+    let b_c = A + 2.0 * MU2 * nu.ln() + kappa / (1.0 + r);
+    let c = &j["critical"];
+    assert_eq!(c["unit"], "1");
+    assert!(
+        rel(c["value"].as_f64().unwrap(), b_c) < 1e-10,
+        "{} vs {b_c}",
+        c["value"]
+    );
+    // tau (the cutoff form, mu_phi = B / (1 + nu theta_c)): B / (1 + nu
+    // theta_c) = A + kappa / (1 + r), theta_c = tau V0 / D0.
+    let cutoff = RIG.replace("mu2 = 1e-3\n", "tau = 0.01\n");
+    let (_dir, path) = scene("cutoff", &cutoff);
+    let (code, out, err) = stickslip(&[
+        "hopf",
+        "--scene",
+        path.to_str().unwrap(),
+        "--param",
+        "tau",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j = json(&out);
+    let r = inertia_ratio(&j, m, nu);
+    let theta_c = (B / (A + kappa / (1.0 + r)) - 1.0) / nu;
+    let tau = theta_c * D0 / V0;
+    let c = &j["critical"];
+    assert_eq!(c["unit"], "s");
+    assert!(
+        rel(c["value"].as_f64().unwrap(), tau) < 1e-10,
+        "{} vs {tau}",
+        c["value"]
+    );
+    assert!(rel(c["dimensionless"]["theta_c"].as_f64().unwrap(), theta_c) < 1e-10);
+}
+
+#[test]
+fn the_onset_in_k_is_todays_hopf_with_critical_beside() {
+    let (_dir, path) = scene("in_k", RIG);
+    let path = path.to_str().unwrap();
+    let (code, plain, _) = stickslip(&["hopf", "--scene", path, "--json"]);
+    assert_eq!(code, 0);
+    let (code, with, err) = stickslip(&["hopf", "--scene", path, "--param", "K", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let (plain, mut with) = (json(&plain), json(&with));
+    assert!(plain.get("critical").is_none());
+    let critical = with.as_object_mut().unwrap().remove("critical").unwrap();
+    assert_eq!(plain, with);
+    assert_eq!(critical["unit"], "N/m");
+    let k_c = plain["physical"]["K_N_per_m"].as_f64().unwrap();
+    assert_eq!(critical["value"].as_f64(), Some(k_c));
+    // K_c = kappa_c W / D0 with kappa_c of C11 at the scene's velocity.
+    let nu = V * 1e-6 / V0;
+    let r = inertia_ratio(&plain, M * V0 * V0 / (W * D0), nu);
+    let expected = (B - 2.0 * MU2 * nu.ln() - A) * (1.0 + r) * W / D0;
+    assert!(rel(k_c, expected) < 1e-12, "{k_c} vs {expected}");
+}
