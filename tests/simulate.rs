@@ -305,7 +305,10 @@ fn simulate_reports_the_regime_it_reaches() {
     let dir = std::env::temp_dir().join(format!("stickslip-regime-{}", std::process::id()));
     let out = dir.to_str().unwrap();
     let number_after = |text: &str, key: &str| -> f64 {
-        let at = text.find(key).unwrap_or_else(|| panic!("no '{key}' in {text}")) + key.len();
+        let at = text
+            .find(key)
+            .unwrap_or_else(|| panic!("no '{key}' in {text}"))
+            + key.len();
         text[at..]
             .split(|c: char| c.is_whitespace() || c == ',' || c == ')')
             .find(|w| !w.is_empty())
@@ -313,7 +316,13 @@ fn simulate_reports_the_regime_it_reaches() {
             .unwrap_or_else(|| panic!("no number after '{key}' in {text}"))
     };
     let (code, text, err) = common::stickslip(&[
-        "cycles", "--json", "--at-kappa", "0.009", "--out", out, "--force",
+        "cycles",
+        "--json",
+        "--at-kappa",
+        "0.009",
+        "--out",
+        out,
+        "--force",
     ]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -331,8 +340,16 @@ fn simulate_reports_the_regime_it_reaches() {
     );
     let run = |units: &str| {
         let (code, text, err) = common::stickslip(&[
-            "simulate", "--set", "kappa=0.009", "--protocol", "1:500", "--out", out, "--force",
-            "--units", units,
+            "simulate",
+            "--set",
+            "kappa=0.009",
+            "--protocol",
+            "1:500",
+            "--out",
+            out,
+            "--force",
+            "--units",
+            units,
         ]);
         assert_eq!(code, 0, "{err}");
         text.lines()
@@ -348,15 +365,28 @@ fn simulate_reports_the_regime_it_reaches() {
     let d = number_after(&line, "Delta_s = ");
     assert!(close(d, delta_s), "{d} vs {delta_s}: {line}");
     // nu = 1: the slip per event is the drive's advance over one period.
-    assert!(close(number_after(&line, "slip per event "), period), "{line}");
+    assert!(
+        close(number_after(&line, "slip per event "), period),
+        "{line}"
+    );
     let line = run("physical");
     let ps = number_after(&line, "period ");
     assert!(close(ps, period_s), "{ps} s vs {period_s} s: {line}");
     assert!(line.contains(" N (Delta_s"), "{line}");
     let (code, text, err) = common::stickslip(&[
-        "simulate", "--set", "kappa=0.012", "--protocol", "1:200", "--out", out, "--force",
+        "simulate",
+        "--set",
+        "kappa=0.012",
+        "--protocol",
+        "1:200",
+        "--out",
+        out,
+        "--force",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(text.contains("steady sliding (the oscillation decays)"), "{text}");
+    assert!(
+        text.contains("steady sliding (the oscillation decays)"),
+        "{text}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

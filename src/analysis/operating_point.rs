@@ -12,6 +12,9 @@
 
 use crate::analysis::hopf::Criticality;
 use crate::analysis::lpc_curve::LpcCurvePoint;
+use crate::appendix_c;
+use crate::model::ModelKind;
+use crate::params::Params;
 use serde::Serialize;
 
 /// Relative distances `|K - K_c| / K_c` within which the regime is not
@@ -128,7 +131,7 @@ fn lagrange3(p: [(f64, f64); 3], x: f64) -> Option<f64> {
 /// What decides the regime: the onset at the rig's velocity and, with a
 /// subcritical onset, the fold of cycles there.
 #[derive(Clone, Copy, Debug)]
-pub struct Onset {
+pub struct StabilityAt {
     pub kappa_c: f64,
     pub criticality: Criticality,
     /// `|K - K_c| / K_c` below which the side is not decided (at least
@@ -142,9 +145,35 @@ pub struct Onset {
     pub fold: Option<Option<FoldAt>>,
 }
 
+impl StabilityAt {
+    /// The onset `kappa_c` (of type `criticality`) located with the model
+    /// `kind` on `params` (that model's parameters; `scene` keeps the
+    /// scene's inertia): the side of `K_c` is undecided within the larger of
+    /// [`TOLERANCE`] and its difference from Appendix C (eq. C11/C12), and,
+    /// with the quasi-static model, within the rise of `kappa_c` the dropped
+    /// inertia makes.
+    pub fn located(
+        kind: ModelKind,
+        scene: &Params,
+        params: &Params,
+        (kappa_c, criticality): (f64, Criticality),
+        fold: Option<Option<FoldAt>>,
+    ) -> StabilityAt {
+        let reference = appendix_c::critical_stiffness(params);
+        StabilityAt {
+            kappa_c,
+            criticality,
+            tolerance: ((kappa_c - reference) / reference).abs(),
+            dropped_inertia: (kind == ModelKind::QuasiStatic && scene.m > 0.0)
+                .then(|| scene.inertia_ratio()),
+            fold,
+        }
+    }
+}
+
 /// The regime at stiffness `kappa`, its margin `(K - K_c)/K_c` and the
 /// reason in words.
-pub fn judge(kappa: f64, onset: &Onset) -> (Regime, f64, String) {
+pub fn judge(kappa: f64, onset: &StabilityAt) -> (Regime, f64, String) {
     let margin = (kappa - onset.kappa_c) / onset.kappa_c;
     let tolerance = onset.tolerance.max(TOLERANCE);
     let (regime, reason) = if margin.abs() <= tolerance {
@@ -322,7 +351,7 @@ mod tests {
             kappa: 1.1,
             error: 1e-3,
         };
-        let onset = |criticality, fold| Onset {
+        let onset = |criticality, fold| StabilityAt {
             kappa_c: 1.0,
             criticality,
             tolerance: 0.0,
@@ -356,7 +385,7 @@ mod tests {
             ),
             (
                 1.05,
-                Onset {
+                StabilityAt {
                     dropped_inertia: Some(0.1),
                     ..sup
                 },
@@ -364,7 +393,7 @@ mod tests {
             ),
             (
                 1.2,
-                Onset {
+                StabilityAt {
                     dropped_inertia: Some(0.1),
                     ..sup
                 },

@@ -14,10 +14,8 @@ use crate::analysis::diagram::{
     stability_diagram_deciding, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
 };
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
-use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Onset, Regime};
-use crate::appendix_c;
+use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Regime, StabilityAt};
 use crate::error::{Error, InputError, NumericalError};
-use crate::model::ModelKind;
 use clap::Args;
 use continuation::{AsIs, Wrap};
 use figures::write_figures;
@@ -434,16 +432,13 @@ impl OperatingPoint {
             op.reason = op.with_range_note(op.reason.clone());
             return Ok(op);
         };
-        let reference = appendix_c::critical_stiffness(&p);
-        let onset = Onset {
-            kappa_c: h.kappa_c,
-            criticality: h.onset.criticality,
-            tolerance: ((h.kappa_c - reference) / reference).abs(),
-            dropped_inertia: (setup.choice.kind == ModelKind::QuasiStatic
-                && setup.scene_params.m > 0.0)
-                .then(|| setup.scene_params.inertia_ratio()),
-            fold: Some(fold),
-        };
+        let onset = StabilityAt::located(
+            setup.choice.kind,
+            &setup.scene_params,
+            &p,
+            (h.kappa_c, h.onset.criticality),
+            Some(fold),
+        );
         let (regime, margin, reason) = judge(kappa, &onset);
         op.regime = regime;
         op.margin = Some(margin);

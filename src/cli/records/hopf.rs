@@ -4,6 +4,7 @@
 
 use super::PhysicalPoint;
 use crate::analysis::hopf::{Arithmetic, Criticality, HopfOutcome, HopfPoint};
+use crate::analysis::operating_point::{judge, judge_without_onset, Regime, StabilityAt};
 use crate::appendix_c;
 use crate::cli::{params_json, Setup};
 use crate::model::ModelKind;
@@ -90,41 +91,6 @@ impl Critical {
     }
 }
 
-/// Relative distances `|K - K_c| / K_c` within which the operating point's
-/// regime is `undecided`: the located `kappa_c` agrees with Appendix C to
-/// about `1e-15` (its `kappa_c_rel_diff`, which widens this bound where it
-/// is larger), and the scene's `K` becomes `kappa = K D0 / W` with a
-/// rounding of a few `1e-16`.
-pub const OPERATING_POINT_TOLERANCE: f64 = 1e-12;
-
-/// The regime of the rig at its own stiffness.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Regime {
-    /// Above `K_c` with a supercritical onset: steady sliding is stable and
-    /// no small cycle surrounds it.
-    Steady,
-    /// Below `K_c`: steady sliding is unstable.
-    StickSlip,
-    /// Not decided here (the reason says why: within rounding of `K_c`,
-    /// within the shift the dropped inertia makes, a subcritical or
-    /// degenerate onset whose fold of cycles `hopf` does not locate, no
-    /// onset, no spring). `bistable` is never claimed by `hopf`: it would
-    /// need the fold of cycles, which `cycles` locates.
-    Undecided,
-}
-
-impl Regime {
-    /// `steady`, `stick-slip` or `undecided`, as in the JSON.
-    pub fn name(self) -> &'static str {
-        match self {
-            Regime::Steady => "steady",
-            Regime::StickSlip => "stick-slip",
-            Regime::Undecided => "undecided",
-        }
-    }
-}
-
 /// The scene's own stiffness against the onset (JSON `operating_point`).
 #[derive(Clone, Debug, Serialize)]
 pub struct OperatingPoint {
@@ -151,17 +117,21 @@ impl OperatingPoint {
                 None,
                 "K = 0: no spring, hence no steady sliding driven through it".to_string(),
             ),
-            HopfOutcome::StableForAllStiffness { .. } => (
-                Regime::Undecided,
-                None,
-                "no Hopf point: steady sliding is linearly stable at this K, but finite-amplitude \
-                 stick-slip may coexist with it (as for the brockley scene); `stickslip cycles` \
-                 looks for it by simulation"
-                    .to_string(),
-            ),
+            HopfOutcome::StableForAllStiffness { .. } => {
+                let (regime, reason) = judge_without_onset(kappa, None);
+                (regime, None, reason)
+            }
             HopfOutcome::Found(h) => {
-                let margin = (kappa - h.kappa_c) / h.kappa_c;
-                let (regime, reason) = regime(setup, h, margin);
+                // The fold of cycles is not looked for here (`diagram` and
+                // `cycles` locate it): a subcritical onset above K_c is undecided.
+                let onset = StabilityAt::located(
+                    setup.choice.kind,
+                    &setup.scene_params,
+                    &setup.params,
+                    (h.kappa_c, h.onset.criticality),
+                    None,
+                );
+                let (regime, margin, reason) = judge(kappa, &onset);
                 (regime, Some(margin), reason)
             }
         };
@@ -172,60 +142,6 @@ impl OperatingPoint {
             margin,
             reason,
         }
-    }
-}
-
-/// The regime at `margin = (K - K_c)/K_c` from the onset `h` of `setup`.
-fn regime(setup: &Setup, h: &HopfPoint, margin: f64) -> (Regime, String) {
-    let kappa_ref = appendix_c::critical_stiffness(&setup.params);
-    let tolerance = OPERATING_POINT_TOLERANCE.max(rel_diff(h.kappa_c, kappa_ref));
-    // Inertia the model dropped raises kappa_c by the ratio m nu^2/mu_v (C11).
-    let dropped = (setup.choice.kind == ModelKind::QuasiStatic && setup.scene_params.m > 0.0)
-        .then(|| setup.scene_params.inertia_ratio());
-    if margin.abs() <= tolerance {
-        return (
-            Regime::Undecided,
-            format!(
-                "K is within {tolerance:.0e} relative of K_c, the accuracy of K_c and of K D0/W: \
-                 rounding cannot tell which side it is on"
-            ),
-        );
-    }
-    if margin < 0.0 {
-        return (
-            Regime::StickSlip,
-            "K < K_c: steady sliding is unstable, the block slides by stick-slip".to_string(),
-        );
-    }
-    if let Some(ratio) = dropped.filter(|&r| margin <= r + tolerance) {
-        return (
-            Regime::Undecided,
-            format!(
-                "K exceeds the quasi-static K_c by less than the shift the dropped inertia makes \
-                 (m nu^2/mu_v = {ratio:.3e}, eq. C11): rerun with --model inertial"
-            ),
-        );
-    }
-    match h.onset.criticality {
-        Criticality::Supercritical => (
-            Regime::Steady,
-            "K > K_c with a supercritical onset: steady sliding is stable and no small \
-             stick-slip cycle surrounds it"
-                .to_string(),
-        ),
-        Criticality::Subcritical => (
-            Regime::Undecided,
-            "K > K_c with a subcritical onset: steady sliding is stable, but stick-slip cycles \
-             coexist with it (bistable) up to the stiffness of the fold of cycles, which hopf \
-             does not locate; `stickslip cycles` does"
-                .to_string(),
-        ),
-        Criticality::Degenerate => (
-            Regime::Undecided,
-            "K > K_c, but the onset type is degenerate within rounding: whether stick-slip \
-             cycles coexist with stable steady sliding is not decided"
-                .to_string(),
-        ),
     }
 }
 
