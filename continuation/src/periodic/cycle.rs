@@ -1,7 +1,7 @@
 //! A periodic orbit on a collocation mesh: node values, period, parameters.
 
 use super::mesh::{lagrange_values, Mesh};
-use crate::system::{eval, jacobian, VectorField};
+use crate::system::VectorField;
 use nalgebra::{DMatrix, DVector, Dyn};
 use std::cell::RefCell;
 
@@ -235,8 +235,13 @@ impl<'a, S: VectorField> Stepper<'a, S> {
     fn stage_jacobian(&self, stages: &[f64], ht: f64) -> StageLu {
         let (n, m) = (self.cycle.n, self.cycle.mesh.degree);
         let mut jac = DMatrix::<f64>::identity(m * n, m * n);
+        let mut jl = DMatrix::zeros(n, n);
         for l in 0..m {
-            let jl = jacobian(self.sys, &stages[l * n..(l + 1) * n], &self.cycle.p);
+            // Zeroed, as a new matrix would be: a hand-written Jacobian may
+            // write its nonzero entries only.
+            jl.fill(0.0);
+            self.sys
+                .jacobian(&stages[l * n..(l + 1) * n], &self.cycle.p, &mut jl);
             for k in 0..m {
                 let w = ht * self.a[k * m + l];
                 for r in 0..n {
@@ -286,8 +291,8 @@ impl<'a, S: VectorField> Stepper<'a, S> {
         let (mut converged, mut last) = (false, f64::INFINITY);
         for _ in 0..16 {
             for l in 0..m {
-                let f = eval(self.sys, &stages[l * n..(l + 1) * n], &cyc.p);
-                fs[l * n..(l + 1) * n].copy_from_slice(f.as_slice());
+                let at = l * n..(l + 1) * n;
+                self.sys.rhs(&stages[at.clone()], &cyc.p, &mut fs[at]);
             }
             for k in 0..m {
                 for r in 0..n {
@@ -298,7 +303,11 @@ impl<'a, S: VectorField> Stepper<'a, S> {
                             .sum::<f64>();
                 }
             }
-            let dx = lu.solve(&residual)?;
+            // The correction, in place of the residual.
+            if !lu.solve_mut(&mut residual) {
+                return None;
+            }
+            let dx = &residual;
             // From the polynomial, rounding is reached in a few iterations.
             let size = stages
                 .iter()
