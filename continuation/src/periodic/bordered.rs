@@ -76,14 +76,11 @@ impl Householder {
                 v.iter_mut().for_each(|a| *a /= size);
             }
             self.r[(j, j)] = alpha;
+            reflect_columns(v, right, rows, j);
             for c in j + 1..cols {
-                let col = &mut right[(c - j - 1) * rows..(c - j) * rows];
-                reflect(v, &mut col[j..]);
-                self.r[(j, c)] = col[j];
+                self.r[(j, c)] = right[(c - j - 1) * rows + j];
             }
-            for col in trailing.chunks_exact_mut(rows) {
-                reflect(v, &mut col[j..]);
-            }
+            reflect_columns(v, trailing, rows, j);
         }
     }
 
@@ -112,6 +109,40 @@ fn reflect(v: &[f64], x: &mut [f64]) {
     let dot: f64 = v.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
     let f = 2.0 * dot;
     x.iter_mut().zip(v).for_each(|(a, b)| *a -= f * b);
+}
+
+/// [`reflect`] on rows `j..` of every column of `columns` (column-major,
+/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`:
+/// each column's dot product is still summed in row order, so the result is
+/// the same as column by column.
+fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
+    let len = v.len();
+    let mut quads = columns.chunks_exact_mut(4 * rows);
+    for quad in &mut quads {
+        let (c0, rest) = quad.split_at_mut(rows);
+        let (c1, rest) = rest.split_at_mut(rows);
+        let (c2, c3) = rest.split_at_mut(rows);
+        let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
+        let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
+        // `-0.0`, where `Iterator::sum` starts too.
+        let mut dot = [-0.0f64; 4];
+        for r in 0..len {
+            dot[0] += v[r] * c0[r];
+            dot[1] += v[r] * c1[r];
+            dot[2] += v[r] * c2[r];
+            dot[3] += v[r] * c3[r];
+        }
+        let f = dot.map(|d| 2.0 * d);
+        for r in 0..len {
+            c0[r] -= f[0] * v[r];
+            c1[r] -= f[1] * v[r];
+            c2[r] -= f[2] * v[r];
+            c3[r] -= f[3] * v[r];
+        }
+    }
+    for col in quads.into_remainder().chunks_exact_mut(rows) {
+        reflect(v, &mut col[j..]);
+    }
 }
 
 /// The condensation of one interval: row equilibration `s` (on stiff
