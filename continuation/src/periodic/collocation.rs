@@ -75,11 +75,11 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let mut phase_ref = Vec::with_capacity(mesh.ntst() * m * n);
         for i in 0..mesh.ntst() {
             let h = mesh.t[i + 1] - mesh.t[i];
+            let nodes: SmallVec<[&[f64]; 8]> =
+                (0..=m).map(|l| reference.node(mesh.node(i, l))).collect();
             for kk in 0..m {
                 for j in 0..n {
-                    let d: f64 = (0..=m)
-                        .map(|l| mesh.dbasis[kk][l] * reference.node(mesh.node(i, l))[j])
-                        .sum();
+                    let d: f64 = (0..=m).map(|l| mesh.dbasis[kk][l] * nodes[l][j]).sum();
                     phase_ref.push(d / h);
                 }
             }

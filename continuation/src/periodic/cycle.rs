@@ -30,14 +30,19 @@ impl Cycle {
 
     /// The state at normalized time `tau` in `[0, 1]`.
     pub fn state_at(&self, tau: f64) -> Vec<f64> {
-        let (i, z) = self.mesh.locate(tau);
         let mut x = vec![0.0; self.n];
+        self.state_into(tau, &mut x);
+        x
+    }
+
+    /// [`Cycle::state_at`] added into `x` (`n` entries, zero for the state itself).
+    fn state_into(&self, tau: f64, x: &mut [f64]) {
+        let (i, z) = self.mesh.locate(tau);
         for (l, b) in lagrange_values(self.mesh.degree, z).iter().enumerate() {
             for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
                 *xj += b * uj;
             }
         }
-        x
     }
 
     /// Samples `(tau, x)` at `per_interval` evenly spaced points of every
@@ -158,10 +163,11 @@ impl Cycle {
 
     /// Moves the orbit onto another mesh (same degree) by evaluating its polynomials.
     pub fn remesh(&self, mesh: Mesh) -> Cycle {
-        let mut u = Vec::with_capacity(mesh.n_nodes() * self.n);
+        let mut u = vec![0.0; mesh.n_nodes() * self.n];
+        let mut nodes = u.chunks_exact_mut(self.n);
         for i in 0..mesh.ntst() {
-            for l in 0..mesh.degree {
-                u.extend(self.state_at(mesh.node_time(i, l)));
+            for (l, x) in (0..mesh.degree).zip(&mut nodes) {
+                self.state_into(mesh.node_time(i, l), x);
             }
         }
         Cycle {
