@@ -186,9 +186,19 @@ impl Mesh {
         }
     }
 
-    /// A mesh of the same degree and collocation points on other mesh points.
+    /// A mesh of the same degree and collocation points on other mesh
+    /// points; the points, weights and basis tables are this mesh's (the
+    /// Radau points are found by bisection: not again for every new mesh).
     pub fn on(&self, t: Vec<f64>) -> Self {
-        Mesh::with_points(t, self.degree, self.points)
+        Mesh {
+            t,
+            degree: self.degree,
+            points: self.points,
+            nodes: self.nodes.clone(),
+            weights: self.weights.clone(),
+            basis: self.basis.clone(),
+            dbasis: self.dbasis.clone(),
+        }
     }
 
     /// A uniform mesh of `ntst` intervals.
