@@ -34,6 +34,7 @@
 use super::collocation::Linearization;
 use crate::error::ContinuationError;
 use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut, Dyn, FullPivLU};
+use std::borrow::Cow;
 use std::ops::Range;
 
 /// Householder QR of a block with at least as many rows as columns,
@@ -75,14 +76,11 @@ impl Householder {
                 v.iter_mut().for_each(|a| *a /= size);
             }
             self.r[(j, j)] = alpha;
+            reflect_columns(v, right, rows, j);
             for c in j + 1..cols {
-                let col = &mut right[(c - j - 1) * rows..(c - j) * rows];
-                reflect(v, &mut col[j..]);
-                self.r[(j, c)] = col[j];
+                self.r[(j, c)] = right[(c - j - 1) * rows + j];
             }
-            for col in trailing.chunks_exact_mut(rows) {
-                reflect(v, &mut col[j..]);
-            }
+            reflect_columns(v, trailing, rows, j);
         }
     }
 
@@ -111,6 +109,40 @@ fn reflect(v: &[f64], x: &mut [f64]) {
     let dot: f64 = v.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
     let f = 2.0 * dot;
     x.iter_mut().zip(v).for_each(|(a, b)| *a -= f * b);
+}
+
+/// [`reflect`] on rows `j..` of every column of `columns` (column-major,
+/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`:
+/// each column's dot product is still summed in row order, so the result is
+/// the same as column by column.
+fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
+    let len = v.len();
+    let mut quads = columns.chunks_exact_mut(4 * rows);
+    for quad in &mut quads {
+        let (c0, rest) = quad.split_at_mut(rows);
+        let (c1, rest) = rest.split_at_mut(rows);
+        let (c2, c3) = rest.split_at_mut(rows);
+        let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
+        let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
+        // `-0.0`, where `Iterator::sum` starts too.
+        let mut dot = [-0.0f64; 4];
+        for r in 0..len {
+            dot[0] += v[r] * c0[r];
+            dot[1] += v[r] * c1[r];
+            dot[2] += v[r] * c2[r];
+            dot[3] += v[r] * c3[r];
+        }
+        let f = dot.map(|d| 2.0 * d);
+        for r in 0..len {
+            c0[r] -= f[0] * v[r];
+            c1[r] -= f[1] * v[r];
+            c2[r] -= f[2] * v[r];
+            c3[r] -= f[3] * v[r];
+        }
+    }
+    for col in quads.into_remainder().chunks_exact_mut(rows) {
+        reflect(v, &mut col[j..]);
+    }
 }
 
 /// The condensation of one interval: row equilibration `s` (on stiff
@@ -157,6 +189,9 @@ pub struct CyclicReduction {
     a: Vec<DMatrix<f64>>,
     b: Vec<DMatrix<f64>>,
     last: usize,
+    /// `R E` for the linearization's own border columns `E = (dF/dT,
+    /// dF/dp_k)` (`N x 2`), transformed in the sweeps that form `R`.
+    border: DMatrix<f64>,
 }
 
 impl CyclicReduction {
@@ -170,6 +205,7 @@ impl CyclicReduction {
             a: Vec::new(),
             b: Vec::new(),
             last: 0,
+            border: DMatrix::zeros(0, BORDER),
         };
         reduction.factor(lin);
         reduction
@@ -207,8 +243,11 @@ impl CyclicReduction {
             ];
             self.a = vec![DMatrix::zeros(n, n); ntst];
             self.b = vec![DMatrix::zeros(n, n); ntst];
+            self.border = DMatrix::zeros(ntst * mn, BORDER);
         }
-        let mut ends = DMatrix::zeros(mn, 2 * n);
+        // The interval's end columns, then its border columns: `Q^T` is
+        // applied to both as each reflector is formed.
+        let mut ends = DMatrix::zeros(mn, 2 * n + BORDER);
         for (i, (iv, block)) in self.intervals.iter_mut().zip(&lin.local).enumerate() {
             // Column-major: column c of the block is data[c mn..(c + 1) mn].
             let data = block.as_slice();
@@ -236,19 +275,27 @@ impl CyclicReduction {
                 scaled(&mut ends_data[c * mn..(c + 1) * mn], c);
                 scaled(&mut ends_data[(n + c) * mn..(n + c + 1) * mn], m * n + c);
             }
+            for c in 0..BORDER {
+                let target = &mut ends_data[(2 * n + c) * mn..(2 * n + c + 1) * mn];
+                scaled(target, (m + 1) * n + c);
+            }
             let interior = iv.qr.v.as_mut_slice();
             for c in 0..(m - 1) * n {
                 scaled(&mut interior[c * mn..(c + 1) * mn], n + c);
             }
             iv.qr.factor_applying(ends.as_mut_slice());
-            iv.top.copy_from(&ends.rows(0, (m - 1) * n));
+            iv.top.copy_from(&ends.view((0, 0), ((m - 1) * n, 2 * n)));
             self.a[i].copy_from(&ends.view(((m - 1) * n, 0), (n, n)));
             self.b[i].copy_from(&ends.view(((m - 1) * n, n), (n, n)));
+            self.border
+                .rows_mut(i * mn, mn)
+                .copy_from(&ends.columns(2 * n, BORDER));
         }
         // Orthogonal cyclic reduction: (interval holding the relation, left, right).
         let mut chain: Vec<(usize, usize, usize)> =
             (0..ntst).map(|i| (i, i, (i + 1) % ntst)).collect();
-        let mut rest = DMatrix::zeros(2 * n, 2 * n);
+        // The eliminated node's neighbours, then the border rows.
+        let mut rest = DMatrix::zeros(2 * n, 2 * n + BORDER);
         let mut count = 0;
         while chain.len() > 1 {
             let mut next = Vec::with_capacity(chain.len().div_ceil(2));
@@ -266,11 +313,25 @@ impl CyclicReduction {
                 rest.fill(0.0);
                 rest.view_mut((0, 0), (n, n)).copy_from(&self.a[upper]);
                 rest.view_mut((n, n), (n, n)).copy_from(&self.b[lower]);
+                let (upper_rows, lower_rows) = (
+                    (upper + 1) * mn - n..(upper + 1) * mn,
+                    (lower + 1) * mn - n..(lower + 1) * mn,
+                );
+                rest.view_mut((0, 2 * n), (n, BORDER))
+                    .copy_from(&self.border.rows_range(upper_rows.clone()));
+                rest.view_mut((n, 2 * n), (n, BORDER))
+                    .copy_from(&self.border.rows_range(lower_rows.clone()));
                 el.qr.factor_applying(rest.as_mut_slice());
                 el.x.copy_from(&rest.view((0, 0), (n, n)));
                 el.z.copy_from(&rest.view((0, n), (n, n)));
                 self.a[lower].copy_from(&rest.view((n, 0), (n, n)));
                 self.b[lower].copy_from(&rest.view((n, n), (n, n)));
+                self.border
+                    .rows_range_mut(upper_rows)
+                    .copy_from(&rest.view((0, 2 * n), (n, BORDER)));
+                self.border
+                    .rows_range_mut(lower_rows)
+                    .copy_from(&rest.view((n, 2 * n), (n, BORDER)));
                 next.push((lower, left, right));
             }
             chain = next;
@@ -358,8 +419,9 @@ impl CyclicReduction {
 /// transpose.
 pub struct Bordered<'a> {
     reduction: &'a CyclicReduction,
-    /// `R E`: the border columns transformed (`N x k`).
-    columns: DMatrix<f64>,
+    /// `R E`: the border columns transformed (`N x k`); borrowed when they
+    /// are the reduction's own ([`Bordered::on_border`]).
+    columns: Cow<'a, DMatrix<f64>>,
     /// `Lambda^T`, the dense rows' multipliers, per interval (`(m - 1) n x k`)
     /// and per node elimination (`n x k`).
     interior: Vec<DMatrix<f64>>,
@@ -375,6 +437,35 @@ impl<'a> Bordered<'a> {
     pub fn new(
         reduction: &'a CyclicReduction,
         mut columns: DMatrix<f64>,
+        rows: DMatrix<f64>,
+    ) -> Result<Self, ContinuationError> {
+        let nn = reduction.intervals.len() * reduction.mn();
+        if columns.nrows() != nn {
+            return Err(ContinuationError::Sparse(format!(
+                "{} border rows for {nn} collocation rows",
+                columns.nrows()
+            )));
+        }
+        for c in 0..columns.ncols() {
+            reduction.apply_r(&mut columns.as_mut_slice()[c * nn..(c + 1) * nn]);
+        }
+        Self::reduced(reduction, Cow::Owned(columns), rows)
+    }
+
+    /// The system whose border columns are those of the linearization
+    /// `reduction` was factored from (`dF/dT`, `dF/dp_k`), already
+    /// transformed by `R` in its sweeps; `rows` `= [D G]` (`2 x (N + 2)`).
+    pub fn on_border(
+        reduction: &'a CyclicReduction,
+        rows: DMatrix<f64>,
+    ) -> Result<Self, ContinuationError> {
+        Self::reduced(reduction, Cow::Borrowed(&reduction.border), rows)
+    }
+
+    /// The system with the border columns `R E` already transformed.
+    fn reduced(
+        reduction: &'a CyclicReduction,
+        columns: Cow<'a, DMatrix<f64>>,
         mut rows: DMatrix<f64>,
     ) -> Result<Self, ContinuationError> {
         let (n, mn) = (reduction.n, reduction.mn());
@@ -386,9 +477,6 @@ impl<'a> Bordered<'a> {
                 "{} dense rows for {k} border columns",
                 rows.nrows()
             )));
-        }
-        for c in 0..k {
-            reduction.apply_r(&mut columns.as_mut_slice()[c * nn..(c + 1) * nn]);
         }
         // Eliminates the unknowns `cols` (pivot `r`) from the dense rows:
         // `rows -= lambda (r y_cols + ...)` with `lambda = rows_cols r^{-1}`;
@@ -605,6 +693,10 @@ impl<'a> Bordered<'a> {
         finite(s)
     }
 }
+
+/// Border columns of a linearization: `dF/dT` and `dF/dp_k`, the last two
+/// columns of every interval block.
+const BORDER: usize = 2;
 
 /// `Ok` when `v`, named `what` in the error, has `expected` entries: a
 /// vector from another mesh is an error, never a panic inside the algebra.

@@ -75,11 +75,11 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let mut phase_ref = Vec::with_capacity(mesh.ntst() * m * n);
         for i in 0..mesh.ntst() {
             let h = mesh.t[i + 1] - mesh.t[i];
+            let nodes: SmallVec<[&[f64]; 8]> =
+                (0..=m).map(|l| reference.node(mesh.node(i, l))).collect();
             for kk in 0..m {
                 for j in 0..n {
-                    let d: f64 = (0..=m)
-                        .map(|l| mesh.dbasis[kk][l] * reference.node(mesh.node(i, l))[j])
-                        .sum();
+                    let d: f64 = (0..=m).map(|l| mesh.dbasis[kk][l] * nodes[l][j]).sum();
                     phase_ref.push(d / h);
                 }
             }
@@ -147,8 +147,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         // Each interval's phase-row entries on its m + 1 nodes (neighbours
         // share a node), added up after.
         let mut phase_parts = vec![0.0; ntst * (m + 1) * n];
-        let sums = |(i, ((block, residual), phase)): (usize, Zipped)| {
-            self.interval(i, z, &p, (block, residual, phase))
+        // The Jacobian of `f` at a collocation point: one per thread.
+        let jacobian = || DMatrix::zeros(n, n);
+        let sums = |jac: &mut DMatrix<f64>, (i, ((block, residual), phase)): (usize, Zipped)| {
+            self.interval(i, z, &p, (block, residual, phase), jac)
         };
         // Each interval's sums, then added up in order (the same totals
         // whether or not the intervals ran in parallel).
@@ -159,15 +161,16 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 .zip(phase_parts.par_chunks_exact_mut((m + 1) * n))
                 .enumerate()
                 .with_min_len(PARALLEL_INTERVALS / 2)
-                .map(sums)
+                .map_init(jacobian, sums)
                 .collect()
         } else {
+            let mut jac = jacobian();
             lin.local
                 .iter_mut()
                 .zip(lin.residual[..nn].chunks_exact_mut(mn))
                 .zip(phase_parts.chunks_exact_mut((m + 1) * n))
                 .enumerate()
-                .map(sums)
+                .map(|item| sums(&mut jac, item))
                 .collect()
         };
         let total = parts
@@ -195,20 +198,37 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// The collocation equations of interval `i` at `z` (parameters `p`),
     /// linearized into `out`: its block, its `m n` residuals and its
     /// phase-row entries on its `m + 1` nodes; returns its terms of the
-    /// phase residual, the term scale and the trace integral.
-    fn interval(&self, i: usize, z: &[f64], p: &[f64], out: IntervalOut) -> IntervalSums {
+    /// phase residual, the term scale and the trace integral. `jac` (`n x n`)
+    /// is scratch for the Jacobian of `f` at each collocation point.
+    fn interval(
+        &self,
+        i: usize,
+        z: &[f64],
+        p: &[f64],
+        out: IntervalOut,
+        jac: &mut DMatrix<f64>,
+    ) -> IntervalSums {
         let (block, residual, phase) = out;
         let n = self.sys.dim();
         let m = self.mesh.degree;
+        let mn = m * n;
         let nn = self.mesh.n_nodes() * n;
         let period = z[nn];
         let node = |g: usize| &z[g * n..(g + 1) * n];
         let h = self.mesh.t[i + 1] - self.mesh.t[i];
         let mut sums = IntervalSums::default();
         phase.fill(0.0);
-        let zeros = || SmallVec::<[f64; 8]>::from_elem(0.0, n);
-        let (mut x, mut dx, mut row_sums) = (zeros(), zeros(), zeros());
-        let (mut f, mut fp, mut jac) = (zeros(), zeros(), DMatrix::zeros(n, n));
+        // Zeroed for every interval, as a new matrix would be.
+        jac.fill(0.0);
+        // Scratch of `n` entries each: the state and its derivative at the
+        // point, the row sums of the term scale, `f` and `df/dp_k`.
+        let mut scratch = SmallVec::<[f64; 64]>::from_elem(0.0, 5 * n);
+        let (x, rest) = scratch.split_at_mut(n);
+        let (dx, rest) = rest.split_at_mut(n);
+        let (row_sums, rest) = rest.split_at_mut(n);
+        let (f, fp) = rest.split_at_mut(n);
+        // Column-major: entry (r, c) of the block at `c mn + r`.
+        let block = block.as_mut_slice();
         for kk in 0..m {
             let row0 = kk * n;
             x.fill(0.0);
@@ -230,28 +250,30 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             for j in 0..n {
                 x[j] += v0[j];
             }
-            self.sys
-                .first_order(&x, p, self.k, (&mut f, &mut jac, &mut fp));
+            self.sys.first_order(x, p, self.k, (f, jac, fp));
             for j in 0..n {
                 residual[row0 + j] = dx[j] - h * period * f[j];
                 sums.term_scale = sums.term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
-                block[(row0 + j, (m + 1) * n)] = -h * f[j];
-                block[(row0 + j, (m + 1) * n + 1)] = -h * period * fp[j];
+                block[(m + 1) * n * mn + row0 + j] = -h * f[j];
+                block[((m + 1) * n + 1) * mn + row0 + j] = -h * period * fp[j];
             }
+            // Column-major like the block: `D_x f` (r, c) at `c n + r`.
+            let js = jac.as_slice();
             for l in 0..=m {
                 let (b, db) = (self.mesh.basis[kk][l], self.mesh.dbasis[kk][l]);
                 let v = node(self.mesh.node(i, l));
-                for r in 0..n {
+                let hpb = h * period * b;
+                for (r, row_sum) in row_sums.iter_mut().enumerate() {
                     for c in 0..n {
-                        let entry = if r == c { db } else { 0.0 } - h * period * b * jac[(r, c)];
-                        block[(row0 + r, l * n + c)] = entry;
-                        row_sums[r] += entry.abs() * v[c].abs();
+                        let entry = if r == c { db } else { 0.0 } - hpb * js[c * n + r];
+                        block[(l * n + c) * mn + row0 + r] = entry;
+                        *row_sum += entry.abs() * v[c].abs();
                     }
                 }
             }
             sums.term_scale = row_sums.iter().fold(sums.term_scale, |a, v| a.max(*v));
             let w = h * self.mesh.weights[kk];
-            sums.trace_integral += w * period * (0..n).map(|j| jac[(j, j)]).sum::<f64>();
+            sums.trace_integral += w * period * (0..n).map(|j| js[j * n + j]).sum::<f64>();
             let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
             for j in 0..n {
                 sums.phase_residual += w * x[j] * dref[j];

@@ -1,7 +1,7 @@
 //! A periodic orbit on a collocation mesh: node values, period, parameters.
 
 use super::mesh::{lagrange_values, Mesh};
-use crate::system::{eval, jacobian, VectorField};
+use crate::system::VectorField;
 use nalgebra::{DMatrix, DVector, Dyn};
 use std::cell::RefCell;
 
@@ -30,14 +30,19 @@ impl Cycle {
 
     /// The state at normalized time `tau` in `[0, 1]`.
     pub fn state_at(&self, tau: f64) -> Vec<f64> {
-        let (i, z) = self.mesh.locate(tau);
         let mut x = vec![0.0; self.n];
+        self.state_into(tau, &mut x);
+        x
+    }
+
+    /// [`Cycle::state_at`] added into `x` (`n` entries, zero for the state itself).
+    fn state_into(&self, tau: f64, x: &mut [f64]) {
+        let (i, z) = self.mesh.locate(tau);
         for (l, b) in lagrange_values(self.mesh.degree, z).iter().enumerate() {
             for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
                 *xj += b * uj;
             }
         }
-        x
     }
 
     /// Samples `(tau, x)` at `per_interval` evenly spaced points of every
@@ -158,10 +163,11 @@ impl Cycle {
 
     /// Moves the orbit onto another mesh (same degree) by evaluating its polynomials.
     pub fn remesh(&self, mesh: Mesh) -> Cycle {
-        let mut u = Vec::with_capacity(mesh.n_nodes() * self.n);
+        let mut u = vec![0.0; mesh.n_nodes() * self.n];
+        let mut nodes = u.chunks_exact_mut(self.n);
         for i in 0..mesh.ntst() {
-            for l in 0..mesh.degree {
-                u.extend(self.state_at(mesh.node_time(i, l)));
+            for (l, x) in (0..mesh.degree).zip(&mut nodes) {
+                self.state_into(mesh.node_time(i, l), x);
             }
         }
         Cycle {
@@ -235,8 +241,13 @@ impl<'a, S: VectorField> Stepper<'a, S> {
     fn stage_jacobian(&self, stages: &[f64], ht: f64) -> StageLu {
         let (n, m) = (self.cycle.n, self.cycle.mesh.degree);
         let mut jac = DMatrix::<f64>::identity(m * n, m * n);
+        let mut jl = DMatrix::zeros(n, n);
         for l in 0..m {
-            let jl = jacobian(self.sys, &stages[l * n..(l + 1) * n], &self.cycle.p);
+            // Zeroed, as a new matrix would be: a hand-written Jacobian may
+            // write its nonzero entries only.
+            jl.fill(0.0);
+            self.sys
+                .jacobian(&stages[l * n..(l + 1) * n], &self.cycle.p, &mut jl);
             for k in 0..m {
                 let w = ht * self.a[k * m + l];
                 for r in 0..n {
@@ -286,8 +297,8 @@ impl<'a, S: VectorField> Stepper<'a, S> {
         let (mut converged, mut last) = (false, f64::INFINITY);
         for _ in 0..16 {
             for l in 0..m {
-                let f = eval(self.sys, &stages[l * n..(l + 1) * n], &cyc.p);
-                fs[l * n..(l + 1) * n].copy_from_slice(f.as_slice());
+                let at = l * n..(l + 1) * n;
+                self.sys.rhs(&stages[at.clone()], &cyc.p, &mut fs[at]);
             }
             for k in 0..m {
                 for r in 0..n {
@@ -298,7 +309,11 @@ impl<'a, S: VectorField> Stepper<'a, S> {
                             .sum::<f64>();
                 }
             }
-            let dx = lu.solve(&residual)?;
+            // The correction, in place of the residual.
+            if !lu.solve_mut(&mut residual) {
+                return None;
+            }
+            let dx = &residual;
             // From the polynomial, rounding is reached in a few iterations.
             let size = stages
                 .iter()

@@ -117,18 +117,16 @@ pub fn lagrange(m: usize, z: f64) -> (Vec<f64>, Vec<f64>) {
 /// Values `L_l(z)` of the Lagrange basis on the equally spaced nodes `l / m`
 /// (no derivatives, no heap allocation for `m < 8`): for evaluating orbits.
 pub fn lagrange_values(m: usize, z: f64) -> SmallVec<[f64; 8]> {
-    (0..=m)
-        .map(|l| {
-            let xl = l as f64 / m as f64;
-            (0..=m)
-                .filter(|&j| j != l)
-                .map(|j| {
-                    let xj = j as f64 / m as f64;
-                    (z - xj) / (xl - xj)
-                })
-                .product()
-        })
-        .collect()
+    let nodes: SmallVec<[f64; 8]> = (0..=m).map(|j| j as f64 / m as f64).collect();
+    let mut values = SmallVec::from_elem(1.0, m + 1);
+    for ((l, value), xl) in values.iter_mut().enumerate().zip(&nodes) {
+        for (j, xj) in nodes.iter().enumerate() {
+            if j != l {
+                *value *= (z - xj) / (xl - xj);
+            }
+        }
+    }
+    values
 }
 
 /// Where the collocation equations are imposed in every interval.
@@ -188,9 +186,19 @@ impl Mesh {
         }
     }
 
-    /// A mesh of the same degree and collocation points on other mesh points.
+    /// A mesh of the same degree and collocation points on other mesh
+    /// points; the points, weights and basis tables are this mesh's (the
+    /// Radau points are found by bisection: not again for every new mesh).
     pub fn on(&self, t: Vec<f64>) -> Self {
-        Mesh::with_points(t, self.degree, self.points)
+        Mesh {
+            t,
+            degree: self.degree,
+            points: self.points,
+            nodes: self.nodes.clone(),
+            weights: self.weights.clone(),
+            basis: self.basis.clone(),
+            dbasis: self.dbasis.clone(),
+        }
     }
 
     /// A uniform mesh of `ntst` intervals.

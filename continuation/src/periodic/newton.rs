@@ -127,7 +127,7 @@ impl OrbitJacobian {
         rows.view_mut((0, 0), (1, nn))
             .copy_from_slice(&self.lin.phase);
         rows.row_mut(1).copy_from_slice(extra);
-        Bordered::new(self.reduction(), self.lin.border_columns(), rows)?.solve(rhs)
+        Bordered::on_border(self.reduction(), rows)?.solve(rhs)
     }
 }
 
