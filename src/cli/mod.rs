@@ -54,16 +54,16 @@ pub struct Cli {
 // `--kappa-fraction -1` reaches the range check that names the field.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Locate the stick-slip onset (Hopf point) in the stiffness and compare with Appendix C.
+    /// Locate the stick-slip onset (Hopf point) in the stiffness, or in any control parameter (--param V, M, W, ...), and compare with Appendix C.
     #[command(allow_negative_numbers = true)]
     Hopf(hopf::HopfArgs),
-    /// Continue steady sliding in kappa or nu; print eigenvalues and located bifurcations.
+    /// Continue steady sliding in kappa, nu or a control parameter in its unit (K, V, M, ...); print eigenvalues and located bifurcations.
     #[command(allow_negative_numbers = true)]
     Branch(branch::BranchArgs),
     /// Trace the stability diagram (Hopf curve in stiffness and velocity) with onset types; write figures, CSV, JSON.
     #[command(allow_negative_numbers = true)]
     Diagram(diagram::DiagramArgs),
-    /// Continue stick-slip cycles in the stiffness, from the Hopf point or from a simulated orbit; figures and data.
+    /// Continue stick-slip cycles in the stiffness (or --param V, M, ...), from the Hopf point or from a simulated orbit; figures and data.
     #[command(allow_negative_numbers = true)]
     Cycles(cycles::CyclesArgs),
     /// Integrate driven sliding in time under a protocol of pulling velocities (jumps, stop-and-go).
