@@ -364,8 +364,11 @@ fn to_json(r: &SceneResult) -> Value {
         "elapsed_s": r.seconds,
         "velocity_strengthening": records.strengthening,
         "onset_type": onset_type(records).map(Criticality::name).unwrap_or("mixed"),
-        "operating_point": r.operating,
     });
+    // Only where the scene gives a stiffness (the diagram's JSON writes no null).
+    if let Some(op) = &r.operating {
+        out["operating_point"] = json!(op);
+    }
     if let Some(why) = &r.diagram.reason {
         out["reason"] = json!(why);
     }
@@ -386,15 +389,20 @@ pub struct OperatingPoint {
     pub v_um_per_s: f64,
     pub nu: f64,
     pub regime: Regime,
-    /// `(K - K_c) / K_c` at the scene's velocity; `null` without an onset.
+    /// `(K - K_c) / K_c` at the scene's velocity; absent without an onset.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
-    /// `kappa_c` at the scene's velocity; `null` without an onset.
+    /// `kappa_c` at the scene's velocity (and `K_c`); absent without an onset.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_c: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     #[serde(rename = "K_c_N_per_m")]
     pub k_c_n_per_m: Option<f64>,
     /// The fold of cycles at the scene's velocity, where a traced curve spans
     /// it, and the bound on the error of reading it off that curve.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_fold: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub kappa_fold_error: Option<f64>,
     /// Whether the scene's velocity lies in the diagram's range (the point is drawn).
     pub in_range: bool,
