@@ -129,26 +129,23 @@ fn first_order_in<S: VectorField + ?Sized, const N: usize>(
     (f, jac, fp): (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
 ) {
     let n = sys.dim();
-    let xd: Buf<DualSVec64<N>> = x
-        .iter()
-        .enumerate()
-        .map(|(j, &v)| DualSVec64::from_re(v).derivative(j))
-        .collect();
-    let pd: Buf<DualSVec64<N>> = p
-        .iter()
-        .enumerate()
-        .map(|(j, &v)| {
-            let d = DualSVec64::from_re(v);
-            if j == k {
-                d.derivative(n)
-            } else {
-                d
-            }
-        })
-        .collect();
-    let mut out: Buf<DualSVec64<N>> = SmallVec::from_elem(DualSVec64::from_re(0.0), n);
-    sys.rhs(&xd, &pd, &mut out);
-    for (i, y) in out.iter().enumerate() {
+    // The state and the values in arrays of `N > n` entries, filled in
+    // place (no collecting into a buffer that is then moved).
+    let zero = DualSVec64::<N>::from_re(0.0);
+    let mut xd = [zero; N];
+    for (j, (d, &v)) in xd.iter_mut().zip(x).enumerate() {
+        *d = DualSVec64::from_re(v).derivative(j);
+    }
+    let mut pd: Buf<DualSVec64<N>> = SmallVec::from_elem(zero, p.len());
+    for (j, (d, &v)) in pd.iter_mut().zip(p).enumerate() {
+        *d = DualSVec64::from_re(v);
+        if j == k {
+            *d = d.derivative(n);
+        }
+    }
+    let mut out = [zero; N];
+    sys.rhs(&xd[..n], &pd, &mut out[..n]);
+    for (i, y) in out[..n].iter().enumerate() {
         f[i] = y.re;
         let eps = y.eps.unwrap_generic(Const::<N>, U1);
         for j in 0..n {
