@@ -584,6 +584,9 @@ pub enum RegimeReached {
     Unsettled(String),
 }
 
+/// Most periods [`regime_reached`] simulates while the return map settles.
+pub const REGIME_PERIODS: usize = 300;
+
 /// The regime reached from `last` (docs/model.md's `(s, v, theta)`) at
 /// `params` (the last segment's velocity): the return map on `v = nu`
 /// settled ([`settle`](crate::analysis::settle::settle)), then the period
@@ -591,7 +594,13 @@ pub enum RegimeReached {
 /// half more periods ([`cycle_by_integration`], averaged over the last three); the two periods must agree to
 /// `1e-6` relative, else the orbit is reported unsettled.
 pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> RegimeReached {
-    let settings = SettleSettings::for_params(params);
+    // A report after the run, not a search: a few hundred periods at most
+    // (a cycle near its bifurcation that settles more slowly is reported
+    // unsettled, with how far its return map still moves).
+    let settings = SettleSettings {
+        max_periods: REGIME_PERIODS,
+        ..SettleSettings::for_params(params)
+    };
     let orbit = match settle(kind, params, last, &settings) {
         Ok(orbit) => orbit,
         Err(SettleError::Decayed { .. }) => return RegimeReached::Steady,

@@ -286,7 +286,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         }
     );
     if let (Ok(end), Some(at), Some(seg)) = (&run, last, protocol.last()) {
-        if !end.stopped {
+        if !end.stopped && !super::interrupt::interrupted() {
             let kind = if switch.is_some() {
                 ModelKind::Inertial
             } else {
