@@ -780,6 +780,17 @@ fn diagram_states_an_onset_type_shared_by_the_whole_curve() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The stiffness of the fold of cycles `cycles --json` located on its branch.
+fn branch_fold(cycles: &Value) -> f64 {
+    cycles["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["kind"] == "lpc")
+        .and_then(|s| s["kappa"].as_f64())
+        .expect("a fold of cycles on the branch")
+}
+
 /// `diagram` places a scene's own stiffness: below `K_c` stick-slip, between
 /// `K_c` and the fold of cycles bistable, above the fold steady. Independent
 /// values: `K_c` from `hopf` at the scene's velocity, and the fold located
@@ -795,13 +806,7 @@ fn diagram_places_the_operating_point_against_the_onset_and_the_fold() {
     let (code, text, err) = stickslip(&["cycles", "--json", "--set", "nu=50", "--out", out]);
     assert_eq!(code, 0, "{err}");
     let cycles: Value = serde_json::from_str(&text).unwrap();
-    let fold = cycles["special_points"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|s| s["kind"] == "lpc")
-        .and_then(|s| s["kappa"].as_f64())
-        .expect("a fold of cycles on the branch");
+    let fold = branch_fold(&cycles);
     assert!(fold > kappa_c, "fold {fold} vs kappa_c {kappa_c}");
     let between = 0.5 * (kappa_c + fold);
     for (kappa, regime) in [
@@ -880,13 +885,7 @@ fn diagram_finds_bistability_without_an_onset_below_the_fold_of_cycles() {
         (start / kappa - 1.0).abs() < 1e-12,
         "stick-slip settled at the scene's K"
     );
-    let fold = cycles["special_points"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|s| s["kind"] == "lpc")
-        .and_then(|s| s["kappa"].as_f64())
-        .expect("the fold of cycles on the branch");
+    let fold = branch_fold(&cycles);
     let read = op["kappa_fold"].as_f64().unwrap();
     let error = op["kappa_fold_error"].as_f64().unwrap();
     assert!(kappa < fold, "{kappa} below the fold {fold}");

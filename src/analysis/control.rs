@@ -62,6 +62,13 @@ enum Path {
 }
 
 impl Control {
+    /// The control `--param` names, if it is given.
+    pub fn from_param(param: Option<&str>) -> Result<Option<Control>, InputError> {
+        param
+            .map(|name| Control::parse(name, "--param"))
+            .transpose()
+    }
+
     /// The control named `name` (`field` is the option, for the message).
     pub fn parse(name: &str, field: &str) -> Result<Control, InputError> {
         let control = match name {

@@ -585,14 +585,15 @@ pub enum RegimeReached {
 }
 
 /// Most periods [`regime_reached`] simulates while the return map settles.
-pub const REGIME_PERIODS: usize = 300;
+const REGIME_PERIODS: usize = 300;
 
 /// The regime reached from `last` (docs/model.md's `(s, v, theta)`) at
 /// `params` (the last segment's velocity): the return map on `v = nu`
 /// settled ([`settle`](crate::analysis::settle::settle)), then the period
 /// and `Delta_s` from the extremes of `s` located as events over five and a
-/// half more periods ([`cycle_by_integration`], averaged over the last three); the two periods must agree to
-/// `1e-6` relative, else the orbit is reported unsettled.
+/// half more periods ([`cycle_by_integration`], averaged over the last
+/// three); the two periods must agree to `1e-6` relative, else the orbit is
+/// reported unsettled.
 pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> RegimeReached {
     // A report after the run, not a search: a few hundred periods at most
     // (a cycle near its bifurcation that settles more slowly is reported

@@ -159,11 +159,7 @@ pub fn search_range(args: &CyclesArgs) -> Result<Option<(f64, f64)>, InputError>
 
 /// Runs the command.
 pub fn run(args: &CyclesArgs) -> Result<(), Error> {
-    let control = args
-        .param
-        .as_deref()
-        .map(|name| Control::parse(name, "--param"))
-        .transpose()?;
+    let control = Control::from_param(args.param.as_deref())?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
         return super::cycles_in::run(args, c);
     }

@@ -100,11 +100,7 @@ fn present(args: &HopfArgs, setup: &Setup, report: &HopfReport) -> Result<(), Er
 
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
-    let control = args
-        .param
-        .as_deref()
-        .map(|name| Control::parse(name, "--param"))
-        .transpose()?;
+    let control = Control::from_param(args.param.as_deref())?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
         return run_in_control(args, c);
     }

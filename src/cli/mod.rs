@@ -146,6 +146,14 @@ pub struct Setup {
     pub overrides: Overrides,
 }
 
+impl Setup {
+    /// Whether the rig's own stiffness is given (by the scene's `K` or a
+    /// `--set` of `K` or `kappa`): the commands then place it against the onset.
+    pub fn stiffness_given(&self) -> bool {
+        self.scene.stiffness_given || self.overrides.sets_stiffness()
+    }
+}
+
 impl SceneArgs {
     /// Loads the scene, applies `--set`, validates, and chooses the model for `params_at`
     /// (a hook to evaluate the choice at another velocity, e.g. the top of a range).

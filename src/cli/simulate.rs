@@ -15,7 +15,6 @@ use crate::analysis::simulate::{
     regime_reached, simulate_watched, RegimeReached, RunOptions, Sample, Segment, Trajectory,
 };
 use crate::error::{Error, InputError};
-use crate::model::ModelKind;
 use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
 use crate::scene::Units;
 use clap::Args;
@@ -287,11 +286,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     );
     if let (Ok(end), Some(at), Some(seg)) = (&run, last, protocol.last()) {
         if !end.stopped && !super::interrupt::interrupted() {
-            let kind = if switch.is_some() {
-                ModelKind::Inertial
-            } else {
-                setup.choice.kind
-            };
+            // The model of the run's last sample (inertial after a switch).
+            let kind = at.model;
             let mut params = params_for(kind, &setup.scene_params);
             params.nu = seg.nu;
             let reached = regime_reached(kind, &params, [at.s, at.v, at.theta]);

@@ -277,7 +277,7 @@ fn one_scene<F: Wrap>(
         .into());
     }
     let records = DiagramRecords::new(&diagram, &setup.params, &setup.scene.units);
-    let given = setup.scene.stiffness_given || setup.overrides.sets_stiffness();
+    let given = setup.stiffness_given();
     let operating = given
         .then(|| OperatingPoint::new(&setup, &diagram, (lo, hi)))
         .transpose()?;

@@ -282,7 +282,7 @@ impl HopfReport {
         }
         let mut params = params_json(&at);
         let u = &setup.scene.units;
-        let given = setup.scene.stiffness_given || setup.overrides.sets_stiffness();
+        let given = setup.stiffness_given();
         let operating_point =
             given.then(|| OperatingPoint::new(setup, outcome, setup.scene_params.kappa));
         let outcome = match outcome {
