@@ -275,9 +275,9 @@ pub fn judge_without_onset(kappa: f64, fold: Option<FoldAt>) -> (Regime, String)
         None => (
             Regime::Undecided,
             format!(
-                "{STABLE}, but finite-amplitude stick-slip may coexist with it and no traced \
-                 curve of folds of cycles spans this velocity; `stickslip cycles` looks for it \
-                 by simulation"
+                "{STABLE}, but finite-amplitude stick-slip may coexist with it (no fold of \
+                 cycles is known at this velocity); `stickslip cycles` looks for it by \
+                 simulation"
             ),
         ),
         Some(fold) if (kappa - fold.kappa).abs() <= fold.error => (
