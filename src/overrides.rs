@@ -352,6 +352,43 @@ fn parse_one(name: &str, value: &str) -> Result<Override, InputError> {
     ))
 }
 
+/// The overrides `NAME=VALUE` of `set` sorted by name, the last of a
+/// repeated one kept, numbers in one spelling ([`canonical_number`]); a
+/// scene key in its physical unit named with that unit
+/// ([`file_key`]: `K_N_per_m=2e5`, `M_kg=2`), so that it
+/// never names the same file as a dimensionless parameter (`m`), also where
+/// file names ignore case; `V_range=LO:HI` with both numbers so spelt.
+pub fn canonical_overrides(set: &[String]) -> Vec<(String, String)> {
+    let mut overrides: Vec<(String, String)> = Vec::new();
+    for part in set {
+        let (key, value) = part.split_once('=').unwrap_or((part.as_str(), ""));
+        let (key, value) = (file_key(key.trim()), value.trim());
+        let number = |v: &str| {
+            v.trim()
+                .parse::<f64>()
+                .map_or_else(|_| v.to_string(), canonical_number)
+        };
+        let value = match value.split_once(':') {
+            Some((lo, hi)) => format!("{}:{}", number(lo), number(hi)),
+            None => number(value),
+        };
+        overrides.retain(|(k, _)| *k != key);
+        overrides.push((key, value));
+    }
+    overrides.sort_by(|a, b| a.0.cmp(&b.0));
+    overrides
+}
+
+/// `v` in one spelling: plain digits within `[1e-3, 1e5)`, else the
+/// shortest mantissa and exponent (`1e-12`).
+fn canonical_number(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e5).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,9 +3,8 @@
 //! the ends of the range (`kappa_c`, `--kappa-fraction` times `kappa_c`, the
 //! top `10 kappa_c`) and near a fold of cycles, repeated and unsorted;
 //! tiny and huge `--kappa-fraction`; small `--max-steps`. Each request goes
-//! through the analyses as `stickslip cycles` calls them (the same
-//! validation, `SceneArgs::setup`, the onset, `Start::choose`, the
-//! `CycleRequest` with `cover_requested`, `Start::trace`), inside
+//! through the job `stickslip cycles` runs ([`stickslip::jobs::cycles`]:
+//! the same validation, setup, onset, start and branch; no files), inside
 //! `catch_unwind`: a panic fails the case; every cycle delivered must be
 //! finite and every typed error must have a message. Whether the requested
 //! points are delivered is not asserted here (tests/requested_points.rs
@@ -38,11 +37,11 @@
 use proptest::prelude::*;
 use proptest::test_runner::{contextualize_config, Config, RngSeed, TestCaseError, TestRunner};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use stickslip::analysis::cycles::{CycleRecord, CycleRequest};
 use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
-use stickslip::analysis::orbit_inertia::InertiaWatch;
-use stickslip::cli::cycle_start::Start;
-use stickslip::cli::{onset_with_degeneracy_resolved, ModelArg, SceneArgs};
+use stickslip::jobs::cycles::{CyclesRequest, Plan, Quiet};
+use stickslip::jobs::SceneSpec;
+use stickslip::model::ModelKind;
+use stickslip::records::cycle::Asked;
 
 /// The seed unless `PROPTEST_RNG_SEED` says otherwise.
 const SEED: u64 = 20_250_122;
@@ -54,7 +53,7 @@ const DEFAULT_MAX_STEPS: usize = 500;
 const FOLD: f64 = 1.190226;
 
 /// The scenes drawn from: `(--set overrides, --model, fold in kappa_c)`.
-fn scene(index: usize) -> (Vec<&'static str>, Option<ModelArg>, Option<f64>) {
+fn scene(index: usize) -> (Vec<&'static str>, Option<ModelKind>, Option<f64>) {
     match index {
         // Issue 22, item 1.
         0 => (
@@ -66,7 +65,7 @@ fn scene(index: usize) -> (Vec<&'static str>, Option<ModelArg>, Option<f64>) {
                 "nu=1",
                 "mu0=0.6",
             ],
-            Some(ModelArg::Inertial),
+            Some(ModelKind::Inertial),
             None,
         ),
         1 => (Vec::new(), None, None),
@@ -174,7 +173,7 @@ enum Ending {
 /// `Err` on a panic, a non-finite cycle or an error without a message.
 fn cycles(request: &Request) -> Result<Ending, String> {
     let (set, model, fold) = scene(request.scene);
-    let args = SceneArgs {
+    let spec = SceneSpec {
         scene: "pmma".into(),
         set: set.iter().map(|s| s.to_string()).collect(),
         model,
@@ -189,23 +188,17 @@ fn cycles(request: &Request) -> Result<Ending, String> {
                 Ok(Ending::Refused)
             }
         };
-        // The CLI's own checks of --kappa-fraction (in (0, 1)).
-        if !(request.kappa_fraction > 0.0 && request.kappa_fraction < 1.0) {
-            return Ok(Ending::Refused);
-        }
-        let mut setup = match args.setup(|p| *p) {
-            Ok(s) => s,
+        let job = CyclesRequest {
+            kappa_fraction: request.kappa_fraction,
+            max_steps: request.max_steps,
+            ..CyclesRequest::default()
+        };
+        let mut plan = match Plan::new(&spec, job) {
+            Ok(p) => p,
             Err(e) => return typed(&e),
         };
-        let onset = match onset_with_degeneracy_resolved(&mut setup, model.is_some()) {
-            Ok(o) => o,
-            Err(e) => return typed(&e),
-        };
-        let start = match Start::choose(&setup, onset, false) {
-            Ok(s) => s,
-            Err(e) => return typed(&e),
-        };
-        let kappa_ref = start.reference_kappa();
+        // The requested points, relative to where the branch starts.
+        let kappa_ref = plan.start.reference_kappa();
         let at_kappa: Vec<f64> = request
             .at
             .iter()
@@ -224,35 +217,23 @@ fn cycles(request: &Request) -> Result<Ending, String> {
         if at_kappa.iter().any(|k| !(k.is_finite() && *k > 0.0)) {
             return Ok(Ending::Refused);
         }
-        let mut req = CycleRequest {
-            kappa_min: request.kappa_fraction * kappa_ref,
-            kappa_max: 10.0 * kappa_ref,
-            max_steps: request.max_steps,
-            ntst: 40,
-            at_kappa,
-            ntst_max: 12800,
-            collocation: None,
-        };
-        req.cover_requested();
-        let watch = InertiaWatch::new(
-            &setup.scene_params,
-            DEFAULT_INERTIA_THRESHOLD,
-            model.is_none(),
-        );
-        let mut records: Vec<CycleRecord> = Vec::new();
-        let outcomes = start.trace(&setup, &req, &watch, |c: &CycleRecord| {
-            records.extend(c.user.iter().cloned());
-            records.push(c.clone());
-            Ok(())
-        });
-        let mut error = false;
-        for (leg, outcome) in &outcomes {
-            if let Err(e) = outcome {
-                typed(e).map_err(|why| format!("leg {leg:?}: {why}"))?;
-                error = true;
+        plan.request.at = at_kappa
+            .into_iter()
+            .map(|value| Asked {
+                name: "kappa",
+                value,
+                unit: "1",
+            })
+            .collect();
+        let result = plan.run(&mut Quiet);
+        let error = match &result.failure {
+            Some(e) => {
+                typed(e).map_err(|why| format!("a leg: {why}"))?;
+                true
             }
-        }
-        for r in &records {
+            None => false,
+        };
+        for r in &result.records {
             let text = format!("{r:?}");
             let non_finite = text
                 .split(|c: char| !c.is_ascii_alphanumeric())
@@ -262,7 +243,7 @@ fn cycles(request: &Request) -> Result<Ending, String> {
             }
         }
         Ok(Ending::Traced {
-            cycles: records.len(),
+            cycles: result.records.len(),
             error,
         })
     }));

@@ -60,7 +60,7 @@
 //! friction law: plain Rice–Ruina, with the ln² term (`mu2` -1e-2 … -1e-8 or
 //! 1e-8 … 1), or with the cutoff (`theta_c` 1e-9 … 1e9); the model: chosen
 //! from the inertia ratio as the CLI does, or forced inertial or quasi-static.
-//! The parameters go through `--set` strings and [`SceneArgs::setup`], the
+//! The parameters go through `--set` strings and [`SceneSpec::setup`], the
 //! CLI's own validation and model choice.
 //!
 //! Every call is short and every loop has a limit: the diagram over a range of
@@ -99,8 +99,8 @@ use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use stickslip::analysis::orbit_inertia::InertiaWatch;
 use stickslip::analysis::simulate::{simulate_with, Segment};
 use stickslip::appendix_c;
-use stickslip::cli::cycle_start::Start;
-use stickslip::cli::{onset_with_degeneracy_resolved, ModelArg, SceneArgs, Setup};
+use stickslip::jobs::cycle_start::Start;
+use stickslip::jobs::{onset_with_degeneracy_resolved, SceneSpec, Setup};
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
@@ -126,7 +126,7 @@ struct Case {
     mu0: f64,
     law: Law,
     /// `None`: chosen from the inertia ratio (no `--model`).
-    model: Option<ModelArg>,
+    model: Option<ModelKind>,
 }
 
 impl Case {
@@ -148,8 +148,8 @@ impl Case {
         set
     }
 
-    fn scene_args(&self) -> SceneArgs {
-        SceneArgs {
+    fn scene_spec(&self) -> SceneSpec {
+        SceneSpec {
             scene: "pmma".into(),
             set: self.overrides(),
             model: self.model,
@@ -172,11 +172,11 @@ fn law() -> impl Strategy<Value = Law> {
     ]
 }
 
-fn model() -> impl Strategy<Value = Option<ModelArg>> {
+fn model() -> impl Strategy<Value = Option<ModelKind>> {
     prop_oneof![
         Just(None),
-        Just(Some(ModelArg::Inertial)),
-        Just(Some(ModelArg::QuasiStatic)),
+        Just(Some(ModelKind::Inertial)),
+        Just(Some(ModelKind::QuasiStatic)),
     ]
 }
 
@@ -361,7 +361,7 @@ fn check_error(what: &str, e: &impl std::fmt::Display) -> Result<(), TestCaseErr
 /// The CLI's setup of `case`; a bad-input refusal is an answer (checked as
 /// an error): `Err(Ok((Class::BadInput, "bad input")))` then.
 fn setup(case: &Case, at: impl Fn(&Params) -> Params) -> Result<Setup, Verdict> {
-    case.scene_args()
+    case.scene_spec()
         .setup(at)
         .map_err(|e| check_error("setup", &e).map(|()| (Class::BadInput, "bad input")))
 }
@@ -840,7 +840,7 @@ fn the_cases_found_stay_fixed() {
                     Law::Ln2 {
                         mu2: 9.485800885076854e-5,
                     },
-                    Some(ModelArg::QuasiStatic),
+                    Some(ModelKind::QuasiStatic),
                 ),
                 &0.3789182401163461,
             ),
@@ -855,7 +855,7 @@ fn the_cases_found_stay_fixed() {
             1.0,
             0.0,
             Law::RiceRuina,
-            Some(ModelArg::QuasiStatic),
+            Some(ModelKind::QuasiStatic),
         )
     };
     let perturbed = Protocol {

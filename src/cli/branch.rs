@@ -3,8 +3,6 @@
 //! physical or dimensionless units), CSV or JSON, each point one
 //! [`BranchRow`]. Text and CSV rows are written as they are computed.
 
-use super::csv::{self, header_of};
-use super::records::branch::{BranchRow, ParamValue};
 use super::{describe_params, params_json, SceneArgs, Setup, TextUnits};
 use crate::analysis::branch::{trace, BranchRequest};
 use crate::analysis::control::{choose_along, Control};
@@ -15,6 +13,8 @@ use crate::model::DrivenBlock;
 use crate::model::ModelKind;
 use crate::overrides::Overrides;
 use crate::params::Param;
+use crate::records::branch::{BranchRow, ParamValue};
+use crate::records::csv::{self, header_of};
 use clap::Args;
 use serde_json::json;
 use std::io::Write;

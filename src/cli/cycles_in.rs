@@ -2,12 +2,8 @@
 //! parameter other than the stiffness ([`cycles_in`]), as CSV, text and
 //! JSON (no figures: those of `cycles` are drawn against the stiffness).
 
-use super::csv::{header_of, row};
 use super::cycles::CyclesArgs;
 use super::files::with_suffix;
-use super::records::branch::ParamValue;
-use super::records::cycle::{Cycle, CycleDetail, CycleSpecialPoint, LegStop};
-use super::records::hopf::Critical;
 use super::{params_json, Setup};
 use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest, CyclesStart};
 use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
@@ -15,6 +11,10 @@ use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
 use crate::params::Param;
+use crate::records::branch::ParamValue;
+use crate::records::csv::{header_of, row};
+use crate::records::cycle::{Cycle, CycleSpecialPoint, LegStop};
+use crate::records::hopf::Critical;
 use crate::scene::Units;
 use serde_json::json;
 use std::io::Write;
@@ -65,17 +65,17 @@ fn asked(args: &CyclesArgs, control: Control) -> Result<Vec<f64>, InputError> {
 }
 
 /// The cycle `c` as a record, in the units at its value of the control.
-fn record_of(c: &CycleRecord, control: Control, param: Param, setup: &Setup) -> CycleDetail {
+fn record_of(c: &CycleRecord, control: Control, param: Param, setup: &Setup) -> Cycle {
     let (units, params) = (&setup.scene.units, &setup.scene_params);
     let x = c.params[param as usize];
     let value = control.from_dimensionless(units, params, x);
     let at: Units = control.at(units, params, value).1;
-    let mut d = CycleDetail::new(c, &at);
-    d.cycle.continued = (!matches!(param, Param::Kappa | Param::M)).then_some(ParamValue {
+    let mut d = Cycle::new(c, &at);
+    d.continued = (!matches!(param, Param::Kappa | Param::M)).then_some(ParamValue {
         name: param.name(),
         value: x,
     });
-    d.cycle.control = control_column(control).map(|name| ParamValue { name, value });
+    d.control = control_column(control).map(|name| ParamValue { name, value });
     d
 }
 
@@ -197,21 +197,21 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         args.scene.inertia_threshold,
         args.scene.model.is_none(),
     );
-    let mut details: Vec<CycleDetail> = Vec::new();
+    let mut details: Vec<Cycle> = Vec::new();
     let mut records: Vec<CycleRecord> = Vec::new();
     let mut specials: Vec<CycleSpecialPoint> = Vec::new();
     let traced = cycles_in(kind, &scene_params, &units, &req, &watch, |c| {
         for rec in c.user.iter().chain([c]) {
             let d = record_of(rec, control, param, &setup);
-            writeln!(csv, "{}", row(&d.cycle)?)?;
+            writeln!(csv, "{}", row(&d)?)?;
             csv.flush()?;
             let value =
                 control.from_dimensionless(&units, &scene_params, rec.params[param as usize]);
             if !args.json {
-                println!("{}", line(&d.cycle, control, value));
+                println!("{}", line(&d, control, value));
             }
             for (kind, l) in rec.special_points() {
-                let cycle = record_of(l, control, param, &setup).cycle;
+                let cycle = record_of(l, control, param, &setup);
                 if !args.json {
                     let v =
                         control.from_dimensionless(&units, &scene_params, l.params[param as usize]);

@@ -9,6 +9,8 @@
 use super::SceneArgs;
 use crate::error::InputError;
 use crate::model::ModelKind;
+use crate::overrides::canonical_overrides;
+pub use crate::plot::with_suffix;
 use clap::Args;
 use std::collections::VecDeque;
 use std::fs::File;
@@ -367,43 +369,6 @@ pub fn run_name(scene: &str, set: &[String], model: Option<&str>) -> String {
     name
 }
 
-/// The overrides `NAME=VALUE` of `set` sorted by name, the last of a
-/// repeated one kept, numbers in one spelling ([`canonical_number`]); a
-/// scene key in its physical unit named with that unit
-/// ([`crate::overrides::file_key`]: `K_N_per_m=2e5`, `M_kg=2`), so that it
-/// never names the same file as a dimensionless parameter (`m`), also where
-/// file names ignore case; `V_range=LO:HI` with both numbers so spelt.
-pub fn canonical_overrides(set: &[String]) -> Vec<(String, String)> {
-    let mut overrides: Vec<(String, String)> = Vec::new();
-    for part in set {
-        let (key, value) = part.split_once('=').unwrap_or((part.as_str(), ""));
-        let (key, value) = (crate::overrides::file_key(key.trim()), value.trim());
-        let number = |v: &str| {
-            v.trim()
-                .parse::<f64>()
-                .map_or_else(|_| v.to_string(), canonical_number)
-        };
-        let value = match value.split_once(':') {
-            Some((lo, hi)) => format!("{}:{}", number(lo), number(hi)),
-            None => number(value),
-        };
-        overrides.retain(|(k, _)| *k != key);
-        overrides.push((key, value));
-    }
-    overrides.sort_by(|a, b| a.0.cmp(&b.0));
-    overrides
-}
-
-/// `v` in one spelling: plain digits within `[1e-3, 1e5)`, else the
-/// shortest mantissa and exponent (`1e-12`).
-fn canonical_number(v: f64) -> String {
-    if v == 0.0 || (1e-3..1e5).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
-
 /// `<out>/<name>`, with every character of the name that is not a letter, a
 /// digit or one of `- _ = . +` replaced by `_`, and a leading dot or dash
 /// too (a name never leaves `out` nor reads as an option).
@@ -425,13 +390,6 @@ pub fn stem(out: &Path, name: &str) -> PathBuf {
     } else {
         safe
     })
-}
-
-/// `stem` followed by `suffix` (no extension logic: names may contain dots).
-pub fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
-    let mut s = stem.as_os_str().to_owned();
-    s.push(suffix);
-    PathBuf::from(s)
 }
 
 #[cfg(test)]

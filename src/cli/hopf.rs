@@ -1,8 +1,5 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::records::hopf::{
-    Critical, CycleSide, HopfReport, HopfStatus, NoOnset, Onset, OperatingPoint,
-};
 use super::{
     describe_params, describe_params_except, onset_with_degeneracy_resolved, SceneArgs, Setup,
     TextUnits,
@@ -13,6 +10,9 @@ use crate::analysis::model_choice::params_for;
 use crate::error::{Error, InputError, NumericalError};
 use crate::model::ModelKind;
 use crate::params::Param;
+use crate::records::hopf::{
+    Critical, CycleSide, HopfReport, HopfStatus, NoOnset, Onset, OperatingPoint,
+};
 use clap::Args;
 
 #[derive(Args, Debug)]

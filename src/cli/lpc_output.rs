@@ -2,11 +2,11 @@
 //! their records ([`FoldPoint`]): shared by `diagram` (curves from Bautin
 //! points) and `cycles --lpc-curve` (curves through the folds of a branch).
 
-use super::csv::{header, row};
 use super::files::with_suffix;
-use super::records::diagram::FoldPoint;
 use super::TextUnits;
 use crate::analysis::lpc_curve::LpcStop;
+use crate::records::csv::{header, row};
+use crate::records::diagram::FoldPoint;
 use std::path::{Path, PathBuf};
 
 /// The text lines of the summary: the extent of every curve of `folds` and

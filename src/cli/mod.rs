@@ -6,8 +6,7 @@
 //! status 1, Ctrl-C with 130 and SIGTERM with 143 (results kept).
 
 pub mod branch;
-pub mod csv;
-pub mod cycle_start;
+
 pub mod cycles;
 pub mod cycles_in;
 pub mod diagram;
@@ -15,18 +14,16 @@ pub mod files;
 pub mod hopf;
 pub mod interrupt;
 pub mod lpc_output;
-pub mod records;
+
 pub mod simulate;
 
-use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
-use crate::analysis::model_choice::{
-    choose_model, inertia_decides, params_for, ModelChoice, DEFAULT_INERTIA_THRESHOLD,
-};
-use crate::error::{Error, InputError};
+use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
+use crate::error::Error;
+use crate::jobs::SceneSpec;
+pub use crate::jobs::{onset_with_degeneracy_resolved, Setup, TextUnits};
 use crate::model::ModelKind;
-use crate::overrides::Overrides;
-use crate::params::{Param, Params};
-use crate::scene::{self, Scene};
+pub use crate::records::{describe_params, describe_params_except, params_json, significant};
+use crate::scene;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// Bifurcation analysis of frictional sliding: when does steady sliding of a
@@ -96,26 +93,6 @@ pub struct SceneArgs {
     pub inertia_threshold: f64,
 }
 
-/// Units of the text output.
-#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TextUnits {
-    /// K/W in 1/m, periods in s, slip velocities in µm/s.
-    Physical,
-    /// kappa, periods in D0/V0, v/V0 (docs/model.md).
-    Dimensionless,
-}
-
-impl TextUnits {
-    /// A stiffness given as `kappa` and as `K/W` (a record's two fields) in
-    /// these units, `K/W = ... 1/m` or `kappa = ...`, with `digits` decimals.
-    pub fn stiffness(self, kappa: f64, k_over_w: f64, digits: usize) -> String {
-        match self {
-            TextUnits::Physical => format!("K/W = {k_over_w:.digits$e} 1/m"),
-            TextUnits::Dimensionless => format!("kappa = {kappa:.digits$e}"),
-        }
-    }
-}
-
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ModelArg {
     Inertial,
@@ -131,119 +108,23 @@ impl From<ModelArg> for ModelKind {
     }
 }
 
-/// A scene with overrides applied and the model chosen.
-pub struct Setup {
-    pub scene: Scene,
-    /// The scene's parameters after `--set` (inertia kept).
-    pub scene_params: Params,
-    /// The parameters the chosen model uses (`m = 0` when quasi-static).
-    pub params: Params,
-    pub choice: ModelChoice,
-    /// The scene's name with its overrides, for figure titles:
-    /// `pmma (kappa=0.009, m=0.01)` ([`files::canonical_overrides`]).
-    pub label: String,
-    /// The `--set` overrides, parsed (both kinds).
-    pub overrides: Overrides,
-}
-
-impl Setup {
-    /// Whether the rig's own stiffness is given (by the scene's `K` or a
-    /// `--set` of `K` or `kappa`): the commands then place it against the onset.
-    pub fn stiffness_given(&self) -> bool {
-        self.scene.stiffness_given || self.overrides.sets_stiffness()
-    }
-}
-
 impl SceneArgs {
-    /// Loads the scene, applies `--set`, validates, and chooses the model for `params_at`
-    /// (a hook to evaluate the choice at another velocity, e.g. the top of a range).
-    pub fn setup(&self, params_at: impl Fn(&Params) -> Params) -> Result<Setup, Error> {
-        if !(self.inertia_threshold.is_finite() && self.inertia_threshold >= 0.0) {
-            return Err(InputError::out_of_range(
-                "--inertia-threshold",
-                self.inertia_threshold,
-                ">= 0",
-            )
-            .into());
+    /// The scene, overrides and model asked for.
+    pub fn spec(&self) -> SceneSpec {
+        SceneSpec {
+            scene: self.scene.clone(),
+            set: self.set.clone(),
+            model: self.model.map(Into::into),
+            inertia_threshold: self.inertia_threshold,
         }
-        let overrides = Overrides::parse(&self.set)?;
-        let scene = scene::load_with(&self.scene, &overrides.physical())?;
-        for warning in scene.implausible() {
-            eprintln!("warning: scene {}: {warning}", scene.name);
-        }
-        let mut scene_params = scene.params;
-        overrides.apply_dimensionless(&mut scene_params)?;
-        let choice = choose_model(
-            &params_at(&scene_params),
-            self.model.map(Into::into),
-            self.inertia_threshold,
-        );
-        if choice.kind == ModelKind::Inertial && scene_params.m <= 0.0 {
-            let why = if overrides.sets("m") {
-                "--set m=0; give m > 0"
-            } else if overrides.sets("M") {
-                "--set M=0; give M > 0"
-            } else {
-                "M = 0 in the scene; give M > 0 or --set m=..."
-            };
-            return Err(InputError::Conflict(format!(
-                "the inertial model needs inertia: m = 0 here ({why}), or use --model quasi-static"
-            ))
-            .into());
-        }
-        let params = params_for(choice.kind, &scene_params);
-        let shown: Vec<String> = files::canonical_overrides(&self.set)
-            .into_iter()
-            .map(|(k, v)| format!("{k}={v}"))
-            .collect();
-        let label = if shown.is_empty() {
-            scene.name.clone()
-        } else {
-            format!("{} ({})", scene.name, shown.join(", "))
-        };
-        Ok(Setup {
-            scene,
-            scene_params,
-            params,
-            choice,
-            label,
-            overrides,
-        })
     }
-}
 
-/// Locates the onset; when the scene has some inertia that the automatic
-/// choice dropped and dropping it changes the onset type (the quasi-static
-/// onset degenerate, as for the plain RR law, or of the other sign), that
-/// inertia decides ([`inertia_decides`]): the inertial onset is the answer
-/// and the reason says so. An inertial onset that cannot be located leaves
-/// the quasi-static one.
-pub fn onset_with_degeneracy_resolved(
-    setup: &mut Setup,
-    model_forced: bool,
-) -> Result<HopfOutcome, Error> {
-    let outcome = find_hopf(setup.choice.kind, &setup.params)?;
-    let mut inertial = None;
-    let choice = inertia_decides(&setup.choice, model_forced, setup.scene_params.m, || {
-        let HopfOutcome::Found(h) = &outcome else {
-            return None;
-        };
-        let HopfOutcome::Found(hi) = find_hopf(ModelKind::Inertial, &setup.scene_params).ok()?
-        else {
-            return None;
-        };
-        let changed = h.onset.criticality == Criticality::Degenerate
-            || hi.onset.criticality != h.onset.criticality;
-        inertial = Some(hi);
-        Some((usize::from(changed), 1))
-    });
-    match (choice, inertial) {
-        (Some(choice), Some(h)) => {
-            setup.choice = choice;
-            setup.params = setup.scene_params;
-            Ok(HopfOutcome::Found(h))
-        }
-        _ => Ok(outcome),
+    /// [`SceneSpec::setup`] of [`Self::spec`].
+    pub fn setup(
+        &self,
+        params_at: impl Fn(&crate::params::Params) -> crate::params::Params,
+    ) -> Result<Setup, Error> {
+        self.spec().setup(params_at)
     }
 }
 
@@ -264,45 +145,4 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             Ok(())
         }
     }
-}
-
-/// `v` with five significant digits: fixed notation between `1e-3` and
-/// `1e6`, scientific outside (a small velocity is never printed as `0.0000`).
-pub fn significant(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 || !a.is_finite() {
-        return format!("{v}");
-    }
-    if (1e-3..1e6).contains(&a) {
-        let decimals = (4 - a.log10().floor() as i32).max(0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{v:.4e}")
-    }
-}
-
-/// Formats parameters as `name = value` pairs on one line.
-pub fn describe_params(p: &Params) -> String {
-    describe_params_except(p, None)
-}
-
-/// [`describe_params`] without the parameter `left_out`.
-pub fn describe_params_except(p: &Params, left_out: Option<Param>) -> String {
-    let left_out = left_out.map(Param::name);
-    p.named()
-        .iter()
-        .filter(|(n, _)| Some(*n) != left_out)
-        .map(|(n, v)| format!("{n} = {v:.6e}"))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// Parameters as a JSON object (names of docs/model.md).
-pub fn params_json(p: &Params) -> serde_json::Value {
-    serde_json::Value::Object(
-        p.named()
-            .into_iter()
-            .map(|(n, v)| (n.to_string(), serde_json::json!(v)))
-            .collect(),
-    )
 }

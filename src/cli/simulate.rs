@@ -4,9 +4,7 @@
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130
 //! (SIGTERM the same, with 143).
 
-use super::csv::{header, row};
 use super::files::OutputArgs;
-use super::records::simulation::SimulationRow;
 use super::{SceneArgs, TextUnits};
 use crate::analysis::decimate::{Buckets, Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
@@ -16,6 +14,8 @@ use crate::analysis::simulate::{
 };
 use crate::error::{Error, InputError};
 use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
+use crate::records::csv::{header, row};
+use crate::records::simulation::SimulationRow;
 use crate::scene::Units;
 use clap::Args;
 use plotters::style::RGBColor;

@@ -2,6 +2,7 @@
 //! text renders on a machine without fontconfig.
 
 pub mod colormap;
+pub mod cycles;
 pub mod lines;
 pub mod stability;
 pub mod ticks;
@@ -129,4 +130,11 @@ where
 pub struct PlotError {
     pub path: String,
     pub reason: String,
+}
+
+/// `stem` followed by `suffix` (no extension logic: names may contain dots).
+pub fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
+    let mut s = stem.as_os_str().to_owned();
+    s.push(suffix);
+    PathBuf::from(s)
 }

@@ -44,9 +44,9 @@ pub fn study() -> Result<Vec<Measurement>, Error> {
 
 /// Writes `work-precision.csv` and the figures into `out`.
 pub fn write(measurements: &[Measurement], out: &Path) -> Result<Vec<PathBuf>, Error> {
-    stickslip::cli::files::create_dir(out)?;
+    std::fs::create_dir_all(out)?;
     let csv_path = out.join("work-precision.csv");
-    let mut csv = stickslip::cli::files::create_file(&csv_path)?;
+    let mut csv = std::io::BufWriter::new(std::fs::File::create(&csv_path)?);
     writeln!(csv, "job,method,knob,seconds,relative_error")?;
     for m in measurements {
         writeln!(

@@ -4,11 +4,9 @@
 
 mod figures;
 
-use super::csv::{header, row};
 use super::files::with_suffix;
 use super::files::OutputArgs;
 use super::lpc_output::{lpc_summary, write_lpc_csv};
-use super::records::diagram::{DiagramRecords, HopfCurvePoint};
 use super::{params_json, significant, SceneArgs, Setup, TextUnits};
 use crate::analysis::diagram::{
     stability_diagram_deciding, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
@@ -16,6 +14,8 @@ use crate::analysis::diagram::{
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Regime, StabilityAt};
 use crate::error::{Error, InputError, NumericalError};
+use crate::records::csv::{header, row};
+use crate::records::diagram::{DiagramRecords, HopfCurvePoint};
 use clap::Args;
 use continuation::{AsIs, Wrap};
 use figures::write_figures;

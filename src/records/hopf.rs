@@ -6,9 +6,10 @@ use super::PhysicalPoint;
 use crate::analysis::hopf::{Arithmetic, Criticality, HopfOutcome, HopfPoint};
 use crate::analysis::operating_point::{judge, judge_without_onset, Regime, StabilityAt};
 use crate::appendix_c;
-use crate::cli::{params_json, Setup};
+use crate::jobs::Setup;
 use crate::model::ModelKind;
 use crate::params::Params;
+use crate::records::params_json;
 use crate::scene::Units;
 use serde::Serialize;
 

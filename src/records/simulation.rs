@@ -1,8 +1,8 @@
 //! The record of `simulate`: one row of the time series (`-simulation.csv`).
 
 use crate::analysis::simulate::Sample;
-use crate::cli::csv::CsvRecord;
 use crate::model::ModelKind;
+use crate::records::csv::CsvRecord;
 use crate::scene::Units;
 use serde::{Serialize, Serializer};
 
@@ -90,7 +90,7 @@ impl Serialize for SlipVelocity {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::csv::row;
+    use crate::records::csv::row;
 
     /// A velocity below the range of f64 is written from its logarithm,
     /// one in range as the number.

@@ -19,6 +19,9 @@ use std::fmt;
 pub trait CsvRecord: Serialize + Default {
     /// Digits after the decimal point of every float (`{:.DIGITS$e}`).
     const DIGITS: usize;
+    /// Fields of the record's JSON that are not columns of its CSV (lists,
+    /// reasons in words that only some records give).
+    const JSON_ONLY: &'static [&'static str] = &[];
 }
 
 /// The header line of `T` (without the newline): its field names.
@@ -43,7 +46,10 @@ pub fn row<T: CsvRecord>(record: &T) -> std::io::Result<String> {
 
 /// The fields of `record` with their cells.
 fn cells<T: CsvRecord>(record: &T) -> std::io::Result<Vec<(Cow<'static, str>, String)>> {
-    match record.serialize(Csv { digits: T::DIGITS }) {
+    match record.serialize(Csv {
+        digits: T::DIGITS,
+        json_only: T::JSON_ONLY,
+    }) {
         Ok(Out::Row(cells)) => Ok(cells),
         Ok(Out::Cell(_)) => Err(NotFlat("a CSV record is a struct, not a value".into()).into()),
         Err(e) => Err(e.into()),
@@ -84,6 +90,8 @@ enum Out {
 #[derive(Clone, Copy)]
 struct Csv {
     digits: usize,
+    /// Fields left out ([`CsvRecord::JSON_ONLY`]).
+    json_only: &'static [&'static str],
 }
 
 impl Csv {
@@ -252,8 +260,10 @@ impl SerializeStruct for Row {
         key: &'static str,
         value: &T,
     ) -> Result<(), NotFlat> {
-        let cell = self.csv.cell(value)?;
-        self.cells.push((Cow::Borrowed(key), cell));
+        if !self.csv.json_only.contains(&key) {
+            let cell = self.csv.cell(value)?;
+            self.cells.push((Cow::Borrowed(key), cell));
+        }
         Ok(())
     }
 
@@ -281,8 +291,10 @@ impl SerializeMap for Row {
             .key
             .take()
             .ok_or_else(|| NotFlat("a value without a key".into()))?;
-        let cell = self.csv.cell(value)?;
-        self.cells.push((Cow::Owned(key), cell));
+        if !self.csv.json_only.contains(&key.as_str()) {
+            let cell = self.csv.cell(value)?;
+            self.cells.push((Cow::Owned(key), cell));
+        }
         Ok(())
     }
 

@@ -3,10 +3,11 @@
 //! stick-slip cycles, the rows of a simulation. Each is built once from an
 //! analysis result and the scene's units, in docs/model.md's variables and
 //! in physical units. Serde gives the JSON (the record itself) and the CSV
-//! (header: its field names; rows: the same serialization, [`super::csv`]);
+//! (header: its field names; rows: the same serialization, [`csv`]);
 //! the text lines select and format its fields.
 
 pub mod branch;
+pub mod csv;
 pub mod cycle;
 pub mod diagram;
 pub mod hopf;
@@ -43,6 +44,50 @@ impl PhysicalPoint {
             frequency_hz: u.frequency_hz(omega),
         }
     }
+}
+
+/// `v` with five significant digits: fixed notation between `1e-3` and
+/// `1e6`, scientific outside (a small velocity is never printed as `0.0000`).
+pub fn significant(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    if (1e-3..1e6).contains(&a) {
+        let decimals = (4 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+/// Formats parameters as `name = value` pairs on one line.
+pub fn describe_params(p: &crate::params::Params) -> String {
+    describe_params_except(p, None)
+}
+
+/// [`describe_params`] without the parameter `left_out`.
+pub fn describe_params_except(
+    p: &crate::params::Params,
+    left_out: Option<crate::params::Param>,
+) -> String {
+    let left_out = left_out.map(crate::params::Param::name);
+    p.named()
+        .iter()
+        .filter(|(n, _)| Some(*n) != left_out)
+        .map(|(n, v)| format!("{n} = {v:.6e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Parameters as a JSON object (names of docs/model.md).
+pub fn params_json(p: &crate::params::Params) -> serde_json::Value {
+    serde_json::Value::Object(
+        p.named()
+            .into_iter()
+            .map(|(n, v)| (n.to_string(), serde_json::json!(v)))
+            .collect(),
+    )
 }
 
 #[cfg(test)]

@@ -2,9 +2,9 @@
 //! or `nu` (a row of its CSV, an entry of its JSON `points`), or a
 //! bifurcation located between two points.
 
-use crate::cli::csv::CsvRecord;
 use crate::model::{full_state, ModelKind};
 use crate::params::{Param, Params};
+use crate::records::csv::CsvRecord;
 use crate::scene::Units;
 use continuation::{Complex64, EventKind};
 use serde::ser::{SerializeMap, Serializer};
@@ -166,7 +166,7 @@ impl BranchRow {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::csv::{header_of, row};
+    use crate::records::csv::{header_of, row};
 
     /// The columns `branch --csv` has always written come first, in their
     /// order, the parameter's named after it; `None` is an empty cell.

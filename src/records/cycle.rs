@@ -7,9 +7,9 @@ use crate::analysis::cycles::{
     CycleBifurcation, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
     ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
 };
-use crate::cli::csv::CsvRecord;
 use crate::error::Error;
 use crate::model::ModelKind;
+use crate::records::csv::CsvRecord;
 use crate::scene::Units;
 use continuation::periodic::branch::BranchEnd;
 use serde::{Serialize, Serializer};
@@ -68,8 +68,8 @@ fn or_na<S: Serializer>(value: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
     }
 }
 
-/// One stick-slip cycle: a row of `-cycles.csv`, the scalar fields of an
-/// entry of `cycles` ([`CycleDetail`]), a line of the text.
+/// One stick-slip cycle: an entry of `cycles` in the JSON, a row of
+/// `-cycles.csv` (its scalar fields), a line of the text.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Cycle {
     pub kappa: f64,
@@ -124,10 +124,30 @@ pub struct Cycle {
     /// `--param` and where another column gives it.
     #[serde(flatten)]
     pub control: Option<ParamValue>,
+    /// `[re, im]` of each Floquet multiplier, by decreasing modulus (JSON only).
+    pub multipliers: Vec<[f64; 2]>,
+    /// Index of the trivial multiplier among them (JSON only).
+    pub trivial_multiplier_index: Option<usize>,
+    /// Why `trivial_multiplier_error` is unavailable (JSON only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trivial_multiplier_error_reason: Option<&'static str>,
+    /// Why `error_estimate` is unavailable (JSON only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_estimate_reason: Option<&'static str>,
+    /// Why the stability is undecidable (JSON only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stability_reason: Option<String>,
 }
 
 impl CsvRecord for Cycle {
     const DIGITS: usize = 15;
+    const JSON_ONLY: &'static [&'static str] = &[
+        "multipliers",
+        "trivial_multiplier_index",
+        "trivial_multiplier_error_reason",
+        "error_estimate_reason",
+        "stability_reason",
+    ];
 }
 
 impl Cycle {
@@ -158,32 +178,6 @@ impl Cycle {
             delta_s_n: c.delta_s * u.load,
             continued: None,
             control: None,
-        }
-    }
-}
-
-/// An entry of `cycles` in the JSON: the [`Cycle`] with its Floquet
-/// multipliers and the reasons for what is unavailable.
-#[derive(Clone, Debug, Serialize)]
-pub struct CycleDetail {
-    #[serde(flatten)]
-    pub cycle: Cycle,
-    /// `[re, im]` of each multiplier, by decreasing modulus.
-    pub multipliers: Vec<[f64; 2]>,
-    pub trivial_multiplier_index: Option<usize>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub trivial_multiplier_error_reason: Option<&'static str>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub error_estimate_reason: Option<&'static str>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub stability_reason: Option<String>,
-}
-
-impl CycleDetail {
-    /// The cycle `c` in the units `u`.
-    pub fn new(c: &CycleRecord, u: &Units) -> Self {
-        CycleDetail {
-            cycle: Cycle::new(c, u),
             multipliers: c.multipliers.iter().map(|z| [z.re, z.im]).collect(),
             trivial_multiplier_index: c.trivial,
             trivial_multiplier_error_reason: c
@@ -368,7 +362,7 @@ impl fmt::Display for LegStop {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::csv::{header, row};
+    use crate::records::csv::{header, row, CsvRecord};
 
     /// What a cycle lacks is `null` in its JSON and a word in its CSV row,
     /// and the CSV's columns are the JSON's fields.
@@ -389,6 +383,7 @@ mod tests {
             .unwrap()
             .keys()
             .map(|k| k.as_str())
+            .filter(|k| !Cycle::JSON_ONLY.contains(k))
             .collect();
         let mut columns = names.clone();
         fields.sort_unstable();

@@ -1,0 +1,715 @@
+//! The `cycles` job: the stick-slip cycles born at the Hopf point (or
+//! reached through a simulated orbit, [`super::cycle_start`]), continued in
+//! the stiffness, with the bifurcations of cycles located on the branch,
+//! the cycles at requested stiffnesses, and optionally the curves of folds
+//! of cycles through its folds. A request in ([`CyclesRequest`]), one record
+//! out ([`Cycles`], the command's JSON), each cycle handed to an
+//! [`Observer`] as it is computed.
+
+use super::cycle_start::Start;
+use super::{onset_with_degeneracy_resolved, SceneSpec, Setup, TextUnits};
+use crate::analysis::control::Control;
+use crate::analysis::cycles::{
+    along_branch, collocation_for, requested_points, BranchEnds, CycleBifurcation, CycleRecord,
+    CycleRequest,
+};
+use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves, LpcStop};
+use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::error::{Error, InputError};
+use crate::model::ModelKind;
+use crate::params::Param;
+use crate::records::cycle::{Asked, Cycle, CycleSpecialPoint, LegStop, Requested};
+use crate::records::diagram::FoldPoint;
+use crate::records::params_json;
+use crate::scene::Units;
+use continuation::periodic::mesh::CollocationPoints;
+use serde::Serialize;
+use serde_json::Value;
+
+/// What `cycles` is asked, in the stiffness (the command's options, less
+/// those of its output).
+#[derive(Clone, Debug)]
+pub struct CyclesRequest {
+    /// Stop when the stiffness falls below this fraction of `kappa_c` (of
+    /// the simulated orbit's stiffness without a Hopf point); in `(0, 1)`.
+    pub kappa_fraction: f64,
+    /// Start from a simulated orbit even where there is a Hopf point.
+    pub from_simulation: bool,
+    /// Most continuation steps per leg.
+    pub max_steps: usize,
+    /// Initial and largest number of mesh intervals.
+    pub ntst: usize,
+    pub ntst_max: usize,
+    /// Collocation points instead of the model's choice.
+    pub collocation: Option<CollocationPoints>,
+    /// Continue every fold of cycles on the branch in (kappa, nu).
+    pub lpc_curve: bool,
+    /// Stiffnesses at which cycles are located exactly, as asked.
+    pub at: Vec<Asked>,
+    /// Where the branch ends, in the unit of a stiffness control
+    /// (`--param K --to 1e5`), in place of `kappa_fraction`.
+    pub to: Option<(Control, f64)>,
+}
+
+impl Default for CyclesRequest {
+    /// The command's defaults.
+    fn default() -> Self {
+        CyclesRequest {
+            kappa_fraction: 0.5,
+            from_simulation: false,
+            max_steps: 500,
+            ntst: 40,
+            ntst_max: 12800,
+            collocation: None,
+            lpc_curve: false,
+            at: Vec::new(),
+            to: None,
+        }
+    }
+}
+
+impl CyclesRequest {
+    /// The request checked, each error naming its option.
+    fn check(&self) -> Result<(), InputError> {
+        if !(self.kappa_fraction > 0.0 && self.kappa_fraction < 1.0) {
+            return Err(InputError::out_of_range(
+                "--kappa-fraction",
+                self.kappa_fraction,
+                "in (0, 1)",
+            ));
+        }
+        if self.ntst < 4 {
+            return Err(InputError::out_of_range("--ntst", self.ntst as f64, ">= 4"));
+        }
+        if self.ntst_max < self.ntst {
+            return Err(InputError::out_of_range(
+                "--ntst-max",
+                self.ntst_max as f64,
+                &format!(">= --ntst ({})", self.ntst),
+            ));
+        }
+        if let Some((_, t)) = self.to.filter(|(_, t)| !(t.is_finite() && *t > 0.0)) {
+            return Err(InputError::out_of_range("--to", t, "> 0 (unit of --param)"));
+        }
+        Ok(())
+    }
+}
+
+/// What the job says as it goes, besides the cycles.
+pub enum Note {
+    /// The quasi-static branch handed over to the inertial model.
+    Switch(String),
+    /// A warning: a forced model outside its validity, negative friction.
+    Warning(String),
+}
+
+/// Receives what the job computes as it computes it: progress,
+/// cancellation, each cycle (for incremental output), notes.
+pub trait Observer {
+    /// `Some(error)` to stop the branch here (`at` says where it stands):
+    /// a signal's [`Error::Interrupted`].
+    fn stop(&mut self, _at: &dyn Fn() -> String) -> Option<Error> {
+        None
+    }
+    /// Progress in words.
+    fn progress(&mut self, _what: &str) {}
+    /// A cycle, with the bifurcations located since the previous one; an
+    /// error (a file that cannot be written) stops the branch.
+    fn cycle(&mut self, _cycle: &Cycle, _found: &[CycleSpecialPoint]) -> Result<(), Error> {
+        Ok(())
+    }
+    /// A note.
+    fn note(&mut self, _note: Note) {}
+}
+
+/// An observer that keeps nothing but the result.
+pub struct Quiet;
+
+impl Observer for Quiet {}
+
+/// A planned `cycles` run: the scene set up, the onset located and the start
+/// of the branch chosen (which may take simulations), before any cycle.
+pub struct Plan {
+    pub setup: Setup,
+    pub start: Start,
+    /// The collocation points of the first cycles.
+    pub points: CollocationPoints,
+    /// The request; it may be amended before the run (requested points
+    /// placed relative to the start).
+    pub request: CyclesRequest,
+    /// The model was forced (`--model`).
+    forced: bool,
+    threshold: f64,
+}
+
+impl Plan {
+    /// Sets up `spec`, locates the onset (with the model decision shared by
+    /// every command) and chooses where the branch starts.
+    pub fn new(spec: &SceneSpec, request: CyclesRequest) -> Result<Plan, Error> {
+        request.check()?;
+        let mut setup = spec.setup(|p| *p)?;
+        let onset = onset_with_degeneracy_resolved(&mut setup, spec.model.is_some())?;
+        let start = Start::choose(&setup, onset, request.from_simulation)?;
+        let points = request
+            .collocation
+            .unwrap_or(collocation_for(setup.choice.kind));
+        Ok(Plan {
+            setup,
+            start,
+            points,
+            forced: spec.model.is_some(),
+            threshold: spec.inertia_threshold,
+            request,
+        })
+    }
+
+    /// What is computed, as `hopf` and `diagram` open: the scene, the
+    /// model, where the branch starts and the numerics.
+    pub fn describe(&self, units: TextUnits) -> Vec<String> {
+        let s = &self.setup;
+        vec![
+            format!("scene: {} — {}", s.scene.name, s.scene.description),
+            format!("model: {}", s.choice.reason),
+            self.start.describe(s, units),
+            numerics(self.points, self.request.collocation.is_some(), s),
+        ]
+    }
+
+    /// `gauss` or `radau`.
+    pub fn points_name(&self) -> &'static str {
+        points_name(self.points)
+    }
+
+    /// Traces the branch, handing each cycle to `observer`, then the
+    /// fold-of-cycles curves when asked; what was computed is kept also
+    /// when a leg fails or is stopped ([`Cycles::failure`]).
+    pub fn run(self, observer: &mut dyn Observer) -> Cycles {
+        let Plan {
+            setup,
+            start,
+            points,
+            request,
+            forced,
+            threshold,
+        } = self;
+        let units = setup.scene.units;
+        let (at_kappa, asked) = requested_once(&request.at, &units);
+        let kappa_ref = start.reference_kappa();
+        let to = request
+            .to
+            .map(|(c, t)| c.to_dimensionless(&units, &setup.scene_params, t));
+        let mut req = CycleRequest {
+            kappa_min: to.map_or(request.kappa_fraction * kappa_ref, |t| t.min(kappa_ref)),
+            kappa_max: to.map_or(10.0 * kappa_ref, |t| t.max(10.0 * kappa_ref)),
+            max_steps: request.max_steps,
+            ntst: request.ntst,
+            at_kappa,
+            ntst_max: request.ntst_max,
+            // Each model's own points unless forced (the branch may change model).
+            collocation: request.collocation,
+        };
+        // Requested stiffnesses outside the default range extend the branch to them.
+        req.cover_requested();
+        let watch = InertiaWatch::new(&setup.scene_params, threshold, !forced);
+        let mut switch: Option<ModelSwitch> = None;
+        let mut records: Vec<CycleRecord> = Vec::new();
+        let mut cycles: Vec<Cycle> = Vec::new();
+        let mut specials: Vec<CycleSpecialPoint> = Vec::new();
+        let outcomes = start.trace(&setup, &req, &watch, |c| {
+            let at = || match records.last() {
+                Some(r) => format!(
+                    "after {} cycles, the last at kappa = {:.10e}",
+                    records.len(),
+                    r.kappa
+                ),
+                None => "before the first cycle".to_string(),
+            };
+            if let Some(e) = observer.stop(&at) {
+                return Err(e);
+            }
+            observer.progress(&format!(
+                "{} cycles, kappa = {:.6e}, NTST {}",
+                records.len() + 1,
+                c.kappa,
+                c.ntst
+            ));
+            if let Some(prev) = records.last().filter(|p| p.model != c.model) {
+                let sw = ModelSwitch {
+                    kappa: c.kappa,
+                    inertial_imbalance: prev.inertial_imbalance,
+                    threshold,
+                    from: "quasi-static",
+                    to: "inertial",
+                    reason: String::new(),
+                }
+                .described();
+                observer.note(Note::Switch(sw.reason.clone()));
+                switch = Some(sw);
+            }
+            // The cycles at requested stiffnesses passed since the last one, then it.
+            for rec in c.user.iter().chain([c]) {
+                let cycle = Cycle::new(rec, &units);
+                let found: Vec<CycleSpecialPoint> = rec
+                    .special_points()
+                    .map(|(kind, l)| CycleSpecialPoint {
+                        kind,
+                        cycle: Cycle::new(l, &units),
+                    })
+                    .collect();
+                observer.cycle(&cycle, &found)?;
+                specials.extend(found);
+                cycles.push(cycle);
+                records.push(rec.clone());
+            }
+            Ok(())
+        });
+        if let Some(w) = validity_warning(&records, &setup, &watch, forced) {
+            observer.note(Note::Warning(w));
+        }
+        let negative_friction = NegativeFriction::of(&records);
+        if let Some(n) = &negative_friction {
+            observer.note(Note::Warning(n.reason.clone()));
+        }
+        let leg_stops: Vec<LegStop> = outcomes
+            .iter()
+            .map(|(leg, outcome)| LegStop::new(*leg, outcome, request.max_steps))
+            .collect();
+        let legs_complete = leg_stops.iter().all(LegStop::complete);
+        let mut stop = match start.reason() {
+            Some(_) => {
+                "no branch: no Hopf point and no cycle found by simulation (see reason)".to_string()
+            }
+            None => leg_stops
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("; "),
+        };
+        let folds = if request.lpc_curve {
+            fold_curves(&setup, &records)
+        } else {
+            FoldCurves::default()
+        };
+        let requested: Vec<Requested> = requested_points(
+            &req.at_kappa,
+            &records,
+            &BranchEnds {
+                hopf_start: match &start {
+                    Start::Hopf(h) => Some(h.kappa_c),
+                    _ => None,
+                },
+                stop: &stop,
+                no_branch: start.reason(),
+            },
+        )
+        .iter()
+        .zip(&asked)
+        .map(|(r, a)| Requested::new(r, *a, &units))
+        .collect();
+        // Partial: a leg ended short of its range, or the search for a start
+        // was inconclusive. A requested value the branch did not reach is
+        // then among what is missing; one where no cycle exists (above
+        // kappa_c, beyond a fold, no branch at all) is answered by its reason.
+        let undelivered = requested.iter().filter(|r| r.reason.is_some()).count();
+        let complete = start.conclusive() && legs_complete && !folds.incomplete && undelivered == 0;
+        if folds.incomplete {
+            let why: Vec<String> = folds.stops.iter().map(ToString::to_string).collect();
+            stop = format!(
+                "{stop}; the fold-of-cycles curve is incomplete: {}",
+                why.join("; ")
+            );
+        }
+        if undelivered > 0 {
+            stop = format!(
+                "{stop}; {undelivered} of the {} requested stiffnesses not delivered (see requested_points)",
+                requested.len()
+            );
+        }
+        let failure = outcomes.into_iter().find_map(|(_, o)| o.err());
+        Cycles {
+            scene: setup.scene.name.clone(),
+            model: setup.choice.kind,
+            // The parameters of the last model used (the scene's inertia
+            // after a switch to the inertial model).
+            params: params_json(&match switch {
+                Some(_) => setup.scene_params,
+                None => setup.params,
+            }),
+            kappa_c: start.kappa_c(),
+            start: start.json(),
+            collocation: points_name(points),
+            units: UnitsRecord::of(&units),
+            cycles,
+            special_points: specials,
+            complete,
+            stop,
+            leg_stops,
+            model_switch: switch,
+            requested_points: requested,
+            lpc_curve: folds.points,
+            lpc_stops: folds.stops,
+            files: Vec::new(),
+            reason: start.reason().map(str::to_string),
+            negative_friction,
+            records,
+            failure,
+            setup,
+        }
+    }
+}
+
+/// The units of a result: the scene's length and velocity scales.
+#[derive(Clone, Debug, Serialize)]
+pub struct UnitsRecord {
+    #[serde(rename = "D0_um")]
+    pub d0_um: f64,
+    #[serde(rename = "V0_um_per_s")]
+    pub v0_um_per_s: f64,
+}
+
+impl UnitsRecord {
+    /// The units `u`.
+    pub fn of(u: &Units) -> Self {
+        UnitsRecord {
+            d0_um: u.d0 * 1e6,
+            v0_um_per_s: u.velocity_um_s(1.0),
+        }
+    }
+}
+
+/// The result of `cycles`: its JSON, with the records behind it for the
+/// figures.
+#[derive(Serialize)]
+pub struct Cycles {
+    pub scene: String,
+    /// The model at the start.
+    pub model: ModelKind,
+    pub params: Value,
+    pub kappa_c: Option<f64>,
+    pub start: Value,
+    pub collocation: &'static str,
+    pub units: UnitsRecord,
+    pub cycles: Vec<Cycle>,
+    pub special_points: Vec<CycleSpecialPoint>,
+    /// Everything requested was delivered.
+    pub complete: bool,
+    /// How the branch ended, in words.
+    pub stop: String,
+    pub leg_stops: Vec<LegStop>,
+    pub model_switch: Option<ModelSwitch>,
+    pub requested_points: Vec<Requested>,
+    pub lpc_curve: Vec<FoldPoint>,
+    pub lpc_stops: Vec<LpcStop>,
+    /// The files written (by the command line).
+    pub files: Vec<String>,
+    /// Why there is no branch at all.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub negative_friction: Option<NegativeFriction>,
+    /// The cycles as computed (orbits for the figures).
+    #[serde(skip)]
+    pub records: Vec<CycleRecord>,
+    /// The first error that ended a leg, if any.
+    #[serde(skip)]
+    pub failure: Option<Error>,
+    /// The scene and model the cycles were computed for.
+    #[serde(skip)]
+    pub setup: Setup,
+}
+
+impl Cycles {
+    /// The run's answer as an exit status: a signal or a file that could
+    /// not be written is the answer; a failure with nothing kept is the
+    /// failure; anything short of the request is partial.
+    pub fn status(&mut self) -> Result<(), Error> {
+        match self.failure.take() {
+            Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
+            Some(e) if self.records.is_empty() => Err(e),
+            _ if !self.complete => Err(Error::Partial(format!(
+                "{} cycles written; stopped: {}",
+                self.records.len(),
+                self.stop
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether a leg was stopped by a signal.
+    pub fn interrupted(&self) -> bool {
+        matches!(self.failure, Some(Error::Interrupted(_)))
+    }
+
+    /// The cycles in order along the branch (each leg from its start).
+    pub fn along_branch(&self) -> Vec<&CycleRecord> {
+        along_branch(&self.records)
+    }
+}
+
+/// Cycles on which the friction coefficient, or the spring force that
+/// balances it, falls below zero: the friction law outside its physical
+/// range (a block pulled forward by friction), reported, not hidden.
+#[derive(Clone, Debug, Serialize)]
+pub struct NegativeFriction {
+    pub cycles: usize,
+    pub of: usize,
+    pub kappa_range: [f64; 2],
+    pub friction_min: f64,
+    pub s_min: f64,
+    pub reason: String,
+}
+
+impl NegativeFriction {
+    /// `None` when friction and spring force stay non-negative on every cycle.
+    fn of(records: &[CycleRecord]) -> Option<Self> {
+        let bad: Vec<&CycleRecord> = records
+            .iter()
+            .filter(|c| c.friction_min < 0.0 || c.s_min < 0.0)
+            .collect();
+        if bad.is_empty() {
+            return None;
+        }
+        let least =
+            |g: fn(&CycleRecord) -> f64| bad.iter().map(|c| g(c)).fold(f64::INFINITY, f64::min);
+        let (kappa_lo, kappa_hi) = (least(|c| c.kappa), -least(|c| -c.kappa));
+        let (friction_min, s_min) = (least(|c| c.friction_min), least(|c| c.s_min));
+        Some(NegativeFriction {
+            cycles: bad.len(),
+            of: records.len(),
+            kappa_range: [kappa_lo, kappa_hi],
+            friction_min,
+            s_min,
+            reason: format!(
+                "negative friction on {} cycles (kappa = {kappa_lo:.6e} .. {kappa_hi:.6e}): the \
+                 friction coefficient falls to {friction_min:.4e} and the spring force s to \
+                 {s_min:.4e}; the friction law is outside its physical range there (e.g. mu2 < 0 \
+                 makes mu fall without bound at long ages), so these cycles are the model's, not \
+                 a real interface's",
+                bad.len()
+            ),
+        })
+    }
+}
+
+/// The stiffnesses asked for by `--at-kappa` (first) and `--at NAME=...`
+/// (in the order given), as asked: each name one of [`Asked::NAMES`], each
+/// value a finite number `> 0`; errors name the option and the name.
+pub fn asked_stiffnesses(at_kappa: &[f64], at: &[String]) -> Result<Vec<Asked>, InputError> {
+    if let Some(k) = at_kappa.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
+        return Err(InputError::out_of_range("--at-kappa", *k, "> 0"));
+    }
+    let mut asked: Vec<Asked> = at_kappa
+        .iter()
+        .map(|&value| Asked {
+            name: "kappa",
+            value,
+            unit: "1",
+        })
+        .collect();
+    let allowed = || {
+        Asked::NAMES
+            .iter()
+            .map(|(n, u)| format!("{n} [{u}]"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for item in at {
+        let (name, values) = item.split_once('=').ok_or_else(|| InputError::Malformed {
+            field: "--at".into(),
+            value: item.clone(),
+            expected: format!("NAME=V1,V2,... with NAME one of {}", allowed()),
+        })?;
+        let name = name.trim();
+        let Some(&(name, unit)) = Asked::NAMES.iter().find(|(n, _)| *n == name) else {
+            return Err(InputError::UnknownName {
+                what: "--at stiffness",
+                name: name.to_string(),
+                suggestion: crate::error::closest(name, Asked::NAMES.iter().map(|(n, _)| *n)),
+                allowed: allowed(),
+            });
+        };
+        let field = format!("--at {name}");
+        for text in values.split(',') {
+            let value: f64 = text.trim().parse().map_err(|_| InputError::Malformed {
+                field: field.clone(),
+                value: text.to_string(),
+                expected: format!("a number ({unit})"),
+            })?;
+            if !(value.is_finite() && value > 0.0) {
+                return Err(InputError::out_of_range(
+                    &field,
+                    value,
+                    &format!("> 0 ({unit})"),
+                ));
+            }
+            asked.push(Asked { name, value, unit });
+        }
+    }
+    Ok(asked)
+}
+
+/// The stiffnesses asked for, each once (the first of values whose `kappa`
+/// lie within `1e-12` relative of each other, in whatever unit each was
+/// asked), in the order given: their `kappa` in the units `u`, and how
+/// each was asked.
+fn requested_once(asked: &[Asked], u: &Units) -> (Vec<f64>, Vec<Asked>) {
+    let mut once: (Vec<f64>, Vec<Asked>) = (Vec::new(), Vec::new());
+    for a in asked {
+        let k = a.kappa(u);
+        if !once.0.iter().any(|&q| (q - k).abs() <= 1e-12 * k.abs()) {
+            once.0.push(k);
+            once.1.push(*a);
+        }
+    }
+    once
+}
+
+/// Where a quasi-static branch handed over to the inertial model (JSON
+/// `model_switch`).
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelSwitch {
+    /// The stiffness of the last quasi-static and the first inertial cycle.
+    pub kappa: f64,
+    /// `chi` on the last quasi-static cycle.
+    pub inertial_imbalance: f64,
+    pub threshold: f64,
+    pub from: &'static str,
+    pub to: &'static str,
+    /// In words.
+    pub reason: String,
+}
+
+impl ModelSwitch {
+    /// The switch with its reason in words.
+    fn described(mut self) -> Self {
+        self.reason = format!(
+            "switching to the inertial model at kappa = {:.8e}: on the last quasi-static cycle \
+             inertia would shift ln v by chi = max m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); \
+             the same orbit, corrected with the scene's inertia, continues the branch",
+            self.kappa, self.inertial_imbalance, self.threshold
+        );
+        self
+    }
+}
+
+/// Under `--model`, where the forced model is outside its validity: a
+/// quasi-static model on cycles whose `chi` exceeds the threshold, or an
+/// inertial one where inertia is negligible on every cycle.
+fn validity_warning(
+    records: &[CycleRecord],
+    setup: &Setup,
+    watch: &InertiaWatch,
+    forced: bool,
+) -> Option<String> {
+    if !forced || records.is_empty() || setup.scene_params.m <= 0.0 {
+        return None;
+    }
+    let outside: Vec<&CycleRecord> = records
+        .iter()
+        .filter(|c| c.model == ModelKind::QuasiStatic && c.inertial_imbalance > watch.threshold)
+        .collect();
+    if let (Some(first), Some(last)) = (outside.first(), outside.last()) {
+        return Some(format!(
+            "--model quasi-static is outside its validity on {} of {} cycles (kappa = {:.6e} .. {:.6e}): \
+             there the scene's inertia would shift ln v by chi = max m |dv/dt| / A up to {:.3e} > {:.0e}; \
+             without --model the branch switches to the inertial model",
+            outside.len(),
+            records.len(),
+            first.kappa,
+            last.kappa,
+            outside.iter().map(|c| c.inertial_imbalance).fold(0.0, f64::max),
+            watch.threshold
+        ));
+    }
+    let largest = records
+        .iter()
+        .map(|c| c.inertial_imbalance)
+        .fold(0.0, f64::max);
+    (setup.choice.kind == ModelKind::Inertial
+        && largest < watch.threshold
+        && setup.choice.inertia_ratio < watch.threshold)
+        .then(|| {
+            format!(
+                "inertia is negligible on every cycle (chi = max m |dv/dt| / A <= {largest:.3e} < {:.0e}, \
+                 inertia ratio at onset {:.3e}): the quasi-static model would give the same cycles",
+                watch.threshold, setup.choice.inertia_ratio
+            )
+        })
+}
+
+/// The curves of folds of cycles through the folds of a branch.
+#[derive(Default)]
+struct FoldCurves {
+    points: Vec<FoldPoint>,
+    /// Why their ends stopped.
+    stops: Vec<LpcStop>,
+    /// Whether a curve did not start, or stopped short of its range other
+    /// than at a Bautin point: the request (`--lpc-curve`) is incomplete.
+    incomplete: bool,
+}
+
+/// The curves of folds of cycles through every fold on the branch, each
+/// across the scene's velocity range widened to a factor 2 around its fold.
+fn fold_curves(setup: &Setup, records: &[CycleRecord]) -> FoldCurves {
+    let mut curves = LpcCurves::default();
+    let folds = records
+        .iter()
+        .flat_map(CycleRecord::special_points)
+        .filter_map(|(kind, r)| {
+            (kind == CycleBifurcation::Lpc)
+                .then_some(r.orbit.as_ref())
+                .flatten()
+        });
+    for fold in folds {
+        let nu = fold.p[Param::Nu as usize];
+        let (lo, hi) = setup.scene.nu_range;
+        let range = (lo.min(0.5 * nu), hi.max(2.0 * nu));
+        let c = lpc_curve_through(setup.choice.kind, &setup.params, fold, range);
+        curves.points.extend(c.points);
+        curves.stops.extend(c.stops);
+        curves.incomplete |= c.incomplete;
+    }
+    FoldCurves {
+        points: FoldPoint::all(&curves, &setup.scene.units),
+        stops: curves.stops,
+        incomplete: curves.incomplete,
+    }
+}
+
+/// `gauss` or `radau`.
+fn points_name(points: CollocationPoints) -> &'static str {
+    match points {
+        CollocationPoints::Gauss => "gauss",
+        CollocationPoints::Radau => "radau",
+    }
+}
+
+/// What the numerics are and why: the collocation points, and how stability
+/// is decided.
+fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
+    let why = match (forced, points) {
+        (true, _) => "as asked (--collocation)",
+        (false, CollocationPoints::Radau) => {
+            "L-stable, for the stiff relaxation of the velocity while the block sticks"
+        }
+        (false, CollocationPoints::Gauss) => "no stiff component in the quasi-static model",
+    };
+    let stability = match setup.choice.kind {
+        ModelKind::QuasiStatic => {
+            "stability from the nontrivial multiplier exp(int_0^T tr J dt) (Liouville's formula \
+             in the plane, as accurate as the collocation quadrature); |mu_1 - 1| checks the \
+             Floquet pencil only"
+        }
+        ModelKind::Inertial => {
+            "stability from the Floquet pencil; |mu_1 - 1| is its error at the trivial multiplier"
+        }
+    };
+    format!(
+        "collocation: {} points, degree {} ({why}); {stability}",
+        match points {
+            CollocationPoints::Gauss => "Gauss-Legendre",
+            CollocationPoints::Radau => "Radau IIA",
+        },
+        continuation::periodic::branch::CycleSettings::default().degree
+    )
+}
