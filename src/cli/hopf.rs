@@ -1,13 +1,10 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::{
-    describe_params, describe_params_except, onset_with_degeneracy_resolved, SceneArgs, Setup,
-    TextUnits,
-};
-use crate::analysis::control::{choose_along, onset_in, Control, OnsetIn};
-use crate::analysis::hopf::{Arithmetic, Criticality, HopfOutcome};
-use crate::analysis::model_choice::params_for;
-use crate::error::{Error, InputError, NumericalError};
+use super::{describe_params, describe_params_except, SceneArgs, Setup, TextUnits};
+use crate::analysis::control::Control;
+use crate::analysis::hopf::{Arithmetic, Criticality};
+use crate::error::Error;
+use crate::jobs::{self, hopf::HopfRequest};
 use crate::model::ModelKind;
 use crate::params::Param;
 use crate::records::hopf::{
@@ -42,47 +39,6 @@ pub struct HopfArgs {
     pub to: Option<f64>,
 }
 
-/// The onset in `--param` (not the stiffness): located by
-/// [`onset_in`], reported at the critical value with `critical`.
-fn run_in_control(args: &HopfArgs, control: Control) -> Result<(), Error> {
-    let mut setup = args.scene.setup(|p| *p)?;
-    let (units, scene_params) = (setup.scene.units, setup.scene_params);
-    let default = control.default_range(&units, &scene_params, setup.scene.nu_range);
-    let range = match (args.from, args.to, default) {
-        (Some(lo), Some(hi), _) => Some((lo, hi)),
-        (from, to, Some((lo, hi))) => Some((from.unwrap_or(lo), to.unwrap_or(hi))),
-        (None, None, None) => None,
-        (from, _, None) => {
-            let missing = if from.is_none() { "--from" } else { "--to" };
-            return Err(InputError::Conflict(format!(
-                "the scene's {} is 0, so the range to search has no default: give {missing} too \
-                 (in {})",
-                control.name(),
-                control.unit_in_words()
-            ))
-            .into());
-        }
-    };
-    setup.choice = choose_along(
-        control,
-        &units,
-        &scene_params,
-        range,
-        args.scene.model.map(Into::into),
-        args.scene.inertia_threshold,
-    );
-    let kind = setup.choice.kind;
-    let onset = onset_in(kind, &scene_params, &units, control, range)?;
-    let scene_value = control.value(&units, &scene_params);
-    setup.scene.units = onset.units;
-    setup.scene_params = onset.params;
-    setup.params = params_for(kind, &onset.params);
-    let mut report = HopfReport::new(&setup, &HopfOutcome::Found(onset.hopf.clone()));
-    report.operating_point = None;
-    report.critical = Some(Critical::new(&onset, scene_value));
-    present(args, &setup, &report)
-}
-
 /// Writes the report as JSON or text.
 fn present(args: &HopfArgs, setup: &Setup, report: &HopfReport) -> Result<(), Error> {
     if args.json {
@@ -100,66 +56,16 @@ fn present(args: &HopfArgs, setup: &Setup, report: &HopfReport) -> Result<(), Er
 
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
-    let control = Control::from_param(args.param.as_deref())?;
-    if let Some(c) = control.filter(|c| !c.is_stiffness()) {
-        return run_in_control(args, c);
+    let request = HopfRequest {
+        param: Control::from_param(args.param.as_deref())?,
+        from: args.from,
+        to: args.to,
+    };
+    let hopf = jobs::hopf::run(&args.scene.spec(), &request)?;
+    if let Some(note) = &hopf.note {
+        eprintln!("note: {note}");
     }
-    if let Some(field) = [("--from", args.from), ("--to", args.to)]
-        .into_iter()
-        .find_map(|(f, v)| v.map(|_| f))
-    {
-        return Err(InputError::Conflict(format!(
-            "{field} bounds the range of --param V, M, W, tau or a dimensionless parameter other \
-             than kappa; the onset in the stiffness is searched from a stable stiffness downward"
-        ))
-        .into());
-    }
-    let mut setup = args.scene.setup(|p| *p)?;
-    let kappa_set = setup.overrides.sets_stiffness();
-    if kappa_set || setup.scene.stiffness_given {
-        let source = if setup.overrides.sets("K") {
-            "--set K"
-        } else if kappa_set {
-            "--set"
-        } else {
-            "the scene's K"
-        };
-        eprintln!(
-            "note: hopf finds the stiffness at onset itself; the given kappa = {:e} ({source}) is not used \
-             to find it: it is the operating point, compared with K_c",
-            setup.scene_params.kappa,
-        );
-    }
-    let outcome = onset_with_degeneracy_resolved(&mut setup, args.scene.model.is_some())?;
-    if let HopfOutcome::Found(h) = &outcome {
-        let values = [h.kappa_c, h.omega_c].into_iter().chain(h.state);
-        if values.clone().any(|v| !v.is_finite()) {
-            return Err(NumericalError::Analysis(format!(
-                "the located Hopf point has non-finite values (kappa_c = {}, omega_c = {})",
-                h.kappa_c, h.omega_c
-            ))
-            .into());
-        }
-    }
-    let mut report = HopfReport::new(&setup, &outcome);
-    if let (Some(control), HopfOutcome::Found(h)) = (control, &outcome) {
-        let mut at = setup.scene_params;
-        at.kappa = h.kappa_c;
-        let units = setup.scene.units;
-        let onset = OnsetIn {
-            control,
-            value: control.value(&units, &at),
-            params: at,
-            units,
-            hopf: h.clone(),
-            range: None,
-            method: "the Hopf point in kappa (continuation from a stable stiffness downward)"
-                .to_string(),
-        };
-        let scene_value = control.value(&units, &setup.scene_params);
-        report.critical = Some(Critical::new(&onset, scene_value));
-    }
-    present(args, &setup, &report)
+    present(args, &hopf.setup, &hopf.report)
 }
 
 /// The operating point in one line: the stiffness, its margin, the regime

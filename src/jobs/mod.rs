@@ -8,6 +8,7 @@
 
 pub mod cycle_start;
 pub mod cycles;
+pub mod hopf;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::model_choice::{
