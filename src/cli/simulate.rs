@@ -4,23 +4,19 @@
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130
 //! (SIGTERM the same, with 143).
 
-use super::files::OutputArgs;
-use super::{SceneArgs, TextUnits};
-use crate::analysis::decimate::{Buckets, Envelope, ENVELOPE_MIN_CAP};
-use crate::analysis::model_choice::{choose_model, params_for};
-use crate::analysis::orbit_inertia::InertiaWatch;
-use crate::analysis::simulate::{
-    regime_reached, simulate_watched, RegimeReached, RunOptions, Sample, Segment, Trajectory,
-};
+use super::files::{create_file, with_suffix, LineFile, OutputArgs};
+use super::{interrupt, SceneArgs, TextUnits};
+use crate::analysis::decimate::Buckets;
+use crate::analysis::simulate::{RegimeReached, Sample};
 use crate::error::{Error, InputError};
-use crate::plot::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
+use crate::jobs::simulate::{Observer, Plan, SimulateRequest, Simulation};
+use crate::plot::simulation::figures;
 use crate::records::csv::{header, row};
 use crate::records::simulation::SimulationRow;
 use crate::scene::Units;
 use clap::Args;
-use plotters::style::RGBColor;
+use indicatif::ProgressBar;
 use std::io::Write;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -61,7 +57,8 @@ pub struct SimulateArgs {
     pub units: TextUnits,
 }
 
-fn parse_protocol(text: &str, v0_um_s: f64, time_unit_s: f64) -> Result<Vec<Segment>, InputError> {
+/// `--protocol V1:T1,...` as `(V [µm/s], T [s])` segments, each checked.
+fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> {
     text.split(',')
         .map(|item| {
             let bad = || InputError::Malformed {
@@ -77,241 +74,191 @@ fn parse_protocol(text: &str, v0_um_s: f64, time_unit_s: f64) -> Result<Vec<Segm
             if !(v.is_finite() && v >= 0.0 && t.is_finite() && t > 0.0) {
                 return Err(bad());
             }
-            Ok(Segment {
-                nu: v / v0_um_s,
-                duration: t / time_unit_s,
-            })
+            Ok((v, t))
         })
         .collect()
 }
 
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
-    if !(args.rtol > 1e-14 && args.rtol < 1e-2) {
-        return Err(InputError::out_of_range("--rtol", args.rtol, "in (1e-14, 1e-2)").into());
-    }
-    if !(args.perturb.is_finite() && args.perturb.abs() < 1.0) {
-        return Err(InputError::out_of_range("--perturb", args.perturb, "|perturb| < 1").into());
-    }
-    if args.max_steps < 1 {
-        return Err(InputError::out_of_range("--max-steps", args.max_steps as f64, ">= 1").into());
-    }
-    if args.plot_points < ENVELOPE_MIN_CAP {
-        return Err(InputError::out_of_range(
-            "--plot-points",
-            args.plot_points as f64,
-            &format!(">= {ENVELOPE_MIN_CAP}"),
-        )
-        .into());
-    }
     if args.every < 1 {
         return Err(InputError::out_of_range("--every", args.every as f64, ">= 1").into());
     }
-    let mut setup = args.scene.setup(|p| *p)?;
-    let u = setup.scene.units;
-    let time_unit = u.d0 / u.v0;
-    let protocol = match &args.protocol {
-        Some(text) => parse_protocol(text, u.v0 * 1e6, time_unit)?,
-        None => vec![Segment {
-            nu: setup.params.nu,
-            duration: 40.0 / setup.params.nu,
-        }],
+    let request = SimulateRequest {
+        protocol: args.protocol.as_deref().map(parse_protocol).transpose()?,
+        perturb: args.perturb,
+        rtol: args.rtol,
+        max_steps: args.max_steps,
+        plot_points: args.plot_points,
     };
-    // The model for the fastest pulling velocity of the protocol.
-    let top = protocol
-        .iter()
-        .map(|seg| seg.nu)
-        .fold(setup.scene_params.nu, f64::max);
-    if args.scene.model.is_none() {
-        let mut at_top = setup.scene_params;
-        at_top.nu = top;
-        setup.choice = choose_model(&at_top, None, args.scene.inertia_threshold);
-        setup.choice.reason = format!(
-            "{} (at the protocol's fastest pulling velocity, {})",
-            setup.choice.reason,
-            match args.units {
-                TextUnits::Physical => format!("{:.4e} µm/s", u.velocity_um_s(top)),
-                TextUnits::Dimensionless => format!("nu = {top:.4e}"),
-            }
-        );
-        setup.params = params_for(setup.choice.kind, &setup.scene_params);
-    }
-    let watch = InertiaWatch::new(
-        &setup.scene_params,
-        args.scene.inertia_threshold,
-        args.scene.model.is_none(),
-    );
-    let nu0 = protocol[0].nu;
-    if nu0 <= 0.0 {
-        return Err(InputError::Conflict(
-            "--protocol must start with a positive velocity (steady sliding)".into(),
-        )
-        .into());
-    }
-    if setup.params.kappa <= 0.0 {
-        return Err(InputError::Conflict(
-            "simulation needs a spring: give K in the scene or --set kappa=...".into(),
-        )
-        .into());
-    }
-    let mut start_params = setup.params;
-    start_params.nu = nu0;
-    let s0 = start_params.friction().steady(nu0);
-    let start = [s0, nu0, (1.0 + args.perturb) / nu0];
+    let plan = Plan::new(&args.scene.spec(), request)?;
+    let (setup, u) = (&plan.setup, plan.setup.scene.units);
+    let time_unit = u.d0 / u.v0;
     args.output.create_dir()?;
-    let stem = super::files::with_suffix(
+    let stem = with_suffix(
         &args
             .output
             .stem(&setup.scene.name, &args.scene, false, OUTPUTS)?,
         "-simulation",
     );
-    let csv_path = super::files::with_suffix(&stem, ".csv");
-    super::interrupt::catch_interrupts();
-    let mut rows = Rows::create(&csv_path, u)?;
-    let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
-    const TICKS: f64 = 10_000.0;
-    let bar = super::interrupt::progress_bar(TICKS as u64, "simulating");
-    let mut envelope = Envelope::new(args.plot_points);
-    let mut csv_buckets = Buckets::new(args.every);
-    let (mut count, mut step_limit) = (0usize, false);
-    let mut last: Option<Sample> = None;
-    let mut write_error = None;
-    // The integrator's own limit well above --max-steps, which the rows
-    // enforce (status 4): the integrator also counts its rejected steps, and
-    // at a limit of --max-steps + 1 it stopped first (status 3, 199 001
-    // steps for 197 146 rows).
-    let options = RunOptions {
-        rtol: args.rtol,
-        max_steps: args.max_steps.saturating_mul(4).saturating_add(1000),
-        watch: Some(&watch),
+    let csv_path = with_suffix(&stem, ".csv");
+    interrupt::catch_interrupts();
+    let mut writer = Writer {
+        rows: Rows::create(&csv_path, u)?,
+        buckets: Buckets::new(args.every),
+        bar: interrupt::progress_bar(TICKS as u64, "simulating"),
+        time_unit,
     };
-    let run = simulate_watched(
-        setup.choice.kind,
-        &setup.params,
-        start,
-        &protocol,
-        None,
-        &options,
-        |p| {
-            if let Err(e) = csv_buckets.push(p, |q| rows.push(q)) {
-                write_error = Some(e);
-                return ControlFlow::Break(());
+    let mut reason = setup.choice.reason.clone();
+    if let Some(top) = plan.chosen_at {
+        reason = format!(
+            "{reason} (at the protocol's fastest pulling velocity, {})",
+            match args.units {
+                TextUnits::Physical => format!("{:.4e} µm/s", u.velocity_um_s(top)),
+                TextUnits::Dimensionless => format!("nu = {top:.4e}"),
             }
-            envelope.push(p);
-            last = Some(*p);
-            count += 1;
-            if count >= args.max_steps {
-                step_limit = true;
-                return ControlFlow::Break(());
-            }
-            if !bar.is_hidden() {
-                bar.set_position((TICKS * p.t / t_end) as u64);
-                bar.set_message(format!(
-                    "t = {:.4e} s of {:.4e} s",
-                    p.t * time_unit,
-                    t_end * time_unit
-                ));
-            }
-            if super::interrupt::interrupted() {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        },
-    );
-    bar.finish_and_clear();
+        );
+    }
+    let mut sim = plan.run(&mut writer);
+    writer.bar.finish_and_clear();
+    let mut rows = writer.rows;
+    let mut write_error = sim.write_error.take();
     if write_error.is_none() {
-        write_error = csv_buckets.finish(|q| rows.push(q)).err();
+        write_error = writer.buckets.finish(|q| rows.push(q)).err();
     }
     rows.flush()?;
-    let stride = envelope.stride();
-    let traj = envelope.into_trajectory();
     if let Some(e) = write_error {
         return Err(e.into());
     }
     // Whatever was computed is kept and drawn, also after Ctrl-C or a failure.
-    let switch = run.as_ref().ok().and_then(|end| end.switch);
-    // A run that did not reach the end of its protocol says so in its figures.
-    let t_reached = traj.t.last().copied().unwrap_or(0.0) * time_unit;
-    let cut = match &run {
-        Ok(end) if end.stopped && step_limit => Some("stopped by --max-steps"),
-        Ok(end) if end.stopped => Some("interrupted"),
-        Ok(_) => None,
-        Err(_) => Some("failed"),
-    };
-    if let Some(why) = cut {
+    let switch = sim.end.as_ref().ok().and_then(|end| end.switch);
+    let (t_reached, t_end) = (sim.t_reached() * time_unit, sim.t_end * time_unit);
+    if let Some(why) = sim.cut() {
         // A script reading the CSV alone learns that it stops short.
         rows.note(&format!(
-            "# incomplete: {why} at t = {t_reached:.6e} s of {:.6e} s",
-            t_end * time_unit
+            "# incomplete: {why} at t = {t_reached:.6e} s of {t_end:.6e} s"
         ))?;
     }
-    let name = match cut {
+    let name = match sim.cut() {
         Some(why) => format!(
-            "{} — {why} at t = {t_reached:.4e} s of {:.4e} s",
-            setup.label,
-            t_end * time_unit
+            "{} — {why} at t = {t_reached:.4e} s of {t_end:.4e} s",
+            sim.setup.label
         ),
-        None => setup.label.clone(),
+        None => sim.setup.label.clone(),
     };
-    let figs = if traj.t.len() >= 2 {
-        figures(&name, &traj, &protocol, &u, &stem, switch.map(|s| s.t))?
+    let figs = if sim.trajectory.t.len() >= 2 {
+        figures(
+            &name,
+            &sim.trajectory,
+            &sim.protocol,
+            &u,
+            &stem,
+            switch.map(|s| s.t),
+        )
+        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?
     } else {
         Vec::new()
     };
     rows.finish()?;
-    // A time `t` (units D0/V0) in the text's units.
-    let time = |t: f64| match args.units {
-        TextUnits::Physical => format!("{:.6e} s", t * time_unit),
-        TextUnits::Dimensionless => format!("{t:.6e} (units D0/V0)"),
-    };
-    println!("model: {}", setup.choice.reason);
-    if let Some(sw) = switch {
-        println!(
-            "switched to the inertial model at t = {}: there inertia would shift ln v by \
-             m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); the rows say which model (column model)",
-            time(sw.t),
-            sw.chi,
-            watch.threshold
-        );
-    }
-    println!(
-        "{count} steps over {}{}",
-        time(traj.t.last().copied().unwrap_or(0.0)),
-        if stride > 1 {
-            format!(" (figures: the extremes of every {stride} steps, --plot-points)")
-        } else {
-            String::new()
-        }
-    );
-    if let (Ok(end), Some(at), Some(seg)) = (&run, last, protocol.last()) {
-        if !end.stopped && !super::interrupt::interrupted() {
-            // The model of the run's last sample (inertial after a switch).
-            let kind = at.model;
-            let mut params = params_for(kind, &setup.scene_params);
-            params.nu = seg.nu;
-            let reached = regime_reached(kind, &params, [at.s, at.v, at.theta]);
-            println!("{}", regime_line(&reached, &u, args.units, seg.nu));
-        }
-    }
-    for f in figs.iter().chain([&csv_path]) {
-        println!("wrote {}", f.display());
-    }
-    match run {
-        Ok(end) if end.stopped && step_limit => Err(Error::Partial(format!(
+    print_text(&sim, &reason, args.units, figs.iter().chain([&csv_path]));
+    let count = sim.steps;
+    match sim.end {
+        Ok(end) if end.stopped && sim.step_limit => Err(Error::Partial(format!(
             "step limit: {} steps (--max-steps) at simulated time t = {:.6e} s of {:.6e} s",
             count,
             end.t * time_unit,
             end.t_end * time_unit,
         ))),
-        Ok(end) if end.stopped => Err(super::interrupt::stopped(format!(
+        Ok(end) if end.stopped => Err(interrupt::stopped(format!(
             "at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
             end.t * time_unit,
             end.t_end * time_unit,
             count
         ))),
         Ok(_) => Ok(()),
-        Err(e) => Err(e.into()),
+        Err(e) => Err(e),
+    }
+}
+
+/// Ticks of the progress bar over the protocol.
+const TICKS: f64 = 10_000.0;
+
+/// The observer of the command line: every step into the CSV (decimated
+/// by --every), the simulated time on the bar, Ctrl-C.
+struct Writer {
+    rows: Rows,
+    buckets: Buckets,
+    bar: ProgressBar,
+    time_unit: f64,
+}
+
+impl Observer for Writer {
+    fn stop(&mut self) -> bool {
+        interrupt::interrupted()
+    }
+
+    fn progress(&mut self, t: f64, t_end: f64) {
+        if !self.bar.is_hidden() {
+            self.bar.set_position((TICKS * t / t_end) as u64);
+            self.bar.set_message(format!(
+                "t = {:.4e} s of {:.4e} s",
+                t * self.time_unit,
+                t_end * self.time_unit
+            ));
+        }
+    }
+
+    fn sample(&mut self, p: &Sample) -> std::io::Result<()> {
+        let rows = &mut self.rows;
+        self.buckets.push(p, |q| rows.push(q))
+    }
+}
+
+/// The text after the run: the model, a switch, the steps, the regime
+/// reached, the files.
+fn print_text<'a>(
+    sim: &Simulation,
+    reason: &str,
+    units: TextUnits,
+    files: impl Iterator<Item = &'a PathBuf>,
+) {
+    let u = &sim.setup.scene.units;
+    let time_unit = u.d0 / u.v0;
+    // A time `t` (units D0/V0) in the text's units.
+    let time = |t: f64| match units {
+        TextUnits::Physical => format!("{:.6e} s", t * time_unit),
+        TextUnits::Dimensionless => format!("{t:.6e} (units D0/V0)"),
+    };
+    println!("model: {reason}");
+    if let Some(sw) = sim.end.as_ref().ok().and_then(|end| end.switch) {
+        println!(
+            "switched to the inertial model at t = {}: there inertia would shift ln v by \
+             m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); the rows say which model (column model)",
+            time(sw.t),
+            sw.chi,
+            sim.threshold
+        );
+    }
+    println!(
+        "{} steps over {}{}",
+        sim.steps,
+        time(sim.t_reached()),
+        if sim.stride > 1 {
+            format!(
+                " (figures: the extremes of every {} steps, --plot-points)",
+                sim.stride
+            )
+        } else {
+            String::new()
+        }
+    );
+    if let (Some(reached), Some(seg)) = (&sim.regime, sim.protocol.last()) {
+        if !interrupt::interrupted() {
+            println!("{}", regime_line(reached, u, units, seg.nu));
+        }
+    }
+    for f in files {
+        println!("wrote {}", f.display());
     }
 }
 
@@ -329,14 +276,14 @@ const OUTPUTS: &[&str] = &[
 /// rows only, and a `# incomplete` line when the run does not finish it
 /// ([`LineFile`](super::files::LineFile)).
 struct Rows {
-    w: super::files::LineFile,
+    w: LineFile,
     units: Units,
     flushed: Instant,
 }
 
 impl Rows {
     fn create(path: &Path, units: Units) -> std::io::Result<Rows> {
-        let mut w = crate::cli::files::create_file(path)?;
+        let mut w = create_file(path)?;
         writeln!(w, "{}", header::<SimulationRow>()?)?;
         w.flush()?;
         Ok(Rows {
@@ -371,126 +318,6 @@ impl Rows {
     fn finish(self) -> std::io::Result<()> {
         self.w.finish()
     }
-}
-
-/// Whether the velocities span more than a log axis can draw (some below
-/// `1e-300` µm/s): the figure then shows `log10 v` on a linear axis.
-fn velocity_beyond_log_axis(traj: &Trajectory, u: &Units) -> bool {
-    traj.log10_v
-        .iter()
-        .any(|l| l + (u.velocity_um_s(1.0)).log10() < -300.0)
-}
-
-/// The pulling velocity of `protocol` over the run's time span `t_last`
-/// (dimensionless): one level per segment, from its start to its end, in
-/// seconds and µm/s.
-fn protocol_levels(protocol: &[Segment], t_last: f64, u: &Units) -> Vec<[(f64, f64); 2]> {
-    let mut out = Vec::new();
-    let mut t = 0.0;
-    for seg in protocol {
-        if t > t_last {
-            break;
-        }
-        let end = (t + seg.duration).min(t_last);
-        let v = u.velocity_um_s(seg.nu);
-        out.push([(t * u.d0 / u.v0, v), (end * u.d0 / u.v0, v)]);
-        t += seg.duration;
-    }
-    out
-}
-
-fn figures(
-    name: &str,
-    traj: &Trajectory,
-    protocol: &[Segment],
-    u: &Units,
-    stem: &std::path::Path,
-    switch: Option<f64>,
-) -> Result<Vec<PathBuf>, Error> {
-    let t: Vec<f64> = traj.t.iter().map(|t| t * u.d0 / u.v0).collect();
-    let line = |y: &[f64], label: &str| Series {
-        label: Some(label.into()),
-        points: t.iter().copied().zip(y.iter().copied()).collect(),
-        color: RGBColor(31, 90, 180),
-        dashed: false,
-        markers: false,
-    };
-    let beyond = velocity_beyond_log_axis(traj, u);
-    let v_um: Vec<f64> = if beyond {
-        let shift = u.velocity_um_s(1.0).log10();
-        traj.log10_v.iter().map(|l| l + shift).collect()
-    } else {
-        traj.v.iter().map(|v| u.velocity_um_s(*v)).collect()
-    };
-    // A vertical dashed line where the run changed to the inertial model.
-    let with_switch = |mut series: Vec<Series>| -> Vec<Series> {
-        if let Some(ts) = switch {
-            let (color, label) = SWITCH_MARKER;
-            series.push(vertical_marker(&series, ts * u.d0 / u.v0, label, color));
-        }
-        series
-    };
-    let mut files = Vec::new();
-    for (suffix, fig) in [
-        (
-            "-spring-force",
-            LineFigure {
-                title: format!("Spring force, {name}"),
-                x_label: "time t [s]".into(),
-                y_label: "spring force s = K(Vt - x)/W".into(),
-                log_x: false,
-                log_y: false,
-                series: with_switch(vec![line(&traj.s, "s(t)")]),
-            },
-        ),
-        (
-            "-velocity",
-            LineFigure {
-                title: if beyond {
-                    format!("Slip velocity, {name} (below 1e-300 µm/s: log10 v on a linear axis)")
-                } else {
-                    format!("Slip velocity, {name}")
-                },
-                x_label: "time t [s]".into(),
-                y_label: if beyond {
-                    "log10 of slip velocity v [µm/s]".into()
-                } else {
-                    "slip velocity v [µm/s]".into()
-                },
-                log_x: false,
-                log_y: !beyond,
-                series: with_switch({
-                    let mut series = vec![line(&v_um, if beyond { "log10 v(t)" } else { "v(t)" })];
-                    // The pulling velocity (a stop, V = 0, has no place on a log axis).
-                    let t_last = traj.t.last().copied().unwrap_or(0.0);
-                    let levels = protocol_levels(protocol, t_last, u)
-                        .into_iter()
-                        .filter(|[(_, v), _]| *v > 0.0);
-                    for (i, level) in levels.enumerate() {
-                        series.push(Series {
-                            label: (i == 0).then(|| "pulling velocity V(t)".into()),
-                            points: level
-                                .iter()
-                                .map(|&(t, v)| (t, if beyond { v.log10() } else { v }))
-                                .collect(),
-                            color: RGBColor(110, 110, 110),
-                            dashed: true,
-                            markers: false,
-                        });
-                    }
-                    series
-                }),
-            },
-        ),
-    ] {
-        let mut s = stem.as_os_str().to_owned();
-        s.push(suffix);
-        files.extend(
-            render(&fig, &PathBuf::from(s))
-                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
-        );
-    }
-    Ok(files)
 }
 
 /// The regime reached at the end of the run, in words and the text's units:

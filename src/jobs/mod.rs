@@ -9,6 +9,7 @@
 pub mod cycle_start;
 pub mod cycles;
 pub mod hopf;
+pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::model_choice::{

@@ -4,6 +4,7 @@
 pub mod colormap;
 pub mod cycles;
 pub mod lines;
+pub mod simulation;
 pub mod stability;
 pub mod ticks;
 

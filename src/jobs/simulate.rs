@@ -1,0 +1,312 @@
+//! The `simulate` job: driven sliding in time under a protocol of pulling
+//! velocities (steady pulling, jumps, stop-and-go), from steady sliding
+//! slightly perturbed; every integrator step handed to an [`Observer`] (the
+//! command line writes them as CSV rows), a trajectory decimated for the
+//! figures kept ([`Envelope`]), and after a complete run the regime it
+//! reaches ([`regime_reached`]).
+
+use super::{SceneSpec, Setup};
+use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
+use crate::analysis::model_choice::{choose_model, params_for};
+use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::analysis::simulate::{
+    regime_reached, simulate_watched, RegimeReached, RunEnd, RunOptions, Sample, Segment,
+    Trajectory,
+};
+use crate::error::{Error, InputError};
+use std::ops::ControlFlow;
+
+/// What `simulate` is asked.
+#[derive(Clone, Debug)]
+pub struct SimulateRequest {
+    /// The protocol as `(V [µm/s], duration [s])` segments; `None`: the
+    /// scene's velocity for `40 D0/V`.
+    pub protocol: Option<Vec<(f64, f64)>>,
+    /// Relative perturbation of the initial age away from steady sliding.
+    pub perturb: f64,
+    /// Integrator relative tolerance.
+    pub rtol: f64,
+    /// Most integrator steps (samples) over the whole protocol.
+    pub max_steps: usize,
+    /// Most points kept for the figures.
+    pub plot_points: usize,
+}
+
+impl Default for SimulateRequest {
+    /// The command's defaults.
+    fn default() -> Self {
+        SimulateRequest {
+            protocol: None,
+            perturb: 1e-2,
+            rtol: 1e-8,
+            max_steps: 200_000,
+            plot_points: 20_000,
+        }
+    }
+}
+
+impl SimulateRequest {
+    /// The request checked, each error naming its option.
+    fn check(&self) -> Result<(), InputError> {
+        if !(self.rtol > 1e-14 && self.rtol < 1e-2) {
+            return Err(InputError::out_of_range(
+                "--rtol",
+                self.rtol,
+                "in (1e-14, 1e-2)",
+            ));
+        }
+        if !(self.perturb.is_finite() && self.perturb.abs() < 1.0) {
+            return Err(InputError::out_of_range(
+                "--perturb",
+                self.perturb,
+                "|perturb| < 1",
+            ));
+        }
+        if self.max_steps < 1 {
+            return Err(InputError::out_of_range(
+                "--max-steps",
+                self.max_steps as f64,
+                ">= 1",
+            ));
+        }
+        if self.plot_points < ENVELOPE_MIN_CAP {
+            return Err(InputError::out_of_range(
+                "--plot-points",
+                self.plot_points as f64,
+                &format!(">= {ENVELOPE_MIN_CAP}"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Receives the run as it goes.
+pub trait Observer {
+    /// Whether to stop here (a signal).
+    fn stop(&mut self) -> bool {
+        false
+    }
+    /// The simulated time reached, of `t_end` (both units `D0/V0`).
+    fn progress(&mut self, _t: f64, _t_end: f64) {}
+    /// Every integrator step; an error (a file that cannot be written)
+    /// stops the run.
+    fn sample(&mut self, _p: &Sample) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// A planned run: the scene set up with the model for the protocol's
+/// fastest pulling velocity, the protocol in docs/model.md's units.
+pub struct Plan {
+    pub setup: Setup,
+    pub protocol: Vec<Segment>,
+    /// The fastest pulling velocity (`nu`) where the model was chosen for
+    /// it (not forced).
+    pub chosen_at: Option<f64>,
+    request: SimulateRequest,
+    watch: InertiaWatch,
+}
+
+impl Plan {
+    /// Sets up `spec` and checks the request.
+    pub fn new(spec: &SceneSpec, request: SimulateRequest) -> Result<Plan, Error> {
+        request.check()?;
+        let mut setup = spec.setup(|p| *p)?;
+        let u = setup.scene.units;
+        let time_unit = u.d0 / u.v0;
+        let protocol = match &request.protocol {
+            Some(segments) => segments
+                .iter()
+                .map(|&(v, t)| {
+                    if !(v.is_finite() && v >= 0.0 && t.is_finite() && t > 0.0) {
+                        return Err(InputError::Malformed {
+                            field: "--protocol".into(),
+                            value: format!("{v}:{t}"),
+                            expected:
+                                "V:T with V >= 0 in um/s and T > 0 in s, e.g. 1:100,10:20,0:300"
+                                    .into(),
+                        });
+                    }
+                    Ok(Segment {
+                        nu: v / (u.v0 * 1e6),
+                        duration: t / time_unit,
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?,
+            None => vec![Segment {
+                nu: setup.params.nu,
+                duration: 40.0 / setup.params.nu,
+            }],
+        };
+        // The model for the fastest pulling velocity of the protocol.
+        let top = protocol
+            .iter()
+            .map(|seg| seg.nu)
+            .fold(setup.scene_params.nu, f64::max);
+        let chosen_at = spec.model.is_none().then_some(top);
+        if chosen_at.is_some() {
+            let mut at_top = setup.scene_params;
+            at_top.nu = top;
+            setup.choice = choose_model(&at_top, None, spec.inertia_threshold);
+            setup.params = params_for(setup.choice.kind, &setup.scene_params);
+        }
+        let watch = InertiaWatch::new(
+            &setup.scene_params,
+            spec.inertia_threshold,
+            spec.model.is_none(),
+        );
+        if protocol.first().is_none_or(|s| s.nu <= 0.0) {
+            return Err(InputError::Conflict(
+                "--protocol must start with a positive velocity (steady sliding)".into(),
+            )
+            .into());
+        }
+        if setup.params.kappa <= 0.0 {
+            return Err(InputError::Conflict(
+                "simulation needs a spring: give K in the scene or --set kappa=...".into(),
+            )
+            .into());
+        }
+        Ok(Plan {
+            setup,
+            protocol,
+            chosen_at,
+            request,
+            watch,
+        })
+    }
+
+    /// The end of the protocol (units `D0/V0`).
+    pub fn t_end(&self) -> f64 {
+        self.protocol.iter().map(|seg| seg.duration).sum()
+    }
+
+    /// Integrates the protocol from steady sliding at its first velocity
+    /// with the age perturbed; stops at `--max-steps` samples, at an
+    /// error of the observer, or when it says so; then, after a complete
+    /// run, follows the last state until it settles ([`regime_reached`]).
+    pub fn run(self, observer: &mut dyn Observer) -> Simulation {
+        let Plan {
+            setup,
+            protocol,
+            request,
+            watch,
+            ..
+        } = self;
+        let nu0 = protocol[0].nu;
+        let mut start_params = setup.params;
+        start_params.nu = nu0;
+        let s0 = start_params.friction().steady(nu0);
+        let start = [s0, nu0, (1.0 + request.perturb) / nu0];
+        let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
+        let mut envelope = Envelope::new(request.plot_points);
+        let (mut steps, mut step_limit, mut interrupted) = (0usize, false, false);
+        let mut last: Option<Sample> = None;
+        let mut write_error = None;
+        // The integrator's own limit well above max_steps, which the samples
+        // enforce (partial): the integrator also counts its rejected steps,
+        // and at a limit of max_steps + 1 it stopped first (a failure, 199 001
+        // steps for 197 146 samples).
+        let options = RunOptions {
+            rtol: request.rtol,
+            max_steps: request.max_steps.saturating_mul(4).saturating_add(1000),
+            watch: Some(&watch),
+        };
+        let end = simulate_watched(
+            setup.choice.kind,
+            &setup.params,
+            start,
+            &protocol,
+            None,
+            &options,
+            |p| {
+                if let Err(e) = observer.sample(p) {
+                    write_error = Some(e);
+                    return ControlFlow::Break(());
+                }
+                envelope.push(p);
+                last = Some(*p);
+                steps += 1;
+                if steps >= request.max_steps {
+                    step_limit = true;
+                    return ControlFlow::Break(());
+                }
+                observer.progress(p.t, t_end);
+                if observer.stop() {
+                    interrupted = true;
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            },
+        );
+        let stride = envelope.stride();
+        let regime = match (&end, last, protocol.last()) {
+            (Ok(e), Some(at), Some(seg)) if !e.stopped => {
+                // The model of the run's last sample (inertial after a switch).
+                let kind = at.model;
+                let mut params = params_for(kind, &setup.scene_params);
+                params.nu = seg.nu;
+                Some(regime_reached(kind, &params, [at.s, at.v, at.theta]))
+            }
+            _ => None,
+        };
+        Simulation {
+            setup,
+            protocol,
+            trajectory: envelope.into_trajectory(),
+            stride,
+            steps,
+            t_end,
+            end: end.map_err(Error::from),
+            step_limit,
+            interrupted,
+            write_error,
+            regime,
+            threshold: watch.threshold,
+        }
+    }
+}
+
+/// A run: what was computed, how far and how it ended.
+pub struct Simulation {
+    pub setup: Setup,
+    pub protocol: Vec<Segment>,
+    /// The samples kept for the figures (every step up to the cap, then
+    /// the extremes of every `stride` steps).
+    pub trajectory: Trajectory,
+    pub stride: usize,
+    /// Integrator steps taken (samples handed to the observer).
+    pub steps: usize,
+    /// The end of the protocol (units `D0/V0`).
+    pub t_end: f64,
+    /// How the integration ended.
+    pub end: Result<RunEnd, Error>,
+    /// Stopped at `max_steps`.
+    pub step_limit: bool,
+    /// Stopped by the observer.
+    pub interrupted: bool,
+    /// The observer's error, which stopped the run.
+    pub write_error: Option<std::io::Error>,
+    /// The regime reached after a complete run.
+    pub regime: Option<RegimeReached>,
+    /// The inertia threshold of a switch to the inertial model.
+    pub threshold: f64,
+}
+
+impl Simulation {
+    /// Why the run stopped short of the end of its protocol, if it did.
+    pub fn cut(&self) -> Option<&'static str> {
+        match &self.end {
+            Ok(end) if end.stopped && self.step_limit => Some("stopped by --max-steps"),
+            Ok(end) if end.stopped => Some("interrupted"),
+            Ok(_) => None,
+            Err(_) => Some("failed"),
+        }
+    }
+
+    /// The simulated time reached (units `D0/V0`).
+    pub fn t_reached(&self) -> f64 {
+        self.trajectory.t.last().copied().unwrap_or(0.0)
+    }
+}
