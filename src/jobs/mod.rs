@@ -6,6 +6,7 @@
 //! with the model decision that every command shares
 //! ([`onset_with_degeneracy_resolved`]).
 
+pub mod branch;
 pub mod cycle_start;
 pub mod cycles;
 pub mod hopf;
