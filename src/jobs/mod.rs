@@ -9,6 +9,7 @@
 pub mod branch;
 pub mod cycle_start;
 pub mod cycles;
+pub mod cycles_in;
 pub mod hopf;
 pub mod simulate;
 

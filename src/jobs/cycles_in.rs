@@ -1,0 +1,343 @@
+//! The `cycles --param P` job: the cycle branch in a control parameter other
+//! than the stiffness ([`cycles_in`]), from the Hopf point in that
+//! parameter or from a simulated orbit at the scene's value; each cycle
+//! handed to an [`Observer`] ([`super::cycles::Observer`]) with the control
+//! in its unit; the result ([`CyclesInControl`]) is the command's JSON.
+
+use super::cycles::{Observer, UnitsRecord};
+use super::{SceneSpec, Setup};
+use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest, CyclesStart};
+use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
+use crate::analysis::model_choice::params_for;
+use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::error::Error;
+use crate::params::Param;
+use crate::records::branch::ParamValue;
+use crate::records::cycle::{Cycle, CycleSpecialPoint, LegStop};
+use crate::records::hopf::Critical;
+use crate::records::params_json;
+use crate::scene::Units;
+use continuation::periodic::mesh::CollocationPoints;
+use serde::Serialize;
+use serde_json::Value;
+
+/// What `cycles --param P --to VALUE` is asked.
+#[derive(Clone, Debug)]
+pub struct CyclesInControlRequest {
+    /// The control parameter (not the stiffness).
+    pub control: Control,
+    /// Where the branch ends, in the control's unit.
+    pub to: f64,
+    /// Where the Hopf point in the control is searched, in its unit.
+    pub search: Option<(f64, f64)>,
+    /// Values of the control at which cycles are located exactly.
+    pub at: Vec<f64>,
+    pub from_simulation: bool,
+    pub max_steps: usize,
+    pub ntst: usize,
+    pub ntst_max: usize,
+    pub collocation: Option<CollocationPoints>,
+}
+
+/// A planned branch: the scene set up with the model judged over the
+/// range, the request in the continued parameter.
+pub struct Plan {
+    pub setup: Setup,
+    pub control: Control,
+    /// The dimensionless parameter continued.
+    pub param: Param,
+    request: CyclesInRequest,
+    watch: InertiaWatch,
+}
+
+impl Plan {
+    /// Sets up `spec`, judges the model over the search range and `to`
+    /// (where the inertia ratio is largest; the Hopf point lies in the
+    /// search range).
+    pub fn new(spec: &SceneSpec, r: &CyclesInControlRequest) -> Result<Plan, Error> {
+        let control = r.control;
+        let mut setup = spec.setup(|p| *p)?;
+        let (units, scene_params) = (setup.scene.units, setup.scene_params);
+        let param = control.continued(&units)?;
+        let judged = r
+            .search
+            .or_else(|| control.default_range(&units, &scene_params, setup.scene.nu_range))
+            .map_or((r.to, r.to), |(lo, hi)| (lo.min(r.to), hi.max(r.to)));
+        setup.choice = choose_along(
+            control,
+            &units,
+            &scene_params,
+            Some(judged).filter(|(lo, _)| *lo > 0.0),
+            spec.model,
+            spec.inertia_threshold,
+        );
+        setup.params = params_for(setup.choice.kind, &scene_params);
+        let request = CyclesInRequest {
+            control,
+            to: r.to,
+            search: r.search,
+            nu_range: setup.scene.nu_range,
+            at: r.at.clone(),
+            from_simulation: r.from_simulation,
+            cycles: CycleRequest {
+                kappa_min: 0.0,
+                kappa_max: 0.0,
+                max_steps: r.max_steps,
+                ntst: r.ntst,
+                at_kappa: Vec::new(),
+                ntst_max: r.ntst_max,
+                collocation: r.collocation,
+            },
+        };
+        let watch = InertiaWatch::new(&scene_params, spec.inertia_threshold, spec.model.is_none());
+        Ok(Plan {
+            setup,
+            control,
+            param,
+            request,
+            watch,
+        })
+    }
+
+    /// The record of the CSV header: the columns of the continued parameter
+    /// and of the control in its unit.
+    pub fn header_record(&self) -> Cycle {
+        Cycle {
+            continued: (!matches!(self.param, Param::Kappa | Param::M)).then_some(ParamValue {
+                name: self.param.name(),
+                value: 0.0,
+            }),
+            control: control_column(self.control).map(|name| ParamValue { name, value: 0.0 }),
+            ..Cycle::default()
+        }
+    }
+
+    /// The control's axis: its value on a cycle.
+    pub fn axis(&self) -> Axis {
+        Axis {
+            control: self.control,
+            param: self.param,
+            units: self.setup.scene.units,
+            params: self.setup.scene_params,
+        }
+    }
+
+    /// Traces the branch, handing each cycle to `observer`. `Err` when no
+    /// branch started (nothing computed).
+    pub fn run(self, observer: &mut dyn Observer) -> Result<CyclesInControl, Error> {
+        let Plan {
+            setup,
+            control,
+            param,
+            request,
+            watch,
+        } = self;
+        let (units, scene_params) = (setup.scene.units, setup.scene_params);
+        let kind = setup.choice.kind;
+        let mut cycles: Vec<Cycle> = Vec::new();
+        let mut records: Vec<CycleRecord> = Vec::new();
+        let mut specials: Vec<CycleSpecialPoint> = Vec::new();
+        let traced = cycles_in(kind, &scene_params, &units, &request, &watch, |c| {
+            let at = || format!("after {} cycles", records.len());
+            if let Some(e) = observer.stop(&at) {
+                return Err(e);
+            }
+            for rec in c.user.iter().chain([c]) {
+                let d = record_of(rec, control, param, &setup);
+                let found: Vec<CycleSpecialPoint> = rec
+                    .special_points()
+                    .map(|(kind, l)| CycleSpecialPoint {
+                        kind,
+                        cycle: record_of(l, control, param, &setup),
+                    })
+                    .collect();
+                observer.cycle(&d, &found)?;
+                specials.extend(found);
+                cycles.push(d);
+                records.push(rec.clone());
+            }
+            Ok(())
+        })?;
+        let leg_stops: Vec<LegStop> = traced
+            .legs
+            .iter()
+            .map(|(leg, o)| LegStop::new(Some(*leg), o, request.cycles.max_steps))
+            .collect();
+        let value_of = |x: f64| control.from_dimensionless(&units, &scene_params, x);
+        let delivered = traced.delivered(&records);
+        let mut stop: Vec<String> = leg_stops
+            .iter()
+            .map(|l| match l.leg {
+                Some(Leg::Up) => format!("toward larger {}: {}", param.name(), l.message),
+                Some(Leg::Down) => format!("toward smaller {}: {}", param.name(), l.message),
+                _ => l.message.clone(),
+            })
+            .collect();
+        let missing = delivered.iter().filter(|d| !**d).count();
+        if missing > 0 {
+            stop.push(format!(
+                "{missing} of the {} requested values not delivered: no cycle of the branch there \
+                 (it spans {} = {:.6e} .. {:.6e} {}; none may exist at the others)",
+                request.at.len(),
+                control.name(),
+                value_of(traced.bounds.0).min(value_of(traced.bounds.1)),
+                value_of(traced.bounds.0).max(value_of(traced.bounds.1)),
+                control.unit()
+            ));
+        }
+        let complete = leg_stops.iter().all(LegStop::complete) && missing == 0;
+        let (start, critical) = match &traced.start {
+            CyclesStart::Hopf(o) => {
+                let scene_value = control.value(&units, &scene_params);
+                ("hopf", Some(Critical::new(o, scene_value)))
+            }
+            CyclesStart::Simulation => ("simulation", None),
+        };
+        let unit = control.unit();
+        Ok(CyclesInControl {
+            scene: setup.scene.name.clone(),
+            model: kind,
+            model_reason: setup.choice.reason.clone(),
+            params: params_json(&setup.params),
+            control: ControlEnd {
+                param: control.name(),
+                unit,
+                to: request.to,
+                continued: param.name(),
+            },
+            start,
+            critical,
+            units: UnitsRecord::of(&units),
+            cycles,
+            special_points: specials,
+            requested_points: request
+                .at
+                .iter()
+                .zip(&delivered)
+                .map(|(&value, &delivered)| RequestedValue {
+                    value,
+                    unit,
+                    delivered,
+                })
+                .collect(),
+            complete,
+            stop: stop.join("; "),
+            leg_stops,
+            files: Vec::new(),
+            failure: traced.legs.into_iter().find_map(|(_, o)| o.err()),
+            setup,
+        })
+    }
+}
+
+/// The control of a branch and the scene it moves.
+#[derive(Clone, Copy, Debug)]
+pub struct Axis {
+    pub control: Control,
+    /// The dimensionless parameter continued.
+    pub param: Param,
+    units: Units,
+    params: crate::params::Params,
+}
+
+impl Axis {
+    /// The control's value (its unit) on the cycle `c`.
+    pub fn value_of(&self, c: &Cycle) -> f64 {
+        let x = match (self.param, &c.continued) {
+            (Param::Kappa, _) => c.kappa,
+            (Param::M, _) => c.m,
+            (_, Some(v)) => v.value,
+            (_, None) => f64::NAN,
+        };
+        self.control
+            .from_dimensionless(&self.units, &self.params, x)
+    }
+}
+
+/// The control of the branch (JSON `control`).
+#[derive(Clone, Debug, Serialize)]
+pub struct ControlEnd {
+    pub param: &'static str,
+    pub unit: &'static str,
+    /// Where the branch ends, in `unit`.
+    pub to: f64,
+    /// The dimensionless parameter continued.
+    pub continued: &'static str,
+}
+
+/// A value of the control asked for (JSON `requested_points`).
+#[derive(Clone, Debug, Serialize)]
+pub struct RequestedValue {
+    pub value: f64,
+    pub unit: &'static str,
+    pub delivered: bool,
+}
+
+/// The branch in a control parameter: its JSON and the setup.
+#[derive(Serialize)]
+pub struct CyclesInControl {
+    pub scene: String,
+    pub model: crate::model::ModelKind,
+    pub model_reason: String,
+    pub params: Value,
+    pub control: ControlEnd,
+    /// `hopf` or `simulation`.
+    pub start: &'static str,
+    /// The Hopf point in the control, where the branch started there.
+    pub critical: Option<Critical>,
+    pub units: UnitsRecord,
+    pub cycles: Vec<Cycle>,
+    pub special_points: Vec<CycleSpecialPoint>,
+    pub requested_points: Vec<RequestedValue>,
+    pub complete: bool,
+    pub stop: String,
+    pub leg_stops: Vec<LegStop>,
+    /// The files written (by the command line).
+    pub files: Vec<String>,
+    #[serde(skip)]
+    pub failure: Option<Error>,
+    #[serde(skip)]
+    pub setup: Setup,
+}
+
+impl CyclesInControl {
+    /// The run's answer as an exit status, as for [`super::cycles::Cycles::status`].
+    pub fn status(&mut self) -> Result<(), Error> {
+        match self.failure.take() {
+            Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
+            Some(e) if self.cycles.is_empty() => Err(e),
+            _ if !self.complete => Err(Error::Partial(format!(
+                "{} cycles written; stopped: {}",
+                self.cycles.len(),
+                self.stop
+            ))),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The CSV column of the control in its unit, where no other column gives it.
+fn control_column(control: Control) -> Option<&'static str> {
+    match control {
+        Control::V => Some("V_um_per_s"),
+        Control::M => Some("M_kg"),
+        Control::W => Some("W_N"),
+        Control::Tau => Some("tau_s"),
+        Control::K | Control::Dimensionless(_) => None,
+    }
+}
+
+/// The cycle `c` as a record, in the units at its value of the control.
+fn record_of(c: &CycleRecord, control: Control, param: Param, setup: &Setup) -> Cycle {
+    let (units, params) = (&setup.scene.units, &setup.scene_params);
+    let x = c.params[param as usize];
+    let value = control.from_dimensionless(units, params, x);
+    let at: Units = control.at(units, params, value).1;
+    let mut d = Cycle::new(c, &at);
+    d.continued = (!matches!(param, Param::Kappa | Param::M)).then_some(ParamValue {
+        name: param.name(),
+        value: x,
+    });
+    d.control = control_column(control).map(|name| ParamValue { name, value });
+    d
+}
