@@ -368,6 +368,7 @@ fn diagram(curve: &[(f64, f64, Criticality)], x_range: (f64, f64)) -> StabilityF
         bistable: Vec::new(),
         x_range,
         notes: Vec::new(),
+        stable_above: true,
     }
 }
 

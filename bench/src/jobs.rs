@@ -105,7 +105,7 @@ enum Work {
     /// The `diagram` command end to end (figures, CSV, JSON written), its
     /// standard output discarded.
     Diagram {
-        args: DiagramArgs,
+        args: Box<DiagramArgs>,
         /// File-name stems of the scenes (their `name`), to count points.
         stems: Vec<String>,
         _dir: TempDir,
@@ -337,7 +337,7 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
         .map(|s| stickslip::scene::load(s).map(|sc| sc.name))
         .collect::<Result<_, _>>()?;
     Ok(Work::Diagram {
-        args: DiagramArgs {
+        args: Box::new(DiagramArgs {
             scene: scene_args(scenes, &[]),
             nu_range: None,
             output: OutputArgs {
@@ -349,7 +349,8 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
             units: TextUnits::Physical,
             json: false,
             max_steps: stickslip::analysis::diagram::DEFAULT_CURVE_STEPS,
-        },
+            axes: Default::default(),
+        }),
         stems,
         _dir: dir,
     })

@@ -191,6 +191,20 @@ impl Control {
         }
     }
 
+    /// How it moves the dimensionless parameters, as powers: each `(q, e)`
+    /// says `q ∝ control^e` with everything else fixed (`W` moves `kappa`
+    /// and `m` both as `1/W`; `M` with `W = M g` moves `kappa` as `1/M`).
+    /// Every path is a monomial, so a pair of controls is a linear map in
+    /// logarithms (`analysis::axes`).
+    pub fn powers(self, units: &Units) -> Vec<(Param, f64)> {
+        match self.path(units) {
+            Path::Stiffness => vec![(Param::Kappa, 1.0)],
+            Path::InverseStiffness => vec![(Param::Kappa, -1.0)],
+            Path::Index { param, .. } => vec![(param, 1.0)],
+            Path::Load => vec![(Param::Kappa, -1.0), (Param::M, -1.0)],
+        }
+    }
+
     fn path(self, units: &Units) -> Path {
         let index = |param, scale| Path::Index { param, scale };
         match self {

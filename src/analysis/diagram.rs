@@ -419,7 +419,7 @@ fn with_fold_curves<F: Wrap>(
 /// recomputed by [`resolved_normal_form`] (double-double where that
 /// resolves it), so that a curve point is never called degenerate where
 /// `hopf` at the same parameters resolves the sign.
-fn curve_l1<S: VectorField>(
+pub(crate) fn curve_l1<S: VectorField>(
     block: &S,
     kind: ModelKind,
     p: &Params,

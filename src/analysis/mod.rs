@@ -1,6 +1,7 @@
 //! Analyses a user runs: model choice, the Hopf (stick-slip onset) point,
 //! branches of steady sliding.
 
+pub mod axes;
 pub mod branch;
 pub mod control;
 pub mod cycles;

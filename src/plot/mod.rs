@@ -1,6 +1,7 @@
 //! Figures: PNG and SVG via plotters, with a bundled font (DejaVu Sans) so
 //! text renders on a machine without fontconfig.
 
+pub mod axes;
 pub mod colormap;
 pub mod cycles;
 pub mod lines;

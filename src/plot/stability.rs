@@ -50,6 +50,9 @@ pub struct StabilityFigure {
     /// Text written in the plot (e.g. "velocity strengthening: stable for
     /// every stiffness" where there is no Hopf curve).
     pub notes: Vec<Note>,
+    /// Whether steady sliding is stable above the curve (larger y): the
+    /// stiffness, and most controls; below it for e.g. the mass at `W = M g`.
+    pub stable_above: bool,
 }
 
 /// The operating point in a figure: its legend label, its place `(x, y)`
@@ -519,7 +522,7 @@ fn draw<DB: DrawingBackend>(
         &curves,
         label_size(stable, plot_px),
         &[0.5, 0.3, 0.7, 0.2, 0.8, 0.15, 0.85],
-        true,
+        fig.stable_above,
     );
     chart
         .draw_series([Text::new(stable, at(spot), centred.clone())])
@@ -530,7 +533,7 @@ fn draw<DB: DrawingBackend>(
             &curves,
             label_size(unstable, plot_px),
             &[0.15, 0.3, 0.5, 0.7, 0.85],
-            false,
+            !fig.stable_above,
         );
         chart
             .draw_series([Text::new(unstable, at(spot), centred)])
@@ -805,6 +808,7 @@ mod tests {
             unknown: Vec::new(),
             x_range: (0.1, 100.0),
             notes: Vec::new(),
+            stable_above: true,
         }
     }
 

@@ -174,6 +174,7 @@ pub(super) fn write_figures(
             unknown: d.lpc.gaps.iter().map(|&(a, b)| (fx(a), fx(b))).collect(),
             x_range: (fx(lo), fx(hi)),
             notes: strengthening_notes(d, &fx, &x_span),
+            stable_above: true,
         };
         files.extend(
             render(&fig, &with_suffix(stem, suffix))

@@ -2,6 +2,7 @@
 //! (in parallel), as figures (PNG, SVG), CSV and JSON. Each scene's files and
 //! summary are written as it finishes; Ctrl-C skips the scenes not started.
 
+pub mod axes;
 mod figures;
 
 use super::files::with_suffix;
@@ -46,6 +47,9 @@ pub struct DiagramArgs {
     /// is kept and the command exits with status 4 (partial).
     #[arg(long, default_value_t = DEFAULT_CURVE_STEPS)]
     pub max_steps: usize,
+    /// `--x P --y Q`: the diagram in a pair of control parameters.
+    #[command(flatten)]
+    pub axes: axes::AxesArgs,
 }
 
 fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
@@ -111,6 +115,9 @@ const OUTPUTS: &[&str] = &[
 /// Runs the command with the models built through `fields` (the benchmark
 /// counts their evaluations).
 pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
+    if let Some(pair) = args.axes.parse()? {
+        return axes::run(args, pair);
+    }
     // Each scene once (the same scene twice would write the same files concurrently).
     let mut names: Vec<&str> = Vec::new();
     for name in args
