@@ -10,6 +10,7 @@ pub mod branch;
 pub mod cycle_start;
 pub mod cycles;
 pub mod cycles_in;
+pub mod diagram;
 pub mod hopf;
 pub mod simulate;
 

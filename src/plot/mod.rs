@@ -4,6 +4,7 @@
 pub mod axes;
 pub mod colormap;
 pub mod cycles;
+pub mod diagram;
 pub mod lines;
 pub mod simulation;
 pub mod stability;

@@ -3,26 +3,22 @@
 //! summary are written as it finishes; Ctrl-C skips the scenes not started.
 
 pub mod axes;
-mod figures;
 
-use super::files::with_suffix;
-use super::files::OutputArgs;
+use super::files::{with_suffix, OutputArgs};
 use super::lpc_output::{lpc_summary, write_lpc_csv};
-use super::{params_json, significant, SceneArgs, Setup, TextUnits};
-use crate::analysis::diagram::{
-    stability_diagram_deciding, CurveEnd, SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS,
-};
-use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
-use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Regime, StabilityAt};
-use crate::error::{Error, InputError, NumericalError};
+use super::{significant, SceneArgs, Setup, TextUnits};
+use crate::analysis::diagram::{SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS};
+use crate::analysis::hopf::Criticality;
+use crate::error::{Error, InputError};
+use crate::jobs::diagram::{onset_type, Diagram, DiagramRequest};
+use crate::jobs::{self, SceneSpec};
+use crate::plot::diagram::write_figures;
 use crate::records::csv::{header, row};
 use crate::records::diagram::{DiagramRecords, HopfCurvePoint};
 use clap::Args;
 use continuation::{AsIs, Wrap};
-use figures::write_figures;
 use rayon::prelude::*;
-use serde::Serialize;
-use serde_json::{json, Value};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -81,21 +77,6 @@ fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
     Ok((lo, hi))
 }
 
-/// One scene's result.
-struct SceneResult {
-    /// The scene's own stiffness against the diagram, when it gives one.
-    operating: Option<OperatingPoint>,
-    setup: Setup,
-    range: (f64, f64),
-    diagram: StabilityDiagram,
-    /// The diagram's records, for its CSV, JSON and text.
-    records: DiagramRecords,
-    files: Vec<PathBuf>,
-    seconds: f64,
-    /// `--max-steps`, to name it in the stop reason.
-    max_steps: usize,
-}
-
 /// Runs the command.
 pub fn run(args: &DiagramArgs) -> Result<(), Error> {
     run_with(args, &AsIs)
@@ -145,7 +126,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
     let finished = std::sync::atomic::AtomicUsize::new(0);
     // A scene not started when Ctrl-C comes is skipped (None); each finished
     // scene's summary is printed at once (not with --json).
-    let results: Vec<Option<Result<SceneResult, Error>>> = names
+    let results: Vec<Option<Result<Diagram, Error>>> = names
         .par_iter()
         .map(|name| {
             if super::interrupt::interrupted() {
@@ -185,7 +166,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
                     results_partial.push(format!(
                         "scene {}: ended at {} (V = {} µm/s)",
                         r.setup.scene.name,
-                        stop_text(&r),
+                        r.stop_text(),
                         r.records
                             .curve
                             .last()
@@ -193,7 +174,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
                     ));
                 }
                 if args.json {
-                    json_out.push(to_json(&r));
+                    json_out.push(r.to_json());
                 }
                 completed.push(*name);
             }
@@ -243,74 +224,37 @@ fn one_scene<F: Wrap>(
     name: &str,
     range: Option<(f64, f64)>,
     several: bool,
-) -> Result<SceneResult, Error> {
+) -> Result<Diagram, Error> {
     let t0 = Instant::now();
-    let scene_args = SceneArgs {
+    let spec = SceneSpec {
         scene: name.to_string(),
-        ..args.scene.clone()
+        ..args.scene.spec()
     };
-    let scene = crate::scene::load(name)?;
-    let (lo, hi) = range.unwrap_or(scene.nu_range);
-    // Inertia grows with nu^2: the model is chosen at the top of the range.
-    let setup = scene_args.setup(|p| {
-        let mut q = *p;
-        q.nu = hi;
-        q
-    })?;
-    let stem = args
-        .output
-        .stem(&setup.scene.name, &args.scene, several, OUTPUTS)?;
-    let mut setup = setup;
-    // Where dropping the scene's inertia changes the onset type anywhere on
-    // the curve, the inertia decides, as `hopf` and `cycles` decide at one point.
-    let (diagram, decided) = stability_diagram_deciding(
-        fields,
-        &setup.choice,
-        args.scene.model.is_some(),
-        &setup.scene_params,
-        (lo, hi),
-        args.max_steps,
-    )?;
-    if let Some(choice) = decided {
-        setup.choice = choice;
-        setup.params = setup.scene_params;
-    }
-    if diagram.points.iter().any(|p| {
-        !(p.kappa.is_finite() && p.nu.is_finite() && p.omega.is_finite() && p.l1.is_finite())
-    }) {
-        return Err(NumericalError::Analysis(format!(
-            "the Hopf curve of scene '{name}' has non-finite values"
-        ))
-        .into());
-    }
-    let records = DiagramRecords::new(&diagram, &setup.params, &setup.scene.units);
-    let given = setup.stiffness_given();
-    let operating = given
-        .then(|| OperatingPoint::new(&setup, &diagram, (lo, hi)))
-        .transpose()?;
-    let mut files = write_csv(&setup, &diagram, &records, &stem)?;
-    files.extend(write_figures(
-        &setup,
-        &diagram,
-        (lo, hi),
-        operating.as_ref(),
-        &stem,
-    )?);
-    let mut result = SceneResult {
-        operating,
-        setup,
-        range: (lo, hi),
-        diagram,
-        records,
-        files,
-        seconds: 0.0,
+    let request = DiagramRequest {
+        nu_range: range,
         max_steps: args.max_steps,
     };
+    let mut result = jobs::diagram::run_with(fields, &spec, &request)?;
+    let stem = args
+        .output
+        .stem(&result.setup.scene.name, &args.scene, several, OUTPUTS)?;
+    let mut files = write_csv(&result.setup, &result.diagram, &result.records, &stem)?;
+    files.extend(
+        write_figures(
+            &result.setup,
+            &result.diagram,
+            result.range,
+            result.operating.as_ref(),
+            &stem,
+        )
+        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
+    );
+    result.files = files;
     let json_path = with_suffix(&stem, "-diagram.json");
     result.seconds = t0.elapsed().as_secs_f64();
     crate::cli::files::write(
         &json_path,
-        serde_json::to_string_pretty(&to_json(&result)).map_err(std::io::Error::other)?,
+        serde_json::to_string_pretty(&result.to_json()).map_err(std::io::Error::other)?,
     )?;
     result.files.push(json_path);
     Ok(result)
@@ -349,159 +293,6 @@ fn write_csv(
     Ok(files)
 }
 
-fn to_json(r: &SceneResult) -> Value {
-    let records = &r.records;
-    let mut out = json!({
-        "scene": r.setup.scene.name,
-        "model": r.setup.choice.kind,
-        "model_reason": r.setup.choice.reason,
-        "params": params_json(&r.setup.params),
-        "nu_range": [r.range.0, r.range.1],
-        "hopf_curve": records.curve,
-        "special_points": records.special,
-        // Partial (status 4) also where the fold-of-cycles curve is.
-        "complete": r.diagram.complete && !r.diagram.lpc.incomplete,
-        "stop": stop_text(r),
-        "stop_reason": r.diagram.stop,
-        "lpc_curve": records.folds,
-        "lpc_stops": r.diagram.lpc.stops,
-        "lpc_complete": !r.diagram.lpc.incomplete,
-        "lpc_gaps": records.fold_gaps,
-        "files": r.files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
-        "elapsed_s": r.seconds,
-        "velocity_strengthening": records.strengthening,
-        "onset_type": onset_type(records).map(Criticality::name).unwrap_or("mixed"),
-    });
-    // Only where the scene gives a stiffness (the diagram's JSON writes no null).
-    if let Some(op) = &r.operating {
-        out["operating_point"] = json!(op);
-    }
-    if let Some(why) = &r.diagram.reason {
-        out["reason"] = json!(why);
-    }
-    out
-}
-
-/// The scene's own stiffness and velocity against the diagram (JSON
-/// `operating_point`): the onset at the scene's velocity located exactly
-/// (as `hopf` does, with the model the diagram decided) and, where it is
-/// subcritical, the fold of cycles read off the diagram's traced curves
-/// ([`operating_point::judge`]).
-#[derive(Clone, Debug, Serialize)]
-pub struct OperatingPoint {
-    #[serde(rename = "K_N_per_m")]
-    pub k_n_per_m: f64,
-    pub kappa: f64,
-    #[serde(rename = "V_um_per_s")]
-    pub v_um_per_s: f64,
-    pub nu: f64,
-    pub regime: Regime,
-    /// `(K - K_c) / K_c` at the scene's velocity; absent without an onset.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub margin: Option<f64>,
-    /// `kappa_c` at the scene's velocity (and `K_c`); absent without an onset.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub kappa_c: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[serde(rename = "K_c_N_per_m")]
-    pub k_c_n_per_m: Option<f64>,
-    /// The fold of cycles at the scene's velocity, where a traced curve spans
-    /// it, and the bound on the error of reading it off that curve.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub kappa_fold: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub kappa_fold_error: Option<f64>,
-    /// Whether the scene's velocity lies in the diagram's range (the point is drawn).
-    pub in_range: bool,
-    pub reason: String,
-}
-
-impl OperatingPoint {
-    fn new(setup: &Setup, d: &StabilityDiagram, (lo, hi): (f64, f64)) -> Result<Self, Error> {
-        let p = setup.params;
-        let u = &setup.scene.units;
-        let kappa = setup.scene_params.kappa;
-        let mut op = OperatingPoint {
-            k_n_per_m: u.stiffness(kappa),
-            kappa,
-            v_um_per_s: u.velocity_um_s(p.nu),
-            nu: p.nu,
-            regime: Regime::Undecided,
-            margin: None,
-            kappa_c: None,
-            k_c_n_per_m: None,
-            kappa_fold: None,
-            kappa_fold_error: None,
-            in_range: lo <= p.nu && p.nu <= hi,
-            reason: String::new(),
-        };
-        if kappa == 0.0 {
-            op.reason = "K = 0: no spring, hence no steady sliding driven through it".into();
-            return Ok(op);
-        }
-        let fold = fold_at(&d.lpc.points, p.nu);
-        op.kappa_fold = fold.map(|f| f.kappa);
-        op.kappa_fold_error = fold.map(|f| f.error);
-        let HopfOutcome::Found(h) = find_hopf(setup.choice.kind, &p)? else {
-            (op.regime, op.reason) = judge_without_onset(kappa, fold);
-            op.reason = op.with_range_note(op.reason.clone());
-            return Ok(op);
-        };
-        let onset = StabilityAt::located(
-            setup.choice.kind,
-            &setup.scene_params,
-            &p,
-            (h.kappa_c, h.onset.criticality),
-            Some(fold),
-        );
-        let (regime, margin, reason) = judge(kappa, &onset);
-        op.regime = regime;
-        op.margin = Some(margin);
-        op.kappa_c = Some(h.kappa_c);
-        op.k_c_n_per_m = Some(u.stiffness(h.kappa_c));
-        op.reason = op.with_range_note(reason);
-        Ok(op)
-    }
-
-    /// `reason`, noting when the scene's velocity lies outside the range.
-    fn with_range_note(&self, reason: String) -> String {
-        if self.in_range {
-            reason
-        } else {
-            format!("{reason} (the scene's velocity lies outside the diagram's range: not drawn)")
-        }
-    }
-
-    /// The text line: where the rig is, and why.
-    fn line(&self) -> String {
-        let at = match (self.kappa_c, self.k_c_n_per_m) {
-            (Some(kc), Some(k)) => {
-                format!(", where K_c = {} N/m (kappa_c = {kc:.6e})", significant(k))
-            }
-            _ => String::new(),
-        };
-        format!(
-            "operating point: K = {} N/m (kappa = {:.6e}) at V = {} µm/s{at}: {} — {}",
-            significant(self.k_n_per_m),
-            self.kappa,
-            significant(self.v_um_per_s),
-            self.regime.name(),
-            self.reason
-        )
-    }
-}
-
-/// The onset type shared by every point of the Hopf curve, `None` where it
-/// differs between points (or the curve is empty).
-fn onset_type(records: &DiagramRecords) -> Option<Criticality> {
-    let first = records.curve.first()?.criticality;
-    records
-        .curve
-        .iter()
-        .all(|p| p.criticality == first)
-        .then_some(first)
-}
-
 /// The onset type along the curve in words: the one type where every point
 /// has it (with what it means), else where it changes.
 fn onset_type_line(records: &DiagramRecords) -> Option<String> {
@@ -535,18 +326,7 @@ fn onset_type_line(records: &DiagramRecords) -> Option<String> {
     })
 }
 
-/// The stop reason in words; a step limit names the option that raises it.
-fn stop_text(r: &SceneResult) -> String {
-    match r.diagram.stop {
-        CurveEnd::StepLimit => format!(
-            "step limit ({} steps, --max-steps) before the end of the range",
-            r.max_steps
-        ),
-        stop => stop.words().to_string(),
-    }
-}
-
-fn print_text(r: &SceneResult, units: TextUnits) {
+fn print_text(r: &Diagram, units: TextUnits) {
     // One scene's lines together, also when scenes finish at the same time.
     let _whole = std::io::stdout().lock();
     let u = &r.setup.scene.units;
@@ -562,7 +342,7 @@ fn print_text(r: &SceneResult, units: TextUnits) {
         significant(u.velocity_um_s(r.range.0)),
         significant(u.velocity_um_s(r.range.1)),
         records.curve.len(),
-        stop_text(r)
+        r.stop_text()
     );
     if let Some(why) = &d.reason {
         println!("  {why}");

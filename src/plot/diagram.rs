@@ -1,13 +1,13 @@
-//! The figures of `stickslip diagram`: the stability diagram in physical
+//! The figures of the stability diagram (`diagram`): the stability diagram in physical
 //! and dimensionless axes, with the hysteretic region.
 
-use super::super::files::with_suffix;
-use super::super::{significant, Setup};
-use super::OperatingPoint;
+use super::stability::{render, segments, Note, OperatingMarker, StabilityFigure};
+use super::{with_suffix, PlotError};
 use crate::analysis::diagram::{SpecialKind, StabilityDiagram};
 use crate::appendix_c;
-use crate::error::Error;
-use crate::plot::stability::{render, segments, Note, OperatingMarker, StabilityFigure};
+use crate::jobs::diagram::OperatingPoint;
+use crate::jobs::Setup;
+use crate::records::significant;
 use std::path::{Path, PathBuf};
 
 /// One pair of axes: how `(nu, kappa)` map to the plotted coordinates.
@@ -22,13 +22,15 @@ struct Axes {
     x_span: fn(f64, f64) -> String,
 }
 
-pub(super) fn write_figures(
+/// Draws the diagram `d` of `setup` over `(lo, hi)` in physical and
+/// dimensionless axes, with the operating point when given.
+pub fn write_figures(
     setup: &Setup,
     d: &StabilityDiagram,
     (lo, hi): (f64, f64),
     operating: Option<&OperatingPoint>,
     stem: &Path,
-) -> Result<Vec<PathBuf>, Error> {
+) -> Result<Vec<PathBuf>, PlotError> {
     let u = setup.scene.units;
     let model = setup.choice.kind.name();
     let reference_every = (d.points.len() / 25).max(1);
@@ -176,10 +178,7 @@ pub(super) fn write_figures(
             notes: strengthening_notes(d, &fx, &x_span),
             stable_above: true,
         };
-        files.extend(
-            render(&fig, &with_suffix(stem, suffix))
-                .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
-        );
+        files.extend(render(&fig, &with_suffix(stem, suffix))?);
     }
     Ok(files)
 }
