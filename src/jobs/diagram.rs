@@ -5,6 +5,9 @@
 //! command's).
 
 use super::{SceneSpec, Setup};
+use crate::analysis::axes::{
+    axes_diagram, choose_axes_model, x_range_of, Axes, AxesDiagram, AxesRequest,
+};
 use crate::analysis::diagram::{stability_diagram_deciding, CurveEnd, StabilityDiagram};
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Regime, StabilityAt};
@@ -261,4 +264,57 @@ pub fn onset_type(records: &DiagramRecords) -> Option<Criticality> {
         .iter()
         .all(|p| p.criticality == first)
         .then_some(first)
+}
+
+/// The stability diagram of a scene in a pair of control parameters
+/// (`diagram --x P --y Q`).
+pub struct PairDiagram {
+    pub setup: Setup,
+    pub diagram: AxesDiagram,
+}
+
+/// The Hopf curve of the scene `spec` in the pair `axes`: `x_range` of `P`
+/// and bounds `y_range` of `Q` in their units (defaults in
+/// [`AxesRequest`]), the model judged along `P` ([`choose_axes_model`]).
+pub fn run_pair(
+    spec: &SceneSpec,
+    axes: Axes,
+    x_range: Option<(f64, f64)>,
+    y_range: Option<(f64, f64)>,
+    request: &DiagramRequest,
+) -> Result<PairDiagram, Error> {
+    let setup = spec.setup(|p| *p)?;
+    let (units, params) = (setup.scene.units, setup.scene_params);
+    let req = AxesRequest {
+        axes,
+        x_range,
+        y_range,
+        nu_range: request.nu_range.unwrap_or(setup.scene.nu_range),
+        max_steps: request.max_steps,
+    };
+    let range = x_range_of(axes, &units, &params, &req)?;
+    let choice = choose_axes_model(
+        axes,
+        &units,
+        &params,
+        range,
+        spec.model,
+        spec.inertia_threshold,
+    );
+    let diagram = axes_diagram(&choice, &params, &units, &req)?;
+    Ok(PairDiagram { setup, diagram })
+}
+
+impl PairDiagram {
+    /// The command's JSON of the diagram (without `files`, `elapsed_s`).
+    pub fn to_json(&self) -> Value {
+        let mut v = json!({
+            "scene": self.setup.scene.name,
+            "params": params_json(&self.setup.scene_params),
+        });
+        if let (Value::Object(a), Value::Object(b)) = (&mut v, self.diagram.to_json()) {
+            a.extend(b);
+        }
+        v
+    }
 }

@@ -2,10 +2,12 @@
 //! parameters ([`crate::analysis::axes`]); writes its JSON, CSV and figures.
 
 use super::super::files::with_suffix;
-use super::super::{params_json, significant, SceneArgs};
+use super::super::significant;
 use super::DiagramArgs;
-use crate::analysis::axes::{axes_diagram, choose_axes_model, x_range_of, Axes, AxesRequest};
+use crate::analysis::axes::Axes;
 use crate::error::{Error, InputError};
+use crate::jobs::diagram::DiagramRequest;
+use crate::jobs::{self, SceneSpec};
 use crate::plot::axes::axes_figure;
 use serde_json::{json, Value};
 use std::time::Instant;
@@ -92,32 +94,20 @@ pub(super) fn run(args: &DiagramArgs, axes: Axes) -> Result<(), Error> {
     let (mut all, mut partial) = (Vec::new(), Vec::new());
     for name in names {
         let t0 = Instant::now();
-        let scene_args = SceneArgs {
+        let spec = SceneSpec {
             scene: name.to_string(),
-            ..args.scene.clone()
+            ..args.scene.spec()
         };
-        let setup = scene_args.setup(|p| *p)?;
+        let request = DiagramRequest {
+            nu_range,
+            max_steps: args.max_steps,
+        };
+        let pair_diagram = jobs::diagram::run_pair(&spec, axes, x_range, y_range, &request)?;
+        let (setup, d) = (&pair_diagram.setup, &pair_diagram.diagram);
+        let choice = &d.choice;
         let stem = args
             .output
             .stem(&setup.scene.name, &args.scene, several, &outputs)?;
-        let (units, params) = (setup.scene.units, setup.scene_params);
-        let req = AxesRequest {
-            axes,
-            x_range,
-            y_range,
-            nu_range: nu_range.unwrap_or(setup.scene.nu_range),
-            max_steps: args.max_steps,
-        };
-        let range = x_range_of(axes, &units, &params, &req)?;
-        let choice = choose_axes_model(
-            axes,
-            &units,
-            &params,
-            range,
-            args.scene.model.map(Into::into),
-            args.scene.inertia_threshold,
-        );
-        let d = axes_diagram(&choice, &params, &units, &req)?;
         let head = format!(
             "# scene {}; model {}; {}\n",
             setup.scene.name,
@@ -129,20 +119,14 @@ pub(super) fn run(args: &DiagramArgs, axes: Axes) -> Result<(), Error> {
         let mut files = vec![csv];
         files.extend(
             crate::plot::stability::render(
-                &axes_figure(&d, &setup.label),
+                &axes_figure(d, &setup.label),
                 &with_suffix(&stem, &format!("-stability{pair}")),
             )
             .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?,
         );
         let json_path = with_suffix(&stem, outputs[0]);
         files.push(json_path.clone());
-        let mut v = json!({
-            "scene": setup.scene.name,
-            "params": params_json(&params),
-        });
-        if let (Value::Object(a), Value::Object(b)) = (&mut v, d.to_json()) {
-            a.extend(b);
-        }
+        let mut v = pair_diagram.to_json();
         v["files"] = json!(files
             .iter()
             .map(|f| f.display().to_string())
