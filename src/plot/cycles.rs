@@ -9,6 +9,7 @@ use crate::analysis::cycles::{CycleBifurcation, CycleRecord, Stability};
 use crate::appendix_c;
 use crate::jobs::Setup;
 use crate::records::diagram::FoldPoint;
+use crate::records::significant;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 
@@ -52,7 +53,7 @@ fn hopf_reference(setup: &Setup, folds: &[FoldPoint]) -> Option<Series> {
 type SamplePoint<'a> = dyn Fn(&CycleRecord, &[f64; 4]) -> (f64, f64) + 'a;
 
 /// Draws the branch `records` of scene `setup`: amplitude and period
-/// against K/W (stability by line style, bifurcations of cycles as
+/// (force drop in N, period in s) against K/W (stability by line style, bifurcations of cycles as
 /// markers, the model switch as a dashed line), a family of orbits in the
 /// (s, v) plane and of spring-force time series; `cut` ends the titles
 /// (why the branch is incomplete). Returns the files written.
@@ -162,10 +163,15 @@ pub fn branch_figures(
             LineFigure {
                 title: title.clone(),
                 x_label: "K/W [1/m]".into(),
-                y_label: "peak-to-peak spring force Δs = Δ(K x)/W".into(),
+                y_label: format!(
+                    "force drop per slip ΔF = Δ(K x) = Δs W [N]  (W = {} N)",
+                    significant(u.load)
+                ),
                 log_x: false,
                 log_y: false,
-                series: with_marks(by_stability(&|c| c.delta_s), &|c| c.delta_s),
+                series: with_marks(by_stability(&|c| c.delta_s * u.load), &|c| {
+                    c.delta_s * u.load
+                }),
             },
         ),
         (
