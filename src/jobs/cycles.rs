@@ -423,16 +423,12 @@ impl Cycles {
     /// not be written is the answer; a failure with nothing kept is the
     /// failure; anything short of the request is partial.
     pub fn status(&mut self) -> Result<(), Error> {
-        match self.failure.take() {
-            Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
-            Some(e) if self.records.is_empty() => Err(e),
-            _ if !self.complete => Err(Error::Partial(format!(
-                "{} cycles written; stopped: {}",
-                self.records.len(),
-                self.stop
-            ))),
-            _ => Ok(()),
-        }
+        branch_status(
+            self.failure.take(),
+            self.records.len(),
+            self.complete,
+            &self.stop,
+        )
     }
 
     /// Whether a leg was stopped by a signal.
@@ -443,6 +439,25 @@ impl Cycles {
     /// The cycles in order along the branch (each leg from its start).
     pub fn along_branch(&self) -> Vec<&CycleRecord> {
         along_branch(&self.records)
+    }
+}
+
+/// The answer of a cycle branch as an exit status: a signal or a file that
+/// could not be written (`failure`) is the answer; a failure with no cycle
+/// `kept` is the failure; a branch short of its request is partial.
+pub fn branch_status(
+    failure: Option<Error>,
+    kept: usize,
+    complete: bool,
+    stop: &str,
+) -> Result<(), Error> {
+    match failure {
+        Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
+        Some(e) if kept == 0 => Err(e),
+        _ if !complete => Err(Error::Partial(format!(
+            "{kept} cycles written; stopped: {stop}"
+        ))),
+        _ => Ok(()),
     }
 }
 

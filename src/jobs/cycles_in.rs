@@ -4,7 +4,7 @@
 //! handed to an [`Observer`] ([`super::cycles::Observer`]) with the control
 //! in its unit; the result ([`CyclesInControl`]) is the command's JSON.
 
-use super::cycles::{Observer, UnitsRecord};
+use super::cycles::{branch_status, Observer, UnitsRecord};
 use super::{SceneSpec, Setup};
 use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest, CyclesStart};
 use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
@@ -301,18 +301,14 @@ pub struct CyclesInControl {
 }
 
 impl CyclesInControl {
-    /// The run's answer as an exit status, as for [`super::cycles::Cycles::status`].
+    /// The run's answer as an exit status ([`branch_status`]).
     pub fn status(&mut self) -> Result<(), Error> {
-        match self.failure.take() {
-            Some(e @ (Error::Interrupted(_) | Error::Output(_))) => Err(e),
-            Some(e) if self.cycles.is_empty() => Err(e),
-            _ if !self.complete => Err(Error::Partial(format!(
-                "{} cycles written; stopped: {}",
-                self.cycles.len(),
-                self.stop
-            ))),
-            _ => Ok(()),
-        }
+        branch_status(
+            self.failure.take(),
+            self.cycles.len(),
+            self.complete,
+            &self.stop,
+        )
     }
 }
 

@@ -9,7 +9,7 @@ use crate::error::{Error, InputError};
 use crate::jobs::diagram::DiagramRequest;
 use crate::jobs::{self, SceneSpec};
 use crate::plot::axes::axes_figure;
-use serde_json::{json, Value};
+use serde_json::json;
 use std::time::Instant;
 
 /// The options of a diagram in a pair of control parameters.
@@ -212,22 +212,7 @@ pub(super) fn run(args: &DiagramArgs, axes: Axes) -> Result<(), Error> {
         }
     }
     if args.json {
-        let v = if all.len() == 1 {
-            all.remove(0)
-        } else {
-            Value::Array(all)
-        };
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
-        );
+        super::print_json(all)?;
     }
-    if partial.is_empty() {
-        Ok(())
-    } else {
-        Err(Error::Partial(format!(
-            "the stability diagram is incomplete: {}",
-            partial.join("; ")
-        )))
-    }
+    super::partial(&partial)
 }

@@ -182,25 +182,10 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
         }
     }
     if args.json {
-        let v = if names.len() == 1 {
-            json_out.remove(0)
-        } else {
-            Value::Array(json_out)
-        };
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
-        );
+        print_json(json_out)?;
     }
     if skipped.is_empty() {
-        let partial: Vec<String> = results_partial;
-        if partial.is_empty() {
-            return Ok(());
-        }
-        return Err(Error::Partial(format!(
-            "the stability diagram is incomplete: {}",
-            partial.join("; ")
-        )));
+        return partial(&results_partial);
     }
     let list = |v: &[&str]| {
         if v.is_empty() {
@@ -216,6 +201,33 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
         list(&completed),
         list(&skipped)
     )))
+}
+
+/// The JSON of the scenes: one object, or an array for several.
+fn print_json(mut all: Vec<Value>) -> Result<(), Error> {
+    let v = if all.len() == 1 {
+        all.remove(0)
+    } else {
+        Value::Array(all)
+    };
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&v).map_err(std::io::Error::other)?
+    );
+    Ok(())
+}
+
+/// The answer of the scenes: partial when any diagram is incomplete (why:
+/// `incomplete`, one entry per scene).
+fn partial(incomplete: &[String]) -> Result<(), Error> {
+    if incomplete.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Partial(format!(
+            "the stability diagram is incomplete: {}",
+            incomplete.join("; ")
+        )))
+    }
 }
 
 fn one_scene<F: Wrap>(
