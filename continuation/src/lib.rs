@@ -25,6 +25,7 @@ pub mod codim2;
 pub mod counted;
 pub mod defining;
 pub mod double_double;
+pub mod driver;
 pub mod error;
 pub mod events;
 pub mod hopf_extended;
@@ -40,8 +41,9 @@ pub mod predictor_corrector;
 pub mod root;
 pub mod system;
 
-pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};
+pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction};
 pub use counted::{AsIs, Counted, Counting, EvalCounts, Wrap};
+pub use driver::{Driver, Stop};
 pub use error::ContinuationError;
 pub use events::{Event, EventKind};
 pub use newton::{NewtonReport, NewtonSettings};

@@ -780,7 +780,7 @@ pub struct CyclesIn {
     /// How each leg ended (one from a Hopf point, two from an orbit).
     pub legs: Vec<(
         crate::analysis::cycles::Leg,
-        Result<continuation::periodic::branch::BranchEnd, Error>,
+        Result<continuation::Stop, Error>,
     )>,
 }
 

@@ -14,11 +14,12 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
-pub use continuation::periodic::branch::{BranchEnd, Stability};
+pub use continuation::periodic::branch::Stability;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, WhenUndecidable};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
+pub use continuation::Stop;
 use continuation::{Complex64, VectorField};
 
 /// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`).
@@ -497,7 +498,7 @@ pub fn trace_cycles_from(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<Stop, crate::error::Error> {
     trace_cycles_from_in(kind, params, h, Param::Kappa, req, watch, sink)
 }
 
@@ -514,7 +515,7 @@ pub fn trace_cycles_from_in(
     req: &CycleRequest,
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<Stop, crate::error::Error> {
     let log = LogBlock::centered(kind, params);
     let branch = branch_at_hopf_in(
         &log,
@@ -590,7 +591,7 @@ pub fn trace_cycles_from_orbit(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
     trace_cycles_from_orbit_in(kind, params, orbit, Param::Kappa, req, watch, sink)
 }
 
@@ -605,13 +606,17 @@ pub fn trace_cycles_from_orbit_in(
     req: &CycleRequest,
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
     let log = LogBlock::centered(kind, params);
     let ntst = req.ntst.max(SAMPLED_NTST);
     let guess = sampled_cycle(&log, params, orbit, ntst, 1e-10)
         .map_err(|e| NumericalError::Analysis(e.to_string()))?;
     let nz = guess.u.len() + 2;
-    let mut legs = [Ok(BranchEnd::ParameterBound), Ok(BranchEnd::ParameterBound)];
+    // Both overwritten below.
+    let mut legs = [
+        Ok(Stop::MaxSteps { steps: 0 }),
+        Ok(Stop::MaxSteps { steps: 0 }),
+    ];
     for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
         // The last unknown is the stiffness: the seed orients the tangent.
         let mut seed = vec![0.0; nz];
@@ -682,7 +687,7 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
 /// How [`follow`] ended: the branch's own end, or a quasi-static orbit on
 /// which inertia stopped being negligible.
 enum FollowEnd {
-    End(BranchEnd),
+    End(Stop),
     /// Hand over to the inertial model from `cycle`, continuing in the
     /// direction of `dp_ds`'s sign.
     Switch {
@@ -708,7 +713,7 @@ fn follow_switching(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<Stop, crate::error::Error> {
     let (cycle, dp_ds, previous) = match follow(log, branch, leg, skip, watch, sink)? {
         FollowEnd::End(end) => return Ok(end),
         FollowEnd::Switch {
@@ -844,9 +849,9 @@ fn follow(
         previous = Some(Box::new(pt.cycle));
     }
     // An iterator that ended without an error has a reason.
-    Ok(FollowEnd::End(
-        branch.end().unwrap_or(BranchEnd::ParameterBound),
-    ))
+    Ok(FollowEnd::End(branch.stop().expect(
+        "the driver keeps the stop of a branch that ended without an error",
+    )))
 }
 
 /// The Hopf point `h` of `params` in the log variables of `log`: the state

@@ -381,10 +381,9 @@ fn trace_through<S: VectorField>(
                         "its cycles have become too stiff for the mesh".to_string(),
                         LpcStopReason::TooStiff,
                     ),
+                    // In the engine's words: the field names nu.
                     cause => (
-                        cause
-                            .to_string()
-                            .replace("p[1] along the fold of cycles", "nu"),
+                        cause.to_string(),
                         if shrinking {
                             format!(
                                 "the folded cycles shrink there (Delta_s = {:.3e}, down from \

@@ -11,7 +11,7 @@
 //! Each sign change is located on the branch like a fold (regula falsi on
 //! the arclength, each trial corrected onto the branch).
 
-use super::{multiplier_error, CycleBranch, CyclePoint, Reading, FOLD_MULTIPLIER};
+use super::{multiplier_error, CyclePoint, Cycles, Reading, FOLD_MULTIPLIER};
 use crate::error::ContinuationError;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::floquet::{multipliers, trivial_index};
@@ -123,7 +123,7 @@ fn has_complex_pair_on_circle(mu: &[Complex64], tol: f64) -> bool {
         .any(|m| m.im.abs() > tol && (m.norm() - 1.0).abs() <= tol)
 }
 
-impl<S: VectorField> CycleBranch<'_, S> {
+impl<S: VectorField> Cycles<'_, S> {
     /// Locates period doublings and torus bifurcations between the orbit
     /// `(z0, t0)` (collocation `coll0`) and `pt`, the orbit `ds` further.
     pub(super) fn detect_multiplier_crossings(

@@ -3,7 +3,8 @@
 //! Floquet multipliers at every orbit and periodic mesh adaptation.
 //!
 //! The arclength norm is relative in the period and the parameter
-//! ([`ArcWeights`]).
+//! ([`ArcWeights`]). The branch is the [`Curve`] [`Cycles`], traced by the
+//! [`Driver`] ([`CycleBranch`]).
 
 use super::collocation::Collocation;
 mod detect;
@@ -17,6 +18,7 @@ use super::newton::{
     correct_along, correct_bordered, newton_bordered, tangent, tangent_from, unit_row, ArcWeights,
     BorderedPoint, OrbitJacobian,
 };
+use crate::driver::{Advance, Curve, Driver, Stop};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form, HopfNormalForm};
@@ -60,7 +62,7 @@ pub struct CycleSettings {
     /// `ds_max = 0.5`, growth 1.3 after at most 3 Newton iterations, turns of
     /// the tangent up to `acos 0.8`.
     pub step: StepControl,
-    /// Largest number of orbits.
+    /// Largest number of steps after the first orbit.
     pub max_steps: usize,
     /// Bounds of the parameter; the branch stops on them.
     pub p_min: f64,
@@ -223,23 +225,6 @@ pub fn multiplier_error(n: usize, trivial_error: f64) -> f64 {
 /// of the amplitude at fixed stiffness), not a fold.
 const FOLD_MULTIPLIER: f64 = 1e-3;
 
-/// Why a branch ended without an error.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BranchEnd {
-    /// The parameter reached `p_min` or `p_max`.
-    ParameterBound,
-    /// `max_steps` orbits were computed.
-    MaxSteps,
-    /// The period exceeded `max_period`.
-    MaxPeriod,
-    /// The cycles shrank to the equilibrium: the branch came back to a Hopf
-    /// point, where they are born (their amplitude passes through zero there,
-    /// and the parameter turns; past it the same cycles would return, shifted
-    /// by half a period). The last orbit is the one the step through it
-    /// reached.
-    HopfPoint,
-}
-
 /// An orbit whose every observable's amplitude is below this fraction of
 /// the largest the branch has had, followed by a larger one, is where the
 /// branch passed through the equilibrium (a Hopf point) between steps
@@ -318,8 +303,17 @@ impl CyclePoint {
     }
 }
 
-/// A branch of periodic orbits being traced.
-pub struct CycleBranch<'a, S: VectorField> {
+/// A branch of periodic orbits being traced; iterate it to get the orbits.
+/// It ends at a [`Stop`] ([`Driver::stop`]): [`Stop::Bound`] (the first
+/// orbit at or past `p_min` or `p_max`), [`Stop::MaxSteps`],
+/// [`Stop::MaxPeriod`] or [`Stop::HopfPoint`] (the cycles shrank to the
+/// equilibrium: the last orbit is the one the step through it reached, or
+/// the one before where the branch passed through it between steps), or
+/// after the first error.
+pub type CycleBranch<'a, S> = Driver<Cycles<'a, S>>;
+
+/// The [`Curve`] of a [`CycleBranch`].
+pub struct Cycles<'a, S: VectorField> {
     sys: &'a S,
     k: usize,
     settings: CycleSettings,
@@ -330,14 +324,14 @@ pub struct CycleBranch<'a, S: VectorField> {
     /// seed): its refinement keeps the parameter.
     start_at_fixed_parameter: bool,
     ds: f64,
+    /// Orbits handed out (or failed).
     steps: usize,
-    done: bool,
-    /// Why the branch ended, once it has ended without an error.
-    end: Option<BranchEnd>,
     /// Floquet multipliers of the last orbit handed out (for the PD and NS tests).
     previous_mu: Vec<Complex64>,
     /// Their trivial multiplier's distance from 1 (their error's measure).
     previous_trivial_error: f64,
+    /// The continuation parameter of the last orbit handed out.
+    previous_param: f64,
     /// The largest amplitude of each observable on the branch so far, and
     /// the last orbit's amplitude relative to it (the largest over the
     /// observables), with whether it had shrunk from the orbit before.
@@ -367,7 +361,7 @@ pub struct CycleBranch<'a, S: VectorField> {
     jacobian: Option<(Vec<f64>, OrbitJacobian)>,
 }
 
-impl<'a, S: VectorField> CycleBranch<'a, S> {
+impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
     /// Starts from the Hopf point `(x0, omega, p0)` in parameter `k`: the first
     /// orbit comes from the normal form (`x0 + 2 r Re(q e^{2 pi i tau})` at
     /// `p_k = p_c - Re(c1) r^2 / Re(lambda')`) and is corrected at that parameter.
@@ -484,7 +478,8 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let coll = Collocation::new(sys, &coll.cycle(&z), k);
         let jacobian = OrbitJacobian::new(coll.linearize(&z), sys.dim());
         let tangent = tangent_from(&jacobian, &seed, &w)?;
-        Ok(CycleBranch {
+        let max_steps = settings.max_steps;
+        let cycles = Cycles {
             jacobian: Some((z.clone(), jacobian)),
             sys,
             k,
@@ -498,8 +493,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             coll,
             start_at_fixed_parameter,
             steps: 0,
-            done: false,
-            end: None,
+            previous_param: f64::NAN,
             previous_mu: Vec::new(),
             previous_trivial_error: f64::INFINITY,
             largest_amplitude: Vec::new(),
@@ -507,15 +501,12 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             last_estimate: f64::INFINITY,
             last_ntst: 0,
             since_estimate: 0,
-        })
+        };
+        Ok(Driver::trace(cycles, max_steps))
     }
+}
 
-    /// Why the branch ended, after its last orbit was handed out without an
-    /// error (`None` while it goes on, or after an error).
-    pub fn end(&self) -> Option<BranchEnd> {
-        self.end
-    }
-
+impl<'a, S: VectorField> Cycles<'a, S> {
     /// Takes one accepted step ([`predictor_corrector::step`], norm of the
     /// [`ArcWeights`] at the current orbit); returns the corrector's report
     /// and the step length.
@@ -633,7 +624,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 }
 
-impl<S: VectorField> CycleBranch<'_, S> {
+impl<S: VectorField> Cycles<'_, S> {
     /// Whether the branch went through the equilibrium between the last
     /// orbit and `pt`: the last one shrank below [`PASSED`] of the branch's
     /// largest amplitude (on every observable) and `pt` is larger again. A
@@ -677,7 +668,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
 }
 
 /// How often a step that failed is taken again from the previous orbit on a
-/// finer mesh ([`CycleBranch::stepped_point`]).
+/// finer mesh ([`Cycles::stepped_point`]).
 const REFINEMENT_RETRIES: usize = 3;
 
 /// Newton iterations allowed to correct an orbit moved onto a finer mesh
@@ -688,7 +679,7 @@ const REMESH_ITERATIONS: usize = 30;
 /// the tangent.
 type StepStart<'a, S> = (Collocation<'a, S>, Vec<f64>, Vec<f64>);
 
-impl<'a, S: VectorField> CycleBranch<'a, S> {
+impl<'a, S: VectorField> Cycles<'a, S> {
     /// Corrects the orbit just moved onto a finer mesh (up to
     /// [`REMESH_ITERATIONS`] Newton iterations) and recomputes its tangent
     /// there: on stiff orbits the interpolated orbit can lie farther from the
@@ -755,7 +746,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 }
 
-/// One step of a [`CycleBranch`] as a [`CurveProblem`]: the collocation
+/// One step of a [`Cycles`] as a [`CurveProblem`]: the collocation
 /// system closed by the pseudo-arclength condition in the norm `w`.
 struct CycleStep<'b, 'a, S: VectorField> {
     coll: &'b Collocation<'a, S>,
@@ -876,95 +867,106 @@ fn point_at<S: VectorField>(
     })
 }
 
-impl<S: VectorField> Iterator for CycleBranch<'_, S> {
-    type Item = Result<CyclePoint, ContinuationError>;
+impl<S: VectorField> Curve for Cycles<'_, S> {
+    type Point = CyclePoint;
 
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.done {
-            return None;
+    fn start(&mut self) -> Result<(CyclePoint, Option<Stop>), ContinuationError> {
+        // The first orbit, like every other, on a mesh fine enough for it.
+        let result = self.refined_point(NewtonReport {
+            iterations: 0,
+            residual: 0.0,
+            step: 0.0,
+        });
+        self.steps += 1;
+        match self.handed_out(result?, false) {
+            Advance::Point(pt, stop) => Ok((pt, stop)),
+            Advance::End(_) => unreachable!("the first orbit passes through no equilibrium"),
         }
-        // The branch came back to a Hopf point (see `BranchEnd::HopfPoint`).
+    }
+
+    fn advance(&mut self) -> Result<Advance<CyclePoint>, ContinuationError> {
+        // The branch came back to a Hopf point (see `Stop::HopfPoint`).
         let mut at_hopf = false;
-        let result = if self.steps == 0 {
-            // The first orbit, like every other, on a mesh fine enough for it.
-            self.refined_point(NewtonReport {
-                iterations: 0,
-                residual: 0.0,
-                step: 0.0,
+        let result = self
+            .stepped_point()
+            .and_then(|(mut pt, ds, (coll0, z0, t0))| {
+                let nz = z0.len();
+                if t0[nz - 1] * pt.dp_ds < 0.0 {
+                    let lpc = self.estimated(
+                        self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
+                            Ok(t[nz - 1])
+                        })?,
+                        Reading::Point,
+                    );
+                    let p_fold = lpc.cycle.p[self.k];
+                    let excursion = (p_fold - z0[nz - 1])
+                        .abs()
+                        .max((p_fold - pt.cycle.p[self.k]).abs());
+                    if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
+                        at_hopf = true;
+                    } else if is_fold(&lpc, self.sys.dim())
+                        && excursion > self.parameter_resolution(&z0)
+                    {
+                        pt.lpc = Some(Box::new(lpc));
+                    }
+                }
+                self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
+                // The mesh (hence the length of z) may have been refined since z0.
+                let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
+                for &target in &self.settings.user_points {
+                    if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
+                        let user = self.locate(
+                            &coll0,
+                            &z0,
+                            &t0,
+                            (p0 - target, p1 - target),
+                            ds,
+                            |z, _| Ok(z[nz - 1] - target),
+                        )?;
+                        pt.user.push(self.pin(&coll0, user, &t0, target)?);
+                    }
+                }
+                Ok(pt)
+            });
+        self.steps += 1;
+        Ok(self.handed_out(result?, at_hopf))
+    }
+}
+
+impl<S: VectorField> Cycles<'_, S> {
+    /// The orbit `pt` handed out, with the reason the branch ends on it
+    /// (`at_hopf`: its step went through the equilibrium at a Hopf point);
+    /// or, where the branch passed through the equilibrium between steps,
+    /// the end without it.
+    fn handed_out(&mut self, pt: CyclePoint, at_hopf: bool) -> Advance<CyclePoint> {
+        let p = pt.cycle.p[self.k];
+        if self.passed_through_equilibrium(&pt) {
+            // This orbit retraces the branch shifted by half a period: not
+            // handed out.
+            return Advance::End(Stop::HopfPoint {
+                param: self.previous_param,
+            });
+        }
+        self.previous_mu.clone_from(&pt.multipliers);
+        self.previous_trivial_error = pt.trivial_error;
+        self.previous_param = p;
+        let (p_min, p_max) = (self.settings.p_min, self.settings.p_max);
+        let stop = if at_hopf {
+            Some(Stop::HopfPoint { param: p })
+        } else if p <= p_min || p >= p_max {
+            Some(Stop::Bound {
+                index: self.k,
+                value: p,
+                bound: if p <= p_min { p_min } else { p_max },
+            })
+        } else if pt.cycle.period > self.settings.max_period {
+            Some(Stop::MaxPeriod {
+                period: pt.cycle.period,
+                max_period: self.settings.max_period,
             })
         } else {
-            self.stepped_point()
-                .and_then(|(mut pt, ds, (coll0, z0, t0))| {
-                    let nz = z0.len();
-                    if t0[nz - 1] * pt.dp_ds < 0.0 {
-                        let lpc = self.estimated(
-                            self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
-                                Ok(t[nz - 1])
-                            })?,
-                            Reading::Point,
-                        );
-                        let p_fold = lpc.cycle.p[self.k];
-                        let excursion = (p_fold - z0[nz - 1])
-                            .abs()
-                            .max((p_fold - pt.cycle.p[self.k]).abs());
-                        if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
-                            at_hopf = true;
-                        } else if is_fold(&lpc, self.sys.dim())
-                            && excursion > self.parameter_resolution(&z0)
-                        {
-                            pt.lpc = Some(Box::new(lpc));
-                        }
-                    }
-                    self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
-                    // The mesh (hence the length of z) may have been refined since z0.
-                    let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
-                    for &target in &self.settings.user_points {
-                        if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
-                            let user = self.locate(
-                                &coll0,
-                                &z0,
-                                &t0,
-                                (p0 - target, p1 - target),
-                                ds,
-                                |z, _| Ok(z[nz - 1] - target),
-                            )?;
-                            pt.user.push(self.pin(&coll0, user, &t0, target)?);
-                        }
-                    }
-                    Ok(pt)
-                })
+            None
         };
-        self.steps += 1;
-        match result {
-            Ok(pt) => {
-                if self.passed_through_equilibrium(&pt) {
-                    // This orbit retraces the branch shifted by half a
-                    // period: not handed out.
-                    self.end = Some(BranchEnd::HopfPoint);
-                    self.done = true;
-                    return None;
-                }
-                self.previous_mu.clone_from(&pt.multipliers);
-                self.previous_trivial_error = pt.trivial_error;
-                let p = pt.cycle.p[self.k];
-                self.end = if at_hopf {
-                    Some(BranchEnd::HopfPoint)
-                } else if p <= self.settings.p_min || p >= self.settings.p_max {
-                    Some(BranchEnd::ParameterBound)
-                } else if pt.cycle.period > self.settings.max_period {
-                    Some(BranchEnd::MaxPeriod)
-                } else if self.steps > self.settings.max_steps {
-                    Some(BranchEnd::MaxSteps)
-                } else {
-                    None
-                };
-                self.done = self.end.is_some();
-                Some(Ok(pt))
-            }
-            Err(e) => {
-                self.done = true;
-                Some(Err(e))
-            }
-        }
+        Advance::Point(pt, stop)
     }
 }

@@ -14,11 +14,11 @@
 //! accepted, and the orbit stays on the coarser mesh.
 //!
 //! Where an estimate falls far below the tolerance the next step halves the
-//! mesh ([`CycleBranch::mesh_size`]): the intervals a stretch of the branch
+//! mesh ([`Cycles::mesh_size`]): the intervals a stretch of the branch
 //! needed are not carried along the rest of it.
 
 use super::{
-    point_at, CycleBranch, CyclePoint, Reading, Stability, WhenUndecidable, MULTIPLIER_MEMORY,
+    point_at, CyclePoint, Cycles, Reading, Stability, WhenUndecidable, MULTIPLIER_MEMORY,
     ORBIT_FLOOR_MEMORY,
 };
 use crate::error::ContinuationError;
@@ -32,7 +32,7 @@ use crate::system::VectorField;
 
 /// The share of the distance of the nontrivial multipliers from the unit
 /// circle the trivial multiplier's error is refined below
-/// ([`CycleBranch::multiplier_tol`]).
+/// ([`Cycles::multiplier_tol`]).
 const MARGIN_SHARE: f64 = 1e-7;
 
 /// Largest difference between two approximations `a` (the finer) and `b`
@@ -52,7 +52,7 @@ fn difference<S: VectorField>(sys: &S, a: &CyclePoint, b: &Cycle) -> f64 {
     d
 }
 
-impl<S: VectorField> CycleBranch<'_, S> {
+impl<S: VectorField> Cycles<'_, S> {
     /// The current orbit, on a mesh fine enough for `mesh_tol` (and for
     /// `trivial_tol` while refining helps the multipliers): otherwise the mesh
     /// doubles (up to `ntst_max`) and the orbit is corrected on it. A
