@@ -5,7 +5,7 @@ mod common;
 
 use common::brockley;
 use continuation::newton::NewtonSettings;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::branch::{CycleBranch, CycleEvent, CyclePoint, CycleSettings};
 use continuation::periodic::lpc::locate_lpc;
 use continuation::periodic::mesh::CollocationPoints;
 use stickslip::analysis::cycles::{hopf_start, start_amplitude};
@@ -49,8 +49,8 @@ fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, Cy
     let mut previous = None;
     for pt in branch {
         let pt = pt.unwrap();
-        if let Some(lpc) = &pt.lpc {
-            return (*lpc.clone(), previous.unwrap());
+        if let Some(lpc) = pt.event(CycleEvent::Fold) {
+            return (lpc.clone(), previous.unwrap());
         }
         previous = Some(pt);
     }

@@ -50,11 +50,11 @@ fn main() -> Result<(), continuation::ContinuationError> {
             if let EventKind::Hopf { omega } = e.kind {
                 println!(
                     "Hopf at b = {:.15} (exact 1 + a^2 = {}), omega = {:.15} (exact a = {a})",
-                    e.param(),
+                    e.point.param(),
                     1.0 + a * a,
                     omega
                 );
-                hopf = Some((e.x, e.p, omega));
+                hopf = Some((e.point.x, e.point.p, omega));
             }
         }
     }
@@ -139,8 +139,8 @@ fn cycles(x: &[f64], p: &[f64], omega: f64) -> Result<(), continuation::Continua
     print_cycle(&first);
     println!("  (2 pi / a = {hopf_period:.6} at the Hopf point b = {b_c})");
     for pt in branch {
-        for user in pt?.user {
-            print_cycle(&user);
+        for user in pt?.user_points() {
+            print_cycle(user);
         }
     }
     Ok(())

@@ -264,8 +264,8 @@ impl<S: VectorField> Equilibria<'_, S> {
             }
         }
         events.sort_by(|a, b| {
-            let da = (a.param() - prev.param()).abs();
-            da.total_cmp(&(b.param() - prev.param()).abs())
+            let da = (a.point.param() - prev.param()).abs();
+            da.total_cmp(&(b.point.param() - prev.param()).abs())
         });
         Ok(events)
     }
@@ -368,11 +368,12 @@ fn plausible(e: Event, a: f64, b: f64, omega_guess: f64) -> Result<Event, Contin
         EventKind::Hopf { omega } => omega,
         EventKind::Fold { .. } => omega_guess,
     };
-    if e.param() >= lo - slack && e.param() <= hi + slack && omega > 0.1 * omega_guess {
+    let found = e.point.param();
+    if found >= lo - slack && found <= hi + slack && omega > 0.1 * omega_guess {
         Ok(e)
     } else {
         Err(ContinuationError::OutsideBracket {
-            found: e.param(),
+            found,
             from: a,
             to: b,
         })

@@ -9,7 +9,7 @@
 
 use crate::arclength::{Bound, CurveControl, Stepper};
 use crate::defining::{DefiningSystem, FoldSystem, FreeParams, HopfSystem};
-use crate::driver::{Advance, Curve, Driver, Stop};
+use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::hopf_extended::hopf_normal_form_extended;
 use crate::newton::NewtonSettings;
@@ -102,8 +102,16 @@ pub struct HopfCurvePoint {
     pub l1: f64,
     pub l1_scale: f64,
     pub l1_error_bound: f64,
-    /// A Bautin point located between the previous point and this one.
-    pub bautin: Option<Box<HopfCurvePoint>>,
+    /// The Bautin point located between the previous point and this one,
+    /// if any (its error: the bound on the rounding error of its `l1`).
+    pub events: Vec<Event<HopfCurveEvent, HopfCurvePoint>>,
+}
+
+/// What a special point of a Hopf curve is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HopfCurveEvent {
+    /// A Bautin (generalized Hopf) point: `l1` changes sign.
+    Bautin,
 }
 
 /// A Hopf curve being traced in parameters `(p_a, p_b)`; it ends at a
@@ -199,7 +207,7 @@ impl<S: VectorField> Hopf<'_, S> {
             l1: nf.l1,
             l1_scale: nf.term_scale,
             l1_error_bound: nf.l1_error_bound,
-            bautin: None,
+            events: Vec::new(),
         })
     }
 
@@ -249,7 +257,11 @@ impl<S: VectorField> Hopf<'_, S> {
         let resolved = |p: &HopfCurvePoint| p.l1.abs() > p.l1_error_bound;
         if prev.l1 * point.l1 < 0.0 && resolved(&prev) && resolved(&point) {
             let b = self.locate_bautin(&z0, &t0, prev.l1, step.ds, point.l1)?;
-            point.bautin = Some(Box::new(b));
+            point.events.push(Event {
+                kind: HopfCurveEvent::Bautin,
+                error: b.l1_error_bound,
+                point: b,
+            });
         }
         let n = self.sys.dim();
         let stop = if let Some(b) = step.bound {

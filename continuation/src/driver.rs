@@ -7,6 +7,12 @@
 //! [`crate::predictor_corrector`] inside) iterated by [`Driver`], which owns
 //! the count of steps, the [`Stop`] and the end after an error.
 //!
+//! Special points located along a curve (folds and Hopf points of
+//! equilibria, Bautin points of Hopf curves, folds of cycles, period
+//! doublings, tori and user points of cycle branches) are each an [`Event`]:
+//! what it is, the located point, and its error, attached to the first point
+//! past it.
+//!
 //! A curve ends in one of two ways: with an error
 //! ([`crate::ContinuationError`], the last item), or without one, for a
 //! reason the driver keeps ([`Driver::stop`]): one [`Stop`] for every curve,
@@ -14,6 +20,24 @@
 
 use crate::error::ContinuationError;
 use std::fmt;
+
+/// A special point located between two points of a curve, attached to the
+/// later one: its `kind` (the curve's vocabulary:
+/// [`crate::events::EventKind`], [`crate::codim2::HopfCurveEvent`],
+/// [`crate::periodic::branch::CycleEvent`]), the located `point` (a point of
+/// the curve, or of the equilibrium at the bifurcation), and its `error`.
+#[derive(Clone, Debug)]
+pub struct Event<K, P> {
+    /// What the point is.
+    pub kind: K,
+    /// The located point.
+    pub point: P,
+    /// Its error: the last Newton step of the location (equilibria), the
+    /// bound on the rounding error of `l1` (a Bautin point), the estimated
+    /// discretization error of the orbit (cycles; see
+    /// [`crate::periodic::branch::CyclePoint::error_estimate`]).
+    pub error: f64,
+}
 
 /// Why a curve ended without an error (the one stop vocabulary of the
 /// engine); every variant carries its numbers.

@@ -46,7 +46,7 @@ fn hopf_curve_follows_the_parabola_and_locates_the_bautin_point() {
             (point.l1 - 2.0 * (p1 - 0.3) / 1.3).abs() < 1e-12,
             "l1 at p1 = {p1}"
         );
-        bautins.extend(point.bautin);
+        bautins.extend(point.events.into_iter().map(|e| e.point));
     }
     assert!(n > 5);
     assert_eq!(bautins.len(), 1);

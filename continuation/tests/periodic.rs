@@ -2,7 +2,7 @@
 
 use continuation::newton::NewtonSettings;
 use continuation::periodic::bordered::CyclicReduction;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::branch::{CycleBranch, CycleEvent, CyclePoint, CycleSettings};
 use continuation::periodic::collocation::Collocation;
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::floquet::pencil_multipliers;
@@ -143,7 +143,7 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
             );
             assert_eq!(pt.n_unstable, usize::from(r2 < 0.5), "r^2 = {r2}");
         }
-        lpcs.extend(pt.lpc);
+        lpcs.extend(pt.event(CycleEvent::Fold).cloned());
         last_r2 = r2;
     }
     assert!(
@@ -290,7 +290,7 @@ fn user_points_land_exactly_on_the_requested_parameters() {
     };
     let mut found = Vec::new();
     for pt in CycleBranch::from_hopf(&sys, &[0.0, 0.0], 2.0, &[0.0], 0, settings).unwrap() {
-        found.extend(pt.unwrap().user);
+        found.extend(pt.unwrap().user_points().cloned());
     }
     assert_eq!(found.len(), 2);
     for (u, beta) in found.iter().zip([0.25, 0.5]) {
@@ -348,7 +348,7 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
     let mut routes = None;
     for pt in branch {
         let pt = pt.unwrap();
-        if let Some(lpc) = &pt.lpc {
+        if let Some(lpc) = pt.event(CycleEvent::Fold) {
             let before: &CyclePoint = previous.as_ref().unwrap();
             let newton = NewtonSettings {
                 step_tol: 1e-12,
@@ -479,7 +479,7 @@ fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
 fn period_doubling_and_torus_bifurcations_are_located() {
     let pd: Vec<_> = twisted_band_branch([-0.5, 0.6], 1, 0.8)
         .into_iter()
-        .filter_map(|pt| pt.pd)
+        .filter_map(|pt| pt.event(CycleEvent::PeriodDoubling).cloned())
         .collect();
     assert_eq!(pd.len(), 1, "one period doubling");
     let b = pd[0].cycle.p[1];
@@ -487,7 +487,7 @@ fn period_doubling_and_torus_bifurcations_are_located() {
     assert!(pd[0].multipliers.iter().any(|m| (m + 1.0).norm() < 1e-8));
     let ns: Vec<_> = twisted_band_branch([-0.2, 0.3], 0, 0.2)
         .into_iter()
-        .filter_map(|pt| pt.ns)
+        .filter_map(|pt| pt.event(CycleEvent::Torus).cloned())
         .collect();
     assert_eq!(ns.len(), 1, "one torus bifurcation");
     let a = ns[0].cycle.p[0];

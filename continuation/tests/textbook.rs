@@ -53,13 +53,13 @@ fn fold_normal_form_limit_point_at_origin() {
     };
     assert!((a + 1.0).abs() < 1e-14, "a = {a}");
     assert!(
-        e.param().abs() < 1e-14 && e.x[0].abs() < 1e-7,
+        e.point.param().abs() < 1e-14 && e.point.x[0].abs() < 1e-7,
         "p = {}, x = {}",
-        e.param(),
-        e.x[0]
+        e.point.param(),
+        e.point.x[0]
     );
     // At a fold the equilibrium is a double root: x = O(sqrt(p)) explains the looser x bound.
-    assert!(e.eigenvalues[0].norm() < 1e-7);
+    assert!(e.point.eigenvalues[0].norm() < 1e-7);
 }
 
 /// Hopf normal form in Cartesian coordinates with a shifted parameter:
@@ -104,7 +104,7 @@ fn hopf_normal_form_hopf_point_and_frequency() {
     let EventKind::Hopf { omega } = events[0].kind else {
         panic!("not a Hopf point")
     };
-    assert!((events[0].param() / 0.37 - 1.0).abs() < 1e-12);
+    assert!((events[0].point.param() / 0.37 - 1.0).abs() < 1e-12);
     assert!((omega / 2.5 - 1.0).abs() < 1e-12);
 }
 
@@ -145,12 +145,15 @@ fn brusselator_hopf_at_one_plus_a_squared() {
         };
         let b_c = 1.0 + a * a;
         assert!(
-            (e.param() / b_c - 1.0).abs() < 1e-12,
+            (e.point.param() / b_c - 1.0).abs() < 1e-12,
             "b = {} vs {b_c}",
-            e.param()
+            e.point.param()
         );
         assert!((omega / a - 1.0).abs() < 1e-12, "omega = {omega} vs {a}");
-        assert!((e.x[0] / a - 1.0).abs() < 1e-12 && (e.x[1] / (b_c / a) - 1.0).abs() < 1e-12);
+        assert!(
+            (e.point.x[0] / a - 1.0).abs() < 1e-12
+                && (e.point.x[1] / (b_c / a) - 1.0).abs() < 1e-12
+        );
     }
 }
 

@@ -643,7 +643,7 @@ fn along_index(
             .iter()
             .find(|e| matches!(e.kind, EventKind::Hopf { .. }));
         if let Some(e) = hopf {
-            return Ok(Ok(e.param()));
+            return Ok(Ok(e.point.param()));
         }
     }
     Ok(Err(unstable_at_start.unwrap_or(false)))

@@ -14,6 +14,7 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
+use continuation::periodic::branch::CycleEvent;
 pub use continuation::periodic::branch::Stability;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, WhenUndecidable};
 use continuation::periodic::cycle::Cycle;
@@ -442,17 +443,20 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         friction_min,
         inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
         samples,
-        lpc: pt.lpc.as_ref().map(|l| {
+        lpc: pt.event(CycleEvent::Fold).map(|l| {
             Box::new(CycleRecord {
                 orbit: Some(l.cycle.clone()),
                 ..record(log, l, leg, watch)
             })
         }),
-        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l, leg, watch))),
-        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l, leg, watch))),
+        pd: pt
+            .event(CycleEvent::PeriodDoubling)
+            .map(|l| Box::new(record(log, l, leg, watch))),
+        ns: pt
+            .event(CycleEvent::Torus)
+            .map(|l| Box::new(record(log, l, leg, watch))),
         user: pt
-            .user
-            .iter()
+            .user_points()
             .map(|u| CycleRecord {
                 user_point: true,
                 ..record(log, u, leg, watch)

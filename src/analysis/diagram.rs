@@ -543,7 +543,7 @@ pub fn hopf_curve_with<F: Wrap>(
             let (mut points, mut special) = (Vec::new(), Vec::new());
             for pt in curve.by_ref() {
                 let pt = pt.map_err(NumericalError::from)?;
-                if let Some(b) = &pt.bautin {
+                if let Some(b) = pt.events.first().map(|e| &e.point) {
                     let c = convert(b);
                     let series =
                         hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?;

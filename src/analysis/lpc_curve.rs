@@ -14,6 +14,7 @@ use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::error::ContinuationError;
+use continuation::periodic::branch::CycleEvent;
 use continuation::periodic::branch::CycleSettings;
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
@@ -160,8 +161,8 @@ fn first_fold<F: Wrap>(
     let branch = branch_at_hopf(&field, log, params, &h, settings)?;
     for pt in branch {
         let pt = pt.map_err(NumericalError::from)?;
-        if let Some(lpc) = pt.lpc {
-            return Ok(lpc.cycle);
+        if let Some(lpc) = pt.event(CycleEvent::Fold) {
+            return Ok(lpc.cycle.clone());
         }
     }
     Err(NumericalError::Analysis(format!(

@@ -191,6 +191,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let mut points = Vec::new();
     let traced = trace(kind, &params, &req, |point| {
         for e in &point.events {
+            let (event, e) = (&e.kind, &e.point);
             let at = params.with_vec(&e.p);
             let row = BranchRow::new(
                 kind,
@@ -198,7 +199,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
                 param,
                 &e.x,
                 &e.eigenvalues,
-                Some(&e.kind),
+                Some(event),
                 &units(at.get(param)),
             );
             present(&mut out, format, row, &mut points)?;

@@ -173,8 +173,9 @@ fn resolved_orbit(log: &LogBlock, params: &Params, fraction: f64) -> Result<Cycl
     )
     .map_err(NumericalError::from)?;
     for pt in branch {
-        if let Some(user) = pt.map_err(NumericalError::from)?.user.pop() {
-            return Ok(user.cycle);
+        let pt = pt.map_err(NumericalError::from)?;
+        if let Some(user) = pt.user_points().last() {
+            return Ok(user.cycle.clone());
         }
     }
     Err(

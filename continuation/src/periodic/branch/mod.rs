@@ -18,7 +18,7 @@ use super::newton::{
     correct_along, correct_bordered, newton_bordered, tangent, tangent_from, unit_row, ArcWeights,
     BorderedPoint, OrbitJacobian,
 };
-use crate::driver::{Advance, Curve, Driver, Stop};
+use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form, HopfNormalForm};
@@ -279,17 +279,57 @@ pub struct CyclePoint {
     pub newton: NewtonReport,
     /// `d p / d s` along the branch: its sign change marks a fold of cycles.
     pub dp_ds: f64,
-    /// A fold of cycles (limit point, LPC) located between the previous orbit and this one.
-    pub lpc: Option<Box<CyclePoint>>,
-    /// A period doubling (a multiplier through -1) located there.
-    pub pd: Option<Box<CyclePoint>>,
-    /// A Neimark–Sacker (torus) bifurcation (a complex pair through the unit circle) located there.
-    pub ns: Option<Box<CyclePoint>>,
-    /// Orbits at the user's parameter values passed between the previous orbit and this one.
-    pub user: Vec<CyclePoint>,
+    /// The orbits located between the previous orbit and this one: a fold
+    /// of cycles, a period doubling, a torus bifurcation (at most one of
+    /// each), and the orbits at the user's parameter values passed; each
+    /// with its [`CyclePoint::error_estimate`] as its error.
+    pub events: Vec<Event<CycleEvent, CyclePoint>>,
+}
+
+/// What a located orbit of a cycle branch is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CycleEvent {
+    /// A fold of cycles (limit point of cycles, LPC).
+    Fold,
+    /// A period doubling: a multiplier through -1.
+    PeriodDoubling,
+    /// A Neimark–Sacker (torus) bifurcation: a complex pair through the
+    /// unit circle.
+    Torus,
+    /// The orbit at a parameter value the user asked for
+    /// ([`CycleSettings::user_points`]).
+    User {
+        /// The value asked for.
+        value: f64,
+    },
 }
 
 impl CyclePoint {
+    /// The located orbit of `kind` (not a user point) attached to this one.
+    pub fn event(&self, kind: CycleEvent) -> Option<&CyclePoint> {
+        self.events
+            .iter()
+            .find(|e| e.kind == kind)
+            .map(|e| &e.point)
+    }
+
+    /// The orbits at the user's parameter values attached to this one.
+    pub fn user_points(&self) -> impl Iterator<Item = &CyclePoint> {
+        self.events
+            .iter()
+            .filter(|e| matches!(e.kind, CycleEvent::User { .. }))
+            .map(|e| &e.point)
+    }
+
+    /// Attaches the located orbit `point` of `kind`.
+    fn attach(&mut self, kind: CycleEvent, point: CyclePoint) {
+        self.events.push(Event {
+            kind,
+            error: point.error_estimate,
+            point,
+        });
+    }
+
     /// Least and greatest value of every observable of `sys` (the field
     /// the orbit solves) over the orbit, by [`Cycle::observable_range`]:
     /// computed at the first call, then kept (the error estimate and the
@@ -860,10 +900,7 @@ fn point_at<S: VectorField>(
         stability,
         newton,
         dp_ds: tangent[tangent.len() - 1],
-        lpc: None,
-        pd: None,
-        ns: None,
-        user: Vec::new(),
+        events: Vec::new(),
     })
 }
 
@@ -907,7 +944,7 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                     } else if is_fold(&lpc, self.sys.dim())
                         && excursion > self.parameter_resolution(&z0)
                     {
-                        pt.lpc = Some(Box::new(lpc));
+                        pt.attach(CycleEvent::Fold, lpc);
                     }
                 }
                 self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
@@ -923,7 +960,8 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                             ds,
                             |z, _| Ok(z[nz - 1] - target),
                         )?;
-                        pt.user.push(self.pin(&coll0, user, &t0, target)?);
+                        let user = self.pin(&coll0, user, &t0, target)?;
+                        pt.attach(CycleEvent::User { value: target }, user);
                     }
                 }
                 Ok(pt)
