@@ -14,7 +14,7 @@
 
 use continuation::codim2::{CurveSettings, HopfCurve};
 use continuation::normal_form::hopf_normal_form;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, Discretization};
 use continuation::{Branch, ContinuationSettings, EventKind, Scalar, StepControl, VectorField};
 
 struct Brusselator;
@@ -109,7 +109,10 @@ const REPORTED_B: [f64; 4] = [3.5, 4.0, 4.5, 5.0];
 fn cycles(x: &[f64], p: &[f64], omega: f64) -> Result<(), continuation::ContinuationError> {
     let defaults = CycleSettings::default();
     let settings = CycleSettings {
-        ntst: 40,
+        mesh: Discretization {
+            ntst: 40,
+            ..Default::default()
+        },
         step: StepControl {
             ds: 0.01,
             ds_max: 0.2,

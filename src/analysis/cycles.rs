@@ -14,9 +14,11 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
-use continuation::periodic::branch::CycleEvent;
 pub use continuation::periodic::branch::Stability;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, WhenUndecidable};
+use continuation::periodic::branch::{
+    CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization, FloquetPolicy,
+    WhenUndecidable,
+};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
@@ -654,8 +656,25 @@ pub fn start_amplitude(log: &LogBlock) -> f64 {
 /// Continuation settings for `req`, starting on `ntst` intervals.
 fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
     CycleSettings {
-        points: req.collocation.unwrap_or(collocation_for(kind)),
-        ntst,
+        mesh: Discretization {
+            points: req.collocation.unwrap_or(collocation_for(kind)),
+            ntst,
+            ntst_max: req.ntst_max.max(ntst),
+            // Relative to the amplitudes, at the cycle's stiffness: with it the
+            // period and Delta_s agree with an independent reference to 2e-10 from
+            // (kappa_c - kappa)/kappa_c = 1e-5 to 0.5 (tests/onset_accuracy.rs,
+            // docs/cycles.md); 1e-7 left errors up to 3e-9.
+            mesh_tol: Some(1e-9),
+            mesh_accept: Some(1e-4),
+            ..Default::default()
+        },
+        // A first cycle whose multipliers rounding swamps is still a
+        // resolved cycle: delivered with its stability undecidable (and
+        // why); the branch ends at the next such cycle.
+        floquet: FloquetPolicy {
+            when_undecidable: WhenUndecidable::KeepFirst,
+            ..Default::default()
+        },
         p_min: req.kappa_min,
         p_max: req.kappa_max,
         max_steps: req.max_steps,
@@ -671,19 +690,8 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
             ..CycleSettings::default().step
         },
         user_points: req.at_kappa.clone(),
-        // A first cycle whose multipliers rounding swamps is still a
-        // resolved cycle: delivered with its stability undecidable (and
-        // why); the branch ends at the next such cycle.
-        when_undecidable: WhenUndecidable::KeepFirst,
-        ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
-        // Relative to the amplitudes, at the cycle's stiffness: with it the
-        // period and Delta_s agree with an independent reference to 2e-10 from
-        // (kappa_c - kappa)/kappa_c = 1e-5 to 0.5 (tests/onset_accuracy.rs,
-        // docs/cycles.md); 1e-7 left errors up to 3e-9.
-        mesh_tol: 1e-9,
-        mesh_accept: 1e-4,
         ..Default::default()
     }
 }

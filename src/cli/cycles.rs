@@ -848,7 +848,7 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
             CollocationPoints::Gauss => "Gauss-Legendre",
             CollocationPoints::Radau => "Radau IIA",
         },
-        continuation::periodic::branch::CycleSettings::default().degree
+        continuation::periodic::branch::Discretization::default().degree
     )
 }
 

@@ -48,57 +48,33 @@ enum Reading {
     Point,
 }
 
-/// Settings of a cycle branch.
+/// Settings of a cycle branch: the shared step control, the
+/// [`Discretization`] and the [`FloquetPolicy`], each with its defaults, and
+/// what is particular to the branch.
 #[derive(Clone, Debug)]
 pub struct CycleSettings {
-    /// Mesh intervals. Default 50.
-    pub ntst: usize,
-    /// Collocation degree. Default 4.
-    pub degree: usize,
-    /// Collocation points. Default Gauss (Radau for stiff orbits).
-    pub points: CollocationPoints,
+    /// The mesh and how it adapts.
+    pub mesh: Discretization,
+    /// How the Floquet multipliers are made accurate enough to decide.
+    pub floquet: FloquetPolicy,
     /// Step-size control of the pseudo-arclength steps (norm of
     /// [`ArcWeights`]). Default: `ds = 1e-3`, `ds_min = 1e-12`,
     /// `ds_max = 0.5`, growth 1.3 after at most 3 Newton iterations, turns of
     /// the tangent up to `acos 0.8`.
     pub step: StepControl,
-    /// Largest number of steps after the first orbit.
+    /// Largest number of steps after the first orbit. Default 200.
     pub max_steps: usize,
-    /// Bounds of the parameter; the branch stops on them.
+    /// Bounds of the parameter; the branch stops at the first orbit at or
+    /// past them. Default unbounded.
     pub p_min: f64,
     pub p_max: f64,
-    /// Stop when the period exceeds this.
-    pub max_period: f64,
-    /// Re-equidistribute the mesh every this many steps (0: never). Default 1.
-    pub adapt_every: usize,
-    /// Corrector.
+    /// Stop when the period exceeds this. Default `None`: no limit.
+    pub max_period: Option<f64>,
+    /// Corrector. Default: steps and residuals to `1e-10`, 10 iterations.
     pub corrector: NewtonSettings,
-    /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
+    /// Relative amplitude of the first orbit off the Hopf point
+    /// (`|z| / (1 + |x0|)`). Default `1e-3`.
     pub start_amplitude: f64,
-    /// Largest acceptable estimate of an orbit's discretization error
-    /// (relative to the period and the amplitudes, see `refine`) before the
-    /// mesh is refined. Default `1e-8`.
-    pub mesh_tol: f64,
-    /// Most mesh intervals the refinement may use. Default 400.
-    pub ntst_max: usize,
-    /// At `ntst_max`, orbits whose error estimate is below this are still
-    /// accepted (and reported with it). Default `1e-6`.
-    pub mesh_accept: f64,
-    /// The mesh is also refined while the trivial multiplier is off by more
-    /// than this and refining reduces that error (it is then discretization,
-    /// not rounding) — where a nontrivial multiplier lies within `1e7` times
-    /// this of the unit circle; farther, while it is off by more than `1e-7`
-    /// of that distance (which decides stability, period doublings and
-    /// tori). Default `1e-8`.
-    pub trivial_tol: f64,
-    /// Beyond this distance of the trivial multiplier from 1, the
-    /// multipliers no longer decide stability when another lies within ten
-    /// times that distance of the unit circle or the distance exceeds 0.1;
-    /// what the branch then does is `when_undecidable`. Default `1e-3`.
-    pub trivial_limit: f64,
-    /// What the branch does once rounding swamps the multipliers (see
-    /// `trivial_limit`). Default [`WhenUndecidable::Stop`].
-    pub when_undecidable: WhenUndecidable,
     /// Parameter values at which an orbit is located exactly and reported
     /// (AUTO's user points). Default none.
     pub user_points: Vec<f64>,
@@ -107,6 +83,89 @@ pub struct CycleSettings {
     /// (parameters that pass through 0 need a floor; set it to the smallest
     /// scale of interest for branches spanning decades).
     pub param_floor: f64,
+}
+
+/// The collocation mesh of a cycle branch and how it adapts (AUTO's `NTST`,
+/// `NCOL`, `IAD`; the refinement by the error estimate is `refine`'s).
+#[derive(Clone, Debug)]
+pub struct Discretization {
+    /// Mesh intervals of the first orbit, and the fewest the mesh is
+    /// coarsened to. Default 50.
+    pub ntst: usize,
+    /// Collocation degree. Default 4.
+    pub degree: usize,
+    /// Collocation points. Default Gauss (Radau for stiff orbits).
+    pub points: CollocationPoints,
+    /// Re-equidistribute the mesh every this many steps (0: never). Default 1.
+    pub adapt_every: usize,
+    /// Largest acceptable estimate of an orbit's discretization error
+    /// (relative to the period and the amplitudes, see `refine`) before the
+    /// mesh is refined. Default `Some(1e-8)`; `None`: the mesh is sized by
+    /// the multipliers alone.
+    pub mesh_tol: Option<f64>,
+    /// Most mesh intervals the refinement may use. Default 400.
+    pub ntst_max: usize,
+    /// At `ntst_max`, orbits whose error estimate is below this are still
+    /// accepted (and reported with it). Default `Some(1e-6)`; `None`: every
+    /// orbit at `ntst_max` is.
+    pub mesh_accept: Option<f64>,
+}
+
+impl Default for Discretization {
+    fn default() -> Self {
+        Discretization {
+            ntst: 50,
+            degree: 4,
+            points: CollocationPoints::Gauss,
+            adapt_every: 1,
+            mesh_tol: Some(1e-8),
+            ntst_max: 400,
+            mesh_accept: Some(1e-6),
+        }
+    }
+}
+
+impl Discretization {
+    /// [`Discretization::mesh_tol`] as a bound (none: no bound).
+    fn tol(&self) -> f64 {
+        self.mesh_tol.unwrap_or(f64::INFINITY)
+    }
+
+    /// [`Discretization::mesh_accept`] as a bound (none: no bound).
+    fn accept(&self) -> f64 {
+        self.mesh_accept.unwrap_or(f64::INFINITY)
+    }
+}
+
+/// How a cycle branch treats the error of its Floquet multipliers.
+#[derive(Clone, Debug)]
+pub struct FloquetPolicy {
+    /// The mesh is also refined while the trivial multiplier is off by more
+    /// than this and refining reduces that error (it is then discretization,
+    /// not rounding) — where a nontrivial multiplier lies within `1e7` times
+    /// this of the unit circle; farther, while it is off by more than `1e-7`
+    /// of that distance (which decides stability, period doublings and
+    /// tori). Default `Some(1e-8)`; `None`: never for the multipliers.
+    pub trivial_tol: Option<f64>,
+    /// Beyond this distance of the trivial multiplier from 1, the
+    /// multipliers no longer decide stability when another lies within ten
+    /// times that distance of the unit circle or the distance exceeds 0.1;
+    /// what the branch then does is `when_undecidable`. Default
+    /// `Some(1e-3)`; `None`: the multipliers are taken as they are.
+    pub trivial_limit: Option<f64>,
+    /// What the branch does once rounding swamps the multipliers (see
+    /// `trivial_limit`). Default [`WhenUndecidable::Stop`].
+    pub when_undecidable: WhenUndecidable,
+}
+
+impl Default for FloquetPolicy {
+    fn default() -> Self {
+        FloquetPolicy {
+            trivial_tol: Some(1e-8),
+            trivial_limit: Some(1e-3),
+            when_undecidable: WhenUndecidable::Stop,
+        }
+    }
 }
 
 /// What a branch does at an orbit whose Floquet multipliers rounding has
@@ -126,9 +185,8 @@ pub enum WhenUndecidable {
 impl Default for CycleSettings {
     fn default() -> Self {
         CycleSettings {
-            ntst: 50,
-            degree: 4,
-            points: CollocationPoints::Gauss,
+            mesh: Discretization::default(),
+            floquet: FloquetPolicy::default(),
             step: StepControl {
                 ds: 1e-3,
                 ds_min: 1e-12,
@@ -140,20 +198,13 @@ impl Default for CycleSettings {
             max_steps: 200,
             p_min: f64::NEG_INFINITY,
             p_max: f64::INFINITY,
-            max_period: f64::INFINITY,
-            adapt_every: 1,
+            max_period: None,
             corrector: NewtonSettings {
                 step_tol: 1e-10,
                 residual_tol: 1e-10,
                 max_iter: 10,
             },
             start_amplitude: 1e-3,
-            mesh_tol: 1e-8,
-            ntst_max: 400,
-            mesh_accept: 1e-6,
-            trivial_tol: 1e-8,
-            trivial_limit: 1e-3,
-            when_undecidable: WhenUndecidable::Stop,
             user_points: Vec::new(),
             param_floor: 1.0,
         }
@@ -451,7 +502,11 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
         let r = settings.start_amplitude * scale;
         let dp = -nf.c1.re * r * r / dl.re;
         let xp = crate::linalg::solve(jacobian(sys, x0, p0), &(-param_derivative(sys, x0, p0, k)))?;
-        let mesh = Mesh::uniform(settings.ntst, settings.degree, settings.points);
+        let mesh = Mesh::uniform(
+            settings.mesh.ntst,
+            settings.mesh.degree,
+            settings.mesh.points,
+        );
         let mut u = Vec::with_capacity(mesh.n_nodes() * n);
         let mut du = Vec::with_capacity(mesh.n_nodes() * n);
         for i in 0..mesh.ntst() {
@@ -498,7 +553,11 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
         }
         // The node values do not depend on where the equations are imposed.
         let guess = Cycle {
-            mesh: Mesh::with_points(guess.mesh.t.clone(), guess.mesh.degree, settings.points),
+            mesh: Mesh::with_points(
+                guess.mesh.t.clone(),
+                guess.mesh.degree,
+                settings.mesh.points,
+            ),
             ..guess
         };
         let coll = Collocation::new(sys, &guess, k);
@@ -524,7 +583,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
             sys,
             k,
             ds: settings.step.ds,
-            trivial_tol: settings.trivial_tol,
+            trivial_tol: settings.floquet.trivial_tol.unwrap_or(f64::INFINITY),
             multiplier_ntst: (0, 0),
             orbit_floor: (0.0, 0),
             settings,
@@ -649,10 +708,12 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         };
         loop {
             let ntst = pinned.cycle.mesh.ntst();
-            if pinned.error_estimate <= self.settings.mesh_tol || ntst >= self.settings.ntst_max {
+            if pinned.error_estimate <= self.settings.mesh.tol()
+                || ntst >= self.settings.mesh.ntst_max
+            {
                 return Ok(pinned);
             }
-            let finer = equidistribute(&pinned.cycle, (2 * ntst).min(self.settings.ntst_max));
+            let finer = equidistribute(&pinned.cycle, (2 * ntst).min(self.settings.mesh.ntst_max));
             match solve(&Collocation::new(self.sys, &finer, self.k), &finer) {
                 Ok(finer) if finer.error_estimate <= 0.25 * pinned.error_estimate => {
                     pinned = finer;
@@ -754,8 +815,8 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         loop {
             if retries > 0
                 || ntst != self.coll.mesh.ntst()
-                || (self.settings.adapt_every > 0
-                    && self.steps.is_multiple_of(self.settings.adapt_every))
+                || (self.settings.mesh.adapt_every > 0
+                    && self.steps.is_multiple_of(self.settings.mesh.adapt_every))
             {
                 self.adapt(ntst);
             }
@@ -777,7 +838,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
                 {
                     retries += 1;
                     self.restore(converged.clone());
-                    ntst = (2 * converged.0.mesh.ntst()).min(self.settings.ntst_max);
+                    ntst = (2 * converged.0.mesh.ntst()).min(self.settings.mesh.ntst_max);
                     self.ds = ds * 0.5f64.powi(retries as i32);
                 }
                 Err(e) => return Err(e),
@@ -997,10 +1058,14 @@ impl<S: VectorField> Cycles<'_, S> {
                 value: p,
                 bound: if p <= p_min { p_min } else { p_max },
             })
-        } else if pt.cycle.period > self.settings.max_period {
+        } else if let Some(max_period) = self
+            .settings
+            .max_period
+            .filter(|max| pt.cycle.period > *max)
+        {
             Some(Stop::MaxPeriod {
                 period: pt.cycle.period,
-                max_period: self.settings.max_period,
+                max_period,
             })
         } else {
             None

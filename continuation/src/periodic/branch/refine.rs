@@ -71,7 +71,7 @@ impl<S: VectorField> Cycles<'_, S> {
         // Far below the tolerance the estimate is renewed every fifth orbit
         // only (it costs a solve on the coarse mesh); in between the last
         // one is reported.
-        let fresh = self.last_estimate > 0.1 * self.settings.mesh_tol
+        let fresh = self.last_estimate > 0.1 * self.settings.mesh.tol()
             || self.since_estimate >= 4
             || self.last_ntst != self.coll.mesh.ntst();
         if fresh {
@@ -81,9 +81,9 @@ impl<S: VectorField> Cycles<'_, S> {
         }
         let (floor, since) = self.orbit_floor;
         let mut orbit_tol = if self.steps < since + ORBIT_FLOOR_MEMORY {
-            self.settings.mesh_tol.max(floor)
+            self.settings.mesh.tol().max(floor)
         } else {
-            self.settings.mesh_tol
+            self.settings.mesh.tol()
         };
         loop {
             pt.error_estimate = self.last_estimate;
@@ -92,23 +92,23 @@ impl<S: VectorField> Cycles<'_, S> {
             if orbit_resolved && pt.trivial_error <= self.multiplier_tol(&pt) {
                 break;
             }
-            if ntst >= self.settings.ntst_max {
+            if ntst >= self.settings.mesh.ntst_max {
                 // At the mesh limit an orbit is still accepted within
                 // `mesh_accept` (and reported with its estimate).
-                if pt.error_estimate <= self.settings.mesh_accept {
+                if pt.error_estimate <= self.settings.mesh.accept() {
                     break;
                 }
                 return Err(ContinuationError::Unresolved {
                     param_name: self.sys.param_name(self.k),
                     ntst,
                     error: pt.error_estimate,
-                    tol: self.settings.mesh_accept,
+                    tol: self.settings.mesh.accept(),
                     param: self.z[self.z.len() - 1],
                 });
             }
             // If twice the intervals do not help, the coarser mesh stays.
             let coarser = (self.coll.cycle(&self.z), self.tangent.clone());
-            self.adapt((2 * ntst).min(self.settings.ntst_max));
+            self.adapt((2 * ntst).min(self.settings.mesh.ntst_max));
             let corrector = self.settings.corrector;
             let finer = self
                 .correct_on_mesh(&corrector)
@@ -176,10 +176,12 @@ impl<S: VectorField> Cycles<'_, S> {
             .filter(|z| (z.norm() - 1.0).abs() <= error)
             .count();
         if self.sys.dim() > 2
-            && pt.trivial_error > self.settings.trivial_limit
+            && (self.settings.floquet.trivial_limit).is_some_and(|limit| pt.trivial_error > limit)
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
-            if self.settings.when_undecidable == WhenUndecidable::KeepFirst && self.steps == 0 {
+            if self.settings.floquet.when_undecidable == WhenUndecidable::KeepFirst
+                && self.steps == 0
+            {
                 pt.stability = Stability::IllConditioned {
                     trivial_error: Some(pt.trivial_error).filter(|e| e.is_finite()),
                 };
@@ -327,11 +329,15 @@ impl<S: VectorField> Cycles<'_, S> {
     pub(super) fn mesh_size(&self) -> usize {
         let ntst = self.coll.mesh.ntst();
         let order = self.coll.mesh.degree as i32 + 1;
-        let far_below = self.settings.mesh_tol / (8.0 * 2f64.powi(order));
+        let far_below = self.settings.mesh.tol() / (8.0 * 2f64.powi(order));
         let fresh = self.since_estimate == 0 && self.last_ntst == ntst;
         let (needed, since) = self.multiplier_ntst;
         let remembered = self.steps < since + MULTIPLIER_MEMORY;
-        let least = self.settings.ntst.max(if remembered { needed } else { 0 });
+        let least = self
+            .settings
+            .mesh
+            .ntst
+            .max(if remembered { needed } else { 0 });
         if fresh && self.last_estimate < far_below && ntst / 2 >= least {
             ntst / 2
         } else {

@@ -45,8 +45,8 @@ pub struct LpcCurveSettings {
     /// the mesh doubles, up to `ntst_max` (beyond, the curve stops); below
     /// `mesh_tol / (8 * 2^q)` it halves (halving raises the error by about
     /// `2^q`, which leaves a margin of 8), down to `ntst_min`. Default
-    /// infinite: the start's mesh size throughout, no estimate.
-    pub mesh_tol: f64,
+    /// `None`: the start's mesh size throughout, no estimate.
+    pub mesh_tol: Option<f64>,
     pub ntst_min: usize,
     pub ntst_max: usize,
 }
@@ -72,7 +72,7 @@ impl Default for LpcCurveSettings {
                 residual_tol: 1e-9,
                 max_iter: 8,
             },
-            mesh_tol: f64::INFINITY,
+            mesh_tol: None,
             ntst_min: 4,
             ntst_max: 400,
         }
@@ -149,8 +149,7 @@ impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
     fn adapt(&mut self) -> Result<(), ContinuationError> {
         let orbit = self.aug.cycle(&self.y);
         let ntst = orbit.mesh.ntst();
-        let tol = self.settings.mesh_tol;
-        if tol.is_finite() {
+        if let Some(tol) = self.settings.mesh_tol {
             // p1 and the period are read at the mesh points, where the
             // collocation solution converges at order 2m (Gauss points) or
             // 2m - 1 (Radau points), like the period.
