@@ -193,6 +193,20 @@ impl<'a, S: VectorField> Driver<Equilibria<'a, S>> {
     }
 }
 
+impl<'a, S: VectorField> Driver<Equilibria<'a, S>> {
+    /// Branch switching: the branch through a computed equilibrium `point`
+    /// (of any branch) in the parameter `k`, which may differ from the
+    /// parameter it was computed in.
+    pub fn from_point(
+        sys: &'a S,
+        point: &BranchPoint,
+        k: usize,
+        settings: ContinuationSettings,
+    ) -> Result<Self, ContinuationError> {
+        Self::new(sys, &point.x, &point.p, k, settings)
+    }
+}
+
 impl<S: VectorField> Equilibria<'_, S> {
     fn make_point(&self, newton: NewtonReport) -> Result<BranchPoint, ContinuationError> {
         let n = self.sys.dim();

@@ -182,6 +182,31 @@ impl<'a, S: VectorField> Driver<Hopf<'a, S>> {
     }
 }
 
+impl<'a, S: VectorField> Driver<Hopf<'a, S>> {
+    /// Branch switching: the Hopf curve through a Hopf point located on a
+    /// branch of equilibria (`event`, in the parameter it was located in),
+    /// with `b` the second free parameter. `None` for a fold.
+    pub fn from_event(
+        sys: &'a S,
+        event: &crate::events::Event,
+        b: usize,
+        settings: CurveSettings,
+    ) -> Option<Result<Self, ContinuationError>> {
+        let crate::events::EventKind::Hopf { omega } = event.kind else {
+            return None;
+        };
+        let e = &event.point;
+        Some(Self::new(
+            sys,
+            &e.x,
+            omega,
+            &e.p,
+            [e.param_index, b],
+            settings,
+        ))
+    }
+}
+
 impl<S: VectorField> Hopf<'_, S> {
     fn point_at(&self, z: &DVector<f64>) -> Result<HopfCurvePoint, ContinuationError> {
         let n = self.sys.dim();

@@ -108,6 +108,42 @@ fn hopf_normal_form_hopf_point_and_frequency() {
     assert!((omega / 2.5 - 1.0).abs() < 1e-12);
 }
 
+/// Branch switching from a located Hopf point: the cycles born there
+/// (`CycleBranch::from_hopf_event`) have the Hopf frequency at their start,
+/// and the radius `sqrt(-(p - p0) / c)` of the normal form at every orbit.
+#[test]
+fn cycles_switch_from_a_located_hopf_point() {
+    use continuation::periodic::branch::{CycleBranch, CycleSettings};
+    let sys = HopfNormalForm {
+        p0: 0.37,
+        w: 2.5,
+        c: (-1.0, 0.0),
+    };
+    let settings = ContinuationSettings {
+        p_max: 1.0,
+        ..Default::default()
+    };
+    let events = events_of(&sys, &[0.0, 0.0], &[-0.5], 0, settings);
+    let settings = CycleSettings {
+        max_steps: 10,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf_event(&sys, &events[0], settings)
+        .expect("a Hopf event")
+        .unwrap();
+    let mut n = 0;
+    for pt in branch {
+        let pt = pt.unwrap();
+        let (lo, hi) = pt.cycle.range(&sys, 0);
+        let beta = pt.cycle.p[0] - 0.37;
+        assert!(beta > 0.0, "supercritical: cycles for p > p0");
+        assert!((0.5 * (hi - lo) / beta.sqrt() - 1.0).abs() < 1e-6);
+        assert!((pt.cycle.period * 2.5 / std::f64::consts::TAU - 1.0).abs() < 1e-9);
+        n += 1;
+    }
+    assert_eq!(n, 11);
+}
+
 /// Brusselator `x' = a - (b + 1) x + x^2 y, y' = b x - x^2 y`:
 /// equilibrium `(a, b/a)`, Hopf at `b = 1 + a^2` with frequency `a`.
 struct Brusselator;

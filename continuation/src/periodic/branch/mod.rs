@@ -537,6 +537,28 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
         Self::from_cycle(sys, guess, k, Some(seed), settings)
     }
 
+    /// Branch switching: the cycles born at a Hopf point located on a branch
+    /// of equilibria (`event`), continued in the parameter it was located
+    /// in ([`from_hopf`](Self::from_hopf)). `None` for a fold.
+    pub fn from_hopf_event(
+        sys: &'a S,
+        event: &crate::events::Event,
+        settings: CycleSettings,
+    ) -> Option<Result<Self, ContinuationError>> {
+        let crate::events::EventKind::Hopf { omega } = event.kind else {
+            return None;
+        };
+        let e = &event.point;
+        Some(Self::from_hopf(
+            sys,
+            &e.x,
+            omega,
+            &e.p,
+            e.param_index,
+            settings,
+        ))
+    }
+
     /// Starts from an approximate orbit (corrected at its parameter first);
     /// `seed` orients the tangent (default: increasing parameter).
     pub fn from_cycle(

@@ -3,10 +3,11 @@
 //! the [`Driver`] ([`LpcCurve`]).
 
 use super::{Augmented, Evaluation, LpcPoint};
-use crate::driver::{Advance, Curve, Driver, Stop};
+use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
+use crate::periodic::branch::{CycleEvent, CyclePoint};
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::CollocationPoints;
 use crate::periodic::newton::unit_row;
@@ -138,6 +139,22 @@ impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
             steps: 0,
         };
         Ok(Driver::trace(curve, max_steps))
+    }
+}
+
+impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
+    /// Branch switching: the curve of folds of cycles through a fold of
+    /// cycles located on a cycle branch (`event`, continued in `k1`), with
+    /// `k2` the second free parameter; `None` for another kind of event.
+    pub fn from_event(
+        sys: &'a S,
+        event: &Event<CycleEvent, CyclePoint>,
+        (k1, k2): (usize, usize),
+        direction: f64,
+        settings: LpcCurveSettings,
+    ) -> Option<Result<Self, ContinuationError>> {
+        (event.kind == CycleEvent::Fold)
+            .then(|| Self::new(sys, &event.point.cycle, (k1, k2), direction, settings))
     }
 }
 
