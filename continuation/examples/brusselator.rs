@@ -66,10 +66,8 @@ fn main() -> Result<(), continuation::ContinuationError> {
         println!("no Hopf point found");
         return Ok(());
     };
-    let EventKind::Hopf { omega } = hopf.kind else {
-        unreachable!("a Hopf event")
-    };
-    let nf = hopf_normal_form(&Brusselator, &hopf.point.x, &hopf.point.p, omega)?;
+    let (at, omega) = hopf.hopf().expect("a Hopf event");
+    let nf = hopf_normal_form(&Brusselator, &at.x, &at.p, omega)?;
     println!(
         "first Lyapunov coefficient l1 = {:.12e} ({})",
         nf.l1,

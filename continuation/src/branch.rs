@@ -350,11 +350,7 @@ impl<S: VectorField> Curve for Equilibria<'_, S> {
     type Point = BranchPoint;
 
     fn start(&mut self) -> Result<(BranchPoint, Option<Stop>), ContinuationError> {
-        let point = self.make_point(NewtonReport {
-            iterations: 0,
-            residual: 0.0,
-            step: 0.0,
-        })?;
+        let point = self.make_point(NewtonReport::NONE)?;
         self.last = Some(point.clone());
         Ok((point, None))
     }

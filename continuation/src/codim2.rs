@@ -192,10 +192,7 @@ impl<'a, S: VectorField> Driver<Hopf<'a, S>> {
         b: usize,
         settings: CurveSettings,
     ) -> Option<Result<Self, ContinuationError>> {
-        let crate::events::EventKind::Hopf { omega } = event.kind else {
-            return None;
-        };
-        let e = &event.point;
+        let (e, omega) = event.hopf()?;
         Some(Self::new(
             sys,
             &e.x,

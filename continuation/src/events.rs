@@ -68,6 +68,16 @@ pub struct Equilibrium {
     pub newton: NewtonReport,
 }
 
+impl Event {
+    /// The equilibrium and the frequency of a Hopf point; `None` for a fold.
+    pub fn hopf(&self) -> Option<(&Equilibrium, f64)> {
+        match self.kind {
+            EventKind::Hopf { omega } => Some((&self.point, omega)),
+            EventKind::Fold { .. } => None,
+        }
+    }
+}
+
 impl Equilibrium {
     /// Value of the continuation parameter at the bifurcation.
     pub fn param(&self) -> f64 {

@@ -545,10 +545,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
         event: &crate::events::Event,
         settings: CycleSettings,
     ) -> Option<Result<Self, ContinuationError>> {
-        let crate::events::EventKind::Hopf { omega } = event.kind else {
-            return None;
-        };
-        let e = &event.point;
+        let (e, omega) = event.hopf()?;
         Some(Self::from_hopf(
             sys,
             &e.x,
@@ -992,11 +989,7 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
 
     fn start(&mut self) -> Result<(CyclePoint, Option<Stop>), ContinuationError> {
         // The first orbit, like every other, on a mesh fine enough for it.
-        let result = self.refined_point(NewtonReport {
-            iterations: 0,
-            residual: 0.0,
-            step: 0.0,
-        });
+        let result = self.refined_point(NewtonReport::NONE);
         self.steps += 1;
         match self.handed_out(result?, false) {
             Advance::Point(pt, stop) => Ok((pt, stop)),

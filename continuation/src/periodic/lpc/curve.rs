@@ -505,11 +505,7 @@ impl<S: VectorField> Curve for FoldsOfCycles<'_, S> {
     fn start(&mut self) -> Result<(LpcPoint, Option<Stop>), ContinuationError> {
         let pt = LpcPoint {
             cycle: self.aug.cycle(&self.y),
-            newton: NewtonReport {
-                iterations: 0,
-                residual: 0.0,
-                step: 0.0,
-            },
+            newton: NewtonReport::NONE,
         };
         match self.handed_out(pt) {
             Advance::Point(pt, stop) => Ok((pt, stop)),
