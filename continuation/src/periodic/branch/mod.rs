@@ -841,14 +841,15 @@ impl<'a, S: VectorField> Cycles<'a, S> {
             }
             let settled = if retries > 0 { self.settle() } else { Ok(()) };
             let attempt = settled.and_then(|()| {
-                let start = (
-                    Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k),
-                    self.z.clone(),
-                    self.tangent.clone(),
-                );
+                let (z0, t0) = (self.z.clone(), self.tangent.clone());
                 let (rep, ds) = self.step()?;
-                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                Ok((self.refined_point(rep)?, ds, start))
+                // The system the step started from is the one it was taken
+                // on: `self.coll` is always built on the orbit `self.z`
+                // (`from_cycle`, `adapt`, `restore`, `correct_on_mesh` and
+                // here), so it is kept, not built again.
+                let next = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+                let coll0 = std::mem::replace(&mut self.coll, next);
+                Ok((self.refined_point(rep)?, ds, (coll0, z0, t0)))
             });
             match attempt {
                 Ok(stepped) => return Ok(stepped),
