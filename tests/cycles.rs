@@ -97,7 +97,7 @@ fn collocation_cycles_agree_with_long_time_integration() {
 /// twice). Independent values: `kappa_c` of steady sliding by `find_hopf`.
 #[test]
 fn a_branch_that_returns_to_the_hopf_point_ends_there() {
-    use continuation::periodic::branch::BranchEnd;
+    use continuation::Stop;
     use stickslip::analysis::cycles::trace_cycles_from_orbit;
     use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
     use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
@@ -130,7 +130,7 @@ fn a_branch_that_returns_to_the_hopf_point_ends_there() {
     })
     .unwrap();
     assert!(
-        matches!(legs[0], Ok(BranchEnd::HopfPoint)),
+        matches!(legs[0], Ok(Stop::HopfPoint { .. })),
         "the leg toward larger stiffness ends at the Hopf point: {:?}",
         legs[0].as_ref().map_err(|e| e.to_string())
     );

@@ -5,7 +5,9 @@ mod common;
 
 use common::brockley;
 use continuation::newton::NewtonSettings;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::branch::{
+    CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization,
+};
 use continuation::periodic::lpc::locate_lpc;
 use continuation::periodic::mesh::CollocationPoints;
 use stickslip::analysis::cycles::{hopf_start, start_amplitude};
@@ -36,11 +38,14 @@ fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, Cy
     let log = log(p);
     let (x0, pv) = hopf_start(&log, p, &h);
     let settings = CycleSettings {
-        ntst: 40,
+        mesh: Discretization {
+            ntst: 40,
+            points,
+            ..Default::default()
+        },
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
         param_floor: 1e-3 * h.kappa_c,
-        points,
         start_amplitude: start_amplitude(&log),
         ..Default::default()
     };
@@ -49,8 +54,8 @@ fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, Cy
     let mut previous = None;
     for pt in branch {
         let pt = pt.unwrap();
-        if let Some(lpc) = &pt.lpc {
-            return (*lpc.clone(), previous.unwrap());
+        if let Some(lpc) = pt.event(CycleEvent::Fold) {
+            return (lpc.clone(), previous.unwrap());
         }
         previous = Some(pt);
     }

@@ -4,7 +4,7 @@
 //! long-time integration (a different method).
 
 use super::reference::reference_cycle;
-use continuation::periodic::branch::{CycleBranch, CycleSettings};
+use continuation::periodic::branch::{CycleBranch, CycleSettings, Discretization};
 use continuation::periodic::cycle::Cycle;
 use continuation::predictor_corrector::StepControl;
 use continuation::{VectorField, Wrap};
@@ -83,12 +83,15 @@ impl CycleWork {
         let kappa_min = fraction * h.kappa_c;
         // As `stickslip cycles` sets up the branch, with the mesh held at NTST.
         let settings = CycleSettings {
-            ntst: NTST,
-            ntst_max: NTST,
-            degree: DEGREE,
-            points: collocation_for(kind),
-            mesh_tol: f64::INFINITY,
-            mesh_accept: f64::INFINITY,
+            mesh: Discretization {
+                ntst: NTST,
+                ntst_max: NTST,
+                degree: DEGREE,
+                points: collocation_for(kind),
+                mesh_tol: None,
+                mesh_accept: None,
+                ..Default::default()
+            },
             max_steps: CYCLES - 1,
             p_min: kappa_min,
             step: StepControl {

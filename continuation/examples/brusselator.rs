@@ -8,14 +8,18 @@
 //! `b`, with their period, amplitude and Floquet multipliers, checked
 //! against theory: the period `2 pi / a` at the Hopf point, the trivial
 //! multiplier 1, and in the plane the other multiplier
-//! `exp(int_0^T tr J(x(t)) dt)` (Liouville).
+//! `exp(int_0^T tr J(x(t)) dt)` (Liouville). The Hopf curve and the cycles
+//! start from the located Hopf point by branch switching
+//! (`HopfCurve::from_event`, `CycleBranch::from_hopf_event`).
 //!
 //! Run: `cargo run --release -p continuation --example brusselator`
 
 use continuation::codim2::{CurveSettings, HopfCurve};
 use continuation::normal_form::hopf_normal_form;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
-use continuation::{Branch, ContinuationSettings, EventKind, Scalar, StepControl, VectorField};
+use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, Discretization};
+use continuation::{
+    Branch, ContinuationSettings, Event, EventKind, Scalar, StepControl, VectorField,
+};
 
 struct Brusselator;
 
@@ -50,19 +54,20 @@ fn main() -> Result<(), continuation::ContinuationError> {
             if let EventKind::Hopf { omega } = e.kind {
                 println!(
                     "Hopf at b = {:.15} (exact 1 + a^2 = {}), omega = {:.15} (exact a = {a})",
-                    e.param(),
+                    e.point.param(),
                     1.0 + a * a,
                     omega
                 );
-                hopf = Some((e.x, e.p, omega));
+                hopf = Some(e);
             }
         }
     }
-    let Some((x, p, omega)) = hopf else {
+    let Some(hopf) = hopf else {
         println!("no Hopf point found");
         return Ok(());
     };
-    let nf = hopf_normal_form(&Brusselator, &x, &p, omega)?;
+    let (at, omega) = hopf.hopf().expect("a Hopf event");
+    let nf = hopf_normal_form(&Brusselator, &at.x, &at.p, omega)?;
     println!(
         "first Lyapunov coefficient l1 = {:.12e} ({})",
         nf.l1,
@@ -72,18 +77,17 @@ fn main() -> Result<(), continuation::ContinuationError> {
             "subcritical"
         }
     );
-    cycles(&x, &p, omega)?;
-    let curve = HopfCurve::new(
+    cycles(&hopf)?;
+    let curve = HopfCurve::from_event(
         &Brusselator,
-        &x,
-        omega,
-        &p,
-        [1, 0],
+        &hopf,
+        0,
         CurveSettings {
             bounds: [(0.0, 50.0), (0.2, 3.0)],
             ..Default::default()
         },
-    )?;
+    )
+    .expect("a Hopf event")?;
     println!("Hopf curve in the (a, b) plane:");
     println!(
         "{:>10} {:>14} {:>14} {:>12}",
@@ -104,12 +108,16 @@ fn main() -> Result<(), continuation::ContinuationError> {
 /// Values of `b` at which cycles are reported.
 const REPORTED_B: [f64; 4] = [3.5, 4.0, 4.5, 5.0];
 
-/// Continues the cycles born at the Hopf point `(x, p, omega)` in `b` up to
-/// `b = 5` and prints the first one and those at [`REPORTED_B`].
-fn cycles(x: &[f64], p: &[f64], omega: f64) -> Result<(), continuation::ContinuationError> {
+/// Continues the cycles born at the Hopf point `hopf` in `b` up to `b = 5`
+/// and prints the first one and those at [`REPORTED_B`].
+fn cycles(hopf: &Event) -> Result<(), continuation::ContinuationError> {
+    let p = &hopf.point.p;
     let defaults = CycleSettings::default();
     let settings = CycleSettings {
-        ntst: 40,
+        mesh: Discretization {
+            ntst: 40,
+            ..Default::default()
+        },
         step: StepControl {
             ds: 0.01,
             ds_max: 0.2,
@@ -119,7 +127,8 @@ fn cycles(x: &[f64], p: &[f64], omega: f64) -> Result<(), continuation::Continua
         user_points: REPORTED_B.to_vec(),
         ..defaults
     };
-    let mut branch = CycleBranch::from_hopf(&Brusselator, x, omega, p, 1, settings)?;
+    let mut branch =
+        CycleBranch::from_hopf_event(&Brusselator, hopf, settings).expect("a Hopf event")?;
     println!("cycles born at the Hopf point, continued in b:");
     println!(
         "{:>9} {:>10} {:>11} {:>10} {:>12} {:>12} {:>7}",
@@ -139,8 +148,8 @@ fn cycles(x: &[f64], p: &[f64], omega: f64) -> Result<(), continuation::Continua
     print_cycle(&first);
     println!("  (2 pi / a = {hopf_period:.6} at the Hopf point b = {b_c})");
     for pt in branch {
-        for user in pt?.user {
-            print_cycle(&user);
+        for user in pt?.user_points() {
+            print_cycle(user);
         }
     }
     Ok(())

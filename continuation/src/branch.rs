@@ -6,10 +6,12 @@
 //! after easy corrections, halves after failures, and a step that would cross
 //! a parameter bound is shortened to land on it. Between consecutive points
 //! the fold and Hopf test functions are watched; sign changes are located
-//! (see [`crate::events`]) and attached to the later point.
+//! (see [`crate::events`]) and attached to the later point. The branch is the
+//! [`Curve`] [`Equilibria`], traced by the [`Driver`] ([`Branch`]).
 
 use crate::arclength::{Bound, CurveControl, Stepper};
 use crate::defining::{EquilibriumSystem, FreeParams};
+use crate::driver::{Advance, Curve, Driver, Stop};
 use crate::error::ContinuationError;
 use crate::events::{
     critical_pair, hopf_test, is_complex_pair, locate_fold, locate_hopf, Event, EventKind,
@@ -38,7 +40,8 @@ pub struct ContinuationSettings {
     /// the tangent up to `acos 0.9` (sharper turns are rejected and retried
     /// with a smaller step).
     pub step: StepControl,
-    /// Largest number of accepted steps. Default `500`.
+    /// Largest number of points, the start included (`max_steps - 1` steps
+    /// after it). Default `500`.
     pub max_steps: usize,
     /// Lower bound of the parameter. Default `-inf`.
     pub p_min: f64,
@@ -83,15 +86,6 @@ impl Default for ContinuationSettings {
     }
 }
 
-/// Why the branch ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StopReason {
-    /// The parameter reached `p_min` or `p_max` (the last point lies on it).
-    ParameterBound,
-    /// `max_steps` points were computed.
-    MaxSteps,
-}
-
 /// One point of a branch of equilibria.
 #[derive(Clone, Debug)]
 pub struct BranchPoint {
@@ -122,20 +116,21 @@ impl BranchPoint {
 
 /// A branch of equilibria being traced; iterate it to get the points.
 ///
-/// The first item is the corrected starting point. Iteration ends after a
-/// [`StopReason`] (see [`Branch::stop_reason`]) or after the first error.
-pub struct Branch<'a, S: VectorField> {
+/// The first item is the corrected starting point. Iteration ends at a
+/// [`Stop`] ([`Driver::stop`]: [`Stop::Bound`], the last point on the
+/// bound, or [`Stop::MaxSteps`]) or after the first error.
+pub type Branch<'a, S> = Driver<Equilibria<'a, S>>;
+
+/// The [`Curve`] of a [`Branch`]: equilibria in one parameter.
+pub struct Equilibria<'a, S: VectorField> {
     sys: &'a S,
     k: usize,
     settings: ContinuationSettings,
     stepper: Stepper<EquilibriumSystem<'a, S>>,
-    steps: usize,
     last: Option<BranchPoint>,
-    stop: Option<StopReason>,
-    failed: bool,
 }
 
-impl<'a, S: VectorField> Branch<'a, S> {
+impl<'a, S: VectorField> Driver<Equilibria<'a, S>> {
     /// Starts a branch at `(x0, p0)` in parameter `k`. The starting point is
     /// corrected at fixed parameter first.
     pub fn new(
@@ -183,23 +178,36 @@ impl<'a, S: VectorField> Branch<'a, S> {
             max: settings.p_max,
         }];
         let stepper = Stepper::new(system, z, &seed, control, bounds)?;
-        Ok(Branch {
-            sys,
-            k,
-            settings,
-            stepper,
-            steps: 0,
-            last: None,
-            stop: None,
-            failed: false,
-        })
+        // `max_steps` counts the points, the start included.
+        let max_steps = settings.max_steps.saturating_sub(1);
+        Ok(Driver::trace(
+            Equilibria {
+                sys,
+                k,
+                settings,
+                stepper,
+                last: None,
+            },
+            max_steps,
+        ))
     }
+}
 
-    /// Why the branch ended, once it has.
-    pub fn stop_reason(&self) -> Option<StopReason> {
-        self.stop
+impl<'a, S: VectorField> Driver<Equilibria<'a, S>> {
+    /// Branch switching: the branch through a computed equilibrium `point`
+    /// (of any branch) in the parameter `k`, which may differ from the
+    /// parameter it was computed in.
+    pub fn from_point(
+        sys: &'a S,
+        point: &BranchPoint,
+        k: usize,
+        settings: ContinuationSettings,
+    ) -> Result<Self, ContinuationError> {
+        Self::new(sys, &point.x, &point.p, k, settings)
     }
+}
 
+impl<S: VectorField> Equilibria<'_, S> {
     fn make_point(&self, newton: NewtonReport) -> Result<BranchPoint, ContinuationError> {
         let n = self.sys.dim();
         let z = self.stepper.z();
@@ -270,23 +278,10 @@ impl<'a, S: VectorField> Branch<'a, S> {
             }
         }
         events.sort_by(|a, b| {
-            let da = (a.param() - prev.param()).abs();
-            da.total_cmp(&(b.param() - prev.param()).abs())
+            let da = (a.point.param() - prev.param()).abs();
+            da.total_cmp(&(b.point.param() - prev.param()).abs())
         });
         Ok(events)
-    }
-
-    fn next_point(&mut self) -> Result<BranchPoint, ContinuationError> {
-        let Some(prev) = self.last.take() else {
-            return self.make_point(NewtonReport {
-                iterations: 0,
-                residual: 0.0,
-                step: 0.0,
-            });
-        };
-        let result = self.next_point_after(&prev);
-        self.last = Some(prev);
-        result
     }
 
     /// Steps from `prev`. A step across which the number of unstable
@@ -294,7 +289,10 @@ impl<'a, S: VectorField> Branch<'a, S> {
     /// crossings inside one step, say), or whose bifurcation could not be
     /// located from the bracket, is retaken with half the step size, down to
     /// `ds_min`.
-    fn next_point_after(&mut self, prev: &BranchPoint) -> Result<BranchPoint, ContinuationError> {
+    fn next_point_after(
+        &mut self,
+        prev: &BranchPoint,
+    ) -> Result<(BranchPoint, Option<Stop>), ContinuationError> {
         let (z0, t0) = (self.stepper.z().clone(), self.stepper.tangent().clone());
         loop {
             let step = self.stepper.step().map_err(|e| match e {
@@ -338,36 +336,33 @@ impl<'a, S: VectorField> Branch<'a, S> {
                     continue;
                 }
             }
-            if step.bound.is_some() {
-                self.stop = Some(StopReason::ParameterBound);
-            }
-            return Ok(point);
+            let stop = step.bound.map(|b| Stop::Bound {
+                index: self.k,
+                value: point.param(),
+                bound: if point.param() <= b.min { b.min } else { b.max },
+            });
+            return Ok((point, stop));
         }
     }
 }
 
-impl<S: VectorField> Iterator for Branch<'_, S> {
-    type Item = Result<BranchPoint, ContinuationError>;
+impl<S: VectorField> Curve for Equilibria<'_, S> {
+    type Point = BranchPoint;
 
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.failed || self.stop.is_some() {
-            return None;
-        }
-        if self.last.is_some() && self.steps >= self.settings.max_steps {
-            self.stop = Some(StopReason::MaxSteps);
-            return None;
-        }
-        match self.next_point() {
-            Ok(point) => {
-                self.steps += 1;
-                self.last = Some(point.clone());
-                Some(Ok(point))
-            }
-            Err(e) => {
-                self.failed = true;
-                Some(Err(e))
-            }
-        }
+    fn start(&mut self) -> Result<(BranchPoint, Option<Stop>), ContinuationError> {
+        let point = self.make_point(NewtonReport::NONE)?;
+        self.last = Some(point.clone());
+        Ok((point, None))
+    }
+
+    fn advance(&mut self) -> Result<Advance<BranchPoint>, ContinuationError> {
+        let prev = self.last.take().ok_or(ContinuationError::Singular)?;
+        let result = self.next_point_after(&prev);
+        self.last = Some(match &result {
+            Ok((point, _)) => point.clone(),
+            Err(_) => prev,
+        });
+        result.map(|(point, stop)| Advance::Point(point, stop))
     }
 }
 
@@ -383,11 +378,12 @@ fn plausible(e: Event, a: f64, b: f64, omega_guess: f64) -> Result<Event, Contin
         EventKind::Hopf { omega } => omega,
         EventKind::Fold { .. } => omega_guess,
     };
-    if e.param() >= lo - slack && e.param() <= hi + slack && omega > 0.1 * omega_guess {
+    let found = e.point.param();
+    if found >= lo - slack && found <= hi + slack && omega > 0.1 * omega_guess {
         Ok(e)
     } else {
         Err(ContinuationError::OutsideBracket {
-            found: e.param(),
+            found,
             from: a,
             to: b,
         })

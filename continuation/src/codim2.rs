@@ -4,10 +4,12 @@
 //!
 //! A Hopf curve is the solution curve of [`HopfSystem`] with two free
 //! parameters, `z = (x, omega, p_a, p_b)`; a fold curve that of [`FoldSystem`],
-//! `z = (x, p_a, p_b)`. Both are traced by the shared [`Stepper`].
+//! `z = (x, p_a, p_b)`. Both are traced by the shared [`Stepper`], as
+//! [`Curve`]s of the [`Driver`].
 
 use crate::arclength::{Bound, CurveControl, Stepper};
-use crate::defining::{FoldSystem, FreeParams, HopfSystem};
+use crate::defining::{DefiningSystem, FoldSystem, FreeParams, HopfSystem};
+use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::hopf_extended::hopf_normal_form_extended;
 use crate::newton::NewtonSettings;
@@ -21,7 +23,8 @@ use nalgebra::DVector;
 pub struct CurveSettings {
     /// Step-size control (`ds` etc. in the joint space `(x, omega, p_a, p_b)`).
     pub control: CurveControl,
-    /// Largest number of points.
+    /// Largest number of points of a Hopf curve, the start included; a fold
+    /// curve takes this many steps after its start.
     pub max_steps: usize,
     /// Bounds `(min, max)` of the two free parameters; the curve stops on them.
     pub bounds: [(f64, f64); 2],
@@ -66,17 +69,6 @@ impl Default for CurveSettings {
     }
 }
 
-/// Why a curve ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CurveStop {
-    /// A free parameter reached its bound (the last point lies on it).
-    Bound,
-    /// `max_steps` points.
-    MaxSteps,
-    /// The Hopf frequency fell below `omega_min`: a Bogdanov–Takens point is near.
-    FrequencyVanishing,
-}
-
 /// The tangent seed (sign of `d p_b / ds`) and the bounds of a curve whose
 /// two free parameters sit at `first` and `first + 1` of its `len` unknowns.
 fn seed_and_bounds(
@@ -110,22 +102,51 @@ pub struct HopfCurvePoint {
     pub l1: f64,
     pub l1_scale: f64,
     pub l1_error_bound: f64,
-    /// A Bautin point located between the previous point and this one.
-    pub bautin: Option<Box<HopfCurvePoint>>,
+    /// The Bautin point located between the previous point and this one,
+    /// if any (its error: the bound on the rounding error of its `l1`).
+    pub events: Vec<Event<HopfCurveEvent, HopfCurvePoint>>,
 }
 
-/// A Hopf curve being traced in parameters `(p_a, p_b)`.
-pub struct HopfCurve<'a, S: VectorField> {
+/// What a special point of a Hopf curve is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HopfCurveEvent {
+    /// A Bautin (generalized Hopf) point: `l1` changes sign.
+    Bautin,
+}
+
+/// A Hopf curve being traced in parameters `(p_a, p_b)`; it ends at a
+/// [`Stop`] ([`Driver::stop`]): [`Stop::Bound`] (the last point on it),
+/// [`Stop::FrequencyVanishing`] or [`Stop::MaxSteps`].
+pub type HopfCurve<'a, S> = Driver<Hopf<'a, S>>;
+
+/// The [`Curve`] of a [`HopfCurve`].
+pub struct Hopf<'a, S: VectorField> {
     sys: &'a S,
     stepper: Stepper<HopfSystem<'a, S>>,
     settings: CurveSettings,
     last: Option<HopfCurvePoint>,
-    steps: usize,
-    stop: Option<CurveStop>,
-    failed: bool,
 }
 
-impl<'a, S: VectorField> HopfCurve<'a, S> {
+/// The [`Stop::Bound`] of a step of `stepper` that landed on `bound`.
+fn bound_stop<G: DefiningSystem>(
+    stepper: &Stepper<G>,
+    free: &[usize],
+    first: usize,
+    bound: Bound,
+) -> Stop {
+    let value = stepper.z()[bound.index];
+    Stop::Bound {
+        index: free[bound.index - first],
+        value,
+        bound: if value <= bound.min {
+            bound.min
+        } else {
+            bound.max
+        },
+    }
+}
+
+impl<'a, S: VectorField> Driver<Hopf<'a, S>> {
     /// Starts at a Hopf point `(x0, omega0, p0)` and frees parameters `a`, `b`.
     pub fn new(
         sys: &'a S,
@@ -147,22 +168,43 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         )?;
         let (seed, bounds) = seed_and_bounds(n + 3, n + 1, &settings);
         let stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
-        Ok(HopfCurve {
+        // `max_steps` counts the points, the start included.
+        let max_steps = settings.max_steps.saturating_sub(1);
+        Ok(Driver::trace(
+            Hopf {
+                sys,
+                stepper,
+                settings,
+                last: None,
+            },
+            max_steps,
+        ))
+    }
+}
+
+impl<'a, S: VectorField> Driver<Hopf<'a, S>> {
+    /// Branch switching: the Hopf curve through a Hopf point located on a
+    /// branch of equilibria (`event`, in the parameter it was located in),
+    /// with `b` the second free parameter. `None` for a fold.
+    pub fn from_event(
+        sys: &'a S,
+        event: &crate::events::Event,
+        b: usize,
+        settings: CurveSettings,
+    ) -> Option<Result<Self, ContinuationError>> {
+        let (e, omega) = event.hopf()?;
+        Some(Self::new(
             sys,
-            stepper,
+            &e.x,
+            omega,
+            &e.p,
+            [e.param_index, b],
             settings,
-            last: None,
-            steps: 0,
-            stop: None,
-            failed: false,
-        })
+        ))
     }
+}
 
-    /// Why the curve ended, once it has.
-    pub fn stop_reason(&self) -> Option<CurveStop> {
-        self.stop
-    }
-
+impl<S: VectorField> Hopf<'_, S> {
     fn point_at(&self, z: &DVector<f64>) -> Result<HopfCurvePoint, ContinuationError> {
         let n = self.sys.dim();
         let x = z.as_slice()[..n].to_vec();
@@ -187,7 +229,7 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
             l1: nf.l1,
             l1_scale: nf.term_scale,
             l1_error_bound: nf.l1_error_bound,
-            bautin: None,
+            events: Vec::new(),
         })
     }
 
@@ -227,10 +269,8 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         best.ok_or(ContinuationError::Singular)
     }
 
-    fn next_point(&mut self) -> Result<HopfCurvePoint, ContinuationError> {
-        let Some(prev) = self.last.clone() else {
-            return self.point_at(self.stepper.z());
-        };
+    fn next_point(&mut self) -> Result<(HopfCurvePoint, Option<Stop>), ContinuationError> {
+        let prev = self.last.clone().ok_or(ContinuationError::Singular)?;
         let (z0, t0) = (self.stepper.z().clone(), self.stepper.tangent().clone());
         let step = self.stepper.step()?;
         let mut point = self.point_at(self.stepper.z())?;
@@ -239,39 +279,45 @@ impl<'a, S: VectorField> HopfCurve<'a, S> {
         let resolved = |p: &HopfCurvePoint| p.l1.abs() > p.l1_error_bound;
         if prev.l1 * point.l1 < 0.0 && resolved(&prev) && resolved(&point) {
             let b = self.locate_bautin(&z0, &t0, prev.l1, step.ds, point.l1)?;
-            point.bautin = Some(Box::new(b));
+            point.events.push(Event {
+                kind: HopfCurveEvent::Bautin,
+                error: b.l1_error_bound,
+                point: b,
+            });
         }
-        if step.bound.is_some() {
-            self.stop = Some(CurveStop::Bound);
+        let n = self.sys.dim();
+        let stop = if let Some(b) = step.bound {
+            Some(bound_stop(
+                &self.stepper,
+                &self.stepper.system.params.free,
+                n + 1,
+                b,
+            ))
         } else if point.omega < self.settings.omega_min {
-            self.stop = Some(CurveStop::FrequencyVanishing);
-        }
-        Ok(point)
+            Some(Stop::FrequencyVanishing {
+                omega: point.omega,
+                omega_min: self.settings.omega_min,
+            })
+        } else {
+            None
+        };
+        Ok((point, stop))
     }
 }
 
-impl<S: VectorField> Iterator for HopfCurve<'_, S> {
-    type Item = Result<HopfCurvePoint, ContinuationError>;
+impl<S: VectorField> Curve for Hopf<'_, S> {
+    type Point = HopfCurvePoint;
 
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.failed || self.stop.is_some() {
-            return None;
-        }
-        if self.last.is_some() && self.steps >= self.settings.max_steps {
-            self.stop = Some(CurveStop::MaxSteps);
-            return None;
-        }
-        match self.next_point() {
-            Ok(p) => {
-                self.steps += 1;
-                self.last = Some(p.clone());
-                Some(Ok(p))
-            }
-            Err(e) => {
-                self.failed = true;
-                Some(Err(e))
-            }
-        }
+    fn start(&mut self) -> Result<(HopfCurvePoint, Option<Stop>), ContinuationError> {
+        let point = self.point_at(self.stepper.z())?;
+        self.last = Some(point.clone());
+        Ok((point, None))
+    }
+
+    fn advance(&mut self) -> Result<Advance<HopfCurvePoint>, ContinuationError> {
+        let (point, stop) = self.next_point()?;
+        self.last = Some(point.clone());
+        Ok(Advance::Point(point, stop))
     }
 }
 
@@ -284,7 +330,41 @@ pub struct FoldCurvePoint {
     pub p: Vec<f64>,
 }
 
-/// Traces a fold curve from the fold `(x0, p0)` in parameters `(p_a, p_b)`.
+/// The [`Curve`] of [`fold_curve`].
+struct Fold<'a, S: VectorField> {
+    stepper: Stepper<FoldSystem<'a, S>>,
+    n: usize,
+}
+
+impl<S: VectorField> Fold<'_, S> {
+    fn point(&self) -> FoldCurvePoint {
+        let (z, n) = (self.stepper.z(), self.n);
+        FoldCurvePoint {
+            x: z.as_slice()[..n].to_vec(),
+            p: self.stepper.system.params.with(&z.as_slice()[n..]),
+        }
+    }
+}
+
+impl<S: VectorField> Curve for Fold<'_, S> {
+    type Point = FoldCurvePoint;
+
+    fn start(&mut self) -> Result<(FoldCurvePoint, Option<Stop>), ContinuationError> {
+        Ok((self.point(), None))
+    }
+
+    fn advance(&mut self) -> Result<Advance<FoldCurvePoint>, ContinuationError> {
+        let step = self.stepper.step()?;
+        let stop = step
+            .bound
+            .map(|b| bound_stop(&self.stepper, &self.stepper.system.params.free, self.n, b));
+        Ok(Advance::Point(self.point(), stop))
+    }
+}
+
+/// Traces a fold curve from the fold `(x0, p0)` in parameters `(p_a, p_b)`,
+/// at most `settings.max_steps` steps after the start; it ends on a bound or
+/// at the step limit.
 pub fn fold_curve<S: VectorField>(
     sys: &S,
     x0: &[f64],
@@ -303,21 +383,6 @@ pub fn fold_curve<S: VectorField>(
         &z0,
     )?;
     let (seed, bounds) = seed_and_bounds(n + 2, n, settings);
-    let mut stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
-    let read = |s: &Stepper<FoldSystem<S>>| {
-        let z = s.z();
-        FoldCurvePoint {
-            x: z.as_slice()[..n].to_vec(),
-            p: s.system.params.with(&z.as_slice()[n..]),
-        }
-    };
-    let mut out = vec![read(&stepper)];
-    for _ in 0..settings.max_steps {
-        let step = stepper.step()?;
-        out.push(read(&stepper));
-        if step.bound.is_some() {
-            break;
-        }
-    }
-    Ok(out)
+    let stepper = Stepper::new(system, z0, &seed, settings.control.clone(), bounds)?;
+    Driver::trace(Fold { stepper, n }, settings.max_steps).collect()
 }

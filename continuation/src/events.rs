@@ -48,11 +48,14 @@ impl EventKind {
     }
 }
 
-/// A located bifurcation point.
+/// A located bifurcation of equilibria: the one [`crate::driver::Event`]
+/// with an [`EventKind`] and the [`Equilibrium`] at it; its `error` is the
+/// last Newton step of the location.
+pub type Event = crate::driver::Event<EventKind, Equilibrium>;
+
+/// The equilibrium at a located bifurcation.
 #[derive(Clone, Debug)]
-pub struct Event {
-    /// Fold or Hopf.
-    pub kind: EventKind,
+pub struct Equilibrium {
     /// The equilibrium at the bifurcation.
     pub x: Vec<f64>,
     /// The full parameter vector at the bifurcation.
@@ -66,6 +69,16 @@ pub struct Event {
 }
 
 impl Event {
+    /// The equilibrium and the frequency of a Hopf point; `None` for a fold.
+    pub fn hopf(&self) -> Option<(&Equilibrium, f64)> {
+        match self.kind {
+            EventKind::Hopf { omega } => Some((&self.point, omega)),
+            EventKind::Fold { .. } => None,
+        }
+    }
+}
+
+impl Equilibrium {
     /// Value of the continuation parameter at the bifurcation.
     pub fn param(&self) -> f64 {
         self.p[self.param_index]
@@ -156,11 +169,14 @@ pub fn locate_hopf<S: VectorField>(
     let ev = eigenvalues(&jacobian(sys, &x, &p))?;
     Ok(Event {
         kind: EventKind::Hopf { omega: z[n].abs() },
-        x,
-        p,
-        param_index: k,
-        eigenvalues: ev,
-        newton: report,
+        error: report.step,
+        point: Equilibrium {
+            x,
+            p,
+            param_index: k,
+            eigenvalues: ev,
+            newton: report,
+        },
     })
 }
 
@@ -188,10 +204,13 @@ pub fn locate_fold<S: VectorField>(
         kind: EventKind::Fold {
             a: fold_coefficient(sys, &x, &p)?,
         },
-        x,
-        p,
-        param_index: k,
-        eigenvalues: ev,
-        newton: report,
+        error: report.step,
+        point: Equilibrium {
+            x,
+            p,
+            param_index: k,
+            eigenvalues: ev,
+            newton: report,
+        },
     })
 }

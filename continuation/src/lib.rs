@@ -1,11 +1,18 @@
 //! # continuation
 //!
-//! Numerical continuation and bifurcation analysis of equilibria of
-//! `x' = f(x, p)`, with exact derivatives from dual numbers.
+//! Numerical continuation and bifurcation analysis of `x' = f(x, p)`:
+//! equilibria, Hopf and fold curves, periodic orbits by collocation with
+//! their Floquet multipliers, curves of folds of cycles, and an implicit
+//! integrator, with exact derivatives from dual numbers.
 //!
 //! * [`system`]: the [`VectorField`] trait — `f(x, p)` written once, generic over
 //!   the scalar — and the exact Jacobian and higher derivatives derived from it.
+//! * [`driver`]: the one [`Driver`] that iterates every curve, the one
+//!   [`Event`] type of located points and the one [`Stop`] of curves that
+//!   ended without an error.
 //! * [`branch`]: pseudo-arclength continuation of equilibria as an iterator.
+//! * [`codim2`], [`periodic`]: Hopf and fold curves; cycle branches and
+//!   curves of folds of cycles.
 //! * [`events`]: test functions and the location of folds and Hopf points by
 //!   Newton's method on minimally augmented systems.
 //! * [`predictor_corrector`]: the one pseudo-arclength step, with its
@@ -25,6 +32,7 @@ pub mod codim2;
 pub mod counted;
 pub mod defining;
 pub mod double_double;
+pub mod driver;
 pub mod error;
 pub mod events;
 pub mod hopf_extended;
@@ -40,8 +48,9 @@ pub mod predictor_corrector;
 pub mod root;
 pub mod system;
 
-pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction, StopReason};
+pub use branch::{Branch, BranchPoint, ContinuationSettings, Direction};
 pub use counted::{AsIs, Counted, Counting, EvalCounts, Wrap};
+pub use driver::{Driver, Stop};
 pub use error::ContinuationError;
 pub use events::{Event, EventKind};
 pub use newton::{NewtonReport, NewtonSettings};

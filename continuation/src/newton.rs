@@ -52,6 +52,15 @@ pub struct NewtonReport {
     pub step: f64,
 }
 
+impl NewtonReport {
+    /// No Newton run: the report of a curve's first point, taken as given.
+    pub const NONE: NewtonReport = NewtonReport {
+        iterations: 0,
+        residual: 0.0,
+        step: 0.0,
+    };
+}
+
 /// Max norm `max_i |a_i|`.
 pub(crate) fn max_norm(a: &[f64]) -> f64 {
     a.iter().fold(0.0f64, |m, v| m.max(v.abs()))

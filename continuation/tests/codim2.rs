@@ -1,6 +1,7 @@
 //! Two-parameter curves on systems whose curves are known in closed form.
 
-use continuation::codim2::{fold_curve, CurveSettings, CurveStop, HopfCurve};
+use continuation::codim2::{fold_curve, CurveSettings, HopfCurve};
+use continuation::Stop;
 use continuation::{Scalar, VectorField};
 
 /// `z' = (p0 - p1^2 + i w) z + (p1 - 0.3) z |z|^2 - z |z|^4` in real coordinates:
@@ -45,7 +46,7 @@ fn hopf_curve_follows_the_parabola_and_locates_the_bautin_point() {
             (point.l1 - 2.0 * (p1 - 0.3) / 1.3).abs() < 1e-12,
             "l1 at p1 = {p1}"
         );
-        bautins.extend(point.bautin);
+        bautins.extend(point.events.into_iter().map(|e| e.point));
     }
     assert!(n > 5);
     assert_eq!(bautins.len(), 1);
@@ -66,7 +67,14 @@ fn hopf_curve_stops_on_its_bound() {
     };
     let mut curve = HopfCurve::new(&sys, &[0.0, 0.0], 2.0, &[0.0, 0.0], [0, 1], settings).unwrap();
     let last = curve.by_ref().last().unwrap().unwrap();
-    assert_eq!(curve.stop_reason(), Some(CurveStop::Bound));
+    assert_eq!(
+        curve.stop(),
+        Some(Stop::Bound {
+            index: 1,
+            value: 0.7,
+            bound: 0.7
+        })
+    );
     assert!((last.p[1] - 0.7).abs() < 1e-14);
 }
 

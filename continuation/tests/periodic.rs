@@ -2,7 +2,9 @@
 
 use continuation::newton::NewtonSettings;
 use continuation::periodic::bordered::CyclicReduction;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::branch::{
+    CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization, FloquetPolicy,
+};
 use continuation::periodic::collocation::Collocation;
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::floquet::pencil_multipliers;
@@ -37,7 +39,10 @@ impl VectorField for StuartLandau {
 fn stuart_landau_cycles_radius_period_and_multipliers() {
     let sys = StuartLandau { w: 2.0, g: 0.5 };
     let settings = CycleSettings {
-        ntst: 20,
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
         p_max: 1.0,
         step: StepControl {
             ds: 1e-2,
@@ -105,7 +110,10 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
     // exp(2 r^2 (1 - 2 r^2) T) (unstable below the fold's radius).
     let sys = Bautin { w: 1.5 };
     let settings = CycleSettings {
-        ntst: 20,
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
         p_min: -1.0,
         p_max: 0.5,
         step: StepControl {
@@ -143,7 +151,7 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
             );
             assert_eq!(pt.n_unstable, usize::from(r2 < 0.5), "r^2 = {r2}");
         }
-        lpcs.extend(pt.lpc);
+        lpcs.extend(pt.event(CycleEvent::Fold).cloned());
         last_r2 = r2;
     }
     assert!(
@@ -199,10 +207,16 @@ fn vdp_cycle(ntst: usize, degree: usize, points: CollocationPoints) -> CyclePoin
         n: 2,
     };
     let settings = CycleSettings {
-        adapt_every: 0,
-        mesh_tol: f64::INFINITY,
-        trivial_tol: f64::INFINITY,
-        points,
+        mesh: Discretization {
+            adapt_every: 0,
+            mesh_tol: None,
+            points,
+            ..Default::default()
+        },
+        floquet: FloquetPolicy {
+            trivial_tol: None,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let mut branch = CycleBranch::from_cycle(&VanDerPol, guess, 0, None, settings).unwrap();
@@ -279,7 +293,10 @@ fn radau_period_converges_at_order_2m_minus_1_in_ntst() {
 fn user_points_land_exactly_on_the_requested_parameters() {
     let sys = StuartLandau { w: 2.0, g: 0.5 };
     let settings = CycleSettings {
-        ntst: 20,
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
         p_max: 0.8,
         step: StepControl {
             ds: 1e-2,
@@ -290,7 +307,7 @@ fn user_points_land_exactly_on_the_requested_parameters() {
     };
     let mut found = Vec::new();
     for pt in CycleBranch::from_hopf(&sys, &[0.0, 0.0], 2.0, &[0.0], 0, settings).unwrap() {
-        found.extend(pt.unwrap().user);
+        found.extend(pt.unwrap().user_points().cloned());
     }
     assert_eq!(found.len(), 2);
     for (u, beta) in found.iter().zip([0.25, 0.5]) {
@@ -330,7 +347,10 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
     let sys = Bautin { w: 1.5 };
     let alpha = 1.2;
     let settings = CycleSettings {
-        ntst: 20,
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
         p_min: -1.0,
         p_max: 0.5,
         step: StepControl {
@@ -348,7 +368,7 @@ fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
     let mut routes = None;
     for pt in branch {
         let pt = pt.unwrap();
-        if let Some(lpc) = &pt.lpc {
+        if let Some(lpc) = pt.event(CycleEvent::Fold) {
             let before: &CyclePoint = previous.as_ref().unwrap();
             let newton = NewtonSettings {
                 step_tol: 1e-12,
@@ -479,7 +499,7 @@ fn twisted_band_branch(p: [f64; 2], k: usize, p_max: f64) -> Vec<CyclePoint> {
 fn period_doubling_and_torus_bifurcations_are_located() {
     let pd: Vec<_> = twisted_band_branch([-0.5, 0.6], 1, 0.8)
         .into_iter()
-        .filter_map(|pt| pt.pd)
+        .filter_map(|pt| pt.event(CycleEvent::PeriodDoubling).cloned())
         .collect();
     assert_eq!(pd.len(), 1, "one period doubling");
     let b = pd[0].cycle.p[1];
@@ -487,7 +507,7 @@ fn period_doubling_and_torus_bifurcations_are_located() {
     assert!(pd[0].multipliers.iter().any(|m| (m + 1.0).norm() < 1e-8));
     let ns: Vec<_> = twisted_band_branch([-0.2, 0.3], 0, 0.2)
         .into_iter()
-        .filter_map(|pt| pt.ns)
+        .filter_map(|pt| pt.event(CycleEvent::Torus).cloned())
         .collect();
     assert_eq!(ns.len(), 1, "one torus bifurcation");
     let a = ns[0].cycle.p[0];
@@ -515,8 +535,11 @@ fn undecidable_stability_is_a_typed_error() {
             ..CycleSettings::default().step
         },
         max_steps: 5,
-        trivial_limit: 0.0,
-        trivial_tol: 1.0,
+        floquet: FloquetPolicy {
+            trivial_limit: Some(0.0),
+            trivial_tol: Some(1.0),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let outcome: Result<Vec<_>, _> =

@@ -53,13 +53,13 @@ fn fold_normal_form_limit_point_at_origin() {
     };
     assert!((a + 1.0).abs() < 1e-14, "a = {a}");
     assert!(
-        e.param().abs() < 1e-14 && e.x[0].abs() < 1e-7,
+        e.point.param().abs() < 1e-14 && e.point.x[0].abs() < 1e-7,
         "p = {}, x = {}",
-        e.param(),
-        e.x[0]
+        e.point.param(),
+        e.point.x[0]
     );
     // At a fold the equilibrium is a double root: x = O(sqrt(p)) explains the looser x bound.
-    assert!(e.eigenvalues[0].norm() < 1e-7);
+    assert!(e.point.eigenvalues[0].norm() < 1e-7);
 }
 
 /// Hopf normal form in Cartesian coordinates with a shifted parameter:
@@ -104,8 +104,44 @@ fn hopf_normal_form_hopf_point_and_frequency() {
     let EventKind::Hopf { omega } = events[0].kind else {
         panic!("not a Hopf point")
     };
-    assert!((events[0].param() / 0.37 - 1.0).abs() < 1e-12);
+    assert!((events[0].point.param() / 0.37 - 1.0).abs() < 1e-12);
     assert!((omega / 2.5 - 1.0).abs() < 1e-12);
+}
+
+/// Branch switching from a located Hopf point: the cycles born there
+/// (`CycleBranch::from_hopf_event`) have the Hopf frequency at their start,
+/// and the radius `sqrt(-(p - p0) / c)` of the normal form at every orbit.
+#[test]
+fn cycles_switch_from_a_located_hopf_point() {
+    use continuation::periodic::branch::{CycleBranch, CycleSettings};
+    let sys = HopfNormalForm {
+        p0: 0.37,
+        w: 2.5,
+        c: (-1.0, 0.0),
+    };
+    let settings = ContinuationSettings {
+        p_max: 1.0,
+        ..Default::default()
+    };
+    let events = events_of(&sys, &[0.0, 0.0], &[-0.5], 0, settings);
+    let settings = CycleSettings {
+        max_steps: 10,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf_event(&sys, &events[0], settings)
+        .expect("a Hopf event")
+        .unwrap();
+    let mut n = 0;
+    for pt in branch {
+        let pt = pt.unwrap();
+        let (lo, hi) = pt.cycle.range(&sys, 0);
+        let beta = pt.cycle.p[0] - 0.37;
+        assert!(beta > 0.0, "supercritical: cycles for p > p0");
+        assert!((0.5 * (hi - lo) / beta.sqrt() - 1.0).abs() < 1e-6);
+        assert!((pt.cycle.period * 2.5 / std::f64::consts::TAU - 1.0).abs() < 1e-9);
+        n += 1;
+    }
+    assert_eq!(n, 11);
 }
 
 /// Brusselator `x' = a - (b + 1) x + x^2 y, y' = b x - x^2 y`:
@@ -145,12 +181,15 @@ fn brusselator_hopf_at_one_plus_a_squared() {
         };
         let b_c = 1.0 + a * a;
         assert!(
-            (e.param() / b_c - 1.0).abs() < 1e-12,
+            (e.point.param() / b_c - 1.0).abs() < 1e-12,
             "b = {} vs {b_c}",
-            e.param()
+            e.point.param()
         );
         assert!((omega / a - 1.0).abs() < 1e-12, "omega = {omega} vs {a}");
-        assert!((e.x[0] / a - 1.0).abs() < 1e-12 && (e.x[1] / (b_c / a) - 1.0).abs() < 1e-12);
+        assert!(
+            (e.point.x[0] / a - 1.0).abs() < 1e-12
+                && (e.point.x[1] / (b_c / a) - 1.0).abs() < 1e-12
+        );
     }
 }
 

@@ -26,9 +26,10 @@ use crate::model::{steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params, N_PARAMS};
 use crate::scene::Units;
 use continuation::arclength::CurveControl;
-use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
+use continuation::codim2::{CurveSettings, HopfCurve, HopfCurvePoint};
 use continuation::hopf_series::hopf_series;
 use continuation::predictor_corrector::StepControl;
+use continuation::Stop;
 use continuation::{NewtonSettings, Scalar, VectorField};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
@@ -593,7 +594,7 @@ pub fn axes_diagram(
         let (mut points, mut special, mut check) = (Vec::new(), Vec::new(), 0.0f64);
         for pt in curve.by_ref() {
             let pt = pt.map_err(NumericalError::from)?;
-            if let Some(b) = &pt.bautin {
+            if let Some(b) = pt.events.first().map(|e| &e.point) {
                 let (c, _) = at_point(b);
                 let series =
                     hopf_series(&field, &b.x, &b.p, b.omega).map_err(NumericalError::from)?;
@@ -616,12 +617,12 @@ pub fn axes_diagram(
         let at_end = points
             .last()
             .is_some_and(|p| (p.x / end - 1.0).abs() < 1e-10);
-        let stop = match curve.stop_reason() {
-            Some(CurveStop::Bound) if at_end => AxesStop::EndOfRange,
-            Some(CurveStop::Bound) => AxesStop::YBound,
-            Some(CurveStop::FrequencyVanishing) => AxesStop::FrequencyVanishing,
-            Some(CurveStop::MaxSteps) => AxesStop::StepLimit,
-            None => AxesStop::Stopped,
+        let stop = match curve.stop() {
+            Some(Stop::Bound { .. }) if at_end => AxesStop::EndOfRange,
+            Some(Stop::Bound { .. }) => AxesStop::YBound,
+            Some(Stop::FrequencyVanishing { .. }) => AxesStop::FrequencyVanishing,
+            Some(Stop::MaxSteps { .. }) => AxesStop::StepLimit,
+            Some(_) | None => AxesStop::Stopped,
         };
         Ok((points, special, stop, check))
     };

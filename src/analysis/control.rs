@@ -657,7 +657,7 @@ fn along_index(
             .iter()
             .find(|e| matches!(e.kind, EventKind::Hopf { .. }));
         if let Some(e) = hopf {
-            return Ok(Ok(e.param()));
+            return Ok(Ok(e.point.param()));
         }
     }
     Ok(Err(unstable_at_start.unwrap_or(false)))
@@ -794,7 +794,7 @@ pub struct CyclesIn {
     /// How each leg ended (one from a Hopf point, two from an orbit).
     pub legs: Vec<(
         crate::analysis::cycles::Leg,
-        Result<continuation::periodic::branch::BranchEnd, Error>,
+        Result<continuation::Stop, Error>,
     )>,
 }
 

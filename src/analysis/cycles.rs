@@ -14,11 +14,15 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
-pub use continuation::periodic::branch::{BranchEnd, Stability};
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, WhenUndecidable};
+pub use continuation::periodic::branch::Stability;
+use continuation::periodic::branch::{
+    CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization, FloquetPolicy,
+    WhenUndecidable,
+};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::CollocationPoints;
 use continuation::predictor_corrector::StepControl;
+pub use continuation::Stop;
 use continuation::{Complex64, VectorField};
 
 /// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`).
@@ -441,17 +445,20 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         friction_min,
         inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
         samples,
-        lpc: pt.lpc.as_ref().map(|l| {
+        lpc: pt.event(CycleEvent::Fold).map(|l| {
             Box::new(CycleRecord {
                 orbit: Some(l.cycle.clone()),
                 ..record(log, l, leg, watch)
             })
         }),
-        pd: pt.pd.as_ref().map(|l| Box::new(record(log, l, leg, watch))),
-        ns: pt.ns.as_ref().map(|l| Box::new(record(log, l, leg, watch))),
+        pd: pt
+            .event(CycleEvent::PeriodDoubling)
+            .map(|l| Box::new(record(log, l, leg, watch))),
+        ns: pt
+            .event(CycleEvent::Torus)
+            .map(|l| Box::new(record(log, l, leg, watch))),
         user: pt
-            .user
-            .iter()
+            .user_points()
             .map(|u| CycleRecord {
                 user_point: true,
                 ..record(log, u, leg, watch)
@@ -497,7 +504,7 @@ pub fn trace_cycles_from(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<Stop, crate::error::Error> {
     trace_cycles_from_in(kind, params, h, Param::Kappa, req, watch, sink)
 }
 
@@ -514,7 +521,7 @@ pub fn trace_cycles_from_in(
     req: &CycleRequest,
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<Stop, crate::error::Error> {
     let log = LogBlock::centered(kind, params);
     let branch = branch_at_hopf_in(
         &log,
@@ -590,7 +597,7 @@ pub fn trace_cycles_from_orbit(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
     trace_cycles_from_orbit_in(kind, params, orbit, Param::Kappa, req, watch, sink)
 }
 
@@ -605,13 +612,17 @@ pub fn trace_cycles_from_orbit_in(
     req: &CycleRequest,
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<BranchEnd, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
     let log = LogBlock::centered(kind, params);
     let ntst = req.ntst.max(SAMPLED_NTST);
     let guess = sampled_cycle(&log, params, orbit, ntst, 1e-10)
         .map_err(|e| NumericalError::Analysis(e.to_string()))?;
     let nz = guess.u.len() + 2;
-    let mut legs = [Ok(BranchEnd::ParameterBound), Ok(BranchEnd::ParameterBound)];
+    // Both overwritten below.
+    let mut legs = [
+        Ok(Stop::MaxSteps { steps: 0 }),
+        Ok(Stop::MaxSteps { steps: 0 }),
+    ];
     for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
         // The last unknown is the stiffness: the seed orients the tangent.
         let mut seed = vec![0.0; nz];
@@ -645,8 +656,25 @@ pub fn start_amplitude(log: &LogBlock) -> f64 {
 /// Continuation settings for `req`, starting on `ntst` intervals.
 fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
     CycleSettings {
-        points: req.collocation.unwrap_or(collocation_for(kind)),
-        ntst,
+        mesh: Discretization {
+            points: req.collocation.unwrap_or(collocation_for(kind)),
+            ntst,
+            ntst_max: req.ntst_max.max(ntst),
+            // Relative to the amplitudes, at the cycle's stiffness: with it the
+            // period and Delta_s agree with an independent reference to 2e-10 from
+            // (kappa_c - kappa)/kappa_c = 1e-5 to 0.5 (tests/onset_accuracy.rs,
+            // docs/cycles.md); 1e-7 left errors up to 3e-9.
+            mesh_tol: Some(1e-9),
+            mesh_accept: Some(1e-4),
+            ..Default::default()
+        },
+        // A first cycle whose multipliers rounding swamps is still a
+        // resolved cycle: delivered with its stability undecidable (and
+        // why); the branch ends at the next such cycle.
+        floquet: FloquetPolicy {
+            when_undecidable: WhenUndecidable::KeepFirst,
+            ..Default::default()
+        },
         p_min: req.kappa_min,
         p_max: req.kappa_max,
         max_steps: req.max_steps,
@@ -662,19 +690,8 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
             ..CycleSettings::default().step
         },
         user_points: req.at_kappa.clone(),
-        // A first cycle whose multipliers rounding swamps is still a
-        // resolved cycle: delivered with its stability undecidable (and
-        // why); the branch ends at the next such cycle.
-        when_undecidable: WhenUndecidable::KeepFirst,
-        ntst_max: req.ntst_max.max(ntst),
         // Relative steps in kappa down to the smallest stiffness asked for.
         param_floor: 0.5 * req.kappa_min.max(1e-12),
-        // Relative to the amplitudes, at the cycle's stiffness: with it the
-        // period and Delta_s agree with an independent reference to 2e-10 from
-        // (kappa_c - kappa)/kappa_c = 1e-5 to 0.5 (tests/onset_accuracy.rs,
-        // docs/cycles.md); 1e-7 left errors up to 3e-9.
-        mesh_tol: 1e-9,
-        mesh_accept: 1e-4,
         ..Default::default()
     }
 }
@@ -682,7 +699,7 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
 /// How [`follow`] ended: the branch's own end, or a quasi-static orbit on
 /// which inertia stopped being negligible.
 enum FollowEnd {
-    End(BranchEnd),
+    End(Stop),
     /// Hand over to the inertial model from `cycle`, continuing in the
     /// direction of `dp_ds`'s sign.
     Switch {
@@ -708,7 +725,7 @@ fn follow_switching(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<BranchEnd, crate::error::Error> {
+) -> Result<Stop, crate::error::Error> {
     let (cycle, dp_ds, previous) = match follow(log, branch, leg, skip, watch, sink)? {
         FollowEnd::End(end) => return Ok(end),
         FollowEnd::Switch {
@@ -844,9 +861,9 @@ fn follow(
         previous = Some(Box::new(pt.cycle));
     }
     // An iterator that ended without an error has a reason.
-    Ok(FollowEnd::End(
-        branch.end().unwrap_or(BranchEnd::ParameterBound),
-    ))
+    Ok(FollowEnd::End(branch.stop().expect(
+        "the driver keeps the stop of a branch that ended without an error",
+    )))
 }
 
 /// The Hopf point `h` of `params` in the log variables of `log`: the state

@@ -17,9 +17,10 @@ use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
 use continuation::arclength::CurveControl;
-use continuation::codim2::{CurveSettings, CurveStop, HopfCurve, HopfCurvePoint};
+use continuation::codim2::{CurveSettings, HopfCurve, HopfCurvePoint};
 use continuation::hopf_series::hopf_series;
 use continuation::predictor_corrector::StepControl;
+use continuation::Stop;
 use continuation::{AsIs, ContinuationSettings, LogParameters, NewtonSettings, VectorField, Wrap};
 
 /// One point of the Hopf curve, in docs/model.md's variables.
@@ -542,7 +543,7 @@ pub fn hopf_curve_with<F: Wrap>(
             let (mut points, mut special) = (Vec::new(), Vec::new());
             for pt in curve.by_ref() {
                 let pt = pt.map_err(NumericalError::from)?;
-                if let Some(b) = &pt.bautin {
+                if let Some(b) = pt.events.first().map(|e| &e.point) {
                     let c = convert(b);
                     let series =
                         hopf_series(&logs, &b.x, &b.p, b.omega).map_err(NumericalError::from)?;
@@ -563,13 +564,13 @@ pub fn hopf_curve_with<F: Wrap>(
                 .map(|p| if second == Param::Nu { p.nu } else { p.m });
             let end = if upward { range.1 } else { range.0 };
             let at_end = last.is_some_and(|v| (v / end - 1.0).abs() < 1e-10);
-            let stop = match curve.stop_reason() {
-                Some(CurveStop::Bound) if at_end => CurveEnd::EndOfRange,
-                Some(CurveStop::Bound) | Some(CurveStop::FrequencyVanishing) => {
+            let stop = match curve.stop() {
+                Some(Stop::Bound { .. }) if at_end => CurveEnd::EndOfRange,
+                Some(Stop::Bound { .. } | Stop::FrequencyVanishing { .. }) => {
                     CurveEnd::KappaCVanishes
                 }
-                Some(CurveStop::MaxSteps) => CurveEnd::StepLimit,
-                None => CurveEnd::Stopped,
+                Some(Stop::MaxSteps { .. }) => CurveEnd::StepLimit,
+                Some(_) | None => CurveEnd::Stopped,
             };
             if stop == CurveEnd::KappaCVanishes && second == Param::Nu {
                 if let Some(nu_end) = points.last().and_then(|p| friction_minimum(params, p.nu)) {

@@ -441,7 +441,7 @@ pub fn find_hopf_with<F: Wrap>(
     for (steps, point) in branch.enumerate() {
         let point = point.map_err(|e| near_velocity_neutral(kind, params, e))?;
         let hopf = point.events.iter().find_map(|e| match e.kind {
-            EventKind::Hopf { omega } => Some((e, omega)),
+            EventKind::Hopf { omega } => Some((&e.point, omega)),
             EventKind::Fold { .. } => None,
         });
         if let Some((e, omega)) = hopf {

@@ -14,7 +14,7 @@ use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::error::ContinuationError;
-use continuation::periodic::branch::CycleSettings;
+use continuation::periodic::branch::{CycleEvent, CycleSettings, Discretization, FloquetPolicy};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
 use continuation::predictor_corrector::StepControl;
@@ -140,7 +140,17 @@ fn first_fold<F: Wrap>(
     // A seed for the curve, on its own mesh: no refinement (the fold is
     // corrected on the curve's mesh when the curve starts).
     let settings = CycleSettings {
-        ntst: LPC_NTST,
+        mesh: Discretization {
+            ntst: LPC_NTST,
+            mesh_tol: None,
+            ntst_max: LPC_NTST,
+            ..Default::default()
+        },
+        floquet: FloquetPolicy {
+            trivial_tol: None,
+            trivial_limit: None,
+            ..Default::default()
+        },
         p_min: 0.5 * h.kappa_c,
         p_max: 50.0 * h.kappa_c,
         max_steps: 300,
@@ -150,18 +160,14 @@ fn first_fold<F: Wrap>(
             ..CycleSettings::default().step
         },
         param_floor: 1e-3 * h.kappa_c,
-        mesh_tol: f64::INFINITY,
-        trivial_tol: f64::INFINITY,
-        trivial_limit: f64::INFINITY,
-        ntst_max: LPC_NTST,
         ..Default::default()
     };
     let field = fields.field(*log);
     let branch = branch_at_hopf(&field, log, params, &h, settings)?;
     for pt in branch {
         let pt = pt.map_err(NumericalError::from)?;
-        if let Some(lpc) = pt.lpc {
-            return Ok(lpc.cycle);
+        if let Some(lpc) = pt.event(CycleEvent::Fold) {
+            return Ok(lpc.cycle.clone());
         }
     }
     Err(NumericalError::Analysis(format!(
@@ -300,7 +306,7 @@ fn trace_through<S: VectorField>(
                 ds_min: 1e-5,
                 ..LpcCurveSettings::default().step
             },
-            mesh_tol: LPC_MESH_TOL,
+            mesh_tol: Some(LPC_MESH_TOL),
             ntst_min: 4,
             ntst_max: 8 * ntst,
             ..Default::default()
@@ -381,10 +387,9 @@ fn trace_through<S: VectorField>(
                         "its cycles have become too stiff for the mesh".to_string(),
                         LpcStopReason::TooStiff,
                     ),
+                    // In the engine's words: the field names nu.
                     cause => (
-                        cause
-                            .to_string()
-                            .replace("p[1] along the fold of cycles", "nu"),
+                        cause.to_string(),
                         if shrinking {
                             format!(
                                 "the folded cycles shrink there (Delta_s = {:.3e}, down from \

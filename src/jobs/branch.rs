@@ -183,7 +183,7 @@ impl Plan {
             let events = point
                 .events
                 .iter()
-                .map(|e| (&e.p, &e.x, &e.eigenvalues, Some(&e.kind)));
+                .map(|e| (&e.point.p, &e.point.x, &e.point.eigenvalues, Some(&e.kind)));
             for (p, x, eigenvalues, event) in
                 events.chain([(&point.p, &point.x, &point.eigenvalues, None)])
             {

@@ -3,7 +3,7 @@
 
 use super::{Setup, TextUnits};
 use crate::analysis::cycles::{
-    trace_cycles_from, trace_cycles_from_orbit, BranchEnd, CycleRecord, CycleRequest, Leg,
+    trace_cycles_from, trace_cycles_from_orbit, CycleRecord, CycleRequest, Leg, Stop,
 };
 use crate::analysis::hopf::{velocity_strengthening, Criticality, HopfOutcome, HopfPoint};
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -176,14 +176,14 @@ impl Start {
     /// none when the simulated orbit itself failed).
     /// A quasi-static branch hands over to the inertial model where `watch`
     /// says so.
-    /// A leg that ended without an error says why ([`BranchEnd`]).
+    /// A leg that ended without an error says why ([`Stop`]).
     pub fn trace(
         &self,
         setup: &Setup,
         req: &CycleRequest,
         watch: &InertiaWatch,
         mut sink: impl FnMut(&CycleRecord) -> Result<(), Error>,
-    ) -> Vec<(Option<Leg>, Result<BranchEnd, Error>)> {
+    ) -> Vec<(Option<Leg>, Result<Stop, Error>)> {
         let kind = setup.choice.kind;
         match self {
             Start::Hopf(h) => vec![(

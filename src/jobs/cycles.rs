@@ -725,6 +725,8 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
             CollocationPoints::Gauss => "Gauss-Legendre",
             CollocationPoints::Radau => "Radau IIA",
         },
-        continuation::periodic::branch::CycleSettings::default().degree
+        continuation::periodic::branch::CycleSettings::default()
+            .mesh
+            .degree
     )
 }

@@ -11,7 +11,7 @@ use crate::error::Error;
 use crate::model::ModelKind;
 use crate::records::csv::CsvRecord;
 use crate::scene::Units;
-use continuation::periodic::branch::BranchEnd;
+use continuation::Stop;
 use serde::{Serialize, Serializer};
 use std::fmt;
 
@@ -312,25 +312,27 @@ pub struct LegStop {
 
 impl LegStop {
     /// The end `outcome` of the leg `leg` traced with the step limit `max_steps`.
-    pub fn new(leg: Option<Leg>, outcome: &Result<BranchEnd, Error>, max_steps: usize) -> Self {
+    pub fn new(leg: Option<Leg>, outcome: &Result<Stop, Error>, max_steps: usize) -> Self {
         let (reason, message) = match outcome {
-            Ok(BranchEnd::ParameterBound) => {
+            Ok(Stop::Bound { .. }) => {
                 (StopReason::EndOfRange, "end of the requested range".into())
             }
-            Ok(BranchEnd::MaxSteps) => (
+            Ok(Stop::MaxSteps { .. }) => (
                 StopReason::StepLimit,
                 format!(
                     "step limit: {max_steps} continuation steps (--max-steps) taken; the range is not covered"
                 ),
             ),
-            Ok(BranchEnd::MaxPeriod) => (
+            Ok(Stop::MaxPeriod { .. }) => (
                 StopReason::PeriodLimit,
                 "period limit reached; the range is not covered".into(),
             ),
-            Ok(BranchEnd::HopfPoint) => (
+            Ok(Stop::HopfPoint { .. }) => (
                 StopReason::HopfPoint,
                 "the cycles shrink to steady sliding at the Hopf point, where they are born".into(),
             ),
+            // Not the stop of a cycle branch.
+            Ok(stop) => (StopReason::Failed, stop.to_string()),
             Err(e @ Error::Interrupted(_)) => (StopReason::Interrupted, e.to_string()),
             Err(e) => (StopReason::Failed, e.to_string()),
         };

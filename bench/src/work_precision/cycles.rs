@@ -14,7 +14,7 @@
 use super::{points, render_figure, time_it, Measurement};
 use crate::{reference_cycle, ReferenceCycle};
 use continuation::periodic::adapt::equidistribute;
-use continuation::periodic::branch::{CycleBranch, CycleSettings};
+use continuation::periodic::branch::{CycleBranch, CycleSettings, Discretization, FloquetPolicy};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::Mesh;
 use continuation::predictor_corrector::StepControl;
@@ -158,8 +158,11 @@ fn resolved_orbit(log: &LogBlock, params: &Params, fraction: f64) -> Result<Cycl
             ..CycleSettings::default().step
         },
         param_floor: 0.5 * target,
-        mesh_tol: 1e-9,
-        ntst_max: 1600,
+        mesh: Discretization {
+            mesh_tol: Some(1e-9),
+            ntst_max: 1600,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let x0 = log.from_model(h.state[0], h.state[1], h.state[2]);
@@ -173,8 +176,9 @@ fn resolved_orbit(log: &LogBlock, params: &Params, fraction: f64) -> Result<Cycl
     )
     .map_err(NumericalError::from)?;
     for pt in branch {
-        if let Some(user) = pt.map_err(NumericalError::from)?.user.pop() {
-            return Ok(user.cycle);
+        let pt = pt.map_err(NumericalError::from)?;
+        if let Some(user) = pt.user_points().last() {
+            return Ok(user.cycle.clone());
         }
     }
     Err(
@@ -202,12 +206,18 @@ fn solve(
     // given mesh (no refinement: the mesh is the knob measured).
     let correct = |guess: Cycle| -> Result<Cycle, NumericalError> {
         let settings = CycleSettings {
-            ntst,
-            ntst_max: ntst,
-            points: fine.mesh.points,
-            mesh_tol: f64::INFINITY,
-            mesh_accept: f64::INFINITY,
-            trivial_tol: f64::INFINITY,
+            mesh: Discretization {
+                ntst,
+                ntst_max: ntst,
+                points: fine.mesh.points,
+                mesh_tol: None,
+                mesh_accept: None,
+                ..Default::default()
+            },
+            floquet: FloquetPolicy {
+                trivial_tol: None,
+                ..Default::default()
+            },
             ..CycleSettings::default()
         };
         let mut branch =

@@ -11,7 +11,7 @@
 //! Each sign change is located on the branch like a fold (regula falsi on
 //! the arclength, each trial corrected onto the branch).
 
-use super::{multiplier_error, CycleBranch, CyclePoint, Reading, FOLD_MULTIPLIER};
+use super::{multiplier_error, CycleEvent, CyclePoint, Cycles, Reading, FOLD_MULTIPLIER};
 use crate::error::ContinuationError;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::floquet::{multipliers, trivial_index};
@@ -123,7 +123,7 @@ fn has_complex_pair_on_circle(mu: &[Complex64], tol: f64) -> bool {
         .any(|m| m.im.abs() > tol && (m.norm() - 1.0).abs() <= tol)
 }
 
-impl<S: VectorField> CycleBranch<'_, S> {
+impl<S: VectorField> Cycles<'_, S> {
     /// Locates period doublings and torus bifurcations between the orbit
     /// `(z0, t0)` (collocation `coll0`) and `pt`, the orbit `ds` further.
     pub(super) fn detect_multiplier_crossings(
@@ -159,7 +159,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
             );
             let band = multiplier_error(n, pd.trivial_error).max(FOLD_MULTIPLIER);
             if has_real_multiplier_at_minus_one(&pd, band) {
-                pt.pd = Some(Box::new(pd));
+                pt.attach(CycleEvent::PeriodDoubling, pd);
             }
         }
         let (ns0, ns1) = (torus_test(&self.previous_mu), torus_test(&pt.multipliers));
@@ -171,7 +171,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
                 Reading::AtParameter,
             );
             if has_complex_pair_on_circle(&ns.multipliers, 1e-6) {
-                pt.ns = Some(Box::new(ns));
+                pt.attach(CycleEvent::Torus, ns);
             }
         }
         Ok(())

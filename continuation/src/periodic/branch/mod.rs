@@ -3,7 +3,8 @@
 //! Floquet multipliers at every orbit and periodic mesh adaptation.
 //!
 //! The arclength norm is relative in the period and the parameter
-//! ([`ArcWeights`]).
+//! ([`ArcWeights`]). The branch is the [`Curve`] [`Cycles`], traced by the
+//! [`Driver`] ([`CycleBranch`]).
 
 use super::collocation::Collocation;
 mod detect;
@@ -17,6 +18,7 @@ use super::newton::{
     correct_along, correct_bordered, newton_bordered, tangent, tangent_from, unit_row, ArcWeights,
     BorderedPoint, OrbitJacobian,
 };
+use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{eigenvalue_derivative, hopf_normal_form, HopfNormalForm};
@@ -46,57 +48,33 @@ enum Reading {
     Point,
 }
 
-/// Settings of a cycle branch.
+/// Settings of a cycle branch: the shared step control, the
+/// [`Discretization`] and the [`FloquetPolicy`], each with its defaults, and
+/// what is particular to the branch.
 #[derive(Clone, Debug)]
 pub struct CycleSettings {
-    /// Mesh intervals. Default 50.
-    pub ntst: usize,
-    /// Collocation degree. Default 4.
-    pub degree: usize,
-    /// Collocation points. Default Gauss (Radau for stiff orbits).
-    pub points: CollocationPoints,
+    /// The mesh and how it adapts.
+    pub mesh: Discretization,
+    /// How the Floquet multipliers are made accurate enough to decide.
+    pub floquet: FloquetPolicy,
     /// Step-size control of the pseudo-arclength steps (norm of
     /// [`ArcWeights`]). Default: `ds = 1e-3`, `ds_min = 1e-12`,
     /// `ds_max = 0.5`, growth 1.3 after at most 3 Newton iterations, turns of
     /// the tangent up to `acos 0.8`.
     pub step: StepControl,
-    /// Largest number of orbits.
+    /// Largest number of steps after the first orbit. Default 200.
     pub max_steps: usize,
-    /// Bounds of the parameter; the branch stops on them.
+    /// Bounds of the parameter; the branch stops at the first orbit at or
+    /// past them. Default unbounded.
     pub p_min: f64,
     pub p_max: f64,
-    /// Stop when the period exceeds this.
-    pub max_period: f64,
-    /// Re-equidistribute the mesh every this many steps (0: never). Default 1.
-    pub adapt_every: usize,
-    /// Corrector.
+    /// Stop when the period exceeds this. Default `None`: no limit.
+    pub max_period: Option<f64>,
+    /// Corrector. Default: steps and residuals to `1e-10`, 10 iterations.
     pub corrector: NewtonSettings,
-    /// Relative amplitude of the first orbit off the Hopf point (`|z| / (1 + |x0|)`).
+    /// Relative amplitude of the first orbit off the Hopf point
+    /// (`|z| / (1 + |x0|)`). Default `1e-3`.
     pub start_amplitude: f64,
-    /// Largest acceptable estimate of an orbit's discretization error
-    /// (relative to the period and the amplitudes, see `refine`) before the
-    /// mesh is refined. Default `1e-8`.
-    pub mesh_tol: f64,
-    /// Most mesh intervals the refinement may use. Default 400.
-    pub ntst_max: usize,
-    /// At `ntst_max`, orbits whose error estimate is below this are still
-    /// accepted (and reported with it). Default `1e-6`.
-    pub mesh_accept: f64,
-    /// The mesh is also refined while the trivial multiplier is off by more
-    /// than this and refining reduces that error (it is then discretization,
-    /// not rounding) — where a nontrivial multiplier lies within `1e7` times
-    /// this of the unit circle; farther, while it is off by more than `1e-7`
-    /// of that distance (which decides stability, period doublings and
-    /// tori). Default `1e-8`.
-    pub trivial_tol: f64,
-    /// Beyond this distance of the trivial multiplier from 1, the
-    /// multipliers no longer decide stability when another lies within ten
-    /// times that distance of the unit circle or the distance exceeds 0.1;
-    /// what the branch then does is `when_undecidable`. Default `1e-3`.
-    pub trivial_limit: f64,
-    /// What the branch does once rounding swamps the multipliers (see
-    /// `trivial_limit`). Default [`WhenUndecidable::Stop`].
-    pub when_undecidable: WhenUndecidable,
     /// Parameter values at which an orbit is located exactly and reported
     /// (AUTO's user points). Default none.
     pub user_points: Vec<f64>,
@@ -105,6 +83,89 @@ pub struct CycleSettings {
     /// (parameters that pass through 0 need a floor; set it to the smallest
     /// scale of interest for branches spanning decades).
     pub param_floor: f64,
+}
+
+/// The collocation mesh of a cycle branch and how it adapts (AUTO's `NTST`,
+/// `NCOL`, `IAD`; the refinement by the error estimate is `refine`'s).
+#[derive(Clone, Debug)]
+pub struct Discretization {
+    /// Mesh intervals of the first orbit, and the fewest the mesh is
+    /// coarsened to. Default 50.
+    pub ntst: usize,
+    /// Collocation degree. Default 4.
+    pub degree: usize,
+    /// Collocation points. Default Gauss (Radau for stiff orbits).
+    pub points: CollocationPoints,
+    /// Re-equidistribute the mesh every this many steps (0: never). Default 1.
+    pub adapt_every: usize,
+    /// Largest acceptable estimate of an orbit's discretization error
+    /// (relative to the period and the amplitudes, see `refine`) before the
+    /// mesh is refined. Default `Some(1e-8)`; `None`: the mesh is sized by
+    /// the multipliers alone.
+    pub mesh_tol: Option<f64>,
+    /// Most mesh intervals the refinement may use. Default 400.
+    pub ntst_max: usize,
+    /// At `ntst_max`, orbits whose error estimate is below this are still
+    /// accepted (and reported with it). Default `Some(1e-6)`; `None`: every
+    /// orbit at `ntst_max` is.
+    pub mesh_accept: Option<f64>,
+}
+
+impl Default for Discretization {
+    fn default() -> Self {
+        Discretization {
+            ntst: 50,
+            degree: 4,
+            points: CollocationPoints::Gauss,
+            adapt_every: 1,
+            mesh_tol: Some(1e-8),
+            ntst_max: 400,
+            mesh_accept: Some(1e-6),
+        }
+    }
+}
+
+impl Discretization {
+    /// [`Discretization::mesh_tol`] as a bound (none: no bound).
+    fn tol(&self) -> f64 {
+        self.mesh_tol.unwrap_or(f64::INFINITY)
+    }
+
+    /// [`Discretization::mesh_accept`] as a bound (none: no bound).
+    fn accept(&self) -> f64 {
+        self.mesh_accept.unwrap_or(f64::INFINITY)
+    }
+}
+
+/// How a cycle branch treats the error of its Floquet multipliers.
+#[derive(Clone, Debug)]
+pub struct FloquetPolicy {
+    /// The mesh is also refined while the trivial multiplier is off by more
+    /// than this and refining reduces that error (it is then discretization,
+    /// not rounding) — where a nontrivial multiplier lies within `1e7` times
+    /// this of the unit circle; farther, while it is off by more than `1e-7`
+    /// of that distance (which decides stability, period doublings and
+    /// tori). Default `Some(1e-8)`; `None`: never for the multipliers.
+    pub trivial_tol: Option<f64>,
+    /// Beyond this distance of the trivial multiplier from 1, the
+    /// multipliers no longer decide stability when another lies within ten
+    /// times that distance of the unit circle or the distance exceeds 0.1;
+    /// what the branch then does is `when_undecidable`. Default
+    /// `Some(1e-3)`; `None`: the multipliers are taken as they are.
+    pub trivial_limit: Option<f64>,
+    /// What the branch does once rounding swamps the multipliers (see
+    /// `trivial_limit`). Default [`WhenUndecidable::Stop`].
+    pub when_undecidable: WhenUndecidable,
+}
+
+impl Default for FloquetPolicy {
+    fn default() -> Self {
+        FloquetPolicy {
+            trivial_tol: Some(1e-8),
+            trivial_limit: Some(1e-3),
+            when_undecidable: WhenUndecidable::Stop,
+        }
+    }
 }
 
 /// What a branch does at an orbit whose Floquet multipliers rounding has
@@ -124,9 +185,8 @@ pub enum WhenUndecidable {
 impl Default for CycleSettings {
     fn default() -> Self {
         CycleSettings {
-            ntst: 50,
-            degree: 4,
-            points: CollocationPoints::Gauss,
+            mesh: Discretization::default(),
+            floquet: FloquetPolicy::default(),
             step: StepControl {
                 ds: 1e-3,
                 ds_min: 1e-12,
@@ -138,20 +198,13 @@ impl Default for CycleSettings {
             max_steps: 200,
             p_min: f64::NEG_INFINITY,
             p_max: f64::INFINITY,
-            max_period: f64::INFINITY,
-            adapt_every: 1,
+            max_period: None,
             corrector: NewtonSettings {
                 step_tol: 1e-10,
                 residual_tol: 1e-10,
                 max_iter: 10,
             },
             start_amplitude: 1e-3,
-            mesh_tol: 1e-8,
-            ntst_max: 400,
-            mesh_accept: 1e-6,
-            trivial_tol: 1e-8,
-            trivial_limit: 1e-3,
-            when_undecidable: WhenUndecidable::Stop,
             user_points: Vec::new(),
             param_floor: 1.0,
         }
@@ -223,23 +276,6 @@ pub fn multiplier_error(n: usize, trivial_error: f64) -> f64 {
 /// of the amplitude at fixed stiffness), not a fold.
 const FOLD_MULTIPLIER: f64 = 1e-3;
 
-/// Why a branch ended without an error.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BranchEnd {
-    /// The parameter reached `p_min` or `p_max`.
-    ParameterBound,
-    /// `max_steps` orbits were computed.
-    MaxSteps,
-    /// The period exceeded `max_period`.
-    MaxPeriod,
-    /// The cycles shrank to the equilibrium: the branch came back to a Hopf
-    /// point, where they are born (their amplitude passes through zero there,
-    /// and the parameter turns; past it the same cycles would return, shifted
-    /// by half a period). The last orbit is the one the step through it
-    /// reached.
-    HopfPoint,
-}
-
 /// An orbit whose every observable's amplitude is below this fraction of
 /// the largest the branch has had, followed by a larger one, is where the
 /// branch passed through the equilibrium (a Hopf point) between steps
@@ -294,17 +330,57 @@ pub struct CyclePoint {
     pub newton: NewtonReport,
     /// `d p / d s` along the branch: its sign change marks a fold of cycles.
     pub dp_ds: f64,
-    /// A fold of cycles (limit point, LPC) located between the previous orbit and this one.
-    pub lpc: Option<Box<CyclePoint>>,
-    /// A period doubling (a multiplier through -1) located there.
-    pub pd: Option<Box<CyclePoint>>,
-    /// A Neimark–Sacker (torus) bifurcation (a complex pair through the unit circle) located there.
-    pub ns: Option<Box<CyclePoint>>,
-    /// Orbits at the user's parameter values passed between the previous orbit and this one.
-    pub user: Vec<CyclePoint>,
+    /// The orbits located between the previous orbit and this one: a fold
+    /// of cycles, a period doubling, a torus bifurcation (at most one of
+    /// each), and the orbits at the user's parameter values passed; each
+    /// with its [`CyclePoint::error_estimate`] as its error.
+    pub events: Vec<Event<CycleEvent, CyclePoint>>,
+}
+
+/// What a located orbit of a cycle branch is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CycleEvent {
+    /// A fold of cycles (limit point of cycles, LPC).
+    Fold,
+    /// A period doubling: a multiplier through -1.
+    PeriodDoubling,
+    /// A Neimark–Sacker (torus) bifurcation: a complex pair through the
+    /// unit circle.
+    Torus,
+    /// The orbit at a parameter value the user asked for
+    /// ([`CycleSettings::user_points`]).
+    User {
+        /// The value asked for.
+        value: f64,
+    },
 }
 
 impl CyclePoint {
+    /// The located orbit of `kind` (not a user point) attached to this one.
+    pub fn event(&self, kind: CycleEvent) -> Option<&CyclePoint> {
+        self.events
+            .iter()
+            .find(|e| e.kind == kind)
+            .map(|e| &e.point)
+    }
+
+    /// The orbits at the user's parameter values attached to this one.
+    pub fn user_points(&self) -> impl Iterator<Item = &CyclePoint> {
+        self.events
+            .iter()
+            .filter(|e| matches!(e.kind, CycleEvent::User { .. }))
+            .map(|e| &e.point)
+    }
+
+    /// Attaches the located orbit `point` of `kind`.
+    fn attach(&mut self, kind: CycleEvent, point: CyclePoint) {
+        self.events.push(Event {
+            kind,
+            error: point.error_estimate,
+            point,
+        });
+    }
+
     /// Least and greatest value of every observable of `sys` (the field
     /// the orbit solves) over the orbit, by [`Cycle::observable_range`]:
     /// computed at the first call, then kept (the error estimate and the
@@ -318,8 +394,17 @@ impl CyclePoint {
     }
 }
 
-/// A branch of periodic orbits being traced.
-pub struct CycleBranch<'a, S: VectorField> {
+/// A branch of periodic orbits being traced; iterate it to get the orbits.
+/// It ends at a [`Stop`] ([`Driver::stop`]): [`Stop::Bound`] (the first
+/// orbit at or past `p_min` or `p_max`), [`Stop::MaxSteps`],
+/// [`Stop::MaxPeriod`] or [`Stop::HopfPoint`] (the cycles shrank to the
+/// equilibrium: the last orbit is the one the step through it reached, or
+/// the one before where the branch passed through it between steps), or
+/// after the first error.
+pub type CycleBranch<'a, S> = Driver<Cycles<'a, S>>;
+
+/// The [`Curve`] of a [`CycleBranch`].
+pub struct Cycles<'a, S: VectorField> {
     sys: &'a S,
     k: usize,
     settings: CycleSettings,
@@ -330,14 +415,14 @@ pub struct CycleBranch<'a, S: VectorField> {
     /// seed): its refinement keeps the parameter.
     start_at_fixed_parameter: bool,
     ds: f64,
+    /// Orbits handed out (or failed).
     steps: usize,
-    done: bool,
-    /// Why the branch ended, once it has ended without an error.
-    end: Option<BranchEnd>,
     /// Floquet multipliers of the last orbit handed out (for the PD and NS tests).
     previous_mu: Vec<Complex64>,
     /// Their trivial multiplier's distance from 1 (their error's measure).
     previous_trivial_error: f64,
+    /// The continuation parameter of the last orbit handed out.
+    previous_param: f64,
     /// The largest amplitude of each observable on the branch so far, and
     /// the last orbit's amplitude relative to it (the largest over the
     /// observables), with whether it had shrunk from the orbit before.
@@ -367,7 +452,7 @@ pub struct CycleBranch<'a, S: VectorField> {
     jacobian: Option<(Vec<f64>, OrbitJacobian)>,
 }
 
-impl<'a, S: VectorField> CycleBranch<'a, S> {
+impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
     /// Starts from the Hopf point `(x0, omega, p0)` in parameter `k`: the first
     /// orbit comes from the normal form (`x0 + 2 r Re(q e^{2 pi i tau})` at
     /// `p_k = p_c - Re(c1) r^2 / Re(lambda')`) and is corrected at that parameter.
@@ -417,7 +502,11 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let r = settings.start_amplitude * scale;
         let dp = -nf.c1.re * r * r / dl.re;
         let xp = crate::linalg::solve(jacobian(sys, x0, p0), &(-param_derivative(sys, x0, p0, k)))?;
-        let mesh = Mesh::uniform(settings.ntst, settings.degree, settings.points);
+        let mesh = Mesh::uniform(
+            settings.mesh.ntst,
+            settings.mesh.degree,
+            settings.mesh.points,
+        );
         let mut u = Vec::with_capacity(mesh.n_nodes() * n);
         let mut du = Vec::with_capacity(mesh.n_nodes() * n);
         for i in 0..mesh.ntst() {
@@ -448,6 +537,25 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         Self::from_cycle(sys, guess, k, Some(seed), settings)
     }
 
+    /// Branch switching: the cycles born at a Hopf point located on a branch
+    /// of equilibria (`event`), continued in the parameter it was located
+    /// in ([`from_hopf`](Self::from_hopf)). `None` for a fold.
+    pub fn from_hopf_event(
+        sys: &'a S,
+        event: &crate::events::Event,
+        settings: CycleSettings,
+    ) -> Option<Result<Self, ContinuationError>> {
+        let (e, omega) = event.hopf()?;
+        Some(Self::from_hopf(
+            sys,
+            &e.x,
+            omega,
+            &e.p,
+            e.param_index,
+            settings,
+        ))
+    }
+
     /// Starts from an approximate orbit (corrected at its parameter first);
     /// `seed` orients the tangent (default: increasing parameter).
     pub fn from_cycle(
@@ -464,7 +572,11 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         }
         // The node values do not depend on where the equations are imposed.
         let guess = Cycle {
-            mesh: Mesh::with_points(guess.mesh.t.clone(), guess.mesh.degree, settings.points),
+            mesh: Mesh::with_points(
+                guess.mesh.t.clone(),
+                guess.mesh.degree,
+                settings.mesh.points,
+            ),
             ..guess
         };
         let coll = Collocation::new(sys, &guess, k);
@@ -484,12 +596,13 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         let coll = Collocation::new(sys, &coll.cycle(&z), k);
         let jacobian = OrbitJacobian::new(coll.linearize(&z), sys.dim());
         let tangent = tangent_from(&jacobian, &seed, &w)?;
-        Ok(CycleBranch {
+        let max_steps = settings.max_steps;
+        let cycles = Cycles {
             jacobian: Some((z.clone(), jacobian)),
             sys,
             k,
             ds: settings.step.ds,
-            trivial_tol: settings.trivial_tol,
+            trivial_tol: settings.floquet.trivial_tol.unwrap_or(f64::INFINITY),
             multiplier_ntst: (0, 0),
             orbit_floor: (0.0, 0),
             settings,
@@ -498,8 +611,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             coll,
             start_at_fixed_parameter,
             steps: 0,
-            done: false,
-            end: None,
+            previous_param: f64::NAN,
             previous_mu: Vec::new(),
             previous_trivial_error: f64::INFINITY,
             largest_amplitude: Vec::new(),
@@ -507,15 +619,12 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
             last_estimate: f64::INFINITY,
             last_ntst: 0,
             since_estimate: 0,
-        })
+        };
+        Ok(Driver::trace(cycles, max_steps))
     }
+}
 
-    /// Why the branch ended, after its last orbit was handed out without an
-    /// error (`None` while it goes on, or after an error).
-    pub fn end(&self) -> Option<BranchEnd> {
-        self.end
-    }
-
+impl<'a, S: VectorField> Cycles<'a, S> {
     /// Takes one accepted step ([`predictor_corrector::step`], norm of the
     /// [`ArcWeights`] at the current orbit); returns the corrector's report
     /// and the step length.
@@ -618,10 +727,12 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         };
         loop {
             let ntst = pinned.cycle.mesh.ntst();
-            if pinned.error_estimate <= self.settings.mesh_tol || ntst >= self.settings.ntst_max {
+            if pinned.error_estimate <= self.settings.mesh.tol()
+                || ntst >= self.settings.mesh.ntst_max
+            {
                 return Ok(pinned);
             }
-            let finer = equidistribute(&pinned.cycle, (2 * ntst).min(self.settings.ntst_max));
+            let finer = equidistribute(&pinned.cycle, (2 * ntst).min(self.settings.mesh.ntst_max));
             match solve(&Collocation::new(self.sys, &finer, self.k), &finer) {
                 Ok(finer) if finer.error_estimate <= 0.25 * pinned.error_estimate => {
                     pinned = finer;
@@ -633,7 +744,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 }
 
-impl<S: VectorField> CycleBranch<'_, S> {
+impl<S: VectorField> Cycles<'_, S> {
     /// Whether the branch went through the equilibrium between the last
     /// orbit and `pt`: the last one shrank below [`PASSED`] of the branch's
     /// largest amplitude (on every observable) and `pt` is larger again. A
@@ -677,7 +788,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
 }
 
 /// How often a step that failed is taken again from the previous orbit on a
-/// finer mesh ([`CycleBranch::stepped_point`]).
+/// finer mesh ([`Cycles::stepped_point`]).
 const REFINEMENT_RETRIES: usize = 3;
 
 /// Newton iterations allowed to correct an orbit moved onto a finer mesh
@@ -688,7 +799,7 @@ const REMESH_ITERATIONS: usize = 30;
 /// the tangent.
 type StepStart<'a, S> = (Collocation<'a, S>, Vec<f64>, Vec<f64>);
 
-impl<'a, S: VectorField> CycleBranch<'a, S> {
+impl<'a, S: VectorField> Cycles<'a, S> {
     /// Corrects the orbit just moved onto a finer mesh (up to
     /// [`REMESH_ITERATIONS`] Newton iterations) and recomputes its tangent
     /// there: on stiff orbits the interpolated orbit can lie farther from the
@@ -723,21 +834,22 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
         loop {
             if retries > 0
                 || ntst != self.coll.mesh.ntst()
-                || (self.settings.adapt_every > 0
-                    && self.steps.is_multiple_of(self.settings.adapt_every))
+                || (self.settings.mesh.adapt_every > 0
+                    && self.steps.is_multiple_of(self.settings.mesh.adapt_every))
             {
                 self.adapt(ntst);
             }
             let settled = if retries > 0 { self.settle() } else { Ok(()) };
             let attempt = settled.and_then(|()| {
-                let start = (
-                    Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k),
-                    self.z.clone(),
-                    self.tangent.clone(),
-                );
+                let (z0, t0) = (self.z.clone(), self.tangent.clone());
                 let (rep, ds) = self.step()?;
-                self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
-                Ok((self.refined_point(rep)?, ds, start))
+                // The system the step started from is the one it was taken
+                // on: `self.coll` is always built on the orbit `self.z`
+                // (`from_cycle`, `adapt`, `restore`, `correct_on_mesh` and
+                // here), so it is kept, not built again.
+                let next = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
+                let coll0 = std::mem::replace(&mut self.coll, next);
+                Ok((self.refined_point(rep)?, ds, (coll0, z0, t0)))
             });
             match attempt {
                 Ok(stepped) => return Ok(stepped),
@@ -746,7 +858,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
                 {
                     retries += 1;
                     self.restore(converged.clone());
-                    ntst = (2 * converged.0.mesh.ntst()).min(self.settings.ntst_max);
+                    ntst = (2 * converged.0.mesh.ntst()).min(self.settings.mesh.ntst_max);
                     self.ds = ds * 0.5f64.powi(retries as i32);
                 }
                 Err(e) => return Err(e),
@@ -755,7 +867,7 @@ impl<'a, S: VectorField> CycleBranch<'a, S> {
     }
 }
 
-/// One step of a [`CycleBranch`] as a [`CurveProblem`]: the collocation
+/// One step of a [`Cycles`] as a [`CurveProblem`]: the collocation
 /// system closed by the pseudo-arclength condition in the norm `w`.
 struct CycleStep<'b, 'a, S: VectorField> {
     coll: &'b Collocation<'a, S>,
@@ -869,102 +981,111 @@ fn point_at<S: VectorField>(
         stability,
         newton,
         dp_ds: tangent[tangent.len() - 1],
-        lpc: None,
-        pd: None,
-        ns: None,
-        user: Vec::new(),
+        events: Vec::new(),
     })
 }
 
-impl<S: VectorField> Iterator for CycleBranch<'_, S> {
-    type Item = Result<CyclePoint, ContinuationError>;
+impl<S: VectorField> Curve for Cycles<'_, S> {
+    type Point = CyclePoint;
 
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.done {
-            return None;
+    fn start(&mut self) -> Result<(CyclePoint, Option<Stop>), ContinuationError> {
+        // The first orbit, like every other, on a mesh fine enough for it.
+        let result = self.refined_point(NewtonReport::NONE);
+        self.steps += 1;
+        match self.handed_out(result?, false) {
+            Advance::Point(pt, stop) => Ok((pt, stop)),
+            Advance::End(_) => unreachable!("the first orbit passes through no equilibrium"),
         }
-        // The branch came back to a Hopf point (see `BranchEnd::HopfPoint`).
+    }
+
+    fn advance(&mut self) -> Result<Advance<CyclePoint>, ContinuationError> {
+        // The branch came back to a Hopf point (see `Stop::HopfPoint`).
         let mut at_hopf = false;
-        let result = if self.steps == 0 {
-            // The first orbit, like every other, on a mesh fine enough for it.
-            self.refined_point(NewtonReport {
-                iterations: 0,
-                residual: 0.0,
-                step: 0.0,
+        let result = self
+            .stepped_point()
+            .and_then(|(mut pt, ds, (coll0, z0, t0))| {
+                let nz = z0.len();
+                if t0[nz - 1] * pt.dp_ds < 0.0 {
+                    let lpc = self.estimated(
+                        self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
+                            Ok(t[nz - 1])
+                        })?,
+                        Reading::Point,
+                    );
+                    let p_fold = lpc.cycle.p[self.k];
+                    let excursion = (p_fold - z0[nz - 1])
+                        .abs()
+                        .max((p_fold - pt.cycle.p[self.k]).abs());
+                    if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
+                        at_hopf = true;
+                    } else if is_fold(&lpc, self.sys.dim())
+                        && excursion > self.parameter_resolution(&z0)
+                    {
+                        pt.attach(CycleEvent::Fold, lpc);
+                    }
+                }
+                self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
+                // The mesh (hence the length of z) may have been refined since z0.
+                let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
+                for &target in &self.settings.user_points {
+                    if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
+                        let user = self.locate(
+                            &coll0,
+                            &z0,
+                            &t0,
+                            (p0 - target, p1 - target),
+                            ds,
+                            |z, _| Ok(z[nz - 1] - target),
+                        )?;
+                        let user = self.pin(&coll0, user, &t0, target)?;
+                        pt.attach(CycleEvent::User { value: target }, user);
+                    }
+                }
+                Ok(pt)
+            });
+        self.steps += 1;
+        Ok(self.handed_out(result?, at_hopf))
+    }
+}
+
+impl<S: VectorField> Cycles<'_, S> {
+    /// The orbit `pt` handed out, with the reason the branch ends on it
+    /// (`at_hopf`: its step went through the equilibrium at a Hopf point);
+    /// or, where the branch passed through the equilibrium between steps,
+    /// the end without it.
+    fn handed_out(&mut self, pt: CyclePoint, at_hopf: bool) -> Advance<CyclePoint> {
+        let p = pt.cycle.p[self.k];
+        if self.passed_through_equilibrium(&pt) {
+            // This orbit retraces the branch shifted by half a period: not
+            // handed out.
+            return Advance::End(Stop::HopfPoint {
+                param: self.previous_param,
+            });
+        }
+        self.previous_mu.clone_from(&pt.multipliers);
+        self.previous_trivial_error = pt.trivial_error;
+        self.previous_param = p;
+        let (p_min, p_max) = (self.settings.p_min, self.settings.p_max);
+        let stop = if at_hopf {
+            Some(Stop::HopfPoint { param: p })
+        } else if p <= p_min || p >= p_max {
+            Some(Stop::Bound {
+                index: self.k,
+                value: p,
+                bound: if p <= p_min { p_min } else { p_max },
+            })
+        } else if let Some(max_period) = self
+            .settings
+            .max_period
+            .filter(|max| pt.cycle.period > *max)
+        {
+            Some(Stop::MaxPeriod {
+                period: pt.cycle.period,
+                max_period,
             })
         } else {
-            self.stepped_point()
-                .and_then(|(mut pt, ds, (coll0, z0, t0))| {
-                    let nz = z0.len();
-                    if t0[nz - 1] * pt.dp_ds < 0.0 {
-                        let lpc = self.estimated(
-                            self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
-                                Ok(t[nz - 1])
-                            })?,
-                            Reading::Point,
-                        );
-                        let p_fold = lpc.cycle.p[self.k];
-                        let excursion = (p_fold - z0[nz - 1])
-                            .abs()
-                            .max((p_fold - pt.cycle.p[self.k]).abs());
-                        if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
-                            at_hopf = true;
-                        } else if is_fold(&lpc, self.sys.dim())
-                            && excursion > self.parameter_resolution(&z0)
-                        {
-                            pt.lpc = Some(Box::new(lpc));
-                        }
-                    }
-                    self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
-                    // The mesh (hence the length of z) may have been refined since z0.
-                    let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
-                    for &target in &self.settings.user_points {
-                        if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
-                            let user = self.locate(
-                                &coll0,
-                                &z0,
-                                &t0,
-                                (p0 - target, p1 - target),
-                                ds,
-                                |z, _| Ok(z[nz - 1] - target),
-                            )?;
-                            pt.user.push(self.pin(&coll0, user, &t0, target)?);
-                        }
-                    }
-                    Ok(pt)
-                })
+            None
         };
-        self.steps += 1;
-        match result {
-            Ok(pt) => {
-                if self.passed_through_equilibrium(&pt) {
-                    // This orbit retraces the branch shifted by half a
-                    // period: not handed out.
-                    self.end = Some(BranchEnd::HopfPoint);
-                    self.done = true;
-                    return None;
-                }
-                self.previous_mu.clone_from(&pt.multipliers);
-                self.previous_trivial_error = pt.trivial_error;
-                let p = pt.cycle.p[self.k];
-                self.end = if at_hopf {
-                    Some(BranchEnd::HopfPoint)
-                } else if p <= self.settings.p_min || p >= self.settings.p_max {
-                    Some(BranchEnd::ParameterBound)
-                } else if pt.cycle.period > self.settings.max_period {
-                    Some(BranchEnd::MaxPeriod)
-                } else if self.steps > self.settings.max_steps {
-                    Some(BranchEnd::MaxSteps)
-                } else {
-                    None
-                };
-                self.done = self.end.is_some();
-                Some(Ok(pt))
-            }
-            Err(e) => {
-                self.done = true;
-                Some(Err(e))
-            }
-        }
+        Advance::Point(pt, stop)
     }
 }

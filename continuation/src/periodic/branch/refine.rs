@@ -14,11 +14,11 @@
 //! accepted, and the orbit stays on the coarser mesh.
 //!
 //! Where an estimate falls far below the tolerance the next step halves the
-//! mesh ([`CycleBranch::mesh_size`]): the intervals a stretch of the branch
+//! mesh ([`Cycles::mesh_size`]): the intervals a stretch of the branch
 //! needed are not carried along the rest of it.
 
 use super::{
-    point_at, CycleBranch, CyclePoint, Reading, Stability, WhenUndecidable, MULTIPLIER_MEMORY,
+    point_at, CyclePoint, Cycles, Reading, Stability, WhenUndecidable, MULTIPLIER_MEMORY,
     ORBIT_FLOOR_MEMORY,
 };
 use crate::error::ContinuationError;
@@ -32,7 +32,7 @@ use crate::system::VectorField;
 
 /// The share of the distance of the nontrivial multipliers from the unit
 /// circle the trivial multiplier's error is refined below
-/// ([`CycleBranch::multiplier_tol`]).
+/// ([`Cycles::multiplier_tol`]).
 const MARGIN_SHARE: f64 = 1e-7;
 
 /// Largest difference between two approximations `a` (the finer) and `b`
@@ -52,7 +52,7 @@ fn difference<S: VectorField>(sys: &S, a: &CyclePoint, b: &Cycle) -> f64 {
     d
 }
 
-impl<S: VectorField> CycleBranch<'_, S> {
+impl<S: VectorField> Cycles<'_, S> {
     /// The current orbit, on a mesh fine enough for `mesh_tol` (and for
     /// `trivial_tol` while refining helps the multipliers): otherwise the mesh
     /// doubles (up to `ntst_max`) and the orbit is corrected on it. A
@@ -71,7 +71,7 @@ impl<S: VectorField> CycleBranch<'_, S> {
         // Far below the tolerance the estimate is renewed every fifth orbit
         // only (it costs a solve on the coarse mesh); in between the last
         // one is reported.
-        let fresh = self.last_estimate > 0.1 * self.settings.mesh_tol
+        let fresh = self.last_estimate > 0.1 * self.settings.mesh.tol()
             || self.since_estimate >= 4
             || self.last_ntst != self.coll.mesh.ntst();
         if fresh {
@@ -81,9 +81,9 @@ impl<S: VectorField> CycleBranch<'_, S> {
         }
         let (floor, since) = self.orbit_floor;
         let mut orbit_tol = if self.steps < since + ORBIT_FLOOR_MEMORY {
-            self.settings.mesh_tol.max(floor)
+            self.settings.mesh.tol().max(floor)
         } else {
-            self.settings.mesh_tol
+            self.settings.mesh.tol()
         };
         loop {
             pt.error_estimate = self.last_estimate;
@@ -92,23 +92,23 @@ impl<S: VectorField> CycleBranch<'_, S> {
             if orbit_resolved && pt.trivial_error <= self.multiplier_tol(&pt) {
                 break;
             }
-            if ntst >= self.settings.ntst_max {
+            if ntst >= self.settings.mesh.ntst_max {
                 // At the mesh limit an orbit is still accepted within
                 // `mesh_accept` (and reported with its estimate).
-                if pt.error_estimate <= self.settings.mesh_accept {
+                if pt.error_estimate <= self.settings.mesh.accept() {
                     break;
                 }
                 return Err(ContinuationError::Unresolved {
                     param_name: self.sys.param_name(self.k),
                     ntst,
                     error: pt.error_estimate,
-                    tol: self.settings.mesh_accept,
+                    tol: self.settings.mesh.accept(),
                     param: self.z[self.z.len() - 1],
                 });
             }
             // If twice the intervals do not help, the coarser mesh stays.
             let coarser = (self.coll.cycle(&self.z), self.tangent.clone());
-            self.adapt((2 * ntst).min(self.settings.ntst_max));
+            self.adapt((2 * ntst).min(self.settings.mesh.ntst_max));
             let corrector = self.settings.corrector;
             let finer = self
                 .correct_on_mesh(&corrector)
@@ -176,10 +176,12 @@ impl<S: VectorField> CycleBranch<'_, S> {
             .filter(|z| (z.norm() - 1.0).abs() <= error)
             .count();
         if self.sys.dim() > 2
-            && pt.trivial_error > self.settings.trivial_limit
+            && (self.settings.floquet.trivial_limit).is_some_and(|limit| pt.trivial_error > limit)
             && (near_circle > 1 || pt.trivial_error > 0.1)
         {
-            if self.settings.when_undecidable == WhenUndecidable::KeepFirst && self.steps == 0 {
+            if self.settings.floquet.when_undecidable == WhenUndecidable::KeepFirst
+                && self.steps == 0
+            {
                 pt.stability = Stability::IllConditioned {
                     trivial_error: Some(pt.trivial_error).filter(|e| e.is_finite()),
                 };
@@ -327,11 +329,15 @@ impl<S: VectorField> CycleBranch<'_, S> {
     pub(super) fn mesh_size(&self) -> usize {
         let ntst = self.coll.mesh.ntst();
         let order = self.coll.mesh.degree as i32 + 1;
-        let far_below = self.settings.mesh_tol / (8.0 * 2f64.powi(order));
+        let far_below = self.settings.mesh.tol() / (8.0 * 2f64.powi(order));
         let fresh = self.since_estimate == 0 && self.last_ntst == ntst;
         let (needed, since) = self.multiplier_ntst;
         let remembered = self.steps < since + MULTIPLIER_MEMORY;
-        let least = self.settings.ntst.max(if remembered { needed } else { 0 });
+        let least = self
+            .settings
+            .mesh
+            .ntst
+            .max(if remembered { needed } else { 0 });
         if fresh && self.last_estimate < far_below && ntst / 2 >= least {
             ntst / 2
         } else {

@@ -1,10 +1,13 @@
 //! Curves of folds of cycles in two parameters by pseudo-arclength on the
-//! minimally augmented system.
+//! minimally augmented system: the [`Curve`] [`FoldsOfCycles`], traced by
+//! the [`Driver`] ([`LpcCurve`]).
 
 use super::{Augmented, Evaluation, LpcPoint};
+use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
+use crate::periodic::branch::{CycleEvent, CyclePoint};
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::CollocationPoints;
 use crate::periodic::newton::unit_row;
@@ -22,7 +25,7 @@ pub struct LpcCurveSettings {
     pub step: StepControl,
     /// Largest number of folds after the start.
     pub max_steps: usize,
-    /// Bounds of the second parameter; the curve stops on them.
+    /// Bounds of the second parameter; the curve lands and stops on them.
     pub p2_min: f64,
     pub p2_max: f64,
     /// Smallest scales of the parameters in the arclength weights.
@@ -43,8 +46,8 @@ pub struct LpcCurveSettings {
     /// the mesh doubles, up to `ntst_max` (beyond, the curve stops); below
     /// `mesh_tol / (8 * 2^q)` it halves (halving raises the error by about
     /// `2^q`, which leaves a margin of 8), down to `ntst_min`. Default
-    /// infinite: the start's mesh size throughout, no estimate.
-    pub mesh_tol: f64,
+    /// `None`: the start's mesh size throughout, no estimate.
+    pub mesh_tol: Option<f64>,
     pub ntst_min: usize,
     pub ntst_max: usize,
 }
@@ -70,7 +73,7 @@ impl Default for LpcCurveSettings {
                 residual_tol: 1e-9,
                 max_iter: 8,
             },
-            mesh_tol: f64::INFINITY,
+            mesh_tol: None,
             ntst_min: 4,
             ntst_max: 400,
         }
@@ -78,8 +81,14 @@ impl Default for LpcCurveSettings {
 }
 
 /// A curve of folds of cycles in `(p1, p2)`, traced by pseudo-arclength
-/// from a fold; each item is the next fold (the first is the start).
-pub struct LpcCurve<'a, S: VectorField> {
+/// from a fold; each item is the next fold (the first is the start). It ends
+/// at a [`Stop`] ([`Driver::stop`]): [`Stop::Bound`] (the last fold on the
+/// bound of `p2`), [`Stop::SmallAmplitude`], [`Stop::BautinPoint`] or
+/// [`Stop::MaxSteps`], or after the first error.
+pub type LpcCurve<'a, S> = Driver<FoldsOfCycles<'a, S>>;
+
+/// The [`Curve`] of an [`LpcCurve`].
+pub struct FoldsOfCycles<'a, S: VectorField> {
     sys: &'a S,
     k1: usize,
     k2: usize,
@@ -88,11 +97,11 @@ pub struct LpcCurve<'a, S: VectorField> {
     tangent: Vec<f64>,
     ds: f64,
     settings: LpcCurveSettings,
+    /// Folds handed out (or failed).
     steps: usize,
-    done: bool,
 }
 
-impl<'a, S: VectorField> LpcCurve<'a, S> {
+impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
     /// Starts at the fold near `lpc` (in `k1`, at the value of `k2` it
     /// carries, corrected first), going towards increasing `p2` when
     /// `direction > 0`.
@@ -117,7 +126,8 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
         let mut seed = vec![0.0; y.len()];
         *seed.last_mut().unwrap_or(&mut 0.0) = direction.signum();
         let tangent = tangent_at(&mut e, &weights(&y, &settings), &seed)?;
-        Ok(LpcCurve {
+        let max_steps = settings.max_steps;
+        let curve = FoldsOfCycles {
             sys,
             k1,
             k2,
@@ -127,10 +137,28 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
             ds: settings.step.ds,
             settings,
             steps: 0,
-            done: false,
-        })
+        };
+        Ok(Driver::trace(curve, max_steps))
     }
+}
 
+impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
+    /// Branch switching: the curve of folds of cycles through a fold of
+    /// cycles located on a cycle branch (`event`, continued in `k1`), with
+    /// `k2` the second free parameter; `None` for another kind of event.
+    pub fn from_event(
+        sys: &'a S,
+        event: &Event<CycleEvent, CyclePoint>,
+        (k1, k2): (usize, usize),
+        direction: f64,
+        settings: LpcCurveSettings,
+    ) -> Option<Result<Self, ContinuationError>> {
+        (event.kind == CycleEvent::Fold)
+            .then(|| Self::new(sys, &event.point.cycle, (k1, k2), direction, settings))
+    }
+}
+
+impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
     /// Re-equidistributes the mesh and, under a finite `mesh_tol`, sizes it
     /// by the fold's error estimate (see [`LpcCurveSettings::mesh_tol`]),
     /// the fold corrected on the new mesh at the same `p2`; the bordering
@@ -138,8 +166,7 @@ impl<'a, S: VectorField> LpcCurve<'a, S> {
     fn adapt(&mut self) -> Result<(), ContinuationError> {
         let orbit = self.aug.cycle(&self.y);
         let ntst = orbit.mesh.ntst();
-        let tol = self.settings.mesh_tol;
-        if tol.is_finite() {
+        if let Some(tol) = self.settings.mesh_tol {
             // p1 and the period are read at the mesh points, where the
             // collocation solution converges at order 2m (Gauss points) or
             // 2m - 1 (Radau points), like the period.
@@ -436,57 +463,62 @@ fn passed_bautin(previous: &[f64], u: &[f64], n: usize) -> bool {
     overlap < 0.0
 }
 
-impl<S: VectorField> Iterator for LpcCurve<'_, S> {
-    type Item = Result<LpcPoint, ContinuationError>;
-
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.done {
-            return None;
-        }
-        let result = if self.steps == 0 {
-            Ok(LpcPoint {
-                cycle: self.aug.cycle(&self.y),
-                newton: NewtonReport {
-                    iterations: 0,
-                    residual: 0.0,
-                    step: 0.0,
-                },
+impl<S: VectorField> FoldsOfCycles<'_, S> {
+    /// The fold `pt` handed out, with the reason the curve ends on it: `p2`
+    /// on a bound, or the folded cycles smaller than `min_amplitude`.
+    fn handed_out(&mut self, pt: LpcPoint) -> Advance<LpcPoint> {
+        self.steps += 1;
+        let p2 = pt.cycle.p[self.k2];
+        let c = &pt.cycle;
+        let amplitude = (0..c.n)
+            .map(|j| {
+                let (lo, hi) =
+                    c.u.chunks(c.n)
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                            (lo.min(x[j]), hi.max(x[j]))
+                        });
+                hi - lo
+            })
+            .fold(0.0, f64::max);
+        let (p2_min, p2_max) = (self.settings.p2_min, self.settings.p2_max);
+        let stop = if p2 <= p2_min || p2 >= p2_max {
+            Some(Stop::Bound {
+                index: self.k2,
+                value: p2,
+                bound: if p2 <= p2_min { p2_min } else { p2_max },
+            })
+        } else if amplitude < self.settings.min_amplitude {
+            Some(Stop::SmallAmplitude {
+                amplitude,
+                min_amplitude: self.settings.min_amplitude,
             })
         } else {
-            match self.step() {
-                Ok(Some(pt)) => Ok(pt),
-                Ok(None) => {
-                    self.done = true;
-                    return None;
-                }
-                Err(e) => Err(e),
-            }
+            None
         };
-        self.steps += 1;
-        match &result {
-            Ok(pt) => {
-                let p2 = pt.cycle.p[self.k2];
-                let c = &pt.cycle;
-                let amplitude = (0..c.n)
-                    .map(|j| {
-                        let (lo, hi) =
-                            c.u.chunks(c.n)
-                                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                                    (lo.min(x[j]), hi.max(x[j]))
-                                });
-                        hi - lo
-                    })
-                    .fold(0.0, f64::max);
-                if self.steps > self.settings.max_steps
-                    || p2 <= self.settings.p2_min
-                    || p2 >= self.settings.p2_max
-                    || amplitude < self.settings.min_amplitude
-                {
-                    self.done = true;
-                }
-            }
-            Err(_) => self.done = true,
+        Advance::Point(pt, stop)
+    }
+}
+
+impl<S: VectorField> Curve for FoldsOfCycles<'_, S> {
+    type Point = LpcPoint;
+
+    fn start(&mut self) -> Result<(LpcPoint, Option<Stop>), ContinuationError> {
+        let pt = LpcPoint {
+            cycle: self.aug.cycle(&self.y),
+            newton: NewtonReport::NONE,
+        };
+        match self.handed_out(pt) {
+            Advance::Point(pt, stop) => Ok((pt, stop)),
+            Advance::End(stop) => unreachable!("a fold handed out is a point, not {stop}"),
         }
-        Some(result)
+    }
+
+    fn advance(&mut self) -> Result<Advance<LpcPoint>, ContinuationError> {
+        let param = self.y[self.y.len() - 1];
+        match self.step() {
+            Ok(Some(pt)) => Ok(self.handed_out(pt)),
+            Ok(None) => Ok(Advance::End(Stop::BautinPoint { param })),
+            Err(e) => Err(e),
+        }
     }
 }

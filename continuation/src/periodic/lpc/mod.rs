@@ -22,7 +22,7 @@
 mod curve;
 mod gradient;
 
-pub use curve::{LpcCurve, LpcCurveSettings};
+pub use curve::{FoldsOfCycles, LpcCurve, LpcCurveSettings};
 
 use super::bordered::{Bordered, CyclicReduction};
 use super::collocation::Collocation;
