@@ -1,6 +1,7 @@
 //! Errors of the domain layer: bad input (exit status 2) and numerical
 //! failures (exit status 3). Every message names the field or the numbers.
 
+use std::fmt;
 use thiserror::Error;
 
 /// Input the program refuses, with the field, the value and what is allowed.
@@ -123,7 +124,7 @@ pub enum Error {
     Output(#[from] std::io::Error),
     /// A run stopped by SIGINT or SIGTERM (exit status 130 or 143).
     #[error("interrupted ({}) {}; everything computed before is kept", .0.signal, .0.at)]
-    Interrupted(crate::cli::interrupt::Interruption),
+    Interrupted(Interruption),
     /// Results were written but the request is incomplete (exit status 4).
     #[error("partial results: {0}; everything computed is kept")]
     Partial(String),
@@ -168,6 +169,44 @@ fn levenshtein(a: &str, b: &str) -> usize {
         }
     }
     row[b.len()]
+}
+
+/// A signal that asks a run to stop and keep its results.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopSignal {
+    /// SIGINT (Ctrl-C): exit status 130.
+    Interrupt,
+    /// SIGTERM (`kill`, a job scheduler, a shutdown): exit status 143.
+    Terminate,
+}
+
+impl StopSignal {
+    /// The exit status after this signal: 128 + its number, as a shell
+    /// reports a process killed by it.
+    pub fn exit_code(self) -> i32 {
+        match self {
+            StopSignal::Interrupt => 130,
+            StopSignal::Terminate => 143,
+        }
+    }
+}
+
+impl fmt::Display for StopSignal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            StopSignal::Interrupt => "Ctrl-C",
+            StopSignal::Terminate => "SIGTERM",
+        })
+    }
+}
+
+/// Where and by which signal a run stopped.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Interruption {
+    /// The signal.
+    pub signal: StopSignal,
+    /// Where the run stopped (`after 12 cycles, ...`).
+    pub at: String,
 }
 
 #[cfg(test)]

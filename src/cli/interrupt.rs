@@ -4,8 +4,8 @@
 //! SIGINT, 143 after SIGTERM, as a shell reports a process killed by it).
 //! A progress bar shows on a terminal only.
 
+pub use crate::error::{Interruption, StopSignal};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::fmt;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::Once;
@@ -17,35 +17,6 @@ static INSTALL: Once = Once::new();
 const NONE: u8 = 0;
 const INTERRUPT: u8 = 1;
 const TERMINATE: u8 = 2;
-
-/// A signal that asks a run to stop and keep its results.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StopSignal {
-    /// SIGINT (Ctrl-C): exit status 130.
-    Interrupt,
-    /// SIGTERM (`kill`, a job scheduler, a shutdown): exit status 143.
-    Terminate,
-}
-
-impl StopSignal {
-    /// The exit status after this signal: 128 + its number, as a shell
-    /// reports a process killed by it.
-    pub fn exit_code(self) -> i32 {
-        match self {
-            StopSignal::Interrupt => 130,
-            StopSignal::Terminate => 143,
-        }
-    }
-}
-
-impl fmt::Display for StopSignal {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            StopSignal::Interrupt => "Ctrl-C",
-            StopSignal::Terminate => "SIGTERM",
-        })
-    }
-}
 
 /// Records the first stop signal (async-signal-safe: one atomic operation).
 fn record(code: u8) {
@@ -108,15 +79,6 @@ pub fn stop_signal() -> Option<StopSignal> {
         TERMINATE => Some(StopSignal::Terminate),
         _ => None,
     }
-}
-
-/// Where and by which signal a run stopped.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Interruption {
-    /// The signal.
-    pub signal: StopSignal,
-    /// Where the run stopped (`after 12 cycles, ...`).
-    pub at: String,
 }
 
 /// The error of a run stopped by a signal, `at` saying where it stopped
