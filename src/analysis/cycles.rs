@@ -817,7 +817,13 @@ fn follow(
     let (mut largest, mut last) = (0.0f64, None);
     let mut slowest = f64::INFINITY;
     let mut previous: Option<Box<Cycle>> = None;
-    for pt in branch.by_ref().skip(skip) {
+    let mut to_skip = skip;
+    for pt in branch.by_ref() {
+        // Only cycles are skipped: a failure of the start is the leg's answer.
+        if to_skip > 0 && pt.is_ok() {
+            to_skip -= 1;
+            continue;
+        }
         let pt = pt.map_err(|e| match (last, e) {
             (Some((kappa, delta_s)), e) if delta_s < SHRUNK * largest => {
                 NumericalError::Analysis(format!(
@@ -860,10 +866,15 @@ fn follow(
         }
         previous = Some(Box::new(pt.cycle));
     }
-    // An iterator that ended without an error has a reason.
-    Ok(FollowEnd::End(branch.stop().expect(
-        "the driver keeps the stop of a branch that ended without an error",
-    )))
+    // An iterator that ended without an error has a reason (the driver
+    // keeps it); without one the leg is not called complete.
+    branch.stop().map(FollowEnd::End).ok_or_else(|| {
+        NumericalError::Analysis(
+            "the cycle branch ended without a reason from the engine; the cycles so far are kept"
+                .into(),
+        )
+        .into()
+    })
 }
 
 /// The Hopf point `h` of `params` in the log variables of `log`: the state

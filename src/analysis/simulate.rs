@@ -577,6 +577,8 @@ pub enum RegimeReached {
         period: f64,
         delta_s: f64,
         slip: f64,
+        /// A state on the cycle, `(s, v, theta)`.
+        on_cycle: [f64; 3],
     },
     /// The oscillation decays onto steady sliding.
     Steady,
@@ -623,6 +625,7 @@ pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> Regim
                 period,
                 delta_s,
                 slip: params.nu * period,
+                on_cycle: on_section,
             }
         }
         Ok((period, _)) => RegimeReached::Unsettled(format!(

@@ -335,6 +335,7 @@ fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) ->
             period,
             delta_s,
             slip,
+            ..
         } => match units {
             TextUnits::Physical => format!(
                 "{head}: stick-slip, period {:.6e} s, force drop {:.6e} N (Delta_s = {delta_s:.6e}), \

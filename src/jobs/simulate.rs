@@ -14,6 +14,7 @@ use crate::analysis::simulate::{
     Trajectory,
 };
 use crate::error::{Error, InputError};
+use crate::model::ModelKind;
 use std::ops::ControlFlow;
 
 /// What `simulate` is asked.
@@ -242,13 +243,13 @@ impl Plan {
         );
         let stride = envelope.stride();
         let regime = match (&end, last, protocol.last()) {
-            (Ok(e), Some(at), Some(seg)) if !e.stopped => {
-                // The model of the run's last sample (inertial after a switch).
-                let kind = at.model;
-                let mut params = params_for(kind, &setup.scene_params);
-                params.nu = seg.nu;
-                Some(regime_reached(kind, &params, [at.s, at.v, at.theta]))
-            }
+            (Ok(e), Some(at), Some(seg)) if !e.stopped => Some(regime_with_inertia_judged(
+                at,
+                seg.nu,
+                &setup.scene_params,
+                &watch,
+                request.rtol,
+            )),
             _ => None,
         };
         Simulation {
@@ -265,6 +266,70 @@ impl Plan {
             regime,
             threshold: watch.threshold,
         }
+    }
+}
+
+/// The regime reached from the sample `at` at the velocity `nu`, in the
+/// model of the sample; a quasi-static cycle is then followed for three of
+/// its periods from a state on it under `watch` (the run's own model decision): where inertia
+/// would matter on it (`chi` above the threshold) the regime is the
+/// inertial one, reached from where the watch switched. So the answer does
+/// not depend on whether the run itself got far enough to switch.
+fn regime_with_inertia_judged(
+    at: Sample,
+    nu: f64,
+    scene: &crate::params::Params,
+    watch: &InertiaWatch,
+    rtol: f64,
+) -> RegimeReached {
+    let params_of = |kind| {
+        let mut p = params_for(kind, scene);
+        p.nu = nu;
+        p
+    };
+    let kind = at.model;
+    let regime = regime_reached(kind, &params_of(kind), [at.s, at.v, at.theta]);
+    let RegimeReached::Periodic {
+        period, on_cycle, ..
+    } = regime
+    else {
+        return regime;
+    };
+    if kind != ModelKind::QuasiStatic || !watch.switch {
+        return regime;
+    }
+    let mut switched: Option<Sample> = None;
+    let options = RunOptions {
+        rtol,
+        max_steps: 1_000_000,
+        watch: Some(watch),
+    };
+    let three_periods = [Segment {
+        nu,
+        duration: 3.0 * period,
+    }];
+    let run = simulate_watched(
+        kind,
+        &params_of(kind),
+        on_cycle,
+        &three_periods,
+        None,
+        &options,
+        |p| {
+            if p.model == ModelKind::Inertial {
+                switched = Some(*p);
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        },
+    );
+    match (run, switched) {
+        (Ok(_), Some(p)) => regime_reached(
+            ModelKind::Inertial,
+            &params_of(ModelKind::Inertial),
+            [p.s, p.v, p.theta],
+        ),
+        _ => regime,
     }
 }
 

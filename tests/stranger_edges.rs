@@ -1,0 +1,128 @@
+//! Edges a stranger found in session 12 (issue 22: one model decision for
+//! all commands, no panic), each kept fixed as a class:
+//!
+//! - `simulate`'s regime reached did not depend on the model decision along
+//!   the whole orbit: a protocol too short for the run itself to switch to
+//!   the inertial model reported the quasi-static cycle (36.2 s, 1.81 N for
+//!   the steel-on-granite rig below) where the inertial one (43.75 s,
+//!   2.31 N) is the answer, as `cycles` and a long run give. Now the regime
+//!   of every protocol length is the same, and equal to the cycle
+//!   continued in the stiffness by collocation (an independent method).
+//! - a branch from a simulated orbit whose first collocation failed
+//!   panicked ("the driver keeps the stop of a branch that ended without an
+//!   error": the skipped start swallowed the error); now a typed failure.
+
+mod common;
+
+use common::{stickslip, temp_dir};
+use serde_json::Value;
+
+/// A press-loaded steel-on-granite rig, written as a user would.
+const GRANITE: &str = r#"
+name = "granite"
+description = "steel slider on polished granite, press-loaded"
+A = 0.008
+B = 0.012
+mu0 = 0.65
+mu2 = 3e-4
+D0 = 5.0
+V0 = 1.0
+M = 5.0
+W = 50.0
+K = 2e4
+V = 3.0
+V_range = [0.3, 300.0]
+"#;
+
+/// The period [s] and force drop [N] of the regime `simulate` reports.
+fn regime(scene: &str, protocol: &str, out: &str) -> (f64, f64) {
+    let (code, text, err) = stickslip(&[
+        "simulate",
+        "--scene",
+        scene,
+        "--protocol",
+        protocol,
+        "--out",
+        out,
+        "--force",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("regime reached"))
+        .unwrap_or_else(|| panic!("no regime line: {text}"));
+    let number_after = |key: &str| -> f64 {
+        let rest = &line[line.find(key).unwrap_or_else(|| panic!("{key}: {line}")) + key.len()..];
+        rest.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    (number_after("period "), number_after("force drop "))
+}
+
+#[test]
+fn the_regime_reached_is_the_same_for_every_protocol_length() {
+    let dir = temp_dir("stranger-regime");
+    let scene = dir.join("granite.toml");
+    std::fs::write(&scene, GRANITE).unwrap();
+    let scene = scene.to_str().unwrap();
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    // The cycle at the rig's K, continued from the Hopf point by collocation.
+    let (code, json, err) = stickslip(&[
+        "cycles", "--scene", scene, "--at", "K=2e4", "--json", "--out", out, "--force",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    let at_k = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["user_point"] == true)
+        .expect("the cycle at K = 2e4 N/m");
+    let (period, drop) = (
+        at_k["period_s"].as_f64().unwrap(),
+        at_k["delta_s_N"].as_f64().unwrap(),
+    );
+    // Shorter than the first slip, before the run's own switch, and long.
+    for protocol in ["3:1e-12", "3:50", "3:300"] {
+        let (p, d) = regime(scene, protocol, out);
+        let (ep, ed) = ((p / period - 1.0).abs(), (d / drop - 1.0).abs());
+        assert!(
+            ep < 1e-6 && ed < 1e-5,
+            "--protocol {protocol}: period {p} s against {period} s ({ep:.1e}), force drop {d} N \
+             against {drop} N ({ed:.1e})"
+        );
+    }
+}
+
+#[test]
+fn a_failed_first_collocation_from_a_simulated_orbit_is_a_typed_failure() {
+    let dir = temp_dir("stranger-start");
+    let scene = dir.join("rig.toml");
+    // Issue 24's rig at 1 µm/s: the simulated orbit at K = 2e5 N/m is too
+    // stiff for the first collocation (a numerical failure, status 3).
+    std::fs::write(
+        &scene,
+        "name = \"rig\"\nA = 0.012\nB = 0.023\nmu0 = 0.6\nmu2 = 1e-3\nD0 = 0.4\nV0 = 1.0\n\
+         M = 1.0\nW = 300.0\nK = 2e5\nV = 1.0\nV_range = [0.1, 100.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, _, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--from-simulation",
+        "--max-steps",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        code == 3 || code == 4,
+        "status {code} (101 is a panic): {err}"
+    );
+    assert!(
+        !err.contains("panicked") && !err.contains("internal error"),
+        "{err}"
+    );
+}
