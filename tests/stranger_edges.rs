@@ -126,3 +126,67 @@ fn a_failed_first_collocation_from_a_simulated_orbit_is_a_typed_failure() {
         "{err}"
     );
 }
+
+/// The granite rig in a fresh folder: (scene path, output folder).
+fn granite(name: &str) -> (String, String) {
+    let dir = temp_dir(name);
+    let scene = dir.join("granite.toml");
+    std::fs::write(&scene, GRANITE).unwrap();
+    (
+        scene.to_str().unwrap().to_string(),
+        dir.join("out").to_str().unwrap().to_string(),
+    )
+}
+
+/// `cycles --param V --to` on the side where no cycle is born (above a
+/// supercritical onset at 28.2 µm/s) said "end of the requested range",
+/// status 0, though the branch went the other way: now partial, and why.
+#[test]
+fn a_branch_born_away_from_to_says_so() {
+    let (scene, out) = granite("stranger-side");
+    let (code, _, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        &scene,
+        "--param",
+        "V",
+        "--to",
+        "1000",
+        "--max-steps",
+        "5",
+        "--out",
+        &out,
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("born on the other side"), "{err}");
+    // Toward --to from the same onset the branch is whole.
+    let (code, _, err) = stickslip(&[
+        "cycles", "--scene", &scene, "--param", "V", "--to", "20", "--out", &out, "--force",
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
+/// A pair diagram that finds no onset on its grid is not an empty answer:
+/// partial (status 4), with the remedy of the pair's own option.
+#[test]
+fn a_pair_diagram_without_a_start_is_partial() {
+    let (scene, out) = granite("stranger-pair");
+    let (code, text, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        &scene,
+        "--x",
+        "V",
+        "--y",
+        "M",
+        "--y-range",
+        "1:2",
+        "--out",
+        &out,
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        text.contains("--y-range") && !text.contains("--from"),
+        "{text}"
+    );
+}

@@ -479,10 +479,32 @@ pub fn axes_diagram(
                 break;
             }
             Err(Error::Input(e)) => return Err(e.into()),
+            // In a pair the range of Q searched is --y-range.
+            Err(Error::Numerical(NumericalError::NoOnsetInRange {
+                param,
+                unit,
+                lo,
+                hi,
+                why,
+                ..
+            })) => {
+                last_why = NumericalError::NoOnsetInRange {
+                    param,
+                    unit,
+                    lo,
+                    hi,
+                    why,
+                    remedy: "--y-range",
+                }
+                .to_string()
+            }
             Err(e) => last_why = e.to_string(),
         }
     }
     let Some((p0, onset)) = start else {
+        // Not found is not absent: the curve may lie where the search did
+        // not reach (partial, status 4).
+        out.complete = false;
         out.reason = Some(format!(
             "no onset in {} at any of the {FIRST_ONSET_GRID} values of {} tried in {x_lo:.6e} .. \
              {x_hi:.6e} {} (the last: {last_why})",

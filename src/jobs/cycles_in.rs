@@ -185,7 +185,7 @@ impl Plan {
                 control.unit()
             ));
         }
-        let complete = leg_stops.iter().all(LegStop::complete) && missing == 0;
+        let mut complete = leg_stops.iter().all(LegStop::complete) && missing == 0;
         let (start, critical) = match &traced.start {
             CyclesStart::Hopf(o) => {
                 let scene_value = control.value(&units, &scene_params);
@@ -193,6 +193,33 @@ impl Plan {
             }
             CyclesStart::Simulation => ("simulation", None),
         };
+        // From the Hopf point the cycles go where they are born, which may
+        // be away from --to: then none lies between the onset and --to.
+        if let Some(c) = critical.as_ref().filter(|_| !cycles.is_empty()) {
+            let axis = Axis {
+                control,
+                param,
+                units,
+                params: scene_params,
+            };
+            let side = |v: f64| (v - c.value).signum();
+            if !cycles
+                .iter()
+                .any(|cy| side(axis.value_of(cy)) == side(request.to))
+            {
+                complete = false;
+                stop.push(format!(
+                    "no cycle between the onset at {name} = {:.6e} {unit} and --to {:.6e} {unit}: \
+                     the cycles are born on the other side of this ({}) onset, where the branch \
+                     went",
+                    c.value,
+                    request.to,
+                    c.criticality.name(),
+                    name = control.name(),
+                    unit = control.unit(),
+                ));
+            }
+        }
         let unit = control.unit();
         Ok(CyclesInControl {
             scene: setup.scene.name.clone(),
