@@ -190,3 +190,33 @@ fn a_pair_diagram_without_a_start_is_partial() {
         "{text}"
     );
 }
+
+/// From a simulated orbit at the rig's K, `--at K=` that very stiffness was
+/// "not delivered" though the branch starts there, and the leg that ran
+/// into the Hopf point, where its cycles are born, ended as `failed`: now
+/// the start's cycle answers the request and that leg ends at `hopf_point`.
+#[test]
+fn a_branch_from_a_simulated_orbit_delivers_its_own_stiffness() {
+    let (scene, out) = granite("stranger-from-simulation");
+    let (code, json, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        &scene,
+        "--from-simulation",
+        "--at",
+        "K=2e4",
+        "--json",
+        "--out",
+        &out,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["requested_points"][0]["delivered"], true, "{json}");
+    let reasons: Vec<&str> = v["leg_stops"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["reason"].as_str().unwrap())
+        .collect();
+    assert_eq!(reasons, ["hopf_point", "end_of_range"], "{json}");
+}

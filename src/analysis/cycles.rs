@@ -326,7 +326,12 @@ pub fn requested_points(
         .map(|&target| {
             let delivered = records
                 .iter()
-                .filter(|c| c.user_point && (c.kappa - target).abs() <= 1e-9 * target)
+                .filter(|c| {
+                    // A requested point, or a cycle of the branch at the very
+                    // stiffness asked (the simulated orbit a branch starts from).
+                    let tol = if c.user_point { 1e-9 } else { 1e-12 };
+                    (c.kappa - target).abs() <= tol * target
+                })
                 .count();
             let reason = (delivered == 0).then(|| match reached {
                 None => match ends.no_branch {
@@ -824,14 +829,15 @@ fn follow(
             to_skip -= 1;
             continue;
         }
-        let pt = pt.map_err(|e| match (last, e) {
-            (Some((kappa, delta_s)), e) if delta_s < SHRUNK * largest => {
-                NumericalError::Analysis(format!(
-                    "the cycles shrank onto steady sliding (Delta_s = {delta_s:.3e}, down from \
-                 {largest:.3e}) near kappa = {kappa:.6e}: the branch ends at a Hopf point, through \
-                 which collocation cannot continue ({e})"
-                ))
+        // Cycles that shrank onto steady sliding end the leg where they are
+        // born, at a Hopf point, through which collocation cannot continue:
+        // the leg's natural end, not a failure.
+        if let (Err(_), Some((kappa, delta_s))) = (&pt, last) {
+            if delta_s < SHRUNK * largest {
+                return Ok(FollowEnd::End(Stop::HopfPoint { param: kappa }));
             }
+        }
+        let pt = pt.map_err(|e| match (last, e) {
             (Some((kappa, _)), e @ continuation::ContinuationError::Newton { .. })
                 if log.kind == ModelKind::Inertial
                     && watch.m > 0.0
