@@ -324,7 +324,11 @@ fn parse_one(name: &str, value: &str) -> Result<Override, InputError> {
                 _ => x >= 0.0,
             };
         ok.then_some(x).ok_or_else(|| {
-            InputError::out_of_range(field, x, &format!("{} ({unit}, {})", k.bound, k.meaning))
+            InputError::out_of_range(
+                field,
+                x,
+                &format!("a finite number {} ({unit}, {})", k.bound, k.meaning),
+            )
         })
     };
     if k.name == "V_range" {
@@ -443,8 +447,14 @@ mod tests {
         assert!(e.contains("unknown parameter 'Kappa'") && e.contains("did you mean"));
         assert!(e.contains("kappa, nu, m") && e.contains("K [N/m]") && e.contains("tau [s]"));
         for (item, field) in [
-            ("M=-1", "--set M = -1 is out of range: expected >= 0 (kg"),
-            ("W=0", "--set W = 0 is out of range: expected > 0 (N"),
+            (
+                "M=-1",
+                "--set M = -1 is out of range: expected a finite number >= 0 (kg",
+            ),
+            (
+                "W=0",
+                "--set W = 0 is out of range: expected a finite number > 0 (N",
+            ),
             ("D0=nan", "--set D0 = NaN is out of range"),
             ("V=inf", "--set V = inf"),
             (

@@ -210,11 +210,11 @@ fn bad_overrides_are_refused_naming_the_field() {
         ),
         (
             vec!["M=-1"],
-            vec!["--set M = -1 is out of range: expected >= 0 (kg"],
+            vec!["--set M = -1 is out of range: expected a finite number >= 0 (kg"],
         ),
         (
             vec!["W=0"],
-            vec!["--set W = 0 is out of range: expected > 0 (N"],
+            vec!["--set W = 0 is out of range: expected a finite number > 0 (N"],
         ),
         (vec!["D0=nan"], vec!["--set D0 = NaN is out of range"]),
         (vec!["K=stiff"], vec!["--set K: cannot read 'stiff'"]),

@@ -26,7 +26,7 @@ pub struct SimulateArgs {
     pub scene: SceneArgs,
     /// Driving protocol as V1:T1,V2:T2,... (velocity in um/s, duration in s); V = 0 stops the drive.
     /// Default: the scene's velocity for 40 D0/V.
-    #[arg(long, value_name = "V:T,...")]
+    #[arg(long, value_name = "V:T,...", allow_hyphen_values = true)]
     pub protocol: Option<String>,
     /// Relative perturbation of the initial age away from steady sliding.
     #[arg(long, default_value_t = 1e-2)]

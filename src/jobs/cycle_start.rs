@@ -137,14 +137,20 @@ impl Start {
             .iter()
             .map(|e| format!("  tried first: {}", e.summary()))
             .collect();
+        // Times in the text's units: seconds, or D0/V0.
+        let u = &setup.scene.units;
+        let time = |t: f64| match units {
+            TextUnits::Physical => format!("{:.4e} s", t * u.d0 / u.v0),
+            TextUnits::Dimensionless => format!("{t:.4e} D0/V0"),
+        };
         format!(
             "{}{why}: starting from a simulated stick-slip orbit at kappa = {kappa:.6e} \
-             (K/W = {:.6e} 1/m), settled after {} (t = {:.4e}), period {:.6e}",
+             (K/W = {:.6e} 1/m), settled after {} (t = {}), period {}",
             tried.iter().map(|l| format!("{l}\n")).collect::<String>(),
-            setup.scene.units.k_over_w(kappa),
+            u.k_over_w(kappa),
             oscillations(orbit.orbit.periods),
-            orbit.orbit.time,
-            orbit.orbit.period,
+            time(orbit.orbit.time),
+            time(orbit.orbit.period),
         )
     }
 

@@ -233,7 +233,10 @@ impl Plan {
                 c.kappa,
                 c.ntst
             ));
-            if let Some(prev) = records.last().filter(|p| p.model != c.model) {
+            if let Some(prev) = records
+                .last()
+                .filter(|p| p.model != c.model && p.leg == c.leg)
+            {
                 let sw = ModelSwitch {
                     kappa: c.kappa,
                     inertial_imbalance: prev.inertial_imbalance,

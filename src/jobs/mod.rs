@@ -102,7 +102,7 @@ impl SceneSpec {
             return Err(InputError::out_of_range(
                 "--inertia-threshold",
                 self.inertia_threshold,
-                ">= 0",
+                "a finite number >= 0",
             )
             .into());
         }

@@ -28,7 +28,8 @@ pub struct BranchRow {
     pub v: f64,
     /// State (age) `theta`, units `D0/V0`.
     pub theta: f64,
-    /// Number of eigenvalues with a positive real part.
+    /// Number of eigenvalues with a positive real part; at a located
+    /// bifurcation the critical ones are not counted ([`unstable_count`]).
     pub n_unstable: usize,
     #[serde(flatten)]
     pub eigenvalues: Eigenvalues,
@@ -145,7 +146,7 @@ impl BranchRow {
             s: state[0],
             v: state[1],
             theta: state[2],
-            n_unstable: ev.iter().filter(|l| l.re > 0.0).count(),
+            n_unstable: unstable_count(ev, event.is_some()),
             eigenvalues: Eigenvalues(eigenvalues),
             event: event.map(|e| match e {
                 EventKind::Hopf { .. } => BranchEvent::Hopf,
@@ -161,6 +162,19 @@ impl BranchRow {
             spring_force_n: state[0] * u.load,
         }
     }
+}
+
+/// The eigenvalues of `ev` with a positive real part. At a located
+/// bifurcation (`at_event`) the critical eigenvalues, those of least `|re|`
+/// (a real one at a fold, a complex pair at a Hopf point), have a zero real
+/// part by construction and the sign rounding gives them: they are left out.
+fn unstable_count(ev: &[Complex64], at_event: bool) -> usize {
+    let critical = at_event
+        .then(|| ev.iter().map(|l| l.re.abs()).fold(f64::INFINITY, f64::min))
+        .filter(|m| m.is_finite());
+    ev.iter()
+        .filter(|l| l.re > 0.0 && critical.is_none_or(|m| l.re.abs() > m))
+        .count()
 }
 
 #[cfg(test)]
@@ -186,5 +200,27 @@ mod tests {
              K_N_per_m,spring_force_N"
         );
         assert!(row(&r).unwrap().starts_with("2.000000000000000e0,"));
+    }
+
+    /// At a located Hopf point the critical pair's real part is rounding
+    /// (+5.6e-17 in a run of a steel-on-granite rig): it is not counted;
+    /// away from a bifurcation every positive real part is.
+    #[test]
+    fn the_critical_pair_at_a_hopf_point_is_not_counted_unstable() {
+        let ev = [
+            Complex64::new(5.55e-17, 0.38),
+            Complex64::new(5.55e-17, -0.38),
+            Complex64::new(-2.0, 0.0),
+        ];
+        assert_eq!(unstable_count(&ev, true), 0);
+        assert_eq!(unstable_count(&ev, false), 2);
+        let past = [
+            Complex64::new(1e-3, 0.38),
+            Complex64::new(1e-3, -0.38),
+            Complex64::new(0.5, 0.0),
+            Complex64::new(-1e-16, 0.0),
+        ];
+        // At a fold the real eigenvalue nearest zero is the critical one.
+        assert_eq!(unstable_count(&past, true), 3);
     }
 }

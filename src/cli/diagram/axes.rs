@@ -34,7 +34,15 @@ pub struct AxesArgs {
 impl AxesArgs {
     /// The pair `--x`, `--y` name; `None` for the default diagram.
     pub fn parse(&self) -> Result<Option<Axes>, InputError> {
-        Axes::parse(self.x.as_deref(), self.y.as_deref())
+        let axes = Axes::parse(self.x.as_deref(), self.y.as_deref())?;
+        let ranges = [("--x-range", &self.x_range), ("--y-range", &self.y_range)];
+        if let (None, Some((field, _))) = (axes, ranges.iter().find(|(_, r)| r.is_some())) {
+            return Err(InputError::Conflict(format!(
+                "{field} is the range of a pair --x P --y Q; without them the diagram is in \
+                 (V, K) over --nu-range"
+            )));
+        }
+        Ok(axes)
     }
 }
 
