@@ -157,7 +157,7 @@ fn ctrl_c_keeps_the_simulated_time_series() {
     let err = &run.stderr;
     assert_eq!(run.code, Some(130), "{err}");
     assert!(err.contains("interrupted") && err.contains("kept"), "{err}");
-    // "... at simulated time t = T s of 3.000000e5 s (N rows) ..."
+    // "... at simulated time t = T s of 3.000000e5 s (N integrator steps) ..."
     let reached: f64 = err
         .split("at simulated time t = ")
         .nth(1)

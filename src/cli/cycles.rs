@@ -23,8 +23,9 @@ pub struct CyclesArgs {
     pub scene: SceneArgs,
     /// Stop when the stiffness falls below this fraction of kappa_c (without a Hopf
     /// point: of the stiffness of the simulated orbit the branch starts from).
-    #[arg(long, default_value_t = 0.5)]
-    pub kappa_fraction: f64,
+    /// [default: 0.5; not with --param K|kappa --to, which ends the branch]
+    #[arg(long)]
+    pub kappa_fraction: Option<f64>,
     /// Start from a simulated stick-slip orbit instead of the Hopf point (automatic
     /// when there is no Hopf point). The stiffness simulated: the scene's kappa when
     /// it gives one and a simulation from a stuck state settles on a cycle there;
@@ -215,6 +216,12 @@ fn request(args: &CyclesArgs, control: Option<Control>) -> Result<CyclesRequest,
         )
         .into());
     }
+    if let (Some(_), Some(_)) = (args.kappa_fraction, args.to) {
+        return Err(InputError::Conflict(
+            "--kappa-fraction and --to both end the stiffness branch; give one".into(),
+        )
+        .into());
+    }
     if args.search.is_some() {
         return Err(InputError::Conflict(
             "--search is where the Hopf point in --param V, M, tau, nu, m, ... is searched; \
@@ -224,7 +231,9 @@ fn request(args: &CyclesArgs, control: Option<Control>) -> Result<CyclesRequest,
         .into());
     }
     Ok(CyclesRequest {
-        kappa_fraction: args.kappa_fraction,
+        kappa_fraction: args
+            .kappa_fraction
+            .unwrap_or(CyclesRequest::default().kappa_fraction),
         from_simulation: args.from_simulation,
         max_steps: args.max_steps,
         ntst: args.ntst,

@@ -83,6 +83,13 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         ))
         .into());
     };
+    if args.kappa_fraction.is_some() {
+        return Err(InputError::Conflict(format!(
+            "--kappa-fraction ends a branch in the stiffness; the branch in {} ends at --to",
+            control.name()
+        ))
+        .into());
+    }
     if args.lpc_curve {
         return Err(InputError::Conflict(
             "--lpc-curve continues folds of cycles in (kappa, nu) from a stiffness branch; \

@@ -170,7 +170,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             end.t_end * time_unit,
         ))),
         Ok(end) if end.stopped => Err(interrupt::stopped(format!(
-            "at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
+            "at simulated time t = {:.6e} s of {:.6e} s ({} integrator steps)",
             end.t * time_unit,
             end.t_end * time_unit,
             count
