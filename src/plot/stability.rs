@@ -389,26 +389,71 @@ fn place_label(
     centres: &[f64],
     above: bool,
 ) -> (f64, f64) {
+    place_label_where(curves, size, centres, above, |_| true).unwrap_or_else(|| {
+        let cx = centres.first().copied().unwrap_or(0.5);
+        (cx, if above { 1.0 - size.1 } else { size.1 })
+    })
+}
+
+/// A region label ("steady sliding stable", "unstable: stick-slip"): only
+/// over velocities where a curve crosses its whole width, since elsewhere
+/// the side of the curve says nothing (no onset there: one regime at every
+/// value); the preferred `centres` first, then any; `None` where no curve
+/// is wide enough (the label is left out). Without curves, at the edge.
+fn place_region_label(
+    curves: &[Vec<(f64, f64)>],
+    size: (f64, f64),
+    centres: &[f64],
+    above: bool,
+) -> Option<(f64, f64)> {
+    if curves.is_empty() {
+        return Some(place_label(curves, size, centres, above));
+    }
+    let spans: Vec<(f64, f64)> = curves
+        .iter()
+        .map(|c| {
+            c.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p.0), b.max(p.0))
+                })
+        })
+        .collect();
+    let covered = |xs: (f64, f64)| spans.iter().any(|&(a, b)| a <= xs.0 && b >= xs.1);
+    let scan: Vec<f64> = centres
+        .iter()
+        .copied()
+        .chain((1..20).map(|i| i as f64 / 20.0))
+        .collect();
+    place_label_where(curves, size, &scan, above, covered)
+}
+
+/// [`place_label`] over the centres whose label span `xs` satisfies `allowed`.
+fn place_label_where(
+    curves: &[Vec<(f64, f64)>],
+    size: (f64, f64),
+    centres: &[f64],
+    above: bool,
+    allowed: impl Fn((f64, f64)) -> bool,
+) -> Option<(f64, f64)> {
     let gap = 0.02;
     for &cx in centres {
         let xs = (cx - size.0 / 2.0, cx + size.0 / 2.0);
-        if xs.0 < 0.0 || xs.1 > 1.0 {
+        if xs.0 < 0.0 || xs.1 > 1.0 || !allowed(xs) {
             continue;
         }
         match (extent_over(curves, xs), above) {
-            (None, true) => return (cx, 1.0 - size.1),
-            (None, false) => return (cx, size.1),
+            (None, true) => return Some((cx, 1.0 - size.1)),
+            (None, false) => return Some((cx, size.1)),
             (Some((_, top)), true) if top + size.1 + 2.0 * gap < 1.0 => {
-                return (cx, ((top + 1.0) / 2.0).max(top + gap + size.1 / 2.0));
+                return Some((cx, ((top + 1.0) / 2.0).max(top + gap + size.1 / 2.0)));
             }
             (Some((bottom, _)), false) if bottom - size.1 - 2.0 * gap > 0.0 => {
-                return (cx, (bottom / 2.0).min(bottom - gap - size.1 / 2.0));
+                return Some((cx, (bottom / 2.0).min(bottom - gap - size.1 / 2.0)));
             }
             _ => {}
         }
     }
-    let cx = centres.first().copied().unwrap_or(0.5);
-    (cx, if above { 1.0 - size.1 } else { size.1 })
+    None
 }
 
 /// Width of a region label in unit fractions of the plotting area (20-pixel
@@ -518,26 +563,28 @@ fn draw<DB: DrawingBackend>(
     let text = TextStyle::from((FONT, 20).into_font()).color(&RGBColor(60, 60, 60));
     let centred = text.pos(Pos::new(HPos::Center, VPos::Center));
     let stable = "steady sliding stable";
-    let spot = place_label(
+    if let Some(spot) = place_region_label(
         &curves,
         label_size(stable, plot_px),
         &[0.5, 0.3, 0.7, 0.2, 0.8, 0.15, 0.85],
         fig.stable_above,
-    );
-    chart
-        .draw_series([Text::new(stable, at(spot), centred.clone())])
-        .map_err(e)?;
+    ) {
+        chart
+            .draw_series([Text::new(stable, at(spot), centred.clone())])
+            .map_err(e)?;
+    }
     if !fig.segments.is_empty() {
         let unstable = "unstable: stick-slip";
-        let spot = place_label(
+        if let Some(spot) = place_region_label(
             &curves,
             label_size(unstable, plot_px),
             &[0.15, 0.3, 0.5, 0.7, 0.85],
             !fig.stable_above,
-        );
-        chart
-            .draw_series([Text::new(unstable, at(spot), centred)])
-            .map_err(e)?;
+        ) {
+            chart
+                .draw_series([Text::new(unstable, at(spot), centred)])
+                .map_err(e)?;
+        }
     }
     let note_style = TextStyle::from((FONT, 18).into_font())
         .color(&STRENGTHENING)
@@ -842,6 +889,26 @@ mod tests {
             );
             assert!((cx - 0.8).abs() > 0.1, "{cx} over the vertical line");
         }
+    }
+
+    /// A region label stands only where a curve crosses its whole width:
+    /// beside a curve that starts at x = 0.6 (no onset at smaller x, one
+    /// regime at every value there) the labels sit over x >= 0.6; over a
+    /// curve too narrow for them they are left out.
+    #[test]
+    fn region_labels_stand_only_over_the_curve() {
+        let curve: Vec<(f64, f64)> = (0..=40)
+            .map(|i| (0.6 + 0.4 * i as f64 / 40.0, 0.5))
+            .collect();
+        let size = (0.2, 0.06);
+        for above in [true, false] {
+            let (cx, cy) =
+                place_region_label(&[curve.clone()], size, &[0.5, 0.3, 0.15], above).unwrap();
+            assert!(cx - size.0 / 2.0 >= 0.6 && cx + size.0 / 2.0 <= 1.0, "{cx}");
+            assert!(if above { cy > 0.5 } else { cy < 0.5 }, "{cy}");
+        }
+        let narrow = vec![vec![(0.45, 0.5), (0.55, 0.5)]];
+        assert_eq!(place_region_label(&narrow, size, &[0.5], true), None);
     }
 
     /// The magnifying panel appears exactly when the band is a few pixels
