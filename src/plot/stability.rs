@@ -903,7 +903,8 @@ mod tests {
         let size = (0.2, 0.06);
         for above in [true, false] {
             let (cx, cy) =
-                place_region_label(&[curve.clone()], size, &[0.5, 0.3, 0.15], above).unwrap();
+                place_region_label(std::slice::from_ref(&curve), size, &[0.5, 0.3, 0.15], above)
+                    .unwrap();
             assert!(cx - size.0 / 2.0 >= 0.6 && cx + size.0 / 2.0 <= 1.0, "{cx}");
             assert!(if above { cy > 0.5 } else { cy < 0.5 }, "{cy}");
         }
