@@ -265,7 +265,18 @@ fn a_long_single_segment_runs_to_its_end_past_the_rounding_of_t() {
             "--out",
             dir.to_str().unwrap(),
         ]);
-        assert_eq!(code, 0, "nu = {nu}: {err}");
+        // At 1e-7 um/s the run is whole, but the regime it reaches is not
+        // determined (no extremum of s located over the settled cycle:
+        // docs/hard-cases.md), which makes the answer partial (status 4)
+        // since session 12; it was status 0 with the failure in the text.
+        if nu == "1e-7" {
+            assert!(
+                code == 4 && err.contains("regime the run reaches is undetermined"),
+                "nu = {nu}: status {code}: {err}"
+            );
+        } else {
+            assert_eq!(code, 0, "nu = {nu}: {err}");
+        }
         let csv = std::fs::read_to_string(dir.join("long-simulation.csv")).unwrap();
         assert!(!csv.contains("# incomplete"), "nu = {nu}");
         let rows: Vec<Vec<f64>> = csv

@@ -582,12 +582,25 @@ pub enum RegimeReached {
     },
     /// The oscillation decays onto steady sliding.
     Steady,
-    /// Neither within the settling budget, or the integration failed (why).
-    Unsettled(String),
+    /// Neither within the settling budget, or the integration failed.
+    Unsettled(Unsettled),
+}
+
+/// Why the regime a run reaches was not determined.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Unsettled {
+    /// The return map still moves after [`REGIME_PERIODS`] periods, or the
+    /// integration failed while settling.
+    Settle(SettleError),
+    /// The period between extremes of `s` and the return map's differ by
+    /// more than `1e-6` relative (units `D0/V0`).
+    Periods { extremes: f64, return_map: f64 },
+    /// The integration over the settled cycle failed.
+    Integration(String),
 }
 
 /// Most periods [`regime_reached`] simulates while the return map settles.
-const REGIME_PERIODS: usize = 300;
+pub const REGIME_PERIODS: usize = 300;
 
 /// The regime reached from `last` (docs/model.md's `(s, v, theta)`) at
 /// `params` (the last segment's velocity): the return map on `v = nu`
@@ -607,7 +620,7 @@ pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> Regim
     let orbit = match settle(kind, params, last, &settings) {
         Ok(orbit) => orbit,
         Err(SettleError::Decayed { .. }) => return RegimeReached::Steady,
-        Err(e) => return RegimeReached::Unsettled(e.summary()),
+        Err(e) => return RegimeReached::Unsettled(Unsettled::Settle(e)),
     };
     let log = LogBlock::new(kind, params);
     let on_section = log.to_model(&orbit.section, &params.to_vec());
@@ -628,12 +641,11 @@ pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> Regim
                 on_cycle: on_section,
             }
         }
-        Ok((period, _)) => RegimeReached::Unsettled(format!(
-            "the period between extremes ({period:.6e}) differs from the return map's \
-             ({:.6e}) by more than 1e-6 relative",
-            orbit.period
-        )),
-        Err(e) => RegimeReached::Unsettled(e.to_string()),
+        Ok((period, _)) => RegimeReached::Unsettled(Unsettled::Periods {
+            extremes: period,
+            return_map: orbit.period,
+        }),
+        Err(e) => RegimeReached::Unsettled(Unsettled::Integration(e.to_string())),
     }
 }
 

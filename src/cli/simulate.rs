@@ -7,7 +7,8 @@
 use super::files::{create_file, with_suffix, LineFile, OutputArgs};
 use super::{interrupt, SceneArgs, TextUnits};
 use crate::analysis::decimate::Buckets;
-use crate::analysis::simulate::{RegimeReached, Sample};
+use crate::analysis::settle::SettleError;
+use crate::analysis::simulate::{RegimeReached, Sample, Unsettled};
 use crate::error::{Error, InputError};
 use crate::jobs::simulate::{Observer, Plan, SimulateRequest, Simulation};
 use crate::plot::simulation::figures;
@@ -175,7 +176,15 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             end.t_end * time_unit,
             count
         ))),
-        Ok(_) => Ok(()),
+        // The time series is whole; the regime it reaches, part of the
+        // answer, is not determined.
+        Ok(_) => match &sim.regime {
+            Some(RegimeReached::Unsettled(why)) => Err(Error::Partial(format!(
+                "the regime the run reaches is undetermined: {}",
+                unsettled_text(why, &u, args.units)
+            ))),
+            _ => Ok(()),
+        },
         Err(e) => Err(e),
     }
 }
@@ -320,6 +329,42 @@ impl Rows {
     }
 }
 
+/// Why the regime is undetermined, in the text's units and with what a
+/// user of the rig can do.
+fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits) -> String {
+    let time = |t: f64| match units {
+        TextUnits::Physical => format!("{:.4e} s", t * u.d0 / u.v0),
+        TextUnits::Dimensionless => format!("{t:.4e} (D0/V0)"),
+    };
+    match why {
+        Unsettled::Settle(SettleError::NotSettled {
+            time: t,
+            periods,
+            difference,
+            ..
+        }) => format!(
+            "after {periods} oscillations (t = {}) the return map still moves by {difference:.2e} \
+             of the orbit's size: a slowly attracting cycle or a slow decay near a bifurcation; \
+             a longer --protocol gives it time",
+            time(*t)
+        ),
+        Unsettled::Settle(SettleError::Integration { time: t, cause, .. }) => {
+            format!("the integration failed at t = {}: {cause}", time(*t))
+        }
+        Unsettled::Settle(e @ SettleError::Decayed { .. }) => e.summary(),
+        Unsettled::Periods {
+            extremes,
+            return_map,
+        } => format!(
+            "the period between extremes of the spring force ({}) differs from the return map's \
+             ({}) by more than 1e-6 relative",
+            time(*extremes),
+            time(*return_map)
+        ),
+        Unsettled::Integration(cause) => format!("the integration over the cycle failed: {cause}"),
+    }
+}
+
 /// The regime reached at the end of the run, in words and the text's units:
 /// period, force drop `Delta_s W` and slip per event of a stick-slip cycle.
 fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) -> String {
@@ -350,6 +395,8 @@ fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) ->
             ),
         },
         RegimeReached::Steady => format!("{head}: steady sliding (the oscillation decays)"),
-        RegimeReached::Unsettled(why) => format!("{head}: not settled — {why}"),
+        RegimeReached::Unsettled(why) => {
+            format!("{head}: undetermined — {}", unsettled_text(why, u, units))
+        }
     }
 }
