@@ -46,12 +46,13 @@ impl AxesArgs {
     }
 }
 
-/// `LO:HI` of the option `field`, both finite and positive.
-fn parse_lohi(field: &str, text: &str) -> Result<(f64, f64), InputError> {
+/// `LO:HI` of the option `field`, both finite and positive, `LO < HI`;
+/// `hint` ends the message of a malformed one.
+pub(super) fn parse_lohi(field: &str, text: &str, hint: &str) -> Result<(f64, f64), InputError> {
     let bad = || InputError::Malformed {
         field: field.into(),
         value: text.into(),
-        expected: "LO:HI with 0 < LO < HI, in the axis parameter's unit".into(),
+        expected: format!("LO:HI with 0 < LO < HI, {hint}"),
     };
     let (a, b) = text.split_once(':').ok_or_else(bad)?;
     let (lo, hi): (f64, f64) = (
@@ -70,13 +71,13 @@ pub(super) fn run(args: &DiagramArgs, axes: Axes) -> Result<(), Error> {
         .axes
         .x_range
         .as_deref()
-        .map(|t| parse_lohi("--x-range", t))
+        .map(|t| parse_lohi("--x-range", t, "in the axis parameter's unit"))
         .transpose()?;
     let y_range = args
         .axes
         .y_range
         .as_deref()
-        .map(|t| parse_lohi("--y-range", t))
+        .map(|t| parse_lohi("--y-range", t, "in the axis parameter's unit"))
         .transpose()?;
     let nu_range = args
         .nu_range

@@ -49,19 +49,7 @@ pub struct DiagramArgs {
 }
 
 fn parse_range(text: &str) -> Result<(f64, f64), InputError> {
-    let bad = || InputError::Malformed {
-        field: "--nu-range".into(),
-        value: text.into(),
-        expected: "LO:HI with 0 < LO < HI, e.g. 0.1:100".into(),
-    };
-    let (a, b) = text.split_once(':').ok_or_else(bad)?;
-    let (lo, hi): (f64, f64) = (
-        a.trim().parse().map_err(|_| bad())?,
-        b.trim().parse().map_err(|_| bad())?,
-    );
-    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
-        return Err(bad());
-    }
+    let (lo, hi) = axes::parse_lohi("--nu-range", text, "e.g. 0.1:100")?;
     // As `--set nu` allows: beyond it the steady state's velocity and age
     // leave the range the model is evaluated in.
     let (min, max) = crate::params::MAGNITUDE_RANGE;
