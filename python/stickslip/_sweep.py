@@ -98,6 +98,9 @@ def _run_chunk(job: str, base: dict | None, items: list, options: dict) -> list[
         try:
             s = item if isinstance(item, Scene) else base_scene._with_unchecked(item)
             result = function(s, **options)
+            if getattr(result, "interrupted", False):
+                # Ctrl-C stopped the job: it stops the sweep (the chunk is not kept).
+                raise KeyboardInterrupt
             complete = result.complete
             row["status"] = "ok" if complete else "partial"
             row["message"] = None if complete else result.stop
@@ -117,13 +120,8 @@ def _run_chunk(job: str, base: dict | None, items: list, options: dict) -> list[
 
 
 def _context():
-    """Fork where it is safe (Linux, no other thread in this process): no
-    import in the workers; else spawn."""
-    import sys
-    import threading
-
-    if sys.platform == "linux" and threading.active_count() == 1:
-        return multiprocessing.get_context("fork")
+    """Spawned workers (a forked one could inherit a lock held by a thread
+    of the native library's pools)."""
     return multiprocessing.get_context("spawn")
 
 

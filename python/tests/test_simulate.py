@@ -140,5 +140,6 @@ def test_cycles_in_the_driving_velocity_equal_the_cli(cli, tmp_path):
 def test_cycle_branch_figures(tmp_path):
     c = stickslip.cycles(Scene.builtin("pmma").with_(K=2e5), kappa_fraction=0.9)
     files = [f.rsplit("/", 1)[-1] for f in c.figures(tmp_path)]
-    assert files and all(f.startswith("pmma_K_N_per_m=2e5-cycles")  # the command line's name for f in files), files
+    # Named as the command line names them.
+    assert files and all(f.startswith("pmma_K_N_per_m=2e5-cycles") for f in files), files
     assert any(f.endswith(".png") for f in files) and any(f.endswith(".svg") for f in files)
