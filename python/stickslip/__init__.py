@@ -1,21 +1,28 @@
 """stickslip from Python: the stick-slip onset of a block pulled through a
-spring across a rate-and-state frictional interface, its type, and the
-stick-slip cycles, each job one call returning a result object.
+spring across a rate-and-state frictional interface, its type, steady
+sliding across it, the stability diagram, the stick-slip cycles and
+simulations in time, each job one call returning a result object; sweeps
+of a job over a grid on a process pool or a Dask cluster.
 
     >>> import stickslip
     >>> scene = stickslip.Scene.builtin("pmma").with_(K=2e5)
     >>> h = stickslip.hopf(scene)
     >>> h.kappa_c, h.criticality
+    >>> b = stickslip.branch(scene, param="nu")            # steady sliding in velocity
+    >>> d = stickslip.diagram(scene); d.figures("out")     # the stability diagram
     >>> c = stickslip.cycles(scene, kappa_fraction=0.9)
     >>> c.kappa, c.delta_s          # numpy arrays, one entry per cycle
+    >>> s = stickslip.simulate(scene, protocol=[(1.0, 300.0)])
+    >>> s.t_s, s.spring_force_N, s.regime
+    >>> stickslip.sweep("hopf", {"K": [1e5, 2e5], "V": [0.1, 1, 10]})
 
 Every result has `.to_dict()` (exactly what `stickslip <command> --json`
 prints for the same request), `.complete`, `.stop`, `.to_pandas()` (with
 pandas installed), and pickles. Bad input raises `InputError` (a
 `ValueError`) naming the field; a numerical failure raises `NumericalError`
 with the result computed before it as `.partial`. The GIL is released while
-a job computes; Ctrl-C stops a branch of cycles and returns the cycles
-computed so far with `complete = False`.
+a job computes; Ctrl-C stops a branch, a branch of cycles or a simulation
+and returns what was computed so far with `complete = False`.
 
 Units: dimensionless as in docs/model.md (kappa = K D0/W, nu = V/V0, ...),
 with the physical values beside them in the fields named with their unit
