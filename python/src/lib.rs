@@ -7,24 +7,45 @@
 //! arrays. The pure-Python layer (`python/stickslip/__init__.py`) wraps
 //! these in `Scene` and result objects.
 
+use continuation::periodic::mesh::CollocationPoints;
+use continuation::AsIs;
 use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
+use stickslip::analysis::axes::Axes;
 use stickslip::analysis::control::Control;
+use stickslip::analysis::cycles::along_branch;
+use stickslip::analysis::diagram::DEFAULT_CURVE_STEPS;
+use stickslip::analysis::simulate::{RegimeReached, Sample};
+use stickslip::cli::files::{run_name, stem as files_stem, with_suffix};
 use stickslip::cli::interrupt::{Interruption, StopSignal};
 use stickslip::error::{Error, InputError};
-use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan};
+use stickslip::jobs::branch::BranchRequest;
+use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan, UnitsRecord};
+use stickslip::jobs::cycles_in::CyclesInControlRequest;
+use stickslip::jobs::diagram::{run_pair, DiagramRequest};
 use stickslip::jobs::hopf::HopfRequest;
+use stickslip::jobs::simulate::SimulateRequest;
 use stickslip::jobs::SceneSpec;
 use stickslip::model::ModelKind;
-use stickslip::records::csv::header;
+use stickslip::plot::axes::axes_figure;
+use stickslip::plot::cycles::{branch_figures, fold_figure};
+use stickslip::plot::diagram::write_figures;
+use stickslip::plot::simulation::figures as sim_figures;
+use stickslip::plot::stability::render;
+use stickslip::plot::PlotError;
+use stickslip::records::branch::BranchRow;
+use stickslip::records::csv::{header, header_of};
 use stickslip::records::cycle::Cycle;
-use stickslip::scene;
+use stickslip::records::params_json;
+use stickslip::records::simulation::SimulationRow;
+use stickslip::scene::{self, Units};
 
 /// The texts of the built-in scenes (`examples/scenes/NAME.toml`), for `to_toml`.
 const BUILTIN_TEXTS: [(&str, &str); 3] = [
@@ -176,7 +197,7 @@ fn to_py(e: Error, shown: Option<&(String, String)>) -> PyErr {
 }
 
 fn to_json(value: &impl serde::Serialize) -> PyResult<String> {
-    serde_json::to_string_pretty(value).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    serde_json::to_string(value).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// The built-in scenes: `(name, description)`.
@@ -301,20 +322,71 @@ fn hopf(
 }
 
 /// The observer of a job run from Python: Ctrl-C (a Python signal handler
-/// raising, checked between cycles) stops the branch and keeps it.
+/// raising, checked between cycles, points or every 20 ms of a simulation)
+/// stops the job and keeps what it computed.
 struct Signals {
     /// The exception a signal handler raised.
     raised: Option<PyErr>,
+    /// When the signals were last checked.
+    checked: Instant,
+}
+
+impl Signals {
+    fn new() -> Signals {
+        Signals {
+            raised: None,
+            checked: Instant::now(),
+        }
+    }
+
+    /// Whether a signal handler raised (checked at most every 20 ms).
+    fn raised_now(&mut self) -> bool {
+        if self.raised.is_some() {
+            return true;
+        }
+        if self.checked.elapsed() < Duration::from_millis(20) {
+            return false;
+        }
+        self.checked = Instant::now();
+        self.raised = Python::attach(|py| py.check_signals().err());
+        self.raised.is_some()
+    }
+
+    fn interruption(at: String) -> Error {
+        Error::Interrupted(Interruption {
+            signal: StopSignal::Interrupt,
+            at,
+        })
+    }
+
+    /// The exception a handler raised, unless it is KeyboardInterrupt (the
+    /// job stopped and its result is returned).
+    fn reraise(&mut self, py: Python<'_>) -> PyResult<()> {
+        match self.raised.take() {
+            Some(e) if !e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => Err(e),
+            _ => Ok(()),
+        }
+    }
 }
 
 impl Observer for Signals {
     fn stop(&mut self, at: &dyn Fn() -> String) -> Option<Error> {
-        let err = Python::attach(|py| py.check_signals().err())?;
-        self.raised = Some(err);
-        Some(Error::Interrupted(Interruption {
-            signal: StopSignal::Interrupt,
-            at: at(),
-        }))
+        // Between cycles (each takes long enough): always checked.
+        self.checked = Instant::now() - Duration::from_secs(1);
+        self.raised_now().then(|| Signals::interruption(at()))
+    }
+}
+
+impl stickslip::jobs::branch::Observer for Signals {
+    fn point(&mut self, row: &BranchRow) -> Result<(), Error> {
+        if self.raised_now() {
+            let name = row.param.name;
+            return Err(Signals::interruption(format!(
+                "at {name} = {:.6e}",
+                row.param.value
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -323,7 +395,7 @@ impl Observer for Signals {
 /// array of `t/T, s, v, theta`), the CSV columns, whether the run was
 /// interrupted, and the failure that ended a leg (`(kind, message)`).
 #[pyfunction]
-#[pyo3(signature = (scene, kappa_fraction, from_simulation, max_steps, ntst, ntst_max, collocation, lpc_curve, at_kappa, at, param, to))]
+#[pyo3(signature = (scene, kappa_fraction, from_simulation, max_steps, ntst, ntst_max, collocation, lpc_curve, at_kappa, at, param, to, search=None))]
 #[allow(clippy::too_many_arguments)]
 fn cycles<'py>(
     py: Python<'py>,
@@ -339,17 +411,48 @@ fn cycles<'py>(
     at: Vec<String>,
     param: Option<String>,
     to: Option<f64>,
+    search: Option<(f64, f64)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, shown) = scene.spec()?;
     let err = |e: Error| to_py(e, shown.as_ref());
     let control = Control::from_param(param.as_deref()).map_err(|e| err(e.into()))?;
+    let collocation = collocation_of(collocation.as_deref()).map_err(|e| err(e.into()))?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
-        return Err(err(InputError::Conflict(format!(
-            "--param {}: cycles in a control parameter other than the stiffness (K, kappa) are \
-             not in the Python package yet; use `stickslip cycles --param {}`",
-            c.name(),
-            c.name()
-        ))
+        let Some(to) = to else {
+            return Err(err(InputError::Conflict(format!(
+                "cycles --param {} needs --to VALUE (in {}): where the branch ends",
+                c.name(),
+                c.unit()
+            ))
+            .into()));
+        };
+        if lpc_curve {
+            return Err(err(InputError::Conflict(
+                "--lpc-curve continues folds of cycles in (kappa, nu) from a stiffness branch; \
+                 leave out --param (or --lpc-curve)"
+                    .into(),
+            )
+            .into()));
+        }
+        let request = CyclesInControlRequest {
+            control: c,
+            to,
+            at: asked_values(&at_kappa, &at, c).map_err(|e| err(e.into()))?,
+            search,
+            from_simulation,
+            max_steps,
+            ntst,
+            ntst_max,
+            collocation,
+        };
+        return cycles_in_control(py, &spec, shown.as_ref(), &request);
+    }
+    if search.is_some() {
+        return Err(err(InputError::Conflict(
+            "--search is where the Hopf point in --param V, M, tau, nu, m, ... is searched; \
+             the onset in the stiffness is searched from a stable stiffness downward"
+                .into(),
+        )
         .into()));
     }
     if to.is_some() && control.is_none() {
@@ -360,20 +463,6 @@ fn cycles<'py>(
         )
         .into()));
     }
-    let collocation = match collocation.as_deref() {
-        None => None,
-        Some("gauss") => Some(continuation::periodic::mesh::CollocationPoints::Gauss),
-        Some("radau") => Some(continuation::periodic::mesh::CollocationPoints::Radau),
-        Some(other) => {
-            return Err(err(InputError::UnknownName {
-                what: "--collocation",
-                name: other.into(),
-                suggestion: None,
-                allowed: "gauss, radau".into(),
-            }
-            .into()))
-        }
-    };
     let request = CyclesRequest {
         kappa_fraction,
         from_simulation,
@@ -385,14 +474,10 @@ fn cycles<'py>(
         at: asked_stiffnesses(&at_kappa, &at).map_err(|e| err(e.into()))?,
         to: control.zip(to),
     };
-    let mut observer = Signals { raised: None };
+    let mut observer = Signals::new();
     let result = py.detach(|| Plan::new(&spec, request).map(|plan| plan.run(&mut observer)));
     let mut result = result.map_err(err)?;
-    if let Some(raised) = observer.raised.take() {
-        if !raised.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
-            return Err(raised);
-        }
-    }
+    observer.reraise(py)?;
     let d = PyDict::new(py);
     d.set_item("json", to_json(&result)?)?;
     let orbits = PyList::empty(py);
@@ -405,13 +490,506 @@ fn cycles<'py>(
     d.set_item("orbits", orbits)?;
     let columns = header::<Cycle>().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     d.set_item("columns", columns.split(',').collect::<Vec<_>>())?;
-    d.set_item("interrupted", result.interrupted())?;
-    let failure = match result.failure.take() {
+    let interrupted = result.interrupted();
+    d.set_item("interrupted", interrupted)?;
+    d.set_item("failure", failure_of(result.failure.take()))?;
+    // The CLI's figures: the branch, and the folds of cycles with lpc_curve.
+    let cut = if interrupted {
+        Some(" — interrupted")
+    } else if !result.leg_stops.iter().all(|l| l.complete()) {
+        Some(" — stopped before the requested range (see the stop reason)")
+    } else {
+        None
+    };
+    let stickslip::jobs::cycles::Cycles {
+        records,
+        setup,
+        lpc_curve: folds,
+        ..
+    } = result;
+    let draw = move |stem: &Path| {
+        let stem = with_suffix(stem, "-cycles");
+        let mut files = Vec::new();
+        if !records.is_empty() {
+            files = branch_figures(&setup, &along_branch(&records), &stem, cut)?;
+        }
+        if lpc_curve && !folds.is_empty() {
+            files.extend(fold_figure(&setup, &folds, &stem)?);
+        }
+        Ok(files)
+    };
+    d.set_item("figures", Figures::new(&spec, draw))?;
+    Ok(d)
+}
+
+/// A failure that ended a job after it kept results, as `(kind, message)`
+/// (kind `numerical` or `other`); none for a signal.
+fn failure_of(e: Option<Error>) -> Option<(&'static str, String)> {
+    match e {
         Some(Error::Interrupted(_)) | None => None,
         Some(e @ Error::Numerical(_)) => Some(("numerical", e.to_string())),
         Some(e) => Some(("other", e.to_string())),
+    }
+}
+
+/// The drawing of a result's figures, kept with it (`result.figures(out_dir)`).
+type Draw = Box<dyn Fn(&Path) -> Result<Vec<PathBuf>, PlotError> + Send + Sync>;
+
+/// The figures the command line draws for a result, drawn on demand into a
+/// directory under the command line's file name (`<scene>_<overrides>`).
+#[pyclass(frozen, module = "stickslip._native")]
+struct Figures {
+    draw: Draw,
+    name: String,
+}
+
+impl Figures {
+    fn new(
+        spec: &SceneSpec,
+        draw: impl Fn(&Path) -> Result<Vec<PathBuf>, PlotError> + Send + Sync + 'static,
+    ) -> Figures {
+        let scene = spec
+            .setup(|p| *p)
+            .map(|s| s.scene.name)
+            .unwrap_or_else(|_| "scene".into());
+        Figures {
+            draw: Box::new(draw),
+            name: run_name(&scene, &spec.set, spec.model.map(ModelKind::name)),
+        }
+    }
+}
+
+#[pymethods]
+impl Figures {
+    /// Draws the figures into `out_dir` (created); returns the files written.
+    fn write(&self, py: Python<'_>, out_dir: PathBuf) -> PyResult<Vec<PathBuf>> {
+        std::fs::create_dir_all(&out_dir).map_err(|e| {
+            PyRuntimeError::new_err(format!("cannot create {}: {e}", out_dir.display()))
+        })?;
+        let stem = files_stem(&out_dir, &self.name);
+        py.detach(|| (self.draw)(&stem))
+            .map_err(|e| PyRuntimeError::new_err(format!("cannot draw the figures: {e}")))
+    }
+
+    /// The file name the figures start with.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+}
+
+/// `--collocation`: gauss, radau, or the model's choice.
+fn collocation_of(name: Option<&str>) -> Result<Option<CollocationPoints>, InputError> {
+    match name {
+        None => Ok(None),
+        Some("gauss") => Ok(Some(CollocationPoints::Gauss)),
+        Some("radau") => Ok(Some(CollocationPoints::Radau)),
+        Some(other) => Err(InputError::UnknownName {
+            what: "--collocation",
+            name: other.into(),
+            suggestion: None,
+            allowed: "gauss, radau".into(),
+        }),
+    }
+}
+
+/// The `--at` values of a branch in `control`: every item `NAME=V1,V2,...`
+/// names it (as `stickslip cycles --param P --at P=...`).
+fn asked_values(at_kappa: &[f64], at: &[String], control: Control) -> Result<Vec<f64>, InputError> {
+    if !at_kappa.is_empty() {
+        return Err(InputError::Conflict(format!(
+            "--at-kappa asks for stiffnesses, and --param {} continues the cycles in {}: give \
+             --at {}=V1,V2,... (in {})",
+            control.name(),
+            control.name(),
+            control.name(),
+            control.unit()
+        )));
+    }
+    let mut out = Vec::new();
+    for item in at {
+        let (name, values) = item.split_once('=').unwrap_or(("", item));
+        if name.trim() != control.name() {
+            return Err(InputError::Conflict(format!(
+                "--at {item}: the branch is in {} (--param); give --at {}=V1,V2,... (in {})",
+                control.name(),
+                control.name(),
+                control.unit()
+            )));
+        }
+        for v in values.split(',') {
+            out.push(v.trim().parse::<f64>().map_err(|_| InputError::Malformed {
+                field: format!("--at {}", control.name()),
+                value: v.to_string(),
+                expected: format!("a number in {}", control.unit()),
+            })?);
+        }
+    }
+    Ok(out)
+}
+
+/// `stickslip cycles --param P --to V` for a control other than the
+/// stiffness: the dict of `cycles` (no orbit samples: the job keeps the
+/// cycles' records only; no figures: the command line draws none).
+fn cycles_in_control<'py>(
+    py: Python<'py>,
+    spec: &SceneSpec,
+    shown: Option<&(String, String)>,
+    request: &CyclesInControlRequest,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut observer = Signals::new();
+    let result = py.detach(|| {
+        stickslip::jobs::cycles_in::Plan::new(spec, request).and_then(|plan| {
+            let header = plan.header_record();
+            plan.run(&mut observer).map(|r| (r, header))
+        })
+    });
+    let (mut result, header) = result.map_err(|e| to_py(e, shown))?;
+    observer.reraise(py)?;
+    let d = PyDict::new(py);
+    d.set_item("json", to_json(&result)?)?;
+    d.set_item("orbits", PyList::empty(py))?;
+    let columns = header_of(&header).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    d.set_item("columns", columns.split(',').collect::<Vec<_>>())?;
+    d.set_item(
+        "interrupted",
+        matches!(result.failure, Some(Error::Interrupted(_))),
+    )?;
+    d.set_item("failure", failure_of(result.failure.take()))?;
+    d.set_item("figures", Figures::new(spec, |_: &Path| Ok(Vec::new())))?;
+    Ok(d)
+}
+
+/// `stickslip branch`: a dict with the JSON the command prints, whether
+/// Ctrl-C stopped it, and the failure that ended it (`(kind, message)`).
+#[pyfunction]
+#[pyo3(signature = (scene, param, from_=None, to=None, max_steps=2000))]
+fn branch<'py>(
+    py: Python<'py>,
+    scene: SceneArg,
+    param: String,
+    from_: Option<f64>,
+    to: Option<f64>,
+    max_steps: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (spec, shown) = scene.spec()?;
+    let mut observer = Signals::new();
+    let result = py.detach(|| {
+        let request = BranchRequest {
+            param: Control::parse(&param, "--param")?,
+            from: from_,
+            to,
+            max_steps,
+        };
+        stickslip::jobs::branch::Plan::new(&spec, &request).map(|plan| plan.run(&mut observer))
+    });
+    let mut result = result.map_err(|e| to_py(e, shown.as_ref()))?;
+    observer.reraise(py)?;
+    let d = PyDict::new(py);
+    d.set_item("json", to_json(&result)?)?;
+    d.set_item(
+        "interrupted",
+        matches!(result.failure, Some(Error::Interrupted(_))),
+    )?;
+    d.set_item("failure", failure_of(result.failure.take()))?;
+    Ok(d)
+}
+
+/// `stickslip diagram` (one scene; `--x P --y Q` for a pair of control
+/// parameters): the JSON the command prints (`files` empty, `elapsed_s` the
+/// job's time) and its figures.
+#[pyfunction]
+#[pyo3(signature = (scene, nu_range=None, max_steps=None, x=None, y=None, x_range=None, y_range=None))]
+#[allow(clippy::too_many_arguments)]
+fn diagram<'py>(
+    py: Python<'py>,
+    scene: SceneArg,
+    nu_range: Option<(f64, f64)>,
+    max_steps: Option<usize>,
+    x: Option<String>,
+    y: Option<String>,
+    x_range: Option<(f64, f64)>,
+    y_range: Option<(f64, f64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (spec, shown) = scene.spec()?;
+    let err = |e: Error| to_py(e, shown.as_ref());
+    let request = DiagramRequest {
+        nu_range,
+        max_steps: max_steps.unwrap_or(DEFAULT_CURVE_STEPS),
+    };
+    if let Some((lo, hi)) = nu_range {
+        let (min, max) = stickslip::params::MAGNITUDE_RANGE;
+        let ok = lo.is_finite()
+            && hi.is_finite()
+            && lo > 0.0
+            && hi > lo
+            && (min..=max).contains(&lo)
+            && (min..=max).contains(&hi);
+        if !ok {
+            return Err(err(InputError::Malformed {
+                field: "--nu-range".into(),
+                value: format!("({lo}, {hi})"),
+                expected: "(LO, HI) with 0 < LO < HI, velocities of magnitude 1e-100 to 1e100 \
+                           (units of V0)"
+                    .into(),
+            }
+            .into()));
+        }
+    }
+    for (field, r) in [("--x-range", x_range), ("--y-range", y_range)] {
+        if let Some((lo, hi)) = r {
+            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
+                return Err(err(InputError::Malformed {
+                    field: field.into(),
+                    value: format!("({lo}, {hi})"),
+                    expected: "(LO, HI) with 0 < LO < HI, in the axis parameter's unit".into(),
+                }
+                .into()));
+            }
+        }
+    }
+    let axes = Axes::parse(x.as_deref(), y.as_deref()).map_err(|e| err(e.into()))?;
+    let t0 = Instant::now();
+    let d = PyDict::new(py);
+    let (mut value, figures) = match axes {
+        Some(axes) => {
+            let pair = py
+                .detach(|| run_pair(&spec, axes, x_range, y_range, &request))
+                .map_err(err)?;
+            let value = pair.to_json();
+            let suffix = format!("-stability-{}-vs-{}", axes.y.name(), axes.x.name());
+            let draw = move |stem: &Path| {
+                render(
+                    &axes_figure(&pair.diagram, &pair.setup.label),
+                    &with_suffix(stem, &suffix),
+                )
+            };
+            (value, Figures::new(&spec, draw))
+        }
+        None => {
+            if x_range.is_some() || y_range.is_some() {
+                return Err(err(InputError::Conflict(
+                    "--x-range and --y-range are the ranges of --x and --y; give --x (and --y)"
+                        .into(),
+                )
+                .into()));
+            }
+            let r = py
+                .detach(|| stickslip::jobs::diagram::run_with(&AsIs, &spec, &request))
+                .map_err(err)?;
+            let value = r.to_json();
+            let draw = move |stem: &Path| {
+                write_figures(&r.setup, &r.diagram, r.range, r.operating.as_ref(), stem)
+            };
+            (value, Figures::new(&spec, draw))
+        }
+    };
+    value["files"] = serde_json::json!([]);
+    value["elapsed_s"] = serde_json::json!(t0.elapsed().as_secs_f64());
+    d.set_item("json", to_json(&value)?)?;
+    d.set_item("figures", figures)?;
+    Ok(d)
+}
+
+/// The observer of a simulation run from Python: every step kept as a row
+/// of the CSV's columns, Ctrl-C checked every 20 ms.
+struct Samples {
+    signals: Signals,
+    units: Units,
+    columns: [Vec<f64>; 11],
+    inertial: Vec<bool>,
+}
+
+/// The numeric columns of `-simulation.csv`, in its order (`model` aside).
+const SIMULATION_COLUMNS: [&str; 11] = [
+    "t_s",
+    "t",
+    "s",
+    "v",
+    "theta",
+    "slip",
+    "log10_v",
+    "spring_force_N",
+    "v_um_per_s",
+    "theta_s",
+    "slip_um",
+];
+
+impl stickslip::jobs::simulate::Observer for Samples {
+    fn stop(&mut self) -> bool {
+        self.signals.raised_now()
+    }
+
+    fn sample(&mut self, p: &Sample) -> std::io::Result<()> {
+        let r = SimulationRow::new(p, &self.units);
+        let values = [
+            r.t_s,
+            r.t,
+            r.s,
+            r.v.v,
+            r.theta,
+            r.slip,
+            r.log10_v,
+            r.spring_force_n,
+            r.v_um_per_s.v,
+            r.theta_s,
+            r.slip_um,
+        ];
+        for (c, v) in self.columns.iter_mut().zip(values) {
+            c.push(v);
+        }
+        self.inertial.push(p.model == ModelKind::Inertial);
+        Ok(())
+    }
+}
+
+/// `stickslip simulate`: a dict with the run's record as JSON (the text's
+/// facts: model, steps, times, switch, the regime reached, `complete`,
+/// `stop`), every step's row of the CSV as numpy columns, and the figures.
+#[pyfunction]
+#[pyo3(signature = (scene, protocol=None, perturb=1e-2, rtol=1e-8, max_steps=200_000, plot_points=20_000))]
+fn simulate<'py>(
+    py: Python<'py>,
+    scene: SceneArg,
+    protocol: Option<Vec<(f64, f64)>>,
+    perturb: f64,
+    rtol: f64,
+    max_steps: usize,
+    plot_points: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (spec, shown) = scene.spec()?;
+    let err = |e: Error| to_py(e, shown.as_ref());
+    let request = SimulateRequest {
+        protocol,
+        perturb,
+        rtol,
+        max_steps,
+        plot_points,
+    };
+    let plan = py
+        .detach(|| stickslip::jobs::simulate::Plan::new(&spec, request))
+        .map_err(err)?;
+    let u = plan.setup.scene.units;
+    let time_unit = u.d0 / u.v0;
+    let mut reason = plan.setup.choice.reason.clone();
+    if let Some(top) = plan.chosen_at {
+        reason = format!(
+            "{reason} (at the protocol's fastest pulling velocity, {:.4e} µm/s)",
+            u.velocity_um_s(top)
+        );
+    }
+    let mut observer = Samples {
+        signals: Signals::new(),
+        units: u,
+        columns: Default::default(),
+        inertial: Vec::new(),
+    };
+    let sim = py.detach(|| plan.run(&mut observer));
+    observer.signals.reraise(py)?;
+    let switch = sim.end.as_ref().ok().and_then(|end| end.switch);
+    let (t_reached, t_end) = (sim.t_reached() * time_unit, sim.t_end * time_unit);
+    let stop = match &sim.end {
+        Ok(end) if end.stopped && sim.step_limit => Some(format!(
+            "step limit: {} steps (--max-steps) at simulated time t = {:.6e} s of {:.6e} s",
+            sim.steps,
+            end.t * time_unit,
+            end.t_end * time_unit,
+        )),
+        Ok(end) if end.stopped => Some(format!(
+            "interrupted at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
+            end.t * time_unit,
+            end.t_end * time_unit,
+            sim.steps
+        )),
+        Ok(_) => None,
+        Err(e) => Some(e.to_string()),
+    };
+    let regime = sim.regime.as_ref().map(|r| match r {
+        RegimeReached::Periodic {
+            period,
+            delta_s,
+            slip,
+        } => serde_json::json!({
+            "kind": "periodic",
+            "period": period,
+            "delta_s": delta_s,
+            "slip": slip,
+            "period_s": period * time_unit,
+            "force_drop_N": delta_s * u.load,
+            "slip_um": slip * u.d0 * 1e6,
+        }),
+        RegimeReached::Steady => serde_json::json!({"kind": "steady"}),
+        RegimeReached::Unsettled(why) => serde_json::json!({"kind": "unsettled", "reason": why}),
+    });
+    let record = serde_json::json!({
+        "scene": sim.setup.scene.name,
+        "label": sim.setup.label,
+        "model": sim.setup.choice.kind,
+        "model_reason": reason,
+        "params": params_json(&sim.setup.params),
+        "units": UnitsRecord::of(&u),
+        "protocol": sim.protocol.iter().map(|seg| serde_json::json!({
+            "V_um_per_s": u.velocity_um_s(seg.nu),
+            "duration_s": seg.duration * time_unit,
+            "nu": seg.nu,
+            "duration": seg.duration,
+        })).collect::<Vec<_>>(),
+        "steps": sim.steps,
+        "t_end_s": t_end,
+        "t_reached_s": t_reached,
+        "plot_stride": sim.stride,
+        "switch": switch.map(|s| serde_json::json!({
+            "t_s": s.t * time_unit,
+            "t": s.t,
+            "chi": s.chi,
+            "inertia_threshold": sim.threshold,
+        })),
+        "regime": regime,
+        "complete": stop.is_none(),
+        "stop": stop,
+    });
+    let d = PyDict::new(py);
+    d.set_item("json", to_json(&record)?)?;
+    let columns = PyDict::new(py);
+    let Samples {
+        columns: values,
+        inertial,
+        ..
+    } = observer;
+    for (name, c) in SIMULATION_COLUMNS.iter().zip(values) {
+        columns.set_item(*name, c.into_pyarray(py))?;
+    }
+    columns.set_item("inertial", inertial.into_pyarray(py))?;
+    d.set_item("columns", columns)?;
+    d.set_item("interrupted", sim.interrupted)?;
+    let failure = match &sim.end {
+        Err(Error::Numerical(n)) => Some(("numerical", n.to_string())),
+        Err(e) => Some(("other", e.to_string())),
+        Ok(_) => None,
     };
     d.set_item("failure", failure)?;
+    let name = match sim.cut() {
+        Some(why) => format!(
+            "{} — {why} at t = {t_reached:.4e} s of {t_end:.4e} s",
+            sim.setup.label
+        ),
+        None => sim.setup.label.clone(),
+    };
+    let (trajectory, protocol) = (sim.trajectory, sim.protocol);
+    let draw = move |stem: &Path| {
+        if trajectory.t.len() < 2 {
+            return Ok(Vec::new());
+        }
+        sim_figures(
+            &name,
+            &trajectory,
+            &protocol,
+            &u,
+            &with_suffix(stem, "-simulation"),
+            switch.map(|s| s.t),
+        )
+    };
+    d.set_item("figures", Figures::new(&spec, draw))?;
     Ok(d)
 }
 
@@ -423,6 +1001,11 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_toml, m)?)?;
     m.add_function(wrap_pyfunction!(hopf, m)?)?;
     m.add_function(wrap_pyfunction!(cycles, m)?)?;
+    m.add_function(wrap_pyfunction!(branch, m)?)?;
+    m.add_function(wrap_pyfunction!(diagram, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_class::<Figures>()?;
+    m.add("DEFAULT_CURVE_STEPS", DEFAULT_CURVE_STEPS)?;
     m.add(
         "DEFAULT_INERTIA_THRESHOLD",
         stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD,

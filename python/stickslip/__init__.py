@@ -1,21 +1,28 @@
 """stickslip from Python: the stick-slip onset of a block pulled through a
-spring across a rate-and-state frictional interface, its type, and the
-stick-slip cycles, each job one call returning a result object.
+spring across a rate-and-state frictional interface, its type, steady
+sliding across it, the stability diagram, the stick-slip cycles and
+simulations in time, each job one call returning a result object; sweeps
+of a job over a grid on a process pool or a Dask cluster.
 
     >>> import stickslip
     >>> scene = stickslip.Scene.builtin("pmma").with_(K=2e5)
     >>> h = stickslip.hopf(scene)
     >>> h.kappa_c, h.criticality
+    >>> b = stickslip.branch(scene, param="nu")            # steady sliding in velocity
+    >>> d = stickslip.diagram(scene); d.figures("out")     # the stability diagram
     >>> c = stickslip.cycles(scene, kappa_fraction=0.9)
     >>> c.kappa, c.delta_s          # numpy arrays, one entry per cycle
+    >>> s = stickslip.simulate(scene, protocol=[(1.0, 300.0)])
+    >>> s.t_s, s.spring_force_N, s.regime
+    >>> stickslip.sweep("hopf", {"K": [1e5, 2e5], "V": [0.1, 1, 10]})
 
 Every result has `.to_dict()` (exactly what `stickslip <command> --json`
 prints for the same request), `.complete`, `.stop`, `.to_pandas()` (with
 pandas installed), and pickles. Bad input raises `InputError` (a
 `ValueError`) naming the field; a numerical failure raises `NumericalError`
 with the result computed before it as `.partial`. The GIL is released while
-a job computes; Ctrl-C stops a branch of cycles and returns the cycles
-computed so far with `complete = False`.
+a job computes; Ctrl-C stops a branch, a branch of cycles or a simulation
+and returns what was computed so far with `complete = False`.
 
 Units: dimensionless as in docs/model.md (kappa = K D0/W, nu = V/V0, ...),
 with the physical values beside them in the fields named with their unit
@@ -38,9 +45,16 @@ __all__ = [
     "Scene",
     "scenes",
     "hopf",
+    "branch",
+    "diagram",
     "cycles",
+    "simulate",
+    "sweep",
     "Hopf",
+    "Branch",
+    "Diagram",
     "Cycles",
+    "Simulation",
     "InputError",
     "NumericalError",
     "DEFAULT_INERTIA_THRESHOLD",
@@ -109,13 +123,19 @@ class Scene:
         lines = [f"{k} = {_toml_value(k, v)}" for k, v in keys.items()]
         self._init(None, "\n".join(lines) + "\n", "Scene(**keys)", "custom", ())
 
-    def _init(self, builtin, toml, origin, stem, overrides) -> None:
+    def _init(self, builtin, toml, origin, stem, overrides, check: bool = True) -> None:
         self._builtin: str | None = builtin
         self._toml: str | None = toml
         self._origin: str = origin
         self._stem: str = stem
         self._set: tuple[str, ...] = tuple(overrides)
-        self._info = _native.setup(self._arg())
+        self._info_cache: dict | None = _native.setup(self._arg()) if check else None
+
+    @property
+    def _info(self) -> dict:
+        if self._info_cache is None:
+            self._info_cache = _native.setup(self._arg())
+        return self._info_cache
 
     @classmethod
     def _make(cls, builtin, toml, origin, stem, overrides=()) -> "Scene":
@@ -149,6 +169,18 @@ class Scene:
     def from_toml_text(cls, text: str, name: str = "custom") -> "Scene":
         """A scene from the text of a scene file (`name` if it has no `name` key)."""
         return cls._make(None, text, name, name)
+
+    def _with_unchecked(self, overrides: Mapping[str, Any]) -> "Scene":
+        """`with_` without setting the scene up now (a sweep's points: the
+        job checks them, and a bad one is that point's error)."""
+        items = dict(item.split("=", 1) for item in self._set)
+        for name, value in overrides.items():
+            items.pop(name, None)
+            items[name] = _override(name, value).split("=", 1)[1]
+        s = Scene.__new__(Scene)
+        s._init(self._builtin, self._toml, self._origin, self._stem,
+                [f"{k}={v}" for k, v in items.items()], check=False)
+        return s
 
     def with_(self, **overrides: Any) -> "Scene":
         """This scene with overrides, named as `--set` takes them: the scene
@@ -344,6 +376,35 @@ class _Result:
     __hash__ = None  # type: ignore[assignment]
 
 
+class _Drawn(_Result):
+    """A result with the command line's figures (`figures(out_dir)`)."""
+
+    #: The native drawing of the figures (not pickled).
+    _handle: Any = None
+    #: How the result was asked: (function name, scene, keyword options).
+    _request: tuple | None = None
+
+    def _set_request(self, handle, function: str, scene: "Scene", options: dict) -> None:
+        self._handle = handle
+        self._request = (function, scene, dict(options))
+
+    def figures(self, out_dir: str | os.PathLike = ".") -> list[str]:
+        """Writes the figures the command line draws for this result (PNG
+        and SVG) into `out_dir` (created), named as the command names them
+        (`<scene>_<overrides>-...`); returns the paths. A result read back
+        from a pickle computes its job once more to draw them."""
+        if self._handle is None:
+            if self._request is None:
+                raise RuntimeError("this result holds no figures (it was not computed by a job)")
+            function, scene, options = self._request
+            try:
+                again = globals()[function](scene, **options)
+            except NumericalError as e:
+                again = e.partial
+            self._handle = again._handle
+        return [os.fspath(p) for p in self._handle.write(os.fspath(out_dir))]
+
+
 class Hopf(_Result):
     """The stick-slip onset of a scene (`stickslip.hopf`): the critical
     stiffness and frequency, next to Appendix C, the onset type (first
@@ -449,7 +510,7 @@ class Hopf(_Result):
         return f"<Hopf {self._data['scene']} ({self.model}): {self.status}>"
 
 
-class Cycles(_Result):
+class Cycles(_Drawn):
     """The stick-slip cycles of a scene (`stickslip.cycles`): the branch born
     at the Hopf point (or reached from a simulated orbit), continued in the
     stiffness, with its bifurcations and the cycles at requested
@@ -529,7 +590,7 @@ class Cycles(_Result):
         return len(self._data["cycles"])
 
     def __getattr__(self, name: str) -> Any:
-        if name.startswith("_") or name in ("table",):
+        if name.startswith("_") or name in ("table", "orbits"):
             raise AttributeError(name)
         table = self.__dict__.get("table", {})
         if name in table:
@@ -550,14 +611,25 @@ class Cycles(_Result):
 
     def __reduce__(self):
         return (
-            Cycles,
-            (self._data, self.orbits, self._columns, self.interrupted, self.failure),
+            _rebuilt,
+            (
+                Cycles,
+                (self._data, self.orbits, self._columns, self.interrupted, self.failure),
+                self._request,
+            ),
         )
 
     def __repr__(self) -> str:
         n = len(self)
         span = ""
-        if n:
+        control = self._data.get("control")
+        if n and control:
+            col = {"V": "V_um_per_s", "M": "M_kg", "W": "W_N", "tau": "tau_s"}.get(
+                control["param"], control["continued"])
+            x = self.table.get(col, self.table.get(control["continued"]))
+            if x is not None:
+                span = f", {control['param']} {np.nanmin(x):.6e} .. {np.nanmax(x):.6e} {control['unit']}"
+        elif n:
             k = self.table["kappa"]
             span = f", kappa {k.min():.6e} .. {k.max():.6e}"
         state = "complete" if self.complete else "partial"
@@ -642,6 +714,7 @@ def cycles(
     collocation: str | None = None,
     param: str | None = None,
     to: float | None = None,
+    search: tuple[float, float] | None = None,
     model: str | None = None,
     inertia_threshold: float | None = None,
 ) -> Cycles:
@@ -666,8 +739,14 @@ def cycles(
     ntst, ntst_max: initial and largest number of mesh intervals.
     collocation: "gauss" or "radau" instead of the model's choice.
     param, to: `param="K"` (or "kappa") with `to` ends the branch at that
-        stiffness in its unit, in place of `kappa_fraction` (other control
-        parameters: the command line, for now).
+        stiffness in its unit, in place of `kappa_fraction`; another
+        control parameter (V [um/s], M [kg], W [N], tau [s], nu, m, A, B,
+        mu2, theta_c) continues the cycles in it from its Hopf point up to
+        `to` in its unit (`stickslip cycles --param V --to 300`); `at` then
+        names it ({"V": [100, 200]}); the cycles carry the control's column
+        (`V_um_per_s`, ...); no orbit samples and no figures.
+    search: (LO, HI), where the Hopf point in `param` is searched (not for
+        the stiffness).
     model, inertia_threshold: as for `hopf`.
 
     Returns a `Cycles` whose `to_dict()` is `stickslip cycles --json`'s
@@ -696,6 +775,7 @@ def cycles(
         _at(at),
         None if param is None else str(param),
         None if to is None else float(to),
+        _pair("search", search),
     )
     failure = out["failure"]
     result = Cycles(
@@ -705,6 +785,540 @@ def cycles(
         out["interrupted"],
         failure[1] if failure else None,
     )
+    result._set_request(
+        out["figures"], "cycles", s,
+        dict(kappa_fraction=kappa_fraction, at_kappa=at_kappa, at=at, max_steps=max_steps,
+             lpc_curve=lpc_curve, from_simulation=from_simulation, ntst=ntst,
+             ntst_max=ntst_max, collocation=collocation, param=param, to=to,
+             search=search, model=model, inertia_threshold=inertia_threshold),
+    )
     if failure and failure[0] == "numerical":
         raise NumericalError(failure[1], partial=result)
     return result
+
+
+def _rebuilt(cls, args, request):
+    """A result read back from a pickle (its figures computed again on demand)."""
+    r = cls(*args)
+    r._request = request
+    return r
+
+
+def _pair(name: str, value: Any) -> tuple[float, float] | None:
+    """An optional (LO, HI) pair of numbers."""
+    if value is None:
+        return None
+    try:
+        lo, hi = value
+        return (float(lo), float(hi))
+    except (TypeError, ValueError):
+        raise InputError(f"{name} = {value!r}: expected a pair (LO, HI) of numbers", name) from None
+
+
+def _count(name: str, value: Any, least: int = 0) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+        raise InputError(
+            f"{name} = {value!r} is out of range: expected an integer >= {least}", name
+        )
+    return int(value)
+
+
+def _failed(out: dict, result: Any) -> Any:
+    """`result`, or NumericalError carrying it when a numerical failure ended the job."""
+    failure = out["failure"]
+    if failure and failure[0] == "numerical":
+        raise NumericalError(failure[1], partial=result)
+    return result
+
+
+class Branch(_Result):
+    """Steady sliding continued in a parameter (`stickslip.branch`): a row
+    per point with the state, the three eigenvalues, the bifurcation
+    located there (`event`: hopf, fold) and the point in physical units.
+
+    `table` holds every column of the CSV (`branch --csv`) as a numpy array
+    (the continued parameter first, named as it is: `kappa`, `nu`, `m`);
+    each is also an attribute (`branch.nu`, `branch.eig_re_1`,
+    `branch.V_um_per_s`, ...); `eigenvalues` is the (n, 3) complex array;
+    `events` the rows of the located bifurcations.
+    """
+
+    def __init__(self, data: dict, interrupted: bool = False, failure: str | None = None):
+        self._data = data
+        #: Whether Ctrl-C stopped the branch.
+        self.interrupted = interrupted
+        #: The numerical failure that ended the branch, in words (None: none).
+        self.failure = failure
+        self.table: dict[str, np.ndarray] = _table(data["points"])
+
+    @property
+    def complete(self) -> bool:
+        """The branch reached `to`."""
+        return self._data["complete"]
+
+    @property
+    def stop(self) -> str | None:
+        """Why the branch ended before `to` (None: it reached it)."""
+        return self._data["stop"]
+
+    @property
+    def param(self) -> str:
+        """The dimensionless parameter continued (kappa, nu, m, ...)."""
+        return self._data["param"]
+
+    @property
+    def eigenvalues(self) -> np.ndarray:
+        """The eigenvalues at each point, an (n, 3) complex array (NaN where fewer)."""
+        t = self.table
+        cols = []
+        for i in (1, 2, 3):
+            re = np.asarray(t[f"eig_re_{i}"], dtype=float)
+            im = np.asarray(t[f"eig_im_{i}"], dtype=float)
+            cols.append(re + 1j * im)
+        return np.stack(cols, axis=1) if len(self) else np.zeros((0, 3), complex)
+
+    @property
+    def events(self) -> dict[str, np.ndarray]:
+        """The located bifurcations (rows with an `event`), a table."""
+        mask = np.array([p["event"] is not None for p in self._data["points"]], dtype=bool)
+        return {k: v[mask] for k, v in self.table.items()}
+
+    def __len__(self) -> int:
+        return len(self._data["points"])
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or name == "table":
+            raise AttributeError(name)
+        table = self.__dict__.get("table", {})
+        if name in table:
+            return table[name]
+        data = self.__dict__.get("_data", {})
+        if name in data:
+            return copy.deepcopy(data[name])
+        raise AttributeError(f"'Branch' has no attribute {name!r}")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self.table) | set(self._data))
+
+    def to_pandas(self):
+        """The points as a pandas DataFrame, a row per point."""
+        import pandas as pd
+
+        return pd.DataFrame(self.table)
+
+    def __reduce__(self):
+        return (Branch, (self._data, self.interrupted, self.failure))
+
+    def __repr__(self) -> str:
+        n, p = len(self), self.param
+        span = ""
+        if n:
+            x = self.table[p]
+            span = f", {p} {x[0]:.6e} .. {x[-1]:.6e}"
+        ev = [p["event"] for p in self._data["points"] if p["event"]]
+        state = "complete" if self.complete else f"partial: {self.stop}"
+        found = f"; {', '.join(ev)}" if ev else ""
+        return f"<Branch {self._data['scene']} in {p}: {n} points{span}{found}; {state}>"
+
+
+class Diagram(_Drawn):
+    """The stability diagram of a scene (`stickslip.diagram`): the Hopf
+    curve in (velocity, stiffness) with the onset type along it, the Bautin
+    points, the curves of folds of cycles bounding the hysteretic region,
+    the rig's operating point; with `x`, `y` the Hopf curve in a pair of
+    control parameters.
+
+    `hopf_curve`, `special_points`, `lpc_curve` are tables (dicts of numpy
+    arrays, the CSV's columns); the Hopf curve's columns are also attributes
+    (`d.nu`, `d.kappa`, `d.V_um_per_s`, `d.K_over_W_per_m`, `d.l1`,
+    `d.criticality`, ...). `figures(out_dir)` writes the command's figures.
+    """
+
+    def __init__(self, data: dict):
+        self._data = data
+        key = "hopf_curve" if "hopf_curve" in data else "points"
+        self._curve_key = key
+        self.hopf_curve: dict[str, np.ndarray] = _table(data.get(key, []))
+
+    @property
+    def complete(self) -> bool:
+        return self._data["complete"]
+
+    @property
+    def stop(self) -> str:
+        return self._data["stop"]
+
+    @property
+    def special_points(self) -> dict[str, np.ndarray]:
+        """Bautin points, ends of the curve, ... (kind first), a table."""
+        return _table(self._data.get("special_points", []))
+
+    @property
+    def lpc_curve(self) -> dict[str, np.ndarray]:
+        """The curves of folds of cycles (the hysteresis boundary), a table."""
+        return _table(self._data.get("lpc_curve", []))
+
+    @property
+    def operating_point(self) -> dict | None:
+        """The scene's own stiffness against the diagram (where it gives one)."""
+        return copy.deepcopy(self._data.get("operating_point"))
+
+    @property
+    def onset_type(self) -> str | None:
+        """supercritical, subcritical, degenerate, or mixed along the curve."""
+        return self._data.get("onset_type")
+
+    def __len__(self) -> int:
+        return len(self._data.get(self._curve_key, []))
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or name == "hopf_curve":
+            raise AttributeError(name)
+        table = self.__dict__.get("hopf_curve", {})
+        if name in table:
+            return table[name]
+        data = self.__dict__.get("_data", {})
+        if name in data:
+            return copy.deepcopy(data[name])
+        raise AttributeError(f"'Diagram' has no attribute {name!r}")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self.hopf_curve) | set(self._data))
+
+    def __eq__(self, other: object) -> bool:
+        # The job's time aside.
+        if type(self) is not type(other):
+            return False
+        a, b = dict(self._data), dict(other._data)  # type: ignore[attr-defined]
+        a.pop("elapsed_s", None), b.pop("elapsed_s", None)
+        return a == b
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def to_pandas(self):
+        """The Hopf curve as a pandas DataFrame, a row per point."""
+        import pandas as pd
+
+        return pd.DataFrame(self.hopf_curve)
+
+    def __reduce__(self):
+        return (_rebuilt, (Diagram, (self._data,), self._request))
+
+    def __repr__(self) -> str:
+        state = "complete" if self.complete else f"partial: {self.stop}"
+        kinds = self._data.get("special_points", [])
+        special = ", ".join(sorted({str(p.get("kind")) for p in kinds}))
+        return (
+            f"<Diagram {self._data['scene']}: {len(self)} points on the Hopf curve, onset "
+            f"{self.onset_type or '-'}{'; ' + special if special else ''}; {state}>"
+        )
+
+
+#: The CSV columns of a simulation (`-simulation.csv`), `model` aside.
+SIMULATION_COLUMNS = (
+    "t_s", "t", "s", "v", "theta", "slip", "log10_v", "model",
+    "spring_force_N", "v_um_per_s", "theta_s", "slip_um",
+)
+
+
+class Simulation(_Drawn):
+    """Driven sliding in time (`stickslip.simulate`): every integrator step
+    as a row of `-simulation.csv`, its columns numpy arrays and attributes:
+    `t_s` [s], `t` [D0/V0], `s` (spring force / W), `v` [V0], `theta`
+    [D0/V0], `slip` [D0], `log10_v`, `model` (per step), `spring_force_N`,
+    `v_um_per_s`, `theta_s`, `slip_um`. `regime` is the regime reached
+    after a complete run: {"kind": "periodic", "period_s", "force_drop_N",
+    "slip_um", ...}, {"kind": "steady"} or {"kind": "unsettled", "reason"}.
+    `to_dict()` is the run's record (no time series: the command line has
+    no JSON for simulate; it holds the facts of its text).
+    """
+
+    def __init__(
+        self,
+        data: dict,
+        columns: Mapping[str, np.ndarray],
+        interrupted: bool = False,
+        failure: str | None = None,
+    ):
+        self._data = data
+        self._columns = {k: np.asarray(v) for k, v in columns.items()}
+        self.interrupted = interrupted
+        self.failure = failure
+
+    @property
+    def table(self) -> dict[str, np.ndarray]:
+        """The CSV's columns, in its order."""
+        c = self._columns
+        out = {}
+        for name in SIMULATION_COLUMNS:
+            if name == "model":
+                out[name] = np.where(c["inertial"], "inertial", "quasi-static")
+            else:
+                out[name] = c[name]
+        return out
+
+    @property
+    def complete(self) -> bool:
+        """The whole protocol was simulated."""
+        return self._data["complete"]
+
+    @property
+    def stop(self) -> str | None:
+        return self._data["stop"]
+
+    @property
+    def regime(self) -> dict | None:
+        """The regime reached after a complete run (None: cut short)."""
+        return copy.deepcopy(self._data["regime"])
+
+    @property
+    def period_s(self) -> float | None:
+        r = self._data["regime"]
+        return r.get("period_s") if r else None
+
+    @property
+    def force_drop_N(self) -> float | None:
+        r = self._data["regime"]
+        return r.get("force_drop_N") if r else None
+
+    @property
+    def slip_um(self) -> np.ndarray:
+        return self._columns["slip_um"]
+
+    @property
+    def model(self) -> np.ndarray:
+        """The model of each step."""
+        return np.where(self._columns["inertial"], "inertial", "quasi-static")
+
+    def __len__(self) -> int:
+        return len(self._columns["t"])
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        columns = self.__dict__.get("_columns", {})
+        if name in columns and name != "inertial":
+            return columns[name]
+        data = self.__dict__.get("_data", {})
+        if name in data:
+            return copy.deepcopy(data[name])
+        raise AttributeError(f"'Simulation' has no attribute {name!r}")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(SIMULATION_COLUMNS) | set(self._data))
+
+    def __eq__(self, other: object) -> bool:
+        return (
+            type(self) is type(other)
+            and self._data == other._data  # type: ignore[attr-defined]
+            and self._columns.keys() == other._columns.keys()  # type: ignore[attr-defined]
+            and all(
+                np.array_equal(v, other._columns[k], equal_nan=v.dtype.kind == "f")  # type: ignore[attr-defined]
+                for k, v in self._columns.items()
+            )
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def to_pandas(self):
+        """The time series as a pandas DataFrame, a row per step (the CSV)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.table)
+
+    def __reduce__(self):
+        return (
+            _rebuilt,
+            (Simulation, (self._data, self._columns, self.interrupted, self.failure), self._request),
+        )
+
+    def __repr__(self) -> str:
+        r = self._data["regime"]
+        if r and r["kind"] == "periodic":
+            what = (f"stick-slip, period {r['period_s']:.6e} s, force drop "
+                    f"{r['force_drop_N']:.6e} N, slip {r['slip_um']:.6e} um")
+        elif r:
+            what = r["kind"]
+        else:
+            what = f"partial: {self.stop}"
+        return (f"<Simulation {self._data['label']}: {len(self)} steps over "
+                f"{self._data['t_reached_s']:.6e} s; {what}>")
+
+
+def branch(
+    scene: Scene | str | None = None,
+    param: str = "kappa",
+    from_: float | None = None,
+    to: float | None = None,
+    max_steps: int = 2000,
+    *,
+    model: str | None = None,
+    inertia_threshold: float | None = None,
+) -> Branch:
+    """Steady sliding continued in a parameter (`stickslip branch`), with
+    the eigenvalues at every point and the bifurcations located on it.
+
+    scene: a `Scene`, a built-in name or a scene file (default: pmma).
+    param: kappa or nu, or a control parameter in its unit: K [N/m], V
+        [um/s], M [kg], tau [s], or m, A, B, mu2, theta_c (the rows are in
+        the dimensionless parameter it moves).
+    from_, to: the range, in the unit of `param` (default: kappa, K — from
+        a stable stiffness to 1e-3 of it; nu, V — the scene's velocity
+        range; others — the scene's value to 1e3 times it).
+    max_steps: most continuation steps; a branch short of `to` is returned
+        with `complete = False`.
+    model, inertia_threshold: as for `hopf`.
+
+    Returns a `Branch` whose `to_dict()` is `stickslip branch --json`'s
+    output. Ctrl-C stops the branch and returns its points (`interrupted`).
+    Raises `InputError` for bad input, `NumericalError` (with `.partial`)
+    when the continuation fails.
+    """
+    s = _scene(scene)
+    out = _native.branch(
+        s._arg(model, inertia_threshold),
+        str(param),
+        None if from_ is None else float(from_),
+        None if to is None else float(to),
+        _count("max_steps", max_steps),
+    )
+    failure = out["failure"]
+    result = Branch(json.loads(out["json"]), out["interrupted"], failure[1] if failure else None)
+    return _failed(out, result)
+
+
+#: The default step limit along the Hopf curve (the command's --max-steps).
+DEFAULT_CURVE_STEPS: int = _native.DEFAULT_CURVE_STEPS
+
+
+def diagram(
+    scene: Scene | str | None = None,
+    nu_range: tuple[float, float] | None = None,
+    max_steps: int | None = None,
+    x: str | None = None,
+    y: str | None = None,
+    x_range: tuple[float, float] | None = None,
+    y_range: tuple[float, float] | None = None,
+    *,
+    model: str | None = None,
+    inertia_threshold: float | None = None,
+) -> Diagram:
+    """The stability diagram of a scene (`stickslip diagram`): the Hopf
+    curve (critical stiffness against the driving velocity) with the onset
+    type along it, Bautin points where it changes, the curves of folds of
+    cycles bounding the hysteretic region, the rig's operating point.
+
+    scene: a `Scene`, a built-in name or a scene file (default: pmma).
+    nu_range: (LO, HI), the velocity range in units of V0 (default: the
+        scene's V_range).
+    max_steps: most continuation steps along the Hopf curve in each
+        direction (default: the command's); a curve cut short by it is
+        returned with `complete = False`.
+    x, y: the diagram in a pair of control parameters (`--x P --y Q`): x
+        varied along the curve (K, V, M, W, tau, kappa, nu, ...; default V),
+        y the one whose critical value is traced (default K).
+    x_range, y_range: (LO, HI) of x and bounds of y, in their units.
+    model, inertia_threshold: as for `hopf`.
+
+    Returns a `Diagram` whose `to_dict()` is `stickslip diagram --json`'s
+    output (`files` empty, `elapsed_s` this job's time); `figures(out_dir)`
+    writes its figures. The diagram's job has no stop hook: Ctrl-C takes
+    effect when it returns.
+    """
+    s = _scene(scene)
+    out = _native.diagram(
+        s._arg(model, inertia_threshold),
+        _pair("nu_range", nu_range),
+        None if max_steps is None else _count("max_steps", max_steps),
+        None if x is None else str(x),
+        None if y is None else str(y),
+        _pair("x_range", x_range),
+        _pair("y_range", y_range),
+    )
+    result = Diagram(json.loads(out["json"]))
+    result._set_request(
+        out["figures"], "diagram", s,
+        dict(nu_range=nu_range, max_steps=max_steps, x=x, y=y, x_range=x_range,
+             y_range=y_range, model=model, inertia_threshold=inertia_threshold),
+    )
+    return result
+
+
+def _protocol(protocol: Any) -> list[tuple[float, float]] | None:
+    if protocol is None:
+        return None
+    if isinstance(protocol, str):
+        items = [p.split(":") for p in protocol.split(",")]
+    else:
+        items = list(protocol)
+    out = []
+    for item in items:
+        try:
+            v, t = item
+            out.append((float(v), float(t)))
+        except (TypeError, ValueError):
+            raise InputError(
+                f"protocol item {item!r}: expected (V [um/s], duration [s]), "
+                "e.g. [(1, 100), (10, 20), (0, 300)]",
+                "protocol",
+            ) from None
+    if not out:
+        raise InputError("protocol = []: give at least one (V, duration)", "protocol")
+    return out
+
+
+def simulate(
+    scene: Scene | str | None = None,
+    protocol: Sequence[tuple[float, float]] | str | None = None,
+    *,
+    perturb: float = 1e-2,
+    rtol: float = 1e-8,
+    max_steps: int = 200_000,
+    plot_points: int = 20_000,
+    model: str | None = None,
+    inertia_threshold: float | None = None,
+) -> Simulation:
+    """Driven sliding in time (`stickslip simulate`) from steady sliding,
+    its age perturbed, under a protocol of pulling velocities.
+
+    scene: a `Scene`, a built-in name or a scene file (default: pmma); it
+        needs a stiffness (K, or kappa with `with_`).
+    protocol: [(V [um/s], duration [s]), ...]; V = 0 stops the drive (or
+        the command line's "1:100,10:20"). Default: the scene's velocity
+        for 40 D0/V.
+    perturb: relative perturbation of the initial age.
+    rtol: the integrator's relative tolerance.
+    max_steps: most integrator steps (rows); a run cut short by it is
+        returned with `complete = False`.
+    plot_points: most points the figures draw (the extremes kept).
+    model, inertia_threshold: as for `hopf` (the model is chosen at the
+        protocol's fastest velocity; the run switches to the inertial model
+        where inertia matters).
+
+    Returns a `Simulation`: every step's row as numpy columns, the regime
+    reached, `figures(out_dir)` (spring force and slip velocity against
+    time). Ctrl-C stops the run and returns the steps so far.
+    """
+    s = _scene(scene)
+    out = _native.simulate(
+        s._arg(model, inertia_threshold),
+        _protocol(protocol),
+        float(perturb),
+        float(rtol),
+        _count("max_steps", max_steps),
+        _count("plot_points", plot_points),
+    )
+    failure = out["failure"]
+    result = Simulation(
+        json.loads(out["json"]), out["columns"], out["interrupted"],
+        failure[1] if failure else None,
+    )
+    result._set_request(
+        out["figures"], "simulate", s,
+        dict(protocol=protocol, perturb=perturb, rtol=rtol, max_steps=max_steps,
+             plot_points=plot_points, model=model, inertia_threshold=inertia_threshold),
+    )
+    return _failed(out, result)
+
+
+from ._sweep import sweep  # noqa: E402

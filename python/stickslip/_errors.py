@@ -22,6 +22,16 @@ _KEYWORDS = {
     "--set": "with_",
     "--model": "model",
     "--inertia-threshold": "inertia_threshold",
+    "--search": "search",
+    "--nu-range": "nu_range",
+    "--x-range": "x_range",
+    "--y-range": "y_range",
+    "--x": "x",
+    "--y": "y",
+    "--protocol": "protocol",
+    "--perturb": "perturb",
+    "--rtol": "rtol",
+    "--plot-points": "plot_points",
 }
 
 _OPTION = re.compile(r"--[a-z][a-z-]*")
