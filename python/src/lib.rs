@@ -31,8 +31,8 @@ use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan, 
 use stickslip::jobs::cycles_in::CyclesInControlRequest;
 use stickslip::jobs::diagram::{run_pair, DiagramRequest};
 use stickslip::jobs::hopf::HopfRequest;
-use stickslip::jobs::simulate::SimulateRequest;
-use stickslip::jobs::SceneSpec;
+use stickslip::jobs::simulate::{unsettled_text, SimulateRequest};
+use stickslip::jobs::{SceneSpec, TextUnits};
 use stickslip::model::ModelKind;
 use stickslip::plot::axes::axes_figure;
 use stickslip::plot::cycles::{branch_figures, fold_figure};
@@ -904,11 +904,21 @@ fn simulate<'py>(
         Ok(_) => None,
         Err(e) => Some(e.to_string()),
     };
+    // The time series whole, the regime it reaches undetermined: partial,
+    // as the command line says it (status 4).
+    let stop = stop.or_else(|| match &sim.regime {
+        Some(RegimeReached::Unsettled(why)) => Some(format!(
+            "the regime the run reaches is undetermined: {}",
+            unsettled_text(why, &u, TextUnits::Physical)
+        )),
+        _ => None,
+    });
     let regime = sim.regime.as_ref().map(|r| match r {
         RegimeReached::Periodic {
             period,
             delta_s,
             slip,
+            ..
         } => serde_json::json!({
             "kind": "periodic",
             "period": period,
@@ -919,7 +929,10 @@ fn simulate<'py>(
             "slip_um": slip * u.d0 * 1e6,
         }),
         RegimeReached::Steady => serde_json::json!({"kind": "steady"}),
-        RegimeReached::Unsettled(why) => serde_json::json!({"kind": "unsettled", "reason": why}),
+        RegimeReached::Unsettled(why) => serde_json::json!({
+            "kind": "unsettled",
+            "reason": unsettled_text(why, &u, TextUnits::Physical),
+        }),
     });
     let record = serde_json::json!({
         "scene": sim.setup.scene.name,

@@ -7,10 +7,9 @@
 use super::files::{create_file, with_suffix, LineFile, OutputArgs};
 use super::{interrupt, SceneArgs, TextUnits};
 use crate::analysis::decimate::Buckets;
-use crate::analysis::settle::SettleError;
-use crate::analysis::simulate::{RegimeReached, Sample, Unsettled};
+use crate::analysis::simulate::{RegimeReached, Sample};
 use crate::error::{Error, InputError};
-use crate::jobs::simulate::{Observer, Plan, SimulateRequest, Simulation};
+use crate::jobs::simulate::{unsettled_text, Observer, Plan, SimulateRequest, Simulation};
 use crate::plot::simulation::figures;
 use crate::records::csv::{header, row};
 use crate::records::simulation::SimulationRow;
@@ -326,42 +325,6 @@ impl Rows {
     /// Writes the rows gathered; the file is as the run meant it.
     fn finish(self) -> std::io::Result<()> {
         self.w.finish()
-    }
-}
-
-/// Why the regime is undetermined, in the text's units and with what a
-/// user of the rig can do.
-fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits) -> String {
-    let time = |t: f64| match units {
-        TextUnits::Physical => format!("{:.4e} s", t * u.d0 / u.v0),
-        TextUnits::Dimensionless => format!("{t:.4e} (D0/V0)"),
-    };
-    match why {
-        Unsettled::Settle(SettleError::NotSettled {
-            time: t,
-            periods,
-            difference,
-            ..
-        }) => format!(
-            "after {periods} oscillations (t = {}) the return map still moves by {difference:.2e} \
-             of the orbit's size: a slowly attracting cycle or a slow decay near a bifurcation; \
-             a longer --protocol gives it time",
-            time(*t)
-        ),
-        Unsettled::Settle(SettleError::Integration { time: t, cause, .. }) => {
-            format!("the integration failed at t = {}: {cause}", time(*t))
-        }
-        Unsettled::Settle(e @ SettleError::Decayed { .. }) => e.summary(),
-        Unsettled::Periods {
-            extremes,
-            return_map,
-        } => format!(
-            "the period between extremes of the spring force ({}) differs from the return map's \
-             ({}) by more than 1e-6 relative",
-            time(*extremes),
-            time(*return_map)
-        ),
-        Unsettled::Integration(cause) => format!("the integration over the cycle failed: {cause}"),
     }
 }
 

@@ -9,12 +9,16 @@ use super::{SceneSpec, Setup};
 use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::analysis::settle::SettleError;
+use crate::analysis::simulate::Unsettled;
 use crate::analysis::simulate::{
     regime_reached, simulate_watched, RegimeReached, RunEnd, RunOptions, Sample, Segment,
     Trajectory,
 };
 use crate::error::{Error, InputError};
+use crate::jobs::TextUnits;
 use crate::model::ModelKind;
+use crate::scene::Units;
 use std::ops::ControlFlow;
 
 /// What `simulate` is asked.
@@ -330,6 +334,42 @@ fn regime_with_inertia_judged(
             [p.s, p.v, p.theta],
         ),
         _ => regime,
+    }
+}
+
+/// Why the regime is undetermined, in the text's units and with what a
+/// user of the rig can do.
+pub fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits) -> String {
+    let time = |t: f64| match units {
+        TextUnits::Physical => format!("{:.4e} s", t * u.d0 / u.v0),
+        TextUnits::Dimensionless => format!("{t:.4e} (D0/V0)"),
+    };
+    match why {
+        Unsettled::Settle(SettleError::NotSettled {
+            time: t,
+            periods,
+            difference,
+            ..
+        }) => format!(
+            "after {periods} oscillations (t = {}) the return map still moves by {difference:.2e} \
+             of the orbit's size: a slowly attracting cycle or a slow decay near a bifurcation; \
+             a longer --protocol gives it time",
+            time(*t)
+        ),
+        Unsettled::Settle(SettleError::Integration { time: t, cause, .. }) => {
+            format!("the integration failed at t = {}: {cause}", time(*t))
+        }
+        Unsettled::Settle(e @ SettleError::Decayed { .. }) => e.summary(),
+        Unsettled::Periods {
+            extremes,
+            return_map,
+        } => format!(
+            "the period between extremes of the spring force ({}) differs from the return map's \
+             ({}) by more than 1e-6 relative",
+            time(*extremes),
+            time(*return_map)
+        ),
+        Unsettled::Integration(cause) => format!("the integration over the cycle failed: {cause}"),
     }
 }
 
