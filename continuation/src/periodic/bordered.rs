@@ -110,9 +110,55 @@ impl Householder {
 
 /// `x <- (I - 2 v v^T) x`.
 fn reflect(v: &[f64], x: &mut [f64]) {
+    macro_rules! fixed {
+        ($($l:literal)*) => {
+            match v.len() {
+                $($l => reflect_fixed::<$l>(v.try_into().unwrap(), (&mut x[..$l]).try_into().unwrap()),)*
+                _ => reflect_dynamic(v, x),
+            }
+        };
+    }
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
+/// [`reflect`] for any length.
+fn reflect_dynamic(v: &[f64], x: &mut [f64]) {
     let dot: f64 = v.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
     let f = 2.0 * dot;
     x.iter_mut().zip(v).for_each(|(a, b)| *a -= f * b);
+}
+
+/// [`reflect`] on `L` rows known at compile time (the loops unrolled; the
+/// dot product still summed in row order from `-0.0`, so the same result).
+fn reflect_fixed<const L: usize>(v: &[f64; L], x: &mut [f64; L]) {
+    let mut dot = -0.0f64;
+    for r in 0..L {
+        dot += v[r] * x[r];
+    }
+    let f = 2.0 * dot;
+    for r in 0..L {
+        x[r] -= f * v[r];
+    }
+}
+
+/// Four columns reflected by `v` in one pass, `L` rows known at compile
+/// time; each dot product summed in row order from `-0.0`.
+fn reflect_quad<const L: usize>(v: &[f64; L], c: [&mut [f64; L]; 4]) {
+    let [c0, c1, c2, c3] = c;
+    let mut dot = [-0.0f64; 4];
+    for r in 0..L {
+        dot[0] += v[r] * c0[r];
+        dot[1] += v[r] * c1[r];
+        dot[2] += v[r] * c2[r];
+        dot[3] += v[r] * c3[r];
+    }
+    let f = dot.map(|d| 2.0 * d);
+    for r in 0..L {
+        c0[r] -= f[0] * v[r];
+        c1[r] -= f[1] * v[r];
+        c2[r] -= f[2] * v[r];
+        c3[r] -= f[3] * v[r];
+    }
 }
 
 /// [`reflect`] on rows `j..` of every column of `columns` (column-major,
@@ -128,6 +174,19 @@ fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
         let (c2, c3) = rest.split_at_mut(rows);
         let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
         let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
+        macro_rules! fixed {
+            ($($l:literal)*) => {
+                match len {
+                    $($l => {
+                        let c = [c0, c1, c2, c3].map(|c| <&mut [f64; $l]>::try_from(c).unwrap());
+                        reflect_quad::<$l>(v.try_into().unwrap(), c);
+                        continue;
+                    })*
+                    _ => {}
+                }
+            };
+        }
+        fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
         // `-0.0`, where `Iterator::sum` starts too.
         let mut dot = [-0.0f64; 4];
         for r in 0..len {
