@@ -141,6 +141,22 @@ fn reflect_fixed<const L: usize>(v: &[f64; L], x: &mut [f64; L]) {
     }
 }
 
+/// [`reflect_columns`] with `v` of `L` entries known at compile time: the
+/// kernel chosen once per reflector, not per column.
+fn reflect_columns_fixed<const L: usize>(v: &[f64; L], columns: &mut [f64], rows: usize, j: usize) {
+    let mut quads = columns.chunks_exact_mut(4 * rows);
+    for quad in &mut quads {
+        let (c0, rest) = quad.split_at_mut(rows);
+        let (c1, rest) = rest.split_at_mut(rows);
+        let (c2, c3) = rest.split_at_mut(rows);
+        let c = [c0, c1, c2, c3].map(|c| <&mut [f64; L]>::try_from(&mut c[j..j + L]).unwrap());
+        reflect_quad(v, c);
+    }
+    for col in quads.into_remainder().chunks_exact_mut(rows) {
+        reflect_fixed(v, (&mut col[j..j + L]).try_into().unwrap());
+    }
+}
+
 /// Four columns reflected by `v` in one pass, `L` rows known at compile
 /// time; each dot product summed in row order from `-0.0`.
 fn reflect_quad<const L: usize>(v: &[f64; L], c: [&mut [f64; L]; 4]) {
@@ -166,6 +182,15 @@ fn reflect_quad<const L: usize>(v: &[f64; L], c: [&mut [f64; L]; 4]) {
 /// each column's dot product is still summed in row order, so the result is
 /// the same as column by column.
 fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
+    macro_rules! fixed {
+        ($($l:literal)*) => {
+            match v.len() {
+                $($l => return reflect_columns_fixed::<$l>(v.try_into().unwrap(), columns, rows, j),)*
+                _ => {}
+            }
+        };
+    }
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
     let len = v.len();
     let mut quads = columns.chunks_exact_mut(4 * rows);
     for quad in &mut quads {
@@ -174,19 +199,6 @@ fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
         let (c2, c3) = rest.split_at_mut(rows);
         let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
         let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
-        macro_rules! fixed {
-            ($($l:literal)*) => {
-                match len {
-                    $($l => {
-                        let c = [c0, c1, c2, c3].map(|c| <&mut [f64; $l]>::try_from(c).unwrap());
-                        reflect_quad::<$l>(v.try_into().unwrap(), c);
-                        continue;
-                    })*
-                    _ => {}
-                }
-            };
-        }
-        fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
         // `-0.0`, where `Iterator::sum` starts too.
         let mut dot = [-0.0f64; 4];
         for r in 0..len {
