@@ -169,7 +169,12 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         // The Jacobian of `f` at a collocation point: one per thread.
         let jacobian = || DMatrix::zeros(n, n);
         let sums = |jac: &mut DMatrix<f64>, (i, ((block, residual), phase)): (usize, Zipped)| {
-            self.interval(i, z, p, (block, residual, phase), jac)
+            let out = (block, residual, phase);
+            match n {
+                2 => self.interval::<2>(i, z, p, out, jac),
+                3 => self.interval::<3>(i, z, p, out, jac),
+                _ => self.interval::<0>(i, z, p, out, jac),
+            }
         };
         // Each interval's sums, then added up in order (the same totals
         // whether or not the intervals ran in parallel).
@@ -225,8 +230,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// linearized into `out`: its block, its `m n` residuals and its
     /// phase-row entries on its `m + 1` nodes; returns its terms of the
     /// phase residual, the term scale and the trace integral. `jac` (`n x n`)
-    /// is scratch for the Jacobian of `f` at each collocation point.
-    fn interval(
+    /// is scratch for the Jacobian of `f` at each collocation point. `N` is
+    /// the state dimension when known at compile time (the inner loops
+    /// unrolled), `0` otherwise; the arithmetic is the same.
+    fn interval<const N: usize>(
         &self,
         i: usize,
         z: &[f64],
@@ -235,7 +242,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         jac: &mut DMatrix<f64>,
     ) -> IntervalSums {
         let (block, residual, phase) = out;
-        let n = self.sys.dim();
+        let n = if N == 0 { self.sys.dim() } else { N };
         let m = self.mesh.degree;
         let mn = m * n;
         let nn = self.mesh.n_nodes() * n;
