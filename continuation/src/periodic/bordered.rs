@@ -113,63 +113,50 @@ fn reflect(v: &[f64], x: &mut [f64]) {
     macro_rules! fixed {
         ($($l:literal)*) => {
             match v.len() {
-                $($l => reflect_fixed::<$l>(v.try_into().unwrap(), (&mut x[..$l]).try_into().unwrap()),)*
-                _ => reflect_dynamic(v, x),
+                $($l => reflect_one(<&[f64; $l]>::try_from(v).unwrap(), &mut x[..$l]),)*
+                _ => reflect_one(v, x),
             }
         };
     }
     fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
 }
 
-/// [`reflect`] for any length.
-fn reflect_dynamic(v: &[f64], x: &mut [f64]) {
-    let dot: f64 = v.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
-    let f = 2.0 * dot;
-    x.iter_mut().zip(v).for_each(|(a, b)| *a -= f * b);
-}
-
-/// [`reflect`] on `L` rows known at compile time (the loops unrolled; the
-/// dot product still summed in row order from `-0.0`, so the same result).
-fn reflect_fixed<const L: usize>(v: &[f64; L], x: &mut [f64; L]) {
+/// [`reflect`]'s arithmetic: the dot product summed in row order from
+/// `-0.0` (where `Iterator::sum` starts too). Inlined into callers that
+/// know `v`'s length at compile time, whose loops are then unrolled.
+#[inline(always)]
+fn reflect_one(v: &[f64], x: &mut [f64]) {
+    let x = &mut x[..v.len()];
     let mut dot = -0.0f64;
-    for r in 0..L {
+    for r in 0..v.len() {
         dot += v[r] * x[r];
     }
     let f = 2.0 * dot;
-    for r in 0..L {
+    for r in 0..v.len() {
         x[r] -= f * v[r];
     }
 }
 
-/// [`reflect_columns`] with `v` of `L` entries known at compile time: the
-/// kernel chosen once per reflector, not per column.
-fn reflect_columns_fixed<const L: usize>(v: &[f64; L], columns: &mut [f64], rows: usize, j: usize) {
-    let mut quads = columns.chunks_exact_mut(4 * rows);
-    for quad in &mut quads {
-        let (c0, rest) = quad.split_at_mut(rows);
-        let (c1, rest) = rest.split_at_mut(rows);
-        let (c2, c3) = rest.split_at_mut(rows);
-        let c = [c0, c1, c2, c3].map(|c| <&mut [f64; L]>::try_from(&mut c[j..j + L]).unwrap());
-        reflect_quad(v, c);
-    }
-    for col in quads.into_remainder().chunks_exact_mut(rows) {
-        reflect_fixed(v, (&mut col[j..j + L]).try_into().unwrap());
-    }
-}
-
-/// Four columns reflected by `v` in one pass, `L` rows known at compile
-/// time; each dot product summed in row order from `-0.0`.
-fn reflect_quad<const L: usize>(v: &[f64; L], c: [&mut [f64; L]; 4]) {
-    let [c0, c1, c2, c3] = c;
+/// Four columns reflected by `v` in one pass (rows `j..` of each); each dot
+/// product summed in row order from `-0.0`, so the result is the same as
+/// column by column.
+#[inline(always)]
+fn reflect_four(v: &[f64], quad: &mut [f64], rows: usize, j: usize) {
+    let len = v.len();
+    let (c0, rest) = quad.split_at_mut(rows);
+    let (c1, rest) = rest.split_at_mut(rows);
+    let (c2, c3) = rest.split_at_mut(rows);
+    let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
+    let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
     let mut dot = [-0.0f64; 4];
-    for r in 0..L {
+    for r in 0..len {
         dot[0] += v[r] * c0[r];
         dot[1] += v[r] * c1[r];
         dot[2] += v[r] * c2[r];
         dot[3] += v[r] * c3[r];
     }
     let f = dot.map(|d| 2.0 * d);
-    for r in 0..L {
+    for r in 0..len {
         c0[r] -= f[0] * v[r];
         c1[r] -= f[1] * v[r];
         c2[r] -= f[2] * v[r];
@@ -178,45 +165,31 @@ fn reflect_quad<const L: usize>(v: &[f64; L], c: [&mut [f64; L]; 4]) {
 }
 
 /// [`reflect`] on rows `j..` of every column of `columns` (column-major,
-/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`:
-/// each column's dot product is still summed in row order, so the result is
-/// the same as column by column.
+/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`.
+/// For `v` of 1 to 16 entries the loops are instantiated with the length
+/// known at compile time (chosen once per reflector).
 fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
     macro_rules! fixed {
         ($($l:literal)*) => {
             match v.len() {
-                $($l => return reflect_columns_fixed::<$l>(v.try_into().unwrap(), columns, rows, j),)*
-                _ => {}
+                $($l => reflect_columns_of(<&[f64; $l]>::try_from(v).unwrap(), columns, rows, j),)*
+                _ => reflect_columns_of(v, columns, rows, j),
             }
         };
     }
-    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
-    let len = v.len();
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
+/// [`reflect_columns`] for `v` as a slice or an array of fixed length.
+#[inline(always)]
+fn reflect_columns_of<V: AsRef<[f64]> + ?Sized>(v: &V, columns: &mut [f64], rows: usize, j: usize) {
+    let v = v.as_ref();
     let mut quads = columns.chunks_exact_mut(4 * rows);
     for quad in &mut quads {
-        let (c0, rest) = quad.split_at_mut(rows);
-        let (c1, rest) = rest.split_at_mut(rows);
-        let (c2, c3) = rest.split_at_mut(rows);
-        let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
-        let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
-        // `-0.0`, where `Iterator::sum` starts too.
-        let mut dot = [-0.0f64; 4];
-        for r in 0..len {
-            dot[0] += v[r] * c0[r];
-            dot[1] += v[r] * c1[r];
-            dot[2] += v[r] * c2[r];
-            dot[3] += v[r] * c3[r];
-        }
-        let f = dot.map(|d| 2.0 * d);
-        for r in 0..len {
-            c0[r] -= f[0] * v[r];
-            c1[r] -= f[1] * v[r];
-            c2[r] -= f[2] * v[r];
-            c3[r] -= f[3] * v[r];
-        }
+        reflect_four(v, quad, rows, j);
     }
     for col in quads.into_remainder().chunks_exact_mut(rows) {
-        reflect(v, &mut col[j..]);
+        reflect_one(v, &mut col[j..]);
     }
 }
 
