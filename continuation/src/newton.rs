@@ -141,6 +141,17 @@ pub trait NewtonProblem {
     /// The Newton step `DG(z)^{-1} G(z)` at the linearized point.
     fn newton_step(&mut self, point: &Self::Point) -> Result<Vec<f64>, ContinuationError>;
 
+    /// [`NewtonProblem::newton_step`] into `dz` (its storage reused).
+    /// Default: the step, moved into `dz`.
+    fn newton_step_into(
+        &mut self,
+        point: &Self::Point,
+        dz: &mut Vec<f64>,
+    ) -> Result<(), ContinuationError> {
+        *dz = self.newton_step(point)?;
+        Ok(())
+    }
+
     /// Takes back a linearized point no longer needed (to reuse its storage).
     fn recycle(&mut self, _point: Self::Point) {}
 
@@ -181,6 +192,8 @@ pub fn iterate<P: NewtonProblem>(
     // The last two steps relative to their iterates.
     let (mut last_relative, mut previous_relative) = (f64::INFINITY, f64::INFINITY);
     let mut residual = f64::INFINITY;
+    // The step, in storage kept between iterations.
+    let mut dz = Vec::new();
     let failure = |iterations, residual, step, reason| Failure {
         iterations,
         residual,
@@ -224,8 +237,8 @@ pub fn iterate<P: NewtonProblem>(
         if it == settings.max_iter {
             break;
         }
-        let dz = match problem.newton_step(&point) {
-            Ok(dz) => dz,
+        match problem.newton_step_into(&point, &mut dz) {
+            Ok(()) => {}
             Err(cause) => {
                 let f = failure(it, residual, last_step, NewtonFailure::SingularJacobian);
                 return Err(problem.error(f, Some(cause)));

@@ -33,7 +33,11 @@
 
 use super::collocation::Linearization;
 use crate::error::ContinuationError;
-use nalgebra::{DMatrix, DVector, DVectorView, DVectorViewMut, Dyn, FullPivLU};
+use nalgebra::{
+    Const, DMatrix, DVector, DVectorView, DVectorViewMut, Dyn, FullPivLU, SMatrix, SVector, U3, U4,
+    U5, U6,
+};
+use smallvec::SmallVec;
 use std::borrow::Cow;
 use std::ops::Range;
 
@@ -106,42 +110,86 @@ impl Householder {
 
 /// `x <- (I - 2 v v^T) x`.
 fn reflect(v: &[f64], x: &mut [f64]) {
-    let dot: f64 = v.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
+    macro_rules! fixed {
+        ($($l:literal)*) => {
+            match v.len() {
+                $($l => reflect_one(<&[f64; $l]>::try_from(v).unwrap(), &mut x[..$l]),)*
+                _ => reflect_one(v, x),
+            }
+        };
+    }
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
+/// [`reflect`]'s arithmetic: the dot product summed in row order from
+/// `-0.0` (where `Iterator::sum` starts too). Inlined into callers that
+/// know `v`'s length at compile time, whose loops are then unrolled.
+#[inline(always)]
+fn reflect_one(v: &[f64], x: &mut [f64]) {
+    let x = &mut x[..v.len()];
+    let mut dot = -0.0f64;
+    for r in 0..v.len() {
+        dot += v[r] * x[r];
+    }
     let f = 2.0 * dot;
-    x.iter_mut().zip(v).for_each(|(a, b)| *a -= f * b);
+    for r in 0..v.len() {
+        x[r] -= f * v[r];
+    }
+}
+
+/// Four columns reflected by `v` in one pass (rows `j..` of each); each dot
+/// product summed in row order from `-0.0`, so the result is the same as
+/// column by column.
+#[inline(always)]
+fn reflect_four(v: &[f64], quad: &mut [f64], rows: usize, j: usize) {
+    let len = v.len();
+    let (c0, rest) = quad.split_at_mut(rows);
+    let (c1, rest) = rest.split_at_mut(rows);
+    let (c2, c3) = rest.split_at_mut(rows);
+    let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
+    let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
+    let mut dot = [-0.0f64; 4];
+    for r in 0..len {
+        dot[0] += v[r] * c0[r];
+        dot[1] += v[r] * c1[r];
+        dot[2] += v[r] * c2[r];
+        dot[3] += v[r] * c3[r];
+    }
+    let f = dot.map(|d| 2.0 * d);
+    for r in 0..len {
+        c0[r] -= f[0] * v[r];
+        c1[r] -= f[1] * v[r];
+        c2[r] -= f[2] * v[r];
+        c3[r] -= f[3] * v[r];
+    }
 }
 
 /// [`reflect`] on rows `j..` of every column of `columns` (column-major,
-/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`:
-/// each column's dot product is still summed in row order, so the result is
-/// the same as column by column.
+/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`.
+/// For `v` of 1 to 16 entries the loops are instantiated with the length
+/// known at compile time (chosen once per reflector).
 fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
-    let len = v.len();
+    macro_rules! fixed {
+        ($($l:literal)*) => {
+            match v.len() {
+                $($l => reflect_columns_of(<&[f64; $l]>::try_from(v).unwrap(), columns, rows, j),)*
+                _ => reflect_columns_of(v, columns, rows, j),
+            }
+        };
+    }
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
+/// [`reflect_columns`] for `v` as a slice or an array of fixed length.
+#[inline(always)]
+fn reflect_columns_of<V: AsRef<[f64]> + ?Sized>(v: &V, columns: &mut [f64], rows: usize, j: usize) {
+    let v = v.as_ref();
     let mut quads = columns.chunks_exact_mut(4 * rows);
     for quad in &mut quads {
-        let (c0, rest) = quad.split_at_mut(rows);
-        let (c1, rest) = rest.split_at_mut(rows);
-        let (c2, c3) = rest.split_at_mut(rows);
-        let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
-        let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
-        // `-0.0`, where `Iterator::sum` starts too.
-        let mut dot = [-0.0f64; 4];
-        for r in 0..len {
-            dot[0] += v[r] * c0[r];
-            dot[1] += v[r] * c1[r];
-            dot[2] += v[r] * c2[r];
-            dot[3] += v[r] * c3[r];
-        }
-        let f = dot.map(|d| 2.0 * d);
-        for r in 0..len {
-            c0[r] -= f[0] * v[r];
-            c1[r] -= f[1] * v[r];
-            c2[r] -= f[2] * v[r];
-            c3[r] -= f[3] * v[r];
-        }
+        reflect_four(v, quad, rows, j);
     }
     for col in quads.into_remainder().chunks_exact_mut(rows) {
-        reflect(v, &mut col[j..]);
+        reflect_one(v, &mut col[j..]);
     }
 }
 
@@ -192,6 +240,19 @@ pub struct CyclicReduction {
     /// `R E` for the linearization's own border columns `E = (dF/dT,
     /// dF/dp_k)` (`N x 2`), transformed in the sweeps that form `R`.
     border: DMatrix<f64>,
+    /// Scratch of [`CyclicReduction::factor`], kept so that a new
+    /// factorization on a mesh of the same shape allocates nothing.
+    scratch: FactorScratch,
+}
+
+/// Scratch of [`CyclicReduction::factor`]: an interval's end and border
+/// columns, an elimination's, and the chains of relations.
+#[derive(Clone, Debug, Default)]
+struct FactorScratch {
+    ends: DMatrix<f64>,
+    rest: DMatrix<f64>,
+    chain: Vec<(usize, usize, usize)>,
+    next: Vec<(usize, usize, usize)>,
 }
 
 impl CyclicReduction {
@@ -206,6 +267,7 @@ impl CyclicReduction {
             b: Vec::new(),
             last: 0,
             border: DMatrix::zeros(0, BORDER),
+            scratch: FactorScratch::default(),
         };
         reduction.factor(lin);
         reduction
@@ -247,7 +309,13 @@ impl CyclicReduction {
         }
         // The interval's end columns, then its border columns: `Q^T` is
         // applied to both as each reflector is formed.
-        let mut ends = DMatrix::zeros(mn, 2 * n + BORDER);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        if scratch.ends.shape() != (mn, 2 * n + BORDER) {
+            scratch.ends = DMatrix::zeros(mn, 2 * n + BORDER);
+            scratch.rest = DMatrix::zeros(2 * n, 2 * n + BORDER);
+        }
+        // Every column of `ends` is overwritten for each interval.
+        let ends = &mut scratch.ends;
         for (i, (iv, block)) in self.intervals.iter_mut().zip(&lin.local).enumerate() {
             // Column-major: column c of the block is data[c mn..(c + 1) mn].
             let data = block.as_slice();
@@ -292,13 +360,14 @@ impl CyclicReduction {
                 .copy_from(&ends.columns(2 * n, BORDER));
         }
         // Orthogonal cyclic reduction: (interval holding the relation, left, right).
-        let mut chain: Vec<(usize, usize, usize)> =
-            (0..ntst).map(|i| (i, i, (i + 1) % ntst)).collect();
+        let (chain, next) = (&mut scratch.chain, &mut scratch.next);
+        chain.clear();
+        chain.extend((0..ntst).map(|i| (i, i, (i + 1) % ntst)));
         // The eliminated node's neighbours, then the border rows.
-        let mut rest = DMatrix::zeros(2 * n, 2 * n + BORDER);
+        let rest = &mut scratch.rest;
         let mut count = 0;
         while chain.len() > 1 {
-            let mut next = Vec::with_capacity(chain.len().div_ceil(2));
+            next.clear();
             for pair in chain.chunks(2) {
                 let &[(upper, left, node), (lower, _, right)] = pair else {
                     next.push(pair[0]);
@@ -334,9 +403,10 @@ impl CyclicReduction {
                     .copy_from(&rest.view((n, 2 * n), (n, BORDER)));
                 next.push((lower, left, right));
             }
-            chain = next;
+            std::mem::swap(chain, next);
         }
         self.last = chain[0].0;
+        self.scratch = scratch;
     }
 
     /// The last relation `a y_0 + b y_N = 0` (`y_N = y_0` for the orbit): the
@@ -377,7 +447,7 @@ impl CyclicReduction {
             rows.iter_mut().zip(&iv.scale).for_each(|(a, s)| *a *= s);
             iv.qr.apply_qt(rows);
         }
-        let mut pair = vec![0.0; 2 * self.n];
+        let mut pair = SmallVec::<[f64; 16]>::from_elem(0.0, 2 * self.n);
         for el in &self.eliminations {
             self.gather(x, el, &mut pair);
             el.qr.apply_qt(&mut pair);
@@ -387,7 +457,7 @@ impl CyclicReduction {
 
     /// `x <- R^T x` on the collocation rows.
     fn apply_rt(&self, x: &mut [f64]) {
-        let mut pair = vec![0.0; 2 * self.n];
+        let mut pair = SmallVec::<[f64; 16]>::from_elem(0.0, 2 * self.n);
         for el in self.eliminations.iter().rev() {
             self.gather(x, el, &mut pair);
             el.qr.apply_q(&mut pair);
@@ -422,13 +492,89 @@ pub struct Bordered<'a> {
     /// `R E`: the border columns transformed (`N x k`); borrowed when they
     /// are the reduction's own ([`Bordered::on_border`]).
     columns: Cow<'a, DMatrix<f64>>,
+    /// The multipliers, the final system, its LU and the solves' scratch.
+    store: BorderedStore,
+}
+
+/// The storage of a [`Bordered`] system: kept by its owner
+/// ([`Bordered::into_store`]) so that the next system of the same shape
+/// (the next Newton iteration on one mesh) allocates nothing.
+#[derive(Clone, Debug, Default)]
+pub struct BorderedStore {
     /// `Lambda^T`, the dense rows' multipliers, per interval (`(m - 1) n x k`)
     /// and per node elimination (`n x k`).
     interior: Vec<DMatrix<f64>>,
     nodes: Vec<DMatrix<f64>>,
     /// The final system in `(y_0, x)` and its LU.
     last: DMatrix<f64>,
-    lu: FullPivLU<f64, Dyn, Dyn>,
+    lu: Option<SmallLu>,
+    /// Scratch of [`Bordered::solve_into`].
+    c: Vec<f64>,
+    g: DVector<f64>,
+    y: DVector<f64>,
+    w: DVector<f64>,
+}
+
+/// `FullPivLU` of the final `(n + k)`-square system, on the stack for the
+/// sizes that occur (`n = 1, 2, 3` with `k = 2`; `n = 2, 3` with `k = 3`):
+/// the same algorithm as the dynamic one, so the same results to the bit.
+#[derive(Clone, Debug)]
+enum SmallLu {
+    L3(FullPivLU<f64, U3, U3>),
+    L4(FullPivLU<f64, U4, U4>),
+    L5(FullPivLU<f64, U5, U5>),
+    L6(FullPivLU<f64, U6, U6>),
+    Dynamic(FullPivLU<f64, Dyn, Dyn>),
+}
+
+impl SmallLu {
+    fn new(last: &DMatrix<f64>) -> Self {
+        match last.nrows() {
+            3 => {
+                SmallLu::L3(SMatrix::<f64, 3, 3>::from_column_slice(last.as_slice()).full_piv_lu())
+            }
+            4 => {
+                SmallLu::L4(SMatrix::<f64, 4, 4>::from_column_slice(last.as_slice()).full_piv_lu())
+            }
+            5 => {
+                SmallLu::L5(SMatrix::<f64, 5, 5>::from_column_slice(last.as_slice()).full_piv_lu())
+            }
+            6 => {
+                SmallLu::L6(SMatrix::<f64, 6, 6>::from_column_slice(last.as_slice()).full_piv_lu())
+            }
+            _ => SmallLu::Dynamic(last.clone().full_piv_lu()),
+        }
+    }
+
+    /// `g <- A^{-1} g`; `false` when `A` is singular.
+    fn solve_mut(&self, g: &mut DVector<f64>) -> bool {
+        fn fixed<const D: usize>(
+            lu: &FullPivLU<f64, Const<D>, Const<D>>,
+            g: &mut DVector<f64>,
+        ) -> bool
+        where
+            Const<D>: nalgebra::DimMin<Const<D>, Output = Const<D>>,
+        {
+            let mut b = SVector::<f64, D>::from_column_slice(g.as_slice());
+            let ok = lu.solve_mut(&mut b);
+            g.copy_from_slice(b.as_slice());
+            ok
+        }
+        match self {
+            SmallLu::L3(lu) => fixed(lu, g),
+            SmallLu::L4(lu) => fixed(lu, g),
+            SmallLu::L5(lu) => fixed(lu, g),
+            SmallLu::L6(lu) => fixed(lu, g),
+            SmallLu::Dynamic(lu) => lu.solve_mut(g),
+        }
+    }
+}
+
+/// `target` holds a matrix of shape `shape` (its entries arbitrary), reusing its storage.
+fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
+    if target.shape() != (rows, cols) {
+        *target = DMatrix::zeros(rows, cols);
+    }
 }
 
 impl<'a> Bordered<'a> {
@@ -437,7 +583,7 @@ impl<'a> Bordered<'a> {
     pub fn new(
         reduction: &'a CyclicReduction,
         mut columns: DMatrix<f64>,
-        rows: DMatrix<f64>,
+        mut rows: DMatrix<f64>,
     ) -> Result<Self, ContinuationError> {
         let nn = reduction.intervals.len() * reduction.mn();
         if columns.nrows() != nn {
@@ -449,24 +595,38 @@ impl<'a> Bordered<'a> {
         for c in 0..columns.ncols() {
             reduction.apply_r(&mut columns.as_mut_slice()[c * nn..(c + 1) * nn]);
         }
-        Self::reduced(reduction, Cow::Owned(columns), rows)
+        Self::reduced(
+            reduction,
+            Cow::Owned(columns),
+            &mut rows,
+            BorderedStore::default(),
+        )
     }
 
     /// The system whose border columns are those of the linearization
     /// `reduction` was factored from (`dF/dT`, `dF/dp_k`), already
-    /// transformed by `R` in its sweeps; `rows` `= [D G]` (`2 x (N + 2)`).
+    /// transformed by `R` in its sweeps; `rows` `= [D G]` (`2 x (N + 2)`),
+    /// overwritten. The system keeps `store`'s storage
+    /// ([`Bordered::into_store`] gives it back).
     pub fn on_border(
         reduction: &'a CyclicReduction,
-        rows: DMatrix<f64>,
+        rows: &mut DMatrix<f64>,
+        store: BorderedStore,
     ) -> Result<Self, ContinuationError> {
-        Self::reduced(reduction, Cow::Borrowed(&reduction.border), rows)
+        Self::reduced(reduction, Cow::Borrowed(&reduction.border), rows, store)
+    }
+
+    /// The storage, for the next system.
+    pub fn into_store(self) -> BorderedStore {
+        self.store
     }
 
     /// The system with the border columns `R E` already transformed.
     fn reduced(
         reduction: &'a CyclicReduction,
         columns: Cow<'a, DMatrix<f64>>,
-        mut rows: DMatrix<f64>,
+        rows: &mut DMatrix<f64>,
+        mut store: BorderedStore,
     ) -> Result<Self, ContinuationError> {
         let (n, mn) = (reduction.n, reduction.mn());
         let ntst = reduction.intervals.len();
@@ -480,62 +640,64 @@ impl<'a> Bordered<'a> {
         }
         // Eliminates the unknowns `cols` (pivot `r`) from the dense rows:
         // `rows -= lambda (r y_cols + ...)` with `lambda = rows_cols r^{-1}`;
-        // returns `lambda^T`.
-        let multipliers = |rows: &DMatrix<f64>, cols: Range<usize>, r: &DMatrix<f64>| {
-            let mut lt = rows.columns(cols.start, cols.len()).transpose();
-            r.tr_solve_upper_triangular_mut(&mut lt)
-                .then_some(lt)
-                .ok_or(ContinuationError::Singular)
-        };
-        let mut interior = Vec::with_capacity(ntst);
-        if reduction.m > 1 {
-            for (i, iv) in reduction.intervals.iter().enumerate() {
-                let top = reduction.top_rows(i);
-                let lt = multipliers(&rows, top.start + n..top.end + n, &iv.qr.r)?;
-                let next = (i + 1) % ntst;
-                rows.columns_mut(i * mn, n)
-                    .gemm_tr(-1.0, &lt, &iv.top.columns(0, n), 1.0);
-                rows.columns_mut(next * mn, n)
-                    .gemm_tr(-1.0, &lt, &iv.top.columns(n, n), 1.0);
-                rows.columns_mut(nn, k).gemm_tr(
-                    -1.0,
-                    &lt,
-                    &columns.rows(top.start, top.len()),
-                    1.0,
-                );
-                interior.push(lt);
-            }
+        // `lt` becomes `lambda^T`.
+        let multipliers =
+            |rows: &DMatrix<f64>, cols: Range<usize>, r: &DMatrix<f64>, lt: &mut DMatrix<f64>| {
+                shaped(lt, (cols.len(), k));
+                rows.columns(cols.start, cols.len()).transpose_to(lt);
+                r.tr_solve_upper_triangular_mut(lt)
+                    .then_some(())
+                    .ok_or(ContinuationError::Singular)
+            };
+        let intervals = if reduction.m > 1 { ntst } else { 0 };
+        store.interior.resize_with(intervals, DMatrix::default);
+        for (i, (iv, lt)) in reduction
+            .intervals
+            .iter()
+            .zip(store.interior.iter_mut())
+            .enumerate()
+        {
+            let top = reduction.top_rows(i);
+            multipliers(rows, top.start + n..top.end + n, &iv.qr.r, lt)?;
+            let next = (i + 1) % ntst;
+            rows.columns_mut(i * mn, n)
+                .gemm_tr(-1.0, &*lt, &iv.top.columns(0, n), 1.0);
+            rows.columns_mut(next * mn, n)
+                .gemm_tr(-1.0, &*lt, &iv.top.columns(n, n), 1.0);
+            rows.columns_mut(nn, k)
+                .gemm_tr(-1.0, &*lt, &columns.rows(top.start, top.len()), 1.0);
         }
-        let mut nodes = Vec::with_capacity(ntst);
-        for el in &reduction.eliminations {
-            let lt = multipliers(&rows, reduction.node(el.node), &el.qr.r)?;
+        store
+            .nodes
+            .resize_with(reduction.eliminations.len(), DMatrix::default);
+        for (el, lt) in reduction.eliminations.iter().zip(store.nodes.iter_mut()) {
+            multipliers(rows, reduction.node(el.node), &el.qr.r, lt)?;
             rows.columns_mut(el.left * mn, n)
-                .gemm_tr(-1.0, &lt, &el.x, 1.0);
+                .gemm_tr(-1.0, &*lt, &el.x, 1.0);
             rows.columns_mut(el.right * mn, n)
-                .gemm_tr(-1.0, &lt, &el.z, 1.0);
+                .gemm_tr(-1.0, &*lt, &el.z, 1.0);
             let w = reduction.relation_rows(el.upper);
             rows.columns_mut(nn, k)
-                .gemm_tr(-1.0, &lt, &columns.rows(w.start, n), 1.0);
-            nodes.push(lt);
+                .gemm_tr(-1.0, &*lt, &columns.rows(w.start, n), 1.0);
         }
         // Final system in (y_0, x): [a + b, R E; D_0, G].
         let (a, b) = reduction.pencil();
-        let mut last = DMatrix::zeros(n + k, n + k);
-        last.view_mut((0, 0), (n, n)).copy_from(&(a + b));
+        let last = &mut store.last;
+        shaped(last, (n + k, n + k));
+        let mut top_left = last.view_mut((0, 0), (n, n));
+        top_left.copy_from(a);
+        top_left += b;
         let f = reduction.relation_rows(reduction.last);
         last.view_mut((0, n), (n, k))
             .copy_from(&columns.rows(f.start, n));
         last.view_mut((n, 0), (k, n)).copy_from(&rows.columns(0, n));
         last.view_mut((n, n), (k, k))
             .copy_from(&rows.columns(nn, k));
-        let lu = last.clone().full_piv_lu();
+        store.lu = Some(SmallLu::new(last));
         Ok(Bordered {
             reduction,
             columns,
-            interior,
-            nodes,
-            last,
-            lu,
+            store,
         })
     }
 
@@ -550,13 +712,27 @@ impl<'a> Bordered<'a> {
 
     /// Solves `J z = rhs` (`rhs`: the collocation rows, then the dense rows;
     /// `z`: the node values, node-major, then the `k` border unknowns).
-    pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+    pub fn solve(&mut self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        let mut z = Vec::new();
+        self.solve_into(rhs, &mut z)?;
+        Ok(z)
+    }
+
+    /// [`Bordered::solve`] into `z`, in the system's storage: no allocation
+    /// once `z` and the storage have the system's size.
+    pub fn solve_into(&mut self, rhs: &[f64], z: &mut Vec<f64>) -> Result<(), ContinuationError> {
         self.check("the right-hand side", rhs)?;
         let red = self.reduction;
         let (n, nn, k) = (red.n, self.columns.nrows(), self.columns.ncols());
-        let mut c = rhs.to_vec();
+        let store = &mut self.store;
+        let c = &mut store.c;
+        c.clear();
+        c.extend_from_slice(rhs);
         red.apply_r(&mut c[..nn]);
-        let mut g = DVector::zeros(n + k);
+        let g = &mut store.g;
+        if g.len() != n + k {
+            *g = DVector::zeros(n + k);
+        }
         g.rows_mut(0, n)
             .copy_from_slice(&c[red.relation_rows(red.last)]);
         g.rows_mut(n, k).copy_from_slice(&c[nn..]);
@@ -568,19 +744,27 @@ impl<'a> Bordered<'a> {
                 1.0,
             );
         };
-        for (i, lt) in self.interior.iter().enumerate() {
-            dense(&mut g, lt, red.top_rows(i));
+        for (i, lt) in store.interior.iter().enumerate() {
+            dense(g, lt, red.top_rows(i));
         }
-        for (el, lt) in red.eliminations.iter().zip(&self.nodes) {
-            dense(&mut g, lt, red.relation_rows(el.upper));
+        for (el, lt) in red.eliminations.iter().zip(&store.nodes) {
+            dense(g, lt, red.relation_rows(el.upper));
         }
-        let sol = self.lu.solve(&g).ok_or(ContinuationError::Singular)?;
+        let lu = store.lu.as_ref().expect("factored in `reduced`");
+        if !lu.solve_mut(g) {
+            return Err(ContinuationError::Singular);
+        }
+        let sol = &*g;
         let x = sol.rows(n, k);
-        let mut z = vec![0.0; nn + k];
+        z.clear();
+        z.resize(nn + k, 0.0);
         z[..n].copy_from_slice(sol.rows(0, n).as_slice());
         z[nn..].copy_from_slice(x.as_slice());
         // r y = c - (x y_left + z y_right + (R E) x), eliminations in reverse.
-        let mut y = DVector::zeros(n);
+        let y = &mut store.y;
+        if y.len() != n {
+            *y = DVector::zeros(n);
+        }
         for el in red.eliminations.iter().rev() {
             let rows = red.relation_rows(el.upper);
             y.copy_from_slice(&c[rows.clone()]);
@@ -588,14 +772,17 @@ impl<'a> Bordered<'a> {
             y.gemv(-1.0, &el.x, &node(el.left), 1.0);
             y.gemv(-1.0, &el.z, &node(el.right), 1.0);
             y.gemv(-1.0, &self.columns.rows(rows.start, n), &x, 1.0);
-            if !el.qr.r.solve_upper_triangular_mut(&mut y) {
+            if !el.qr.r.solve_upper_triangular_mut(y) {
                 return Err(ContinuationError::Singular);
             }
             z[red.node(el.node)].copy_from_slice(y.as_slice());
         }
         if red.m > 1 {
             let ntst = red.intervals.len();
-            let mut w = DVector::zeros((red.m - 1) * n);
+            let w = &mut store.w;
+            if w.len() != (red.m - 1) * n {
+                *w = DVector::zeros((red.m - 1) * n);
+            }
             for (i, iv) in red.intervals.iter().enumerate() {
                 let rows = red.top_rows(i);
                 w.copy_from_slice(&c[rows.clone()]);
@@ -603,13 +790,17 @@ impl<'a> Bordered<'a> {
                 w.gemv(-1.0, &iv.top.columns(0, n), &node(i), 1.0);
                 w.gemv(-1.0, &iv.top.columns(n, n), &node((i + 1) % ntst), 1.0);
                 w.gemv(-1.0, &self.columns.rows(rows.start, rows.len()), &x, 1.0);
-                if !iv.qr.r.solve_upper_triangular_mut(&mut w) {
+                if !iv.qr.r.solve_upper_triangular_mut(w) {
                     return Err(ContinuationError::Singular);
                 }
                 z[rows.start + n..rows.end + n].copy_from_slice(w.as_slice());
             }
         }
-        finite(z)
+        if z.iter().all(|v| v.is_finite()) {
+            Ok(())
+        } else {
+            Err(ContinuationError::Singular)
+        }
     }
 
     /// Solves `J^T w = rhs` (`rhs` indexed by the unknowns, `w` by the
@@ -671,6 +862,7 @@ impl<'a> Bordered<'a> {
         g.rows_mut(0, n).copy_from_slice(&t[..n]);
         g.rows_mut(n, k).copy_from_slice(&t[nn..]);
         let sol = self
+            .store
             .last
             .transpose()
             .full_piv_lu()
@@ -683,10 +875,10 @@ impl<'a> Bordered<'a> {
         let mut lambda = |rows: Range<usize>, lt: &DMatrix<f64>| {
             DVectorViewMut::from_slice(&mut s[rows.clone()], rows.len()).gemv(-1.0, lt, &sd, 1.0);
         };
-        for (i, lt) in self.interior.iter().enumerate() {
+        for (i, lt) in self.store.interior.iter().enumerate() {
             lambda(red.top_rows(i), lt);
         }
-        for (el, lt) in red.eliminations.iter().zip(&self.nodes) {
+        for (el, lt) in red.eliminations.iter().zip(&self.store.nodes) {
             lambda(red.relation_rows(el.upper), lt);
         }
         red.apply_rt(&mut s[..nn]);
@@ -761,6 +953,7 @@ mod tests {
             phase: dense.row(0).columns(0, nn).iter().copied().collect(),
             term_scale: 0.0,
             trace_integral: 0.0,
+            ..Default::default()
         };
         // Border columns: T and p (as many as there are), then random ones.
         let mut columns = DMatrix::from_fn(nn, k, |_, _| noise(seed));
@@ -829,7 +1022,7 @@ mod tests {
                 let reference = full.clone().full_piv_lu().solve(&b).unwrap();
                 let adjoint = full.transpose().full_piv_lu().solve(&b).unwrap();
                 let reduction = CyclicReduction::new(&lin, n);
-                let sys = Bordered::new(&reduction, columns, dense).unwrap();
+                let mut sys = Bordered::new(&reduction, columns, dense).unwrap();
                 for (x, reference) in [
                     (sys.solve(&rhs).unwrap(), reference),
                     (sys.solve_transpose(&rhs).unwrap(), adjoint),

@@ -48,6 +48,19 @@ pub struct Linearization {
     /// `int_0^T tr J(x(t)) dt` by the collocation quadrature: the logarithm
     /// of the product of the Floquet multipliers (Liouville's formula).
     pub trace_integral: f64,
+    /// Scratch of [`Collocation::linearize_into`], kept with the storage.
+    pub(crate) scratch: LinearizeScratch,
+}
+
+/// Scratch of [`Collocation::linearize_into`]: the parameters, each
+/// interval's phase-row entries and sums.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LinearizeScratch {
+    p: Vec<f64>,
+    phase_parts: Vec<f64>,
+    parts: Vec<IntervalSums>,
+    /// The Jacobian of `f` at a collocation point, when the intervals run in turn.
+    jac: DMatrix<f64>,
 }
 
 impl Linearization {
@@ -138,23 +151,36 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let (mn, ncols) = (m * n, (m + 1) * n + 2);
         let nn = self.mesh.n_nodes() * n;
         let ntst = self.mesh.ntst();
-        let mut p = self.p.clone();
+        let mut scratch = std::mem::take(&mut lin.scratch);
+        let p = &mut scratch.p;
+        p.clear();
+        p.extend_from_slice(&self.p);
         p[self.k] = z[nn + 1];
+        let p = &*p;
         if lin.local.len() != ntst || lin.local.first().map(|b| b.shape()) != Some((mn, ncols)) {
             lin.local = vec![DMatrix::zeros(mn, ncols); ntst];
         }
         lin.residual.resize(nn + 1, 0.0);
         // Each interval's phase-row entries on its m + 1 nodes (neighbours
         // share a node), added up after.
-        let mut phase_parts = vec![0.0; ntst * (m + 1) * n];
+        let phase_parts = &mut scratch.phase_parts;
+        phase_parts.clear();
+        phase_parts.resize(ntst * (m + 1) * n, 0.0);
         // The Jacobian of `f` at a collocation point: one per thread.
         let jacobian = || DMatrix::zeros(n, n);
         let sums = |jac: &mut DMatrix<f64>, (i, ((block, residual), phase)): (usize, Zipped)| {
-            self.interval(i, z, &p, (block, residual, phase), jac)
+            let out = (block, residual, phase);
+            match n {
+                2 => self.interval::<2>(i, z, p, out, jac),
+                3 => self.interval::<3>(i, z, p, out, jac),
+                _ => self.interval::<0>(i, z, p, out, jac),
+            }
         };
         // Each interval's sums, then added up in order (the same totals
         // whether or not the intervals ran in parallel).
-        let parts: Vec<IntervalSums> = if ntst >= PARALLEL_INTERVALS {
+        let parts = &mut scratch.parts;
+        parts.clear();
+        if ntst >= PARALLEL_INTERVALS {
             lin.local
                 .par_iter_mut()
                 .zip(lin.residual[..nn].par_chunks_exact_mut(mn))
@@ -162,17 +188,21 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 .enumerate()
                 .with_min_len(PARALLEL_INTERVALS / 2)
                 .map_init(jacobian, sums)
-                .collect()
+                .collect_into_vec(parts);
         } else {
-            let mut jac = jacobian();
-            lin.local
-                .iter_mut()
-                .zip(lin.residual[..nn].chunks_exact_mut(mn))
-                .zip(phase_parts.chunks_exact_mut((m + 1) * n))
-                .enumerate()
-                .map(|item| sums(&mut jac, item))
-                .collect()
-        };
+            let jac = &mut scratch.jac;
+            if jac.shape() != (n, n) {
+                *jac = jacobian();
+            }
+            parts.extend(
+                lin.local
+                    .iter_mut()
+                    .zip(lin.residual[..nn].chunks_exact_mut(mn))
+                    .zip(phase_parts.chunks_exact_mut((m + 1) * n))
+                    .enumerate()
+                    .map(|item| sums(jac, item)),
+            );
+        }
         let total = parts
             .iter()
             .fold(IntervalSums::default(), |a, b| IntervalSums {
@@ -193,14 +223,17 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         lin.residual[nn] = total.phase_residual;
         lin.term_scale = total.term_scale;
         lin.trace_integral = total.trace_integral;
+        lin.scratch = scratch;
     }
 
     /// The collocation equations of interval `i` at `z` (parameters `p`),
     /// linearized into `out`: its block, its `m n` residuals and its
     /// phase-row entries on its `m + 1` nodes; returns its terms of the
     /// phase residual, the term scale and the trace integral. `jac` (`n x n`)
-    /// is scratch for the Jacobian of `f` at each collocation point.
-    fn interval(
+    /// is scratch for the Jacobian of `f` at each collocation point. `N` is
+    /// the state dimension when known at compile time (the inner loops
+    /// unrolled), `0` otherwise; the arithmetic is the same.
+    fn interval<const N: usize>(
         &self,
         i: usize,
         z: &[f64],
@@ -209,7 +242,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         jac: &mut DMatrix<f64>,
     ) -> IntervalSums {
         let (block, residual, phase) = out;
-        let n = self.sys.dim();
+        let n = if N == 0 { self.sys.dim() } else { N };
         let m = self.mesh.degree;
         let mn = m * n;
         let nn = self.mesh.n_nodes() * n;

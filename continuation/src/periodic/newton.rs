@@ -3,7 +3,7 @@
 //! pseudo-arclength condition), solved by condensation and cyclic reduction
 //! ([`super::bordered`]).
 
-use super::bordered::{shape, Bordered, CyclicReduction};
+use super::bordered::{shape, Bordered, BorderedStore, CyclicReduction};
 use super::collocation::{Collocation, Linearization};
 use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{
@@ -84,6 +84,9 @@ pub struct OrbitJacobian {
     /// A reduction of an earlier linearization, whose storage the next
     /// reduction reuses.
     spare: Cell<Option<CyclicReduction>>,
+    /// The storage of the bordered solves: the dense rows and the
+    /// [`Bordered`] system's, kept between solves.
+    solves: Cell<Option<(DMatrix<f64>, BorderedStore)>>,
 }
 
 impl OrbitJacobian {
@@ -94,6 +97,7 @@ impl OrbitJacobian {
             n,
             reduction: OnceCell::new(),
             spare: Cell::new(None),
+            solves: Cell::new(None),
         }
     }
 
@@ -120,14 +124,39 @@ impl OrbitJacobian {
     /// Solves `J x = rhs`, `J` the collocation Jacobian (border columns `T`,
     /// `p`) bordered by the phase condition and the row `extra`.
     pub fn solve(&self, extra: &[f64], rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
+        let mut x = Vec::new();
+        self.solve_into(extra, rhs, &mut x)?;
+        Ok(x)
+    }
+
+    /// [`OrbitJacobian::solve`] into `x`, in storage kept between solves:
+    /// no allocation once it has the mesh's size.
+    pub fn solve_into(
+        &self,
+        extra: &[f64],
+        rhs: &[f64],
+        x: &mut Vec<f64>,
+    ) -> Result<(), ContinuationError> {
         let nn = self.lin.phase.len();
         shape("the bordering row", nn + 2, extra)?;
         shape("the right-hand side", nn + 2, rhs)?;
-        let mut rows = DMatrix::zeros(2, nn + 2);
-        rows.view_mut((0, 0), (1, nn))
-            .copy_from_slice(&self.lin.phase);
+        let (mut rows, store) = self.solves.take().unwrap_or_default();
+        if rows.shape() != (2, nn + 2) {
+            rows = DMatrix::zeros(2, nn + 2);
+        }
+        // Row 0: the phase condition on the nodes, zero on `T` and `p`.
+        for (c, v) in self.lin.phase.iter().enumerate() {
+            rows[(0, c)] = *v;
+        }
+        rows[(0, nn)] = 0.0;
+        rows[(0, nn + 1)] = 0.0;
         rows.row_mut(1).copy_from_slice(extra);
-        Bordered::on_border(self.reduction(), rows)?.solve(rhs)
+        let (result, store) = match Bordered::on_border(self.reduction(), &mut rows, store) {
+            Ok(mut system) => (system.solve_into(rhs, x), system.into_store()),
+            Err(e) => (Err(e), BorderedStore::default()),
+        };
+        self.solves.set(Some((rows, store)));
+        result
     }
 }
 
@@ -190,6 +219,14 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
 
     fn newton_step(&mut self, point: &BorderedPoint) -> Result<Vec<f64>, ContinuationError> {
         point.jacobian.solve(self.row, &point.rhs)
+    }
+
+    fn newton_step_into(
+        &mut self,
+        point: &BorderedPoint,
+        dz: &mut Vec<f64>,
+    ) -> Result<(), ContinuationError> {
+        point.jacobian.solve_into(self.row, &point.rhs, dz)
     }
 
     /// A step that no longer shrinks while within 1e3 of the tolerance is

@@ -155,7 +155,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
         rows[(0, nn + 1)] = self.b[nn];
         rows.view_mut((1, 0), (1, nn + 1)).copy_from_slice(&self.c);
-        let bordered = Bordered::new(&reduction, columns, rows)?;
+        let mut bordered = Bordered::new(&reduction, columns, rows)?;
         let mut e = vec![0.0; nn + 2];
         e[nn + 1] = 1.0;
         let vg = bordered.solve(&e)?;
