@@ -159,11 +159,16 @@ fn a_branch_born_away_from_to_says_so() {
     ]);
     assert_eq!(code, 4, "{err}");
     assert!(err.contains("born on the other side"), "{err}");
-    // Toward --to from the same onset the branch is whole.
+    // Toward --to from the same onset the branch is whole, and drawn: the
+    // force drop and the period against V.
     let (code, _, err) = stickslip(&[
         "cycles", "--scene", &scene, "--param", "V", "--to", "20", "--out", &out, "--force",
     ]);
     assert_eq!(code, 0, "{err}");
+    for figure in ["amplitude", "period"] {
+        let png = std::path::Path::new(&out).join(format!("granite-cycles-in-V-{figure}.png"));
+        assert!(png.is_file(), "{} missing", png.display());
+    }
 }
 
 /// A pair diagram that finds no onset on its grid is not an empty answer:

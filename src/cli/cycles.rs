@@ -78,7 +78,7 @@ pub struct CyclesArgs {
     /// stiffness, as without it). Other than K or kappa it needs --to;
     /// the branch starts at the Hopf point in that parameter (hopf --param)
     /// or, with --from-simulation, from an orbit simulated at the scene's
-    /// value; writes <run>-cycles-in-P.csv (no figures) and --at P=V1,...
+    /// value; writes <run>-cycles-in-P.csv and -cycles-in-P-amplitude/-period figures (force drop in N, period in s against P) and --at P=V1,...
     /// takes values of P.
     #[arg(long, value_name = "P")]
     pub param: Option<String>,

@@ -1,7 +1,7 @@
 //! `stickslip cycles --param P --to VALUE`: runs the job of the cycle
 //! branch in a control parameter other than the stiffness
-//! ([`crate::jobs::cycles_in`]) and writes its CSV (row by row), text and
-//! JSON (no figures: those of `cycles` are drawn against the stiffness).
+//! ([`crate::jobs::cycles_in`]) and writes its CSV (row by row), text,
+//! JSON, and the force drop and period against the control.
 
 use super::cycles::CyclesArgs;
 use super::files::{create_file, with_suffix, LineFile};
@@ -10,6 +10,7 @@ use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
 use crate::jobs::cycles::{Note, Observer};
 use crate::jobs::cycles_in::{Axis, CyclesInControlRequest, Plan};
+use crate::plot::cycles::control_figures;
 use crate::records::csv::{header_of, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint};
 use std::io::Write;
@@ -114,12 +115,20 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     let name = format!("-cycles-in-{}", control.name());
     args.output.create_dir()?;
     let csv_suffix = format!("{name}.csv");
-    let stem = args.output.stem(
-        &setup.scene.name,
-        &args.scene,
-        false,
-        &[csv_suffix.as_str()],
-    )?;
+    let outputs: Vec<String> = [
+        ".csv",
+        "-amplitude.png",
+        "-amplitude.svg",
+        "-period.png",
+        "-period.svg",
+    ]
+    .iter()
+    .map(|end| format!("{name}{end}"))
+    .collect();
+    let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
+    let stem = args
+        .output
+        .stem(&setup.scene.name, &args.scene, false, &outputs)?;
     let csv_path = with_suffix(&stem, &csv_suffix);
     let mut csv = create_file(&csv_path)?;
     writeln!(
@@ -136,9 +145,10 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         println!("model: {}", setup.choice.reason);
     }
     interrupt::catch_interrupts();
+    let axis = plan.axis();
     let mut printer = Printer {
         csv,
-        axis: plan.axis(),
+        axis,
         text: !args.json,
     };
     let traced = plan.run(&mut printer);
@@ -157,7 +167,40 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         writeln!(csv, "# incomplete: {}", result.stop)?;
     }
     csv.finish()?;
-    result.files = vec![csv_path.display().to_string()];
+    // Whatever was computed is drawn, also when the branch stopped short.
+    let points: Vec<(f64, &Cycle)> = result
+        .cycles
+        .iter()
+        .map(|c| (axis.value_of(c), c))
+        .collect();
+    let cut = if result.complete {
+        ""
+    } else {
+        " — stopped short (see the stop reason)"
+    };
+    let figures = if points.is_empty() {
+        Vec::new()
+    } else {
+        control_figures(
+            &format!(
+                "Stick-slip cycles in {}, {}{cut}",
+                control.name(),
+                result.setup.label
+            ),
+            &match text_unit(control) {
+                "" => control.name().to_string(),
+                unit => format!("{} [{unit}]", control.name()),
+            },
+            &points,
+            &with_suffix(&stem, &name),
+        )
+        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?
+    };
+    result.files = figures
+        .iter()
+        .chain([&csv_path])
+        .map(|f| f.display().to_string())
+        .collect();
     if args.json {
         println!(
             "{}",
@@ -175,7 +218,9 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
             );
         }
         println!("stopped: {}", result.stop);
-        println!("wrote {}", csv_path.display());
+        for f in &result.files {
+            println!("wrote {f}");
+        }
     }
     result.status()
 }

@@ -8,6 +8,7 @@ use super::{with_suffix, PlotError};
 use crate::analysis::cycles::{CycleBifurcation, CycleRecord, Stability};
 use crate::appendix_c;
 use crate::jobs::Setup;
+use crate::records::cycle::{Cycle, Verdict};
 use crate::records::diagram::FoldPoint;
 use crate::records::significant;
 use plotters::style::RGBColor;
@@ -274,4 +275,82 @@ pub fn fold_figure(
             .collect(),
     };
     render(&figure, &with_suffix(stem, "-lpc-curve"))
+}
+
+/// The figures of a cycle branch in a control parameter (`cycles --param
+/// P`): the force drop per slip [N] and the period [s] against the control
+/// in its unit, `points` its value and the cycle along the branch (the
+/// cycles at requested values left out: they repeat the branch); stable
+/// cycles solid blue, unstable dashed red, undecidable dashed grey. The x
+/// axis is logarithmic where the values span more than a decade.
+pub fn control_figures(
+    title: &str,
+    x_label: &str,
+    points: &[(f64, &Cycle)],
+    stem: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let along: Vec<&(f64, &Cycle)> = points.iter().filter(|(_, c)| !c.user_point).collect();
+    let (lo, hi) = along
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), (x, _)| {
+            (a.min(*x), b.max(*x))
+        });
+    let log_x = lo > 0.0 && hi > 10.0 * lo;
+    let style = |v: Verdict| match v {
+        Verdict::Stable => ("stable cycles", RGBColor(31, 90, 180), false),
+        Verdict::Unstable => ("unstable cycles", RGBColor(200, 40, 40), true),
+        Verdict::Undecidable => ("stability undecidable", RGBColor(130, 130, 130), true),
+    };
+    // One series per stretch of one stability, each starting at the last
+    // point of the one before.
+    let series = |y: &dyn Fn(&Cycle) -> f64| -> Vec<Series> {
+        let mut out: Vec<Series> = Vec::new();
+        let mut labelled: Vec<&str> = Vec::new();
+        let mut current = None;
+        for (x, c) in &along {
+            let (label, color, dashed) = style(c.stable);
+            let pt = (*x, y(c));
+            match out.last_mut() {
+                Some(s) if current == Some(label) => s.points.push(pt),
+                _ => {
+                    let mut pts: Vec<(f64, f64)> = out
+                        .last()
+                        .and_then(|s| s.points.last().copied())
+                        .into_iter()
+                        .collect();
+                    pts.push(pt);
+                    out.push(Series {
+                        label: (!labelled.contains(&label)).then(|| label.to_string()),
+                        points: pts,
+                        color,
+                        dashed,
+                        markers: false,
+                    });
+                    labelled.push(label);
+                    current = Some(label);
+                }
+            }
+        }
+        out
+    };
+    let mut files = Vec::new();
+    for (suffix, y_label, y) in [
+        (
+            "-amplitude",
+            "force drop per slip ΔF = Δ(K x) [N]",
+            &(|c: &Cycle| c.delta_s_n) as &dyn Fn(&Cycle) -> f64,
+        ),
+        ("-period", "period [s]", &|c: &Cycle| c.period_s),
+    ] {
+        let fig = LineFigure {
+            title: title.to_string(),
+            x_label: x_label.to_string(),
+            y_label: y_label.to_string(),
+            log_x,
+            log_y: false,
+            series: series(y),
+        };
+        files.extend(render(&fig, &with_suffix(stem, suffix))?);
+    }
+    Ok(files)
 }
