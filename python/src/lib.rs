@@ -28,7 +28,7 @@ use stickslip::cli::interrupt::{Interruption, StopSignal};
 use stickslip::error::{Error, InputError};
 use stickslip::jobs::branch::BranchRequest;
 use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan, UnitsRecord};
-use stickslip::jobs::cycles_in::CyclesInControlRequest;
+use stickslip::jobs::cycles_in::{asked_values, CyclesInControlRequest};
 use stickslip::jobs::diagram::{run_pair, DiagramRequest};
 use stickslip::jobs::hopf::HopfRequest;
 use stickslip::jobs::simulate::{unsettled_text, SimulateRequest};
@@ -591,41 +591,6 @@ fn collocation_of(name: Option<&str>) -> Result<Option<CollocationPoints>, Input
             allowed: "gauss, radau".into(),
         }),
     }
-}
-
-/// The `--at` values of a branch in `control`: every item `NAME=V1,V2,...`
-/// names it (as `stickslip cycles --param P --at P=...`).
-fn asked_values(at_kappa: &[f64], at: &[String], control: Control) -> Result<Vec<f64>, InputError> {
-    if !at_kappa.is_empty() {
-        return Err(InputError::Conflict(format!(
-            "--at-kappa asks for stiffnesses, and --param {} continues the cycles in {}: give \
-             --at {}=V1,V2,... (in {})",
-            control.name(),
-            control.name(),
-            control.name(),
-            control.unit()
-        )));
-    }
-    let mut out = Vec::new();
-    for item in at {
-        let (name, values) = item.split_once('=').unwrap_or(("", item));
-        if name.trim() != control.name() {
-            return Err(InputError::Conflict(format!(
-                "--at {item}: the branch is in {} (--param); give --at {}=V1,V2,... (in {})",
-                control.name(),
-                control.name(),
-                control.unit()
-            )));
-        }
-        for v in values.split(',') {
-            out.push(v.trim().parse::<f64>().map_err(|_| InputError::Malformed {
-                field: format!("--at {}", control.name()),
-                value: v.to_string(),
-                expected: format!("a number in {}", control.unit()),
-            })?);
-        }
-    }
-    Ok(out)
 }
 
 /// `stickslip cycles --param P --to V` for a control other than the

@@ -376,6 +376,29 @@ class _Result:
     __hash__ = None  # type: ignore[assignment]
 
 
+class _Columns:
+    """Attribute access to a result's columns (the arrays in `_table_attr`),
+    then to the fields of its JSON; `_hidden` names are neither."""
+
+    _table_attr = "table"
+    _hidden: tuple = ()
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or name == self._table_attr or name in self._hidden:
+            raise AttributeError(name)
+        table = self.__dict__.get(self._table_attr, {})
+        if name in table:
+            return table[name]
+        data = self.__dict__.get("_data", {})
+        if name in data:
+            return copy.deepcopy(data[name])
+        raise AttributeError(f"'{type(self).__name__}' has no attribute {name!r}")
+
+    def __dir__(self):
+        table = self.__dict__.get(self._table_attr, {})
+        return sorted(set(super().__dir__()) | set(table) | set(self._data))
+
+
 class _Drawn(_Result):
     """A result with the command line's figures (`figures(out_dir)`)."""
 
@@ -510,7 +533,7 @@ class Hopf(_Result):
         return f"<Hopf {self._data['scene']} ({self.model}): {self.status}>"
 
 
-class Cycles(_Drawn):
+class Cycles(_Columns, _Drawn):
     """The stick-slip cycles of a scene (`stickslip.cycles`): the branch born
     at the Hopf point (or reached from a simulated orbit), continued in the
     stiffness, with its bifurcations and the cycles at requested
@@ -524,6 +547,8 @@ class Cycles(_Drawn):
     (columns t/T, s, v, theta; `orbit(i)` names them). `special_points`,
     `requested_points` and `lpc_curve` are tables of their own.
     """
+
+    _hidden = ("orbits",)
 
     def __init__(
         self,
@@ -588,20 +613,6 @@ class Cycles(_Drawn):
 
     def __len__(self) -> int:
         return len(self._data["cycles"])
-
-    def __getattr__(self, name: str) -> Any:
-        if name.startswith("_") or name in ("table", "orbits"):
-            raise AttributeError(name)
-        table = self.__dict__.get("table", {})
-        if name in table:
-            return table[name]
-        data = self.__dict__.get("_data", {})
-        if name in data:
-            return copy.deepcopy(data[name])
-        raise AttributeError(f"'Cycles' has no attribute {name!r}")
-
-    def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.table) | set(self._data))
 
     def to_pandas(self):
         """The cycles table as a pandas DataFrame, a row per cycle."""
@@ -831,7 +842,7 @@ def _failed(out: dict, result: Any) -> Any:
     return result
 
 
-class Branch(_Result):
+class Branch(_Columns, _Result):
     """Steady sliding continued in a parameter (`stickslip.branch`): a row
     per point with the state, the three eigenvalues, the bifurcation
     located there (`event`: hopf, fold) and the point in physical units.
@@ -886,20 +897,6 @@ class Branch(_Result):
     def __len__(self) -> int:
         return len(self._data["points"])
 
-    def __getattr__(self, name: str) -> Any:
-        if name.startswith("_") or name == "table":
-            raise AttributeError(name)
-        table = self.__dict__.get("table", {})
-        if name in table:
-            return table[name]
-        data = self.__dict__.get("_data", {})
-        if name in data:
-            return copy.deepcopy(data[name])
-        raise AttributeError(f"'Branch' has no attribute {name!r}")
-
-    def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.table) | set(self._data))
-
     def to_pandas(self):
         """The points as a pandas DataFrame, a row per point."""
         import pandas as pd
@@ -921,7 +918,7 @@ class Branch(_Result):
         return f"<Branch {self._data['scene']} in {p}: {n} points{span}{found}; {state}>"
 
 
-class Diagram(_Drawn):
+class Diagram(_Columns, _Drawn):
     """The stability diagram of a scene (`stickslip.diagram`): the Hopf
     curve in (velocity, stiffness) with the onset type along it, the Bautin
     points, the curves of folds of cycles bounding the hysteretic region,
@@ -933,6 +930,8 @@ class Diagram(_Drawn):
     (`d.nu`, `d.kappa`, `d.V_um_per_s`, `d.K_over_W_per_m`, `d.l1`,
     `d.criticality`, ...). `figures(out_dir)` writes the command's figures.
     """
+
+    _table_attr = "hopf_curve"
 
     def __init__(self, data: dict):
         self._data = data
@@ -970,20 +969,6 @@ class Diagram(_Drawn):
 
     def __len__(self) -> int:
         return len(self._data.get(self._curve_key, []))
-
-    def __getattr__(self, name: str) -> Any:
-        if name.startswith("_") or name == "hopf_curve":
-            raise AttributeError(name)
-        table = self.__dict__.get("hopf_curve", {})
-        if name in table:
-            return table[name]
-        data = self.__dict__.get("_data", {})
-        if name in data:
-            return copy.deepcopy(data[name])
-        raise AttributeError(f"'Diagram' has no attribute {name!r}")
-
-    def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.hopf_curve) | set(self._data))
 
     def __eq__(self, other: object) -> bool:
         # The job's time aside.

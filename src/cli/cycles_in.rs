@@ -9,45 +9,11 @@ use super::interrupt;
 use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
 use crate::jobs::cycles::{Note, Observer};
-use crate::jobs::cycles_in::{Axis, CyclesInControlRequest, Plan};
+use crate::jobs::cycles_in::{asked_values, Axis, CyclesInControlRequest, Plan};
 use crate::plot::cycles::control_figures;
 use crate::records::csv::{header_of, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint};
 use std::io::Write;
-
-/// The `--at` values for `control`: every item `NAME=V1,V2,...` must name it.
-fn asked(args: &CyclesArgs, control: Control) -> Result<Vec<f64>, InputError> {
-    if !args.at_kappa.is_empty() {
-        return Err(InputError::Conflict(format!(
-            "--at-kappa asks for stiffnesses, and --param {} continues the cycles in {}: give \
-             --at {}=V1,V2,... (in {})",
-            control.name(),
-            control.name(),
-            control.name(),
-            control.unit()
-        )));
-    }
-    let mut out = Vec::new();
-    for item in &args.at {
-        let (name, values) = item.split_once('=').unwrap_or(("", item));
-        if name.trim() != control.name() {
-            return Err(InputError::Conflict(format!(
-                "--at {item}: the branch is in {} (--param); give --at {}=V1,V2,... (in {})",
-                control.name(),
-                control.name(),
-                control.unit()
-            )));
-        }
-        for v in values.split(',') {
-            out.push(v.trim().parse::<f64>().map_err(|_| InputError::Malformed {
-                field: format!("--at {}", control.name()),
-                value: v.to_string(),
-                expected: format!("a number in {}", control.unit()),
-            })?);
-        }
-    }
-    Ok(out)
-}
 
 /// The control's unit as the text writes it (`µm/s`; empty when dimensionless).
 fn text_unit(control: Control) -> &'static str {
@@ -102,7 +68,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     let request = CyclesInControlRequest {
         control,
         to,
-        at: asked(args, control)?,
+        at: asked_values(&args.at_kappa, &args.at, control)?,
         search: super::cycles::search_range(args)?,
         from_simulation: args.from_simulation,
         max_steps: args.max_steps,

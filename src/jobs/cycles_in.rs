@@ -10,7 +10,7 @@ use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest
 use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
 use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
-use crate::error::Error;
+use crate::error::{Error, InputError};
 use crate::params::Param;
 use crate::records::branch::ParamValue;
 use crate::records::cycle::{Cycle, CycleSpecialPoint, LegStop};
@@ -37,6 +37,45 @@ pub struct CyclesInControlRequest {
     pub ntst: usize,
     pub ntst_max: usize,
     pub collocation: Option<CollocationPoints>,
+}
+
+/// The `--at` values of a branch in `control`: every item `NAME=V1,V2,...`
+/// names it (as `stickslip cycles --param P --at P=...`).
+pub fn asked_values(
+    at_kappa: &[f64],
+    at: &[String],
+    control: Control,
+) -> Result<Vec<f64>, InputError> {
+    if !at_kappa.is_empty() {
+        return Err(InputError::Conflict(format!(
+            "--at-kappa asks for stiffnesses, and --param {} continues the cycles in {}: give \
+             --at {}=V1,V2,... (in {})",
+            control.name(),
+            control.name(),
+            control.name(),
+            control.unit()
+        )));
+    }
+    let mut out = Vec::new();
+    for item in at {
+        let (name, values) = item.split_once('=').unwrap_or(("", item));
+        if name.trim() != control.name() {
+            return Err(InputError::Conflict(format!(
+                "--at {item}: the branch is in {} (--param); give --at {}=V1,V2,... (in {})",
+                control.name(),
+                control.name(),
+                control.unit()
+            )));
+        }
+        for v in values.split(',') {
+            out.push(v.trim().parse::<f64>().map_err(|_| InputError::Malformed {
+                field: format!("--at {}", control.name()),
+                value: v.to_string(),
+                expected: format!("a number in {}", control.unit()),
+            })?);
+        }
+    }
+    Ok(out)
 }
 
 /// A planned branch: the scene set up with the model judged over the
