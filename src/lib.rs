@@ -3,6 +3,7 @@ pub mod analysis;
 pub mod appendix_c;
 pub mod cli;
 pub mod error;
+pub mod file_names;
 pub mod friction;
 pub mod jobs;
 pub mod log_model;

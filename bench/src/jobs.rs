@@ -14,11 +14,14 @@ use stickslip::cli::diagram::DiagramArgs;
 use stickslip::cli::files::OutputArgs;
 use stickslip::cli::{Cli, SceneArgs, TextUnits};
 use stickslip::error::{Error, NumericalError};
+use stickslip::jobs::hopf::HopfRequest;
+use stickslip::jobs::SceneSpec;
 use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
 /// Names of the jobs, in the order they run.
-pub const JOB_NAMES: [&str; 11] = [
+pub const JOB_NAMES: [&str; 12] = [
+    "hopf_job",
     "hopf_point_l1",
     "hopf_point_l1_inertial",
     "hopf_curve_4_decades",
@@ -92,6 +95,10 @@ pub struct Job {
 }
 
 enum Work {
+    /// The `hopf` job of the library as the command line and Python run it
+    /// (scene loaded, model chosen, onset, l1 with its bound, operating
+    /// point): the reference of Python's per-call overhead.
+    HopfJob(SceneSpec),
     /// `find_hopf` (continuation in kappa, Hopf location, normal form with l1).
     Hopf { kind: ModelKind, params: Params },
     /// `hopf_curve` (the Hopf curve in (ln kappa, ln nu) with l1 at every
@@ -118,11 +125,19 @@ enum Work {
     Command { args: Vec<String>, _dir: TempDir },
 }
 
-/// A scene with `--set` overrides, as the CLI would set it up.
-fn scene_args(scene: &str, set: &[&str]) -> SceneArgs {
-    SceneArgs {
-        scene: scene.to_string(),
+/// A scene with `--set` overrides, the model chosen.
+fn scene_spec(scene: &str, set: &[&str]) -> SceneSpec {
+    SceneSpec {
         set: set.iter().map(|s| s.to_string()).collect(),
+        ..SceneSpec::named(scene)
+    }
+}
+
+/// The diagram command's scene options: `scenes` as they are.
+fn scene_args(scenes: &str) -> SceneArgs {
+    SceneArgs {
+        scene: scenes.to_string(),
+        set: Vec::new(),
         model: None,
         inertia_threshold: DEFAULT_INERTIA_THRESHOLD,
     }
@@ -132,10 +147,15 @@ impl Job {
     /// Prepares the job called `name` (one of [`JOB_NAMES`]).
     pub fn new(name: &str) -> Result<Job, Error> {
         let (name, description, work) = match name {
+            "hopf_job" => (
+                JOB_NAMES[0],
+                "jobs::hopf::run on the default scene (what `stickslip.hopf()` runs)",
+                Work::HopfJob(SceneSpec::named(stickslip::scene::DEFAULT_SCENE)),
+            ),
             "hopf_point_l1" => {
-                let setup = scene_args(stickslip::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
+                let setup = scene_spec(stickslip::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
                 (
-                    JOB_NAMES[0],
+                    JOB_NAMES[1],
                     "find_hopf on the default scene (pmma, quasi-static), with l1",
                     Work::Hopf {
                         kind: setup.choice.kind,
@@ -145,9 +165,9 @@ impl Job {
             }
             "hopf_point_l1_inertial" => {
                 let setup =
-                    scene_args(stickslip::scene::DEFAULT_SCENE, &INERTIAL_OVERRIDES).setup(|p| *p)?;
+                    scene_spec(stickslip::scene::DEFAULT_SCENE, &INERTIAL_OVERRIDES).setup(|p| *p)?;
                 (
-                    JOB_NAMES[1],
+                    JOB_NAMES[2],
                     "find_hopf, --set A=0.01 B=0.02 mu2=5e-4 m=0.1 nu=3 (inertial), with l1",
                     Work::Hopf {
                         kind: setup.choice.kind,
@@ -158,7 +178,7 @@ impl Job {
             "hopf_curve_4_decades" => {
                 let scene = stickslip::scene::load("pmma")?;
                 (
-                    JOB_NAMES[2],
+                    JOB_NAMES[3],
                     "hopf_curve, pmma, inertial, nu in [0.01, 100], l1 at every point",
                     Work::Curve {
                         kind: ModelKind::Inertial,
@@ -168,24 +188,24 @@ impl Job {
                 )
             }
             "diagram_default" => (
-                JOB_NAMES[3],
+                JOB_NAMES[4],
                 "`stickslip diagram` end to end (pmma; PNG, SVG, CSV, JSON written)",
                 diagram_work(stickslip::scene::DEFAULT_SCENE)?,
             ),
             "diagram_three_scenes_parallel" => (
-                JOB_NAMES[4],
+                JOB_NAMES[5],
                 "`stickslip diagram --scene pmma,pmma-rr,brockley` end to end (rayon)",
                 diagram_work(THREE_SCENES)?,
             ),
             // Quasi-static cycles stiffen fast: at NTST = 50 the Floquet
             // multipliers are lost below ~0.92 kappa_c, so short steps.
             "cycle_branch_100" => (
-                JOB_NAMES[5],
+                JOB_NAMES[6],
                 "100 cycles from the Hopf point, pmma (quasi-static), NTST 50, degree 4, multipliers",
                 cycle_work(&[], 0.94, 0.02)?,
             ),
             "cycle_branch_100_inertial" => (
-                JOB_NAMES[6],
+                JOB_NAMES[7],
                 "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, Radau points, multipliers",
                 cycle_work(&["m=0.01"], 0.3, 0.05)?,
             ),
@@ -229,6 +249,11 @@ impl Job {
             last_cycle: None,
         };
         match &self.work {
+            Work::HopfJob(spec) => {
+                let h = stickslip::jobs::hopf::run(spec, &HopfRequest::default())?;
+                std::hint::black_box(&h);
+                Ok(points(1))
+            }
             Work::Hopf { kind, params } => match find_hopf_with(
                 fields,
                 *kind,
@@ -308,7 +333,7 @@ pub fn jobs() -> Result<Vec<Job>, Error> {
 /// The cycle branch of the default scene with `set` overrides, down to at
 /// most `fraction kappa_c`, arclength steps up to `ds_max`.
 fn cycle_work(set: &[&str], fraction: f64, ds_max: f64) -> Result<Work, Error> {
-    let setup = scene_args(stickslip::scene::DEFAULT_SCENE, set).setup(|p| *p)?;
+    let setup = scene_spec(stickslip::scene::DEFAULT_SCENE, set).setup(|p| *p)?;
     Ok(Work::Cycles(Box::new(CycleWork::new(
         setup.choice.kind,
         &setup.params,
@@ -338,7 +363,7 @@ fn diagram_work(scenes: &str) -> Result<Work, Error> {
         .collect::<Result<_, _>>()?;
     Ok(Work::Diagram {
         args: Box::new(DiagramArgs {
-            scene: scene_args(scenes, &[]),
+            scene: scene_args(scenes),
             nu_range: None,
             output: OutputArgs {
                 out: dir.0.clone(),

@@ -24,6 +24,9 @@ struct BenchArgs {
     /// time as the accuracy knobs turn), written as CSV and figures into `--out`.
     #[arg(long)]
     work_precision: bool,
+    /// Only these jobs (repeatable; default: all of them).
+    #[arg(long = "job", value_name = "NAME")]
+    jobs: Vec<String>,
     /// Output directory of `--work-precision`.
     #[arg(long, default_value = "out")]
     out: std::path::PathBuf,
@@ -69,7 +72,7 @@ fn run(args: &BenchArgs) -> Result<(), Error> {
     } else {
         Settings::full()
     };
-    let reports = run_all(settings)?;
+    let reports = run_all(&args.jobs, settings)?;
     if args.json {
         println!(
             "{}",

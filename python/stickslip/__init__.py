@@ -2,7 +2,7 @@
 spring across a rate-and-state frictional interface, its type, steady
 sliding across it, the stability diagram, the stick-slip cycles and
 simulations in time, each job one call returning a result object; sweeps
-of a job over a grid on a process pool or a Dask cluster.
+of a job over a grid on worker threads or a Dask cluster.
 
     >>> import stickslip
     >>> scene = stickslip.Scene.builtin("pmma").with_(K=2e5)

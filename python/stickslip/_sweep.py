@@ -1,5 +1,5 @@
-"""`stickslip.sweep`: one job over a grid of scenes, in chunks, on a local
-process pool or a Dask cluster, into one table with a row per point."""
+"""`stickslip.sweep`: one job over a grid of scenes, in chunks, on local
+worker threads or a Dask cluster, into one table with a row per point."""
 
 from __future__ import annotations
 
@@ -7,10 +7,9 @@ import hashlib
 import itertools
 import json
 import math
-import multiprocessing
 import os
-import signal
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import threading
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -80,9 +79,11 @@ def _summary(job: str, result: Any) -> dict[str, Any]:
     return row
 
 
-def _run_chunk(job: str, base: dict | None, items: list, options: dict) -> list[dict]:
+def _run_chunk(job: str, base: dict | None, items: list, options: dict,
+               stop: threading.Event | None = None) -> list[dict] | None:
     """Runs `job` at the points `items` (`(index, overrides or scene)`):
-    a row per point, a failure recorded in it."""
+    a row per point, a failure recorded in it; None when `stop` is set
+    before the chunk is done (an interrupted sweep keeps whole chunks)."""
     from . import Scene, InputError, NumericalError, cycles, diagram, hopf
 
     function: Callable = {"hopf": hopf, "diagram": diagram, "cycles": cycles}[job]
@@ -93,6 +94,8 @@ def _run_chunk(job: str, base: dict | None, items: list, options: dict) -> list[
                          base["set"], check=False)
     rows = []
     for index, item in items:
+        if stop is not None and stop.is_set():
+            return None
         row: dict[str, Any] = {"point": index}
         summary: dict[str, Any] = {}
         try:
@@ -117,17 +120,6 @@ def _run_chunk(job: str, base: dict | None, items: list, options: dict) -> list[
             row[k if k not in row else f"result.{k}"] = v
         rows.append(row)
     return rows
-
-
-def _context():
-    """Spawned workers (a forked one could inherit a lock held by a thread
-    of the native library's pools)."""
-    return multiprocessing.get_context("spawn")
-
-
-def _ignore_sigint() -> None:
-    # Ctrl-C is the parent's: it stops the sweep; a worker finishes its chunk.
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _fingerprint(job, base, points, options, chunk) -> str:
@@ -241,8 +233,10 @@ def sweep(
     scene: the scene the overrides apply to (default: pmma).
     client: a `dask.distributed.Client`: the chunks run on its workers
         (a `LocalCluster`, or a SLURM cluster through dask-jobqueue);
-        default: a local process pool of `workers` processes (default: the
-        number of CPUs; `workers=0` runs in this process).
+        default: `workers` threads of this process (default: the number of
+        CPUs; `workers=0` runs in the calling thread). The jobs release
+        the GIL, so the threads compute in parallel, and a script needs no
+        `if __name__ == "__main__":` guard.
     chunk: points per chunk (default: about four chunks per worker, at
         most 1000 points).
     out: a directory: each chunk's rows are written there as it finishes
@@ -316,17 +310,22 @@ def sweep(
         for k in todo:
             finished(k, _run_chunk(job, base, chunks[k], options))
     elif todo:
-        pool = ProcessPoolExecutor(
-            max_workers=min(n_workers, len(todo)),
-            mp_context=_context(),
-            initializer=_ignore_sigint,
-        )
+        stop = threading.Event()
+        pool = ThreadPoolExecutor(max_workers=min(n_workers, len(todo)))
         try:
-            futures = {pool.submit(_run_chunk, job, base, chunks[k], options): k for k in todo}
+            futures = {pool.submit(_run_chunk, job, base, chunks[k], options, stop): k
+                       for k in todo}
             for f in as_completed(futures):
-                finished(futures[f], f.result())
+                finished(futures.pop(f), f.result())
         except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
+            # Ctrl-C: the workers stop at their next point; the chunks they
+            # finished meanwhile are kept too.
+            stop.set()
+            pool.shutdown(wait=True, cancel_futures=True)
+            for f, k in futures.items():
+                if f.done() and not f.cancelled() and f.exception() is None \
+                        and f.result() is not None:
+                    finished(k, f.result())
             raise
         pool.shutdown()
     for r in rows:

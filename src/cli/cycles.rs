@@ -1,12 +1,13 @@
 //! `stickslip cycles`: runs the cycles job ([`crate::jobs::cycles`]) and
 //! writes its text, CSV (row by row as the cycles come), figures and JSON.
 
-use super::files::{create_file, with_suffix, LineFile, OutputArgs};
+use super::files::{create_file, LineFile, OutputArgs};
 use super::interrupt;
 use super::lpc_output::{lpc_summary, write_lpc_csv};
 use super::{SceneArgs, TextUnits};
 use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
+use crate::file_names::with_suffix;
 use crate::jobs::cycles::{asked_stiffnesses, Cycles, CyclesRequest, Note, Observer, Plan};
 use crate::plot::cycles::{branch_figures, fold_figure};
 use crate::records::csv::{header, row};

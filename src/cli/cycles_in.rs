@@ -4,10 +4,11 @@
 //! JSON, and the force drop and period against the control.
 
 use super::cycles::CyclesArgs;
-use super::files::{create_file, with_suffix, LineFile};
+use super::files::{create_file, LineFile};
 use super::interrupt;
 use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
+use crate::file_names::with_suffix;
 use crate::jobs::cycles::{Note, Observer};
 use crate::jobs::cycles_in::{asked_values, Axis, CyclesInControlRequest, Plan};
 use crate::plot::cycles::control_figures;

@@ -2,9 +2,9 @@
 //! their records ([`FoldPoint`]): shared by `diagram` (curves from Bautin
 //! points) and `cycles --lpc-curve` (curves through the folds of a branch).
 
-use super::files::with_suffix;
 use super::TextUnits;
 use crate::analysis::lpc_curve::LpcStop;
+use crate::file_names::with_suffix;
 use crate::records::csv::{header, row};
 use crate::records::diagram::FoldPoint;
 use std::path::{Path, PathBuf};

@@ -4,11 +4,12 @@
 //! a terminal; Ctrl-C stops, keeps the rows, draws them, and exits with 130
 //! (SIGTERM the same, with 143).
 
-use super::files::{create_file, with_suffix, LineFile, OutputArgs};
+use super::files::{create_file, LineFile, OutputArgs};
 use super::{interrupt, SceneArgs, TextUnits};
 use crate::analysis::decimate::Buckets;
 use crate::analysis::simulate::{RegimeReached, Sample};
 use crate::error::{Error, InputError};
+use crate::file_names::with_suffix;
 use crate::jobs::simulate::{unsettled_text, Observer, Plan, SimulateRequest, Simulation};
 use crate::plot::simulation::figures;
 use crate::records::csv::{header, row};

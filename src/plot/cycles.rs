@@ -4,9 +4,10 @@
 use super::lines::{
     render, render_family, vertical_marker, Colorbar, LineFigure, Series, SWITCH_MARKER,
 };
-use super::{with_suffix, PlotError};
+use super::PlotError;
 use crate::analysis::cycles::{CycleBifurcation, CycleRecord, Stability};
 use crate::appendix_c;
+use crate::file_names::with_suffix;
 use crate::jobs::Setup;
 use crate::records::cycle::{Cycle, Verdict};
 use crate::records::diagram::FoldPoint;

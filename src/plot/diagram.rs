@@ -2,9 +2,10 @@
 //! and dimensionless axes, with the hysteretic region.
 
 use super::stability::{render, segments, Note, OperatingMarker, StabilityFigure};
-use super::{with_suffix, PlotError};
+use super::PlotError;
 use crate::analysis::diagram::{SpecialKind, StabilityDiagram};
 use crate::appendix_c;
+use crate::file_names::with_suffix;
 use crate::jobs::diagram::OperatingPoint;
 use crate::jobs::Setup;
 use crate::records::significant;

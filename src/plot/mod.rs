@@ -134,10 +134,3 @@ pub struct PlotError {
     pub path: String,
     pub reason: String,
 }
-
-/// `stem` followed by `suffix` (no extension logic: names may contain dots).
-pub fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
-    let mut s = stem.as_os_str().to_owned();
-    s.push(suffix);
-    PathBuf::from(s)
-}

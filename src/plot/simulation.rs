@@ -2,8 +2,9 @@
 //! velocity over time, the pulling velocity of the protocol beside it.
 
 use super::lines::{render, vertical_marker, LineFigure, Series, SWITCH_MARKER};
-use super::{with_suffix, PlotError};
+use super::PlotError;
 use crate::analysis::simulate::{Segment, Trajectory};
+use crate::file_names::with_suffix;
 use crate::scene::Units;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};

@@ -1,11 +1,11 @@
 //! `diagram --x P --y Q`: the stability diagram in a pair of control
 //! parameters ([`crate::analysis::axes`]); writes its JSON, CSV and figures.
 
-use super::super::files::with_suffix;
 use super::super::significant;
 use super::DiagramArgs;
 use crate::analysis::axes::Axes;
 use crate::error::{Error, InputError};
+use crate::file_names::with_suffix;
 use crate::jobs::diagram::DiagramRequest;
 use crate::jobs::{self, SceneSpec};
 use crate::plot::axes::axes_figure;

@@ -4,12 +4,13 @@
 
 pub mod axes;
 
-use super::files::{with_suffix, OutputArgs};
+use super::files::OutputArgs;
 use super::lpc_output::{lpc_summary, write_lpc_csv};
 use super::{significant, SceneArgs, Setup, TextUnits};
 use crate::analysis::diagram::{SpecialKind, StabilityDiagram, DEFAULT_CURVE_STEPS};
 use crate::analysis::hopf::Criticality;
 use crate::error::{Error, InputError};
+use crate::file_names::with_suffix;
 use crate::jobs::diagram::{onset_type, Diagram, DiagramRequest};
 use crate::jobs::{self, SceneSpec};
 use crate::plot::diagram::write_figures;
