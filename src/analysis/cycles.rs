@@ -35,6 +35,9 @@ pub enum Leg {
     Up,
     /// From a simulated orbit, first toward decreasing stiffness.
     Down,
+    /// Not on a branch: the cycle at a given stiffness, a simulated orbit
+    /// corrected there ([`cycle_through_orbit`]).
+    AtStiffness,
 }
 
 /// One stick-slip cycle in docs/model.md's variables.
@@ -539,7 +542,7 @@ pub fn trace_cycles_from_in(
             ..settings(kind, req, req.ntst)
         },
     )?;
-    follow_switching(&log, branch, Leg::FromHopf, 0, param, req, watch, &mut sink)
+    follow_switching(&log, (None, branch), Leg::FromHopf, 0, param, req, watch, &mut sink)
 }
 
 /// The branch of the cycles born at the Hopf point `h` of `params`, in the
@@ -588,7 +591,8 @@ pub const SAMPLED_NTST: usize = 200;
 
 /// Traces the cycles through the simulated orbit `orbit` of `params` (at
 /// `params.kappa`): the orbit is put on a mesh of `max(req.ntst,`
-/// [`SAMPLED_NTST`]`)` intervals, corrected by collocation, and continued
+/// [`SAMPLED_NTST`]`)` intervals (more where Newton's method needs them,
+/// [`sampled_branch`]), corrected by collocation, and continued
 /// first toward increasing stiffness ([`Leg::Up`]: a fold of cycles, LPC,
 /// where the branch turns back, lies that way for a cycle coexisting with
 /// stable sliding) and then toward decreasing stiffness ([`Leg::Down`]),
@@ -619,34 +623,107 @@ pub fn trace_cycles_from_orbit_in(
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
     let log = LogBlock::centered(kind, params);
-    let ntst = req.ntst.max(SAMPLED_NTST);
-    let guess = sampled_cycle(&log, params, orbit, ntst, 1e-10)
-        .map_err(|e| NumericalError::Analysis(e.to_string()))?;
-    let nz = guess.u.len() + 2;
     // Both overwritten below.
     let mut legs = [
         Ok(Stop::MaxSteps { steps: 0 }),
         Ok(Stop::MaxSteps { steps: 0 }),
     ];
+    // The second leg starts on the intervals the first one's start needed.
+    let mut ntst = req.ntst.max(SAMPLED_NTST);
     for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
-        // The last unknown is the stiffness: the seed orients the tangent.
-        let mut seed = vec![0.0; nz];
-        seed[nz - 1] = sign;
-        let outcome = CycleBranch::from_cycle(
-            &log,
-            guess.clone(),
-            param as usize,
-            Some(seed),
-            settings(kind, req, ntst),
-        )
-        .map_err(|e| NumericalError::from(e).into())
-        .and_then(|branch| follow_switching(&log, branch, leg, i, param, req, watch, &mut sink));
+        let outcome = sampled_branch(&log, params, orbit, param, sign, ntst, req)
+            .map_err(Into::into)
+            .and_then(|(first, branch, used)| {
+                ntst = used;
+                let started = (Some(first), branch);
+                follow_switching(&log, started, leg, i, param, req, watch, &mut sink)
+            });
         match outcome {
             Err(e @ crate::error::Error::Interrupted(_)) => return Err(e),
             other => legs[i] = other,
         }
     }
     Ok(legs)
+}
+
+/// Most doublings of the intervals of a sampled orbit whose first
+/// correction fails ([`sampled_branch`]).
+const SAMPLED_DOUBLINGS: usize = 4;
+
+/// The branch in `param` through the simulated orbit `orbit` of `params`,
+/// in the variables of `log` ([`LogBlock::centered`]), its tangent oriented
+/// by `sign` (`1`: toward larger `param`): its first cycle, the branch after
+/// it, and the intervals it started on. The orbit is put on `ntst`
+/// intervals ([`sampled_cycle`]: the mesh from the integrator's steps, then
+/// equidistributing the collocation error monitor), corrected at fixed
+/// `param` and its mesh refined for the error tolerance (the branch's first
+/// cycle). Where Newton's method fails on the way the intervals are doubled, up to `req.ntst_max` and at
+/// most [`SAMPLED_DOUBLINGS`] times: an orbit whose slip velocity spans many
+/// decades needs more intervals to start from than to be resolved (the rig
+/// of docs/index.md at 1 µm/s, `v` from 1e-9 to 1e5 µm/s: Newton diverges
+/// in the refinement from 200 intervals and converges from 400).
+fn sampled_branch<'a>(
+    log: &'a LogBlock,
+    params: &Params,
+    orbit: &SettledOrbit,
+    param: Param,
+    sign: f64,
+    mut ntst: usize,
+    req: &CycleRequest,
+) -> Result<(CyclePoint, CycleBranch<'a, LogBlock>, usize), NumericalError> {
+    let mut tried: Vec<String> = Vec::new();
+    loop {
+        let guess = sampled_cycle(log, params, orbit, ntst, 1e-10)
+            .map_err(|e| NumericalError::Analysis(e.to_string()))?;
+        // The last unknown is the parameter: the seed orients the tangent.
+        let nz = guess.u.len() + 2;
+        let mut seed = vec![0.0; nz];
+        seed[nz - 1] = sign;
+        let settings = settings(log.kind, req, ntst);
+        let started = CycleBranch::from_cycle(log, guess, param as usize, Some(seed), settings)
+            .map_err(NumericalError::from)
+            .and_then(|mut branch| match branch.next() {
+                Some(first) => Ok((first?, branch)),
+                // A driver hands out its start (or the start's error) first.
+                None => Err(NumericalError::Analysis(
+                    "the branch through the simulated orbit handed out no first cycle".into(),
+                )),
+            });
+        match started {
+            Ok((first, branch)) => return Ok((first, branch, ntst)),
+            Err(e) => {
+                tried.push(ntst.to_string());
+                if tried.len() > SAMPLED_DOUBLINGS || 2 * ntst > req.ntst_max {
+                    return Err(NumericalError::Analysis(format!(
+                        "correcting the simulated orbit on {} mesh intervals: {}",
+                        tried.join(", "),
+                        e
+                    )));
+                }
+                ntst *= 2;
+            }
+        }
+    }
+}
+
+/// The cycle through the simulated orbit `orbit` of `params` at its own
+/// stiffness `params.kappa`, not continued: the orbit on a mesh, corrected
+/// by collocation at fixed stiffness ([`sampled_branch`]), its mesh refined
+/// until the error estimate meets the branch's tolerance, and its Floquet
+/// multipliers; the first cycle of a branch through it (the same settings
+/// as every cycle of a branch, [`settings`]), recorded as
+/// [`Leg::AtStiffness`].
+pub fn cycle_through_orbit(
+    kind: ModelKind,
+    params: &Params,
+    orbit: &SettledOrbit,
+    req: &CycleRequest,
+    watch: &InertiaWatch,
+) -> Result<CycleRecord, NumericalError> {
+    let log = LogBlock::centered(kind, params);
+    let ntst = req.ntst.max(SAMPLED_NTST);
+    let (first, _, _) = sampled_branch(&log, params, orbit, Param::Kappa, 1.0, ntst, req)?;
+    Ok(record(&log, &first, Leg::AtStiffness, watch))
 }
 
 /// Relative amplitude of the first cycle off the Hopf point
@@ -701,6 +778,10 @@ fn settings(kind: ModelKind, req: &CycleRequest, ntst: usize) -> CycleSettings {
     }
 }
 
+/// A branch to follow, with its first cycle when it was already taken from
+/// it ([`sampled_branch`]).
+type Started<'a> = (Option<CyclePoint>, CycleBranch<'a, LogBlock>);
+
 /// How [`follow`] ended: the branch's own end, or a quasi-static orbit on
 /// which inertia stopped being negligible.
 enum FollowEnd {
@@ -723,7 +804,7 @@ enum FollowEnd {
 #[allow(clippy::too_many_arguments)]
 fn follow_switching(
     log: &LogBlock,
-    branch: CycleBranch<'_, LogBlock>,
+    branch: Started<'_>,
     leg: Leg,
     skip: usize,
     param: Param,
@@ -790,7 +871,7 @@ fn follow_switching(
         delivered += 1;
         sink(r)
     };
-    match follow(&inertial, branch, leg, 0, &watch, &mut counted) {
+    match follow(&inertial, (None, branch), leg, 0, &watch, &mut counted) {
         Ok(FollowEnd::End(end)) => Ok(end),
         Ok(FollowEnd::Switch { .. }) => unreachable!("an inertial branch does not switch"),
         Err(crate::error::Error::Numerical(e)) if delivered == 0 => Err(NumericalError::Analysis(format!(
@@ -813,7 +894,7 @@ fn follow_switching(
 /// collocation system is singular (zero amplitude).
 fn follow(
     log: &LogBlock,
-    mut branch: CycleBranch<'_, LogBlock>,
+    (first, mut branch): Started<'_>,
     leg: Leg,
     skip: usize,
     watch: &InertiaWatch,
@@ -823,7 +904,7 @@ fn follow(
     let mut slowest = f64::INFINITY;
     let mut previous: Option<Box<Cycle>> = None;
     let mut to_skip = skip;
-    for pt in branch.by_ref() {
+    for pt in first.map(Ok).into_iter().chain(branch.by_ref()) {
         // Only cycles are skipped: a failure of the start is the leg's answer.
         if to_skip > 0 && pt.is_ok() {
             to_skip -= 1;

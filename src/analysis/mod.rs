@@ -4,6 +4,7 @@
 pub mod axes;
 pub mod branch;
 pub mod control;
+pub mod cycle_at;
 pub mod cycles;
 pub mod decimate;
 pub mod diagram;

@@ -7,7 +7,7 @@
 //! stop early); [`simulate`] collects them into a [`Trajectory`].
 
 use crate::analysis::orbit_inertia::{inertial_state, state_imbalance, InertiaWatch};
-use crate::analysis::settle::{settle, SettleError, SettleSettings};
+use crate::analysis::settle::{settle, SettleError, SettleSettings, SettledOrbit};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -566,7 +566,7 @@ pub fn cycle_by_integration(
 }
 
 /// The regime a run reaches, continued from its last state at its last
-/// driving velocity ([`regime_reached`]).
+/// driving velocity (`simulate`: the return map settled, then measured, [`measured_regime`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum RegimeReached {
     /// A stick-slip cycle: its period (units `D0/V0`), peak-to-peak spring
@@ -599,29 +599,35 @@ pub enum Unsettled {
     Integration(String),
 }
 
-/// Most periods [`regime_reached`] simulates while the return map settles.
+/// Most periods the regime a run reaches is settled for ([`regime_settings`]).
 pub const REGIME_PERIODS: usize = 300;
 
-/// The regime reached from `last` (docs/model.md's `(s, v, theta)`) at
-/// `params` (the last segment's velocity): the return map on `v = nu`
-/// settled ([`settle`](crate::analysis::settle::settle)), then the period
-/// and `Delta_s` from the extremes of `s` located as events over five and a
-/// half more periods ([`cycle_by_integration`], averaged over the last
-/// three); the two periods must agree to `1e-6` relative, else the orbit is
-/// reported unsettled.
-pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> RegimeReached {
-    // A report after the run, not a search: a few hundred periods at most
-    // (a cycle near its bifurcation that settles more slowly is reported
-    // unsettled, with how far its return map still moves).
-    let settings = SettleSettings {
+/// The settling budget of the regime a run reaches (`simulate`) for `params`: a report after
+/// the run, not a search, so a few hundred periods at most (a cycle near its
+/// bifurcation that settles more slowly is reported unsettled, with how far
+/// its return map still moves).
+pub fn regime_settings(params: &Params) -> SettleSettings {
+    SettleSettings {
         max_periods: REGIME_PERIODS,
         ..SettleSettings::for_params(params)
-    };
-    let orbit = match settle(kind, params, last, &settings) {
-        Ok(orbit) => orbit,
-        Err(SettleError::Decayed { .. }) => return RegimeReached::Steady,
-        Err(e) => return RegimeReached::Unsettled(Unsettled::Settle(e)),
-    };
+    }
+}
+
+/// A failed settling as a regime: a decay is steady sliding, anything else
+/// leaves the regime unsettled.
+pub fn settle_failure(e: SettleError) -> RegimeReached {
+    match e {
+        SettleError::Decayed { .. } => RegimeReached::Steady,
+        e => RegimeReached::Unsettled(Unsettled::Settle(e)),
+    }
+}
+
+/// The regime of the settled orbit `orbit` of `params`: the period and
+/// `Delta_s` from the extremes of `s` located as events over five and a
+/// half periods from its section ([`cycle_by_integration`], averaged over
+/// the last three); that period and the return map's must agree to `1e-6`
+/// relative, else the orbit is reported unsettled.
+pub fn measured_regime(kind: ModelKind, params: &Params, orbit: &SettledOrbit) -> RegimeReached {
     let log = LogBlock::new(kind, params);
     let on_section = log.to_model(&orbit.section, &params.to_vec());
     match cycle_by_integration(
@@ -631,7 +637,7 @@ pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> Regim
         0.0,
         5.5 * orbit.period,
         3,
-        settings.rtol,
+        regime_settings(params).rtol,
     ) {
         Ok((period, delta_s)) if (period / orbit.period - 1.0).abs() <= 1e-6 => {
             RegimeReached::Periodic {
@@ -646,6 +652,88 @@ pub fn regime_reached(kind: ModelKind, params: &Params, last: [f64; 3]) -> Regim
             return_map: orbit.period,
         }),
         Err(e) => RegimeReached::Unsettled(Unsettled::Integration(e.to_string())),
+    }
+}
+
+/// An orbit settled in the model the whole orbit needs
+/// ([`settled_with_inertia_judged`]).
+#[derive(Clone, Debug)]
+pub struct JudgedOrbit {
+    /// The model of the orbit.
+    pub kind: ModelKind,
+    /// That model's parameters (the scene's inertia when inertial).
+    pub params: Params,
+    pub orbit: SettledOrbit,
+    /// Where the quasi-static orbit handed over to the inertial model
+    /// (`chi = m |dv/dt| / A` there above the threshold; its time counted
+    /// from the quasi-static orbit's section), if it did.
+    pub switch: Option<SimulationSwitch>,
+}
+
+/// The one model decision on a settled orbit, shared by `simulate` (the
+/// regime a run reaches) and `cycles` (the cycle at a given stiffness): a
+/// quasi-static orbit `orbit` of `params_of(QuasiStatic)` is followed for
+/// three of its periods from its section under `watch` ([`simulate_watched`]
+/// at `rtol`, the run's own switch: `chi = m |dv/dt| / A` above the
+/// threshold, docs/cycles.md "Which model"); where it hands over, the orbit
+/// is settled again in the inertial model (`params_of(Inertial)`, budget
+/// `settings_of`) from the state where it switched. An orbit already
+/// inertial, a watch that does not switch, or a follow that fails keep the
+/// orbit as it is. So the answer does not depend on whether the run that
+/// led to the orbit got far enough to switch.
+pub fn settled_with_inertia_judged(
+    kind: ModelKind,
+    params_of: impl Fn(ModelKind) -> Params,
+    orbit: SettledOrbit,
+    watch: &InertiaWatch,
+    rtol: f64,
+    settings_of: impl Fn(&Params) -> SettleSettings,
+) -> Result<JudgedOrbit, SettleError> {
+    let params = params_of(kind);
+    let kept = |orbit| JudgedOrbit {
+        kind,
+        params,
+        orbit,
+        switch: None,
+    };
+    if kind != ModelKind::QuasiStatic || !watch.switch {
+        return Ok(kept(orbit));
+    }
+    let on_cycle = LogBlock::new(kind, &params).to_model(&orbit.section, &params.to_vec());
+    let mut switched: Option<Sample> = None;
+    let options = RunOptions {
+        rtol,
+        max_steps: 1_000_000,
+        watch: Some(watch),
+    };
+    let three_periods = [Segment {
+        nu: params.nu,
+        duration: 3.0 * orbit.period,
+    }];
+    let run = simulate_watched(kind, &params, on_cycle, &three_periods, None, &options, |p| {
+        if p.model == ModelKind::Inertial {
+            switched = Some(*p);
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    });
+    match (run, switched) {
+        (Ok(end), Some(p)) => {
+            let inertial = params_of(ModelKind::Inertial);
+            let orbit = settle(
+                ModelKind::Inertial,
+                &inertial,
+                [p.s, p.v, p.theta],
+                &settings_of(&inertial),
+            )?;
+            Ok(JudgedOrbit {
+                kind: ModelKind::Inertial,
+                params: inertial,
+                orbit,
+                switch: end.switch,
+            })
+        }
+        _ => Ok(kept(orbit)),
     }
 }
 

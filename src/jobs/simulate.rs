@@ -3,7 +3,7 @@
 //! slightly perturbed; every integrator step handed to an [`Observer`] (the
 //! command line writes them as CSV rows), a trajectory decimated for the
 //! figures kept ([`Envelope`]), and after a complete run the regime it
-//! reaches ([`regime_reached`]).
+//! reaches ([`regime_with_inertia_judged`]).
 
 use super::{SceneSpec, Setup};
 use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
@@ -11,13 +11,13 @@ use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::settle::SettleError;
 use crate::analysis::simulate::Unsettled;
+use crate::analysis::settle::settle;
 use crate::analysis::simulate::{
-    regime_reached, simulate_watched, RegimeReached, RunEnd, RunOptions, Sample, Segment,
-    Trajectory,
+    measured_regime, regime_settings, settle_failure, settled_with_inertia_judged,
+    simulate_watched, RegimeReached, RunEnd, RunOptions, Sample, Segment, Trajectory,
 };
 use crate::error::{Error, InputError};
 use crate::jobs::TextUnits;
-use crate::model::ModelKind;
 use crate::scene::Units;
 use std::ops::ControlFlow;
 
@@ -189,7 +189,7 @@ impl Plan {
     /// Integrates the protocol from steady sliding at its first velocity
     /// with the age perturbed; stops at `--max-steps` samples, at an
     /// error of the observer, or when it says so; then, after a complete
-    /// run, follows the last state until it settles ([`regime_reached`]).
+    /// run, follows the last state until it settles ([`regime_with_inertia_judged`]).
     pub fn run(self, observer: &mut dyn Observer) -> Simulation {
         let Plan {
             setup,
@@ -274,11 +274,10 @@ impl Plan {
 }
 
 /// The regime reached from the sample `at` at the velocity `nu`, in the
-/// model of the sample; a quasi-static cycle is then followed for three of
-/// its periods from a state on it under `watch` (the run's own model decision): where inertia
-/// would matter on it (`chi` above the threshold) the regime is the
-/// inertial one, reached from where the watch switched. So the answer does
-/// not depend on whether the run itself got far enough to switch.
+/// model of the sample, with the model the whole orbit needs decided on it
+/// ([`settled_with_inertia_judged`] under `watch`, the run's own model
+/// decision): where inertia would matter on a quasi-static cycle the regime
+/// is the inertial one.
 fn regime_with_inertia_judged(
     at: Sample,
     nu: f64,
@@ -292,49 +291,14 @@ fn regime_with_inertia_judged(
         p
     };
     let kind = at.model;
-    let regime = regime_reached(kind, &params_of(kind), [at.s, at.v, at.theta]);
-    let RegimeReached::Periodic {
-        period, on_cycle, ..
-    } = regime
-    else {
-        return regime;
-    };
-    if kind != ModelKind::QuasiStatic || !watch.switch {
-        return regime;
-    }
-    let mut switched: Option<Sample> = None;
-    let options = RunOptions {
-        rtol,
-        max_steps: 1_000_000,
-        watch: Some(watch),
-    };
-    let three_periods = [Segment {
-        nu,
-        duration: 3.0 * period,
-    }];
-    let run = simulate_watched(
-        kind,
-        &params_of(kind),
-        on_cycle,
-        &three_periods,
-        None,
-        &options,
-        |p| {
-            if p.model == ModelKind::Inertial {
-                switched = Some(*p);
-                return ControlFlow::Break(());
-            }
-            ControlFlow::Continue(())
-        },
-    );
-    match (run, switched) {
-        (Ok(_), Some(p)) => regime_reached(
-            ModelKind::Inertial,
-            &params_of(ModelKind::Inertial),
-            [p.s, p.v, p.theta],
-        ),
-        _ => regime,
-    }
+    let params = params_of(kind);
+    settle(kind, &params, [at.s, at.v, at.theta], &regime_settings(&params))
+        .and_then(|orbit| {
+            settled_with_inertia_judged(kind, params_of, orbit, watch, rtol, regime_settings)
+        })
+        .map_or_else(settle_failure, |j| {
+            measured_regime(j.kind, &j.params, &j.orbit)
+        })
 }
 
 /// Why the regime is undetermined, in the text's units and with what a

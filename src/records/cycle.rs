@@ -356,7 +356,7 @@ impl fmt::Display for LegStop {
         match self.leg {
             Some(Leg::Up) => write!(f, "toward larger stiffness: {}", self.message),
             Some(Leg::Down) => write!(f, "toward smaller stiffness: {}", self.message),
-            Some(Leg::FromHopf) | None => f.write_str(&self.message),
+            Some(Leg::FromHopf | Leg::AtStiffness) | None => f.write_str(&self.message),
         }
     }
 }
