@@ -880,7 +880,7 @@ pub fn cycles_in(
         cycles.kappa_max = hi;
         cycles.cover_requested();
         let model = params_for(kind, params);
-        let orbit = crate::analysis::orbit_start::simulated_start(kind, &model, None)
+        let orbit = crate::analysis::orbit_start::simulated_start(kind, params, None, watch)
             .map_err(|e| NumericalError::Analysis(e.to_string()))?;
         if orbit.params.kappa != model.kappa {
             return Err(NumericalError::Analysis(format!(
@@ -891,8 +891,8 @@ pub fn cycles_in(
             .into());
         }
         let legs = trace_cycles_from_orbit_in(
-            kind,
-            &model,
+            orbit.kind,
+            &orbit.params,
             &orbit.orbit,
             param,
             &cycles,

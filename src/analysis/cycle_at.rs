@@ -2,10 +2,10 @@
 //! a branch to it: the way an experiment finds it, then corrected.
 //!
 //! 1. **Simulate** at the stiffness from a stuck start
-//!    ([`stuck_start`], [`settle`]: Radau IIA until the return map on
-//!    `v = nu` settles) in the model chosen at onset.
+//!    ([`settled_at`]: Radau IIA until the return map on `v = nu`
+//!    settles) in the model chosen at onset.
 //! 2. **Decide the model on the whole orbit**, as `simulate` does
-//!    ([`settled_with_inertia_judged`]): a quasi-static orbit is followed
+//!    (`settled_with_inertia_judged`): a quasi-static orbit is followed
 //!    under the inertia watch (`chi = m |dv/dt| / A` against the threshold,
 //!    docs/cycles.md "Which model") and, where it hands over, settled again
 //!    with the scene's inertia.
@@ -21,10 +21,10 @@
 //! why ([`CycleAtError`]).
 
 use crate::analysis::cycles::{cycle_through_orbit, CycleRecord, CycleRequest};
-use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
-use crate::analysis::settle::{settle, stuck_start, SettleError, SettleSettings};
-use crate::analysis::simulate::{settled_with_inertia_judged, JudgedOrbit};
+use crate::analysis::orbit_start::settled_at;
+use crate::analysis::settle::SettleError;
+use crate::analysis::simulate::JudgedOrbit;
 use crate::model::ModelKind;
 use crate::params::Params;
 use thiserror::Error;
@@ -70,24 +70,7 @@ pub fn cycle_at(
     watch: &InertiaWatch,
     req: &CycleRequest,
 ) -> Result<CycleAt, CycleAtError> {
-    let params_of = |k: ModelKind| Params {
-        kappa,
-        ..params_for(k, scene)
-    };
-    let params = params_of(kind);
-    let settings = SettleSettings::for_params(&params);
-    let simulated = settle(kind, &params, stuck_start(&params), &settings)
-        .and_then(|orbit| {
-            settled_with_inertia_judged(
-                kind,
-                params_of,
-                orbit,
-                watch,
-                settings.rtol,
-                SettleSettings::for_params,
-            )
-        })
-        .map_err(CycleAtError::Simulation)?;
+    let simulated = settled_at(kind, scene, kappa, watch).map_err(CycleAtError::Simulation)?;
     let record = cycle_through_orbit(
         simulated.kind,
         &simulated.params,

@@ -542,7 +542,16 @@ pub fn trace_cycles_from_in(
             ..settings(kind, req, req.ntst)
         },
     )?;
-    follow_switching(&log, (None, branch), Leg::FromHopf, 0, param, req, watch, &mut sink)
+    follow_switching(
+        &log,
+        (None, branch),
+        Leg::FromHopf,
+        0,
+        param,
+        req,
+        watch,
+        &mut sink,
+    )
 }
 
 /// The branch of the cycles born at the Hopf point `h` of `params`, in the

@@ -14,9 +14,14 @@
 //!    `kappa_c = (mu_phi - mu_v)(1 + m nu^2/mu_v)` without inertia.
 //!
 //! Each is simulated from [`stuck_start`]; the first whose return map
-//! settles is used.
+//! settles is used, in the model the whole orbit needs
+//! ([`settled_with_inertia_judged`]: a quasi-static orbit on which inertia
+//! matters is settled again with the scene's inertia).
 
+use super::model_choice::params_for;
+use super::orbit_inertia::InertiaWatch;
 use super::settle::{settle, stuck_start, SettleError, SettleSettings, SettledOrbit};
+use super::simulate::{settled_with_inertia_judged, JudgedOrbit};
 use crate::model::ModelKind;
 use crate::params::Params;
 use thiserror::Error;
@@ -38,7 +43,10 @@ pub fn candidate_stiffnesses(params: &Params, kappa_c: Option<f64>) -> Vec<f64> 
 /// An orbit settled by simulation and the parameters it belongs to.
 #[derive(Clone, Debug)]
 pub struct OrbitStart {
-    /// The parameters, `kappa` the stiffness simulated.
+    /// The model of the orbit (the inertial one where the quasi-static
+    /// orbit needs it).
+    pub kind: ModelKind,
+    /// The model's parameters, `kappa` the stiffness simulated.
     pub params: Params,
     pub orbit: SettledOrbit,
     /// The stiffnesses tried before, and why they gave no cycle.
@@ -57,21 +65,50 @@ pub struct NoCycleFound {
     pub tries: Vec<SettleError>,
 }
 
-/// Simulates at each of [`candidate_stiffnesses`] until one settles on a cycle.
+/// The orbit a simulation from a stuck start settles on at the stiffness
+/// `kappa`: in the model `kind` on the scene's parameters `scene` (inertia
+/// kept), the model then judged on the settled orbit under `watch`
+/// ([`settled_with_inertia_judged`]).
+pub fn settled_at(
+    kind: ModelKind,
+    scene: &Params,
+    kappa: f64,
+    watch: &InertiaWatch,
+) -> Result<JudgedOrbit, SettleError> {
+    let params_of = |k: ModelKind| Params {
+        kappa,
+        ..params_for(k, scene)
+    };
+    let p = params_of(kind);
+    let settings = SettleSettings::for_params(&p);
+    settle(kind, &p, stuck_start(&p), &settings).and_then(|orbit| {
+        settled_with_inertia_judged(
+            kind,
+            params_of,
+            orbit,
+            watch,
+            settings.rtol,
+            SettleSettings::for_params,
+        )
+    })
+}
+
+/// Simulates at each of [`candidate_stiffnesses`] until one settles on a
+/// cycle ([`settled_at`]).
 pub fn simulated_start(
     kind: ModelKind,
-    params: &Params,
+    scene: &Params,
     kappa_c: Option<f64>,
+    watch: &InertiaWatch,
 ) -> Result<OrbitStart, NoCycleFound> {
     let mut rejected = Vec::new();
-    for kappa in candidate_stiffnesses(params, kappa_c) {
-        let mut p = *params;
-        p.kappa = kappa;
-        match settle(kind, &p, stuck_start(&p), &SettleSettings::for_params(&p)) {
-            Ok(orbit) => {
+    for kappa in candidate_stiffnesses(&params_for(kind, scene), kappa_c) {
+        match settled_at(kind, scene, kappa, watch) {
+            Ok(judged) => {
                 return Ok(OrbitStart {
-                    params: p,
-                    orbit,
+                    kind: judged.kind,
+                    params: judged.params,
+                    orbit: judged.orbit,
                     rejected,
                 })
             }

@@ -710,13 +710,21 @@ pub fn settled_with_inertia_judged(
         nu: params.nu,
         duration: 3.0 * orbit.period,
     }];
-    let run = simulate_watched(kind, &params, on_cycle, &three_periods, None, &options, |p| {
-        if p.model == ModelKind::Inertial {
-            switched = Some(*p);
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    });
+    let run = simulate_watched(
+        kind,
+        &params,
+        on_cycle,
+        &three_periods,
+        None,
+        &options,
+        |p| {
+            if p.model == ModelKind::Inertial {
+                switched = Some(*p);
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        },
+    );
     match (run, switched) {
         (Ok(end), Some(p)) => {
             let inertial = params_of(ModelKind::Inertial);

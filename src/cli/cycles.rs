@@ -11,7 +11,7 @@ use crate::file_names::with_suffix;
 use crate::jobs::cycles::{asked_stiffnesses, Cycles, CyclesRequest, Note, Observer, Plan};
 use crate::plot::cycles::{branch_figures, fold_figure};
 use crate::records::csv::{header, row};
-use crate::records::cycle::{Cycle, CycleSpecialPoint, Requested};
+use crate::records::cycle::{Cycle, CycleSpecialPoint, OperatingCycle, Requested};
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use indicatif::ProgressBar;
@@ -272,6 +272,16 @@ impl Observer for Printer {
         Ok(())
     }
 
+    fn operating_point(&mut self, op: &OperatingCycle) {
+        if let Some(units) = self.text {
+            operating_text(units, op)
+                .iter()
+                .for_each(|l| println!("{l}"));
+        }
+        // A CSV write error shows again, and stops the run, at the next row.
+        let _ = write_operating_csv(&mut self.csv, op);
+    }
+
     fn note(&mut self, note: Note) {
         match (note, self.text) {
             (Note::Switch(s), Some(_)) => println!("{s}"),
@@ -383,6 +393,81 @@ fn cycle_text(units: TextUnits, c: &Cycle) -> String {
             c.kappa, c.period, c.delta_s, c.v_min, c.v_max
         ),
     }
+}
+
+/// The text of the operating point: the scene's K and its regime, then
+/// the cycle there (period in s, force drop in N, slip per event in µm,
+/// the slip velocity's range, stability) or why there is none.
+fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
+    let p = &op.point;
+    let mut lines = vec![format!(
+        "operating point: K = {:.6e} N/m (kappa = {:.6e}): {} ({})",
+        p.k_n_per_m,
+        p.kappa,
+        p.regime.name(),
+        p.reason
+    )];
+    let how = match (op.method, &op.simulation) {
+        (Some("simulation"), Some(s)) => format!(
+            "simulated ({}, settled after {} oscillations), corrected by collocation",
+            s.model.name(),
+            s.oscillations
+        ),
+        (Some("continuation"), _) => "along the branch from the Hopf point".to_string(),
+        _ => "the start of the branch".to_string(),
+    };
+    match (&op.cycle, op.slip_um) {
+        (Some(c), Some(slip)) => {
+            let at = match units {
+                TextUnits::Physical => format!(
+                    "period {:.6e} s  force drop {:.6e} N  slip per event {slip:.6e} µm  v {:.3e} .. {:.3e} µm/s",
+                    c.period_s, c.delta_s_n, c.v_min_um_per_s, c.v_max_um_per_s
+                ),
+                TextUnits::Dimensionless => format!(
+                    "period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",
+                    c.period, c.delta_s, c.v_min, c.v_max
+                ),
+            };
+            lines.push(format!(
+                "  cycle at the scene's K ({how}): {at}  {}  err {}  NTST {}",
+                c.stable.word(),
+                or_na(c.error_estimate, "no solution on half the mesh"),
+                c.ntst
+            ));
+            if let Some(why) = &op.fallback_reason {
+                lines.push(format!("  (the direct start failed: {why})"));
+            }
+        }
+        _ if !op.wanted => lines.push("  no stick-slip cycle at the scene's K; the branch:".into()),
+        _ => lines.push(format!(
+            "  no cycle at the scene's K: {}",
+            op.not_delivered.as_deref().unwrap_or("")
+        )),
+    }
+    lines
+}
+
+/// The operating point's cycle as the first CSV row, after a comment that
+/// says what it is (the branch's rows follow).
+fn write_operating_csv(csv: &mut impl Write, op: &OperatingCycle) -> Result<(), Error> {
+    let Some(c) = &op.cycle else {
+        return Ok(());
+    };
+    let k = op.point.k_n_per_m;
+    if op.method == Some("branch_start") {
+        writeln!(
+            csv,
+            "# the first row is the cycle at the scene's K = {k:.6e} N/m"
+        )?;
+        return Ok(());
+    }
+    writeln!(
+        csv,
+        "# the cycle at the scene's K = {k:.6e} N/m ({}: {}), before the branch",
+        op.point.regime.name(),
+        op.method.unwrap_or("")
+    )?;
+    write_row(csv, c)
 }
 
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.

@@ -33,11 +33,13 @@ pub enum Start {
 impl Start {
     /// The Hopf point unless `from_simulation`, there is none or it is
     /// degenerate; then the
-    /// first stiffness at which a simulation settles on a cycle.
+    /// first stiffness at which a simulation settles on a cycle, in the
+    /// model the orbit needs (judged under `watch`).
     pub fn choose(
         setup: &Setup,
         onset: HopfOutcome,
         from_simulation: bool,
+        watch: &InertiaWatch,
     ) -> Result<Start, NumericalError> {
         let hopf = match onset {
             HopfOutcome::Found(h) => Some(h),
@@ -53,7 +55,7 @@ impl Start {
             }
             hopf => {
                 let kappa_c = hopf.as_ref().map(|h| h.kappa_c);
-                match simulated_start(setup.choice.kind, &setup.params, kappa_c) {
+                match simulated_start(setup.choice.kind, &setup.scene_params, kappa_c, watch) {
                     Ok(orbit) => Ok(Start::Simulation { orbit, hopf }),
                     // Linearly stable for every stiffness and no cycle by simulation:
                     // an answer (an empty branch), not a failure.
@@ -143,9 +145,19 @@ impl Start {
             TextUnits::Physical => format!("{:.4e} s", t * u.d0 / u.v0),
             TextUnits::Dimensionless => format!("{t:.4e} D0/V0"),
         };
+        // Said only where the orbit needed another model than the onset's.
+        let model = if orbit.kind == setup.choice.kind {
+            String::new()
+        } else {
+            format!(
+                ", {} (inertia matters on the {} orbit)",
+                orbit.kind.name(),
+                setup.choice.kind.name()
+            )
+        };
         format!(
             "{}{why}: starting from a simulated stick-slip orbit at kappa = {kappa:.6e} \
-             (K/W = {:.6e} 1/m), settled after {} (t = {}), period {}",
+             (K/W = {:.6e} 1/m), settled after {} (t = {}), period {}{model}",
             tried.iter().map(|l| format!("{l}\n")).collect::<String>(),
             u.k_over_w(kappa),
             oscillations(orbit.orbit.periods),
@@ -198,7 +210,7 @@ impl Start {
             )],
             Start::Simulation { orbit, .. } => {
                 match trace_cycles_from_orbit(
-                    kind,
+                    orbit.kind,
                     &orbit.params,
                     &orbit.orbit,
                     req,

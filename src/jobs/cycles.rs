@@ -9,17 +9,22 @@
 use super::cycle_start::Start;
 use super::{onset_with_degeneracy_resolved, SceneSpec, Setup, TextUnits};
 use crate::analysis::control::Control;
+use crate::analysis::cycle_at::cycle_at;
 use crate::analysis::cycles::{
-    along_branch, collocation_for, requested_points, BranchEnds, CycleBifurcation, CycleRecord,
-    CycleRequest,
+    along_branch, collocation_for, requested_points, trace_cycles_from, BranchEnds,
+    CycleBifurcation, CycleRecord, CycleRequest, Leg,
 };
+use crate::analysis::hopf::HopfPoint;
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves, LpcStop};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Param;
-use crate::records::cycle::{Asked, Cycle, CycleSpecialPoint, LegStop, Requested};
+use crate::records::cycle::{
+    Asked, Cycle, CycleSpecialPoint, LegStop, OperatingCycle, Requested, SimulatedOrbit,
+};
 use crate::records::diagram::FoldPoint;
+use crate::records::hopf::OperatingPoint;
 use crate::records::params_json;
 use crate::scene::Units;
 use continuation::periodic::mesh::CollocationPoints;
@@ -120,6 +125,9 @@ pub trait Observer {
     }
     /// A note.
     fn note(&mut self, _note: Note) {}
+    /// The cycle at the scene's own stiffness (or why there is none),
+    /// before the branch.
+    fn operating_point(&mut self, _op: &OperatingCycle) {}
 }
 
 /// An observer that keeps nothing but the result.
@@ -137,6 +145,10 @@ pub struct Plan {
     /// The request; it may be amended before the run (requested points
     /// placed relative to the start).
     pub request: CyclesRequest,
+    /// The scene's own stiffness against the onset, where it gives one.
+    pub operating: Option<OperatingPoint>,
+    /// The onset's model and the inertia watch of the branch.
+    watch: InertiaWatch,
     /// The model was forced (`--model`).
     forced: bool,
     threshold: f64,
@@ -149,7 +161,15 @@ impl Plan {
         request.check()?;
         let mut setup = spec.setup(|p| *p)?;
         let onset = onset_with_degeneracy_resolved(&mut setup, spec.model.is_some())?;
-        let start = Start::choose(&setup, onset, request.from_simulation)?;
+        let watch = InertiaWatch::new(
+            &setup.scene_params,
+            spec.inertia_threshold,
+            spec.model.is_none(),
+        );
+        let operating = setup
+            .stiffness_given()
+            .then(|| OperatingPoint::new(&setup, &onset, setup.scene_params.kappa));
+        let start = Start::choose(&setup, onset, request.from_simulation, &watch)?;
         let points = request
             .collocation
             .unwrap_or(collocation_for(setup.choice.kind));
@@ -157,6 +177,8 @@ impl Plan {
             setup,
             start,
             points,
+            operating,
+            watch,
             forced: spec.model.is_some(),
             threshold: spec.inertia_threshold,
             request,
@@ -189,6 +211,8 @@ impl Plan {
             start,
             points,
             request,
+            operating,
+            watch,
             forced,
             threshold,
         } = self;
@@ -210,7 +234,33 @@ impl Plan {
         };
         // Requested stiffnesses outside the default range extend the branch to them.
         req.cover_requested();
-        let watch = InertiaWatch::new(&setup.scene_params, threshold, !forced);
+        let mut operating = operating.map(OperatingCycle::new);
+        // The cycle at the scene's K first: directly, or as the start of
+        // a branch from a simulated orbit there.
+        let mut at_start = false;
+        if let Some(op) = operating.as_mut().filter(|op| op.wanted) {
+            match &start {
+                Start::Hopf(h) => {
+                    observer.progress("the cycle at the scene's K");
+                    operating_cycle(op, &setup, h, &req, &watch);
+                    observer.operating_point(op);
+                }
+                Start::Simulation { orbit, .. } if orbit.params.kappa == op.point.kappa => {
+                    at_start = true;
+                }
+                _ => {
+                    op.not_delivered = Some(format!(
+                        "no cycle at the scene's K: {}",
+                        start.reason().unwrap_or(
+                            "the simulation settled on a cycle only at another stiffness"
+                        )
+                    ));
+                    observer.operating_point(op);
+                }
+            }
+        } else if let Some(op) = &operating {
+            observer.operating_point(op);
+        }
         let mut switch: Option<ModelSwitch> = None;
         let mut records: Vec<CycleRecord> = Vec::new();
         let mut cycles: Vec<Cycle> = Vec::new();
@@ -248,6 +298,13 @@ impl Plan {
                 .described();
                 observer.note(Note::Switch(sw.reason.clone()));
                 switch = Some(sw);
+            }
+            if let Some(op) = operating
+                .as_mut()
+                .filter(|_| at_start && records.is_empty())
+            {
+                op.deliver(c, "branch_start", &units);
+                observer.operating_point(op);
             }
             // The cycles at requested stiffnesses passed since the last one, then it.
             for rec in c.user.iter().chain([c]) {
@@ -314,7 +371,22 @@ impl Plan {
         // then among what is missing; one where no cycle exists (above
         // kappa_c, beyond a fold, no branch at all) is answered by its reason.
         let undelivered = requested.iter().filter(|r| r.reason.is_some()).count();
-        let complete = start.conclusive() && legs_complete && !folds.incomplete && undelivered == 0;
+        let operating_missing = operating
+            .as_ref()
+            .filter(|op| op.wanted && !op.delivered)
+            .map(|op| {
+                op.not_delivered.clone().unwrap_or_else(|| {
+                    "the branch from the simulated orbit at the scene's K gave no cycle".into()
+                })
+            });
+        let complete = start.conclusive()
+            && legs_complete
+            && !folds.incomplete
+            && undelivered == 0
+            && operating_missing.is_none();
+        if let Some(why) = &operating_missing {
+            stop = format!("{stop}; the cycle at the scene's K not delivered: {why}");
+        }
         if folds.incomplete {
             let why: Vec<String> = folds.stops.iter().map(ToString::to_string).collect();
             stop = format!(
@@ -351,12 +423,71 @@ impl Plan {
             requested_points: requested,
             lpc_curve: folds.points,
             lpc_stops: folds.stops,
+            operating_point: operating,
             files: Vec::new(),
             reason: start.reason().map(str::to_string),
             negative_friction,
             records,
             failure,
             setup,
+        }
+    }
+}
+
+/// The cycle at the scene's stiffness `op.point.kappa` below the Hopf point
+/// `h`: directly ([`cycle_at`]: simulated in the onset's model, the model
+/// judged on the whole orbit, corrected by collocation with `req`'s mesh
+/// settings); where that fails, along the branch from `h` to it (the
+/// `--at K` path), saying why the first failed.
+fn operating_cycle(
+    op: &mut OperatingCycle,
+    setup: &Setup,
+    h: &HopfPoint,
+    req: &CycleRequest,
+    watch: &InertiaWatch,
+) {
+    let (units, kappa) = (setup.scene.units, op.point.kappa);
+    let direct = match cycle_at(&setup.scene_params, setup.choice.kind, kappa, watch, req) {
+        Ok(c) => {
+            op.deliver(&c.record, "simulation", &units);
+            op.simulation = Some(SimulatedOrbit::new(
+                c.simulated.kind,
+                &c.simulated.orbit,
+                &units,
+            ));
+            return;
+        }
+        Err(e) => e.to_string(),
+    };
+    let mut along = CycleRequest {
+        kappa_min: kappa.min(h.kappa_c),
+        kappa_max: 10.0 * h.kappa_c,
+        at_kappa: vec![kappa],
+        ..req.clone()
+    };
+    along.cover_requested();
+    let mut found: Option<CycleRecord> = None;
+    let end = trace_cycles_from(setup.choice.kind, &setup.params, h, &along, watch, |c| {
+        found = found
+            .take()
+            .or_else(|| c.user.iter().find(|u| u.kappa == kappa).cloned());
+        Ok(())
+    });
+    match found {
+        Some(c) => {
+            op.deliver(&c, "continuation", &units);
+            op.fallback_reason = Some(direct);
+        }
+        None => {
+            let end = match end {
+                Ok(stop) => {
+                    LegStop::new(Some(Leg::FromHopf), &Ok(stop), along.max_steps).to_string()
+                }
+                Err(e) => e.to_string(),
+            };
+            op.not_delivered = Some(format!(
+                "{direct}; the branch from the Hopf point did not reach it either ({end})"
+            ));
         }
     }
 }
@@ -403,6 +534,10 @@ pub struct Cycles {
     pub requested_points: Vec<Requested>,
     pub lpc_curve: Vec<FoldPoint>,
     pub lpc_stops: Vec<LpcStop>,
+    /// The cycle at the scene's own stiffness, where the scene or `--set`
+    /// gives K.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub operating_point: Option<OperatingCycle>,
     /// The files written (by the command line).
     pub files: Vec<String>,
     /// Why there is no branch at all.

@@ -9,9 +9,9 @@ use super::{SceneSpec, Setup};
 use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::analysis::settle::settle;
 use crate::analysis::settle::SettleError;
 use crate::analysis::simulate::Unsettled;
-use crate::analysis::settle::settle;
 use crate::analysis::simulate::{
     measured_regime, regime_settings, settle_failure, settled_with_inertia_judged,
     simulate_watched, RegimeReached, RunEnd, RunOptions, Sample, Segment, Trajectory,
@@ -292,13 +292,18 @@ fn regime_with_inertia_judged(
     };
     let kind = at.model;
     let params = params_of(kind);
-    settle(kind, &params, [at.s, at.v, at.theta], &regime_settings(&params))
-        .and_then(|orbit| {
-            settled_with_inertia_judged(kind, params_of, orbit, watch, rtol, regime_settings)
-        })
-        .map_or_else(settle_failure, |j| {
-            measured_regime(j.kind, &j.params, &j.orbit)
-        })
+    settle(
+        kind,
+        &params,
+        [at.s, at.v, at.theta],
+        &regime_settings(&params),
+    )
+    .and_then(|orbit| {
+        settled_with_inertia_judged(kind, params_of, orbit, watch, rtol, regime_settings)
+    })
+    .map_or_else(settle_failure, |j| {
+        measured_regime(j.kind, &j.params, &j.orbit)
+    })
 }
 
 /// Why the regime is undetermined, in the text's units and with what a

@@ -7,9 +7,12 @@ use crate::analysis::cycles::{
     CycleBifurcation, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
     ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
 };
+use crate::analysis::operating_point::Regime;
+use crate::analysis::settle::SettledOrbit;
 use crate::error::Error;
 use crate::model::ModelKind;
 use crate::records::csv::CsvRecord;
+use crate::records::hopf::OperatingPoint;
 use crate::scene::Units;
 use continuation::Stop;
 use serde::{Serialize, Serializer};
@@ -402,5 +405,84 @@ mod tests {
         let estimate: f64 = cell("error_estimate").unwrap().parse().unwrap();
         assert_eq!(Some(estimate), json["error_estimate"].as_f64());
         assert_eq!(cell("model"), json["model"].as_str());
+    }
+}
+
+/// The cycle at the scene's own stiffness, delivered before the branch
+/// (JSON `operating_point`; only where the scene or `--set` gives K): the
+/// rig's regime there as `hopf` reports it, and, unless that is steady
+/// sliding, the cycle.
+#[derive(Clone, Debug, Serialize)]
+pub struct OperatingCycle {
+    /// `K_N_per_m`, `kappa`, `regime`, `margin`, `reason` as `hopf`'s.
+    #[serde(flatten)]
+    pub point: OperatingPoint,
+    /// Whether a cycle is looked for: not where steady sliding is the
+    /// regime (or there is no spring).
+    pub wanted: bool,
+    pub delivered: bool,
+    /// How the cycle was obtained: `simulation` (a simulated orbit
+    /// corrected by collocation at K), `continuation` (along the branch
+    /// from the Hopf point, where the first failed), `branch_start` (the
+    /// start of a branch from a simulated orbit at K); `null` without one.
+    pub method: Option<&'static str>,
+    pub cycle: Option<Cycle>,
+    /// The slip per event, `V T` [µm] (the block slides as far as the
+    /// drive moves in a period).
+    pub slip_um: Option<f64>,
+    /// The simulated orbit the cycle was corrected from (`simulation`).
+    pub simulation: Option<SimulatedOrbit>,
+    /// Why the direct start failed, where the continuation delivered instead.
+    pub fallback_reason: Option<String>,
+    /// Why no cycle was delivered where one was wanted.
+    pub not_delivered: Option<String>,
+}
+
+/// A settled simulated orbit in the scene's units.
+#[derive(Clone, Debug, Serialize)]
+pub struct SimulatedOrbit {
+    pub model: ModelKind,
+    pub oscillations: usize,
+    /// Simulated time until it settled [s].
+    pub time_s: f64,
+    /// Its period from the return map [s].
+    pub period_s: f64,
+}
+
+impl SimulatedOrbit {
+    /// The orbit `o` of model `model` in the units `u`.
+    pub fn new(model: ModelKind, o: &SettledOrbit, u: &Units) -> Self {
+        SimulatedOrbit {
+            model,
+            oscillations: o.periods,
+            time_s: o.time * u.d0 / u.v0,
+            period_s: o.period * u.d0 / u.v0,
+        }
+    }
+}
+
+impl OperatingCycle {
+    /// The operating point `point`, its cycle still to come.
+    pub fn new(point: OperatingPoint) -> Self {
+        OperatingCycle {
+            wanted: point.regime != Regime::Steady && point.kappa > 0.0,
+            point,
+            delivered: false,
+            method: None,
+            cycle: None,
+            slip_um: None,
+            simulation: None,
+            fallback_reason: None,
+            not_delivered: None,
+        }
+    }
+
+    /// The cycle `c` (at the velocity `nu`) delivered by `method`.
+    pub fn deliver(&mut self, c: &CycleRecord, method: &'static str, u: &Units) {
+        let nu = c.params[crate::params::Param::Nu as usize];
+        self.delivered = true;
+        self.method = Some(method);
+        self.slip_um = Some(nu * c.period * u.d0 * 1e6);
+        self.cycle = Some(Cycle::new(c, u));
     }
 }
