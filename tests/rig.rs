@@ -246,8 +246,7 @@ fn critical_load_and_inertia_in_closed_form() {
 }
 
 /// Period [s] and force drop [N] of the regime a long integration settles
-/// on: up-crossings of the mid-level of the spring force over the last 150
-/// s (interpolated), its range there.
+/// on, from its CSV ([`settled_of`]).
 fn settled_cycle(csv: &Path) -> (f64, f64) {
     let text = std::fs::read_to_string(csv).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
@@ -260,6 +259,13 @@ fn settled_cycle(csv: &Path) -> (f64, f64) {
             (cells[it].parse().unwrap(), cells[iforce].parse().unwrap())
         })
         .collect();
+    settled_of(&rows)
+}
+
+/// Period and range of the spring force of `(time, force)` rows: up-crossings
+/// of the mid-level of the force over the last 150 time units (interpolated),
+/// its range there.
+fn settled_of(rows: &[(f64, f64)]) -> (f64, f64) {
     let end = rows.last().unwrap().0;
     let last: Vec<f64> = rows
         .iter()
@@ -277,6 +283,164 @@ fn settled_cycle(csv: &Path) -> (f64, f64) {
     let n = ups.len();
     assert!(n >= 4, "{n} cycles");
     ((ups[n - 1] - ups[n - 3]) / 2.0, hi - lo)
+}
+
+/// The rig's `cycles` run at the motor velocity `v` [µm/s] through the
+/// library job, with the cycle at its K also asked for with `--at K=2e5`:
+/// the operating point (the direct start) and that requested cycle (the
+/// continuation from the Hopf point down to K), both in the scene's units.
+fn cycle_at_k_both_ways(
+    v: f64,
+) -> (
+    stickslip::records::cycle::OperatingCycle,
+    stickslip::records::cycle::Cycle,
+) {
+    use stickslip::jobs::cycles::{CyclesRequest, Plan, Quiet};
+    use stickslip::records::cycle::Asked;
+    let (_dir, path) = scene(&format!("cycle-at-k-{v}"), RIG);
+    let mut spec = stickslip::jobs::SceneSpec::named(path.to_str().unwrap());
+    spec.set = vec![format!("V={v}")];
+    let request = CyclesRequest {
+        at: vec![Asked {
+            name: "K",
+            value: K,
+            unit: "N/m",
+        }],
+        ..CyclesRequest::default()
+    };
+    let mut result = Plan::new(&spec, request).unwrap().run(&mut Quiet);
+    assert!(result.status().is_ok(), "{}", result.stop);
+    let op = result.operating_point.clone().expect("the rig gives K");
+    let at_k: Vec<_> = result
+        .cycles
+        .iter()
+        .filter(|c| c.user_point && c.k_n_per_m == op.point.k_n_per_m)
+        .cloned()
+        .collect();
+    assert_eq!(at_k.len(), 1, "the requested cycle at K");
+    (op, at_k[0].clone())
+}
+
+/// Issue 24: the cycle at the scene's K delivered first, directly (a
+/// simulated orbit corrected by collocation at K), equals the cycle the
+/// continuation from the Hopf point reaches at K (`--at K=2e5`), an
+/// independent computation: period and force drop to 1e-8 relative (both
+/// carry error estimates below 1e-9); and a long integration at V = 10
+/// µm/s (600 s from steady sliding, spring-force up-crossings) settles on
+/// it to 1e-6.
+#[test]
+fn the_cycle_at_the_rigs_k_directly_and_along_the_branch() {
+    let (op, branch) = cycle_at_k_both_ways(V);
+    assert_eq!(op.method, Some("simulation"), "{:?}", op.not_delivered);
+    assert_eq!(op.point.regime.name(), "stick-slip");
+    let c = op.cycle.as_ref().unwrap();
+    assert_eq!(c.kappa, branch.kappa);
+    for (a, b, what) in [
+        (c.period_s, branch.period_s, "period"),
+        (c.delta_s_n, branch.delta_s_n, "force drop"),
+    ] {
+        assert!(rel(a, b) < 1e-8, "{what}: directly {a}, along the branch {b}");
+    }
+    for est in [c.error_estimate, branch.error_estimate] {
+        assert!(est.unwrap() < 1e-9, "{est:?}");
+    }
+    // The slip per event is the drive's travel in one period.
+    assert!(rel(op.slip_um.unwrap(), V * c.period_s) < 1e-14);
+    // A long integration, its period from the spring force's up-crossings.
+    use stickslip::jobs::simulate::{Observer, Plan, SimulateRequest};
+    struct Rows(Vec<(f64, f64)>, f64);
+    impl Observer for Rows {
+        fn sample(&mut self, p: &stickslip::analysis::simulate::Sample) -> std::io::Result<()> {
+            self.0.push((p.t * self.1, p.s));
+            Ok(())
+        }
+    }
+    let (_dir, path) = scene("cycle-at-k-simulated", RIG);
+    let spec = stickslip::jobs::SceneSpec::named(path.to_str().unwrap());
+    let request = SimulateRequest {
+        protocol: Some(vec![(V, 600.0)]),
+        rtol: 1e-10,
+        max_steps: 1_000_000,
+        ..SimulateRequest::default()
+    };
+    let mut rows = Rows(Vec::new(), D0 / V0);
+    Plan::new(&spec, request).unwrap().run(&mut rows);
+    let (period, drop) = settled_of(&rows.0);
+    assert!(rel(period, c.period_s) < 1e-6, "simulated {period} s, {}", c.period_s);
+    assert!(rel(drop * W, c.delta_s_n) < 1e-6, "simulated {} N, {}", drop * W, c.delta_s_n);
+}
+
+/// The same at V = 1 µm/s, where the slip velocity spans 14 decades
+/// (1.5e-9 to 9.7e4 µm/s) and the orbit needs inertia although the onset
+/// is quasi-static: the direct start simulates quasi-statically, judges
+/// the model on the whole orbit (inertial) and corrects on more intervals;
+/// the branch from the Hopf point switches model on the way down to K.
+#[test]
+fn the_cycle_at_the_rigs_k_at_one_micron_per_second() {
+    let (op, branch) = cycle_at_k_both_ways(1.0);
+    assert_eq!(op.method, Some("simulation"), "{:?}", op.not_delivered);
+    assert_eq!(op.simulation.as_ref().unwrap().model.name(), "inertial");
+    let c = op.cycle.as_ref().unwrap();
+    for (a, b, what) in [
+        (c.period_s, branch.period_s, "period"),
+        (c.delta_s_n, branch.delta_s_n, "force drop"),
+    ] {
+        assert!(rel(a, b) < 1e-8, "{what}: directly {a}, along the branch {b}");
+    }
+    assert!(c.v_min_um_per_s < 1e-8 && c.v_max_um_per_s > 1e4, "{c:?}");
+}
+
+/// Property: over stiffnesses below and above the onset and velocities of
+/// the rig's range, the direct start either delivers the cycle at exactly
+/// the stiffness asked (its period that of the simulated orbit it came
+/// from, to the return map's tolerance), or fails with the typed error of
+/// the step that failed, naming the stiffness: above K_c (4.8e6 N/m at 10
+/// µm/s; supercritical) the stuck start decays to steady sliding.
+#[test]
+fn the_direct_start_delivers_or_names_its_cause() {
+    use stickslip::analysis::cycle_at::{cycle_at, CycleAtError};
+    use stickslip::analysis::cycles::CycleRequest;
+    use stickslip::analysis::orbit_inertia::InertiaWatch;
+    use stickslip::analysis::settle::SettleError;
+    let (_dir, path) = scene("cycle-at-property", RIG);
+    let req = CycleRequest {
+        kappa_min: 0.0,
+        kappa_max: f64::INFINITY,
+        max_steps: 1,
+        ntst: 40,
+        at_kappa: Vec::new(),
+        ntst_max: 12800,
+        collocation: None,
+    };
+    let (mut delivered, mut decayed) = (0, 0);
+    for v in [0.3, 3.0, 30.0] {
+        for k_n_per_m in [5e4, 2e5, 1e6, 2e7] {
+            let mut spec = stickslip::jobs::SceneSpec::named(path.to_str().unwrap());
+            spec.set = vec![format!("V={v}"), format!("K={k_n_per_m}")];
+            let setup = spec.setup(|p| *p).unwrap();
+            let p = setup.scene_params;
+            let watch = InertiaWatch::new(&p, 1e-3, true);
+            let above_onset = p.kappa > kappa_c(p.nu, p.m);
+            match cycle_at(&p, setup.choice.kind, p.kappa, &watch, &req) {
+                Ok(c) => {
+                    assert!(!above_onset, "a cycle above K_c at V = {v}, K = {k_n_per_m}");
+                    assert_eq!(c.record.kappa, p.kappa);
+                    let period = c.simulated.orbit.period;
+                    assert!(rel(c.record.period, period) < 1e-6, "{} {period}", c.record.period);
+                    delivered += 1;
+                }
+                Err(e @ CycleAtError::Simulation(SettleError::Decayed { .. })) => {
+                    assert!(above_onset, "V = {v}, K = {k_n_per_m}: {e}");
+                    let text = e.to_string();
+                    assert!(text.contains("decayed to steady sliding"), "{text}");
+                    assert!(text.contains(&format!("{:.6e}", p.kappa)), "{text}");
+                    decayed += 1;
+                }
+                Err(e) => panic!("V = {v}, K = {k_n_per_m}: {e}"),
+            }
+        }
+    }
+    assert!(delivered >= 8 && decayed >= 1, "{delivered} delivered, {decayed} decayed");
 }
 
 #[test]
