@@ -259,17 +259,17 @@ fn settled_cycle(csv: &Path) -> (f64, f64) {
             (cells[it].parse().unwrap(), cells[iforce].parse().unwrap())
         })
         .collect();
-    settled_of(&rows)
+    settled_of(&rows, 150.0)
 }
 
 /// Period and range of the spring force of `(time, force)` rows: up-crossings
-/// of the mid-level of the force over the last 150 time units (interpolated),
-/// its range there.
-fn settled_of(rows: &[(f64, f64)]) -> (f64, f64) {
+/// of the mid-level of the force (interpolated), its range over the last
+/// `window` time units (longer than a period).
+fn settled_of(rows: &[(f64, f64)], window: f64) -> (f64, f64) {
     let end = rows.last().unwrap().0;
     let last: Vec<f64> = rows
         .iter()
-        .filter(|(t, _)| *t > end - 150.0)
+        .filter(|(t, _)| *t > end - window)
         .map(|r| r.1)
         .collect();
     let hi = last.iter().cloned().fold(f64::MIN, f64::max);
@@ -286,108 +286,136 @@ fn settled_of(rows: &[(f64, f64)]) -> (f64, f64) {
 }
 
 /// The rig's `cycles` run at the motor velocity `v` [µm/s] through the
-/// library job, with the cycle at its K also asked for with `--at K=2e5`:
-/// the operating point (the direct start) and that requested cycle (the
-/// continuation from the Hopf point down to K), both in the scene's units.
-fn cycle_at_k_both_ways(
+/// library job with `request`: its operating point (the cycle at K
+/// delivered first) and the cycles of the branch, in the scene's units.
+fn cycles_of_the_rig(
     v: f64,
+    request: stickslip::jobs::cycles::CyclesRequest,
 ) -> (
     stickslip::records::cycle::OperatingCycle,
-    stickslip::records::cycle::Cycle,
+    Vec<stickslip::records::cycle::Cycle>,
 ) {
-    use stickslip::jobs::cycles::{CyclesRequest, Plan, Quiet};
-    use stickslip::records::cycle::Asked;
+    use stickslip::jobs::cycles::{Plan, Quiet};
     let (_dir, path) = scene(&format!("cycle-at-k-{v}"), RIG);
     let mut spec = stickslip::jobs::SceneSpec::named(path.to_str().unwrap());
     spec.set = vec![format!("V={v}")];
-    let request = CyclesRequest {
-        at: vec![Asked {
-            name: "K",
-            value: K,
-            unit: "N/m",
-        }],
-        ..CyclesRequest::default()
-    };
     let mut result = Plan::new(&spec, request).unwrap().run(&mut Quiet);
     assert!(result.status().is_ok(), "{}", result.stop);
     let op = result.operating_point.clone().expect("the rig gives K");
-    let at_k: Vec<_> = result
-        .cycles
-        .iter()
-        .filter(|c| c.user_point && c.k_n_per_m == op.point.k_n_per_m)
-        .cloned()
-        .collect();
-    assert_eq!(at_k.len(), 1, "the requested cycle at K");
-    (op, at_k[0].clone())
+    assert_eq!(op.method, Some("simulation"), "{:?}", op.not_delivered);
+    assert_eq!(op.point.regime.name(), "stick-slip");
+    (op, result.cycles)
+}
+
+/// Period [s] and force drop [N] of the rig's regime at `v` [µm/s] by a
+/// long integration through the library job (`duration` s from steady
+/// sliding, rtol 1e-10): the spring force's up-crossings ([`settled_of`]
+/// over the last `window` s).
+fn simulated_regime(v: f64, duration: f64, window: f64) -> (f64, f64) {
+    use stickslip::jobs::simulate::{Observer, Plan, SimulateRequest};
+    /// `(t [s], s)` of every step.
+    struct Rows(Vec<(f64, f64)>);
+    impl Observer for Rows {
+        fn sample(&mut self, p: &stickslip::analysis::simulate::Sample) -> std::io::Result<()> {
+            self.0.push((p.t * D0 / V0, p.s));
+            Ok(())
+        }
+    }
+    let (_dir, path) = scene(&format!("cycle-at-k-simulated-{v}"), RIG);
+    let mut spec = stickslip::jobs::SceneSpec::named(path.to_str().unwrap());
+    spec.set = vec![format!("V={v}")];
+    let request = SimulateRequest {
+        protocol: Some(vec![(v, duration)]),
+        rtol: 1e-10,
+        max_steps: 1_000_000,
+        ..SimulateRequest::default()
+    };
+    let mut rows = Rows(Vec::new());
+    Plan::new(&spec, request).unwrap().run(&mut rows);
+    let (period, drop) = settled_of(&rows.0, window);
+    (period, drop * W)
 }
 
 /// Issue 24: the cycle at the scene's K delivered first, directly (a
 /// simulated orbit corrected by collocation at K), equals the cycle the
 /// continuation from the Hopf point reaches at K (`--at K=2e5`), an
-/// independent computation: period and force drop to 1e-8 relative (both
-/// carry error estimates below 1e-9); and a long integration at V = 10
-/// µm/s (600 s from steady sliding, spring-force up-crossings) settles on
-/// it to 1e-6.
+/// independent computation: period and force drop to 1e-11 relative (both
+/// carry error estimates below 1e-12; measured 8e-14); and a long
+/// integration (600 s from steady sliding) settles on it to 1e-6.
 #[test]
 fn the_cycle_at_the_rigs_k_directly_and_along_the_branch() {
-    let (op, branch) = cycle_at_k_both_ways(V);
-    assert_eq!(op.method, Some("simulation"), "{:?}", op.not_delivered);
-    assert_eq!(op.point.regime.name(), "stick-slip");
+    use stickslip::records::cycle::Asked;
+    let request = stickslip::jobs::cycles::CyclesRequest {
+        at: vec![Asked {
+            name: "K",
+            value: K,
+            unit: "N/m",
+        }],
+        ..Default::default()
+    };
+    let (op, cycles) = cycles_of_the_rig(V, request);
     let c = op.cycle.as_ref().unwrap();
+    let along: Vec<_> = cycles.iter().filter(|b| b.user_point).collect();
+    assert_eq!(along.len(), 1, "the requested cycle at K");
+    let branch = along[0];
     assert_eq!(c.kappa, branch.kappa);
+    assert_eq!(c.k_n_per_m, K);
     for (a, b, what) in [
         (c.period_s, branch.period_s, "period"),
         (c.delta_s_n, branch.delta_s_n, "force drop"),
     ] {
-        assert!(rel(a, b) < 1e-8, "{what}: directly {a}, along the branch {b}");
+        assert!(
+            rel(a, b) < 1e-11,
+            "{what}: directly {a}, along the branch {b}"
+        );
     }
     for est in [c.error_estimate, branch.error_estimate] {
-        assert!(est.unwrap() < 1e-9, "{est:?}");
+        assert!(est.unwrap() < 1e-12, "{est:?}");
     }
     // The slip per event is the drive's travel in one period.
     assert!(rel(op.slip_um.unwrap(), V * c.period_s) < 1e-14);
-    // A long integration, its period from the spring force's up-crossings.
-    use stickslip::jobs::simulate::{Observer, Plan, SimulateRequest};
-    struct Rows(Vec<(f64, f64)>, f64);
-    impl Observer for Rows {
-        fn sample(&mut self, p: &stickslip::analysis::simulate::Sample) -> std::io::Result<()> {
-            self.0.push((p.t * self.1, p.s));
-            Ok(())
-        }
-    }
-    let (_dir, path) = scene("cycle-at-k-simulated", RIG);
-    let spec = stickslip::jobs::SceneSpec::named(path.to_str().unwrap());
-    let request = SimulateRequest {
-        protocol: Some(vec![(V, 600.0)]),
-        rtol: 1e-10,
-        max_steps: 1_000_000,
-        ..SimulateRequest::default()
-    };
-    let mut rows = Rows(Vec::new(), D0 / V0);
-    Plan::new(&spec, request).unwrap().run(&mut rows);
-    let (period, drop) = settled_of(&rows.0);
-    assert!(rel(period, c.period_s) < 1e-6, "simulated {period} s, {}", c.period_s);
-    assert!(rel(drop * W, c.delta_s_n) < 1e-6, "simulated {} N, {}", drop * W, c.delta_s_n);
+    let (period, drop) = simulated_regime(V, 600.0, 150.0);
+    assert!(
+        rel(period, c.period_s) < 1e-6,
+        "simulated {period} s, {}",
+        c.period_s
+    );
+    assert!(
+        rel(drop, c.delta_s_n) < 1e-6,
+        "simulated {drop} N, {}",
+        c.delta_s_n
+    );
 }
 
 /// The same at V = 1 µm/s, where the slip velocity spans 14 decades
 /// (1.5e-9 to 9.7e4 µm/s) and the orbit needs inertia although the onset
 /// is quasi-static: the direct start simulates quasi-statically, judges
-/// the model on the whole orbit (inertial) and corrects on more intervals;
-/// the branch from the Hopf point switches model on the way down to K.
+/// the model on the whole orbit (inertial) and corrects on more intervals.
+/// Against a long integration (8000 s from steady sliding) to 1e-6; the
+/// continuation from the Hopf point to K (30 s of CPU, beyond a test's
+/// budget) agrees to 2e-14 (docs/index.md §6).
 #[test]
 fn the_cycle_at_the_rigs_k_at_one_micron_per_second() {
-    let (op, branch) = cycle_at_k_both_ways(1.0);
-    assert_eq!(op.method, Some("simulation"), "{:?}", op.not_delivered);
+    let request = stickslip::jobs::cycles::CyclesRequest {
+        kappa_fraction: 0.99,
+        ..Default::default()
+    };
+    let (op, _) = cycles_of_the_rig(1.0, request);
     assert_eq!(op.simulation.as_ref().unwrap().model.name(), "inertial");
     let c = op.cycle.as_ref().unwrap();
-    for (a, b, what) in [
-        (c.period_s, branch.period_s, "period"),
-        (c.delta_s_n, branch.delta_s_n, "force drop"),
-    ] {
-        assert!(rel(a, b) < 1e-8, "{what}: directly {a}, along the branch {b}");
-    }
     assert!(c.v_min_um_per_s < 1e-8 && c.v_max_um_per_s > 1e4, "{c:?}");
+    assert!(c.error_estimate.unwrap() < 1e-12, "{c:?}");
+    let (period, drop) = simulated_regime(1.0, 8000.0, 1000.0);
+    assert!(
+        rel(period, c.period_s) < 1e-6,
+        "simulated {period} s, {}",
+        c.period_s
+    );
+    assert!(
+        rel(drop, c.delta_s_n) < 1e-6,
+        "simulated {drop} N, {}",
+        c.delta_s_n
+    );
 }
 
 /// Property: over stiffnesses below and above the onset and velocities of
@@ -423,10 +451,17 @@ fn the_direct_start_delivers_or_names_its_cause() {
             let above_onset = p.kappa > kappa_c(p.nu, p.m);
             match cycle_at(&p, setup.choice.kind, p.kappa, &watch, &req) {
                 Ok(c) => {
-                    assert!(!above_onset, "a cycle above K_c at V = {v}, K = {k_n_per_m}");
+                    assert!(
+                        !above_onset,
+                        "a cycle above K_c at V = {v}, K = {k_n_per_m}"
+                    );
                     assert_eq!(c.record.kappa, p.kappa);
                     let period = c.simulated.orbit.period;
-                    assert!(rel(c.record.period, period) < 1e-6, "{} {period}", c.record.period);
+                    assert!(
+                        rel(c.record.period, period) < 1e-6,
+                        "{} {period}",
+                        c.record.period
+                    );
                     delivered += 1;
                 }
                 Err(e @ CycleAtError::Simulation(SettleError::Decayed { .. })) => {
@@ -440,7 +475,10 @@ fn the_direct_start_delivers_or_names_its_cause() {
             }
         }
     }
-    assert!(delivered >= 8 && decayed >= 1, "{delivered} delivered, {decayed} decayed");
+    assert!(
+        delivered >= 8 && decayed >= 1,
+        "{delivered} delivered, {decayed} decayed"
+    );
 }
 
 #[test]

@@ -545,7 +545,8 @@ class Cycles(_Columns, _Drawn):
     `period_s`, `delta_s_N`; `stable` is True/False/None where undecidable),
     `table` holds them all, `orbits[i]` is cycle i sampled over one period
     (columns t/T, s, v, theta; `orbit(i)` names them). `special_points`,
-    `requested_points` and `lpc_curve` are tables of their own.
+    `requested_points` and `lpc_curve` are tables of their own;
+    `operating_point` is the cycle at the scene's own K, where it gives one.
     """
 
     _hidden = ("orbits",)
@@ -591,6 +592,17 @@ class Cycles(_Columns, _Drawn):
     @property
     def requested_points(self) -> list[dict]:
         return copy.deepcopy(self._data["requested_points"])
+
+    @property
+    def operating_point(self) -> dict | None:
+        """The cycle at the scene's own stiffness, computed before the branch
+        where the scene (or `set`) gives K: `regime` as `hopf` reports it,
+        `cycle` (the fields of a cycle; None in steady sliding), `method`
+        (`simulation`: a simulated orbit corrected by collocation at K;
+        `continuation`: along the branch from the Hopf point, where the first
+        failed, `fallback_reason` saying why), `slip_um`, `simulation`.
+        None without K."""
+        return copy.deepcopy(self._data.get("operating_point"))
 
     @property
     def lpc_curve(self) -> dict[str, np.ndarray]:

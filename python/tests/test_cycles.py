@@ -36,6 +36,22 @@ def test_equals_the_cli_json(cli, branch):
     assert branch.complete and len(branch) > 3
 
 
+def test_the_cycle_at_the_scenes_k_first(cli, root):
+    """The rig (K = 2e5 N/m) at 1 um/s: the cycle at its K, delivered
+    before the branch, as the command line's `operating_point`."""
+    rig = str(root / "examples" / "scenes" / "rig.toml")
+    r = stickslip.cycles(Scene.from_toml(rig).with_(V=1.0), max_steps=2)
+    expected = cli("cycles", "--scene", rig, "--set", "V=1.0", "--max-steps", "2", expect=4)
+    assert r.operating_point == expected["operating_point"]
+    op = r.operating_point
+    assert op["regime"] == "stick-slip" and op["method"] == "simulation"
+    assert op["cycle"]["K_N_per_m"] == pytest.approx(2e5, rel=1e-15)
+    assert op["cycle"]["period_s"] == pytest.approx(439.5281, rel=1e-6)
+    assert op["slip_um"] == pytest.approx(1.0 * op["cycle"]["period_s"], rel=1e-14)
+    # Without K in the scene: no operating point (the JSON as before).
+    assert stickslip.cycles("pmma", kappa_fraction=0.99).operating_point is None
+
+
 def test_columns_are_arrays(branch):
     d = branch.to_dict()["cycles"]
     assert isinstance(branch.kappa, np.ndarray) and branch.kappa.dtype == np.float64
