@@ -597,7 +597,12 @@ fn cycles(case: &Case, max_steps: &usize) -> Verdict {
         Ok(o) => o,
         Err(e) => return typed_error("cycles: onset", &e, context),
     };
-    let start = match Start::choose(&setup, onset, false) {
+    let watch = InertiaWatch::new(
+        &setup.scene_params,
+        DEFAULT_INERTIA_THRESHOLD,
+        case.model.is_none(),
+    );
+    let start = match Start::choose(&setup, onset, false, &watch) {
         Ok(s) => s,
         Err(e) => return typed_error("cycles: start", &e, context),
     };
@@ -618,11 +623,6 @@ fn cycles(case: &Case, max_steps: &usize) -> Verdict {
         // Each model's own points (the branch may change model).
         collocation: None,
     };
-    let watch = InertiaWatch::new(
-        &setup.scene_params,
-        DEFAULT_INERTIA_THRESHOLD,
-        case.model.is_none(),
-    );
     let mut records: Vec<CycleRecord> = Vec::new();
     let outcomes = start.trace(&setup, &req, &watch, |c: &CycleRecord| {
         records.push(c.clone());
