@@ -307,11 +307,16 @@ fn cycles_of_the_rig(
     (op, result.cycles)
 }
 
-/// Period [s] and force drop [N] of the rig's regime at `v` [µm/s] by a
-/// long integration through the library job (`duration` s from steady
-/// sliding, rtol 1e-10): the spring force's up-crossings ([`settled_of`]
-/// over the last `window` s).
-fn simulated_regime(v: f64, duration: f64, window: f64) -> (f64, f64) {
+/// Checks the cycle `c` of the rig at `v` [µm/s] against a long
+/// integration through the library job (`duration` s from steady sliding,
+/// rtol 1e-10): period and force drop from the spring force's up-crossings
+/// ([`settled_of`] over the last `window` s) to 1e-6 relative.
+fn a_long_simulation_settles_on(
+    c: &stickslip::records::cycle::Cycle,
+    v: f64,
+    duration: f64,
+    window: f64,
+) {
     use stickslip::jobs::simulate::{Observer, Plan, SimulateRequest};
     /// `(t [s], s)` of every step.
     struct Rows(Vec<(f64, f64)>);
@@ -333,7 +338,17 @@ fn simulated_regime(v: f64, duration: f64, window: f64) -> (f64, f64) {
     let mut rows = Rows(Vec::new());
     Plan::new(&spec, request).unwrap().run(&mut rows);
     let (period, drop) = settled_of(&rows.0, window);
-    (period, drop * W)
+    let drop = drop * W;
+    assert!(
+        rel(period, c.period_s) < 1e-6,
+        "simulated {period} s, {}",
+        c.period_s
+    );
+    assert!(
+        rel(drop, c.delta_s_n) < 1e-6,
+        "simulated {drop} N, {}",
+        c.delta_s_n
+    );
 }
 
 /// Issue 24: the cycle at the scene's K delivered first, directly (a
@@ -374,17 +389,7 @@ fn the_cycle_at_the_rigs_k_directly_and_along_the_branch() {
     }
     // The slip per event is the drive's travel in one period.
     assert!(rel(op.slip_um.unwrap(), V * c.period_s) < 1e-14);
-    let (period, drop) = simulated_regime(V, 600.0, 150.0);
-    assert!(
-        rel(period, c.period_s) < 1e-6,
-        "simulated {period} s, {}",
-        c.period_s
-    );
-    assert!(
-        rel(drop, c.delta_s_n) < 1e-6,
-        "simulated {drop} N, {}",
-        c.delta_s_n
-    );
+    a_long_simulation_settles_on(c, V, 600.0, 150.0);
 }
 
 /// The same at V = 1 µm/s, where the slip velocity spans 14 decades
@@ -405,17 +410,7 @@ fn the_cycle_at_the_rigs_k_at_one_micron_per_second() {
     let c = op.cycle.as_ref().unwrap();
     assert!(c.v_min_um_per_s < 1e-8 && c.v_max_um_per_s > 1e4, "{c:?}");
     assert!(c.error_estimate.unwrap() < 1e-12, "{c:?}");
-    let (period, drop) = simulated_regime(1.0, 8000.0, 1000.0);
-    assert!(
-        rel(period, c.period_s) < 1e-6,
-        "simulated {period} s, {}",
-        c.period_s
-    );
-    assert!(
-        rel(drop, c.delta_s_n) < 1e-6,
-        "simulated {drop} N, {}",
-        c.delta_s_n
-    );
+    a_long_simulation_settles_on(c, 1.0, 8000.0, 1000.0);
 }
 
 /// Property: over stiffnesses below and above the onset and velocities of
