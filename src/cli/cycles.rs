@@ -409,11 +409,11 @@ fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
     )];
     let how = match (op.method, &op.simulation) {
         (Some("simulation"), Some(s)) => format!(
-            "simulated ({}, settled after {} oscillations), corrected by collocation",
+            "simulated in the {} model (settled after {} oscillations), corrected by collocation",
             s.model.name(),
             s.oscillations
         ),
-        (Some("continuation"), _) => "along the branch from the Hopf point".to_string(),
+        (Some("continuation"), _) => "reached along the branch from the Hopf point".to_string(),
         _ => "the start of the branch".to_string(),
     };
     match (&op.cycle, op.slip_um) {
@@ -429,7 +429,7 @@ fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
                 ),
             };
             lines.push(format!(
-                "  cycle at the scene's K ({how}): {at}  {}  err {}  NTST {}",
+                "  the cycle at the scene's K, {how}:\n    {at}  {}  err {}  NTST {}",
                 c.stable.word(),
                 or_na(c.error_estimate, "no solution on half the mesh"),
                 c.ntst

@@ -371,14 +371,11 @@ impl Plan {
         // then among what is missing; one where no cycle exists (above
         // kappa_c, beyond a fold, no branch at all) is answered by its reason.
         let undelivered = requested.iter().filter(|r| r.reason.is_some()).count();
-        let operating_missing = operating
-            .as_ref()
-            .filter(|op| op.wanted && !op.delivered)
-            .map(|op| {
-                op.not_delivered.clone().unwrap_or_else(|| {
-                    "the branch from the simulated orbit at the scene's K gave no cycle".into()
-                })
-            });
+        let operating_missing = operating.as_ref().filter(|op| op.missing()).map(|op| {
+            op.not_delivered.clone().unwrap_or_else(|| {
+                "the branch from the simulated orbit at the scene's K gave no cycle".into()
+            })
+        });
         let complete = start.conclusive()
             && legs_complete
             && !folds.incomplete

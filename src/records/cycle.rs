@@ -477,6 +477,15 @@ impl OperatingCycle {
         }
     }
 
+    /// Whether the run is short of its request without the cycle: where
+    /// one exists for sure (stick-slip below K_c, or bistable); where the
+    /// regime is undecided a missing cycle is reported, not a shortfall.
+    pub fn missing(&self) -> bool {
+        self.wanted
+            && !self.delivered
+            && matches!(self.point.regime, Regime::StickSlip | Regime::Bistable)
+    }
+
     /// The cycle `c` (at the velocity `nu`) delivered by `method`.
     pub fn deliver(&mut self, c: &CycleRecord, method: &'static str, u: &Units) {
         let nu = c.params[crate::params::Param::Nu as usize];
