@@ -1014,8 +1014,8 @@ class Simulation(_Drawn):
     `v_um_per_s`, `theta_s`, `slip_um`. `regime` is the regime reached
     after a complete run: {"kind": "periodic", "period_s", "force_drop_N",
     "slip_um", ...}, {"kind": "steady"} or {"kind": "unsettled", "reason"}.
-    `to_dict()` is the run's record (no time series: the command line has
-    no JSON for simulate; it holds the facts of its text).
+    `to_dict()` is `stickslip simulate --json` without `files`: the run's
+    record (steps, times, the switch, the regime), no time series.
     """
 
     def __init__(
