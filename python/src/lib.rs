@@ -26,10 +26,12 @@ use stickslip::analysis::simulate::Sample;
 use stickslip::error::{Error, InputError};
 use stickslip::error::{Interruption, StopSignal};
 use stickslip::file_names::{run_name, stem as files_stem, with_suffix};
+use stickslip::fit::data::Kind;
 use stickslip::jobs::branch::BranchRequest;
 use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan};
 use stickslip::jobs::cycles_in::{asked_values, CyclesInControlRequest};
 use stickslip::jobs::diagram::{run_pair, DiagramRequest};
+use stickslip::jobs::fit::FitRequest;
 use stickslip::jobs::hopf::HopfRequest;
 use stickslip::jobs::simulate::SimulateRequest;
 use stickslip::jobs::SceneSpec;
@@ -659,6 +661,37 @@ fn branch<'py>(
     Ok(d)
 }
 
+/// `stickslip fit`: the JSON the command prints (`files` empty), the
+/// fitted scene's TOML and the figures.
+#[pyfunction]
+#[pyo3(signature = (scene, data, free=None))]
+fn fit<'py>(
+    py: Python<'py>,
+    scene: SceneArg,
+    data: Vec<(String, PathBuf)>,
+    free: Option<Vec<String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (spec, shown) = scene.spec()?;
+    let err = |e: Error| to_py(e, shown.as_ref());
+    let data = data
+        .into_iter()
+        .map(|(kind, file)| Ok((Kind::parse(&kind)?, file)))
+        .collect::<Result<Vec<_>, InputError>>()
+        .map_err(|e| err(e.into()))?;
+    let request = FitRequest { data, free };
+    let result = py
+        .detach(|| stickslip::jobs::fit::run(&spec, &request))
+        .map_err(err)?;
+    let d = PyDict::new(py);
+    d.set_item("json", to_json(&result)?)?;
+    d.set_item("fitted_toml", &result.fitted_toml)?;
+    let figures = Figures::new(&spec, move |stem| {
+        stickslip::plot::fit::figures(&result, stem)
+    });
+    d.set_item("figures", Py::new(py, figures)?)?;
+    Ok(d)
+}
+
 /// `stickslip diagram` (one scene; `--x P --y Q` for a pair of control
 /// parameters): the JSON the command prints (`files` empty, `elapsed_s` the
 /// job's time) and its figures.
@@ -894,6 +927,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(branch, m)?)?;
     m.add_function(wrap_pyfunction!(diagram, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_class::<Figures>()?;
     m.add("DEFAULT_CURVE_STEPS", DEFAULT_CURVE_STEPS)?;
     m.add(
