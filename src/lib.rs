@@ -4,6 +4,7 @@ pub mod appendix_c;
 pub mod cli;
 pub mod error;
 pub mod file_names;
+pub mod fit;
 pub mod friction;
 pub mod jobs;
 pub mod log_model;

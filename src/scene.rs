@@ -178,6 +178,18 @@ pub fn load_with(name_or_path: &str, overrides: &[SceneOverride]) -> Result<Scen
     if overrides.is_empty() {
         return Ok(base);
     }
+    let (t, origin) = table_with(name_or_path, &base, overrides)?;
+    from_table(t, &origin).map_err(|e| e.in_file(&origin))
+}
+
+/// The TOML table of the scene `base` loaded from `name_or_path` with the
+/// keys of `overrides` replaced as [`load_with`] does, and its origin for
+/// messages (`pmma with --set K=2e5`): the scene as a file would hold it.
+pub fn table_with(
+    name_or_path: &str,
+    base: &Scene,
+    overrides: &[SceneOverride],
+) -> Result<(Table, String), InputError> {
     let text = match BUILTINS.iter().find(|(n, _)| *n == name_or_path) {
         Some((_, text)) => text.to_string(),
         None => std::fs::read_to_string(name_or_path).map_err(|e| file_error(name_or_path, e))?,
@@ -190,9 +202,14 @@ pub fn load_with(name_or_path: &str, overrides: &[SceneOverride]) -> Result<Scen
         }
         t.insert(o.key.into(), o.value.clone());
     }
+    if overrides.is_empty() {
+        return Ok((t, name_or_path.to_string()));
+    }
     let shown: Vec<&str> = overrides.iter().map(|o| o.shown.as_str()).collect();
-    let origin = format!("{name_or_path} with --set {}", shown.join(" --set "));
-    from_table(t, &origin).map_err(|e| e.in_file(&origin))
+    Ok((
+        t,
+        format!("{name_or_path} with --set {}", shown.join(" --set ")),
+    ))
 }
 
 /// Parses a scene from TOML text; `origin` (a file name) names it in errors

@@ -22,17 +22,19 @@ use stickslip::analysis::axes::Axes;
 use stickslip::analysis::control::Control;
 use stickslip::analysis::cycles::along_branch;
 use stickslip::analysis::diagram::DEFAULT_CURVE_STEPS;
-use stickslip::analysis::simulate::{RegimeReached, Sample};
+use stickslip::analysis::simulate::Sample;
 use stickslip::error::{Error, InputError};
 use stickslip::error::{Interruption, StopSignal};
 use stickslip::file_names::{run_name, stem as files_stem, with_suffix};
+use stickslip::fit::data::Kind;
 use stickslip::jobs::branch::BranchRequest;
-use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan, UnitsRecord};
+use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan};
 use stickslip::jobs::cycles_in::{asked_values, CyclesInControlRequest};
 use stickslip::jobs::diagram::{run_pair, DiagramRequest};
+use stickslip::jobs::fit::FitRequest;
 use stickslip::jobs::hopf::HopfRequest;
-use stickslip::jobs::simulate::{unsettled_text, SimulateRequest};
-use stickslip::jobs::{SceneSpec, TextUnits};
+use stickslip::jobs::simulate::SimulateRequest;
+use stickslip::jobs::SceneSpec;
 use stickslip::model::ModelKind;
 use stickslip::plot::axes::axes_figure;
 use stickslip::plot::cycles::{branch_figures, fold_figure};
@@ -43,7 +45,6 @@ use stickslip::plot::PlotError;
 use stickslip::records::branch::BranchRow;
 use stickslip::records::csv::{header, header_of};
 use stickslip::records::cycle::Cycle;
-use stickslip::records::params_json;
 use stickslip::records::simulation::SimulationRow;
 use stickslip::scene::{self, Units};
 
@@ -660,6 +661,37 @@ fn branch<'py>(
     Ok(d)
 }
 
+/// `stickslip fit`: the JSON the command prints (`files` empty), the
+/// fitted scene's TOML and the figures.
+#[pyfunction]
+#[pyo3(signature = (scene, data, free=None))]
+fn fit<'py>(
+    py: Python<'py>,
+    scene: SceneArg,
+    data: Vec<(String, PathBuf)>,
+    free: Option<Vec<String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (spec, shown) = scene.spec()?;
+    let err = |e: Error| to_py(e, shown.as_ref());
+    let data = data
+        .into_iter()
+        .map(|(kind, file)| Ok((Kind::parse(&kind)?, file)))
+        .collect::<Result<Vec<_>, InputError>>()
+        .map_err(|e| err(e.into()))?;
+    let request = FitRequest { data, free };
+    let result = py
+        .detach(|| stickslip::jobs::fit::run(&spec, &request))
+        .map_err(err)?;
+    let d = PyDict::new(py);
+    d.set_item("json", to_json(&result)?)?;
+    d.set_item("fitted_toml", &result.fitted_toml)?;
+    let figures = Figures::new(&spec, move |stem| {
+        stickslip::plot::fit::figures(&result, stem)
+    });
+    d.set_item("figures", Py::new(py, figures)?)?;
+    Ok(d)
+}
+
 /// `stickslip diagram` (one scene; `--x P --y Q` for a pair of control
 /// parameters): the JSON the command prints (`files` empty, `elapsed_s` the
 /// job's time) and its figures.
@@ -835,14 +867,6 @@ fn simulate<'py>(
         .detach(|| stickslip::jobs::simulate::Plan::new(&spec, request))
         .map_err(err)?;
     let u = plan.setup.scene.units;
-    let time_unit = u.d0 / u.v0;
-    let mut reason = plan.setup.choice.reason.clone();
-    if let Some(top) = plan.chosen_at {
-        reason = format!(
-            "{reason} (at the protocol's fastest pulling velocity, {:.4e} µm/s)",
-            u.velocity_um_s(top)
-        );
-    }
     let mut observer = Samples {
         signals: Signals::new(),
         units: u,
@@ -852,80 +876,7 @@ fn simulate<'py>(
     let sim = py.detach(|| plan.run(&mut observer));
     observer.signals.reraise(py)?;
     let switch = sim.end.as_ref().ok().and_then(|end| end.switch);
-    let (t_reached, t_end) = (sim.t_reached() * time_unit, sim.t_end * time_unit);
-    let stop = match &sim.end {
-        Ok(end) if end.stopped && sim.step_limit => Some(format!(
-            "step limit: {} steps (--max-steps) at simulated time t = {:.6e} s of {:.6e} s",
-            sim.steps,
-            end.t * time_unit,
-            end.t_end * time_unit,
-        )),
-        Ok(end) if end.stopped => Some(format!(
-            "interrupted at simulated time t = {:.6e} s of {:.6e} s ({} rows)",
-            end.t * time_unit,
-            end.t_end * time_unit,
-            sim.steps
-        )),
-        Ok(_) => None,
-        Err(e) => Some(e.to_string()),
-    };
-    // The time series whole, the regime it reaches undetermined: partial,
-    // as the command line says it (status 4).
-    let stop = stop.or_else(|| match &sim.regime {
-        Some(RegimeReached::Unsettled(why)) => Some(format!(
-            "the regime the run reaches is undetermined: {}",
-            unsettled_text(why, &u, TextUnits::Physical)
-        )),
-        _ => None,
-    });
-    let regime = sim.regime.as_ref().map(|r| match r {
-        RegimeReached::Periodic {
-            period,
-            delta_s,
-            slip,
-            ..
-        } => serde_json::json!({
-            "kind": "periodic",
-            "period": period,
-            "delta_s": delta_s,
-            "slip": slip,
-            "period_s": period * time_unit,
-            "force_drop_N": delta_s * u.load,
-            "slip_um": slip * u.d0 * 1e6,
-        }),
-        RegimeReached::Steady => serde_json::json!({"kind": "steady"}),
-        RegimeReached::Unsettled(why) => serde_json::json!({
-            "kind": "unsettled",
-            "reason": unsettled_text(why, &u, TextUnits::Physical),
-        }),
-    });
-    let record = serde_json::json!({
-        "scene": sim.setup.scene.name,
-        "label": sim.setup.label,
-        "model": sim.setup.choice.kind,
-        "model_reason": reason,
-        "params": params_json(&sim.setup.params),
-        "units": UnitsRecord::of(&u),
-        "protocol": sim.protocol.iter().map(|seg| serde_json::json!({
-            "V_um_per_s": u.velocity_um_s(seg.nu),
-            "duration_s": seg.duration * time_unit,
-            "nu": seg.nu,
-            "duration": seg.duration,
-        })).collect::<Vec<_>>(),
-        "steps": sim.steps,
-        "t_end_s": t_end,
-        "t_reached_s": t_reached,
-        "plot_stride": sim.stride,
-        "switch": switch.map(|s| serde_json::json!({
-            "t_s": s.t * time_unit,
-            "t": s.t,
-            "chi": s.chi,
-            "inertia_threshold": sim.threshold,
-        })),
-        "regime": regime,
-        "complete": stop.is_none(),
-        "stop": stop,
-    });
+    let record = sim.to_json();
     let d = PyDict::new(py);
     d.set_item("json", to_json(&record)?)?;
     let columns = PyDict::new(py);
@@ -946,13 +897,7 @@ fn simulate<'py>(
         Ok(_) => None,
     };
     d.set_item("failure", failure)?;
-    let name = match sim.cut() {
-        Some(why) => format!(
-            "{} — {why} at t = {t_reached:.4e} s of {t_end:.4e} s",
-            sim.setup.label
-        ),
-        None => sim.setup.label.clone(),
-    };
+    let name = sim.figure_title();
     let (trajectory, protocol) = (sim.trajectory, sim.protocol);
     let draw = move |stem: &Path| {
         if trajectory.t.len() < 2 {
@@ -982,6 +927,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(branch, m)?)?;
     m.add_function(wrap_pyfunction!(diagram, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_class::<Figures>()?;
     m.add("DEFAULT_CURVE_STEPS", DEFAULT_CURVE_STEPS)?;
     m.add(

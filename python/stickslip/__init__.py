@@ -49,12 +49,14 @@ __all__ = [
     "diagram",
     "cycles",
     "simulate",
+    "fit",
     "sweep",
     "Hopf",
     "Branch",
     "Diagram",
     "Cycles",
     "Simulation",
+    "Fit",
     "InputError",
     "NumericalError",
     "DEFAULT_INERTIA_THRESHOLD",
@@ -1026,8 +1028,8 @@ class Simulation(_Drawn):
     `v_um_per_s`, `theta_s`, `slip_um`. `regime` is the regime reached
     after a complete run: {"kind": "periodic", "period_s", "force_drop_N",
     "slip_um", ...}, {"kind": "steady"} or {"kind": "unsettled", "reason"}.
-    `to_dict()` is the run's record (no time series: the command line has
-    no JSON for simulate; it holds the facts of its text).
+    `to_dict()` is `stickslip simulate --json` without `files`: the run's
+    record (steps, times, the switch, the regime), no time series.
     """
 
     def __init__(
@@ -1319,3 +1321,111 @@ def simulate(
 
 
 from ._sweep import sweep  # noqa: E402
+
+
+class Fit(_Drawn):
+    """The friction law's parameters fitted to laboratory data
+    (`stickslip.fit`): `parameters` ({name: {value, std_error, unit,
+    status, start}}), `correlation`, `chi2_per_dof`, `datasets` (RMS
+    residuals), `not_determined` (what the data cannot fix and which data
+    would), `closed_form` (the seed's route, beside the fit), and
+    `fitted_toml` / `scene()`, the fitted scene for every other job.
+    `to_dict()` is `stickslip fit --json` without `files`.
+    """
+
+    def __init__(self, data: dict, fitted_toml: str):
+        self._data = data
+        #: The fitted scene as the text of a scene file (`fitted.toml`).
+        self.fitted_toml = fitted_toml
+
+    @property
+    def complete(self) -> bool:
+        """False when a parameter asked for is not determined by the data."""
+        return self._data["complete"]
+
+    @property
+    def stop(self) -> str | None:
+        return self._data["stop"]
+
+    @property
+    def parameters(self) -> dict:
+        return copy.deepcopy(self._data["parameters"])
+
+    def value(self, name: str) -> float:
+        """The fitted (or kept) value of parameter `name`, in its unit."""
+        return self._data["parameters"][name]["value"]
+
+    def std_error(self, name: str) -> float | None:
+        """Its standard error (None where it was not fitted)."""
+        return self._data["parameters"][name]["std_error"]
+
+    @property
+    def correlation(self) -> dict:
+        return copy.deepcopy(self._data["correlation"])
+
+    @property
+    def chi2_per_dof(self) -> float:
+        return self._data["chi2_per_dof"]
+
+    @property
+    def not_determined(self) -> list:
+        return copy.deepcopy(self._data["not_determined"])
+
+    def scene(self) -> "Scene":
+        """The fitted scene."""
+        return Scene.from_toml_text(self.fitted_toml)
+
+    def to_pandas(self):
+        """A row per parameter: value, std_error, unit, status, start."""
+        import pandas as pd
+
+        return pd.DataFrame.from_dict(self._data["parameters"], orient="index")
+
+    def __reduce__(self):
+        return (_rebuilt, (Fit, (self._data, self.fitted_toml), self._request))
+
+    def __repr__(self) -> str:
+        values = ", ".join(
+            f"{n} = {p['value']:.4g}" + (f" ± {p['std_error']:.2g}" if p["std_error"] else "")
+            for n, p in self._data["parameters"].items()
+        )
+        return f"<Fit {self._data['scene']}: {values}>"
+
+
+def fit(
+    scene: Scene | str | None = None,
+    data: Sequence[tuple[str, str | os.PathLike]] | Mapping[str, str | os.PathLike] = (),
+    free: Sequence[str] | str | None = None,
+) -> Fit:
+    """The friction law's parameters (mu0, A, B, D0, and mu2 or tau by the
+    scene's form) fitted to laboratory data (`stickslip fit`), by joint
+    weighted least squares with standard errors and correlations.
+
+    scene: the rig the data were taken on (its V0, M and W) and the start
+        of the fit (default: pmma).
+    data: (kind, file) pairs, or a dict kind -> file: "steady" (CSV
+        columns V_um_s, mu) or "onset" (V_um_s, K_over_W_per_m, optionally
+        frequency_hz); an optional sigma column (sigma_frequency_hz for
+        the frequency) gives each row's error, else it is estimated.
+    free: the parameters to fit (default: all of the law's).
+
+    Returns a `Fit`; `complete` is False (not an exception) when the data
+    leave a parameter undetermined: it is named in `not_determined` with
+    the data that would determine it, and kept at the scene's value.
+    Raises `InputError` for bad data (naming file, row and column).
+    """
+    s = _scene(scene)
+    items = list(data.items()) if isinstance(data, Mapping) else list(data)
+    pairs = []
+    for item in items:
+        try:
+            kind, path = item
+        except (TypeError, ValueError):
+            raise InputError(f"data item {item!r}: expected (kind, file)", "data") from None
+        pairs.append((str(kind), os.fspath(path)))
+    if isinstance(free, str):
+        free = [f.strip() for f in free.split(",")]
+    out = _native.fit(s._arg(None, None), pairs, None if free is None else [str(f) for f in free])
+    result = Fit(json.loads(out["json"]), out["fitted_toml"])
+    result._set_request(out["figures"], "fit", s, dict(data=pairs, free=free))
+    return result

@@ -57,6 +57,23 @@ def test_equals_the_cli_csv_and_text(run, root, tmp_path):
     assert run.complete and run.stop is None
 
 
+def test_to_dict_equals_the_cli_json(run, cli):
+    """`simulate --json` and `to_dict()`: the same keys and numbers (the
+    CLI's `files` aside); `units`, `complete` and `stop` as in every
+    command's JSON."""
+    expected = cli("simulate", "--scene", "pmma", "--set", "kappa=0.009", "--protocol", "1:300")
+    files = expected.pop("files")
+    assert any(f.endswith("-simulation.csv") for f in files)
+    assert run.to_dict() == expected
+    assert expected["units"] == {"D0_um": 0.39999999999999997, "V0_um_per_s": 1.0}
+    assert expected["complete"] is True and expected["stop"] is None
+    short = cli("simulate", "--scene", "pmma", "--set", "kappa=0.009", "--protocol", "1:300",
+                "--max-steps", "50", expect=4)
+    assert short["complete"] is False and short["stop"].startswith("step limit: 50 steps")
+    assert stickslip.simulate(SCENE, protocol=[(1, 300)], max_steps=50).to_dict() == {
+        k: v for k, v in short.items() if k != "files"}
+
+
 def test_columns_pandas_pickle_figures(run, tmp_path):
     assert run.t_s.dtype == np.float64 and np.all(np.diff(run.t_s) > 0)
     assert run.t_s[-1] == pytest.approx(300.0, rel=1e-12)

@@ -11,6 +11,7 @@ pub mod cycles;
 pub mod cycles_in;
 pub mod diagram;
 pub mod files;
+pub mod fit;
 pub mod hopf;
 pub mod interrupt;
 pub mod lpc_output;
@@ -66,6 +67,9 @@ pub enum Command {
     /// Integrate driven sliding in time under a protocol of pulling velocities (jumps, stop-and-go).
     #[command(allow_negative_numbers = true)]
     Simulate(simulate::SimulateArgs),
+    /// Fit the friction law's parameters (mu0, A, B, D0, mu2 or tau) to laboratory data (steady friction, the onset), with errors; write the fitted scene.
+    #[command(allow_negative_numbers = true)]
+    Fit(fit::FitArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -136,6 +140,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         Command::Diagram(args) => diagram::run(&args),
         Command::Cycles(args) => cycles::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::Fit(args) => fit::run(&args),
         Command::Scenes => {
             for name in scene::builtin_names() {
                 if let Some(s) = scene::builtin(name) {

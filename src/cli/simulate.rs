@@ -10,7 +10,9 @@ use crate::analysis::decimate::Buckets;
 use crate::analysis::simulate::{RegimeReached, Sample};
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
-use crate::jobs::simulate::{unsettled_text, Observer, Plan, SimulateRequest, Simulation};
+use crate::jobs::simulate::{
+    unsettled_text, Observer, Plan, Shortfall, SimulateRequest, Simulation,
+};
 use crate::plot::simulation::figures;
 use crate::records::csv::{header, row};
 use crate::records::simulation::SimulationRow;
@@ -56,6 +58,11 @@ pub struct SimulateArgs {
     /// or dimensionless (t in D0/V0, nu). The CSV carries both times.
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
+    /// Print one JSON object instead of text: the run's facts (steps,
+    /// times, the switch, the regime reached with its period, force drop
+    /// and slip per event), `units`, `complete`, `stop` and the files.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `--protocol V1:T1,...` as `(V [µm/s], T [s])` segments, each checked.
@@ -110,16 +117,6 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         bar: interrupt::progress_bar(TICKS as u64, "simulating"),
         time_unit,
     };
-    let mut reason = setup.choice.reason.clone();
-    if let Some(top) = plan.chosen_at {
-        reason = format!(
-            "{reason} (at the protocol's fastest pulling velocity, {})",
-            match args.units {
-                TextUnits::Physical => format!("{:.4e} µm/s", u.velocity_um_s(top)),
-                TextUnits::Dimensionless => format!("nu = {top:.4e}"),
-            }
-        );
-    }
     let mut sim = plan.run(&mut writer);
     writer.bar.finish_and_clear();
     let mut rows = writer.rows;
@@ -140,13 +137,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             "# incomplete: {why} at t = {t_reached:.6e} s of {t_end:.6e} s"
         ))?;
     }
-    let name = match sim.cut() {
-        Some(why) => format!(
-            "{} — {why} at t = {t_reached:.4e} s of {t_end:.4e} s",
-            sim.setup.label
-        ),
-        None => sim.setup.label.clone(),
-    };
+    let name = sim.figure_title();
     let figs = if sim.trajectory.t.len() >= 2 {
         figures(
             &name,
@@ -161,32 +152,26 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         Vec::new()
     };
     rows.finish()?;
-    print_text(&sim, &reason, args.units, figs.iter().chain([&csv_path]));
-    let count = sim.steps;
-    match sim.end {
-        Ok(end) if end.stopped && sim.step_limit => Err(Error::Partial(format!(
-            "step limit: {} steps (--max-steps) at simulated time t = {:.6e} s of {:.6e} s",
-            count,
-            end.t * time_unit,
-            end.t_end * time_unit,
-        ))),
-        Ok(end) if end.stopped => Err(interrupt::stopped(format!(
-            "at simulated time t = {:.6e} s of {:.6e} s ({} integrator steps)",
-            end.t * time_unit,
-            end.t_end * time_unit,
-            count
-        ))),
-        // The time series is whole; the regime it reaches, part of the
-        // answer, is not determined.
-        Ok(_) => match &sim.regime {
-            Some(RegimeReached::Unsettled(why)) => Err(Error::Partial(format!(
-                "the regime the run reaches is undetermined: {}",
-                unsettled_text(why, &u, args.units)
-            ))),
-            _ => Ok(()),
-        },
-        Err(e) => Err(e),
+    let files: Vec<PathBuf> = figs.into_iter().chain([csv_path]).collect();
+    if args.json {
+        let mut record = sim.to_json();
+        record["files"] = files.iter().map(|f| f.display().to_string()).collect();
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&record).map_err(std::io::Error::other)?
+        );
+    } else {
+        print_text(&sim, args.units, &files);
     }
+    let outcome = match sim.shortfall(args.units) {
+        None | Some(Shortfall::Failed(_)) => Ok(()),
+        Some(Shortfall::StepLimit(text) | Shortfall::Undetermined(text)) => {
+            Err(Error::Partial(text))
+        }
+        Some(Shortfall::Interrupted { at }) => Err(interrupt::stopped(at)),
+    };
+    // A failed integration answers with its own error.
+    sim.end.and(outcome)
 }
 
 /// Ticks of the progress bar over the protocol.
@@ -225,12 +210,7 @@ impl Observer for Writer {
 
 /// The text after the run: the model, a switch, the steps, the regime
 /// reached, the files.
-fn print_text<'a>(
-    sim: &Simulation,
-    reason: &str,
-    units: TextUnits,
-    files: impl Iterator<Item = &'a PathBuf>,
-) {
+fn print_text(sim: &Simulation, units: TextUnits, files: &[PathBuf]) {
     let u = &sim.setup.scene.units;
     let time_unit = u.d0 / u.v0;
     // A time `t` (units D0/V0) in the text's units.
@@ -238,7 +218,7 @@ fn print_text<'a>(
         TextUnits::Physical => format!("{:.6e} s", t * time_unit),
         TextUnits::Dimensionless => format!("{t:.6e} (units D0/V0)"),
     };
-    println!("model: {reason}");
+    println!("model: {}", sim.model_reason(units));
     if let Some(sw) = sim.end.as_ref().ok().and_then(|end| end.switch) {
         println!(
             "switched to the inertial model at t = {}: there inertia would shift ln v by \

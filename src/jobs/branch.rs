@@ -10,12 +10,12 @@ use crate::analysis::control::{choose_along, Control};
 use crate::analysis::hopf::{find_hopf, stable_stiffness, HopfOutcome};
 use crate::analysis::model_choice::params_for;
 use crate::error::{Error, InputError};
-use crate::jobs::cycles::UnitsRecord;
 use crate::model::{DrivenBlock, ModelKind};
 use crate::overrides::Overrides;
 use crate::params::Param;
 use crate::records::branch::BranchRow;
 use crate::records::params_json;
+use crate::records::UnitsRecord;
 use serde::Serialize;
 use serde_json::Value;
 

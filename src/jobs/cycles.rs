@@ -25,7 +25,7 @@ use crate::records::cycle::{
 };
 use crate::records::diagram::FoldPoint;
 use crate::records::hopf::OperatingPoint;
-use crate::records::params_json;
+use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
 use continuation::periodic::mesh::CollocationPoints;
 use serde::Serialize;
@@ -485,25 +485,6 @@ fn operating_cycle(
             op.not_delivered = Some(format!(
                 "{direct}; the branch from the Hopf point did not reach it either ({end})"
             ));
-        }
-    }
-}
-
-/// The units of a result: the scene's length and velocity scales.
-#[derive(Clone, Debug, Serialize)]
-pub struct UnitsRecord {
-    #[serde(rename = "D0_um")]
-    pub d0_um: f64,
-    #[serde(rename = "V0_um_per_s")]
-    pub v0_um_per_s: f64,
-}
-
-impl UnitsRecord {
-    /// The units `u`.
-    pub fn of(u: &Units) -> Self {
-        UnitsRecord {
-            d0_um: u.d0 * 1e6,
-            v0_um_per_s: u.velocity_um_s(1.0),
         }
     }
 }

@@ -4,7 +4,7 @@
 //! handed to an [`Observer`] ([`super::cycles::Observer`]) with the control
 //! in its unit; the result ([`CyclesInControl`]) is the command's JSON.
 
-use super::cycles::{branch_status, Observer, UnitsRecord};
+use super::cycles::{branch_status, Observer};
 use super::{SceneSpec, Setup};
 use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest, CyclesStart};
 use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
@@ -16,6 +16,7 @@ use crate::records::branch::ParamValue;
 use crate::records::cycle::{Cycle, CycleSpecialPoint, LegStop};
 use crate::records::hopf::Critical;
 use crate::records::params_json;
+use crate::records::UnitsRecord;
 use crate::scene::Units;
 use continuation::periodic::mesh::CollocationPoints;
 use serde::Serialize;

@@ -13,7 +13,7 @@ use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};
 use crate::analysis::operating_point::{fold_at, judge, judge_without_onset, Regime, StabilityAt};
 use crate::error::{Error, NumericalError};
 use crate::records::diagram::DiagramRecords;
-use crate::records::{params_json, significant};
+use crate::records::{params_json, significant, UnitsRecord};
 use continuation::Wrap;
 use serde::Serialize;
 use serde_json::{json, Value};
@@ -108,6 +108,7 @@ impl Diagram {
             "model": r.setup.choice.kind,
             "model_reason": r.setup.choice.reason,
             "params": params_json(&r.setup.params),
+            "units": UnitsRecord::of(&r.setup.scene.units),
             "nu_range": [r.range.0, r.range.1],
             "hopf_curve": records.curve,
             "special_points": records.special,
@@ -311,6 +312,7 @@ impl PairDiagram {
         let mut v = json!({
             "scene": self.setup.scene.name,
             "params": params_json(&self.setup.scene_params),
+            "units": UnitsRecord::of(&self.setup.scene.units),
         });
         if let (Value::Object(a), Value::Object(b)) = (&mut v, self.diagram.to_json()) {
             a.extend(b);

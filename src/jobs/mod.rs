@@ -11,6 +11,7 @@ pub mod cycle_start;
 pub mod cycles;
 pub mod cycles_in;
 pub mod diagram;
+pub mod fit;
 pub mod hopf;
 pub mod simulate;
 

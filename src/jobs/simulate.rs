@@ -18,7 +18,10 @@ use crate::analysis::simulate::{
 };
 use crate::error::{Error, InputError};
 use crate::jobs::TextUnits;
+use crate::records::params_json;
+use crate::records::UnitsRecord;
 use crate::scene::Units;
+use serde_json::json;
 use std::ops::ControlFlow;
 
 /// What `simulate` is asked.
@@ -194,9 +197,9 @@ impl Plan {
         let Plan {
             setup,
             protocol,
+            chosen_at,
             request,
             watch,
-            ..
         } = self;
         let nu0 = protocol[0].nu;
         let mut start_params = setup.params;
@@ -269,6 +272,30 @@ impl Plan {
             write_error,
             regime,
             threshold: watch.threshold,
+            chosen_at,
+        }
+    }
+}
+
+/// What a run did not deliver ([`Simulation::shortfall`]).
+#[derive(Debug)]
+pub enum Shortfall<'a> {
+    /// Stopped at `--max-steps` (a partial answer): where.
+    StepLimit(String),
+    /// Stopped by a signal or the observer: where.
+    Interrupted { at: String },
+    /// The integration failed.
+    Failed(&'a Error),
+    /// The time series is whole but its regime undetermined (partial): why.
+    Undetermined(String),
+}
+
+impl std::fmt::Display for Shortfall<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Shortfall::StepLimit(text) | Shortfall::Undetermined(text) => f.write_str(text),
+            Shortfall::Interrupted { at } => write!(f, "interrupted {at}"),
+            Shortfall::Failed(e) => write!(f, "{e}"),
         }
     }
 }
@@ -366,6 +393,9 @@ pub struct Simulation {
     pub regime: Option<RegimeReached>,
     /// The inertia threshold of a switch to the inertial model.
     pub threshold: f64,
+    /// The fastest pulling velocity (`nu`) where the model was chosen for
+    /// it ([`Plan::chosen_at`]).
+    pub chosen_at: Option<f64>,
 }
 
 impl Simulation {
@@ -382,5 +412,131 @@ impl Simulation {
     /// The simulated time reached (units `D0/V0`).
     pub fn t_reached(&self) -> f64 {
         self.trajectory.t.last().copied().unwrap_or(0.0)
+    }
+
+    /// The figures' title: the run's label, and where it stopped short.
+    pub fn figure_title(&self) -> String {
+        let time_unit = self.setup.scene.units.d0 / self.setup.scene.units.v0;
+        match self.cut() {
+            Some(why) => format!(
+                "{} — {why} at t = {:.4e} s of {:.4e} s",
+                self.setup.label,
+                self.t_reached() * time_unit,
+                self.t_end * time_unit
+            ),
+            None => self.setup.label.clone(),
+        }
+    }
+
+    /// Why the model is the one it is (where it was chosen for the
+    /// protocol's fastest pulling velocity, that velocity).
+    pub fn model_reason(&self, units: TextUnits) -> String {
+        let reason = &self.setup.choice.reason;
+        match self.chosen_at {
+            None => reason.clone(),
+            Some(top) => format!(
+                "{reason} (at the protocol's fastest pulling velocity, {})",
+                match units {
+                    TextUnits::Physical => {
+                        format!("{:.4e} µm/s", self.setup.scene.units.velocity_um_s(top))
+                    }
+                    TextUnits::Dimensionless => format!("nu = {top:.4e}"),
+                }
+            ),
+        }
+    }
+
+    /// What was asked and not delivered, if anything: the step limit, an
+    /// interruption, a failed integration, or a whole time series whose
+    /// regime is undetermined. Times in seconds.
+    pub fn shortfall(&self, units: TextUnits) -> Option<Shortfall<'_>> {
+        let u = &self.setup.scene.units;
+        let time_unit = u.d0 / u.v0;
+        match &self.end {
+            Ok(end) if end.stopped && self.step_limit => Some(Shortfall::StepLimit(format!(
+                "step limit: {} steps (--max-steps) at simulated time t = {:.6e} s of {:.6e} s",
+                self.steps,
+                end.t * time_unit,
+                end.t_end * time_unit,
+            ))),
+            Ok(end) if end.stopped => Some(Shortfall::Interrupted {
+                at: format!(
+                    "at simulated time t = {:.6e} s of {:.6e} s ({} integrator steps)",
+                    end.t * time_unit,
+                    end.t_end * time_unit,
+                    self.steps
+                ),
+            }),
+            // The time series is whole; the regime it reaches, part of the
+            // answer, is not determined.
+            Ok(_) => match &self.regime {
+                Some(RegimeReached::Unsettled(why)) => Some(Shortfall::Undetermined(format!(
+                    "the regime the run reaches is undetermined: {}",
+                    unsettled_text(why, u, units)
+                ))),
+                _ => None,
+            },
+            Err(e) => Some(Shortfall::Failed(e)),
+        }
+    }
+
+    /// The run's JSON (`simulate --json`, Python's `to_dict()`): the
+    /// scene, model and parameters, the protocol, steps and times in
+    /// seconds, the switch to the inertial model, the regime reached with
+    /// its period, force drop and slip per event in the scene's units,
+    /// `complete` and `stop`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let u = &self.setup.scene.units;
+        let time_unit = u.d0 / u.v0;
+        let switch = self.end.as_ref().ok().and_then(|end| end.switch);
+        let regime = self.regime.as_ref().map(|r| match r {
+            RegimeReached::Periodic {
+                period,
+                delta_s,
+                slip,
+                ..
+            } => json!({
+                "kind": "periodic",
+                "period": period,
+                "delta_s": delta_s,
+                "slip": slip,
+                "period_s": period * time_unit,
+                "force_drop_N": delta_s * u.load,
+                "slip_um": slip * u.d0 * 1e6,
+            }),
+            RegimeReached::Steady => json!({"kind": "steady"}),
+            RegimeReached::Unsettled(why) => json!({
+                "kind": "unsettled",
+                "reason": unsettled_text(why, u, TextUnits::Physical),
+            }),
+        });
+        let stop = self.shortfall(TextUnits::Physical).map(|s| s.to_string());
+        json!({
+            "scene": self.setup.scene.name,
+            "label": self.setup.label,
+            "model": self.setup.choice.kind,
+            "model_reason": self.model_reason(TextUnits::Physical),
+            "params": params_json(&self.setup.params),
+            "units": UnitsRecord::of(u),
+            "protocol": self.protocol.iter().map(|seg| json!({
+                "V_um_per_s": u.velocity_um_s(seg.nu),
+                "duration_s": seg.duration * time_unit,
+                "nu": seg.nu,
+                "duration": seg.duration,
+            })).collect::<Vec<_>>(),
+            "steps": self.steps,
+            "t_end_s": self.t_end * time_unit,
+            "t_reached_s": self.t_reached() * time_unit,
+            "plot_stride": self.stride,
+            "switch": switch.map(|s| json!({
+                "t_s": s.t * time_unit,
+                "t": s.t,
+                "chi": s.chi,
+                "inertia_threshold": self.threshold,
+            })),
+            "regime": regime,
+            "complete": stop.is_none(),
+            "stop": stop,
+        })
     }
 }

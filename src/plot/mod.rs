@@ -5,6 +5,7 @@ pub mod axes;
 pub mod colormap;
 pub mod cycles;
 pub mod diagram;
+pub mod fit;
 pub mod lines;
 pub mod simulation;
 pub mod stability;

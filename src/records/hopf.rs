@@ -9,7 +9,7 @@ use crate::appendix_c;
 use crate::jobs::Setup;
 use crate::model::ModelKind;
 use crate::params::Params;
-use crate::records::params_json;
+use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
 use serde::Serialize;
 
@@ -36,6 +36,13 @@ pub struct HopfReport {
     /// The onset in the control parameter of `hopf --param` (absent without it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub critical: Option<Critical>,
+    /// The scene's length and velocity scales.
+    pub units: UnitsRecord,
+    /// Always `true`: a search that does not answer is an error, with no
+    /// report (the fields every command's JSON has).
+    pub complete: bool,
+    /// Always `null` (see `complete`).
+    pub stop: Option<String>,
 }
 
 /// The onset in a control parameter (`hopf --param P`): its critical value
@@ -313,6 +320,9 @@ impl HopfReport {
             mu_v: at.mu_v(),
             mu_phi: at.mu_phi(),
             outcome,
+            units: UnitsRecord::of(u),
+            complete: true,
+            stop: None,
         }
     }
 }

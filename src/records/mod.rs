@@ -80,6 +80,25 @@ pub fn describe_params_except(
         .join(", ")
 }
 
+/// The units of a result: the scene's length and velocity scales.
+#[derive(Clone, Debug, Serialize)]
+pub struct UnitsRecord {
+    #[serde(rename = "D0_um")]
+    pub d0_um: f64,
+    #[serde(rename = "V0_um_per_s")]
+    pub v0_um_per_s: f64,
+}
+
+impl UnitsRecord {
+    /// The units `u`.
+    pub fn of(u: &Units) -> Self {
+        UnitsRecord {
+            d0_um: u.d0 * 1e6,
+            v0_um_per_s: u.velocity_um_s(1.0),
+        }
+    }
+}
+
 /// Parameters as a JSON object (names of docs/model.md).
 pub fn params_json(p: &crate::params::Params) -> serde_json::Value {
     serde_json::Value::Object(

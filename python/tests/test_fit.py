@@ -1,0 +1,46 @@
+"""stickslip.fit against `stickslip fit --json`; partial fits, bad data,
+pickling, figures."""
+
+import pickle
+
+import pytest
+
+import stickslip
+from stickslip import InputError
+
+STEADY = ("steady", "examples/data/pmma-steady.csv")
+ONSET = ("onset", "examples/data/pmma-onset.csv")
+
+
+def test_equals_the_cli_json(root, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    f = stickslip.fit("pmma", [STEADY, ONSET])
+    expected = cli("fit", "--data", "steady=examples/data/pmma-steady.csv",
+                   "--data", "onset=examples/data/pmma-onset.csv", "--out", str(tmp_path),
+                   "--force")
+    expected.pop("files")
+    got = f.to_dict()
+    got.pop("files")
+    assert got == expected
+    assert f.complete and f.stop is None
+    # The seed's values within three standard errors.
+    for name, truth in [("A", 0.012), ("B", 0.023), ("D0", 0.4)]:
+        assert abs(f.value(name) - truth) < 3 * f.std_error(name), name
+    assert f.scene().to_toml() and stickslip.hopf(f.scene()).found
+    assert pickle.loads(pickle.dumps(f)) == f
+    files = f.figures(tmp_path / "figs")
+    assert any(p.endswith("-fit-onset-frequency_hz.png") for p in files)
+
+
+def test_partial_and_bad_data(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    f = stickslip.fit("pmma", {"steady": "examples/data/pmma-steady.csv"})
+    assert not f.complete and "D0" in f.stop
+    assert f.parameters["D0"]["std_error"] is None
+    bad = tmp_path / "bad.csv"
+    bad.write_text("V_um_s,mu\n1,0.5\n0,0.49\n")
+    with pytest.raises(InputError) as e:
+        stickslip.fit("pmma", [("steady", bad)])
+    assert "row 3, column 1 (V_um_s)" in str(e.value)
+    with pytest.raises(InputError):
+        stickslip.fit("pmma", [("stedy", bad)])

@@ -1,0 +1,159 @@
+//! `stickslip fit`: the friction law's parameters from laboratory data,
+//! with errors; the fitted scene as `fitted.toml`, a figure per dataset.
+
+use super::files::{write_whole, OutputArgs};
+use super::SceneArgs;
+use crate::error::Error;
+use crate::file_names::with_suffix;
+use crate::fit::data::parse_data_option;
+use crate::jobs::fit::{run as fit, Fit, FitRequest};
+use clap::Args;
+
+#[derive(Args, Debug)]
+pub struct FitArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// A dataset, KIND=FILE, repeatable: steady (CSV columns V_um_s, mu),
+    /// onset (V_um_s, K_over_W_per_m, optionally frequency_hz); an optional
+    /// sigma column gives each row's error (sigma_frequency_hz for the
+    /// frequency), else it is estimated from the residuals.
+    #[arg(long, value_name = "KIND=FILE", required = true)]
+    pub data: Vec<String>,
+    /// The parameters to fit, comma-separated (default: every parameter of
+    /// the scene's law: mu0, A, B, D0, and mu2 or tau).
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
+    pub free: Option<Vec<String>>,
+    #[command(flatten)]
+    pub output: OutputArgs,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The files of a fit, after the run's stem.
+const OUTPUTS: &[&str] = &["-fit.json"];
+
+/// Runs the command.
+pub fn run(args: &FitArgs) -> Result<(), Error> {
+    let request = FitRequest {
+        data: args
+            .data
+            .iter()
+            .map(|d| parse_data_option(d))
+            .collect::<Result<_, _>>()?,
+        free: args.free.clone(),
+    };
+    let spec = args.scene.spec();
+    args.output.create_dir()?;
+    let stem = args
+        .output
+        .stem(&spec_name(&args.scene.scene), &args.scene, false, OUTPUTS)?;
+    let toml_path = args.output.out.join("fitted.toml");
+    if toml_path.exists() && !args.output.force {
+        return Err(Error::Output(std::io::Error::other(format!(
+            "{} exists (an earlier fit): --force replaces it, --out DIR writes elsewhere",
+            toml_path.display()
+        ))));
+    }
+    let mut result = fit(&spec, &request)?;
+    let mut files = crate::plot::fit::figures(&result, &stem)
+        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?;
+    write_whole(&toml_path, &result.fitted_toml)?;
+    files.push(toml_path);
+    let json_path = with_suffix(&stem, "-fit.json");
+    files.push(json_path.clone());
+    result.files = files.iter().map(|f| f.display().to_string()).collect();
+    let json = serde_json::to_string_pretty(&result).map_err(std::io::Error::other)?;
+    write_whole(&json_path, &json)?;
+    if args.json {
+        println!("{json}");
+    } else {
+        print_text(&result);
+    }
+    match &result.stop {
+        None => Ok(()),
+        Some(why) => Err(Error::Partial(why.clone())),
+    }
+}
+
+/// The scene's file stem or built-in name, for the run's name.
+fn spec_name(scene: &str) -> String {
+    crate::scene::load(scene).map_or_else(|_| scene.to_string(), |s| s.name)
+}
+
+/// The fit as text: the parameters with their errors, the seed's
+/// closed-form route beside them, the datasets' residuals, the files.
+fn print_text(fit: &Fit) {
+    println!("scene: {} ({} law)", fit.scene, fit.law);
+    println!(
+        "{:<5} {:>14} {:>12} {:>6}  {:<15} {:>14}",
+        "", "value", "std. error", "unit", "", "scene (start)"
+    );
+    for (name, e) in &fit.parameters {
+        let error = e.std_error.map_or("-".into(), |s| format!("{s:.3e}"));
+        let status = if e.given.is_empty() {
+            e.status.to_string()
+        } else {
+            format!("{} (given {})", e.status, e.given.join(", "))
+        };
+        println!(
+            "{name:<5} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
+            e.value, e.unit, e.start
+        );
+    }
+    for n in &fit.not_determined {
+        let with = if n.with.len() > 1 {
+            format!(
+                " (only a combination of {} is determined)",
+                n.with.join(", ")
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "{} is not determined by these data{with}: {}; kept at the scene's {:.6e}",
+            n.name, n.remedy, n.kept_at
+        );
+    }
+    if fit.correlation.names.len() > 1 {
+        println!("correlation ({}):", fit.correlation.names.join(", "));
+        for row in &fit.correlation.matrix {
+            let cells: Vec<String> = row.iter().map(|c| format!("{c:>7.3}")).collect();
+            println!("  {}", cells.join(" "));
+        }
+    }
+    println!(
+        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iterations",
+        fit.chi2, fit.dof, fit.chi2_per_dof, fit.iterations
+    );
+    for d in &fit.datasets {
+        println!(
+            "  {} {} ({} rows): {} rms residual {:.3e}{}",
+            d.kind.name(),
+            d.file,
+            d.rows,
+            d.quantity,
+            d.rms,
+            d.sigma_estimated
+                .map_or(" (errors given)".into(), |s| format!(
+                    " (error per row estimated from the residuals: {s:.3e})"
+                ))
+        );
+    }
+    if let Some(c) = &fit.closed_form {
+        let mut line = format!(
+            "closed forms ({}): B - A = {:.4e}, mu0 = {:.5}",
+            c.from, c.b_minus_a, c.mu0
+        );
+        if let Some(d0) = c.d0_um {
+            line += &format!(", D0 = {d0:.4} um");
+        }
+        if let Some(a) = c.a {
+            line += &format!(", A = {a:.4e}");
+        }
+        println!("{line}");
+    }
+    for f in &fit.files {
+        println!("wrote {f}");
+    }
+}

@@ -1,0 +1,312 @@
+//! Laboratory data for `stickslip fit`: CSV files with a header row whose
+//! column names carry their unit, one file per dataset, each of one kind
+//! (seed §II.D.2: how A, B and D0 are measured).
+//!
+//! | kind | columns | measured |
+//! |---|---|---|
+//! | `steady` | `V_um_s`, `mu` | steady-state friction against driving velocity |
+//! | `onset` | `V_um_s`, `K_over_W_per_m`, optionally `frequency_hz` | the stability boundary `(K/W)_c` and the onset frequency |
+//!
+//! An optional `sigma` column gives each row's measurement error in the
+//! measured quantity (`mu`, or `K_over_W_per_m`; `sigma_frequency_hz` for
+//! the frequency); without it the error is estimated from the residuals.
+//! Lines starting with `#` and blank lines are skipped. Every error names
+//! the file, the row (1-based, the header is row 1) and the column.
+
+use crate::error::InputError;
+use std::path::{Path, PathBuf};
+
+/// What a dataset measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    /// Steady-state friction `mu_ss(V)` (seed eq. RR5).
+    Steady,
+    /// The onset of stick-slip: `(K/W)_c(V)` (seed eq. KcRR, C11) and,
+    /// where measured, its frequency (eq. omegacRR, C13).
+    Onset,
+}
+
+impl Kind {
+    /// The kinds, by their names on the command line.
+    pub const ALL: [(&'static str, Kind); 2] = [("steady", Kind::Steady), ("onset", Kind::Onset)];
+
+    /// The kind named `name`.
+    pub fn parse(name: &str) -> Result<Kind, InputError> {
+        Kind::ALL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, k)| *k)
+            .ok_or_else(|| InputError::UnknownName {
+                what: "data kind",
+                name: name.to_string(),
+                suggestion: crate::error::closest(name, Kind::ALL.iter().map(|(n, _)| *n)),
+                allowed: Kind::ALL.map(|(n, _)| n).join(", "),
+            })
+    }
+
+    /// The kind's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Steady => "steady",
+            Kind::Onset => "onset",
+        }
+    }
+
+    /// Required columns, then optional ones.
+    fn columns(self) -> (&'static [&'static str], &'static [&'static str]) {
+        match self {
+            Kind::Steady => (&["V_um_s", "mu"], &["sigma"]),
+            Kind::Onset => (
+                &["V_um_s", "K_over_W_per_m"],
+                &["frequency_hz", "sigma", "sigma_frequency_hz"],
+            ),
+        }
+    }
+
+    /// Fewest rows a dataset of this kind needs.
+    const MIN_ROWS: usize = 2;
+}
+
+/// One measured quantity of a dataset: its values and, when the file gives
+/// them, their errors.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measured {
+    /// The column's name (with its unit).
+    pub column: &'static str,
+    pub values: Vec<f64>,
+    pub sigma: Option<Vec<f64>>,
+}
+
+/// A dataset read from its file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dataset {
+    pub kind: Kind,
+    pub file: PathBuf,
+    /// Driving velocities [µm/s], one per row.
+    pub v_um_s: Vec<f64>,
+    /// The measured quantities: `mu` (steady); `K_over_W_per_m` and, when
+    /// given, `frequency_hz` (onset).
+    pub measured: Vec<Measured>,
+}
+
+impl Dataset {
+    /// Reads `file` as a dataset of `kind`.
+    pub fn read(kind: Kind, file: &Path) -> Result<Dataset, InputError> {
+        let text = std::fs::read_to_string(file).map_err(|e| InputError::File {
+            path: file.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        Dataset::parse(kind, file, &text)
+    }
+
+    /// Parses `text`, the contents of `file`.
+    pub fn parse(kind: Kind, file: &Path, text: &str) -> Result<Dataset, InputError> {
+        let shown = file.display().to_string();
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        let Some((header_row, header)) = lines.next() else {
+            return Err(malformed(
+                &shown,
+                "the header",
+                "",
+                "a header row of column names",
+            ));
+        };
+        let (required, optional) = kind.columns();
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        let mut index = Vec::with_capacity(names.len());
+        for (c, name) in names.iter().enumerate() {
+            let known = required.iter().chain(optional).find(|k| *k == name);
+            let Some(known) = known else {
+                let allowed = required.iter().chain(optional).copied();
+                let hint = crate::error::closest(name, allowed.clone())
+                    .map(|k| format!(" (did you mean {k}? a column name carries its unit)"))
+                    .unwrap_or_default();
+                return Err(malformed(
+                    &shown,
+                    &format!("row {header_row}, column {}", c + 1),
+                    name,
+                    &format!(
+                        "a column of a {} dataset: {}{hint}",
+                        kind.name(),
+                        allowed.collect::<Vec<_>>().join(", ")
+                    ),
+                ));
+            };
+            if index.contains(known) {
+                return Err(malformed(
+                    &shown,
+                    &format!("row {header_row}, column {}", c + 1),
+                    name,
+                    "each column once",
+                ));
+            }
+            index.push(*known);
+        }
+        if let Some(missing) = required.iter().find(|r| !index.contains(r)) {
+            return Err(malformed(
+                &shown,
+                &format!("row {header_row} (the header)"),
+                header,
+                &format!(
+                    "a column {missing} (a {} dataset needs {})",
+                    kind.name(),
+                    required.join(", ")
+                ),
+            ));
+        }
+        if index.contains(&"sigma_frequency_hz") && !index.contains(&"frequency_hz") {
+            return Err(InputError::Conflict(format!(
+                "{shown}: a column sigma_frequency_hz without frequency_hz"
+            )));
+        }
+        let mut columns: Vec<Vec<f64>> = vec![Vec::new(); index.len()];
+        for (row, line) in lines {
+            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+            if cells.len() != index.len() {
+                return Err(malformed(
+                    &shown,
+                    &format!("row {row}"),
+                    line,
+                    &format!("{} values ({})", index.len(), index.join(", ")),
+                ));
+            }
+            for (c, (cell, name)) in cells.iter().zip(&index).enumerate() {
+                let x: f64 = cell.parse().map_err(|_| {
+                    malformed(
+                        &shown,
+                        &format!("row {row}, column {} ({name})", c + 1),
+                        cell,
+                        "a number",
+                    )
+                })?;
+                let (ok, expected) = match *name {
+                    "mu" => (x.is_finite(), "a finite number"),
+                    _ => (x.is_finite() && x > 0.0, "a finite number > 0"),
+                };
+                if !ok {
+                    return Err(InputError::OutOfRange {
+                        field: format!("{shown}: row {row}, column {} ({name})", c + 1),
+                        value: cell.to_string(),
+                        expected: expected.into(),
+                    });
+                }
+                columns[c].push(x);
+            }
+        }
+        let rows = columns[0].len();
+        if rows < Kind::MIN_ROWS {
+            return Err(InputError::Conflict(format!(
+                "{shown}: {rows} data row(s); a {} dataset needs at least {}",
+                kind.name(),
+                Kind::MIN_ROWS
+            )));
+        }
+        let column = |name: &str| {
+            index
+                .iter()
+                .position(|n| *n == name)
+                .map(|i| columns[i].clone())
+        };
+        let measured_column = |name: &'static str, sigma: &str| {
+            column(name).map(|values| Measured {
+                column: name,
+                values,
+                sigma: column(sigma),
+            })
+        };
+        let measured = match kind {
+            Kind::Steady => vec![measured_column("mu", "sigma")],
+            Kind::Onset => vec![
+                measured_column("K_over_W_per_m", "sigma"),
+                measured_column("frequency_hz", "sigma_frequency_hz"),
+            ],
+        };
+        Ok(Dataset {
+            kind,
+            file: file.to_path_buf(),
+            v_um_s: column("V_um_s").unwrap_or_default(),
+            measured: measured.into_iter().flatten().collect(),
+        })
+    }
+
+    /// Rows of the file.
+    pub fn rows(&self) -> usize {
+        self.v_um_s.len()
+    }
+}
+
+/// A `--data KIND=FILE` option.
+pub fn parse_data_option(text: &str) -> Result<(Kind, PathBuf), InputError> {
+    let (kind, file) = text.split_once('=').ok_or_else(|| InputError::Malformed {
+        field: "--data".into(),
+        value: text.into(),
+        expected: format!(
+            "KIND=FILE with KIND one of {}",
+            Kind::ALL.map(|(n, _)| n).join(", ")
+        ),
+    })?;
+    Ok((Kind::parse(kind.trim())?, PathBuf::from(file.trim())))
+}
+
+fn malformed(file: &str, at: &str, value: &str, expected: &str) -> InputError {
+    InputError::Malformed {
+        field: format!("{file}: {at}"),
+        value: value.into(),
+        expected: expected.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(kind: Kind, text: &str) -> Result<Dataset, String> {
+        Dataset::parse(kind, Path::new("d.csv"), text).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn reads_columns_in_any_order_with_comments() {
+        let d = parse(
+            Kind::Onset,
+            "# rig 3\nK_over_W_per_m, V_um_s,frequency_hz\n100,1,0.5\n\n90,10,4\n",
+        )
+        .unwrap();
+        assert_eq!(d.v_um_s, vec![1.0, 10.0]);
+        assert_eq!(d.measured[0].values, vec![100.0, 90.0]);
+        assert_eq!(d.measured[1].column, "frequency_hz");
+        assert!(d.measured[0].sigma.is_none());
+    }
+
+    #[test]
+    fn bad_data_names_file_row_and_column() {
+        let e = parse(Kind::Steady, "V_um_s,mu\n1,0.6\n-2,0.59\n").unwrap_err();
+        assert!(e.contains("d.csv: row 3, column 1 (V_um_s)"), "{e}");
+        let e = parse(Kind::Steady, "V_um_s,mu\n1,0.6\n2,NaN\n").unwrap_err();
+        assert!(e.contains("row 3, column 2 (mu)"), "{e}");
+        let e = parse(Kind::Steady, "V_um_s,mu\n1,0.6\n2,x\n").unwrap_err();
+        assert!(
+            e.contains("row 3, column 2 (mu)") && e.contains("a number"),
+            "{e}"
+        );
+        let e = parse(Kind::Steady, "V,mu\n1,0.6\n").unwrap_err();
+        assert!(
+            e.contains("d.csv: row 1, column 1: cannot read 'V'") && e.contains("V_um_s"),
+            "{e}"
+        );
+        let e = parse(Kind::Steady, "V_um_s\n1\n2\n").unwrap_err();
+        assert!(e.contains("a column mu"), "{e}");
+        let e = parse(Kind::Steady, "V_um_s,mu\n1,0.6\n").unwrap_err();
+        assert!(e.contains("1 data row(s)"), "{e}");
+        let e = parse(Kind::Steady, "V_um_s,mu\n1,0.6\n2\n").unwrap_err();
+        assert!(e.contains("row 3") && e.contains("2 values"), "{e}");
+        let e = parse(Kind::Steady, "").unwrap_err();
+        assert!(e.contains("header"), "{e}");
+        let e = parse_data_option("stedy=x.csv").unwrap_err().to_string();
+        assert!(e.contains("did you mean 'steady'"), "{e}");
+    }
+}

@@ -1,0 +1,628 @@
+//! The `fit` job: the friction law's parameters (`mu0`, `A`, `B`, `D0`,
+//! and `mu2` or `tau` by the scene's form) from laboratory data, by joint
+//! weighted least squares over every dataset, with standard errors, the
+//! correlation matrix, the parameters the data do not determine (named,
+//! with the data that would determine them, never given a made-up value),
+//! the seed's closed-form route beside the fit, and the fitted scene.
+//!
+//! Positive parameters are fitted as their logarithms; a dataset without
+//! a `sigma` column gets the error its residuals give, `s^2 = RSS /
+//! (n (1 - p/N))` (its share of the degrees of freedom), re-estimated
+//! until the fit settles.
+
+use super::{SceneSpec, Setup};
+use crate::error::{Error, InputError, NumericalError};
+use crate::fit::data::{Dataset, Kind};
+use crate::fit::least_squares::{covariance, minimize, scaled_svd, Minimum, Problem};
+use crate::fit::model::{AgeingValue, Name, Rig, Values};
+use crate::records::{params_json, UnitsRecord};
+use continuation::Scalar;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// What `fit` is asked.
+#[derive(Clone, Debug, Default)]
+pub struct FitRequest {
+    /// The datasets, `(kind, file)`.
+    pub data: Vec<(Kind, PathBuf)>,
+    /// The parameters to fit (`None`: every parameter of the scene's law).
+    pub free: Option<Vec<String>>,
+}
+
+/// A singular value of the column-scaled Jacobian below this fraction of
+/// the largest marks a direction the data do not determine (rounding
+/// level of `J^T J`).
+const UNDETERMINED: f64 = 1e-8;
+
+/// Re-estimations of the residual errors at most.
+const SIGMA_ROUNDS: usize = 20;
+
+/// One parameter of the result.
+#[derive(Clone, Debug, Serialize)]
+pub struct Estimate {
+    /// The value (fitted, or the scene's where not fitted).
+    pub value: f64,
+    /// Its standard error; `null` where it was not fitted.
+    pub std_error: Option<f64>,
+    pub unit: &'static str,
+    /// `fitted`, `fixed` (not in `--free`) or `not_determined`.
+    pub status: &'static str,
+    /// The scene's value, where the fit started.
+    pub start: f64,
+    /// Parameters not determined by the data that this value depends on
+    /// (it is fitted with them kept at the scene's values: only a
+    /// combination is determined).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub given: Vec<&'static str>,
+}
+
+/// A parameter the data did not determine.
+#[derive(Clone, Debug, Serialize)]
+pub struct NotDetermined {
+    pub name: &'static str,
+    /// The parameters of the undetermined direction (only a combination of
+    /// them is determined).
+    pub with: Vec<&'static str>,
+    /// What to do: which data would determine it.
+    pub remedy: String,
+    /// Where it was kept.
+    pub kept_at: f64,
+}
+
+/// One measured quantity of a dataset in the result.
+#[derive(Clone, Debug, Serialize)]
+pub struct DatasetFit {
+    pub kind: Kind,
+    pub file: String,
+    pub rows: usize,
+    /// The quantity (column) measured.
+    pub quantity: &'static str,
+    /// Root-mean-square residual, in the quantity's unit.
+    pub rms: f64,
+    /// `given` (a sigma column) or `estimated` (from the residuals).
+    pub sigma: &'static str,
+    /// The error per row estimated from the residuals, where not given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma_estimated: Option<f64>,
+}
+
+/// The seed's route to the parameters (§II.D.2), printed beside the fit:
+/// the slope of steady friction against `ln V` gives `B - A`, the
+/// critical stiffness `(K/W)_c = (B - A)/D0` (eq. KcRR, quasi-static)
+/// gives `D0`, the onset frequency (eq. omegacRR) gives `A`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ClosedForm {
+    pub b_minus_a: f64,
+    pub mu0: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub d0_um: Option<f64>,
+    #[serde(rename = "A", skip_serializing_if = "Option::is_none")]
+    pub a: Option<f64>,
+    pub from: &'static str,
+}
+
+/// The correlation matrix of the fitted parameters.
+#[derive(Clone, Debug, Serialize)]
+pub struct Correlation {
+    pub names: Vec<&'static str>,
+    pub matrix: Vec<Vec<f64>>,
+}
+
+/// The result of `fit`: its serde form is the command's JSON.
+#[derive(Serialize)]
+pub struct Fit {
+    pub scene: String,
+    /// `rice-ruina`, `ln2` or `cutoff`.
+    pub law: &'static str,
+    pub parameters: BTreeMap<&'static str, Estimate>,
+    pub correlation: Correlation,
+    pub chi2: f64,
+    pub dof: usize,
+    pub chi2_per_dof: f64,
+    pub datasets: Vec<DatasetFit>,
+    pub not_determined: Vec<NotDetermined>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_form: Option<ClosedForm>,
+    /// The fitted scene's dimensionless parameters.
+    pub params: serde_json::Value,
+    pub units: UnitsRecord,
+    pub iterations: usize,
+    pub complete: bool,
+    pub stop: Option<String>,
+    /// The files written (by the command line).
+    pub files: Vec<String>,
+    /// The fitted scene as a TOML file.
+    #[serde(skip)]
+    pub fitted_toml: String,
+    /// The datasets and the fitted values, for the figures.
+    #[serde(skip)]
+    pub data: Vec<Dataset>,
+    #[serde(skip)]
+    pub values: Values<f64>,
+    /// The scene's values the fit started from.
+    #[serde(skip)]
+    pub start: Values<f64>,
+    #[serde(skip)]
+    pub rig: Rig,
+}
+
+impl Fit {
+    /// The model of the quantity `column` (`mu`, `K_over_W_per_m`,
+    /// `frequency_hz`) at `v_um_s` on the fit's rig with the values `p`.
+    pub fn predict(&self, p: &Values<f64>, column: &str, v_um_s: f64) -> f64 {
+        predict(&self.rig, p, column, v_um_s)
+    }
+}
+
+/// The least-squares problem: weighted residuals of every measured value.
+struct Joint<'a> {
+    data: &'a [Dataset],
+    rig: Rig,
+    base: Values<f64>,
+    free: Vec<Name>,
+    /// Per dataset and quantity: the error per row where none is given.
+    scale: Vec<Vec<f64>>,
+}
+
+impl Joint<'_> {
+    /// The law's values at the unknowns `x` (logarithms of positive parameters).
+    fn values<T: Scalar>(&self, x: &[T]) -> Values<T> {
+        let b = &self.base;
+        let mut v = Values {
+            mu0: T::from(b.mu0),
+            a: T::from(b.a),
+            b: T::from(b.b),
+            d0_um: T::from(b.d0_um),
+            ageing: match b.ageing {
+                AgeingValue::Mu2(x) => AgeingValue::Mu2(T::from(x)),
+                AgeingValue::Tau(x) => AgeingValue::Tau(T::from(x)),
+            },
+        };
+        for (name, xi) in self.free.iter().zip(x) {
+            v.set(*name, if name.positive() { xi.exp() } else { *xi });
+        }
+        v
+    }
+
+    /// The unknowns of `values`.
+    fn unknowns_of(&self, values: &Values<f64>) -> Vec<f64> {
+        self.free
+            .iter()
+            .map(|n| {
+                let x = values.get(*n).unwrap_or(0.0);
+                if n.positive() {
+                    x.ln()
+                } else {
+                    x
+                }
+            })
+            .collect()
+    }
+}
+
+impl Problem for Joint<'_> {
+    fn unknowns(&self) -> usize {
+        self.free.len()
+    }
+
+    fn residuals<T: Scalar>(&self, x: &[T]) -> Option<Vec<T>> {
+        let p = self.values(x);
+        let mut out = Vec::new();
+        for (d, scales) in self.data.iter().zip(&self.scale) {
+            for (q, scale) in d.measured.iter().zip(scales) {
+                for (i, (&v, &y)) in d.v_um_s.iter().zip(&q.values).enumerate() {
+                    let sigma = q.sigma.as_ref().map_or(*scale, |s| s[i]);
+                    let r = (predict(&self.rig, &p, q.column, v) - y) / sigma;
+                    if !r.re().is_finite() {
+                        return None;
+                    }
+                    out.push(r);
+                }
+            }
+        }
+        Some(out)
+    }
+}
+
+/// The law's parameters of a scene, in their physical units.
+fn scene_values(setup: &Setup) -> Values<f64> {
+    let (p, u) = (&setup.scene_params, &setup.scene.units);
+    let d0_um = u.d0 * 1e6;
+    Values {
+        mu0: p.mu0,
+        a: p.a,
+        b: p.b,
+        d0_um,
+        ageing: match p.theta_c {
+            // theta_c = tau V0 / D0.
+            Some(theta_c) => AgeingValue::Tau(theta_c * u.d0 / u.v0),
+            None => AgeingValue::Mu2(p.mu2),
+        },
+    }
+}
+
+/// Which data determine a parameter.
+fn remedy(name: Name, with: &[Name]) -> String {
+    let only_combination = with.len() > 1;
+    let what = match name {
+        Name::Mu0 => "steady-friction data",
+        Name::A | Name::B
+            if only_combination && with.contains(&Name::A) && with.contains(&Name::B) =>
+        {
+            "onset frequencies (a frequency_hz column in the onset data) or velocity-step data: \
+             steady friction and the critical stiffness give only B - A"
+        }
+        Name::A | Name::B => "steady-friction or onset data",
+        Name::D0 => "onset data ((K/W)_c against V) or velocity-step data",
+        Name::Mu2 => "steady or onset data over several decades of V, or relaxation data",
+        Name::Tau => "steady or onset data around and above the friction minimum V_min",
+    };
+    format!("add {what}")
+}
+
+/// Fits the scene `spec` to the data of `request`.
+pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
+    if request.data.is_empty() {
+        return Err(InputError::Conflict(
+            "fit needs data: give --data KIND=FILE (KIND steady or onset), repeatable".into(),
+        )
+        .into());
+    }
+    let setup = spec.setup(|p| *p)?;
+    let data = request
+        .data
+        .iter()
+        .map(|(kind, file)| Dataset::read(*kind, file))
+        .collect::<Result<Vec<_>, _>>()?;
+    let start = scene_values(&setup);
+    let law_names = start.names();
+    let requested: Vec<Name> = match &request.free {
+        None => law_names.clone(),
+        Some(names) => names
+            .iter()
+            .map(|n| {
+                law_names
+                    .iter()
+                    .find(|l| l.key() == n.trim())
+                    .copied()
+                    .ok_or_else(|| InputError::UnknownName {
+                        what: "parameter in --free (of this scene's friction law)",
+                        name: n.clone(),
+                        suggestion: crate::error::closest(n, law_names.iter().map(|l| l.key())),
+                        allowed: law_names
+                            .iter()
+                            .map(|l| l.key())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let rig = Rig::of(&setup.scene.units);
+    let mut problem = Joint {
+        data: &data,
+        rig,
+        base: start,
+        free: requested.clone(),
+        scale: data
+            .iter()
+            .map(|d| d.measured.iter().map(|_| 1.0).collect())
+            .collect(),
+    };
+    let mut not_determined: Vec<NotDetermined> = Vec::new();
+    let (minimum, values) = loop {
+        if problem.free.is_empty() {
+            return Err(NumericalError::Analysis(format!(
+                "the data determine none of the parameters asked for: {}",
+                not_determined
+                    .iter()
+                    .map(|n| format!("{} ({})", n.name, n.remedy))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            ))
+            .into());
+        }
+        let minimum = fit_with_estimated_errors(&mut problem)?;
+        let (s, v) = scaled_svd(&minimum.jacobian);
+        let weakest = s.len() - 1;
+        if s[weakest] > UNDETERMINED * s[0] && s[0] > 0.0 {
+            let values = problem.values(&minimum.x);
+            break (minimum, values);
+        }
+        // The direction the data leave free: its parameters; the one with
+        // the largest share is kept at the scene's value.
+        let direction = v.column(weakest);
+        let share = |k: usize| direction[k].abs();
+        let with: Vec<Name> = (0..problem.free.len())
+            .filter(|&k| share(k) > 0.1)
+            .map(|k| problem.free[k])
+            .collect();
+        let k = (0..problem.free.len())
+            .max_by(|&a, &b| share(a).total_cmp(&share(b)))
+            .unwrap_or(0);
+        let name = problem.free.remove(k);
+        not_determined.push(NotDetermined {
+            name: name.key(),
+            with: with.iter().map(|n| n.key()).collect(),
+            remedy: remedy(name, &with),
+            kept_at: start.get(name).unwrap_or(f64::NAN),
+        });
+    };
+    let c = covariance(&minimum.jacobian).ok_or_else(|| {
+        NumericalError::Analysis("the fit's normal matrix J^T J is singular".into())
+    })?;
+    let mut parameters = BTreeMap::new();
+    for name in &law_names {
+        let value = values.get(*name).unwrap_or(f64::NAN);
+        let fitted = problem.free.iter().position(|n| n == name);
+        let status = match fitted {
+            Some(_) => "fitted",
+            None if not_determined.iter().any(|n| n.name == name.key()) => "not_determined",
+            None => "fixed",
+        };
+        let std_error = fitted.map(|k| {
+            let sd = c[(k, k)].sqrt();
+            // Delta method through the logarithm: d value = value d ln(value).
+            if name.positive() {
+                value * sd
+            } else {
+                sd
+            }
+        });
+        parameters.insert(
+            name.key(),
+            Estimate {
+                value,
+                std_error,
+                unit: name.unit(),
+                status,
+                start: start.get(*name).unwrap_or(f64::NAN),
+                given: not_determined
+                    .iter()
+                    .filter(|n| fitted.is_some() && n.with.contains(&name.key()))
+                    .map(|n| n.name)
+                    .collect(),
+            },
+        );
+    }
+    let n = problem.free.len();
+    let correlation = Correlation {
+        names: problem.free.iter().map(|n| n.key()).collect(),
+        matrix: (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt())
+                    .collect()
+            })
+            .collect(),
+    };
+    let rows: usize = data.iter().map(|d| d.rows() * d.measured.len()).sum();
+    let chi2 = minimum.residuals.norm_squared();
+    let dof = rows.saturating_sub(n);
+    let datasets = dataset_fits(&problem, &values);
+    let fitted_params = fitted_params(&setup, &values);
+    let fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
+    let closed_form = closed_form(&data, &rig);
+    let stop = (!not_determined.is_empty()).then(|| {
+        format!(
+            "not determined by the data: {}",
+            not_determined
+                .iter()
+                .map(|n| format!("{} ({})", n.name, n.remedy))
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    });
+    Ok(Fit {
+        scene: setup.scene.name.clone(),
+        law: match start.ageing {
+            AgeingValue::Tau(_) => "cutoff",
+            AgeingValue::Mu2(m) if m != 0.0 || requested.contains(&Name::Mu2) => "ln2",
+            AgeingValue::Mu2(_) => "rice-ruina",
+        },
+        parameters,
+        correlation,
+        chi2,
+        dof,
+        chi2_per_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
+        datasets,
+        not_determined,
+        closed_form,
+        params: params_json(&fitted_params),
+        units: UnitsRecord::of(&setup.scene.units),
+        iterations: minimum.iterations,
+        complete: stop.is_none(),
+        stop,
+        files: Vec::new(),
+        fitted_toml,
+        data: data.clone(),
+        values,
+        start,
+        rig,
+    })
+}
+
+/// Minimises with the errors of datasets without a sigma column estimated
+/// from their residuals, until the estimates settle.
+fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
+    let mut x = problem.unknowns_of(&problem.base);
+    let total: usize = problem
+        .data
+        .iter()
+        .map(|d| d.rows() * d.measured.len())
+        .sum();
+    let p = problem.free.len();
+    let estimated = problem
+        .data
+        .iter()
+        .any(|d| d.measured.iter().any(|q| q.sigma.is_none()));
+    if estimated && total <= p {
+        return Err(InputError::Conflict(format!(
+            "{total} measured values for {p} parameters leave no residual to estimate the \
+             errors from: give a sigma column, more rows, or fewer --free parameters"
+        ))
+        .into());
+    }
+    for _ in 0..SIGMA_ROUNDS {
+        let minimum =
+            minimize(problem, &x).map_err(|e| NumericalError::Analysis(format!("fit: {e}")))?;
+        x = minimum.x.clone();
+        let values = problem.values(&x);
+        let mut moved = 0.0f64;
+        for (d, scales) in problem.data.iter().zip(problem.scale.iter_mut()) {
+            for (q, scale) in d.measured.iter().zip(scales.iter_mut()) {
+                if q.sigma.is_some() {
+                    continue;
+                }
+                let rss: f64 = d
+                    .v_um_s
+                    .iter()
+                    .zip(&q.values)
+                    .map(|(&v, &y)| (predict(&problem.rig, &values, q.column, v) - y).powi(2))
+                    .sum();
+                let n = q.values.len() as f64;
+                let new = (rss / (n * (1.0 - p as f64 / total as f64)))
+                    .sqrt()
+                    .max(f64::MIN_POSITIVE);
+                moved = moved.max((new / *scale - 1.0).abs());
+                *scale = new;
+            }
+        }
+        if moved < 1e-9 {
+            return Ok(minimum);
+        }
+    }
+    minimize(problem, &x).map_err(|e| NumericalError::Analysis(format!("fit: {e}")).into())
+}
+
+/// The model of the quantity `column` at `v_um_s`.
+fn predict<T: Scalar>(rig: &Rig, p: &Values<T>, column: &str, v_um_s: f64) -> T {
+    match column {
+        "mu" => rig.steady(p, v_um_s),
+        "K_over_W_per_m" => rig.k_over_w_c(p, v_um_s),
+        _ => rig.frequency_hz(p, v_um_s),
+    }
+}
+
+/// Per dataset and quantity: the RMS residual and how its error was had.
+fn dataset_fits(problem: &Joint, values: &Values<f64>) -> Vec<DatasetFit> {
+    let mut out = Vec::new();
+    for (d, scales) in problem.data.iter().zip(&problem.scale) {
+        for (q, scale) in d.measured.iter().zip(scales) {
+            let rss: f64 = d
+                .v_um_s
+                .iter()
+                .zip(&q.values)
+                .map(|(&v, &y)| (predict(&problem.rig, values, q.column, v) - y).powi(2))
+                .sum();
+            out.push(DatasetFit {
+                kind: d.kind,
+                file: d.file.display().to_string(),
+                rows: d.rows(),
+                quantity: q.column,
+                rms: (rss / q.values.len() as f64).sqrt(),
+                sigma: if q.sigma.is_some() {
+                    "given"
+                } else {
+                    "estimated"
+                },
+                sigma_estimated: q.sigma.is_none().then_some(*scale),
+            });
+        }
+    }
+    out
+}
+
+/// The scene's dimensionless parameters with the fitted values.
+fn fitted_params(setup: &Setup, v: &Values<f64>) -> crate::params::Params {
+    let (mut p, u) = (setup.scene_params, &setup.scene.units);
+    let d0 = v.d0_um * 1e-6;
+    p.mu0 = v.mu0;
+    p.a = v.a;
+    p.b = v.b;
+    p.kappa *= d0 / u.d0;
+    p.m *= u.d0 / d0;
+    match v.ageing {
+        AgeingValue::Mu2(mu2) => p.mu2 = mu2,
+        AgeingValue::Tau(tau) => p.theta_c = Some(tau * u.v0 / d0),
+    }
+    p
+}
+
+/// The fitted scene as TOML (every command reads it), checked by reading it back.
+fn fitted_toml(
+    spec: &SceneSpec,
+    setup: &Setup,
+    v: &Values<f64>,
+    data: &[Dataset],
+) -> Result<String, Error> {
+    let overrides = crate::overrides::Overrides::parse(&spec.set)?;
+    let (mut table, _) =
+        crate::scene::table_with(&spec.scene, &setup.scene, &overrides.physical())?;
+    for name in v.names() {
+        if let Some(x) = v.get(name) {
+            table.insert(name.key().into(), toml::Value::Float(x));
+        }
+    }
+    let files: Vec<String> = data.iter().map(|d| d.file.display().to_string()).collect();
+    table.insert(
+        "name".into(),
+        toml::Value::String(format!("{}-fitted", setup.scene.name)),
+    );
+    table.insert(
+        "description".into(),
+        toml::Value::String(format!(
+            "{} fitted by stickslip fit to {}",
+            setup.scene.name,
+            files.join(", ")
+        )),
+    );
+    let text = toml::to_string(&table).map_err(|e| std::io::Error::other(e.to_string()))?;
+    crate::scene::from_toml_str(&text, "fitted.toml")?;
+    Ok(text)
+}
+
+/// The seed's route (§II.D.2) where steady data are given: a straight
+/// line of `mu` against `ln(V/V0)` (slope `A - B`, intercept `mu0`), then
+/// with onset data `D0 = (B - A) / (K/W)_c` (eq. KcRR without inertia,
+/// averaged over the rows) and with onset frequencies `B/A - 1 = (2 pi f
+/// D0 / V)^2` (eq. omegacRR).
+fn closed_form(data: &[Dataset], rig: &Rig) -> Option<ClosedForm> {
+    let steady = data.iter().find(|d| d.kind == Kind::Steady)?;
+    let x: Vec<f64> = steady
+        .v_um_s
+        .iter()
+        .map(|v| (v / rig.v0_um_s).ln())
+        .collect();
+    let y = &steady.measured[0].values;
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxx: f64 = x.iter().map(|x| (x - mx).powi(2)).sum();
+    let sxy: f64 = x.iter().zip(y).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let slope = sxy / sxx;
+    let b_minus_a = -slope;
+    let onset = data.iter().find(|d| d.kind == Kind::Onset);
+    let d0_m = onset.map(|d| {
+        let kw = &d.measured[0].values;
+        kw.iter().map(|k| b_minus_a / k).sum::<f64>() / kw.len() as f64
+    });
+    let a = onset.zip(d0_m).and_then(|(d, d0)| {
+        let f = d.measured.iter().find(|q| q.column == "frequency_hz")?;
+        let per_row: Vec<f64> = d
+            .v_um_s
+            .iter()
+            .zip(&f.values)
+            .map(|(v, f)| b_minus_a / (2.0 * std::f64::consts::PI * f * d0 / (v * 1e-6)).powi(2))
+            .collect();
+        Some(per_row.iter().sum::<f64>() / per_row.len() as f64)
+    });
+    Some(ClosedForm {
+        b_minus_a,
+        mu0: my - slope * mx,
+        d0_um: d0_m.map(|d| d * 1e6),
+        a,
+        from: "seed §II.D.2: slope of steady friction against ln V (B - A), eq. KcRR without \
+               inertia (D0), eq. omegacRR (A)",
+    })
+}

@@ -1,0 +1,115 @@
+//! Figures of `fit`: per measured quantity of each dataset, the data with
+//! the fitted model (and the scene's model it started from) against the
+//! driving velocity, and the residuals.
+
+use super::lines::{render, LineFigure, Series};
+use super::PlotError;
+use crate::file_names::with_suffix;
+use crate::fit::model::Values;
+use crate::jobs::fit::Fit;
+use plotters::style::RGBColor;
+use std::path::{Path, PathBuf};
+
+/// Writes `<stem>-fit-<kind>-<quantity>` (data and models) and
+/// `...-residuals` for every measured quantity of the fit's data.
+pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    let (title, fitted, start) = (&fit.scene, &fit.values, &fit.start);
+    let model = |p: &Values<f64>, column: &str, v: f64| fit.predict(p, column, v);
+    let mut files = Vec::new();
+    for d in &fit.data {
+        let (lo, hi) = d
+            .v_um_s
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
+        let grid: Vec<f64> = (0..=200)
+            .map(|i| lo / 1.5 * (2.25 * hi / lo).powf(i as f64 / 200.0))
+            .collect();
+        let file = d.file.file_name().map_or_else(
+            || d.file.display().to_string(),
+            |f| f.to_string_lossy().into(),
+        );
+        for q in &d.measured {
+            let curve = |p: &Values<f64>| -> Vec<(f64, f64)> {
+                grid.iter().map(|&v| (v, model(p, q.column, v))).collect()
+            };
+            let points: Vec<(f64, f64)> = d
+                .v_um_s
+                .iter()
+                .copied()
+                .zip(q.values.iter().copied())
+                .collect();
+            let figure = LineFigure {
+                title: format!("{title}: {} data ({file}) and the fit", d.kind.name()),
+                x_label: "driving velocity V [µm/s]".into(),
+                y_label: label(q.column).into(),
+                log_x: true,
+                log_y: false,
+                series: vec![
+                    Series {
+                        label: Some("scene before the fit".into()),
+                        points: curve(start),
+                        color: RGBColor(150, 150, 150),
+                        dashed: true,
+                        markers: false,
+                    },
+                    Series {
+                        label: Some("fitted".into()),
+                        points: curve(fitted),
+                        color: RGBColor(31, 119, 180),
+                        dashed: false,
+                        markers: false,
+                    },
+                    Series {
+                        label: Some("data".into()),
+                        points,
+                        color: RGBColor(214, 39, 40),
+                        dashed: false,
+                        markers: true,
+                    },
+                ],
+            };
+            let base = with_suffix(stem, &format!("-fit-{}-{}", d.kind.name(), q.column));
+            files.extend(render(&figure, &base)?);
+            let residuals: Vec<(f64, f64)> = d
+                .v_um_s
+                .iter()
+                .zip(&q.values)
+                .map(|(&v, &y)| (v, y - model(fitted, q.column, v)))
+                .collect();
+            let figure = LineFigure {
+                title: format!("{title}: residuals of the {} data ({file})", d.kind.name()),
+                x_label: "driving velocity V [µm/s]".into(),
+                y_label: format!("data - fit: {}", label(q.column)),
+                log_x: true,
+                log_y: false,
+                series: vec![
+                    Series {
+                        label: None,
+                        points: vec![(lo / 1.5, 0.0), (hi * 1.5, 0.0)],
+                        color: RGBColor(150, 150, 150),
+                        dashed: true,
+                        markers: false,
+                    },
+                    Series {
+                        label: Some("residual".into()),
+                        points: residuals,
+                        color: RGBColor(214, 39, 40),
+                        dashed: false,
+                        markers: true,
+                    },
+                ],
+            };
+            files.extend(render(&figure, &with_suffix(&base, "-residuals"))?);
+        }
+    }
+    Ok(files)
+}
+
+/// The axis label of a measured quantity.
+fn label(column: &str) -> &'static str {
+    match column {
+        "mu" => "steady friction coefficient mu_ss",
+        "K_over_W_per_m" => "critical stiffness over load (K/W)_c [1/m]",
+        _ => "onset frequency f_c [Hz]",
+    }
+}

@@ -1,0 +1,240 @@
+//! `fit` (issue 26): the seed's PMMA values recovered from the example
+//! data (made by docs/reference/fit_data.py with its own formulas), the
+//! reported errors honest (coverage of ±1 sigma over many noise draws),
+//! what the data cannot determine named and never given a value, the
+//! fitted scene read back by the other jobs.
+//!
+//! The data of the draws are written here with the closed forms of the
+//! seed (eqs. RR5, C11, C13), not with the code under test.
+
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use stickslip::fit::data::Kind;
+use stickslip::jobs::fit::{run, Fit, FitRequest};
+use stickslip::jobs::hopf::HopfRequest;
+use stickslip::jobs::{self, SceneSpec};
+
+/// The seed's PMMA values (examples/scenes/pmma.toml): A, B, D0 [µm], mu0, mu2.
+const TRUTH: [(&str, f64); 5] = [
+    ("A", 0.012),
+    ("B", 0.023),
+    ("D0", 0.4),
+    ("mu0", 0.5),
+    ("mu2", 2.4e-4),
+];
+
+fn truth(name: &str) -> f64 {
+    TRUTH.iter().find(|(n, _)| *n == name).map(|t| t.1).unwrap()
+}
+
+/// Steady friction, eq. RR5 with `theta = V0/V` (V0 = 1 µm/s).
+fn steady(v: f64) -> f64 {
+    let l = v.ln();
+    truth("mu0") + (truth("A") - truth("B")) * l + truth("mu2") * l * l
+}
+
+/// `(K/W)_c` [1/m] (eq. C11) and `f_c` [Hz] (eq. C13) for a 1 kg block
+/// under its weight.
+fn onset(v: f64) -> (f64, f64) {
+    let (a, d0) = (truth("A"), truth("D0") * 1e-6);
+    let mu_phi = truth("B") - 2.0 * truth("mu2") * v.ln();
+    let w = 9.81;
+    let kw = (mu_phi - a) * (1.0 + (v * 1e-6).powi(2) / (w * d0 * a)) / d0;
+    let f = v * 1e-6 / (2.0 * PI * d0) * (mu_phi / a - 1.0).sqrt();
+    (kw, f)
+}
+
+/// Normal deviates from a fixed seed (SplitMix64, Box–Muller).
+struct Normal(u64);
+
+impl Normal {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn next(&mut self) -> f64 {
+        let (u, v) = (self.uniform().max(1e-300), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
+    }
+}
+
+fn geomspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+        .collect()
+}
+
+/// Writes one draw of steady and onset data with known errors (sigma
+/// columns): 2e-4 on mu, 2 % on (K/W)_c and f_c.
+fn draw(dir: &Path, k: usize, noise: &mut Normal) -> (PathBuf, PathBuf) {
+    let steady_path = dir.join(format!("steady-{k}.csv"));
+    let onset_path = dir.join(format!("onset-{k}.csv"));
+    let mut text = String::from("V_um_s,mu,sigma\n");
+    for v in geomspace(0.1, 100.0, 13) {
+        text += &format!("{v},{},2e-4\n", steady(v) + 2e-4 * noise.next());
+    }
+    std::fs::write(&steady_path, text).unwrap();
+    let mut text = String::from("V_um_s,K_over_W_per_m,sigma,frequency_hz,sigma_frequency_hz\n");
+    for v in geomspace(0.1, 100.0, 7) {
+        let (kw, f) = onset(v);
+        text += &format!(
+            "{v},{},{},{},{}\n",
+            kw * (1.0 + 0.02 * noise.next()),
+            0.02 * kw,
+            f * (1.0 + 0.02 * noise.next()),
+            0.02 * f
+        );
+    }
+    std::fs::write(&onset_path, text).unwrap();
+    (steady_path, onset_path)
+}
+
+fn fit(data: Vec<(Kind, PathBuf)>, free: Option<&str>) -> Result<Fit, stickslip::error::Error> {
+    let request = FitRequest {
+        data,
+        free: free.map(|f| f.split(',').map(String::from).collect()),
+    };
+    run(&SceneSpec::named("pmma"), &request)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("stickslip-fit-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn the_seeds_pmma_values_from_the_example_data() {
+    let f = fit(
+        vec![
+            (Kind::Steady, "examples/data/pmma-steady.csv".into()),
+            (Kind::Onset, "examples/data/pmma-onset.csv".into()),
+        ],
+        None,
+    )
+    .unwrap();
+    assert!(f.complete && f.not_determined.is_empty());
+    for (name, value) in TRUTH {
+        let e = &f.parameters[name];
+        let sd = e.std_error.unwrap();
+        assert!(
+            (e.value - value).abs() < 3.0 * sd,
+            "{name} = {} ± {sd}, truth {value}",
+            e.value
+        );
+    }
+    // As precise as the seed's measurement (A = 0.012 ± 0.002, B = 0.023
+    // ± 0.002, D0 = 0.4 ± 0.04 µm) or better, from 20 points.
+    assert!(f.parameters["A"].std_error.unwrap() < 0.002);
+    assert!(f.parameters["D0"].std_error.unwrap() < 0.04);
+    assert!((f.chi2_per_dof - 1.0).abs() < 0.8, "{}", f.chi2_per_dof);
+    // The seed's closed-form route beside it agrees to its own precision.
+    let c = f.closed_form.as_ref().unwrap();
+    assert!((c.b_minus_a - 0.011).abs() < 1e-3 && (c.d0_um.unwrap() - 0.4).abs() < 0.03);
+    // The fitted scene is a scene every command reads: its onset at V = V0
+    // (quasi-static there, inertia shifts it by 2e-5) is the fitted B - A.
+    let dir = temp_dir("scene");
+    let path = dir.join("fitted.toml");
+    std::fs::write(&path, &f.fitted_toml).unwrap();
+    let hopf = jobs::hopf::run(
+        &SceneSpec::named(path.to_str().unwrap()),
+        &HopfRequest::default(),
+    )
+    .unwrap();
+    let kappa_c = serde_json::to_value(&hopf.report).unwrap()["kappa_c"]
+        .as_f64()
+        .unwrap();
+    let b_minus_a = f.parameters["B"].value - f.parameters["A"].value;
+    assert!(
+        (kappa_c / b_minus_a - 1.0).abs() < 1e-13,
+        "{kappa_c} {b_minus_a}"
+    );
+    let k_over_w = serde_json::to_value(&hopf.report).unwrap()["physical"]["K_over_W_per_m"]
+        .as_f64()
+        .unwrap();
+    let d0 = f.parameters["D0"].value * 1e-6;
+    assert!(
+        (k_over_w * d0 / b_minus_a - 1.0).abs() < 1e-13,
+        "{k_over_w}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The reported standard errors are honest: over 300 noise draws each
+/// parameter's truth lies within ±1 reported sigma in 68 % of the fits
+/// (binomial spread 2.7 %: the band 60–76 % fails a correct fit about
+/// once in 300 runs of this test, and catches errors off by 20 %).
+#[test]
+fn one_sigma_covers_the_truth_68_percent_of_the_time() {
+    let dir = temp_dir("coverage");
+    let mut noise = Normal(20_261_126);
+    let draws = 300;
+    let mut inside = [0usize; 5];
+    for k in 0..draws {
+        let (s, o) = draw(&dir, k, &mut noise);
+        let f = fit(vec![(Kind::Steady, s), (Kind::Onset, o)], None).unwrap();
+        for (i, (name, value)) in TRUTH.iter().enumerate() {
+            let e = &f.parameters[name];
+            if (e.value - value).abs() <= e.std_error.unwrap() {
+                inside[i] += 1;
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    for (i, (name, _)) in TRUTH.iter().enumerate() {
+        let share = inside[i] as f64 / draws as f64;
+        println!(
+            "coverage of ±1 sigma, {name}: {share:.3} ({} of {draws})",
+            inside[i]
+        );
+        assert!((0.60..=0.76).contains(&share), "{name}: {share}");
+    }
+}
+
+#[test]
+fn what_steady_data_cannot_determine_is_named_not_invented() {
+    let f = fit(
+        vec![(Kind::Steady, "examples/data/pmma-steady.csv".into())],
+        None,
+    )
+    .unwrap();
+    assert!(!f.complete);
+    let names: Vec<&str> = f.not_determined.iter().map(|n| n.name).collect();
+    assert!(
+        names.contains(&"D0") && (names.contains(&"A") || names.contains(&"B")),
+        "{names:?}"
+    );
+    for n in &f.not_determined {
+        let e = &f.parameters[n.name];
+        assert!(e.std_error.is_none() && e.value == e.start && e.status == "not_determined");
+        assert!(n.remedy.starts_with("add "), "{}", n.remedy);
+    }
+    // B - A, what steady data do determine, is the truth's within the
+    // error of B given A (the closed form's straight line leaves out the
+    // mu2 curvature and is off by 5e-4 here).
+    let b_minus_a = f.parameters["B"].value - f.parameters["A"].value;
+    let sd = f.parameters["B"].std_error.unwrap();
+    assert_eq!(f.parameters["B"].given, vec!["A"]);
+    assert!((b_minus_a - 0.011).abs() < 3.0 * sd, "{b_minus_a} ± {sd}");
+    assert!(f.stop.as_ref().unwrap().contains("D0"));
+    // --free restricts to what is determined: then the answer is complete.
+    let f = fit(
+        vec![(Kind::Steady, "examples/data/pmma-steady.csv".into())],
+        Some("mu0,B,mu2"),
+    )
+    .unwrap();
+    assert!(f.complete, "{:?}", f.stop);
+    assert_eq!(f.parameters["A"].status, "fixed");
+    // A name the law does not have.
+    let e = fit(
+        vec![(Kind::Steady, "examples/data/pmma-steady.csv".into())],
+        Some("tau"),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("tau") && e.contains("mu2"), "{e}");
+}
