@@ -601,7 +601,7 @@ pub const SAMPLED_NTST: usize = 200;
 /// Traces the cycles through the simulated orbit `orbit` of `params` (at
 /// `params.kappa`): the orbit is put on a mesh of `max(req.ntst,`
 /// [`SAMPLED_NTST`]`)` intervals (more where Newton's method needs them,
-/// [`sampled_branch`]), corrected by collocation, and continued
+/// `sampled_branch`), corrected by collocation, and continued
 /// first toward increasing stiffness ([`Leg::Up`]: a fold of cycles, LPC,
 /// where the branch turns back, lies that way for a cycle coexisting with
 /// stable sliding) and then toward decreasing stiffness ([`Leg::Down`]),
@@ -717,10 +717,10 @@ fn sampled_branch<'a>(
 
 /// The cycle through the simulated orbit `orbit` of `params` at its own
 /// stiffness `params.kappa`, not continued: the orbit on a mesh, corrected
-/// by collocation at fixed stiffness ([`sampled_branch`]), its mesh refined
+/// by collocation at fixed stiffness (`sampled_branch`), its mesh refined
 /// until the error estimate meets the branch's tolerance, and its Floquet
 /// multipliers; the first cycle of a branch through it (the same settings
-/// as every cycle of a branch, [`settings`]), recorded as
+/// as every cycle of a branch, `settings`), recorded as
 /// [`Leg::AtStiffness`].
 pub fn cycle_through_orbit(
     kind: ModelKind,

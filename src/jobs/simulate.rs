@@ -3,7 +3,8 @@
 //! slightly perturbed; every integrator step handed to an [`Observer`] (the
 //! command line writes them as CSV rows), a trajectory decimated for the
 //! figures kept ([`Envelope`]), and after a complete run the regime it
-//! reaches ([`regime_with_inertia_judged`]).
+//! reaches (the model judged on the whole orbit,
+//! [`settled_with_inertia_judged`]).
 
 use super::{SceneSpec, Setup};
 use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
@@ -192,7 +193,8 @@ impl Plan {
     /// Integrates the protocol from steady sliding at its first velocity
     /// with the age perturbed; stops at `--max-steps` samples, at an
     /// error of the observer, or when it says so; then, after a complete
-    /// run, follows the last state until it settles ([`regime_with_inertia_judged`]).
+    /// run, follows the last state until it settles (in the model the
+    /// whole orbit needs, [`settled_with_inertia_judged`]).
     pub fn run(self, observer: &mut dyn Observer) -> Simulation {
         let Plan {
             setup,
