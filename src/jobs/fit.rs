@@ -705,7 +705,7 @@ impl Draws {
         let Some(l) = c.clone().cholesky().map(|ch| ch.l()) else {
             return Draws(Vec::new());
         };
-        let mut state = 0x5EED_F17u64;
+        let mut state = 0x05EE_DF17_u64;
         let mut uniform = || {
             state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
             let mut z = state;
