@@ -253,6 +253,8 @@ fn what_steady_data_cannot_determine_is_named_not_invented() {
     assert_eq!(f.parameters["B"].given, vec!["A"]);
     assert!((b_minus_a - 0.011).abs() < 3.0 * sd, "{b_minus_a} ± {sd}");
     assert!(f.stop.as_ref().unwrap().contains("D0"));
+    // No stability band that would claim a precision the data do not give.
+    assert!(f.band.is_empty() && f.onset_type.is_empty());
     // --free restricts to what is determined: then the answer is complete.
     let f = fit(
         vec![(Kind::Steady, "examples/data/pmma-steady.csv".into())],

@@ -15,7 +15,9 @@ use crate::analysis::hopf::{Criticality, HopfOutcome};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::error::{Error, InputError, NumericalError};
 use crate::fit::data::{Dataset, Kind};
-use crate::fit::least_squares::{covariance, minimize, scaled_svd, Minimum, Problem};
+use crate::fit::least_squares::{
+    covariance, minimize, scaled_svd, LeastSquaresError, Minimum, Problem,
+};
 use crate::fit::model::{AgeingValue, Name, Rig, Values};
 use crate::records::{params_json, UnitsRecord};
 use continuation::Scalar;
@@ -449,7 +451,9 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let fitted_params = fitted_params(&setup, &values);
     let fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
     let closed_form = closed_form(&data, &rig);
-    let (band, onset_type) = if request.stability {
+    // With a parameter left at the scene's value for want of data, a band
+    // would claim a precision the data do not give.
+    let (band, onset_type) = if request.stability && not_determined.is_empty() {
         let draws = Draws::new(&minimum.x, &c);
         (
             band(&setup, &problem, &minimum.x, &c, &draws),
@@ -521,8 +525,7 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
         .into());
     }
     for _ in 0..SIGMA_ROUNDS {
-        let minimum =
-            minimize(problem, &x).map_err(|e| NumericalError::Analysis(format!("fit: {e}")))?;
+        let minimum = minimize(problem, &x).map_err(failed)?;
         x = minimum.x.clone();
         let values = problem.values(&x);
         let mut moved = 0.0f64;
@@ -549,7 +552,19 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
             return Ok(minimum);
         }
     }
-    minimize(problem, &x).map_err(|e| NumericalError::Analysis(format!("fit: {e}")).into())
+    minimize(problem, &x).map_err(failed)
+}
+
+/// A failed minimisation as the job's error, with what to try.
+fn failed(e: LeastSquaresError) -> Error {
+    NumericalError::Analysis(match e {
+        LeastSquaresError::UndefinedStart => format!(
+            "fit: {e}; start from a scene whose law has an onset at the data's velocities \
+             (mu_phi > A: the rig's own scene, or --set B=... above A)"
+        ),
+        other => format!("fit: {other}; give the scene values closer to the data's (--set) or fewer --free parameters"),
+    })
+    .into()
 }
 
 /// The model of the quantity `column` at `v_um_s`.
