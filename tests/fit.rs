@@ -93,9 +93,19 @@ fn draw(dir: &Path, k: usize, noise: &mut Normal) -> (PathBuf, PathBuf) {
 }
 
 fn fit(data: Vec<(Kind, PathBuf)>, free: Option<&str>) -> Result<Fit, stickslip::error::Error> {
+    fit_with(data, free, true)
+}
+
+/// The fit, with or without the fitted scene's stability band and onset type.
+fn fit_with(
+    data: Vec<(Kind, PathBuf)>,
+    free: Option<&str>,
+    stability: bool,
+) -> Result<Fit, stickslip::error::Error> {
     let request = FitRequest {
         data,
         free: free.map(|f| f.split(',').map(String::from).collect()),
+        stability,
     };
     run(&SceneSpec::named("pmma"), &request)
 }
@@ -134,6 +144,29 @@ fn the_seeds_pmma_values_from_the_example_data() {
     // The seed's closed-form route beside it agrees to its own precision.
     let c = f.closed_form.as_ref().unwrap();
     assert!((c.b_minus_a - 0.011).abs() < 1e-3 && (c.d0_um.unwrap() - 0.4).abs() < 0.03);
+    // The 95 % band of the stability boundary by the delta method (exact
+    // gradient) agrees with the quantiles of 1000 parameter sets drawn from
+    // the fit's distribution to a tenth of its half width (the errors are
+    // small: the boundary is nearly linear in them).
+    assert_eq!(f.band.len(), 41);
+    for b in &f.band {
+        let half = b.hi_95 - b.k_over_w;
+        assert!(half > 0.0 && half < 0.03 * b.k_over_w, "{b:?}");
+        assert!((b.sampled_lo_95 - b.lo_95).abs() < 0.1 * half, "{b:?}");
+        assert!((b.sampled_hi_95 - b.hi_95).abs() < 0.1 * half, "{b:?}");
+    }
+    // The onset type: supercritical at 1 µm/s for every drawn set, and the
+    // ln² law's subcritical stretch near 30 µm/s (the Bautin points of the
+    // pmma diagram at 26.6 and 78.5 µm/s) as the fit has it.
+    let at = |v: f64| {
+        f.onset_type
+            .iter()
+            .find(|o| (o.v_um_s / v - 1.0).abs() < 1e-9)
+            .unwrap()
+    };
+    assert_eq!(at(1.0).criticality.name(), "supercritical");
+    assert_eq!(at(1.0).share_supercritical, 1.0);
+    assert_eq!(at(31.622776601683793).criticality.name(), "subcritical");
     // The fitted scene is a scene every command reads: its onset at V = V0
     // (quasi-static there, inertia shifts it by 2e-5) is the fitted B - A.
     let dir = temp_dir("scene");
@@ -175,7 +208,7 @@ fn one_sigma_covers_the_truth_68_percent_of_the_time() {
     let mut inside = [0usize; 5];
     for k in 0..draws {
         let (s, o) = draw(&dir, k, &mut noise);
-        let f = fit(vec![(Kind::Steady, s), (Kind::Onset, o)], None).unwrap();
+        let f = fit_with(vec![(Kind::Steady, s), (Kind::Onset, o)], None, false).unwrap();
         for (i, (name, value)) in TRUTH.iter().enumerate() {
             let e = &f.parameters[name];
             if (e.value - value).abs() <= e.std_error.unwrap() {
@@ -220,6 +253,8 @@ fn what_steady_data_cannot_determine_is_named_not_invented() {
     assert_eq!(f.parameters["B"].given, vec!["A"]);
     assert!((b_minus_a - 0.011).abs() < 3.0 * sd, "{b_minus_a} ± {sd}");
     assert!(f.stop.as_ref().unwrap().contains("D0"));
+    // No stability band that would claim a precision the data do not give.
+    assert!(f.band.is_empty() && f.onset_type.is_empty());
     // --free restricts to what is determined: then the answer is complete.
     let f = fit(
         vec![(Kind::Steady, "examples/data/pmma-steady.csv".into())],

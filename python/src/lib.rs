@@ -678,7 +678,11 @@ fn fit<'py>(
         .map(|(kind, file)| Ok((Kind::parse(&kind)?, file)))
         .collect::<Result<Vec<_>, InputError>>()
         .map_err(|e| err(e.into()))?;
-    let request = FitRequest { data, free };
+    let request = FitRequest {
+        data,
+        free,
+        stability: true,
+    };
     let result = py
         .detach(|| stickslip::jobs::fit::run(&spec, &request))
         .map_err(err)?;

@@ -42,6 +42,7 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
             .map(|d| parse_data_option(d))
             .collect::<Result<_, _>>()?,
         free: args.free.clone(),
+        stability: true,
     };
     let spec = args.scene.spec();
     args.output.create_dir()?;
@@ -152,6 +153,32 @@ fn print_text(fit: &Fit) {
             line += &format!(", A = {a:.4e}");
         }
         println!("{line}");
+    }
+    if let (Some(first), Some(last)) = (fit.band.first(), fit.band.last()) {
+        let widest = fit
+            .band
+            .iter()
+            .max_by(|a, b| (a.std_error / a.k_over_w).total_cmp(&(b.std_error / b.k_over_w)))
+            .unwrap_or(first);
+        println!(
+            "stability boundary of the fitted scene from {:.4e} to {:.4e} µm/s: (K/W)_c = {:.4e} to {:.4e} 1/m, 95 % band at most ±{:.2} % (at {:.4e} µm/s)",
+            first.v_um_s,
+            last.v_um_s,
+            first.k_over_w,
+            last.k_over_w,
+            196.0 * widest.std_error / widest.k_over_w,
+            widest.v_um_s
+        );
+    }
+    for o in &fit.onset_type {
+        println!(
+            "onset at {:.4e} µm/s: {} (l1 = {:.3e}); supercritical in {:.0} % of {} parameter sets drawn from the fit",
+            o.v_um_s,
+            o.criticality.name(),
+            o.l1,
+            100.0 * o.share_supercritical,
+            o.samples
+        );
     }
     for f in &fit.files {
         println!("wrote {f}");

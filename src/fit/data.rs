@@ -93,9 +93,12 @@ pub struct Dataset {
 impl Dataset {
     /// Reads `file` as a dataset of `kind`.
     pub fn read(kind: Kind, file: &Path) -> Result<Dataset, InputError> {
-        let text = std::fs::read_to_string(file).map_err(|e| InputError::File {
-            path: file.display().to_string(),
-            reason: e.to_string(),
+        let text = std::fs::read_to_string(file).map_err(|e| {
+            InputError::Conflict(format!(
+                "cannot read the {} data file {}: {e}",
+                kind.name(),
+                file.display()
+            ))
         })?;
         Dataset::parse(kind, file, &text)
     }

@@ -11,12 +11,18 @@
 //! until the fit settles.
 
 use super::{SceneSpec, Setup};
+use crate::analysis::hopf::{Criticality, HopfOutcome};
+use crate::analysis::model_choice::{choose_model, params_for};
 use crate::error::{Error, InputError, NumericalError};
 use crate::fit::data::{Dataset, Kind};
-use crate::fit::least_squares::{covariance, minimize, scaled_svd, Minimum, Problem};
+use crate::fit::least_squares::{
+    covariance, minimize, scaled_svd, LeastSquaresError, Minimum, Problem,
+};
 use crate::fit::model::{AgeingValue, Name, Rig, Values};
 use crate::records::{params_json, UnitsRecord};
 use continuation::Scalar;
+use nalgebra::{DMatrix, DVector};
+use num_dual::Dual64;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -28,6 +34,10 @@ pub struct FitRequest {
     pub data: Vec<(Kind, PathBuf)>,
     /// The parameters to fit (`None`: every parameter of the scene's law).
     pub free: Option<Vec<String>>,
+    /// Also the fitted scene's stability boundary with its 95 % band and
+    /// its onset type with the share of drawn parameter sets that agree
+    /// (about 0.1 s: 700 Hopf points located).
+    pub stability: bool,
 }
 
 /// A singular value of the column-scaled Jacobian below this fraction of
@@ -102,6 +112,37 @@ pub struct ClosedForm {
     pub from: &'static str,
 }
 
+/// The critical stiffness of the fitted scene at one velocity with its
+/// 95 % band: `±1.96` standard errors by the delta method (the exact
+/// gradient of `(K/W)_c` in the fitted parameters, from dual numbers,
+/// against their covariance), and the 2.5 % and 97.5 % quantiles over
+/// parameter sets drawn from the fit's normal distribution, as a check.
+#[derive(Clone, Debug, Serialize)]
+pub struct BandPoint {
+    #[serde(rename = "V_um_s")]
+    pub v_um_s: f64,
+    #[serde(rename = "K_over_W_per_m")]
+    pub k_over_w: f64,
+    pub std_error: f64,
+    pub lo_95: f64,
+    pub hi_95: f64,
+    pub sampled_lo_95: f64,
+    pub sampled_hi_95: f64,
+}
+
+/// The onset type of the fitted scene at one velocity, and how sure it is:
+/// the share of the parameter sets drawn from the fit's distribution whose
+/// onset is supercritical (the same onset and model decision as `hopf`).
+#[derive(Clone, Debug, Serialize)]
+pub struct OnsetTypeAt {
+    #[serde(rename = "V_um_s")]
+    pub v_um_s: f64,
+    pub criticality: Criticality,
+    pub l1: f64,
+    pub share_supercritical: f64,
+    pub samples: usize,
+}
+
 /// The correlation matrix of the fitted parameters.
 #[derive(Clone, Debug, Serialize)]
 pub struct Correlation {
@@ -124,6 +165,12 @@ pub struct Fit {
     pub not_determined: Vec<NotDetermined>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub closed_form: Option<ClosedForm>,
+    /// The fitted scene's stability boundary over its velocity range with
+    /// the 95 % band.
+    pub band: Vec<BandPoint>,
+    /// Its onset type along the range, with the share of sampled
+    /// parameter sets that agree.
+    pub onset_type: Vec<OnsetTypeAt>,
     /// The fitted scene's dimensionless parameters.
     pub params: serde_json::Value,
     pub units: UnitsRecord,
@@ -404,6 +451,17 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let fitted_params = fitted_params(&setup, &values);
     let fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
     let closed_form = closed_form(&data, &rig);
+    // With a parameter left at the scene's value for want of data, a band
+    // would claim a precision the data do not give.
+    let (band, onset_type) = if request.stability && not_determined.is_empty() {
+        let draws = Draws::new(&minimum.x, &c);
+        (
+            band(&setup, &problem, &minimum.x, &c, &draws),
+            onset_types(spec, &setup, &problem, &minimum.x, &draws)?,
+        )
+    } else {
+        (Vec::new(), Vec::new())
+    };
     let stop = (!not_determined.is_empty()).then(|| {
         format!(
             "not determined by the data: {}",
@@ -429,6 +487,8 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         datasets,
         not_determined,
         closed_form,
+        band,
+        onset_type,
         params: params_json(&fitted_params),
         units: UnitsRecord::of(&setup.scene.units),
         iterations: minimum.iterations,
@@ -465,8 +525,7 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
         .into());
     }
     for _ in 0..SIGMA_ROUNDS {
-        let minimum =
-            minimize(problem, &x).map_err(|e| NumericalError::Analysis(format!("fit: {e}")))?;
+        let minimum = minimize(problem, &x).map_err(failed)?;
         x = minimum.x.clone();
         let values = problem.values(&x);
         let mut moved = 0.0f64;
@@ -493,7 +552,19 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
             return Ok(minimum);
         }
     }
-    minimize(problem, &x).map_err(|e| NumericalError::Analysis(format!("fit: {e}")).into())
+    minimize(problem, &x).map_err(failed)
+}
+
+/// A failed minimisation as the job's error, with what to try.
+fn failed(e: LeastSquaresError) -> Error {
+    NumericalError::Analysis(match e {
+        LeastSquaresError::UndefinedStart => format!(
+            "fit: {e}; start from a scene whose law has an onset at the data's velocities \
+             (mu_phi > A: the rig's own scene, or --set B=... above A)"
+        ),
+        other => format!("fit: {other}; give the scene values closer to the data's (--set) or fewer --free parameters"),
+    })
+    .into()
 }
 
 /// The model of the quantity `column` at `v_um_s`.
@@ -625,4 +696,163 @@ fn closed_form(data: &[Dataset], rig: &Rig) -> Option<ClosedForm> {
         from: "seed §II.D.2: slope of steady friction against ln V (B - A), eq. KcRR without \
                inertia (D0), eq. omegacRR (A)",
     })
+}
+
+/// Velocities of the band, log-spaced over the scene's range.
+const BAND_POINTS: usize = 41;
+
+/// Velocities at which the onset type is sampled.
+const ONSET_TYPE_POINTS: usize = 7;
+
+/// Parameter sets drawn for the sampled band.
+const BAND_SAMPLES: usize = 1000;
+
+/// Parameter sets drawn for the onset type (each a Hopf location with `l1`).
+const ONSET_TYPE_SAMPLES: usize = 100;
+
+/// Parameter sets drawn from the fit's normal distribution `N(x, C)` of
+/// the unknowns, `x + L z` with `C = L L^T` and `z` standard normal from a
+/// fixed seed (SplitMix64, Box–Muller): the same draws every run.
+struct Draws(Vec<Vec<f64>>);
+
+impl Draws {
+    fn new(x: &[f64], c: &DMatrix<f64>) -> Draws {
+        let Some(l) = c.clone().cholesky().map(|ch| ch.l()) else {
+            return Draws(Vec::new());
+        };
+        let mut state = 0x05EE_DF17_u64;
+        let mut uniform = || {
+            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            (((z ^ (z >> 31)) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let draws = (0..BAND_SAMPLES)
+            .map(|_| {
+                let z = DVector::from_fn(x.len(), |_, _| {
+                    let (u, v) = (uniform(), uniform());
+                    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+                });
+                let u = &l * z;
+                x.iter().zip(u.iter()).map(|(a, b)| a + b).collect()
+            })
+            .collect();
+        Draws(draws)
+    }
+}
+
+/// The velocities of the scene's range, `n` log-spaced, in µm/s.
+fn range_velocities(setup: &Setup, n: usize) -> Vec<f64> {
+    let (lo, hi) = setup.scene.nu_range;
+    let v0 = setup.scene.units.v0 * 1e6;
+    (0..n)
+        .map(|i| v0 * lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+        .collect()
+}
+
+/// The 95 % band of `(K/W)_c` over the scene's range (points where the
+/// fitted law has no onset are left out).
+fn band(
+    setup: &Setup,
+    problem: &Joint,
+    x: &[f64],
+    c: &DMatrix<f64>,
+    draws: &Draws,
+) -> Vec<BandPoint> {
+    let quantile = |mut v: Vec<f64>, q: f64| {
+        v.sort_by(f64::total_cmp);
+        v[((v.len() - 1) as f64 * q).round() as usize]
+    };
+    range_velocities(setup, BAND_POINTS)
+        .into_iter()
+        .filter_map(|v| {
+            let k_over_w = predict(&problem.rig, &problem.values(x), "K_over_W_per_m", v);
+            if !(k_over_w.is_finite() && k_over_w > 0.0) {
+                return None;
+            }
+            let gradient = DVector::from_fn(x.len(), |k, _| {
+                let xd: Vec<Dual64> = x
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &xi)| Dual64::new(xi, if i == k { 1.0 } else { 0.0 }))
+                    .collect();
+                predict(&problem.rig, &problem.values(&xd), "K_over_W_per_m", v).eps
+            });
+            let std_error = (gradient.transpose() * c * &gradient)[(0, 0)].sqrt();
+            let sampled: Vec<f64> = draws
+                .0
+                .iter()
+                .map(|u| predict(&problem.rig, &problem.values(u), "K_over_W_per_m", v))
+                .filter(|k| k.is_finite())
+                .collect();
+            let (sampled_lo_95, sampled_hi_95) = if sampled.len() > 1 {
+                (quantile(sampled.clone(), 0.025), quantile(sampled, 0.975))
+            } else {
+                (f64::NAN, f64::NAN)
+            };
+            Some(BandPoint {
+                v_um_s: v,
+                k_over_w,
+                std_error,
+                lo_95: k_over_w - 1.96 * std_error,
+                hi_95: k_over_w + 1.96 * std_error,
+                sampled_lo_95,
+                sampled_hi_95,
+            })
+        })
+        .collect()
+}
+
+/// The onset type of the fitted scene at velocities of its range, and the
+/// share of drawn parameter sets that agree, each decided as `hopf`
+/// decides it ([`super::onset_with_degeneracy_resolved`]).
+fn onset_types(
+    spec: &SceneSpec,
+    setup: &Setup,
+    problem: &Joint,
+    x: &[f64],
+    draws: &Draws,
+) -> Result<Vec<OnsetTypeAt>, Error> {
+    let onset = |u: &[f64], v: f64| -> Result<Option<(Criticality, f64)>, Error> {
+        let mut at = setup.clone();
+        at.scene_params = fitted_params(setup, &problem.values(u));
+        at.scene_params.nu = v / (setup.scene.units.v0 * 1e6);
+        at.choice = choose_model(&at.scene_params, spec.model, spec.inertia_threshold);
+        at.params = params_for(at.choice.kind, &at.scene_params);
+        Ok(
+            match super::onset_with_degeneracy_resolved(&mut at, spec.model.is_some())? {
+                HopfOutcome::Found(h) => Some((h.onset.criticality, h.onset.l1)),
+                HopfOutcome::StableForAllStiffness { .. } => None,
+            },
+        )
+    };
+    let mut out = Vec::new();
+    for v in range_velocities(setup, ONSET_TYPE_POINTS) {
+        let Some((criticality, l1)) = onset(x, v)? else {
+            continue;
+        };
+        let mut supercritical = 0;
+        let mut samples = 0;
+        for u in draws.0.iter().take(ONSET_TYPE_SAMPLES) {
+            // A drawn set without an onset there, or whose location fails,
+            // is not counted.
+            if let Ok(Some((c, _))) = onset(u, v) {
+                samples += 1;
+                supercritical += usize::from(c == Criticality::Supercritical);
+            }
+        }
+        out.push(OnsetTypeAt {
+            v_um_s: v,
+            criticality,
+            l1,
+            share_supercritical: if samples > 0 {
+                supercritical as f64 / samples as f64
+            } else {
+                f64::NAN
+            },
+            samples,
+        });
+    }
+    Ok(out)
 }

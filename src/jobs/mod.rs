@@ -73,6 +73,7 @@ impl TextUnits {
 }
 
 /// A scene with overrides applied and the model chosen.
+#[derive(Clone)]
 pub struct Setup {
     pub scene: Scene,
     /// The scene's parameters after `--set` (inertia kept).

@@ -15,7 +15,11 @@ use std::path::{Path, PathBuf};
 pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let (title, fitted, start) = (&fit.scene, &fit.values, &fit.start);
     let model = |p: &Values<f64>, column: &str, v: f64| fit.predict(p, column, v);
-    let mut files = Vec::new();
+    let mut files = if fit.band.len() > 1 {
+        band_figure(fit, stem)?
+    } else {
+        Vec::new()
+    };
     for d in &fit.data {
         let (lo, hi) = d
             .v_um_s
@@ -103,6 +107,84 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         }
     }
     Ok(files)
+}
+
+/// `<stem>-fit-stability-band`: the fitted scene's critical stiffness over
+/// its velocity range with the 95 % band (delta method, and the quantiles
+/// of the sampled parameter sets), and the onset data if any.
+fn band_figure(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    let line = |f: fn(&crate::jobs::fit::BandPoint) -> f64| -> Vec<(f64, f64)> {
+        fit.band.iter().map(|b| (b.v_um_s, f(b))).collect()
+    };
+    let blue = RGBColor(31, 119, 180);
+    let grey = RGBColor(120, 120, 120);
+    let mut series = vec![
+        Series {
+            label: Some("fitted (K/W)_c".into()),
+            points: line(|b| b.k_over_w),
+            color: blue,
+            dashed: false,
+            markers: false,
+        },
+        Series {
+            label: Some("95 % band (delta method)".into()),
+            points: line(|b| b.lo_95),
+            color: blue,
+            dashed: true,
+            markers: false,
+        },
+        Series {
+            label: None,
+            points: line(|b| b.hi_95),
+            color: blue,
+            dashed: true,
+            markers: false,
+        },
+        Series {
+            label: Some("95 % of sampled parameter sets".into()),
+            points: line(|b| b.sampled_lo_95),
+            color: grey,
+            dashed: true,
+            markers: false,
+        },
+        Series {
+            label: None,
+            points: line(|b| b.sampled_hi_95),
+            color: grey,
+            dashed: true,
+            markers: false,
+        },
+    ];
+    for d in fit
+        .data
+        .iter()
+        .filter(|d| d.kind == crate::fit::data::Kind::Onset)
+    {
+        series.push(Series {
+            label: Some("onset data".into()),
+            points: d
+                .v_um_s
+                .iter()
+                .copied()
+                .zip(d.measured[0].values.iter().copied())
+                .collect(),
+            color: RGBColor(214, 39, 40),
+            dashed: false,
+            markers: true,
+        });
+    }
+    let figure = LineFigure {
+        title: format!(
+            "{}: stability boundary of the fitted scene (stick-slip below)",
+            fit.scene
+        ),
+        x_label: "driving velocity V [µm/s]".into(),
+        y_label: label("K_over_W_per_m").into(),
+        log_x: true,
+        log_y: false,
+        series,
+    };
+    render(&figure, &with_suffix(stem, "-fit-stability-band"))
 }
 
 /// The axis label of a measured quantity.
