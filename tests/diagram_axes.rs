@@ -256,6 +256,7 @@ fn default_output_unchanged() {
             "special_points",
             "stop",
             "stop_reason",
+            "units",
             "velocity_strengthening"
         ]
     );

@@ -21,7 +21,6 @@ use stickslip::params::Params;
 
 /// Names of the jobs, in the order they run.
 pub const JOB_NAMES: [&str; 12] = [
-    "hopf_job",
     "hopf_point_l1",
     "hopf_point_l1_inertial",
     "hopf_curve_4_decades",
@@ -33,6 +32,7 @@ pub const JOB_NAMES: [&str; 12] = [
     "auto_job3_cycles",
     "auto_job4_stiff_branch",
     "auto_job5_fold_curve",
+    "hopf_job",
 ];
 
 /// The command lines of the jobs compared with AUTO-07p (docs/performance.md,
@@ -148,14 +148,14 @@ impl Job {
     pub fn new(name: &str) -> Result<Job, Error> {
         let (name, description, work) = match name {
             "hopf_job" => (
-                JOB_NAMES[0],
+                JOB_NAMES[11],
                 "jobs::hopf::run on the default scene (what `stickslip.hopf()` runs)",
                 Work::HopfJob(SceneSpec::named(stickslip::scene::DEFAULT_SCENE)),
             ),
             "hopf_point_l1" => {
                 let setup = scene_spec(stickslip::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
                 (
-                    JOB_NAMES[1],
+                    JOB_NAMES[0],
                     "find_hopf on the default scene (pmma, quasi-static), with l1",
                     Work::Hopf {
                         kind: setup.choice.kind,
@@ -167,7 +167,7 @@ impl Job {
                 let setup =
                     scene_spec(stickslip::scene::DEFAULT_SCENE, &INERTIAL_OVERRIDES).setup(|p| *p)?;
                 (
-                    JOB_NAMES[2],
+                    JOB_NAMES[1],
                     "find_hopf, --set A=0.01 B=0.02 mu2=5e-4 m=0.1 nu=3 (inertial), with l1",
                     Work::Hopf {
                         kind: setup.choice.kind,
@@ -178,7 +178,7 @@ impl Job {
             "hopf_curve_4_decades" => {
                 let scene = stickslip::scene::load("pmma")?;
                 (
-                    JOB_NAMES[3],
+                    JOB_NAMES[2],
                     "hopf_curve, pmma, inertial, nu in [0.01, 100], l1 at every point",
                     Work::Curve {
                         kind: ModelKind::Inertial,
@@ -188,24 +188,24 @@ impl Job {
                 )
             }
             "diagram_default" => (
-                JOB_NAMES[4],
+                JOB_NAMES[3],
                 "`stickslip diagram` end to end (pmma; PNG, SVG, CSV, JSON written)",
                 diagram_work(stickslip::scene::DEFAULT_SCENE)?,
             ),
             "diagram_three_scenes_parallel" => (
-                JOB_NAMES[5],
+                JOB_NAMES[4],
                 "`stickslip diagram --scene pmma,pmma-rr,brockley` end to end (rayon)",
                 diagram_work(THREE_SCENES)?,
             ),
             // Quasi-static cycles stiffen fast: at NTST = 50 the Floquet
             // multipliers are lost below ~0.92 kappa_c, so short steps.
             "cycle_branch_100" => (
-                JOB_NAMES[6],
+                JOB_NAMES[5],
                 "100 cycles from the Hopf point, pmma (quasi-static), NTST 50, degree 4, multipliers",
                 cycle_work(&[], 0.94, 0.02)?,
             ),
             "cycle_branch_100_inertial" => (
-                JOB_NAMES[7],
+                JOB_NAMES[6],
                 "100 cycles from the Hopf point, pmma --set m=0.01 (inertial), NTST 50, degree 4, Radau points, multipliers",
                 cycle_work(&["m=0.01"], 0.3, 0.05)?,
             ),

@@ -3,10 +3,11 @@
 
 use super::files::{write_whole, OutputArgs};
 use super::SceneArgs;
+use crate::analysis::hopf::Criticality;
 use crate::error::Error;
 use crate::file_names::with_suffix;
 use crate::fit::data::parse_data_option;
-use crate::jobs::fit::{run as fit, Fit, FitRequest};
+use crate::jobs::fit::{run as fit, Fit, FitRequest, OnsetTypeAt};
 use clap::Args;
 
 #[derive(Args, Debug)]
@@ -56,6 +57,9 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
             toml_path.display()
         ))));
     }
+    // A fit takes a fraction of a second: Ctrl-C (or SIGTERM) lets it
+    // write its files whole, then the run ends as interrupted.
+    super::interrupt::catch_interrupts();
     let mut result = fit(&spec, &request)?;
     let mut files = crate::plot::fit::figures(&result, &stem)
         .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?;
@@ -70,6 +74,11 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
         println!("{json}");
     } else {
         print_text(&result);
+    }
+    if super::interrupt::interrupted() {
+        return Err(super::interrupt::stopped(
+            "after the fit (its files are written whole)".into(),
+        ));
     }
     match &result.stop {
         None => Ok(()),
@@ -124,8 +133,12 @@ fn print_text(fit: &Fit) {
         }
     }
     println!(
-        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iterations",
-        fit.chi2, fit.dof, fit.chi2_per_dof, fit.iterations
+        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iteration{}",
+        fit.chi2,
+        fit.dof,
+        fit.chi2_per_dof,
+        fit.iterations,
+        if fit.iterations == 1 { "" } else { "s" }
     );
     for d in &fit.datasets {
         println!(
@@ -170,14 +183,38 @@ fn print_text(fit: &Fit) {
             widest.v_um_s
         );
     }
+    // The onset type in stretches of one type, with the least share of the
+    // drawn parameter sets that agree within each.
+    let mut stretches: Vec<(&OnsetTypeAt, &OnsetTypeAt, f64)> = Vec::new();
     for o in &fit.onset_type {
+        let agree = |o: &OnsetTypeAt| match o.criticality {
+            Criticality::Supercritical => o.share_supercritical,
+            _ => 1.0 - o.share_supercritical,
+        };
+        match stretches.last_mut() {
+            Some((_, last, least)) if last.criticality == o.criticality => {
+                *last = o;
+                *least = least.min(agree(o));
+            }
+            _ => stretches.push((o, o, agree(o))),
+        }
+    }
+    for (first, last, least) in stretches {
+        let agreement = if least >= 1.0 {
+            "every parameter set drawn from the fit agrees".to_string()
+        } else {
+            format!(
+                "at least {:.0} % of the parameter sets drawn from the fit agree at each velocity",
+                100.0 * least
+            )
+        };
         println!(
-            "onset at {:.4e} µm/s: {} (l1 = {:.3e}); supercritical in {:.0} % of {} parameter sets drawn from the fit",
-            o.v_um_s,
-            o.criticality.name(),
-            o.l1,
-            100.0 * o.share_supercritical,
-            o.samples
+            "onset {} from {:.4e} to {:.4e} µm/s (l1 = {:.3e} to {:.3e}); {agreement}",
+            first.criticality.name(),
+            first.v_um_s,
+            last.v_um_s,
+            first.l1,
+            last.l1,
         );
     }
     for f in &fit.files {

@@ -45,6 +45,14 @@ impl Kind {
             })
     }
 
+    /// The kind's name with its article, for messages (`an onset`).
+    fn article(self) -> &'static str {
+        match self {
+            Kind::Steady => "a steady",
+            Kind::Onset => "an onset",
+        }
+    }
+
     /// The kind's name.
     pub fn name(self) -> &'static str {
         match self {
@@ -120,13 +128,28 @@ impl Dataset {
             ));
         };
         let (required, optional) = kind.columns();
+        // A spreadsheet's "CSV UTF-8" starts with a byte-order mark.
+        let header = header.trim_start_matches('\u{feff}');
+        if header.contains(';') && !header.contains(',') {
+            return Err(malformed(
+                &shown,
+                &format!("row {header_row} (the header)"),
+                header,
+                "columns separated by commas (this file separates them by semicolons)",
+            ));
+        }
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         let mut index = Vec::with_capacity(names.len());
         for (c, name) in names.iter().enumerate() {
             let known = required.iter().chain(optional).find(|k| *k == name);
             let Some(known) = known else {
                 let allowed = required.iter().chain(optional).copied();
-                let hint = crate::error::closest(name, allowed.clone())
+                // A name without its unit (`V` for `V_um_s`), else the closest.
+                let hint = allowed
+                    .clone()
+                    .find(|k| k.split('_').next() == Some(*name))
+                    .map(str::to_string)
+                    .or_else(|| crate::error::closest(name, allowed.clone()))
                     .map(|k| format!(" (did you mean {k}? a column name carries its unit)"))
                     .unwrap_or_default();
                 return Err(malformed(
@@ -134,8 +157,8 @@ impl Dataset {
                     &format!("row {header_row}, column {}", c + 1),
                     name,
                     &format!(
-                        "a column of a {} dataset: {}{hint}",
-                        kind.name(),
+                        "a column of {} dataset: {}{hint}",
+                        kind.article(),
                         allowed.collect::<Vec<_>>().join(", ")
                     ),
                 ));
@@ -156,8 +179,8 @@ impl Dataset {
                 &format!("row {header_row} (the header)"),
                 header,
                 &format!(
-                    "a column {missing} (a {} dataset needs {})",
-                    kind.name(),
+                    "a column {missing} ({} dataset needs {})",
+                    kind.article(),
                     required.join(", ")
                 ),
             ));
@@ -204,8 +227,8 @@ impl Dataset {
         let rows = columns[0].len();
         if rows < Kind::MIN_ROWS {
             return Err(InputError::Conflict(format!(
-                "{shown}: {rows} data row(s); a {} dataset needs at least {}",
-                kind.name(),
+                "{shown}: {rows} data row(s); {} dataset needs at least {}",
+                kind.article(),
                 Kind::MIN_ROWS
             )));
         }
@@ -307,6 +330,12 @@ mod tests {
         assert!(e.contains("1 data row(s)"), "{e}");
         let e = parse(Kind::Steady, "V_um_s,mu\n1,0.6\n2\n").unwrap_err();
         assert!(e.contains("row 3") && e.contains("2 values"), "{e}");
+        let e = parse(Kind::Steady, "V;mu\n1;0.6\n2;0.5\n").unwrap_err();
+        assert!(e.contains("separated by commas"), "{e}");
+        let e = parse(Kind::Steady, "V,mu\n1,0.6\n2,0.5\n").unwrap_err();
+        assert!(e.contains("did you mean V_um_s?"), "{e}");
+        let bom = parse(Kind::Steady, "\u{feff}V_um_s,mu\n1,0.6\n2,0.5\n").unwrap();
+        assert_eq!(bom.v_um_s, vec![1.0, 2.0]);
         let e = parse(Kind::Steady, "").unwrap_err();
         assert!(e.contains("header"), "{e}");
         let e = parse_data_option("stedy=x.csv").unwrap_err().to_string();

@@ -20,6 +20,7 @@ use crate::fit::least_squares::{
 };
 use crate::fit::model::{AgeingValue, Name, Rig, Values};
 use crate::records::{params_json, UnitsRecord};
+use crate::scene::Units;
 use continuation::Scalar;
 use nalgebra::{DMatrix, DVector};
 use num_dual::Dual64;
@@ -346,6 +347,26 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
             })
             .collect::<Result<_, _>>()?,
     };
+    if let Some(twice) = requested
+        .iter()
+        .enumerate()
+        .find(|(i, n)| requested[..*i].contains(n))
+    {
+        return Err(InputError::Conflict(format!("--free names {} twice", twice.1.key())).into());
+    }
+    if let Some((i, (_, file))) = request
+        .data
+        .iter()
+        .enumerate()
+        .find(|(i, d)| request.data[..*i].contains(d))
+    {
+        return Err(InputError::Conflict(format!(
+            "--data gives {} twice (data #{}): each measurement counts once",
+            file.display(),
+            i + 1
+        ))
+        .into());
+    }
     let rig = Rig::of(&setup.scene.units);
     let mut problem = Joint {
         data: &data,
@@ -449,7 +470,14 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let dof = rows.saturating_sub(n);
     let datasets = dataset_fits(&problem, &values);
     let fitted_params = fitted_params(&setup, &values);
-    let fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
+    let mut fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
+    if !not_determined.is_empty() {
+        let names: Vec<&str> = not_determined.iter().map(|n| n.name).collect();
+        fitted_toml = format!(
+            "# not determined by the data, kept at the scene's values: {}\n{fitted_toml}",
+            names.join(", ")
+        );
+    }
     let closed_form = closed_form(&data, &rig);
     // With a parameter left at the scene's value for want of data, a band
     // would claim a precision the data do not give.
@@ -490,7 +518,10 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         band,
         onset_type,
         params: params_json(&fitted_params),
-        units: UnitsRecord::of(&setup.scene.units),
+        units: UnitsRecord::of(&Units {
+            d0: values.d0_um * 1e-6,
+            ..setup.scene.units
+        }),
         iterations: minimum.iterations,
         complete: stop.is_none(),
         stop,
@@ -701,14 +732,16 @@ fn closed_form(data: &[Dataset], rig: &Rig) -> Option<ClosedForm> {
 /// Velocities of the band, log-spaced over the scene's range.
 const BAND_POINTS: usize = 41;
 
-/// Velocities at which the onset type is sampled.
-const ONSET_TYPE_POINTS: usize = 7;
+/// Velocities at which the onset type is decided (the band's: a stretch of
+/// the other type between two Bautin points is not stepped over).
+const ONSET_TYPE_POINTS: usize = BAND_POINTS;
 
 /// Parameter sets drawn for the sampled band.
 const BAND_SAMPLES: usize = 1000;
 
-/// Parameter sets drawn for the onset type (each a Hopf location with `l1`).
-const ONSET_TYPE_SAMPLES: usize = 100;
+/// Parameter sets drawn for the onset type at each velocity (each a Hopf
+/// location with `l1`).
+const ONSET_TYPE_SAMPLES: usize = 40;
 
 /// Parameter sets drawn from the fit's normal distribution `N(x, C)` of
 /// the unknowns, `x + L z` with `C = L L^T` and `z` standard normal from a

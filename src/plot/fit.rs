@@ -20,7 +20,13 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     } else {
         Vec::new()
     };
-    for d in &fit.data {
+    for (i, d) in fit.data.iter().enumerate() {
+        // The second dataset of a kind is `<kind>2`, and so on.
+        let nth = fit.data[..i].iter().filter(|e| e.kind == d.kind).count();
+        let kind = match nth {
+            0 => d.kind.name().to_string(),
+            n => format!("{}{}", d.kind.name(), n + 1),
+        };
         let (lo, hi) = d
             .v_um_s
             .iter()
@@ -47,7 +53,8 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
                 x_label: "driving velocity V [µm/s]".into(),
                 y_label: label(q.column).into(),
                 log_x: true,
-                log_y: false,
+                // Onset frequencies grow with V over decades.
+                log_y: q.column == "frequency_hz",
                 series: vec![
                     Series {
                         label: Some("scene before the fit".into()),
@@ -72,7 +79,7 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
                     },
                 ],
             };
-            let base = with_suffix(stem, &format!("-fit-{}-{}", d.kind.name(), q.column));
+            let base = with_suffix(stem, &format!("-fit-{kind}-{}", q.column));
             files.extend(render(&figure, &base)?);
             let residuals: Vec<(f64, f64)> = d
                 .v_um_s
