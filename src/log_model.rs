@@ -81,6 +81,26 @@ impl VectorField for LogBlock {
     }
 
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let mut rho = [D::from(1.0); 3];
+        self.implicit_rhs(x, p, &mut rho, out);
+        if self.kind == ModelKind::Inertial {
+            out[1] = out[1] / rho[1];
+        }
+    }
+
+    /// The inertial block is collocated in its implicit form (see
+    /// [`LogBlock::implicit_rhs`]).
+    fn has_implicit_form(&self) -> bool {
+        self.kind == ModelKind::Inertial
+    }
+
+    /// The inertial block's velocity equation as the force balance
+    /// `m e^w dw/dt = s - mu(e^w, e^phi)` (module docs; `rho_w = m v`,
+    /// `g_w = s - mu`), the other equations with `rho = 1`. While the block
+    /// sticks (`v` down to 1e-40 and far below, beyond the range of `f64`
+    /// where `m v` underflows to 0) `s - mu` is resolved to its rounding,
+    /// which `dw/dt = (s - mu) / (m v)` would multiply by `1 / (m v)`.
+    fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         let [_, w_o, phi_o] = self.origin;
@@ -94,12 +114,14 @@ impl VectorField for LogBlock {
         };
         // v - e^w_o = e^w_o expm1(x_w)
         let dv = x_w.exp_m1() * ew_o;
-        out[0] = kappa * ((nu - ew_o) - dv);
-        out[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
+        rho.fill(D::from(1.0));
+        g[0] = kappa * ((nu - ew_o) - dv);
+        g[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
         if self.kind == ModelKind::Inertial {
             // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
-            out[1] = (gap0 - law.a * x_w) / (p[Param::M as usize] * v);
+            g[1] = gap0 - law.a * x_w;
+            rho[1] = p[Param::M as usize] * v;
         }
     }
 }
