@@ -88,6 +88,20 @@ impl VectorField for LogBlock {
         }
     }
 
+    /// The inertial block's `w = ln v` rises by at most `ln(1 + dw)` for a
+    /// Newton step `dw > 0`: the step `v <- v (1 + dw)` in the velocity,
+    /// which the force balance `m v w' = m v'` holds linearly (a step
+    /// linearized in `e^w` from below overshoots by `e^dw - 1 - dw`).
+    fn newton_update(&self, x: &mut [f64], dx: &[f64]) {
+        for (j, (xi, d)) in x.iter_mut().zip(dx).enumerate() {
+            if self.kind == ModelKind::Inertial && j == 1 && *d < 0.0 {
+                *xi += (-*d).ln_1p();
+            } else {
+                *xi -= d;
+            }
+        }
+    }
+
     /// The inertial block is collocated in its implicit form (see
     /// [`LogBlock::implicit_rhs`]).
     fn has_implicit_form(&self) -> bool {

@@ -70,6 +70,14 @@ pub trait VectorField: Sync {
         self.rhs(x, p, g);
     }
 
+    /// A Newton iterate's state at one mesh node, `x`, moved by the Newton
+    /// step `-dx` (the linear system's solution, `dx` subtracted). Default:
+    /// `x <- x - dx`. A field whose component is the logarithm of a quantity
+    /// the equations hold nearly linearly may take the step in that quantity.
+    fn newton_update(&self, x: &mut [f64], dx: &[f64]) {
+        x.iter_mut().zip(dx).for_each(|(xi, d)| *xi -= d);
+    }
+
     /// Writes `f(x, p)` into `f`, the Jacobian into `jac` and `d f / d p_k`
     /// into `fp`: what a collocation point needs. The default evaluates
     /// them together ([`first_order_by_duals`]); a system with a
