@@ -285,6 +285,34 @@ mod tests {
     }
 
     #[test]
+    fn the_implicit_form_is_the_force_balance_and_a_rise_of_ln_v_a_step_in_v() {
+        let p = ln2_params();
+        let log = LogBlock::centered(ModelKind::Inertial, &p);
+        let x = log.from_model(0.55, 1e-30, 2.3);
+        let (mut rho, mut g, mut f) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        log.implicit_rhs(&x, &p.to_vec(), &mut rho, &mut g);
+        log.rhs(&x, &p.to_vec(), &mut f);
+        // rho_w = m v, g_w = s - mu(v, theta), the others as they are.
+        let law = friction_from(false, &p.to_vec());
+        let gap = 0.55 - law.mu(1e-30, 2.3);
+        assert!((rho[1] / (p.m * 1e-30) - 1.0).abs() < 1e-13, "{rho:?}");
+        assert!((g[1] - gap).abs() < 1e-15, "{} vs {gap}", g[1]);
+        assert_eq!([rho[0], rho[2]], [1.0, 1.0]);
+        assert_eq!([g[0], g[2]], [f[0], f[2]]);
+        // A Newton step dx (subtracted): ln v rises by ln(1 + 3), falls by 3.
+        for (dw, rise) in [(-3.0, 4f64.ln()), (3.0, -3.0)] {
+            let mut y = x.clone();
+            log.newton_update(&mut y, &[1e-3, dw, -2e-3]);
+            assert!(
+                (y[1] - x[1] - rise).abs() < 1e-12,
+                "{} vs {rise}",
+                y[1] - x[1]
+            );
+            assert_eq!([y[0], y[2]], [x[0] - 1e-3, x[2] + 2e-3]);
+        }
+    }
+
+    #[test]
     fn steady_sliding_is_the_origin_of_the_centered_block() {
         // The vector field vanishes there up to rounding, and a small
         // deviation changes it by a small amount, resolved relative to the
