@@ -84,7 +84,7 @@ impl VectorField for LogBlock {
         let mut rho = [D::from(1.0); 3];
         self.implicit_rhs(x, p, &mut rho, out);
         if self.kind == ModelKind::Inertial {
-            out[1] = out[1] / rho[1];
+            out[1] /= rho[1];
         }
     }
 

@@ -643,9 +643,9 @@ impl VectorField for ImplicitStuartLandau {
     fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
         self.0.rhs(x, p, g);
         let s = Self::scales(x, p);
-        for r in 0..2 {
-            rho[r] = s[r];
-            g[r] = g[r] * s[r];
+        rho[..2].copy_from_slice(&s);
+        for (g, s) in g.iter_mut().zip(s) {
+            *g *= s;
         }
     }
 }
