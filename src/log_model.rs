@@ -81,6 +81,40 @@ impl VectorField for LogBlock {
     }
 
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let mut rho = [D::from(1.0); 3];
+        self.implicit_rhs(x, p, &mut rho, out);
+        if self.kind == ModelKind::Inertial {
+            out[1] /= rho[1];
+        }
+    }
+
+    /// The inertial block's `w = ln v` rises by at most `ln(1 + dw)` for a
+    /// Newton step `dw > 0`: the step `v <- v (1 + dw)` in the velocity,
+    /// which the force balance `m v w' = m v'` holds linearly (a step
+    /// linearized in `e^w` from below overshoots by `e^dw - 1 - dw`).
+    fn newton_update(&self, x: &mut [f64], dx: &[f64]) {
+        for (j, (xi, d)) in x.iter_mut().zip(dx).enumerate() {
+            if self.kind == ModelKind::Inertial && j == 1 && *d < 0.0 {
+                *xi += (-*d).ln_1p();
+            } else {
+                *xi -= d;
+            }
+        }
+    }
+
+    /// The inertial block is collocated in its implicit form (see
+    /// [`LogBlock::implicit_rhs`]).
+    fn has_implicit_form(&self) -> bool {
+        self.kind == ModelKind::Inertial
+    }
+
+    /// The inertial block's velocity equation as the force balance
+    /// `m e^w dw/dt = s - mu(e^w, e^phi)` (module docs; `rho_w = m v`,
+    /// `g_w = s - mu`), the other equations with `rho = 1`. While the block
+    /// sticks (`v` down to 1e-40 and far below, beyond the range of `f64`
+    /// where `m v` underflows to 0) `s - mu` is resolved to its rounding,
+    /// which `dw/dt = (s - mu) / (m v)` would multiply by `1 / (m v)`.
+    fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         let [_, w_o, phi_o] = self.origin;
@@ -94,12 +128,14 @@ impl VectorField for LogBlock {
         };
         // v - e^w_o = e^w_o expm1(x_w)
         let dv = x_w.exp_m1() * ew_o;
-        out[0] = kappa * ((nu - ew_o) - dv);
-        out[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
+        rho.fill(D::from(1.0));
+        g[0] = kappa * ((nu - ew_o) - dv);
+        g[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
         if self.kind == ModelKind::Inertial {
             // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
-            out[1] = (gap0 - law.a * x_w) / (p[Param::M as usize] * v);
+            g[1] = gap0 - law.a * x_w;
+            rho[1] = p[Param::M as usize] * v;
         }
     }
 }
@@ -245,6 +281,34 @@ mod tests {
                     assert!((m[2] / theta - 1.0).abs() < 1e-13);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn the_implicit_form_is_the_force_balance_and_a_rise_of_ln_v_a_step_in_v() {
+        let p = ln2_params();
+        let log = LogBlock::centered(ModelKind::Inertial, &p);
+        let x = log.from_model(0.55, 1e-30, 2.3);
+        let (mut rho, mut g, mut f) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        log.implicit_rhs(&x, &p.to_vec(), &mut rho, &mut g);
+        log.rhs(&x, &p.to_vec(), &mut f);
+        // rho_w = m v, g_w = s - mu(v, theta), the others as they are.
+        let law = friction_from(false, &p.to_vec());
+        let gap = 0.55 - law.mu(1e-30, 2.3);
+        assert!((rho[1] / (p.m * 1e-30) - 1.0).abs() < 1e-13, "{rho:?}");
+        assert!((g[1] - gap).abs() < 1e-15, "{} vs {gap}", g[1]);
+        assert_eq!([rho[0], rho[2]], [1.0, 1.0]);
+        assert_eq!([g[0], g[2]], [f[0], f[2]]);
+        // A Newton step dx (subtracted): ln v rises by ln(1 + 3), falls by 3.
+        for (dw, rise) in [(-3.0, 4f64.ln()), (3.0, -3.0)] {
+            let mut y = x.clone();
+            log.newton_update(&mut y, &[1e-3, dw, -2e-3]);
+            assert!(
+                (y[1] - x[1] - rise).abs() < 1e-12,
+                "{} vs {rise}",
+                y[1] - x[1]
+            );
+            assert_eq!([y[0], y[2]], [x[0] - 1e-3, x[2] + 2e-3]);
         }
     }
 

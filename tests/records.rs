@@ -332,31 +332,45 @@ fn simulate_text_in_either_units_is_the_csv_time() {
 }
 
 /// A branch whose very first cycle is beyond what its Floquet multipliers
-/// can decide still delivers that cycle, its stability undecidable and why
-/// (at m = 1000 the pencil does not even determine the trivial multiplier);
+/// can decide still delivers that cycle, its stability undecidable and why;
 /// the branch then ends at the next such cycle: partial (status 4), never
-/// "no cycle" (issue 22: `cycles --set m=1e3` found none).
+/// "no cycle" (issue 22: `cycles --set m=1e3` found none). On the coarse
+/// start `--ntst 10` the pencil does not even determine the trivial
+/// multiplier; on the default mesh, with the force balance collocated in
+/// its implicit form, it does (to 1e-12), and the first cycle, at the onset,
+/// is undecidable because its other multiplier is 1 to within that error.
 #[test]
 fn a_first_cycle_beyond_its_multipliers_is_delivered_undecidable() {
     let dir = temp_dir("records-m1000");
     let out = dir.to_str().unwrap();
-    let (code, json, err) = stickslip(&["cycles", "--set", "m=1e3", "--out", out, "--json"]);
-    assert_eq!(code, 4, "{err}");
-    let v: Value = serde_json::from_str(&json).unwrap();
-    let cycles = v["cycles"].as_array().unwrap();
-    assert!(!cycles.is_empty(), "{err}");
-    let first = &cycles[0];
-    assert!(first["stable"].is_null(), "{first}");
-    let why = first["stability_reason"].as_str().unwrap();
-    assert!(
-        why.contains("rounding swamps the Floquet multipliers"),
-        "{why}"
-    );
-    // The cycle itself: at the onset, the Hopf frequency's period.
-    let kappa_c = v["kappa_c"].as_f64().unwrap();
-    assert!((first["kappa"].as_f64().unwrap() / kappa_c - 1.0).abs() < 1e-2);
-    assert!(v["stop"].as_str().unwrap().contains("can no longer decide"));
-    assert!(!err.contains("no cycle delivered"), "{err}");
+    for (ntst, reason) in [
+        ("10", "rounding swamps the Floquet multipliers"),
+        (
+            "40",
+            "a nontrivial Floquet multiplier of modulus 1.0000000000 lies within",
+        ),
+    ] {
+        let (code, json, err) = stickslip(&[
+            "cycles", "--set", "m=1e3", "--ntst", ntst, "--out", out, "--json", "--force",
+        ]);
+        assert_eq!(code, 4, "{err}");
+        let v: Value = serde_json::from_str(&json).unwrap();
+        let cycles = v["cycles"].as_array().unwrap();
+        assert!(!cycles.is_empty(), "{err}");
+        let first = &cycles[0];
+        assert!(first["stable"].is_null(), "{first}");
+        let why = first["stability_reason"].as_str().unwrap();
+        assert!(why.contains(reason), "--ntst {ntst}: {why}");
+        if ntst == "40" {
+            let error = first["trivial_multiplier_error"].as_f64().unwrap();
+            assert!(error < 1e-10, "{first}");
+        }
+        // The cycle itself: at the onset, the Hopf frequency's period.
+        let kappa_c = v["kappa_c"].as_f64().unwrap();
+        assert!((first["kappa"].as_f64().unwrap() / kappa_c - 1.0).abs() < 1e-2);
+        assert!(v["stop"].as_str().unwrap().contains("can no longer decide"));
+        assert!(!err.contains("no cycle delivered"), "{err}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

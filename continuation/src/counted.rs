@@ -125,6 +125,17 @@ impl<S: VectorField> VectorField for Counted<S> {
         self.counts.add(eval_kind::<D>(), 1);
         self.inner.rhs(x, p, out);
     }
+    fn newton_update(&self, x: &mut [f64], dx: &[f64]) {
+        self.inner.newton_update(x, dx);
+    }
+    fn has_implicit_form(&self) -> bool {
+        self.inner.has_implicit_form()
+    }
+    #[inline]
+    fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
+        self.counts.add(eval_kind::<D>(), 1);
+        self.inner.implicit_rhs(x, p, rho, g);
+    }
     fn n_observables(&self) -> usize {
         self.inner.n_observables()
     }

@@ -152,6 +152,12 @@ pub trait NewtonProblem {
         Ok(())
     }
 
+    /// The next iterate from `z` and the Newton step `dz`. Default:
+    /// `z <- z - dz`.
+    fn update(&self, z: &mut [f64], dz: &[f64]) {
+        z.iter_mut().zip(dz).for_each(|(zi, d)| *zi -= d);
+    }
+
     /// Takes back a linearized point no longer needed (to reuse its storage).
     fn recycle(&mut self, _point: Self::Point) {}
 
@@ -251,7 +257,7 @@ pub fn iterate<P: NewtonProblem>(
         }
         last_step = step;
         problem.recycle(point);
-        z.iter_mut().zip(&dz).for_each(|(zi, d)| *zi -= d);
+        problem.update(z, &dz);
         previous_relative = last_relative;
         last_relative = problem.relative_step(&dz, z);
     }

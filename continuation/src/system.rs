@@ -50,6 +50,34 @@ pub trait VectorField: Sync {
         x[k]
     }
 
+    /// Whether [`implicit_rhs`](Self::implicit_rhs) gives this field in an
+    /// implicit form of its own; collocation then solves that form.
+    fn has_implicit_form(&self) -> bool {
+        false
+    }
+
+    /// The field in the implicit form `rho_r(x, p) x'_r = g_r(x, p)` (one
+    /// nonnegative scale `rho_r` per equation, `f_r = g_r / rho_r`), written
+    /// into `rho` and `g`. A field whose component is a ratio with a
+    /// denominator that can be tiny (a relaxation rate beyond any scale of
+    /// the solution) gives `g_r` directly: collocation then solves
+    /// `rho_r x'_r - g_r = 0`, whose rounding is that of `g_r` (not divided
+    /// by `rho_r`), and which stays defined where `rho_r` underflows to 0
+    /// (the equation is then the algebraic `g_r = 0`). Default: `rho = 1`,
+    /// `g = f`.
+    fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
+        rho.fill(D::from(1.0));
+        self.rhs(x, p, g);
+    }
+
+    /// A Newton iterate's state at one mesh node, `x`, moved by the Newton
+    /// step `-dx` (the linear system's solution, `dx` subtracted). Default:
+    /// `x <- x - dx`. A field whose component is the logarithm of a quantity
+    /// the equations hold nearly linearly may take the step in that quantity.
+    fn newton_update(&self, x: &mut [f64], dx: &[f64]) {
+        x.iter_mut().zip(dx).for_each(|(xi, d)| *xi -= d);
+    }
+
     /// Writes `f(x, p)` into `f`, the Jacobian into `jac` and `d f / d p_k`
     /// into `fp`: what a collocation point needs. The default evaluates
     /// them together ([`first_order_by_duals`]); a system with a
@@ -152,6 +180,100 @@ fn first_order_in<S: VectorField + ?Sized, const N: usize>(
             jac[(i, j)] = eps[j];
         }
         fp[i] = eps[n];
+    }
+}
+
+/// The implicit form [`VectorField::implicit_rhs`] at `(x, p)` with its first
+/// derivatives over `(x_1 .. x_n, p_k)`: `rho`, `g` (length `n`) and their
+/// Jacobians `drho`, `dg` (`n x (n + 1)`, the last column along `p_k`), from
+/// one evaluation in dual numbers of `n + 1` directions (one evaluation per
+/// direction for systems of more than 7 states).
+pub fn implicit_first_order<S: VectorField + ?Sized>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    out: ImplicitFirstOrder,
+) {
+    match sys.dim() {
+        0..=3 => implicit_first_order_in::<S, 4>(sys, x, p, k, out),
+        4..=7 => implicit_first_order_in::<S, 8>(sys, x, p, k, out),
+        _ => implicit_first_order_by_columns(sys, x, p, k, out),
+    }
+}
+
+/// Where [`implicit_first_order`] writes: `rho`, `g`, `drho`, `dg`.
+pub type ImplicitFirstOrder<'o> = (
+    &'o mut [f64],
+    &'o mut [f64],
+    &'o mut DMatrix<f64>,
+    &'o mut DMatrix<f64>,
+);
+
+/// [`implicit_first_order`] with `N >= n + 1` directions.
+fn implicit_first_order_in<S: VectorField + ?Sized, const N: usize>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    (rho, g, drho, dg): ImplicitFirstOrder,
+) {
+    let n = sys.dim();
+    let zero = DualSVec64::<N>::from_re(0.0);
+    let mut xd = [zero; N];
+    for (j, (d, &v)) in xd.iter_mut().zip(x).enumerate() {
+        *d = DualSVec64::from_re(v).derivative(j);
+    }
+    let mut pd: Buf<DualSVec64<N>> = SmallVec::from_elem(zero, p.len());
+    for (j, (d, &v)) in pd.iter_mut().zip(p).enumerate() {
+        *d = DualSVec64::from_re(v);
+        if j == k {
+            *d = d.derivative(n);
+        }
+    }
+    let (mut rd, mut gd) = ([zero; N], [zero; N]);
+    sys.implicit_rhs(&xd[..n], &pd, &mut rd[..n], &mut gd[..n]);
+    for i in 0..n {
+        rho[i] = rd[i].re;
+        g[i] = gd[i].re;
+        let (er, eg) = (
+            rd[i].eps.unwrap_generic(Const::<N>, U1),
+            gd[i].eps.unwrap_generic(Const::<N>, U1),
+        );
+        for j in 0..=n {
+            drho[(i, j)] = er[j];
+            dg[(i, j)] = eg[j];
+        }
+    }
+}
+
+/// [`implicit_first_order`] one direction at a time.
+fn implicit_first_order_by_columns<S: VectorField + ?Sized>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    (rho, g, drho, dg): ImplicitFirstOrder,
+) {
+    let n = sys.dim();
+    let mut xd: Buf<Dual64> = x.iter().map(|&v| Dual64::from(v)).collect();
+    let mut pd: Buf<Dual64> = p.iter().map(|&v| Dual64::from(v)).collect();
+    let (mut rd, mut gd): (Buf<Dual64>, Buf<Dual64>) = (
+        SmallVec::from_elem(Dual64::from(0.0), n),
+        SmallVec::from_elem(Dual64::from(0.0), n),
+    );
+    for j in 0..=n {
+        let seed = if j < n { &mut xd[j] } else { &mut pd[k] };
+        seed.eps = 1.0;
+        sys.implicit_rhs(&xd, &pd, &mut rd, &mut gd);
+        let seed = if j < n { &mut xd[j] } else { &mut pd[k] };
+        seed.eps = 0.0;
+        for i in 0..n {
+            rho[i] = rd[i].re;
+            g[i] = gd[i].re;
+            drho[(i, j)] = rd[i].eps;
+            dg[(i, j)] = gd[i].eps;
+        }
     }
 }
 

@@ -614,3 +614,146 @@ fn a_step_over_a_whole_interval_is_the_orbits_own() {
         }
     }
 }
+
+/// [`StuartLandau`] in an implicit form `rho(x, p) x' = g(x, p)` with
+/// state- and parameter-dependent scales (`g = rho f`): the same orbits,
+/// so the same closed forms.
+struct ImplicitStuartLandau(StuartLandau);
+impl ImplicitStuartLandau {
+    fn scales<D: Scalar>(x: &[D], p: &[D]) -> [D; 2] {
+        [
+            (x[0] * x[0] + 1.0) * (p[0] + 1.0),
+            (x[1] * 0.5 + 2.0).exp() * 1e-3,
+        ]
+    }
+}
+impl VectorField for ImplicitStuartLandau {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        self.0.rhs(x, p, out)
+    }
+    fn has_implicit_form(&self) -> bool {
+        true
+    }
+    fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
+        self.0.rhs(x, p, g);
+        let s = Self::scales(x, p);
+        rho[..2].copy_from_slice(&s);
+        for (g, s) in g.iter_mut().zip(s) {
+            *g *= s;
+        }
+    }
+}
+
+#[test]
+fn implicit_form_gives_the_closed_form_cycles_and_multipliers() {
+    let sys = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
+    let settings = CycleSettings {
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
+        p_max: 1.0,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
+        max_steps: 300,
+        ..Default::default()
+    };
+    let branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 2.0, &[0.0], 0, settings).unwrap();
+    let (mut count, mut last_beta) = (0, 0.0);
+    for pt in branch {
+        let pt = pt.unwrap();
+        let c = &pt.cycle;
+        let beta = c.p[0];
+        let (lo, hi) = c.range(&sys, 0);
+        let period = 2.0 * std::f64::consts::PI / (2.0 + 0.5 * beta);
+        assert!((c.period / period - 1.0).abs() < 1e-9, "beta = {beta}");
+        assert!(
+            (0.5 * (hi - lo) / beta.sqrt() - 1.0).abs() < 1e-8,
+            "beta = {beta}"
+        );
+        // Liouville's formula from the implicit form's trace of D_x f, and
+        // the Floquet pencil of the row-scaled equations.
+        let exact = (-2.0 * beta * period).exp();
+        let smallest = |mu: &[Complex64]| mu.iter().map(|z| z.norm()).fold(f64::INFINITY, f64::min);
+        let liouville = smallest(&pt.multipliers);
+        assert!(
+            (liouville / exact - 1.0).abs() < 1e-9,
+            "beta = {beta}: {liouville} vs {exact}"
+        );
+        let coll = Collocation::new(&sys, c, 0);
+        let pencil = smallest(
+            &pencil_multipliers(&CyclicReduction::new(&coll.linearize(&coll.unknowns(c)), 2))
+                .unwrap(),
+        );
+        assert!(
+            (pencil / exact - 1.0).abs() < 1e-7,
+            "beta = {beta}: pencil {pencil} vs {exact}"
+        );
+        count += 1;
+        last_beta = beta;
+    }
+    assert!(
+        count > 5 && last_beta > 0.9,
+        "{count} cycles up to beta = {last_beta}"
+    );
+}
+
+#[test]
+fn implicit_form_jacobian_matches_central_differences_of_its_residual() {
+    // Off the solution (a perturbed orbit) every term of the Jacobian counts,
+    // also d rho / dx times x' and d rho / dp.
+    let sys = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
+    let mesh = Mesh::uniform(6, 3, CollocationPoints::Gauss);
+    let u: Vec<f64> = (0..mesh.n_nodes())
+        .flat_map(|g| {
+            let a = 2.0 * std::f64::consts::PI * mesh.node_time(g / 3, g % 3);
+            [0.7 * a.cos() + 0.05 * (3.0 * a).sin(), 0.6 * a.sin()]
+        })
+        .collect();
+    let c = Cycle {
+        mesh,
+        u,
+        period: 3.1,
+        p: vec![0.4],
+        n: 2,
+    };
+    let coll = Collocation::new(&sys, &c, 0);
+    let z0 = coll.unknowns(&c);
+    let lin = coll.linearize(&z0);
+    let (n, m) = (2, 3);
+    let nn = z0.len() - 2;
+    for i in [0, 4] {
+        let columns: Vec<(usize, usize)> = (0..=m)
+            .flat_map(|l| {
+                let g = coll.mesh.node(i, l);
+                (0..n).map(move |cc| (l * n + cc, g * n + cc))
+            })
+            .chain([((m + 1) * n, nn), ((m + 1) * n + 1, nn + 1)])
+            .collect();
+        for (col, j) in columns {
+            let h = 1e-6 * z0[j].abs().max(1.0);
+            let at = |d: f64| {
+                let mut z = z0.clone();
+                z[j] += d;
+                coll.linearize(&z).residual[i * m * n..(i + 1) * m * n].to_vec()
+            };
+            let (up, down) = (at(h), at(-h));
+            for r in 0..m * n {
+                let fd = (up[r] - down[r]) / (2.0 * h);
+                let exact = lin.local[i][(r, col)];
+                assert!(
+                    (fd - exact).abs() <= 1e-7 * (1.0 + exact.abs()),
+                    "interval {i} row {r} column {col}: {exact} vs differences {fd}"
+                );
+            }
+        }
+    }
+}

@@ -910,7 +910,7 @@ fn follow(
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<FollowEnd, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
-    let mut slowest = f64::INFINITY;
+    let (mut slowest, mut fastest) = (f64::INFINITY, f64::INFINITY);
     let mut previous: Option<Box<Cycle>> = None;
     let mut to_skip = skip;
     for pt in first.map(Ok).into_iter().chain(branch.by_ref()) {
@@ -928,18 +928,40 @@ fn follow(
             }
         }
         let pt = pt.map_err(|e| match (last, e) {
-            (Some((kappa, _)), e @ continuation::ContinuationError::Newton { .. })
-                if log.kind == ModelKind::Inertial
-                    && watch.m > 0.0
-                    && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64 =>
+            (
+                Some((kappa, _)),
+                e @ (continuation::ContinuationError::Newton { .. }
+                | continuation::ContinuationError::StepTooSmall { .. }),
+            ) if log.kind == ModelKind::Inertial
+                && watch.m > 0.0
+                && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64 =>
             {
+                // The engine's advice (a smaller step, more intervals) is
+                // what the branch already did; what failed, in numbers.
+                let failed = match e {
+                    continuation::ContinuationError::StepTooSmall { ds, .. } => format!(
+                        "the continuation stalled (steps down to ds = {ds:.1e} failed to correct)"
+                    ),
+                    continuation::ContinuationError::Newton {
+                        iterations,
+                        residual,
+                        ..
+                    } => format!(
+                        "Newton did not converge correcting a cycle ({iterations} iterations, \
+                         residual {residual:.1e})"
+                    ),
+                    _ => unreachable!("matched above"),
+                };
                 NumericalError::Analysis(format!(
-                    "{e}: near kappa = {kappa:.6e} the block sticks down to v = {slowest:.3e} V0, \
-                     where the inertial model's velocity relaxes at the rate A/(m v) = {:.3e} \
-                     V0/D0 and rounding in the friction balance s - mu is amplified by as much: \
-                     beyond what f64 collocation resolves, so the inertial branch ends here. \
-                     The quasi-static model has no such rate (--model quasi-static; each cycle's \
-                     chi then says where the inertia it drops would matter)",
+                    "{failed}: near kappa = {kappa:.6e} the block comes to rest from v_max = \
+                     {fastest:.3e} V0 onto its stick velocity v = {slowest:.3e} V0, {:.0} \
+                     decades, in a time no mesh resolves (the inertial model's velocity relaxes \
+                     there at the rate A/(m v) = {:.3e} V0/D0): ln v at the mesh points of that \
+                     stop is left ill-determined by the collocation equations, Newton's \
+                     corrections there no longer converge, and the inertial branch ends here. \
+                     The quasi-static model has no such stop (--model quasi-static; each \
+                     cycle's chi then says where the inertia it drops would matter)",
+                    (fastest / slowest).log10(),
                     watch.a / (watch.m * slowest)
                 ))
             }
@@ -948,7 +970,7 @@ fn follow(
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
         last = Some((rec.kappa, rec.delta_s));
-        slowest = rec.v_min;
+        (slowest, fastest) = (rec.v_min, rec.v_max);
         sink(&rec)?;
         if watch.switch
             && log.kind == ModelKind::QuasiStatic
@@ -984,11 +1006,15 @@ pub fn hopf_start(log: &LogBlock, params: &Params, h: &HopfPoint) -> (Vec<f64>, 
     )
 }
 
-/// Relaxation rate `A/(m v)` of the inertial block's velocity (units
-/// `V0/D0`) beyond which a failed correction is explained by it: rounding in
-/// the friction balance `s - mu` (about `eps`) is amplified by that rate in
-/// `d ln v/dt`, so that the collocation residual cannot fall to its
-/// tolerance (seen at `v_min ~ 1e-41`, `m = 1e-6`, `A = 1e-4`: `1e39`).
+/// Relaxation rate `A/(m v)` of the inertial block's velocity at the stick
+/// (units `V0/D0`) beyond which a failed correction is explained by the stop
+/// into the stick: the velocity falls there by tens of decades (linearly in
+/// time under the inertial deceleration, down to the stick's quasi-static
+/// value) within a time no mesh resolves, and the collocation equations
+/// leave `ln v` at the mesh points of that stop ill-determined (seen at
+/// `v_min ~ 5e-51`, `m = 1e-6`, `A = 1e-4`: `2e52`; before the force
+/// balance was collocated in its implicit form, rounding amplified by that
+/// rate ended the branch at `v_min ~ 6e-42`).
 const STIFF_BEYOND_F64: f64 = 1e30;
 
 /// Fraction of a leg's largest `Delta_s` below which a cycle counts as

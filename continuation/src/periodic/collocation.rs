@@ -7,13 +7,22 @@
 //! sum_l L_l'(z_k) u_{i,l} - h_i T f( sum_l L_l(z_k) u_{i,l}, p ) = 0
 //! ```
 //!
+//! or, for a field with an implicit form `rho(x, p) x' = g(x, p)`
+//! ([`VectorField::implicit_rhs`]), equation `r` multiplied by `rho_r`:
+//!
+//! ```text
+//! rho_r sum_l L_l'(z_k) u_{i,l,r} - h_i T g_r( sum_l L_l(z_k) u_{i,l}, p ) = 0
+//! ```
+//!
+//! (the same orbits and Floquet multipliers; the rounding of `g_r` is not
+//! divided by `rho_r`, and `rho_r = 0` leaves the algebraic `g_r = 0`),
 //! and the integral phase condition against a reference orbit `u_ref`,
 //! `int_0^1 <u(tau), u_ref'(tau)> dtau = 0` (Doedel; Kuznetsov 1998 §10.3).
 //! Unknowns `z = (u, T, p_k)`: `N + 2` with `N = NTST m n`; equations `N + 1`.
 
 use super::cycle::Cycle;
 use super::mesh::Mesh;
-use crate::system::VectorField;
+use crate::system::{implicit_first_order, VectorField};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use smallvec::SmallVec;
@@ -28,6 +37,9 @@ pub struct Collocation<'a, S: VectorField> {
     pub p: Vec<f64>,
     /// `u_ref'(tau)` at the Gauss points, interval-major: `[(i m + k) n ..]`.
     phase_ref: Vec<f64>,
+    /// The collocation equations in the field's implicit form
+    /// ([`VectorField::implicit_rhs`]), when it has one.
+    implicit: bool,
 }
 
 /// Residual and Jacobian of the collocation system, by interval.
@@ -59,9 +71,16 @@ pub(crate) struct LinearizeScratch {
     p: Vec<f64>,
     phase_parts: Vec<f64>,
     parts: Vec<IntervalSums>,
-    /// The Jacobian of `f` at a collocation point, when the intervals run in turn.
-    jac: DMatrix<f64>,
+    /// The Jacobian of `f` at a collocation point (and the derivatives of
+    /// an implicit form), when the intervals run in turn.
+    jac: PointScratch,
 }
+
+/// Scratch of one collocation point, one per thread: the Jacobian `n x n`
+/// of the collocation row (`D_x f`, or of an implicit form's row divided by
+/// `-h T`), and an implicit form's `drho`, `dg` (`n x (n + 1)`,
+/// [`implicit_first_order`]; empty for the explicit form).
+type PointScratch = (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>);
 
 impl Linearization {
     /// The border columns `dF/dT`, `dF/dp_k` of the collocation rows
@@ -103,6 +122,17 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             k,
             p: reference.p.clone(),
             phase_ref,
+            implicit: sys.has_implicit_form(),
+        }
+    }
+
+    /// The same system with the collocation equations in the explicit form
+    /// `x' = f(x, p)` (the form the second derivatives of the fold-of-cycles
+    /// system differentiate).
+    pub fn explicit(self) -> Self {
+        Collocation {
+            implicit: false,
+            ..self
         }
     }
 
@@ -167,8 +197,15 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         phase_parts.clear();
         phase_parts.resize(ntst * (m + 1) * n, 0.0);
         // The Jacobian of `f` at a collocation point: one per thread.
-        let jacobian = || DMatrix::zeros(n, n);
-        let sums = |jac: &mut DMatrix<f64>, (i, ((block, residual), phase)): (usize, Zipped)| {
+        let implicit_columns = if self.implicit { n + 1 } else { 0 };
+        let jacobian = || {
+            (
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, implicit_columns),
+                DMatrix::zeros(n, implicit_columns),
+            )
+        };
+        let sums = |jac: &mut PointScratch, (i, ((block, residual), phase)): (usize, Zipped)| {
             let out = (block, residual, phase);
             match n {
                 2 => self.interval::<2>(i, z, p, out, jac),
@@ -191,7 +228,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 .collect_into_vec(parts);
         } else {
             let jac = &mut scratch.jac;
-            if jac.shape() != (n, n) {
+            if jac.0.shape() != (n, n) || jac.1.shape() != (n, implicit_columns) {
                 *jac = jacobian();
             }
             parts.extend(
@@ -229,8 +266,9 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// The collocation equations of interval `i` at `z` (parameters `p`),
     /// linearized into `out`: its block, its `m n` residuals and its
     /// phase-row entries on its `m + 1` nodes; returns its terms of the
-    /// phase residual, the term scale and the trace integral. `jac` (`n x n`)
-    /// is scratch for the Jacobian of `f` at each collocation point. `N` is
+    /// phase residual, the term scale and the trace integral. `jac` is
+    /// scratch for the Jacobian of `f` at each collocation point (and the
+    /// derivatives of the implicit form). `N` is
     /// the state dimension when known at compile time (the inner loops
     /// unrolled), `0` otherwise; the arithmetic is the same.
     fn interval<const N: usize>(
@@ -239,7 +277,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         z: &[f64],
         p: &[f64],
         out: IntervalOut,
-        jac: &mut DMatrix<f64>,
+        (jac, drho, dg): &mut PointScratch,
     ) -> IntervalSums {
         let (block, residual, phase) = out;
         let n = if N == 0 { self.sys.dim() } else { N };
@@ -254,12 +292,15 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         // Zeroed for every interval, as a new matrix would be.
         jac.fill(0.0);
         // Scratch of `n` entries each: the state and its derivative at the
-        // point, the row sums of the term scale, `f` and `df/dp_k`.
-        let mut scratch = SmallVec::<[f64; 64]>::from_elem(0.0, 5 * n);
+        // point, the row sums of the term scale, `f` (`g`) and `df/dp_k`, and
+        // the scales `rho` of the equations (1 in the explicit form).
+        let mut scratch = SmallVec::<[f64; 64]>::from_elem(0.0, 6 * n);
         let (x, rest) = scratch.split_at_mut(n);
         let (dx, rest) = rest.split_at_mut(n);
         let (row_sums, rest) = rest.split_at_mut(n);
-        let (f, fp) = rest.split_at_mut(n);
+        let (f, rest) = rest.split_at_mut(n);
+        let (fp, rho) = rest.split_at_mut(n);
+        rho.fill(1.0);
         // Column-major: entry (r, c) of the block at `c mn + r`.
         let block = block.as_mut_slice();
         for kk in 0..m {
@@ -283,10 +324,26 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             for j in 0..n {
                 x[j] += v0[j];
             }
-            self.sys.first_order(x, p, self.k, (f, jac, fp));
+            if self.implicit {
+                // Row r, `rho_r x'_r - g_r` times `h T` (`x'_r = dx_r / (h T)`):
+                // its derivatives along `x_c` and `p_k`, divided by `-h T`,
+                // take the places of `D_x f` and `df/dp_k` (`f` is `g`).
+                implicit_first_order(self.sys, x, p, self.k, (rho, f, drho, dg));
+                for r in 0..n {
+                    let slope = dx[r] / (h * period);
+                    for c in 0..n {
+                        jac[(r, c)] = dg[(r, c)] - drho[(r, c)] * slope;
+                    }
+                    fp[r] = dg[(r, n)] - drho[(r, n)] * slope;
+                }
+            } else {
+                self.sys.first_order(x, p, self.k, (f, jac, fp));
+            }
             for j in 0..n {
-                residual[row0 + j] = dx[j] - h * period * f[j];
-                sums.term_scale = sums.term_scale.max(dx[j].abs() + (h * period * f[j]).abs());
+                residual[row0 + j] = rho[j] * dx[j] - h * period * f[j];
+                sums.term_scale = sums
+                    .term_scale
+                    .max((rho[j] * dx[j]).abs() + (h * period * f[j]).abs());
                 block[(m + 1) * n * mn + row0 + j] = -h * f[j];
                 block[((m + 1) * n + 1) * mn + row0 + j] = -h * period * fp[j];
             }
@@ -298,7 +355,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 let hpb = h * period * b;
                 for (r, row_sum) in row_sums.iter_mut().enumerate() {
                     for c in 0..n {
-                        let entry = if r == c { db } else { 0.0 } - hpb * js[c * n + r];
+                        let entry = if r == c { rho[r] * db } else { 0.0 } - hpb * js[c * n + r];
                         block[(l * n + c) * mn + row0 + r] = entry;
                         *row_sum += entry.abs() * v[c].abs();
                     }
@@ -306,7 +363,9 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             }
             sums.term_scale = row_sums.iter().fold(sums.term_scale, |a, v| a.max(*v));
             let w = h * self.mesh.weights[kk];
-            sums.trace_integral += w * period * (0..n).map(|j| js[j * n + j]).sum::<f64>();
+            // `tr D_x f`, in the implicit form `sum_r J_rr / rho_r` (exact at
+            // a solution, where `x'_r = g_r / rho_r`).
+            sums.trace_integral += w * period * (0..n).map(|j| js[j * n + j] / rho[j]).sum::<f64>();
             let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
             for j in 0..n {
                 sums.phase_residual += w * x[j] * dref[j];

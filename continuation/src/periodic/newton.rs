@@ -217,6 +217,18 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
         self.spare = Some(point);
     }
 
+    /// Each node's state by the field's [`VectorField::newton_update`], the
+    /// period and the parameter by `z <- z - dz`.
+    fn update(&self, z: &mut [f64], dz: &[f64]) {
+        let n = self.coll.sys.dim();
+        let nn = z.len() - 2;
+        for (x, dx) in z[..nn].chunks_exact_mut(n).zip(dz[..nn].chunks_exact(n)) {
+            self.coll.sys.newton_update(x, dx);
+        }
+        z[nn] -= dz[nn];
+        z[nn + 1] -= dz[nn + 1];
+    }
+
     fn newton_step(&mut self, point: &BorderedPoint) -> Result<Vec<f64>, ContinuationError> {
         point.jacobian.solve(self.row, &point.rhs)
     }

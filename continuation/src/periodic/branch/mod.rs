@@ -917,11 +917,16 @@ impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
 }
 
 /// Newton settings of located points (folds, user points), tighter than the
-/// corrector's.
+/// corrector's, with more iterations: a turn of the parameter at the Hopf
+/// point the branch returns to is a singular solution of the collocation
+/// system (zero amplitude), where Newton's method converges only linearly
+/// until the last few iterations (`tests/cycles.rs`, Brockley's inertial
+/// branch back to its Hopf point: 15 iterations left the step at 1e-9, the
+/// residual at 1e-17, in the implicit form of the force balance).
 const LOCATOR: NewtonSettings = NewtonSettings {
     step_tol: 1e-13,
     residual_tol: 1e-12,
-    max_iter: 15,
+    max_iter: 30,
 };
 
 /// Whether the located orbit `lpc` is a fold of cycles: a nontrivial

@@ -77,7 +77,8 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         k1: usize,
         k2: Option<usize>,
     ) -> Result<Self, ContinuationError> {
-        let coll = Collocation::new(sys, orbit, k1);
+        // Explicit: the second derivatives below differentiate `f`.
+        let coll = Collocation::new(sys, orbit, k1).explicit();
         let nn = coll.mesh.n_nodes() * sys.dim();
         let mut y = coll.unknowns(orbit);
         if let Some(k) = k2 {
