@@ -938,7 +938,7 @@ fn follow(
             {
                 // The engine's advice (a smaller step, more intervals) is
                 // what the branch already did; what failed, in numbers.
-                let failed = match e {
+                let failed = match &e {
                     continuation::ContinuationError::StepTooSmall { ds, .. } => format!(
                         "the continuation stalled (steps down to ds = {ds:.1e} failed to correct)"
                     ),
@@ -950,7 +950,7 @@ fn follow(
                         "Newton did not converge correcting a cycle ({iterations} iterations, \
                          residual {residual:.1e})"
                     ),
-                    _ => unreachable!("matched above"),
+                    other => other.to_string(),
                 };
                 NumericalError::Analysis(format!(
                     "{failed}: near kappa = {kappa:.6e} the block comes to rest from v_max = \
