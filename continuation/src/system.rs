@@ -148,17 +148,17 @@ pub fn first_order_by_duals<S: VectorField + ?Sized>(
     }
 }
 
-/// [`first_order_by_duals`] with `N >= n + 1` directions.
-fn first_order_in<S: VectorField + ?Sized, const N: usize>(
-    sys: &S,
+/// The state `x` (`n` entries) and the parameters `p` in dual numbers of
+/// `N >= n + 1` directions: `x_j` along direction `j`, `p_k` along
+/// direction `n`. The state is an array of `N` entries filled in place (no
+/// collecting into a buffer that is then moved).
+#[inline]
+fn seeded<const N: usize>(
+    n: usize,
     x: &[f64],
     p: &[f64],
     k: usize,
-    (f, jac, fp): (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
-) {
-    let n = sys.dim();
-    // The state and the values in arrays of `N > n` entries, filled in
-    // place (no collecting into a buffer that is then moved).
+) -> ([DualSVec64<N>; N], Buf<DualSVec64<N>>) {
     let zero = DualSVec64::<N>::from_re(0.0);
     let mut xd = [zero; N];
     for (j, (d, &v)) in xd.iter_mut().zip(x).enumerate() {
@@ -171,7 +171,20 @@ fn first_order_in<S: VectorField + ?Sized, const N: usize>(
             *d = d.derivative(n);
         }
     }
-    let mut out = [zero; N];
+    (xd, pd)
+}
+
+/// [`first_order_by_duals`] with `N >= n + 1` directions.
+fn first_order_in<S: VectorField + ?Sized, const N: usize>(
+    sys: &S,
+    x: &[f64],
+    p: &[f64],
+    k: usize,
+    (f, jac, fp): (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
+) {
+    let n = sys.dim();
+    let (xd, pd) = seeded::<N>(n, x, p, k);
+    let mut out = [DualSVec64::<N>::from_re(0.0); N];
     sys.rhs(&xd[..n], &pd, &mut out[..n]);
     for (i, y) in out[..n].iter().enumerate() {
         f[i] = y.re;
@@ -219,18 +232,8 @@ fn implicit_first_order_in<S: VectorField + ?Sized, const N: usize>(
     (rho, g, drho, dg): ImplicitFirstOrder,
 ) {
     let n = sys.dim();
+    let (xd, pd) = seeded::<N>(n, x, p, k);
     let zero = DualSVec64::<N>::from_re(0.0);
-    let mut xd = [zero; N];
-    for (j, (d, &v)) in xd.iter_mut().zip(x).enumerate() {
-        *d = DualSVec64::from_re(v).derivative(j);
-    }
-    let mut pd: Buf<DualSVec64<N>> = SmallVec::from_elem(zero, p.len());
-    for (j, (d, &v)) in pd.iter_mut().zip(p).enumerate() {
-        *d = DualSVec64::from_re(v);
-        if j == k {
-            *d = d.derivative(n);
-        }
-    }
     let (mut rd, mut gd) = ([zero; N], [zero; N]);
     sys.implicit_rhs(&xd[..n], &pd, &mut rd[..n], &mut gd[..n]);
     for i in 0..n {
