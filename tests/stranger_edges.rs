@@ -233,3 +233,45 @@ fn a_branch_from_a_simulated_orbit_delivers_its_own_stiffness() {
         .collect();
     assert_eq!(reasons, ["hopf_point", "end_of_range"], "{json}");
 }
+
+/// A search range written downward is refused with the range to give,
+/// not silently turned around (issue 22's leftover: `hopf --param V --from
+/// 100 --to 10` searched 10 to 100 without a word).
+#[test]
+fn a_downward_search_range_is_refused_naming_the_options() {
+    use stickslip::analysis::control::Control;
+    use stickslip::jobs::cycles_in::{CyclesInControlRequest, Plan};
+    use stickslip::jobs::hopf::{run, HopfRequest};
+    use stickslip::jobs::SceneSpec;
+    let rig = SceneSpec::named("examples/scenes/rig.toml");
+    let v = Control::from_param(Some("V")).unwrap();
+    let ask = |from, to| {
+        run(&rig, &HopfRequest { param: v, from, to })
+            .err()
+            .map(|e| e.to_string())
+    };
+    let e = ask(Some(100.0), Some(10.0)).unwrap();
+    assert!(
+        e.contains("--from/--to") && e.contains("give 1e1 to 1e2"),
+        "{e}"
+    );
+    let e = ask(Some(2000.0), None).unwrap();
+    assert!(e.contains("--from (with the default --to)"), "{e}");
+    assert!(ask(Some(10.0), Some(1000.0)).is_none());
+    let request = CyclesInControlRequest {
+        control: v.unwrap(),
+        to: 150.0,
+        search: Some((1000.0, 1.0)),
+        at: Vec::new(),
+        from_simulation: false,
+        max_steps: 10,
+        ntst: 40,
+        ntst_max: 1280,
+        collocation: None,
+    };
+    let e = Plan::new(&rig, &request).err().unwrap().to_string();
+    assert!(
+        e.contains("--search") && e.contains("give 1e0 to 1e3"),
+        "{e}"
+    );
+}

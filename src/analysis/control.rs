@@ -722,6 +722,27 @@ fn along_load(
     Ok(Some(2.0 / (a + b)))
 }
 
+/// A range `(lo, hi)` in which an onset is searched, checked: finite and
+/// running upward. `fields` names the options that gave it (`--from/--to`,
+/// `--search`), so that a range written downward is refused with the range
+/// to give instead, not silently turned around.
+pub fn upward_range((lo, hi): (f64, f64), fields: &str) -> Result<(f64, f64), InputError> {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(InputError::Malformed {
+            field: fields.into(),
+            value: format!("{lo}:{hi}"),
+            expected: "finite numbers".into(),
+        });
+    }
+    if lo >= hi {
+        return Err(InputError::Conflict(format!(
+            "{fields} gives the range {lo:e} to {hi:e}, which does not run upward: the onset is \
+             searched from the low end to the high end; give {hi:e} to {lo:e}"
+        )));
+    }
+    Ok((lo, hi))
+}
+
 /// The model for the onset along `control` over `range` (its unit): the
 /// automatic choice judged at the end of the range where the inertia ratio
 /// `m nu^2 / mu_v` (C11) is largest, and the inertial model wherever the

@@ -6,7 +6,9 @@
 
 use super::cycles::{branch_status, Observer};
 use super::{SceneSpec, Setup};
-use crate::analysis::control::{choose_along, cycles_in, Control, CyclesInRequest, CyclesStart};
+use crate::analysis::control::{
+    choose_along, cycles_in, upward_range, Control, CyclesInRequest, CyclesStart,
+};
 use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
 use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -99,6 +101,9 @@ impl Plan {
         let mut setup = spec.setup(|p| *p)?;
         let (units, scene_params) = (setup.scene.units, setup.scene_params);
         let param = control.continued(&units)?;
+        if let Some(search) = r.search {
+            upward_range(search, "--search")?;
+        }
         let judged = r
             .search
             .or_else(|| control.default_range(&units, &scene_params, setup.scene.nu_range))

@@ -4,7 +4,7 @@
 //! command's JSON).
 
 use super::{onset_with_degeneracy_resolved, SceneSpec, Setup};
-use crate::analysis::control::{choose_along, onset_in, Control, OnsetIn};
+use crate::analysis::control::{choose_along, onset_in, upward_range, Control, OnsetIn};
 use crate::analysis::hopf::HopfOutcome;
 use crate::analysis::model_choice::params_for;
 use crate::error::{Error, InputError, NumericalError};
@@ -123,6 +123,12 @@ fn run_in_control(
             .into());
         }
     };
+    let fields = match (request.from, request.to) {
+        (Some(_), None) => "--from (with the default --to)",
+        (None, Some(_)) => "--to (with the default --from)",
+        _ => "--from/--to",
+    };
+    let range = range.map(|r| upward_range(r, fields)).transpose()?;
     setup.choice = choose_along(
         control,
         &units,
