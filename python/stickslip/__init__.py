@@ -372,6 +372,17 @@ class _Result:
         """A field of the JSON, as `to_dict()[key]`."""
         return self._data[key]
 
+    @property
+    def complete(self) -> bool:
+        """Everything requested was delivered (the JSON's `complete`)."""
+        return self._data["complete"]
+
+    @property
+    def stop(self) -> str | None:
+        """Why the job ended short of the request, or how it ended, in
+        words (the JSON's `stop`)."""
+        return self._data["stop"]
+
     def __eq__(self, other: object) -> bool:
         return type(self) is type(other) and self._data == other._data  # type: ignore[attr-defined]
 
@@ -442,11 +453,6 @@ class Hopf(_Result):
         self._data = data
         #: Why the scene's own stiffness is not the onset's (it is compared with it).
         self.note = note
-
-    @property
-    def complete(self) -> bool:
-        """Always True: the onset job has no partial result (a failure raises)."""
-        return True
 
     @property
     def status(self) -> str:
@@ -571,16 +577,6 @@ class Cycles(_Columns, _Drawn):
         self.failure = failure
         #: The scalar columns of the cycles, one array each.
         self.table: dict[str, np.ndarray] = _table(data["cycles"], self._columns)
-
-    @property
-    def complete(self) -> bool:
-        """Everything requested was delivered."""
-        return self._data["complete"]
-
-    @property
-    def stop(self) -> str:
-        """How the branch ended, in words."""
-        return self._data["stop"]
 
     @property
     def kappa_c(self) -> float | None:
@@ -877,16 +873,6 @@ class Branch(_Columns, _Result):
         self.table: dict[str, np.ndarray] = _table(data["points"])
 
     @property
-    def complete(self) -> bool:
-        """The branch reached `to`."""
-        return self._data["complete"]
-
-    @property
-    def stop(self) -> str | None:
-        """Why the branch ended before `to` (None: it reached it)."""
-        return self._data["stop"]
-
-    @property
     def param(self) -> str:
         """The dimensionless parameter continued (kappa, nu, m, ...)."""
         return self._data["param"]
@@ -952,14 +938,6 @@ class Diagram(_Columns, _Drawn):
         key = "hopf_curve" if "hopf_curve" in data else "points"
         self._curve_key = key
         self.hopf_curve: dict[str, np.ndarray] = _table(data.get(key, []))
-
-    @property
-    def complete(self) -> bool:
-        return self._data["complete"]
-
-    @property
-    def stop(self) -> str:
-        return self._data["stop"]
 
     @property
     def special_points(self) -> dict[str, np.ndarray]:
@@ -1055,15 +1033,6 @@ class Simulation(_Drawn):
             else:
                 out[name] = c[name]
         return out
-
-    @property
-    def complete(self) -> bool:
-        """The whole protocol was simulated."""
-        return self._data["complete"]
-
-    @property
-    def stop(self) -> str | None:
-        return self._data["stop"]
 
     @property
     def regime(self) -> dict | None:
@@ -1337,15 +1306,6 @@ class Fit(_Drawn):
         self._data = data
         #: The fitted scene as the text of a scene file (`fitted.toml`).
         self.fitted_toml = fitted_toml
-
-    @property
-    def complete(self) -> bool:
-        """False when a parameter asked for is not determined by the data."""
-        return self._data["complete"]
-
-    @property
-    def stop(self) -> str | None:
-        return self._data["stop"]
 
     @property
     def parameters(self) -> dict:

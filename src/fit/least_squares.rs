@@ -21,18 +21,21 @@ pub trait Problem {
     fn residuals<T: Scalar>(&self, x: &[T]) -> Option<Vec<T>>;
 }
 
+/// `x` in dual numbers along the direction of its `k`-th entry.
+pub fn seeded(x: &[f64], k: usize) -> Vec<Dual64> {
+    x.iter()
+        .enumerate()
+        .map(|(i, &v)| Dual64::new(v, if i == k { 1.0 } else { 0.0 }))
+        .collect()
+}
+
 /// The residuals at `x` and their Jacobian, one forward-mode dual pass per
 /// unknown.
 pub fn jacobian<P: Problem>(p: &P, x: &[f64]) -> Option<(DVector<f64>, DMatrix<f64>)> {
     let r = DVector::from_vec(p.residuals(x)?);
     let mut j = DMatrix::zeros(r.len(), x.len());
     for k in 0..x.len() {
-        let xd: Vec<Dual64> = x
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| Dual64::new(v, if i == k { 1.0 } else { 0.0 }))
-            .collect();
-        for (i, ri) in p.residuals(&xd)?.iter().enumerate() {
+        for (i, ri) in p.residuals(&seeded(x, k))?.iter().enumerate() {
             j[(i, k)] = ri.eps;
         }
     }
@@ -80,9 +83,18 @@ pub fn minimize<P: Problem>(p: &P, x0: &[f64]) -> Result<Minimum, LeastSquaresEr
             continue;
         };
         let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
-        let accepted = jacobian(p, &trial).filter(|(rt, jt)| {
-            rt.iter().all(|v| v.is_finite()) && jt.iter().all(|v| v.is_finite())
-        });
+        // The Jacobian only at a step that lowers the cost (a rejected step
+        // costs one evaluation, not n + 1).
+        let lower = p
+            .residuals(&trial)
+            .map(|r| r.iter().map(|v| v * v).sum::<f64>())
+            .is_some_and(|c| c < cost);
+        let accepted = lower
+            .then(|| jacobian(p, &trial))
+            .flatten()
+            .filter(|(rt, jt)| {
+                rt.iter().all(|v| v.is_finite()) && jt.iter().all(|v| v.is_finite())
+            });
         // Predicted decrease of |r|^2 by the linear model.
         let predicted = step.dot(&(step.component_mul(&scale) * lambda - &g));
         match accepted {

@@ -14,16 +14,15 @@ use super::{SceneSpec, Setup};
 use crate::analysis::hopf::{Criticality, HopfOutcome};
 use crate::analysis::model_choice::{choose_model, params_for};
 use crate::error::{Error, InputError, NumericalError};
-use crate::fit::data::{Dataset, Kind};
+use crate::fit::data::{Dataset, Kind, Measured};
 use crate::fit::least_squares::{
-    covariance, minimize, scaled_svd, LeastSquaresError, Minimum, Problem,
+    covariance, minimize, scaled_svd, seeded, LeastSquaresError, Minimum, Problem,
 };
 use crate::fit::model::{AgeingValue, Name, Rig, Values};
 use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
 use continuation::Scalar;
 use nalgebra::{DMatrix, DVector};
-use num_dual::Dual64;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -565,12 +564,7 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
                 if q.sigma.is_some() {
                     continue;
                 }
-                let rss: f64 = d
-                    .v_um_s
-                    .iter()
-                    .zip(&q.values)
-                    .map(|(&v, &y)| (predict(&problem.rig, &values, q.column, v) - y).powi(2))
-                    .sum();
+                let rss = residual_sum_of_squares(&problem.rig, &values, d, q);
                 let n = q.values.len() as f64;
                 let new = (rss / (n * (1.0 - p as f64 / total as f64)))
                     .sqrt()
@@ -607,17 +601,21 @@ fn predict<T: Scalar>(rig: &Rig, p: &Values<T>, column: &str, v_um_s: f64) -> T 
     }
 }
 
+/// `sum (model - data)^2` of the quantity `q` of dataset `d`, unweighted.
+fn residual_sum_of_squares(rig: &Rig, values: &Values<f64>, d: &Dataset, q: &Measured) -> f64 {
+    d.v_um_s
+        .iter()
+        .zip(&q.values)
+        .map(|(&v, &y)| (predict(rig, values, q.column, v) - y).powi(2))
+        .sum()
+}
+
 /// Per dataset and quantity: the RMS residual and how its error was had.
 fn dataset_fits(problem: &Joint, values: &Values<f64>) -> Vec<DatasetFit> {
     let mut out = Vec::new();
     for (d, scales) in problem.data.iter().zip(&problem.scale) {
         for (q, scale) in d.measured.iter().zip(scales) {
-            let rss: f64 = d
-                .v_um_s
-                .iter()
-                .zip(&q.values)
-                .map(|(&v, &y)| (predict(&problem.rig, values, q.column, v) - y).powi(2))
-                .sum();
+            let rss = residual_sum_of_squares(&problem.rig, values, d, q);
             out.push(DatasetFit {
                 kind: d.kind,
                 file: d.file.display().to_string(),
@@ -793,10 +791,8 @@ fn band(
     c: &DMatrix<f64>,
     draws: &Draws,
 ) -> Vec<BandPoint> {
-    let quantile = |mut v: Vec<f64>, q: f64| {
-        v.sort_by(f64::total_cmp);
-        v[((v.len() - 1) as f64 * q).round() as usize]
-    };
+    // `v` sorted.
+    let quantile = |v: &[f64], q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
     range_velocities(setup, BAND_POINTS)
         .into_iter()
         .filter_map(|v| {
@@ -805,22 +801,19 @@ fn band(
                 return None;
             }
             let gradient = DVector::from_fn(x.len(), |k, _| {
-                let xd: Vec<Dual64> = x
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &xi)| Dual64::new(xi, if i == k { 1.0 } else { 0.0 }))
-                    .collect();
+                let xd = seeded(x, k);
                 predict(&problem.rig, &problem.values(&xd), "K_over_W_per_m", v).eps
             });
             let std_error = (gradient.transpose() * c * &gradient)[(0, 0)].sqrt();
-            let sampled: Vec<f64> = draws
+            let mut sampled: Vec<f64> = draws
                 .0
                 .iter()
                 .map(|u| predict(&problem.rig, &problem.values(u), "K_over_W_per_m", v))
                 .filter(|k| k.is_finite())
                 .collect();
             let (sampled_lo_95, sampled_hi_95) = if sampled.len() > 1 {
-                (quantile(sampled.clone(), 0.025), quantile(sampled, 0.975))
+                sampled.sort_by(f64::total_cmp);
+                (quantile(&sampled, 0.025), quantile(&sampled, 0.975))
             } else {
                 (f64::NAN, f64::NAN)
             };
