@@ -275,3 +275,34 @@ fn a_downward_search_range_is_refused_naming_the_options() {
         "{e}"
     );
 }
+
+/// A quasi-static onset whose simulated orbit needs inertia (m = 3e-6 on
+/// the PMMA scene: chi below 1e-3 at the onset, above it on the orbit):
+/// the branch starts inertial, on Radau points, and the text and JSON say
+/// so. The numerics line used to name the onset's model (Gauss-Legendre
+/// points, Liouville's formula) for an inertial branch.
+#[test]
+fn the_numerics_named_are_those_of_the_first_cycles() {
+    use stickslip::jobs::cycles::{CyclesRequest, Plan};
+    use stickslip::jobs::{SceneSpec, TextUnits};
+    use stickslip::model::ModelKind;
+    let spec = SceneSpec {
+        set: vec!["m=3e-6".into()],
+        ..SceneSpec::named("pmma")
+    };
+    let request = CyclesRequest {
+        from_simulation: true,
+        ..CyclesRequest::default()
+    };
+    let plan = Plan::new(&spec, request).expect("a simulated start");
+    assert_eq!(plan.setup.choice.kind, ModelKind::QuasiStatic);
+    assert_eq!(
+        plan.start.first_model(plan.setup.choice.kind),
+        ModelKind::Inertial
+    );
+    let text = plan.describe(TextUnits::Physical).join("\n");
+    assert!(text.contains("collocation: Radau IIA points"), "{text}");
+    assert!(text.contains("stability from the Floquet pencil"), "{text}");
+    assert!(!text.contains("Liouville"), "{text}");
+    assert_eq!(plan.points_name(), "radau");
+}

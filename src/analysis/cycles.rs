@@ -806,6 +806,59 @@ enum FollowEnd {
     },
 }
 
+/// What a leg [`follow`]ed ends with: a [`Stop`] for a leg that stays in its
+/// model (an inertial one), a [`FollowEnd`] for a leg that may hand over.
+trait LegEnd: Sized {
+    /// The branch's own end.
+    fn stopped(stop: Stop) -> Self;
+    /// The hand-over after the cycle `pt` (its record `rec`; `previous` the
+    /// cycle before it), if this leg hands over there.
+    fn handover(
+        watch: &InertiaWatch,
+        kind: ModelKind,
+        rec: &CycleRecord,
+        pt: &CyclePoint,
+        previous: &mut Option<Box<Cycle>>,
+    ) -> Option<Self>;
+}
+
+impl LegEnd for Stop {
+    fn stopped(stop: Stop) -> Self {
+        stop
+    }
+    fn handover(
+        _: &InertiaWatch,
+        _: ModelKind,
+        _: &CycleRecord,
+        _: &CyclePoint,
+        _: &mut Option<Box<Cycle>>,
+    ) -> Option<Self> {
+        None
+    }
+}
+
+impl LegEnd for FollowEnd {
+    fn stopped(stop: Stop) -> Self {
+        FollowEnd::End(stop)
+    }
+    /// A quasi-static leg hands over where `watch` switches and the cycle's
+    /// inertial imbalance `chi` exceeds its threshold.
+    fn handover(
+        watch: &InertiaWatch,
+        kind: ModelKind,
+        rec: &CycleRecord,
+        pt: &CyclePoint,
+        previous: &mut Option<Box<Cycle>>,
+    ) -> Option<Self> {
+        (watch.switch && kind == ModelKind::QuasiStatic && rec.inertial_imbalance > watch.threshold)
+            .then(|| FollowEnd::Switch {
+                cycle: Box::new(pt.cycle.clone()),
+                dp_ds: pt.dp_ds,
+                previous: previous.take(),
+            })
+    }
+}
+
 /// [`follow`], and where a quasi-static branch hands over: the last
 /// quasi-static orbit is corrected in the inertial model at the same
 /// stiffness ([`inertial_guess`]) and the branch continues from it, with
@@ -821,7 +874,7 @@ fn follow_switching(
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<Stop, crate::error::Error> {
-    let (cycle, dp_ds, previous) = match follow(log, branch, leg, skip, watch, sink)? {
+    let (cycle, dp_ds, previous) = match follow::<FollowEnd>(log, branch, leg, skip, watch, sink)? {
         FollowEnd::End(end) => return Ok(end),
         FollowEnd::Switch {
             cycle,
@@ -880,9 +933,8 @@ fn follow_switching(
         delivered += 1;
         sink(r)
     };
-    match follow(&inertial, (None, branch), leg, 0, &watch, &mut counted) {
-        Ok(FollowEnd::End(end)) => Ok(end),
-        Ok(FollowEnd::Switch { .. }) => unreachable!("an inertial branch does not switch"),
+    match follow::<Stop>(&inertial, (None, branch), leg, 0, &watch, &mut counted) {
+        Ok(end) => Ok(end),
         Err(crate::error::Error::Numerical(e)) if delivered == 0 => Err(NumericalError::Analysis(format!(
             "the branch switched to the inertial model at kappa = {:.6e} (inertia would shift ln v \
              by chi > {:.0e} on the last quasi-static cycle), and the first inertial cycle failed: {e}",
@@ -901,14 +953,14 @@ fn follow_switching(
 /// below [`SHRUNK`] of the largest `Delta_s` on the leg is reported as what
 /// it is: the branch reached steady sliding at a Hopf point, where the
 /// collocation system is singular (zero amplitude).
-fn follow(
+fn follow<E: LegEnd>(
     log: &LogBlock,
     (first, mut branch): Started<'_>,
     leg: Leg,
     skip: usize,
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<FollowEnd, crate::error::Error> {
+) -> Result<E, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
     let (mut slowest, mut fastest) = (f64::INFINITY, f64::INFINITY);
     let mut previous: Option<Box<Cycle>> = None;
@@ -924,7 +976,7 @@ fn follow(
         // the leg's natural end, not a failure.
         if let (Err(_), Some((kappa, delta_s))) = (&pt, last) {
             if delta_s < SHRUNK * largest {
-                return Ok(FollowEnd::End(Stop::HopfPoint { param: kappa }));
+                return Ok(E::stopped(Stop::HopfPoint { param: kappa }));
             }
         }
         let pt = pt.map_err(|e| match (last, e) {
@@ -972,21 +1024,14 @@ fn follow(
         last = Some((rec.kappa, rec.delta_s));
         (slowest, fastest) = (rec.v_min, rec.v_max);
         sink(&rec)?;
-        if watch.switch
-            && log.kind == ModelKind::QuasiStatic
-            && rec.inertial_imbalance > watch.threshold
-        {
-            return Ok(FollowEnd::Switch {
-                cycle: Box::new(pt.cycle),
-                dp_ds: pt.dp_ds,
-                previous,
-            });
+        if let Some(end) = E::handover(watch, log.kind, &rec, &pt, &mut previous) {
+            return Ok(end);
         }
         previous = Some(Box::new(pt.cycle));
     }
     // An iterator that ended without an error has a reason (the driver
     // keeps it); without one the leg is not called complete.
-    branch.stop().map(FollowEnd::End).ok_or_else(|| {
+    branch.stop().map(E::stopped).ok_or_else(|| {
         NumericalError::Analysis(
             "the cycle branch ended without a reason from the engine; the cycles so far are kept"
                 .into(),

@@ -10,6 +10,7 @@ use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
 use crate::analysis::settle::SettleError;
 use crate::error::{Error, NumericalError};
+use crate::model::ModelKind;
 use serde_json::{json, Value};
 
 /// The start of the cycle branch.
@@ -69,6 +70,15 @@ impl Start {
                     Err(e) => Err(NumericalError::Analysis(e.to_string())),
                 }
             }
+        }
+    }
+
+    /// The model of the branch's first cycles: the simulated orbit's (it may
+    /// need the inertia the onset drops), else the onset's `onset_kind`.
+    pub fn first_model(&self, onset_kind: ModelKind) -> ModelKind {
+        match self {
+            Start::Simulation { orbit, .. } => orbit.kind,
+            Start::Hopf(_) | Start::NoCycle { .. } => onset_kind,
         }
     }
 

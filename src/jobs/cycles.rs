@@ -172,7 +172,7 @@ impl Plan {
         let start = Start::choose(&setup, onset, request.from_simulation, &watch)?;
         let points = request
             .collocation
-            .unwrap_or(collocation_for(setup.choice.kind));
+            .unwrap_or(collocation_for(start.first_model(setup.choice.kind)));
         Ok(Plan {
             setup,
             start,
@@ -193,7 +193,11 @@ impl Plan {
             format!("scene: {} — {}", s.scene.name, s.scene.description),
             format!("model: {}", s.choice.reason),
             self.start.describe(s, units),
-            numerics(self.points, self.request.collocation.is_some(), s),
+            numerics(
+                self.points,
+                self.request.collocation.is_some(),
+                self.start.first_model(s.choice.kind),
+            ),
         ]
     }
 
@@ -817,7 +821,7 @@ fn points_name(points: CollocationPoints) -> &'static str {
 
 /// What the numerics are and why: the collocation points, and how stability
 /// is decided.
-fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
+fn numerics(points: CollocationPoints, forced: bool, kind: ModelKind) -> String {
     let why = match (forced, points) {
         (true, _) => "as asked (--collocation)",
         (false, CollocationPoints::Radau) => {
@@ -825,7 +829,7 @@ fn numerics(points: CollocationPoints, forced: bool, setup: &Setup) -> String {
         }
         (false, CollocationPoints::Gauss) => "no stiff component in the quasi-static model",
     };
-    let stability = match setup.choice.kind {
+    let stability = match kind {
         ModelKind::QuasiStatic => {
             "stability from the nontrivial multiplier exp(int_0^T tr J dt) (Liouville's formula \
              in the plane, as accurate as the collocation quadrature); |mu_1 - 1| checks the \

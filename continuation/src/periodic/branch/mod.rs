@@ -997,10 +997,7 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
         // The first orbit, like every other, on a mesh fine enough for it.
         let result = self.refined_point(NewtonReport::NONE);
         self.steps += 1;
-        match self.handed_out(result?, false) {
-            Advance::Point(pt, stop) => Ok((pt, stop)),
-            Advance::End(_) => unreachable!("the first orbit passes through no equilibrium"),
-        }
+        Ok(self.handed_out(result?, false))
     }
 
     fn advance(&mut self) -> Result<Advance<CyclePoint>, ContinuationError> {
@@ -1049,24 +1046,26 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                 Ok(pt)
             });
         self.steps += 1;
-        Ok(self.handed_out(result?, at_hopf))
+        let pt = result?;
+        if self.passed_through_equilibrium(&pt) {
+            // This orbit retraces the branch shifted by half a period: not
+            // handed out.
+            return Ok(Advance::End(Stop::HopfPoint {
+                param: self.previous_param,
+            }));
+        }
+        let (pt, stop) = self.handed_out(pt, at_hopf);
+        Ok(Advance::Point(pt, stop))
     }
 }
 
 impl<S: VectorField> Cycles<'_, S> {
     /// The orbit `pt` handed out, with the reason the branch ends on it
-    /// (`at_hopf`: its step went through the equilibrium at a Hopf point);
-    /// or, where the branch passed through the equilibrium between steps,
-    /// the end without it.
-    fn handed_out(&mut self, pt: CyclePoint, at_hopf: bool) -> Advance<CyclePoint> {
+    /// (`at_hopf`: its step went through the equilibrium at a Hopf point).
+    /// A branch that passed through the equilibrium between steps ends
+    /// before this ([`Curve::advance`]).
+    fn handed_out(&mut self, pt: CyclePoint, at_hopf: bool) -> (CyclePoint, Option<Stop>) {
         let p = pt.cycle.p[self.k];
-        if self.passed_through_equilibrium(&pt) {
-            // This orbit retraces the branch shifted by half a period: not
-            // handed out.
-            return Advance::End(Stop::HopfPoint {
-                param: self.previous_param,
-            });
-        }
         self.previous_mu.clone_from(&pt.multipliers);
         self.previous_trivial_error = pt.trivial_error;
         self.previous_param = p;
@@ -1091,6 +1090,6 @@ impl<S: VectorField> Cycles<'_, S> {
         } else {
             None
         };
-        Advance::Point(pt, stop)
+        (pt, stop)
     }
 }

@@ -466,7 +466,7 @@ fn passed_bautin(previous: &[f64], u: &[f64], n: usize) -> bool {
 impl<S: VectorField> FoldsOfCycles<'_, S> {
     /// The fold `pt` handed out, with the reason the curve ends on it: `p2`
     /// on a bound, or the folded cycles smaller than `min_amplitude`.
-    fn handed_out(&mut self, pt: LpcPoint) -> Advance<LpcPoint> {
+    fn handed_out(&mut self, pt: LpcPoint) -> (LpcPoint, Option<Stop>) {
         self.steps += 1;
         let p2 = pt.cycle.p[self.k2];
         let c = &pt.cycle;
@@ -495,7 +495,7 @@ impl<S: VectorField> FoldsOfCycles<'_, S> {
         } else {
             None
         };
-        Advance::Point(pt, stop)
+        (pt, stop)
     }
 }
 
@@ -507,16 +507,16 @@ impl<S: VectorField> Curve for FoldsOfCycles<'_, S> {
             cycle: self.aug.cycle(&self.y),
             newton: NewtonReport::NONE,
         };
-        match self.handed_out(pt) {
-            Advance::Point(pt, stop) => Ok((pt, stop)),
-            Advance::End(stop) => unreachable!("a fold handed out is a point, not {stop}"),
-        }
+        Ok(self.handed_out(pt))
     }
 
     fn advance(&mut self) -> Result<Advance<LpcPoint>, ContinuationError> {
         let param = self.y[self.y.len() - 1];
         match self.step() {
-            Ok(Some(pt)) => Ok(self.handed_out(pt)),
+            Ok(Some(pt)) => {
+                let (pt, stop) = self.handed_out(pt);
+                Ok(Advance::Point(pt, stop))
+            }
             Ok(None) => Ok(Advance::End(Stop::BautinPoint { param })),
             Err(e) => Err(e),
         }
