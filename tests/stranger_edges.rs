@@ -306,3 +306,51 @@ fn the_numerics_named_are_those_of_the_first_cycles() {
     assert!(!text.contains("Liouville"), "{text}");
     assert_eq!(plan.points_name(), "radau");
 }
+
+/// A branch from a simulated orbit ends at the Hopf point its cycles
+/// shrink onto, also where the last step toward it fails short of SHRUNK
+/// (PMMA with m = 1e-2 and 1e-5: the leg toward larger stiffness failed at
+/// Delta_s 20 % and 7 % of its largest, exit 4). The last three cycles of
+/// that leg follow the normal form's square-root law onto the inertial
+/// Hopf point that `hopf` locates independently (eq. C11).
+#[test]
+fn a_leg_shrinking_onto_its_hopf_point_ends_there() {
+    for m in ["1e-2", "1e-5"] {
+        let out = temp_dir(&format!("stranger-shrinking-{m}"));
+        let set = format!("m={m}");
+        let (code, json, err) = stickslip(&[
+            "cycles",
+            "--set",
+            &set,
+            "--from-simulation",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "m = {m}: {err}");
+        let v: Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(v["leg_stops"][0]["reason"], "hopf_point", "m = {m}: {json}");
+        // The leg toward larger stiffness: the cycles from the start while
+        // kappa grows.
+        let cycles = v["cycles"].as_array().unwrap();
+        let pts: Vec<(f64, f64)> = cycles
+            .iter()
+            .map(|c| (c["kappa"].as_f64().unwrap(), c["delta_s"].as_f64().unwrap()))
+            .collect();
+        let up = pts.windows(2).take_while(|w| w[1].0 > w[0].0).count() + 1;
+        let [(p0, d0), (p1, d1), (p2, d2)] = pts[up.saturating_sub(3)..up] else {
+            panic!("m = {m}: fewer than three cycles toward larger stiffness: {json}")
+        };
+        let s1 = (d1 * d1 - d0 * d0) / (p1 - p0);
+        let s2 = (d2 * d2 - d1 * d1) / (p2 - p1);
+        let zero = p2 - d2 * d2 / s2;
+        let (_, hopf, _) = stickslip(&["hopf", "--set", &set, "--model", "inertial", "--json"]);
+        let h: Value = serde_json::from_str(&hopf).unwrap();
+        let kappa_c = h["kappa_c"].as_f64().unwrap();
+        assert!((s1 / s2 - 1.0).abs() < 0.1, "m = {m}: slopes {s1} {s2}");
+        assert!(
+            (zero - kappa_c).abs() < 0.05 * (kappa_c - p2),
+            "m = {m}: zero at {zero}, kappa_c {kappa_c}, last {p2}"
+        );
+    }
+}

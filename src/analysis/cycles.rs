@@ -874,14 +874,15 @@ fn follow_switching(
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<Stop, crate::error::Error> {
-    let (cycle, dp_ds, previous) = match follow::<FollowEnd>(log, branch, leg, skip, watch, sink)? {
-        FollowEnd::End(end) => return Ok(end),
-        FollowEnd::Switch {
-            cycle,
-            dp_ds,
-            previous,
-        } => (cycle, dp_ds, previous),
-    };
+    let (cycle, dp_ds, previous) =
+        match follow::<FollowEnd>(log, branch, leg, skip, param, watch, sink)? {
+            FollowEnd::End(end) => return Ok(end),
+            FollowEnd::Switch {
+                cycle,
+                dp_ds,
+                previous,
+            } => (cycle, dp_ds, previous),
+        };
     let inertial = LogBlock {
         kind: ModelKind::Inertial,
         ..*log
@@ -933,7 +934,7 @@ fn follow_switching(
         delivered += 1;
         sink(r)
     };
-    match follow::<Stop>(&inertial, (None, branch), leg, 0, &watch, &mut counted) {
+    match follow::<Stop>(&inertial, (None, branch), leg, 0, param, &watch, &mut counted) {
         Ok(end) => Ok(end),
         Err(crate::error::Error::Numerical(e)) if delivered == 0 => Err(NumericalError::Analysis(format!(
             "the branch switched to the inertial model at kappa = {:.6e} (inertia would shift ln v \
@@ -958,10 +959,13 @@ fn follow<E: LegEnd>(
     (first, mut branch): Started<'_>,
     leg: Leg,
     skip: usize,
+    param: Param,
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<E, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
+    // The last three cycles' (parameter, Delta_s).
+    let mut recent: Vec<(f64, f64)> = Vec::with_capacity(3);
     let (mut slowest, mut fastest) = (f64::INFINITY, f64::INFINITY);
     let mut previous: Option<Box<Cycle>> = None;
     let mut to_skip = skip;
@@ -974,9 +978,15 @@ fn follow<E: LegEnd>(
         // Cycles that shrank onto steady sliding end the leg where they are
         // born, at a Hopf point, through which collocation cannot continue:
         // the leg's natural end, not a failure.
-        if let (Err(_), Some((kappa, delta_s))) = (&pt, last) {
-            if delta_s < SHRUNK * largest {
-                return Ok(E::stopped(Stop::HopfPoint { param: kappa }));
+        // So do cycles that shrink by the Hopf normal form's square-root
+        // law onto a zero amplitude one step ahead: the step toward it met
+        // the singular limit of collocation before SHRUNK.
+        if let (Err(_), Some((p, delta_s))) = (&pt, recent.last()) {
+            if *delta_s < SHRUNK * largest {
+                return Ok(E::stopped(Stop::HopfPoint { param: *p }));
+            }
+            if let Some(p_h) = square_root_law_zero(&recent) {
+                return Ok(E::stopped(Stop::HopfPoint { param: p_h }));
             }
         }
         let pt = pt.map_err(|e| match (last, e) {
@@ -1022,6 +1032,10 @@ fn follow<E: LegEnd>(
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
         last = Some((rec.kappa, rec.delta_s));
+        if recent.len() == 3 {
+            recent.remove(0);
+        }
+        recent.push((rec.params[param as usize], rec.delta_s));
         (slowest, fastest) = (rec.v_min, rec.v_max);
         sink(&rec)?;
         if let Some(end) = E::handover(watch, log.kind, &rec, &pt, &mut previous) {
@@ -1061,6 +1075,24 @@ pub fn hopf_start(log: &LogBlock, params: &Params, h: &HopfPoint) -> (Vec<f64>, 
 /// balance was collocated in its implicit form, rounding amplified by that
 /// rate ended the branch at `v_min ~ 6e-42`).
 const STIFF_BEYOND_F64: f64 = 1e30;
+
+/// Where the last three cycles of a leg `(p, Delta_s)` reach zero amplitude
+/// by the Hopf normal form's square-root law, `Delta_s^2` linear in `p`
+/// near a Hopf point `p_h` (`Delta_s^2 ∝ (p_h - p)`, docs/model.md's
+/// normal form): `Some(p_h)` when the amplitudes fall monotonically, the two
+/// slopes of `Delta_s^2` against `p` agree to 10 % (the law holds), and the
+/// zero lies within two of the last parameter steps ahead.
+fn square_root_law_zero(recent: &[(f64, f64)]) -> Option<f64> {
+    let [(p0, d0), (p1, d1), (p2, d2)] = *recent else {
+        return None;
+    };
+    let slope = |(pa, da): (f64, f64), (pb, db): (f64, f64)| (db * db - da * da) / (pb - pa);
+    let (s1, s2) = (slope((p0, d0), (p1, d1)), slope((p1, d1), (p2, d2)));
+    let shrinking = d2 < d1 && d1 < d0 && (p2 - p1) * (p1 - p0) > 0.0;
+    let law = s1.is_finite() && s2.is_finite() && (s1 / s2 - 1.0).abs() < 0.1;
+    let p_h = p2 - d2 * d2 / s2;
+    (shrinking && law && (p_h - p2).abs() <= 2.0 * (p2 - p1).abs()).then_some(p_h)
+}
 
 /// Fraction of a leg's largest `Delta_s` below which a cycle counts as
 /// shrunk onto steady sliding.
