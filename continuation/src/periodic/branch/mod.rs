@@ -861,6 +861,30 @@ impl<'a, S: VectorField> Cycles<'a, S> {
                     ntst = (2 * converged.0.mesh.ntst()).min(self.settings.mesh.ntst_max);
                     self.ds = ds * 0.5f64.powi(retries as i32);
                 }
+                // What the engine's own advice would say was done: say so.
+                Err(ContinuationError::Newton {
+                    context,
+                    iterations,
+                    residual,
+                    step,
+                    reason,
+                    ..
+                }) if retries > 0 => {
+                    return Err(ContinuationError::Newton {
+                        context: format!(
+                            "{context} (the step taken {} times from the last orbit, on up to {} \
+                             mesh intervals, the last with ds = {:.1e})",
+                            retries + 1,
+                            self.coll.mesh.ntst(),
+                            self.ds
+                        ),
+                        iterations,
+                        residual,
+                        step,
+                        reason,
+                        hint: "smaller steps on finer meshes did not correct it",
+                    })
+                }
                 Err(e) => return Err(e),
             }
         }
