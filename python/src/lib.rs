@@ -165,6 +165,7 @@ fn field_of(e: &InputError) -> Option<String> {
         }
         InputError::UnknownName { what, .. } => Some(what.to_string()),
         InputError::File { path, .. } => Some(path.clone()),
+        InputError::Restart { field, .. } => Some(field.clone()),
         InputError::Conflict(_) => None,
     }
 }

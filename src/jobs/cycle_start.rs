@@ -2,14 +2,17 @@
 //! simulated stick-slip orbit when there is none (or `--from-simulation`).
 
 use super::{Setup, TextUnits};
+use super::restart::Restarted;
 use crate::analysis::cycles::{
-    trace_cycles_from, trace_cycles_from_orbit, CycleRecord, CycleRequest, Leg, Stop,
+    trace_cycles_from, trace_cycles_from_orbit, trace_cycles_through, CycleRecord, CycleRequest,
+    Leg, Stop, Through,
 };
 use crate::analysis::hopf::{velocity_strengthening, Criticality, HopfOutcome, HopfPoint};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
 use crate::analysis::settle::SettleError;
 use crate::error::{Error, NumericalError};
+use crate::params::Param;
 use serde_json::{json, Value};
 
 /// The start of the cycle branch.
@@ -28,6 +31,9 @@ pub enum Start {
         /// The simulations tried.
         tried: NoCycleFound,
     },
+    /// A cycle written by an earlier run (`--from FILE.json --index N`),
+    /// continued both ways as it was computed.
+    Stored(Box<Restarted>),
 }
 
 impl Start {
@@ -76,6 +82,7 @@ impl Start {
     pub fn kappa_c(&self) -> Option<f64> {
         match self {
             Start::Hopf(h) | Start::Simulation { hopf: Some(h), .. } => Some(h.kappa_c),
+            Start::Stored(r) => r.kappa_c,
             Start::Simulation { hopf: None, .. } | Start::NoCycle { .. } => None,
         }
     }
@@ -107,6 +114,7 @@ impl Start {
         match self {
             Start::Simulation { orbit, hopf: None } => orbit.params.kappa,
             Start::NoCycle { tried, .. } => tried.tries.first().map_or(0.0, SettleError::kappa),
+            Start::Stored(r) => r.kappa_c.unwrap_or(r.orbit.param(Param::Kappa)),
             _ => self.kappa_c().unwrap_or(0.0),
         }
     }
@@ -116,6 +124,28 @@ impl Start {
         let (orbit, hopf) = match self {
             Start::Simulation { orbit, hopf } => (orbit, hopf),
             Start::NoCycle { reason, .. } => return format!("no cycles: {reason}"),
+            Start::Stored(r) => {
+                let u = &setup.scene.units;
+                let kappa = r.orbit.param(Param::Kappa);
+                let (stiffness, period) = match units {
+                    TextUnits::Physical => (
+                        format!("K = {:.10e} N/m", u.stiffness(kappa)),
+                        format!("{:.10e} s", r.orbit.period * u.d0 / u.v0),
+                    ),
+                    TextUnits::Dimensionless => (
+                        format!("kappa = {kappa:.10e}"),
+                        format!("{:.10e} D0/V0", r.orbit.period),
+                    ),
+                };
+                return format!(
+                    "restarting from cycle #{} of {} ({} model, {stiffness}, period {period}, \
+                     NTST {}), corrected on its own mesh, continued both ways",
+                    r.from.index,
+                    r.from.file.display(),
+                    r.orbit.model.name(),
+                    r.orbit.mesh.len() - 1
+                );
+            }
             Start::Hopf(h) => {
                 let k_over_w = setup.scene.units.k_over_w(h.kappa_c);
                 return format!(
@@ -180,6 +210,11 @@ impl Start {
                 })).collect::<Vec<_>>(),
                 "degenerate_hopf": hopf.as_ref().is_some_and(|h| h.onset.criticality == Criticality::Degenerate),
             }),
+            Start::Stored(r) => json!({
+                "kind": "restart", "file": r.from.file.display().to_string(),
+                "label": r.from.index, "kappa": r.orbit.param(Param::Kappa),
+                "period": r.orbit.period, "model": r.orbit.model,
+            }),
             Start::NoCycle { tried, .. } => json!({
                 "kind": "none",
                 "simulated": tried.tries.iter().map(|t| json!({
@@ -217,6 +252,16 @@ impl Start {
                     watch,
                     &mut sink,
                 ) {
+                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Err(e) => vec![(None, Err(e))],
+                }
+            }
+            Start::Stored(r) => {
+                let through = Through::Stored {
+                    log: r.log,
+                    cycle: &r.cycle,
+                };
+                match trace_cycles_through(&through, Param::Kappa, req, watch, &mut sink) {
                     Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
                     Err(e) => vec![(None, Err(e))],
                 }
