@@ -742,7 +742,12 @@ fn first_cycle<'a>(
         }
         Through::Stored { log, cycle } => {
             let ntst = cycle.mesh.ntst();
-            started_branch(log, (*cycle).clone(), param, sign, ntst, req)
+            let start = |unknown| started_branch(log, (*cycle).clone(), param, unknown, sign, ntst, req);
+            // At a fold of cycles the orbit is singular at fixed `param`:
+            // corrected there at fixed period instead, the legs toward
+            // longer and shorter periods.
+            start(PARAM_UNKNOWN)
+                .or_else(|e| start(PERIOD_UNKNOWN).map_err(|_| e))
                 .map(|(first, branch)| (first, branch, ntst))
                 .map_err(|e| {
                     NumericalError::Analysis(format!(
@@ -756,21 +761,28 @@ fn first_cycle<'a>(
     }
 }
 
+/// The position from the end of the unknowns of the continued parameter
+/// and of the period ([`started_branch`]).
+const PARAM_UNKNOWN: usize = 1;
+const PERIOD_UNKNOWN: usize = 2;
+
 /// The branch in `param` through `guess` (on `ntst` intervals, in the
-/// variables of `log`), its tangent oriented by `sign`: the guess corrected
-/// at fixed `param`, as its first cycle, and the branch after it.
+/// variables of `log`), its tangent oriented by `sign` along the unknown
+/// `unknown` ([`PARAM_UNKNOWN`] or [`PERIOD_UNKNOWN`]): the guess corrected
+/// with that unknown fixed, as its first cycle, and the branch after it.
 fn started_branch<'a>(
     log: &'a LogBlock,
     guess: Cycle,
     param: Param,
+    unknown: usize,
     sign: f64,
     ntst: usize,
     req: &CycleRequest,
 ) -> Result<(CyclePoint, CycleBranch<'a, LogBlock>), NumericalError> {
-    // The last unknown is the parameter: the seed orients the tangent.
+    // The last unknowns are the period and the parameter: the seed orients the tangent.
     let nz = guess.u.len() + 2;
     let mut seed = vec![0.0; nz];
-    seed[nz - 1] = sign;
+    seed[nz - unknown] = sign;
     let settings = settings(log.kind, req, ntst);
     CycleBranch::from_cycle(log, guess, param as usize, Some(seed), settings)
         .map_err(NumericalError::from)
@@ -812,7 +824,7 @@ fn sampled_branch<'a>(
     loop {
         let guess = sampled_cycle(log, params, orbit, ntst, 1e-10)
             .map_err(|e| NumericalError::Analysis(e.to_string()))?;
-        match started_branch(log, guess, param, sign, ntst, req) {
+        match started_branch(log, guess, param, PARAM_UNKNOWN, sign, ntst, req) {
             Ok((first, branch)) => return Ok((first, branch, ntst)),
             Err(e) => {
                 tried.push(ntst.to_string());

@@ -10,10 +10,10 @@ use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::jobs::cycles::{asked_stiffnesses, Cycles, CyclesRequest, Note, Observer, Plan};
 use crate::jobs::restart::{orbits_path, Restart};
-use crate::records::orbit::StoredOrbit;
 use crate::plot::cycles::{branch_figures, fold_figure};
 use crate::records::csv::{header, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint, OperatingCycle, Requested};
+use crate::records::orbit::StoredOrbit;
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use indicatif::ProgressBar;
@@ -399,7 +399,11 @@ fn print_end(result: &Cycles, files: &[PathBuf]) {
 /// `found` since the previous cycle.
 fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
     if cycle.user_point {
-        println!("  user point {}  #{}", cycle_text(units, cycle), cycle.label);
+        println!(
+            "  user point {}  #{}",
+            cycle_text(units, cycle),
+            cycle.label
+        );
         return;
     }
     println!(

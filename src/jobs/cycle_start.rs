@@ -1,8 +1,8 @@
 //! Where `stickslip cycles` starts its branch: at the Hopf point, or from a
 //! simulated stick-slip orbit when there is none (or `--from-simulation`).
 
-use super::{Setup, TextUnits};
 use super::restart::Restarted;
+use super::{Setup, TextUnits};
 use crate::analysis::cycles::{
     trace_cycles_from, trace_cycles_from_orbit, trace_cycles_through, CycleRecord, CycleRequest,
     Leg, Stop, Through,

@@ -248,8 +248,7 @@ impl Plan {
     /// The name of the run (`run_name` of its scene, overrides and model):
     /// the one restarted from, for a restart.
     pub fn source_name(&self) -> String {
-        let s = &self.source;
-        crate::file_names::run_name(&self.setup.scene.name, &s.set, s.model.map(|m| m.name()))
+        self.source.run_name(&self.setup.scene.name)
     }
 
     /// `gauss` or `radau`.

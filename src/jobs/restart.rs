@@ -67,7 +67,8 @@ impl Restart {
     /// were (no `orbits_file`), an index out of range (with the valid
     /// range), an orbits file missing, cut short or edited out of shape.
     pub fn load(&self) -> Result<Restarted, Error> {
-        let text = std::fs::read_to_string(&self.file).map_err(|e| self.error("--from", e.to_string()))?;
+        let text =
+            std::fs::read_to_string(&self.file).map_err(|e| self.error("--from", e.to_string()))?;
         let json: Value = serde_json::from_str(&text)
             .map_err(|e| self.error("--from", format!("not JSON ({e})")))?;
         if !(json.get("cycles").is_some_and(Value::is_array) && json.get("leg_stops").is_some()) {
@@ -88,8 +89,17 @@ impl Restart {
                 .map_err(|e| self.error("source", format!("out of shape ({e})")))?,
             None => return Err(no_orbits("source")),
         };
-        let Some(orbits) = json.get("orbits_file").and_then(Value::as_str) else {
-            return Err(no_orbits("orbits_file"));
+        let orbits = match json.get("orbits_file") {
+            Some(Value::String(o)) => o.as_str(),
+            // The Python package's results name no file.
+            Some(Value::Null) => {
+                return Err(self.error(
+                    "orbits_file",
+                    "null: the run wrote no orbits file (the Python package does not); \
+                     restart from the JSON of `stickslip cycles --json`",
+                ))
+            }
+            _ => return Err(no_orbits("orbits_file")),
         };
         let entry = self.entry(&json)?;
         let orbit = self.find_orbit(orbits)?;
@@ -106,9 +116,9 @@ impl Restart {
                 ),
             ));
         }
-        let (log, cycle) = orbit
-            .cycle()
-            .map_err(|(field, why)| self.error(&format!("{orbits}: label {}: {field}", self.index), why))?;
+        let (log, cycle) = orbit.cycle().map_err(|(field, why)| {
+            self.error(&format!("{orbits}: label {}: {field}", self.index), why)
+        })?;
         Ok(Restarted {
             source,
             log,
@@ -227,10 +237,9 @@ impl Restarted {
         }
         let mut setup = spec.setup(|p| *p)?;
         let now = setup.scene_params.to_vec();
-        if let Some(q) = Param::ALL
-            .iter()
-            .find(|q| now[**q as usize].to_bits() != self.source.scene_params[**q as usize].to_bits())
-        {
+        if let Some(q) = Param::ALL.iter().find(|q| {
+            now[**q as usize].to_bits() != self.source.scene_params[**q as usize].to_bits()
+        }) {
             return Err(from.error(
                 "source.scene_params",
                 format!(

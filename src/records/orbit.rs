@@ -106,13 +106,20 @@ impl StoredOrbit {
         if self.dim != log.dim() {
             return Err((
                 "dim",
-                format!("{} for the {} model, which has {}", self.dim, self.model.name(), log.dim()),
+                format!(
+                    "{} for the {} model, which has {}",
+                    self.dim,
+                    self.model.name(),
+                    log.dim()
+                ),
             ));
         }
         if self.params.len() != N_PARAMS || !finite(&self.params) {
             return Err((
                 "params",
-                format!("expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"),
+                format!(
+                    "expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"
+                ),
             ));
         }
         if self.cutoff != (self.param(Param::ThetaC) > 0.0) {
@@ -200,6 +207,11 @@ impl Source {
             inertia_threshold: spec.inertia_threshold,
             scene_params: setup.scene_params.to_vec(),
         }
+    }
+
+    /// The run's name for the scene named `scene` ([`crate::file_names::run_name`]).
+    pub fn run_name(&self, scene: &str) -> String {
+        crate::file_names::run_name(scene, &self.set, self.model.map(|m| m.name()))
     }
 
     /// The scene, overrides and model to set up again.
