@@ -742,7 +742,8 @@ fn first_cycle<'a>(
         }
         Through::Stored { log, cycle } => {
             let ntst = cycle.mesh.ntst();
-            let start = |unknown| started_branch(log, (*cycle).clone(), param, unknown, sign, ntst, req);
+            let start =
+                |unknown| started_branch(log, (*cycle).clone(), param, unknown, sign, ntst, req);
             // At a fold of cycles the orbit is singular at fixed `param`:
             // corrected there at fixed period instead, the legs toward
             // longer and shorter periods.
