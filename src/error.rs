@@ -30,6 +30,15 @@ pub enum InputError {
     Conflict(String),
     #[error("cannot read scene file {path}: {reason}")]
     File { path: String, reason: String },
+    /// A file to restart from (`--from FILE`) that cannot serve: missing,
+    /// not the right kind, without orbits, an index out of range, a field
+    /// edited out of shape; `field` names the JSON field (or the option).
+    #[error("cannot restart from {path}: {field}: {reason}")]
+    Restart {
+        path: String,
+        field: String,
+        reason: String,
+    },
 }
 
 impl InputError {

@@ -16,7 +16,7 @@ use continuation::{Scalar, VectorField};
 
 /// Which driven-block model an analysis uses (JSON and CSV: its [`name`](ModelKind::name)).
 /// The default only fills the record a CSV header is named from.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ModelKind {
     /// State `(s, v, theta)` with the inertia `m`.

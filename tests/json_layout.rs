@@ -119,6 +119,7 @@ fn every_command_has_units_complete_and_stop() {
         ntst: 40,
         ntst_max: 1280,
         collocation: None,
+        from: None,
     };
     let in_v = jobs::cycles_in::Plan::new(&rig, &request)
         .unwrap()

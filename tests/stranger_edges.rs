@@ -268,6 +268,7 @@ fn a_downward_search_range_is_refused_naming_the_options() {
         ntst: 40,
         ntst_max: 1280,
         collocation: None,
+        from: None,
     };
     let e = Plan::new(&rig, &request).err().unwrap().to_string();
     assert!(

@@ -33,6 +33,7 @@ use stickslip::jobs::cycles_in::{asked_values, CyclesInControlRequest};
 use stickslip::jobs::diagram::{run_pair, DiagramRequest};
 use stickslip::jobs::fit::FitRequest;
 use stickslip::jobs::hopf::HopfRequest;
+use stickslip::jobs::restart::Restart;
 use stickslip::jobs::simulate::SimulateRequest;
 use stickslip::jobs::SceneSpec;
 use stickslip::model::ModelKind;
@@ -165,6 +166,7 @@ fn field_of(e: &InputError) -> Option<String> {
         }
         InputError::UnknownName { what, .. } => Some(what.to_string()),
         InputError::File { path, .. } => Some(path.clone()),
+        InputError::Restart { field, .. } => Some(field.clone()),
         InputError::Conflict(_) => None,
     }
 }
@@ -396,7 +398,7 @@ impl stickslip::jobs::branch::Observer for Signals {
 /// array of `t/T, s, v, theta`), the CSV columns, whether the run was
 /// interrupted, and the failure that ended a leg (`(kind, message)`).
 #[pyfunction]
-#[pyo3(signature = (scene, kappa_fraction, from_simulation, max_steps, ntst, ntst_max, collocation, lpc_curve, at_kappa, at, param, to, search=None))]
+#[pyo3(signature = (scene, kappa_fraction, from_simulation, max_steps, ntst, ntst_max, collocation, lpc_curve, at_kappa, at, param, to, search=None, from_file=None, index=None))]
 #[allow(clippy::too_many_arguments)]
 fn cycles<'py>(
     py: Python<'py>,
@@ -413,9 +415,23 @@ fn cycles<'py>(
     param: Option<String>,
     to: Option<f64>,
     search: Option<(f64, f64)>,
+    from_file: Option<std::path::PathBuf>,
+    index: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, shown) = scene.spec()?;
     let err = |e: Error| to_py(e, shown.as_ref());
+    let from = match (from_file, index) {
+        (Some(file), Some(index)) => Some(Restart { file, index }),
+        (None, None) => None,
+        _ => {
+            return Err(err(InputError::Conflict(
+                "from_file and index go together: the JSON of `stickslip cycles --json` and \
+                 the label of one of its cycles"
+                    .into(),
+            )
+            .into()))
+        }
+    };
     let control = Control::from_param(param.as_deref()).map_err(|e| err(e.into()))?;
     let collocation = collocation_of(collocation.as_deref()).map_err(|e| err(e.into()))?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
@@ -445,6 +461,7 @@ fn cycles<'py>(
             ntst,
             ntst_max,
             collocation,
+            from,
         };
         return cycles_in_control(py, &spec, shown.as_ref(), &request);
     }
@@ -474,6 +491,7 @@ fn cycles<'py>(
         lpc_curve,
         at: asked_stiffnesses(&at_kappa, &at).map_err(|e| err(e.into()))?,
         to: control.zip(to),
+        from,
     };
     let mut observer = Signals::new();
     let result = py.detach(|| Plan::new(&spec, request).map(|plan| plan.run(&mut observer)));

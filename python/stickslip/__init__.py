@@ -738,6 +738,8 @@ def cycles(
     search: tuple[float, float] | None = None,
     model: str | None = None,
     inertia_threshold: float | None = None,
+    from_file: str | os.PathLike | None = None,
+    index: int | None = None,
 ) -> Cycles:
     """The stick-slip cycles of `scene` (`stickslip cycles`): the branch of
     periodic orbits born at the Hopf point, continued by collocation toward
@@ -769,6 +771,11 @@ def cycles(
     search: (LO, HI), where the Hopf point in `param` is searched (not for
         the stiffness).
     model, inertia_threshold: as for `hopf`.
+    from_file, index: restart from the cycle labelled `index` (its `label`)
+        of a JSON that `stickslip cycles --json` printed (saved to a file),
+        as `stickslip cycles --from FILE --index N`: its orbit read exactly
+        from the run's orbits file and continued both ways; the scene is
+        the file's (leave out `scene`, `model` and overrides).
 
     Returns a `Cycles` whose `to_dict()` is `stickslip cycles --json`'s
     output (without the files). Ctrl-C stops the branch at the next cycle
@@ -797,6 +804,8 @@ def cycles(
         None if param is None else str(param),
         None if to is None else float(to),
         _pair("search", search),
+        None if from_file is None else os.fspath(from_file),
+        None if index is None else int(index),
     )
     failure = out["failure"]
     result = Cycles(

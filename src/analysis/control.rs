@@ -787,6 +787,12 @@ pub struct CyclesInRequest {
     pub at: Vec<f64>,
     /// Start from a simulated orbit at the scene's value instead of the Hopf point.
     pub from_simulation: bool,
+    /// Start from this orbit (in the variables of the block given with
+    /// it), written by an earlier run: a restart, before `from_simulation`.
+    pub stored: Option<(
+        crate::log_model::LogBlock,
+        continuation::periodic::cycle::Cycle,
+    )>,
     /// Step limit, mesh and collocation as for a stiffness branch (its
     /// bounds and requested values are set here, in the continued parameter).
     pub cycles: crate::analysis::cycles::CycleRequest,
@@ -799,6 +805,8 @@ pub enum CyclesStart {
     Hopf(Box<OnsetIn>),
     /// A simulated orbit at the scene's value of the control.
     Simulation,
+    /// A cycle written by an earlier run (a restart).
+    Stored,
 }
 
 /// A branch of cycles in a control parameter, traced.
@@ -892,6 +900,25 @@ pub fn cycles_in(
         .iter()
         .map(|&v| control.to_dimensionless(units, params, v))
         .collect();
+    if let Some((log, cycle)) = &req.stored {
+        // From the cycle's value to --to, as from a simulated orbit below.
+        let start = cycle.p[param as usize];
+        let (lo, hi) = (start.min(to) * (1.0 - 1e-3), start.max(to) * (1.0 + 1e-3));
+        cycles.kappa_min = lo;
+        cycles.kappa_max = hi;
+        cycles.cover_requested();
+        let through = crate::analysis::cycles::Through::Stored { log: *log, cycle };
+        let [up, down] = crate::analysis::cycles::trace_cycles_through(
+            &through, param, &cycles, watch, &mut sink,
+        )?;
+        return Ok(CyclesIn {
+            start: CyclesStart::Stored,
+            param,
+            bounds: (cycles.kappa_min, cycles.kappa_max),
+            at: cycles.at_kappa,
+            legs: vec![(Leg::Up, up), (Leg::Down, down)],
+        });
+    }
     if req.from_simulation {
         // From the scene's value to --to; the other leg ends after a step
         // (a margin of 1e-3: a start on the bound ends both legs at once).

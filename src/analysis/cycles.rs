@@ -101,11 +101,15 @@ pub struct CycleRecord {
     pub user_point: bool,
     /// The continuation it belongs to.
     pub leg: Leg,
-    /// For a fold of cycles: its orbit in the variables of
-    /// [`LogBlock::centered`] (log variables measured from steady sliding),
-    /// to continue the fold in two parameters
-    /// ([`crate::analysis::lpc_curve::lpc_curve_through`]).
+    /// The collocated orbit in the variables of `log` (log variables
+    /// measured from its origin): to continue a fold in two parameters
+    /// ([`crate::analysis::lpc_curve::lpc_curve_through`]) and to write it
+    /// for a restart ([`crate::records::orbit::StoredOrbit`]). Every record
+    /// is made with it; a job keeping many records drops it
+    /// ([`CycleRecord::without_orbit`]).
     pub orbit: Option<Cycle>,
+    /// The variables `orbit` is in: the model, the ageing form and the origin.
+    pub log: LogBlock,
 }
 
 /// Why a cycle's trivial-multiplier error is not reported.
@@ -138,6 +142,24 @@ impl CycleRecord {
                     None => "an undetermined amount (the pencil did not find it)".to_string(),
                 }
             )),
+        }
+    }
+
+    /// The record without its orbit, nor those of its requested cycles,
+    /// period doubling and torus bifurcation (a fold keeps its own, for
+    /// [`crate::analysis::lpc_curve::lpc_curve_through`]): what a job keeps
+    /// for its figures once the orbits are written.
+    pub fn without_orbit(&self) -> CycleRecord {
+        let strip = |r: &CycleRecord| CycleRecord {
+            orbit: None,
+            ..r.clone()
+        };
+        CycleRecord {
+            orbit: None,
+            user: self.user.iter().map(strip).collect(),
+            pd: self.pd.as_deref().map(|r| Box::new(strip(r))),
+            ns: self.ns.as_deref().map(|r| Box::new(strip(r))),
+            ..self.clone()
         }
     }
 
@@ -453,12 +475,9 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         friction_min,
         inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
         samples,
-        lpc: pt.event(CycleEvent::Fold).map(|l| {
-            Box::new(CycleRecord {
-                orbit: Some(l.cycle.clone()),
-                ..record(log, l, leg, watch)
-            })
-        }),
+        lpc: pt
+            .event(CycleEvent::Fold)
+            .map(|l| Box::new(record(log, l, leg, watch))),
         pd: pt
             .event(CycleEvent::PeriodDoubling)
             .map(|l| Box::new(record(log, l, leg, watch))),
@@ -474,7 +493,8 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
             .collect(),
         user_point: false,
         leg,
-        orbit: None,
+        orbit: Some(c.clone()),
+        log: *log,
     }
 }
 
@@ -629,9 +649,57 @@ pub fn trace_cycles_from_orbit_in(
     param: Param,
     req: &CycleRequest,
     watch: &InertiaWatch,
+    sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
+) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
+    let through = Through::Simulated {
+        log: LogBlock::centered(kind, params),
+        params,
+        orbit,
+    };
+    trace_cycles_through(&through, param, req, watch, sink)
+}
+
+/// A known orbit a branch is traced through, both ways.
+#[derive(Clone, Copy)]
+pub enum Through<'a> {
+    /// A simulated orbit of `params`, put on a mesh and corrected in the
+    /// variables of `log` ([`LogBlock::centered`] on `params`).
+    Simulated {
+        log: LogBlock,
+        params: &'a Params,
+        orbit: &'a SettledOrbit,
+    },
+    /// A collocated orbit in the variables of `log`, as an earlier run
+    /// wrote it ([`crate::records::orbit::StoredOrbit`]): corrected by
+    /// Newton's method on its own mesh at its own parameters, nothing else
+    /// (a restart).
+    Stored { log: LogBlock, cycle: &'a Cycle },
+}
+
+impl Through<'_> {
+    /// The variables the branch is traced in.
+    pub fn log(&self) -> &LogBlock {
+        match self {
+            Through::Simulated { log, .. } | Through::Stored { log, .. } => log,
+        }
+    }
+}
+
+/// Traces the cycles through the orbit `through`: first toward larger
+/// `param` ([`Leg::Up`]: a fold of cycles, LPC, where the branch turns
+/// back, lies that way for a cycle coexisting with stable sliding), then
+/// toward smaller ([`Leg::Down`]), each leg within `req`'s bounds and step
+/// limit (values of `param`). The starting cycle is handed to `sink` once.
+/// A leg that stops on a numerical failure does not prevent the other; how
+/// each leg ended is returned (`[up, down]`).
+pub fn trace_cycles_through(
+    through: &Through,
+    param: Param,
+    req: &CycleRequest,
+    watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
-    let log = LogBlock::centered(kind, params);
+    let log = through.log();
     // Both overwritten below.
     let mut legs = [
         Ok(Stop::MaxSteps { steps: 0 }),
@@ -640,12 +708,12 @@ pub fn trace_cycles_from_orbit_in(
     // The second leg starts on the intervals the first one's start needed.
     let mut ntst = req.ntst.max(SAMPLED_NTST);
     for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
-        let outcome = sampled_branch(&log, params, orbit, param, sign, ntst, req)
+        let outcome = first_cycle(through, param, sign, ntst, req)
             .map_err(Into::into)
             .and_then(|(first, branch, used)| {
                 ntst = used;
                 let started = (Some(first), branch);
-                follow_switching(&log, started, leg, i, param, req, watch, &mut sink)
+                follow_switching(log, started, leg, i, param, req, watch, &mut sink)
             });
         match outcome {
             Err(e @ crate::error::Error::Interrupted(_)) => return Err(e),
@@ -653,6 +721,79 @@ pub fn trace_cycles_from_orbit_in(
         }
     }
     Ok(legs)
+}
+
+/// The branch in `param` through `through`, its tangent oriented by `sign`
+/// (`1`: toward larger `param`): its first cycle, the branch after it, and
+/// the intervals it started on. A stored orbit is corrected on its own mesh
+/// ([`CycleBranch::from_cycle`] at fixed `param`, then refined only where
+/// its error estimate exceeds the tolerance, like any first cycle); a
+/// simulated one goes through [`sampled_branch`] on `ntst` intervals.
+fn first_cycle<'a>(
+    through: &'a Through,
+    param: Param,
+    sign: f64,
+    ntst: usize,
+    req: &CycleRequest,
+) -> Result<(CyclePoint, CycleBranch<'a, LogBlock>, usize), NumericalError> {
+    match through {
+        Through::Simulated { log, params, orbit } => {
+            sampled_branch(log, params, orbit, param, sign, ntst, req)
+        }
+        Through::Stored { log, cycle } => {
+            let ntst = cycle.mesh.ntst();
+            let start =
+                |unknown| started_branch(log, (*cycle).clone(), param, unknown, sign, ntst, req);
+            // At a fold of cycles the orbit is singular at fixed `param`:
+            // corrected there at fixed period instead, the legs toward
+            // longer and shorter periods.
+            start(PARAM_UNKNOWN)
+                .or_else(|e| start(PERIOD_UNKNOWN).map_err(|_| e))
+                .map(|(first, branch)| (first, branch, ntst))
+                .map_err(|e| {
+                    NumericalError::Analysis(format!(
+                        "correcting the stored orbit at {} = {:.10e} on its {ntst} mesh \
+                         intervals: {e}",
+                        param.name(),
+                        cycle.p[param as usize]
+                    ))
+                })
+        }
+    }
+}
+
+/// The position from the end of the unknowns of the continued parameter
+/// and of the period ([`started_branch`]).
+const PARAM_UNKNOWN: usize = 1;
+const PERIOD_UNKNOWN: usize = 2;
+
+/// The branch in `param` through `guess` (on `ntst` intervals, in the
+/// variables of `log`), its tangent oriented by `sign` along the unknown
+/// `unknown` ([`PARAM_UNKNOWN`] or [`PERIOD_UNKNOWN`]): the guess corrected
+/// with that unknown fixed, as its first cycle, and the branch after it.
+fn started_branch<'a>(
+    log: &'a LogBlock,
+    guess: Cycle,
+    param: Param,
+    unknown: usize,
+    sign: f64,
+    ntst: usize,
+    req: &CycleRequest,
+) -> Result<(CyclePoint, CycleBranch<'a, LogBlock>), NumericalError> {
+    // The last unknowns are the period and the parameter: the seed orients the tangent.
+    let nz = guess.u.len() + 2;
+    let mut seed = vec![0.0; nz];
+    seed[nz - unknown] = sign;
+    let settings = settings(log.kind, req, ntst);
+    CycleBranch::from_cycle(log, guess, param as usize, Some(seed), settings)
+        .map_err(NumericalError::from)
+        .and_then(|mut branch| match branch.next() {
+            Some(first) => Ok((first?, branch)),
+            // A driver hands out its start (or the start's error) first.
+            None => Err(NumericalError::Analysis(
+                "the branch through the orbit handed out no first cycle".into(),
+            )),
+        })
 }
 
 /// Most doublings of the intervals of a sampled orbit whose first
@@ -684,21 +825,7 @@ fn sampled_branch<'a>(
     loop {
         let guess = sampled_cycle(log, params, orbit, ntst, 1e-10)
             .map_err(|e| NumericalError::Analysis(e.to_string()))?;
-        // The last unknown is the parameter: the seed orients the tangent.
-        let nz = guess.u.len() + 2;
-        let mut seed = vec![0.0; nz];
-        seed[nz - 1] = sign;
-        let settings = settings(log.kind, req, ntst);
-        let started = CycleBranch::from_cycle(log, guess, param as usize, Some(seed), settings)
-            .map_err(NumericalError::from)
-            .and_then(|mut branch| match branch.next() {
-                Some(first) => Ok((first?, branch)),
-                // A driver hands out its start (or the start's error) first.
-                None => Err(NumericalError::Analysis(
-                    "the branch through the simulated orbit handed out no first cycle".into(),
-                )),
-            });
-        match started {
+        match started_branch(log, guess, param, PARAM_UNKNOWN, sign, ntst, req) {
             Ok((first, branch)) => return Ok((first, branch, ntst)),
             Err(e) => {
                 tried.push(ntst.to_string());

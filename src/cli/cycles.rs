@@ -9,9 +9,11 @@ use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::jobs::cycles::{asked_stiffnesses, Cycles, CyclesRequest, Note, Observer, Plan};
+use crate::jobs::restart::{orbits_path, Restart};
 use crate::plot::cycles::{branch_figures, fold_figure};
 use crate::records::csv::{header, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint, OperatingCycle, Requested};
+use crate::records::orbit::StoredOrbit;
 use clap::Args;
 use continuation::periodic::mesh::CollocationPoints;
 use indicatif::ProgressBar;
@@ -93,6 +95,18 @@ pub struct CyclesArgs {
     /// otherwise, widened to include --to).
     #[arg(long, value_name = "LO:HI")]
     pub search: Option<String>,
+    /// Restart from a cycle of an earlier run: the JSON that `cycles --json`
+    /// printed (saved to a file), with --index N, the cycle's label (column
+    /// label of the CSV, #N in the text). The orbit is read exactly from the
+    /// run's <run>-cycles-orbits.jsonl (named in the JSON), corrected by
+    /// Newton's method at its own parameters and continued both ways, with
+    /// the options above (--to, --at, --max-steps, ...). The scene,
+    /// overrides and model are the file's (--set and --model are refused).
+    #[arg(long, value_name = "FILE.json", requires = "index")]
+    pub from: Option<PathBuf>,
+    /// With --from: the label of the cycle to restart from.
+    #[arg(long, value_name = "N", requires = "from")]
+    pub index: Option<usize>,
     #[command(flatten)]
     pub output: OutputArgs,
     /// Print one JSON object instead of text.
@@ -157,12 +171,17 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
             .for_each(|l| println!("{l}"));
     }
     args.output.create_dir()?;
-    let stem = args
-        .output
-        .stem(&plan.setup.scene.name, &args.scene, false, OUTPUTS)?;
+    let name = match &plan.request.from {
+        // The run restarted from, and the cycle: not the files of that run.
+        Some(r) => format!("{}_restart-{}", plan.source_name(), r.index),
+        None => plan.setup.scene.name.clone(),
+    };
+    let stem = args.output.stem(&name, &args.scene, false, OUTPUTS)?;
     let stem = with_suffix(&stem, "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
     let mut csv = create_file(&csv_path)?;
+    let orbits_path = orbits_path(&stem);
+    let orbits = create_file(&orbits_path)?;
     writeln!(
         csv,
         "# scene {}; model at the start {} (column model: each row's); collocation {}; stable: \
@@ -176,6 +195,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     interrupt::catch_interrupts();
     let mut printer = Printer {
         csv,
+        orbits,
         text: (!args.json).then_some(args.units),
         bar: interrupt::progress("continuing cycles"),
     };
@@ -195,6 +215,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     }
     csv.finish()?;
     files.push(csv_path);
+    printer.orbits.finish()?;
+    result.orbits_file = Some(orbits_path.display().to_string());
+    files.push(orbits_path);
     result.files = files.iter().map(|f| f.display().to_string()).collect();
     if args.json {
         println!(
@@ -243,6 +266,15 @@ fn request(args: &CyclesArgs, control: Option<Control>) -> Result<CyclesRequest,
         lpc_curve: args.lpc_curve,
         at: asked_stiffnesses(&args.at_kappa, &args.at)?,
         to: control.zip(args.to),
+        from: restart_of(args),
+    })
+}
+
+/// `--from FILE.json --index N` (clap requires both or neither).
+pub fn restart_of(args: &CyclesArgs) -> Option<Restart> {
+    Some(Restart {
+        file: args.from.clone()?,
+        index: args.index?,
     })
 }
 
@@ -250,6 +282,8 @@ fn request(args: &CyclesArgs, control: Option<Control>) -> Result<CyclesRequest,
 /// so an interrupted run keeps it) and, unless `--json`, text lines.
 struct Printer {
     csv: LineFile,
+    /// One line per orbit ([`StoredOrbit`]), flushed at once.
+    orbits: LineFile,
     /// The text's units; `None` with `--json`.
     text: Option<TextUnits>,
     bar: ProgressBar,
@@ -270,6 +304,10 @@ impl Observer for Printer {
             print_cycle(units, cycle, found);
         }
         Ok(())
+    }
+
+    fn orbit(&mut self, orbit: &StoredOrbit) -> Result<(), Error> {
+        write_orbit(&mut self.orbits, orbit)
     }
 
     fn operating_point(&mut self, op: &OperatingCycle) {
@@ -361,11 +399,15 @@ fn print_end(result: &Cycles, files: &[PathBuf]) {
 /// `found` since the previous cycle.
 fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
     if cycle.user_point {
-        println!("  user point {}", cycle_text(units, cycle));
+        println!(
+            "  user point {}  #{}",
+            cycle_text(units, cycle),
+            cycle.label
+        );
         return;
     }
     println!(
-        "{}  {}  |mu_1 - 1| {}  err {}  NTST {}",
+        "{}  {}  |mu_1 - 1| {}  err {}  NTST {}  #{}",
         cycle_text(units, cycle),
         cycle.stable.word(),
         or_na(
@@ -373,10 +415,16 @@ fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
             "Floquet pencil singular to rounding"
         ),
         or_na(cycle.error_estimate, "no solution on half the mesh"),
-        cycle.ntst
+        cycle.ntst,
+        cycle.label
     );
     for s in found {
-        println!("  {} at {}", s.kind.name(), cycle_text(units, &s.cycle));
+        println!(
+            "  {} at {}  #{}",
+            s.kind.name(),
+            cycle_text(units, &s.cycle),
+            s.cycle.label
+        );
     }
 }
 
@@ -429,10 +477,11 @@ fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
                 ),
             };
             lines.push(format!(
-                "  the cycle at the scene's K, {how}:\n    {at}  {}  err {}  NTST {}",
+                "  the cycle at the scene's K, {how}:\n    {at}  {}  err {}  NTST {}  #{}",
                 c.stable.word(),
                 or_na(c.error_estimate, "no solution on half the mesh"),
-                c.ntst
+                c.ntst,
+                c.label
             ));
             if let Some(why) = &op.fallback_reason {
                 lines.push(format!("  (the direct start failed: {why})"));
@@ -470,6 +519,17 @@ fn write_operating_csv(csv: &mut impl Write, op: &OperatingCycle) -> Result<(), 
     write_row(csv, c)
 }
 
+/// One line of the orbits file, flushed at once so an interrupted run keeps it.
+pub fn write_orbit(file: &mut impl Write, orbit: &StoredOrbit) -> Result<(), Error> {
+    writeln!(
+        file,
+        "{}",
+        serde_json::to_string(orbit).map_err(std::io::Error::other)?
+    )?;
+    file.flush()?;
+    Ok(())
+}
+
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.
 fn write_row(csv: &mut impl Write, c: &Cycle) -> Result<(), Error> {
     writeln!(csv, "{}", row(c)?)?;
@@ -479,6 +539,7 @@ fn write_row(csv: &mut impl Write, c: &Cycle) -> Result<(), Error> {
 /// The files `cycles` may write, after the run's stem.
 const OUTPUTS: &[&str] = &[
     "-cycles.csv",
+    "-cycles-orbits.jsonl",
     "-cycles-amplitude.png",
     "-cycles-amplitude.svg",
     "-cycles-period.png",

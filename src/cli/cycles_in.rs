@@ -3,6 +3,7 @@
 //! ([`crate::jobs::cycles_in`]) and writes its CSV (row by row), text,
 //! JSON, and the force drop and period against the control.
 
+use super::cycles::write_orbit;
 use super::cycles::CyclesArgs;
 use super::files::{create_file, LineFile};
 use super::interrupt;
@@ -11,9 +12,11 @@ use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::jobs::cycles::{Note, Observer};
 use crate::jobs::cycles_in::{asked_values, Axis, CyclesInControlRequest, Plan};
+use crate::jobs::restart::orbits_path;
 use crate::plot::cycles::control_figures;
 use crate::records::csv::{header_of, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint};
+use crate::records::orbit::StoredOrbit;
 use std::io::Write;
 
 /// The control's unit as the text writes it (`µm/s`; empty when dimensionless).
@@ -28,7 +31,7 @@ fn text_unit(control: Control) -> &'static str {
 /// One line of the text: the control's value, period [s], force drop [N].
 fn line(c: &Cycle, control: Control, value: f64) -> String {
     format!(
-        "{} = {value:.8e} {}  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s  {}{}",
+        "{} = {value:.8e} {}  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s  {}{}  #{}",
         control.name(),
         text_unit(control),
         c.period_s,
@@ -37,7 +40,8 @@ fn line(c: &Cycle, control: Control, value: f64) -> String {
         c.v_min_um_per_s,
         c.v_max_um_per_s,
         c.stable.word(),
-        if c.user_point { "  (requested)" } else { "" }
+        if c.user_point { "  (requested)" } else { "" },
+        c.label
     )
 }
 
@@ -76,6 +80,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         ntst: args.ntst,
         ntst_max: args.ntst_max,
         collocation: args.collocation.map(Into::into),
+        from: super::cycles::restart_of(args),
     };
     let plan = Plan::new(&args.scene.spec(), &request)?;
     let setup = &plan.setup;
@@ -84,6 +89,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     let csv_suffix = format!("{name}.csv");
     let outputs: Vec<String> = [
         ".csv",
+        "-orbits.jsonl",
         "-amplitude.png",
         "-amplitude.svg",
         "-period.png",
@@ -93,11 +99,16 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     .map(|end| format!("{name}{end}"))
     .collect();
     let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
-    let stem = args
-        .output
-        .stem(&setup.scene.name, &args.scene, false, &outputs)?;
+    let run = match &request.from {
+        // The run restarted from, and the cycle: not the files of that run.
+        Some(r) => format!("{}_restart-{}", plan.source_name(), r.index),
+        None => setup.scene.name.clone(),
+    };
+    let stem = args.output.stem(&run, &args.scene, false, &outputs)?;
     let csv_path = with_suffix(&stem, &csv_suffix);
     let mut csv = create_file(&csv_path)?;
+    let orbits_path = orbits_path(&with_suffix(&stem, &name));
+    let orbits = create_file(&orbits_path)?;
     writeln!(
         csv,
         "# scene {}; cycles in {} [{}]; model {}\n{}",
@@ -115,11 +126,13 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     let axis = plan.axis();
     let mut printer = Printer {
         csv,
+        orbits,
         axis,
         text: !args.json,
     };
     let traced = plan.run(&mut printer);
     let mut csv = printer.csv;
+    printer.orbits.finish()?;
     // A run that found no branch says so in its CSV (a later run replaces
     // it without --force).
     let mut result = match traced {
@@ -163,9 +176,10 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         )
         .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?
     };
+    result.orbits_file = Some(orbits_path.display().to_string());
     result.files = figures
         .iter()
-        .chain([&csv_path])
+        .chain([&csv_path, &orbits_path])
         .map(|f| f.display().to_string())
         .collect();
     if args.json {
@@ -196,6 +210,8 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
 /// unless `--json`, a text line with the control in its unit.
 struct Printer {
     csv: LineFile,
+    /// One line per orbit, as `cycles` writes them.
+    orbits: LineFile,
     axis: Axis,
     text: bool,
 }
@@ -220,4 +236,8 @@ impl Observer for Printer {
     }
 
     fn note(&mut self, _note: Note) {}
+
+    fn orbit(&mut self, orbit: &StoredOrbit) -> Result<(), Error> {
+        write_orbit(&mut self.orbits, orbit)
+    }
 }

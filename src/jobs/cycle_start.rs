@@ -1,9 +1,11 @@
 //! Where `stickslip cycles` starts its branch: at the Hopf point, or from a
 //! simulated stick-slip orbit when there is none (or `--from-simulation`).
 
+use super::restart::Restarted;
 use super::{Setup, TextUnits};
 use crate::analysis::cycles::{
-    trace_cycles_from, trace_cycles_from_orbit, CycleRecord, CycleRequest, Leg, Stop,
+    trace_cycles_from, trace_cycles_from_orbit, trace_cycles_through, CycleRecord, CycleRequest,
+    Leg, Stop, Through,
 };
 use crate::analysis::hopf::{velocity_strengthening, Criticality, HopfOutcome, HopfPoint};
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -11,6 +13,7 @@ use crate::analysis::orbit_start::{simulated_start, NoCycleFound, OrbitStart};
 use crate::analysis::settle::SettleError;
 use crate::error::{Error, NumericalError};
 use crate::model::ModelKind;
+use crate::params::Param;
 use serde_json::{json, Value};
 
 /// The start of the cycle branch.
@@ -29,6 +32,9 @@ pub enum Start {
         /// The simulations tried.
         tried: NoCycleFound,
     },
+    /// A cycle written by an earlier run (`--from FILE.json --index N`),
+    /// continued both ways as it was computed.
+    Stored(Box<Restarted>),
 }
 
 impl Start {
@@ -74,10 +80,12 @@ impl Start {
     }
 
     /// The model of the branch's first cycles: the simulated orbit's (it may
-    /// need the inertia the onset drops), else the onset's `onset_kind`.
+    /// need the inertia the onset drops) or the stored one's, else the
+    /// onset's `onset_kind`.
     pub fn first_model(&self, onset_kind: ModelKind) -> ModelKind {
         match self {
             Start::Simulation { orbit, .. } => orbit.kind,
+            Start::Stored(restarted) => restarted.log.kind,
             Start::Hopf(_) | Start::NoCycle { .. } => onset_kind,
         }
     }
@@ -86,6 +94,7 @@ impl Start {
     pub fn kappa_c(&self) -> Option<f64> {
         match self {
             Start::Hopf(h) | Start::Simulation { hopf: Some(h), .. } => Some(h.kappa_c),
+            Start::Stored(r) => r.kappa_c,
             Start::Simulation { hopf: None, .. } | Start::NoCycle { .. } => None,
         }
     }
@@ -117,6 +126,7 @@ impl Start {
         match self {
             Start::Simulation { orbit, hopf: None } => orbit.params.kappa,
             Start::NoCycle { tried, .. } => tried.tries.first().map_or(0.0, SettleError::kappa),
+            Start::Stored(r) => r.kappa_c.unwrap_or(r.orbit.param(Param::Kappa)),
             _ => self.kappa_c().unwrap_or(0.0),
         }
     }
@@ -126,6 +136,28 @@ impl Start {
         let (orbit, hopf) = match self {
             Start::Simulation { orbit, hopf } => (orbit, hopf),
             Start::NoCycle { reason, .. } => return format!("no cycles: {reason}"),
+            Start::Stored(r) => {
+                let u = &setup.scene.units;
+                let kappa = r.orbit.param(Param::Kappa);
+                let (stiffness, period) = match units {
+                    TextUnits::Physical => (
+                        format!("K = {:.10e} N/m", u.stiffness(kappa)),
+                        format!("{:.10e} s", r.orbit.period * u.d0 / u.v0),
+                    ),
+                    TextUnits::Dimensionless => (
+                        format!("kappa = {kappa:.10e}"),
+                        format!("{:.10e} D0/V0", r.orbit.period),
+                    ),
+                };
+                return format!(
+                    "restarting from cycle #{} of {} ({} model, {stiffness}, period {period}, \
+                     NTST {}), corrected on its own mesh, continued both ways",
+                    r.from.index,
+                    r.from.file.display(),
+                    r.orbit.model.name(),
+                    r.orbit.mesh.len() - 1
+                );
+            }
             Start::Hopf(h) => {
                 let k_over_w = setup.scene.units.k_over_w(h.kappa_c);
                 return format!(
@@ -190,6 +222,11 @@ impl Start {
                 })).collect::<Vec<_>>(),
                 "degenerate_hopf": hopf.as_ref().is_some_and(|h| h.onset.criticality == Criticality::Degenerate),
             }),
+            Start::Stored(r) => json!({
+                "kind": "restart", "file": r.from.file.display().to_string(),
+                "label": r.from.index, "kappa": r.orbit.param(Param::Kappa),
+                "period": r.orbit.period, "model": r.orbit.model,
+            }),
             Start::NoCycle { tried, .. } => json!({
                 "kind": "none",
                 "simulated": tried.tries.iter().map(|t| json!({
@@ -227,6 +264,16 @@ impl Start {
                     watch,
                     &mut sink,
                 ) {
+                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Err(e) => vec![(None, Err(e))],
+                }
+            }
+            Start::Stored(r) => {
+                let through = Through::Stored {
+                    log: r.log,
+                    cycle: &r.cycle,
+                };
+                match trace_cycles_through(&through, Param::Kappa, req, watch, &mut sink) {
                     Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
                     Err(e) => vec![(None, Err(e))],
                 }

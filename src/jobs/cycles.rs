@@ -7,6 +7,7 @@
 //! [`Observer`] as it is computed.
 
 use super::cycle_start::Start;
+use super::restart::{Labels, Restart};
 use super::{onset_with_degeneracy_resolved, SceneSpec, Setup, TextUnits};
 use crate::analysis::control::Control;
 use crate::analysis::cycle_at::cycle_at;
@@ -25,6 +26,7 @@ use crate::records::cycle::{
 };
 use crate::records::diagram::FoldPoint;
 use crate::records::hopf::OperatingPoint;
+use crate::records::orbit::{points_name, Source, StoredOrbit};
 use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
 use continuation::periodic::mesh::CollocationPoints;
@@ -54,6 +56,10 @@ pub struct CyclesRequest {
     /// Where the branch ends, in the unit of a stiffness control
     /// (`--param K --to 1e5`), in place of `kappa_fraction`.
     pub to: Option<(Control, f64)>,
+    /// Restart from a cycle an earlier run wrote (`--from FILE.json
+    /// --index N`) instead of the Hopf point or a simulated orbit: the
+    /// scene is the file's, the branch goes both ways from the cycle.
+    pub from: Option<Restart>,
 }
 
 impl Default for CyclesRequest {
@@ -69,6 +75,7 @@ impl Default for CyclesRequest {
             lpc_curve: false,
             at: Vec::new(),
             to: None,
+            from: None,
         }
     }
 }
@@ -95,6 +102,13 @@ impl CyclesRequest {
         }
         if let Some((_, t)) = self.to.filter(|(_, t)| !(t.is_finite() && *t > 0.0)) {
             return Err(InputError::out_of_range("--to", t, "> 0 (unit of --param)"));
+        }
+        if self.from.is_some() && self.from_simulation {
+            return Err(InputError::Conflict(
+                "--from restarts from a written cycle, --from-simulation from a simulated orbit; \
+                 give one"
+                    .into(),
+            ));
         }
         Ok(())
     }
@@ -128,6 +142,12 @@ pub trait Observer {
     /// The cycle at the scene's own stiffness (or why there is none),
     /// before the branch.
     fn operating_point(&mut self, _op: &OperatingCycle) {}
+    /// The orbit of a cycle just labelled, before the cycle itself is
+    /// handed over: what a restart reads ([`Restart`]); an error (a file
+    /// that cannot be written) stops the branch.
+    fn orbit(&mut self, _orbit: &StoredOrbit) -> Result<(), Error> {
+        Ok(())
+    }
 }
 
 /// An observer that keeps nothing but the result.
@@ -152,13 +172,40 @@ pub struct Plan {
     /// The model was forced (`--model`).
     forced: bool,
     threshold: f64,
+    /// Where the run comes from (the JSON's `source`).
+    source: Source,
 }
 
 impl Plan {
     /// Sets up `spec`, locates the onset (with the model decision shared by
     /// every command) and chooses where the branch starts.
-    pub fn new(spec: &SceneSpec, request: CyclesRequest) -> Result<Plan, Error> {
+    pub fn new(spec: &SceneSpec, mut request: CyclesRequest) -> Result<Plan, Error> {
         request.check()?;
+        if let Some(from) = &request.from {
+            let restarted = from.load()?;
+            let setup = restarted.setup(spec)?;
+            let source = restarted.source.clone();
+            let stored = restarted.cycle.mesh.points;
+            // Points other than the model's were forced in the run: again.
+            if stored != collocation_for(restarted.orbit.model) {
+                request.collocation = request.collocation.or(Some(stored));
+            }
+            return Ok(Plan {
+                watch: InertiaWatch::new(
+                    &setup.scene_params,
+                    source.inertia_threshold,
+                    source.model.is_none(),
+                ),
+                points: request.collocation.unwrap_or(stored),
+                start: Start::Stored(Box::new(restarted)),
+                operating: None,
+                forced: source.model.is_some(),
+                threshold: source.inertia_threshold,
+                source,
+                setup,
+                request,
+            });
+        }
         let mut setup = spec.setup(|p| *p)?;
         let onset = onset_with_degeneracy_resolved(&mut setup, spec.model.is_some())?;
         let watch = InertiaWatch::new(
@@ -174,6 +221,7 @@ impl Plan {
             .collocation
             .unwrap_or(collocation_for(start.first_model(setup.choice.kind)));
         Ok(Plan {
+            source: Source::new(spec, &setup),
             setup,
             start,
             points,
@@ -201,6 +249,12 @@ impl Plan {
         ]
     }
 
+    /// The name of the run (`run_name` of its scene, overrides and model):
+    /// the one restarted from, for a restart.
+    pub fn source_name(&self) -> String {
+        self.source.run_name(&self.setup.scene.name)
+    }
+
     /// `gauss` or `radau`.
     pub fn points_name(&self) -> &'static str {
         points_name(self.points)
@@ -219,6 +273,7 @@ impl Plan {
             watch,
             forced,
             threshold,
+            source,
         } = self;
         let units = setup.scene.units;
         let (at_kappa, asked) = requested_once(&request.at, &units);
@@ -236,8 +291,15 @@ impl Plan {
             // Each model's own points unless forced (the branch may change model).
             collocation: request.collocation,
         };
-        // Requested stiffnesses outside the default range extend the branch to them.
+        // Requested stiffnesses outside the default range extend the branch
+        // to them, as the stiffness of a cycle restarted from.
+        if let Start::Stored(r) = &start {
+            req.at_kappa.push(r.orbit.param(Param::Kappa));
+            req.cover_requested();
+            req.at_kappa.pop();
+        }
         req.cover_requested();
+        let mut labels = Labels::default();
         let mut operating = operating.map(OperatingCycle::new);
         // The cycle at the scene's K first: directly, or as the start of
         // a branch from a simulated orbit there.
@@ -246,7 +308,11 @@ impl Plan {
             match &start {
                 Start::Hopf(h) => {
                     observer.progress("the cycle at the scene's K");
-                    operating_cycle(op, &setup, h, &req, &watch);
+                    let rec = operating_cycle(op, &setup, h, &req, &watch);
+                    if let (Some(rec), Some(c)) = (rec, op.cycle.as_mut()) {
+                        // A write error shows again, and stops the run, at the next orbit.
+                        let _ = labels.label(c, &rec, observer);
+                    }
                     observer.operating_point(op);
                 }
                 Start::Simulation { orbit, .. } if orbit.params.kappa == op.point.kappa => {
@@ -308,22 +374,27 @@ impl Plan {
                 .filter(|_| at_start && records.is_empty())
             {
                 op.deliver(c, "branch_start", &units);
+                // The same cycle as the branch's first, labelled next.
+                if let Some(cycle) = op.cycle.as_mut() {
+                    cycle.label = labels.next();
+                }
                 observer.operating_point(op);
             }
             // The cycles at requested stiffnesses passed since the last one, then it.
             for rec in c.user.iter().chain([c]) {
-                let cycle = Cycle::new(rec, &units);
-                let found: Vec<CycleSpecialPoint> = rec
-                    .special_points()
-                    .map(|(kind, l)| CycleSpecialPoint {
-                        kind,
-                        cycle: Cycle::new(l, &units),
-                    })
-                    .collect();
+                let mut cycle = Cycle::new(rec, &units);
+                labels.label(&mut cycle, rec, observer)?;
+                let mut found = Vec::new();
+                for (kind, l) in rec.special_points() {
+                    let mut cycle = Cycle::new(l, &units);
+                    labels.label(&mut cycle, l, observer)?;
+                    found.push(CycleSpecialPoint { kind, cycle });
+                }
                 observer.cycle(&cycle, &found)?;
                 specials.extend(found);
                 cycles.push(cycle);
-                records.push(rec.clone());
+                // The orbits are written: a fold's kept for its curve.
+                records.push(rec.without_orbit());
             }
             Ok(())
         });
@@ -426,6 +497,8 @@ impl Plan {
             lpc_stops: folds.stops,
             operating_point: operating,
             files: Vec::new(),
+            source,
+            orbits_file: None,
             reason: start.reason().map(str::to_string),
             negative_friction,
             records,
@@ -446,7 +519,7 @@ fn operating_cycle(
     h: &HopfPoint,
     req: &CycleRequest,
     watch: &InertiaWatch,
-) {
+) -> Option<CycleRecord> {
     let (units, kappa) = (setup.scene.units, op.point.kappa);
     let direct = match cycle_at(&setup.scene_params, setup.choice.kind, kappa, watch, req) {
         Ok(c) => {
@@ -456,7 +529,7 @@ fn operating_cycle(
                 &c.simulated.orbit,
                 &units,
             ));
-            return;
+            return Some(c.record);
         }
         Err(e) => e.to_string(),
     };
@@ -478,6 +551,7 @@ fn operating_cycle(
         Some(c) => {
             op.deliver(&c, "continuation", &units);
             op.fallback_reason = Some(direct);
+            Some(c)
         }
         None => {
             let end = match end {
@@ -489,6 +563,7 @@ fn operating_cycle(
             op.not_delivered = Some(format!(
                 "{direct}; the branch from the Hopf point did not reach it either ({end})"
             ));
+            None
         }
     }
 }
@@ -522,6 +597,13 @@ pub struct Cycles {
     pub operating_point: Option<OperatingCycle>,
     /// The files written (by the command line).
     pub files: Vec<String>,
+    /// Where the run came from: the scene as given, the overrides, the
+    /// model forced, and the parameters they gave (for a restart).
+    pub source: Source,
+    /// The file holding every cycle's orbit, one line per `label`
+    /// (`<run>-cycles-orbits.jsonl`, by the command line); `null` when
+    /// none was written.
+    pub orbits_file: Option<String>,
     /// Why there is no branch at all.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
@@ -808,14 +890,6 @@ fn fold_curves(setup: &Setup, records: &[CycleRecord]) -> FoldCurves {
         points: FoldPoint::all(&curves, &setup.scene.units),
         stops: curves.stops,
         incomplete: curves.incomplete,
-    }
-}
-
-/// `gauss` or `radau`.
-fn points_name(points: CollocationPoints) -> &'static str {
-    match points {
-        CollocationPoints::Gauss => "gauss",
-        CollocationPoints::Radau => "radau",
     }
 }
 

@@ -5,10 +5,12 @@
 //! in its unit; the result ([`CyclesInControl`]) is the command's JSON.
 
 use super::cycles::{branch_status, Observer};
+use super::restart::{Labels, Restart};
 use super::{SceneSpec, Setup};
 use crate::analysis::control::{
     choose_along, cycles_in, upward_range, Control, CyclesInRequest, CyclesStart,
 };
+use crate::analysis::cycles::collocation_for;
 use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
 use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
@@ -17,6 +19,7 @@ use crate::params::Param;
 use crate::records::branch::ParamValue;
 use crate::records::cycle::{Cycle, CycleSpecialPoint, LegStop};
 use crate::records::hopf::Critical;
+use crate::records::orbit::Source;
 use crate::records::params_json;
 use crate::records::UnitsRecord;
 use crate::scene::Units;
@@ -40,6 +43,9 @@ pub struct CyclesInControlRequest {
     pub ntst: usize,
     pub ntst_max: usize,
     pub collocation: Option<CollocationPoints>,
+    /// Restart from a written cycle (`--from FILE.json --index N`), as
+    /// [`super::cycles::CyclesRequest::from`].
+    pub from: Option<Restart>,
 }
 
 /// The `--at` values of a branch in `control`: every item `NAME=V1,V2,...`
@@ -90,6 +96,8 @@ pub struct Plan {
     pub param: Param,
     request: CyclesInRequest,
     watch: InertiaWatch,
+    /// Where the run comes from (the JSON's `source`).
+    source: Source,
 }
 
 impl Plan {
@@ -98,7 +106,15 @@ impl Plan {
     /// search range).
     pub fn new(spec: &SceneSpec, r: &CyclesInControlRequest) -> Result<Plan, Error> {
         let control = r.control;
-        let mut setup = spec.setup(|p| *p)?;
+        let restarted = r.from.as_ref().map(Restart::load).transpose()?;
+        let mut setup = match &restarted {
+            Some(x) => x.setup(spec)?,
+            None => spec.setup(|p| *p)?,
+        };
+        let source = match &restarted {
+            Some(x) => x.source.clone(),
+            None => Source::new(spec, &setup),
+        };
         let (units, scene_params) = (setup.scene.units, setup.scene_params);
         let param = control.continued(&units)?;
         if let Some(search) = r.search {
@@ -108,15 +124,25 @@ impl Plan {
             .search
             .or_else(|| control.default_range(&units, &scene_params, setup.scene.nu_range))
             .map_or((r.to, r.to), |(lo, hi)| (lo.min(r.to), hi.max(r.to)));
-        setup.choice = choose_along(
-            control,
-            &units,
-            &scene_params,
-            Some(judged).filter(|(lo, _)| *lo > 0.0),
-            spec.model,
-            spec.inertia_threshold,
-        );
-        setup.params = params_for(setup.choice.kind, &scene_params);
+        // A restart keeps the model of its cycle (set up from the file).
+        if restarted.is_none() {
+            setup.choice = choose_along(
+                control,
+                &units,
+                &scene_params,
+                Some(judged).filter(|(lo, _)| *lo > 0.0),
+                spec.model,
+                spec.inertia_threshold,
+            );
+            setup.params = params_for(setup.choice.kind, &scene_params);
+        }
+        let collocation = match &restarted {
+            // Points other than the model's were forced in the run: again.
+            Some(x) if x.cycle.mesh.points != collocation_for(x.orbit.model) => {
+                r.collocation.or(Some(x.cycle.mesh.points))
+            }
+            _ => r.collocation,
+        };
         let request = CyclesInRequest {
             control,
             to: r.to,
@@ -124,6 +150,7 @@ impl Plan {
             nu_range: setup.scene.nu_range,
             at: r.at.clone(),
             from_simulation: r.from_simulation,
+            stored: restarted.map(|x| (x.log, x.cycle)),
             cycles: CycleRequest {
                 kappa_min: 0.0,
                 kappa_max: 0.0,
@@ -131,17 +158,28 @@ impl Plan {
                 ntst: r.ntst,
                 at_kappa: Vec::new(),
                 ntst_max: r.ntst_max,
-                collocation: r.collocation,
+                collocation,
             },
         };
-        let watch = InertiaWatch::new(&scene_params, spec.inertia_threshold, spec.model.is_none());
+        let watch = InertiaWatch::new(
+            &scene_params,
+            source.inertia_threshold,
+            source.model.is_none(),
+        );
         Ok(Plan {
             setup,
             control,
             param,
             request,
             watch,
+            source,
         })
+    }
+
+    /// The name of the run (`run_name` of its scene, overrides and model):
+    /// the one restarted from, for a restart.
+    pub fn source_name(&self) -> String {
+        self.source.run_name(&self.setup.scene.name)
     }
 
     /// The record of the CSV header: the columns of the continued parameter
@@ -176,7 +214,9 @@ impl Plan {
             param,
             request,
             watch,
+            source,
         } = self;
+        let mut labels = Labels::default();
         let (units, scene_params) = (setup.scene.units, setup.scene_params);
         let kind = setup.choice.kind;
         let mut cycles: Vec<Cycle> = Vec::new();
@@ -188,18 +228,18 @@ impl Plan {
                 return Err(e);
             }
             for rec in c.user.iter().chain([c]) {
-                let d = record_of(rec, control, param, &setup);
-                let found: Vec<CycleSpecialPoint> = rec
-                    .special_points()
-                    .map(|(kind, l)| CycleSpecialPoint {
-                        kind,
-                        cycle: record_of(l, control, param, &setup),
-                    })
-                    .collect();
+                let mut d = record_of(rec, control, param, &setup);
+                labels.label(&mut d, rec, observer)?;
+                let mut found = Vec::new();
+                for (kind, l) in rec.special_points() {
+                    let mut cycle = record_of(l, control, param, &setup);
+                    labels.label(&mut cycle, l, observer)?;
+                    found.push(CycleSpecialPoint { kind, cycle });
+                }
                 observer.cycle(&d, &found)?;
                 specials.extend(found);
                 cycles.push(d);
-                records.push(rec.clone());
+                records.push(rec.without_orbit());
             }
             Ok(())
         })?;
@@ -237,6 +277,7 @@ impl Plan {
                 ("hopf", Some(Critical::new(o, scene_value)))
             }
             CyclesStart::Simulation => ("simulation", None),
+            CyclesStart::Stored => ("restart", None),
         };
         // From the Hopf point the cycles go where they are born, which may
         // be away from --to: then none lies between the onset and --to.
@@ -296,6 +337,8 @@ impl Plan {
             stop: stop.join("; "),
             leg_stops,
             files: Vec::new(),
+            source,
+            orbits_file: None,
             failure: traced.legs.into_iter().find_map(|(_, o)| o.err()),
             setup,
         })
@@ -366,6 +409,10 @@ pub struct CyclesInControl {
     pub leg_stops: Vec<LegStop>,
     /// The files written (by the command line).
     pub files: Vec<String>,
+    /// Where the run came from, as `cycles`' `source`.
+    pub source: Source,
+    /// The orbits file, as `cycles`' `orbits_file`.
+    pub orbits_file: Option<String>,
     #[serde(skip)]
     pub failure: Option<Error>,
     #[serde(skip)]

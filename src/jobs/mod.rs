@@ -13,6 +13,7 @@ pub mod cycles_in;
 pub mod diagram;
 pub mod fit;
 pub mod hopf;
+pub mod restart;
 pub mod simulate;
 
 use crate::analysis::hopf::{find_hopf, Criticality, HopfOutcome};

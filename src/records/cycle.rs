@@ -127,6 +127,11 @@ pub struct Cycle {
     /// `--param` and where another column gives it.
     #[serde(flatten)]
     pub control: Option<ParamValue>,
+    /// The cycle's number in the run (`#label` in the text): what
+    /// `cycles --from FILE.json --index N` restarts from. Every cycle a
+    /// run writes has its own, the operating point's, the branch's, the
+    /// requested ones' and the bifurcations', in the order written.
+    pub label: usize,
     /// `[re, im]` of each Floquet multiplier, by decreasing modulus (JSON only).
     pub multipliers: Vec<[f64; 2]>,
     /// Index of the trivial multiplier among them (JSON only).
@@ -181,6 +186,7 @@ impl Cycle {
             delta_s_n: c.delta_s * u.load,
             continued: None,
             control: None,
+            label: 0,
             multipliers: c.multipliers.iter().map(|z| [z.re, z.im]).collect(),
             trivial_multiplier_index: c.trivial,
             trivial_multiplier_error_reason: c

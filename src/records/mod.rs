@@ -11,6 +11,7 @@ pub mod csv;
 pub mod cycle;
 pub mod diagram;
 pub mod hopf;
+pub mod orbit;
 pub mod simulation;
 
 use crate::scene::Units;

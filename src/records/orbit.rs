@@ -1,0 +1,226 @@
+//! What a restart reads: each collocated cycle as `cycles` computed it (a
+//! line of `<run>-cycles-orbits.jsonl`, [`StoredOrbit`]), and where the run
+//! came from (the JSON's `source`, [`Source`]). Numbers are written by
+//! serde_json as the shortest decimals that read back to the same `f64`,
+//! so a stored orbit is the computed one bit for bit.
+
+use crate::analysis::cycles::CycleRecord;
+use crate::jobs::{SceneSpec, Setup};
+use crate::log_model::LogBlock;
+use crate::model::ModelKind;
+use crate::params::{Param, N_PARAMS};
+use continuation::periodic::cycle::Cycle;
+use continuation::periodic::mesh::{CollocationPoints, Mesh};
+use continuation::VectorField;
+use serde::{Deserialize, Serialize};
+
+/// One collocated cycle, exactly: a line of the orbits file, found by its
+/// `label` (the cycle's `label` in the JSON and the CSV, `#label` in the
+/// text). The orbit is `x(t)`, `t = tau T` in `[0, T]`, piecewise
+/// polynomial of degree `degree` on the mesh `0 = tau_0 < ... < tau_NTST =
+/// 1`, with its values at the `NTST degree` nodes (`tau_i + (tau_(i+1) -
+/// tau_i) l / degree`, the last node being the first) in `u`, node-major
+/// (`dim` values per node); `x` is the state of docs/model.md in log
+/// variables measured from `origin`: `(s - s_o, ln v - ln v_o, ln theta -
+/// ln theta_o)`, without `ln v` for the quasi-static model.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StoredOrbit {
+    /// The cycle's label in the run (first, so that a reader finds a line
+    /// by its start).
+    pub label: usize,
+    /// The model the cycle was computed with.
+    pub model: ModelKind,
+    /// Whether the ageing has the cutoff form (`theta_c`).
+    pub cutoff: bool,
+    /// `(s_o, ln v_o, ln theta_o)`: the point the state is measured from.
+    pub origin: [f64; 3],
+    /// The full parameter vector, in the order `kappa, nu, m, A, B, mu0,
+    /// mu2, theta_c` (`theta_c` 0 without the cutoff).
+    pub params: Vec<f64>,
+    /// Period in units of `D0/V0`.
+    pub period: f64,
+    /// `gauss` or `radau`: where the collocation equations were imposed.
+    pub collocation: String,
+    /// Polynomial degree per interval.
+    pub degree: usize,
+    /// The mesh points `tau_0 = 0 .. tau_NTST = 1`.
+    pub mesh: Vec<f64>,
+    /// State dimension: 3 (inertial) or 2 (quasi-static).
+    pub dim: usize,
+    /// Node values, node-major.
+    pub u: Vec<f64>,
+}
+
+/// `gauss` or `radau`.
+pub fn points_name(points: CollocationPoints) -> &'static str {
+    match points {
+        CollocationPoints::Gauss => "gauss",
+        CollocationPoints::Radau => "radau",
+    }
+}
+
+impl StoredOrbit {
+    /// The orbit of `rec` labelled `label`; `None` when the record was made
+    /// without it.
+    pub fn of(label: usize, rec: &CycleRecord) -> Option<StoredOrbit> {
+        let c = rec.orbit.as_ref()?;
+        Some(StoredOrbit {
+            label,
+            model: rec.log.kind,
+            cutoff: rec.log.cutoff,
+            origin: rec.log.origin,
+            params: c.p.clone(),
+            period: c.period,
+            collocation: points_name(c.mesh.points).to_string(),
+            degree: c.mesh.degree,
+            mesh: c.mesh.t.clone(),
+            dim: c.n,
+            u: c.u.clone(),
+        })
+    }
+
+    /// The continued parameter's value on this orbit.
+    pub fn param(&self, p: Param) -> f64 {
+        self.params[p as usize]
+    }
+
+    /// The collocation points the orbit was computed with.
+    pub fn points(&self) -> Result<CollocationPoints, String> {
+        match self.collocation.as_str() {
+            "gauss" => Ok(CollocationPoints::Gauss),
+            "radau" => Ok(CollocationPoints::Radau),
+            other => Err(format!("collocation '{other}': expected gauss or radau")),
+        }
+    }
+
+    /// The model and the orbit back, checked for shape: the variables
+    /// (`LogBlock`) and the cycle on its mesh. The error names the field
+    /// that is out of shape (a file edited by hand).
+    pub fn cycle(&self) -> Result<(LogBlock, Cycle), (&'static str, String)> {
+        let log = LogBlock {
+            kind: self.model,
+            cutoff: self.cutoff,
+            origin: self.origin,
+        };
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if self.dim != log.dim() {
+            return Err((
+                "dim",
+                format!(
+                    "{} for the {} model, which has {}",
+                    self.dim,
+                    self.model.name(),
+                    log.dim()
+                ),
+            ));
+        }
+        if self.params.len() != N_PARAMS || !finite(&self.params) {
+            return Err((
+                "params",
+                format!(
+                    "expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"
+                ),
+            ));
+        }
+        if self.cutoff != (self.param(Param::ThetaC) > 0.0) {
+            return Err((
+                "cutoff",
+                "disagrees with theta_c in params (the cutoff form has theta_c > 0)".into(),
+            ));
+        }
+        if !finite(&self.origin) {
+            return Err(("origin", "expected 3 finite numbers".into()));
+        }
+        if !(self.period.is_finite() && self.period > 0.0) {
+            return Err(("period", format!("{}: expected a number > 0", self.period)));
+        }
+        if !(1..=20).contains(&self.degree) {
+            return Err(("degree", format!("{}: expected 1 to 20", self.degree)));
+        }
+        let t = &self.mesh;
+        if t.len() < 3 || t[0] != 0.0 || t[t.len() - 1] != 1.0 || t.windows(2).any(|w| w[1] <= w[0])
+        {
+            return Err((
+                "mesh",
+                "expected at least 3 points rising strictly from 0 to 1".into(),
+            ));
+        }
+        let ntst = t.len() - 1;
+        if self.u.len() != ntst * self.degree * self.dim || !finite(&self.u) {
+            return Err((
+                "u",
+                format!(
+                    "expected {} finite numbers (NTST {ntst} x degree {} x dim {}), found {}",
+                    ntst * self.degree * self.dim,
+                    self.degree,
+                    self.dim,
+                    self.u.len()
+                ),
+            ));
+        }
+        let points = self.points().map_err(|e| ("collocation", e))?;
+        Ok((
+            log,
+            Cycle {
+                mesh: Mesh::with_points(t.clone(), self.degree, points),
+                u: self.u.clone(),
+                period: self.period,
+                p: self.params.clone(),
+                n: self.dim,
+            },
+        ))
+    }
+}
+
+/// Where a run came from, for a restart (the JSON's `source`): the scene as
+/// given (a built-in name, or the absolute path of its TOML file), the
+/// overrides, the model forced, the inertia threshold, and the parameters
+/// they gave, to check that they still give them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Source {
+    /// `stickslip` and its version.
+    pub written_by: String,
+    pub scene: String,
+    pub set: Vec<String>,
+    pub model: Option<ModelKind>,
+    pub inertia_threshold: f64,
+    /// The scene's parameters after `--set` (inertia kept), in the order of
+    /// [`StoredOrbit::params`].
+    pub scene_params: Vec<f64>,
+}
+
+impl Source {
+    /// The source of a run of `spec` set up as `setup`.
+    pub fn new(spec: &SceneSpec, setup: &Setup) -> Source {
+        // A file by its absolute path, so that a restart from elsewhere finds it.
+        let scene = if crate::scene::builtin_names().contains(&spec.scene.as_str()) {
+            spec.scene.clone()
+        } else {
+            std::fs::canonicalize(&spec.scene)
+                .map_or_else(|_| spec.scene.clone(), |p| p.display().to_string())
+        };
+        Source {
+            written_by: format!("stickslip {}", env!("CARGO_PKG_VERSION")),
+            scene,
+            set: spec.set.clone(),
+            model: spec.model,
+            inertia_threshold: spec.inertia_threshold,
+            scene_params: setup.scene_params.to_vec(),
+        }
+    }
+
+    /// The run's name for the scene named `scene` ([`crate::file_names::run_name`]).
+    pub fn run_name(&self, scene: &str) -> String {
+        crate::file_names::run_name(scene, &self.set, self.model.map(|m| m.name()))
+    }
+
+    /// The scene, overrides and model to set up again.
+    pub fn spec(&self) -> SceneSpec {
+        SceneSpec {
+            scene: self.scene.clone(),
+            set: self.set.clone(),
+            model: self.model,
+            inertia_threshold: self.inertia_threshold,
+        }
+    }
+}
