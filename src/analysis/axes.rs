@@ -101,12 +101,7 @@ impl Axes {
     /// (`tau` with the ln² form, `mu2` with the cutoff), naming its option.
     pub fn check_forms(&self, params: &Params) -> Result<(), InputError> {
         for (field, c) in [("--x", self.x), ("--y", self.y)] {
-            c.check_form(params).map_err(|e| match e {
-                InputError::Conflict(text) => {
-                    InputError::Conflict(text.replacen("--param", field, 1))
-                }
-                e => e,
-            })?;
+            c.check_form(params, field)?;
         }
         Ok(())
     }

@@ -143,8 +143,8 @@ impl Control {
 
     /// Refuses a parameter of the ageing form the scene does not use
     /// (`mu2` with the cutoff, `tau` or `theta_c` with the ln² form): it
-    /// would move nothing.
-    pub fn check_form(self, params: &Params) -> Result<(), InputError> {
+    /// would move nothing. `option` names where it was given (`--param`).
+    pub fn check_form(self, params: &Params, option: &str) -> Result<(), InputError> {
         let cutoff = params.theta_c.is_some();
         let what = match self {
             Control::Dimensionless(Param::Mu2) if cutoff => "mu2 is the ln² coefficient",
@@ -154,7 +154,7 @@ impl Control {
             _ => return Ok(()),
         };
         Err(InputError::Conflict(format!(
-            "--param {}: {what}, and the scene uses the other ageing form ({}); vary a \
+            "{option} {}: {what}, and the scene uses the other ageing form ({}); vary a \
              parameter of its own form",
             self.name(),
             if cutoff {
@@ -468,7 +468,7 @@ pub fn onset_in(
         ))
         .into());
     }
-    control.check_form(params)?;
+    control.check_form(params, "--param")?;
     let no_onset = |range: (f64, f64), why: String| -> Error {
         NumericalError::NoOnsetInRange {
             param: control.name().to_string(),
@@ -862,7 +862,7 @@ pub fn cycles_in(
     use crate::analysis::cycles::{trace_cycles_from_in, trace_cycles_from_orbit_in, Leg};
     let control = req.control;
     let param = control.continued(units)?;
-    control.check_form(params)?;
+    control.check_form(params, "--param")?;
     if !(req.to.is_finite() && req.to > 0.0) {
         return Err(InputError::out_of_range(
             "--to",

@@ -61,7 +61,7 @@ impl Plan {
         let mut scene_params = scene.params;
         overrides.apply_dimensionless(&mut scene_params)?;
         let param = control.continued(&scene.units)?;
-        control.check_form(&scene_params)?;
+        control.check_form(&scene_params, "--param")?;
         let (nu_lo, nu_hi) = scene.nu_range;
         // kappa and nu as always (the scene's velocity range as given in the
         // scene); other controls in their unit, converted.
