@@ -23,6 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             mu0: 0.6,
             mu2: 0.0,
             theta_c: None,
+            state_law: Default::default(),
         };
         let d = hopf_curve(
             ModelKind::Inertial,

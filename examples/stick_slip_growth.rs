@@ -21,6 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         mu0: 0.5,
         mu2: 2.4e-4,
         theta_c: None,
+        state_law: Default::default(),
     };
     let kappa_c = base.mu_phi() - base.mu_v();
     let fractions = [0.99, 0.98, 0.97];

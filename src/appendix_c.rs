@@ -62,6 +62,7 @@ mod tests {
             mu0: 0.6,
             mu2: 5e-4,
             theta_c: None,
+            state_law: Default::default(),
         }
     }
 

@@ -7,7 +7,7 @@
 //! ```text
 //! ds/dt   = kappa (nu - e^w)
 //! dw/dt   = (s - mu(e^w, e^phi)) / (m e^w)          (inertial)
-//! dphi/dt = e^-phi - e^w
+//! dphi/dt = e^-phi - e^w           (ageing law; slip law: -e^w (w + phi))
 //! ```
 //!
 //! and quasi-statically `(s, phi)` with `w = (s - mu0 - ageing(e^phi)) / A`.
@@ -22,6 +22,7 @@
 //! ds/dt   = kappa ((nu - e^w_o) - e^w_o expm1(x_w))
 //! dw/dt   = (x_s + c - A x_w - ageing_change(phi_o, x_phi)) / (m e^w)
 //! dphi/dt = (e^-phi_o - e^w_o) + e^-phi_o expm1(-x_phi) - e^w_o expm1(x_w)
+//!           (slip law: -(e^w_o + e^w_o expm1(x_w)) ((w_o + phi_o) + x_w + x_phi))
 //! c       = s_o - mu0 - A w_o - ageing(e^phi_o)
 //! ```
 //!
@@ -38,7 +39,7 @@
 
 use crate::friction::FrictionLaw;
 use crate::model::ModelKind;
-use crate::params::{friction_from, Param, Params, N_PARAMS};
+use crate::params::{friction_from, Param, Params, StateLaw, N_PARAMS};
 use continuation::{Scalar, VectorField};
 
 /// The inertial or quasi-static block in `(s, ln v, ln theta)` / `(s, ln theta)`
@@ -48,6 +49,8 @@ pub struct LogBlock {
     pub kind: ModelKind,
     /// Cutoff ageing form.
     pub cutoff: bool,
+    /// The evolution law of `theta`.
+    pub state_law: StateLaw,
     /// The point `(s_o, ln v_o, ln theta_o)` the state is measured from.
     pub origin: [f64; 3],
 }
@@ -118,7 +121,7 @@ impl VectorField for LogBlock {
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         let [_, w_o, phi_o] = self.origin;
-        let (ew_o, ephi_o) = (w_o.exp(), (-phi_o).exp());
+        let ew_o = w_o.exp();
         let (x_s, x_phi) = (x[0], x[self.dim() - 1]);
         // s - mu(v, theta) = x_s + gap0 - A x_w, and quasi-statically 0.
         let gap0 = self.offset(&law) - law.ageing_change(D::from(phi_o), x_phi) + x_s;
@@ -130,7 +133,7 @@ impl VectorField for LogBlock {
         let dv = x_w.exp_m1() * ew_o;
         rho.fill(D::from(1.0));
         g[0] = kappa * ((nu - ew_o) - dv);
-        g[self.dim() - 1] = (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o);
+        g[self.dim() - 1] = self.state_law.log_rate((w_o, phi_o), x_w, x_phi, dv);
         if self.kind == ModelKind::Inertial {
             // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
@@ -147,6 +150,7 @@ impl LogBlock {
         LogBlock {
             kind,
             cutoff: params.theta_c.is_some(),
+            state_law: params.state_law,
             origin: [0.0; 3],
         }
     }
@@ -233,6 +237,7 @@ mod tests {
             mu0: 0.6,
             mu2: 5e-4,
             theta_c: None,
+            state_law: Default::default(),
         }
     }
 

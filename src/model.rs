@@ -4,14 +4,14 @@
 //! ```text
 //! ds/dt     = kappa (nu - v)
 //! m dv/dt   = s - mu(v, theta)
-//! dtheta/dt = 1 - v theta
+//! dtheta/dt = 1 - v theta          (ageing law; slip law: -v theta ln(v theta))
 //! ```
 //! Quasi-static model (`m = 0`), state `(s, theta)`, with `v` slaved to the
 //! friction law: `v = exp((s - mu0 - ageing(theta)) / A)`.
 //!
 //! Both take the parameter vector of [`crate::params::Param`].
 
-use crate::params::{friction_from, Param, Params, N_PARAMS};
+use crate::params::{friction_from, Param, Params, StateLaw, N_PARAMS};
 use continuation::{Scalar, VectorField};
 
 /// Which driven-block model an analysis uses (JSON and CSV: its [`name`](ModelKind::name)).
@@ -41,6 +41,8 @@ impl ModelKind {
 pub struct InertialBlock {
     /// Use the cutoff ageing form `B ln(1 + theta/theta_c)`.
     pub cutoff: bool,
+    /// The evolution law of `theta`.
+    pub state_law: StateLaw,
 }
 
 impl VectorField for InertialBlock {
@@ -63,7 +65,7 @@ impl VectorField for InertialBlock {
         );
         out[0] = kappa * (nu - v);
         out[1] = (s - law.mu(v, theta)) / m;
-        out[2] = -(v * theta) + 1.0;
+        out[2] = self.state_law.rate(v, theta);
     }
 }
 
@@ -72,6 +74,8 @@ impl VectorField for InertialBlock {
 pub struct QuasiStaticBlock {
     /// Use the cutoff ageing form `B ln(1 + theta/theta_c)`.
     pub cutoff: bool,
+    /// The evolution law of `theta`.
+    pub state_law: StateLaw,
 }
 
 impl VectorField for QuasiStaticBlock {
@@ -90,7 +94,7 @@ impl VectorField for QuasiStaticBlock {
         let v = law.slip_velocity(s, theta);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         out[0] = kappa * (nu - v);
-        out[1] = -(v * theta) + 1.0;
+        out[1] = self.state_law.rate(v, theta);
     }
 }
 
@@ -104,10 +108,12 @@ pub enum DrivenBlock {
 impl DrivenBlock {
     /// The model of the given kind for the ageing form of `params`.
     pub fn new(kind: ModelKind, params: &Params) -> Self {
-        let cutoff = params.theta_c.is_some();
+        let (cutoff, state_law) = (params.theta_c.is_some(), params.state_law);
         match kind {
-            ModelKind::Inertial => DrivenBlock::Inertial(InertialBlock { cutoff }),
-            ModelKind::QuasiStatic => DrivenBlock::QuasiStatic(QuasiStaticBlock { cutoff }),
+            ModelKind::Inertial => DrivenBlock::Inertial(InertialBlock { cutoff, state_law }),
+            ModelKind::QuasiStatic => {
+                DrivenBlock::QuasiStatic(QuasiStaticBlock { cutoff, state_law })
+            }
         }
     }
 
@@ -184,6 +190,7 @@ mod tests {
             mu0: 0.6,
             mu2: 5e-4,
             theta_c: None,
+            state_law: Default::default(),
         }
     }
 
@@ -194,7 +201,10 @@ mod tests {
             (
                 ModelKind::Inertial,
                 eval(
-                    &InertialBlock { cutoff: false },
+                    &InertialBlock {
+                        cutoff: false,
+                        state_law: Default::default(),
+                    },
                     &steady_state(ModelKind::Inertial, &p),
                     &p.to_vec(),
                 ),
@@ -202,7 +212,10 @@ mod tests {
             (
                 ModelKind::QuasiStatic,
                 eval(
-                    &QuasiStaticBlock { cutoff: false },
+                    &QuasiStaticBlock {
+                        cutoff: false,
+                        state_law: Default::default(),
+                    },
                     &steady_state(ModelKind::QuasiStatic, &p),
                     &p.to_vec(),
                 ),
@@ -218,7 +231,10 @@ mod tests {
         // J = [[0, -kappa, 0], [1/m, -mu_v/(m nu), -mu_phi nu/m], [0, -1/nu, -nu]].
         let p = params();
         let j = jacobian(
-            &InertialBlock { cutoff: false },
+            &InertialBlock {
+                cutoff: false,
+                state_law: Default::default(),
+            },
             &steady_state(ModelKind::Inertial, &p),
             &p.to_vec(),
         );

@@ -18,7 +18,7 @@
 //! twice keeps the last value (as the run names do).
 
 use crate::error::{closest, InputError};
-use crate::params::{Param, Params};
+use crate::params::{Param, Params, StateLaw};
 use crate::scene::SceneOverride;
 
 /// A scene key `--set` takes in its physical unit.
@@ -129,6 +129,8 @@ pub enum Override {
     Dimensionless(Param, f64),
     /// A scene key in its physical unit.
     Physical(&'static PhysicalKey, PhysicalValue),
+    /// The evolution law of `theta` (`state_law=ageing|slip`, the scene key).
+    StateLaw(StateLaw),
 }
 
 impl Override {
@@ -137,6 +139,7 @@ impl Override {
         match self {
             Override::Dimensionless(p, _) => p.name(),
             Override::Physical(k, _) => k.name,
+            Override::StateLaw(_) => "state_law",
         }
     }
 
@@ -145,6 +148,7 @@ impl Override {
         match self {
             Override::Dimensionless(p, _) => Some(*p),
             Override::Physical(k, _) => k.sets,
+            Override::StateLaw(_) => None,
         }
     }
 
@@ -177,7 +181,7 @@ pub fn accepted_names() -> String {
         })
         .collect();
     format!(
-        "dimensionless {}; physical (scene keys) {}",
+        "dimensionless {}; physical (scene keys) {}; the state law state_law [ageing|slip]",
         dimensionless.join(", "),
         physical.join(", ")
     )
@@ -255,7 +259,7 @@ impl Overrides {
                     },
                     shown: format!("{}={shown}", k.name),
                 }),
-                Override::Dimensionless(..) => None,
+                Override::Dimensionless(..) | Override::StateLaw(_) => None,
             })
             .collect()
     }
@@ -264,8 +268,10 @@ impl Overrides {
     /// physical ones) and validates the result.
     pub fn apply_dimensionless(&self, params: &mut Params) -> Result<(), InputError> {
         for (_, o) in &self.items {
-            if let Override::Dimensionless(p, v) = o {
-                params.set(*p, *v);
+            match o {
+                Override::Dimensionless(p, v) => params.set(*p, *v),
+                Override::StateLaw(law) => params.state_law = *law,
+                Override::Physical(..) => {}
             }
         }
         params.validate()
@@ -293,6 +299,15 @@ fn parse_one(name: &str, value: &str) -> Result<Override, InputError> {
         })?;
         return Ok(Override::Dimensionless(p, v));
     }
+    if name == "state_law" {
+        return StateLaw::parse(value)
+            .map(Override::StateLaw)
+            .ok_or_else(|| InputError::Malformed {
+                field: "--set state_law".into(),
+                value: value.to_string(),
+                expected: "ageing or slip".into(),
+            });
+    }
     let Some(k) = PhysicalKey::find(name) else {
         if matches!(name, "name" | "description") {
             return Err(InputError::Conflict(format!(
@@ -303,7 +318,8 @@ fn parse_one(name: &str, value: &str) -> Result<Override, InputError> {
         let all = Param::ALL
             .iter()
             .map(|p| p.name())
-            .chain(PHYSICAL.iter().map(|k| k.name));
+            .chain(PHYSICAL.iter().map(|k| k.name))
+            .chain(["state_law"]);
         return Err(InputError::UnknownName {
             what: "parameter",
             name: name.to_string(),

@@ -80,7 +80,8 @@ impl Param {
 /// The dimensionless parameter set of docs/model.md.
 ///
 /// `theta_c = Some(..)` selects the cutoff ageing form `B ln(1 + theta/theta_c)`;
-/// `None` selects `B ln theta + mu2 (ln theta)^2`.
+/// `None` selects `B ln theta + mu2 (ln theta)^2`. `state_law` is the
+/// evolution law of `theta`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Params {
     pub kappa: f64,
@@ -91,6 +92,72 @@ pub struct Params {
     pub mu0: f64,
     pub mu2: f64,
     pub theta_c: Option<f64>,
+    pub state_law: StateLaw,
+}
+
+/// How the state variable `theta` evolves (docs/model.md, "State laws"),
+/// in units of `D0 / V0`:
+///
+/// - the ageing law `theta' = 1 - v theta` (seed eq. RR2; Dieterich): `theta`
+///   is the contacts' geometric age, which grows at rest;
+/// - Ruina's slip law `theta' = -v theta ln(v theta)` (Ruina 1983): the state
+///   evolves only with slip, not at rest.
+///
+/// Both have the steady state `v theta = 1` and the same linearization there
+/// (the partial derivatives in `v` and `theta` are `-theta` and `-v` at
+/// `v theta = 1` for both), hence the same `kappa_c` and `Omega_c`
+/// (Appendix C); their nonlinear terms, hence `l1`, `l2` and the cycles,
+/// differ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StateLaw {
+    #[default]
+    Ageing,
+    Slip,
+}
+
+impl StateLaw {
+    /// Both laws, in the order of their scene names.
+    pub const ALL: [StateLaw; 2] = [StateLaw::Ageing, StateLaw::Slip];
+
+    /// The scene key's value: `ageing` or `slip`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StateLaw::Ageing => "ageing",
+            StateLaw::Slip => "slip",
+        }
+    }
+
+    /// The law named `name` ([`StateLaw::name`]), if any.
+    pub fn parse(name: &str) -> Option<StateLaw> {
+        StateLaw::ALL.into_iter().find(|law| law.name() == name)
+    }
+
+    /// `d theta / dt` at `(v, theta)`.
+    pub fn rate<D: Scalar>(self, v: D, theta: D) -> D {
+        match self {
+            StateLaw::Ageing => -(v * theta) + 1.0,
+            StateLaw::Slip => {
+                let vt = v * theta;
+                -(vt * vt.ln())
+            }
+        }
+    }
+
+    /// `d phi / dt` for `phi = ln theta`, from the origin `(w_o, phi_o)` of
+    /// the log variables (`w = ln v`) and the state's offsets `(x_w, x_phi)`
+    /// from it, `v = e^w_o + dv`: without cancelling large terms at a
+    /// steady origin (`e^-phi_o = e^w_o`, `w_o + phi_o = 0`):
+    ///
+    /// - ageing: `e^-phi - e^w = (e^-phi_o - e^w_o) + e^-phi_o expm1(-x_phi) - dv`;
+    /// - slip: `-v ln(v theta) = -(e^w_o + dv) ((w_o + phi_o) + x_w + x_phi)`.
+    pub fn log_rate<D: Scalar>(self, (w_o, phi_o): (f64, f64), x_w: D, x_phi: D, dv: D) -> D {
+        let (ew_o, ephi_o) = (w_o.exp(), (-phi_o).exp());
+        match self {
+            StateLaw::Ageing => (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o),
+            StateLaw::Slip => -((dv + ew_o) * (x_w + x_phi + (w_o + phi_o))),
+        }
+    }
 }
 
 impl Params {

@@ -10,7 +10,7 @@
 //! `K` in N/m, `tau` in s, `g` in m/s^2.
 
 use crate::error::{closest, InputError};
-use crate::params::Params;
+use crate::params::{Params, StateLaw};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -115,7 +115,7 @@ const BUILTINS: [(&str, &str); 3] = [
 const BUILTIN_NAMES: [&str; 3] = [BUILTINS[0].0, BUILTINS[1].0, BUILTINS[2].0];
 
 /// Every key a scene file may hold.
-const KEYS: &str = "name description A B mu0 mu2 tau D0 V0 M W g K V V_range";
+const KEYS: &str = "name description A B mu0 mu2 tau state_law D0 V0 M W g K V V_range";
 
 /// Names of the built-in scenes (`examples/scenes/NAME.toml`).
 pub fn builtin_names() -> &'static [&'static str] {
@@ -245,6 +245,16 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
              (short-age cutoff vs ln² correction); give only one"
         )));
     }
+    let state_law = match string(&t, "state_law")? {
+        None => StateLaw::Ageing,
+        Some(name) => StateLaw::parse(&name).ok_or_else(|| InputError::Malformed {
+            field: format!("{origin}: state_law"),
+            value: name,
+            expected:
+                "ageing (theta' = 1 - v theta, the default) or slip (theta' = -v theta ln(v theta))"
+                    .into(),
+        })?,
+    };
     let d0 = read(&t, "D0", "> 0", "micrometres")?.unwrap_or(1.0);
     let v0 = read(&t, "V0", "> 0", "um/s")?.unwrap_or(1.0);
     let mass = read(&t, "M", ">= 0", "kg")?.unwrap_or(1.0);
@@ -280,6 +290,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         mu0,
         mu2,
         theta_c: tau.map(|tau| tau * v0 / d0),
+        state_law,
     };
     let nu_range = (lo / v0, hi / v0);
     let derived = [

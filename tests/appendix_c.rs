@@ -59,6 +59,7 @@ fn sweep(n: usize, seed: u64) -> Vec<Params> {
                 mu0: rng.uniform(0.1, 0.9),
                 mu2,
                 theta_c: None,
+                state_law: Default::default(),
             }
         })
         .collect()
@@ -127,6 +128,7 @@ fn hopf_point_of_the_cutoff_law_matches_c11_and_c13() {
             mu0: 0.5,
             mu2: 0.0,
             theta_c: Some(theta_c),
+            state_law: Default::default(),
         };
         let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
             panic!("{p:?}: no Hopf")
@@ -242,6 +244,7 @@ fn large_stiffness_eigenvalues_approach_the_asymptotics() {
         mu0: 0.6,
         mu2: 0.0,
         theta_c: None,
+        state_law: Default::default(),
     };
     let block = DrivenBlock::new(ModelKind::Inertial, &base);
     let mut scaled = Vec::new();

@@ -43,6 +43,7 @@ fn hopf_curves_match_appendix_c_along_nu() {
                 mu0: 0.5,
                 mu2: 1e-3,
                 theta_c: None,
+                state_law: Default::default(),
             },
             (0.01, 10.0),
         ),
@@ -57,6 +58,7 @@ fn hopf_curves_match_appendix_c_along_nu() {
                 mu0: 0.5,
                 mu2: 0.0,
                 theta_c: Some(0.05),
+                state_law: Default::default(),
             },
             (0.1, 10.0),
         ),
@@ -177,6 +179,7 @@ fn inertial_rr_onset_changes_type_at_eta_star() {
             mu0: 0.6,
             mu2: 0.0,
             theta_c: None,
+            state_law: Default::default(),
         };
         let d = hopf_curve(
             ModelKind::Inertial,
@@ -238,6 +241,7 @@ fn a_hopf_region_starting_inside_the_range_is_traced_from_its_start() {
         mu0: 0.5,
         mu2: -1e-3,
         theta_c: None,
+        state_law: Default::default(),
     };
     let d = stability_diagram(ModelKind::QuasiStatic, &p, (0.1, 100.0)).unwrap();
     let nu_star = 0.5f64.exp();
@@ -285,6 +289,7 @@ fn curve_points_resolve_l1_at_small_inertia() {
         mu0: 0.5,
         mu2: 0.0,
         theta_c: None,
+        state_law: Default::default(),
     };
     let d = stability_diagram(ModelKind::Inertial, &p, (1.0, 1.5)).unwrap();
     let first = d.points.first().unwrap();

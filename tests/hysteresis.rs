@@ -29,6 +29,7 @@ fn brockley(nu: f64, m: f64, kappa: f64) -> Params {
         mu0: 0.5,
         mu2: 0.0,
         theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
+        state_law: Default::default(),
     }
 }
 

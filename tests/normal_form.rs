@@ -28,6 +28,7 @@ fn rr(m: f64, nu: f64, mu2: f64) -> Params {
         mu0: 0.6,
         mu2,
         theta_c: None,
+        state_law: Default::default(),
     }
 }
 
@@ -55,6 +56,7 @@ fn l1_matches_forty_digit_references() {
                 mu0: 0.6,
                 mu2: 5e-4,
                 theta_c: None,
+                state_law: Default::default(),
             },
             -6.33249221023467425246e-4,
         ),
@@ -89,6 +91,7 @@ fn l1_matches_forty_digit_references() {
                 mu0: 0.6,
                 mu2: 0.0,
                 theta_c: Some(0.01),
+                state_law: Default::default(),
             },
             -1.06322912431647633328e-6,
         ),
@@ -148,6 +151,7 @@ fn quasi_static_ln2_l1_and_amplitude_match_closed_forms() {
             mu0: 0.4,
             mu2,
             theta_c: None,
+            state_law: Default::default(),
         };
         let h = hopf(ModelKind::QuasiStatic, p);
         let mu_phi = b - 2.0 * mu2 * nu.ln();

@@ -45,6 +45,7 @@ fn rows() -> Vec<Row> {
                 mu0: num("mu0"),
                 mu2: num("mu2"),
                 theta_c: (!theta_c.is_empty()).then(|| theta_c.parse().unwrap()),
+                state_law: Default::default(),
             };
             Row {
                 label: format!(

@@ -53,6 +53,7 @@ fn reference(case: &str, eps_max: f64) -> Vec<Reference> {
                     mu0: get("mu0"),
                     mu2: get("mu2"),
                     theta_c: cells[theta_c].parse().ok(),
+                    state_law: Default::default(),
                 },
                 eps: get("eps"),
                 kappa: get("kappa"),

@@ -18,6 +18,7 @@ fn law(mu2: f64) -> Params {
         mu0: 0.5,
         mu2,
         theta_c: None,
+        state_law: Default::default(),
     }
 }
 

@@ -18,6 +18,7 @@ fn l1_agrees_with_finite_differences_to_their_accuracy() {
         mu0: 0.6,
         mu2: 5e-4,
         theta_c: None,
+        state_law: Default::default(),
     };
     let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
         panic!("no Hopf point: {p:?}");

@@ -299,6 +299,7 @@ mod tests {
             mu0: 0.5,
             mu2: 0.0,
             theta_c: None,
+            state_law: Default::default(),
         }
     }
 

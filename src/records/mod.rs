@@ -73,12 +73,14 @@ pub fn describe_params_except(
     left_out: Option<crate::params::Param>,
 ) -> String {
     let left_out = left_out.map(crate::params::Param::name);
-    p.named()
+    let listed = p
+        .named()
         .iter()
         .filter(|(n, _)| Some(*n) != left_out)
         .map(|(n, v)| format!("{n} = {v:.6e}"))
         .collect::<Vec<_>>()
-        .join(", ")
+        .join(", ");
+    format!("{listed}; {} state law", p.state_law.name())
 }
 
 /// The units of a result: the scene's length and velocity scales.
@@ -100,12 +102,14 @@ impl UnitsRecord {
     }
 }
 
-/// Parameters as a JSON object (names of docs/model.md).
+/// Parameters as a JSON object (names of docs/model.md), with the state
+/// law by name (`state_law`: `ageing` or `slip`).
 pub fn params_json(p: &crate::params::Params) -> serde_json::Value {
     serde_json::Value::Object(
         p.named()
             .into_iter()
             .map(|(n, v)| (n.to_string(), serde_json::json!(v)))
+            .chain([("state_law".into(), p.state_law.name().into())])
             .collect(),
     )
 }

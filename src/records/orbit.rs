@@ -8,7 +8,7 @@ use crate::analysis::cycles::CycleRecord;
 use crate::jobs::{SceneSpec, Setup};
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
-use crate::params::{Param, N_PARAMS};
+use crate::params::{Param, StateLaw, N_PARAMS};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::{CollocationPoints, Mesh};
 use continuation::VectorField;
@@ -32,6 +32,10 @@ pub struct StoredOrbit {
     pub model: ModelKind,
     /// Whether the ageing has the cutoff form (`theta_c`).
     pub cutoff: bool,
+    /// The evolution law of `theta` (`ageing` in files written before the
+    /// slip law existed).
+    #[serde(default)]
+    pub state_law: StateLaw,
     /// `(s_o, ln v_o, ln theta_o)`: the point the state is measured from.
     pub origin: [f64; 3],
     /// The full parameter vector, in the order `kappa, nu, m, A, B, mu0,
@@ -68,6 +72,7 @@ impl StoredOrbit {
             label,
             model: rec.log.kind,
             cutoff: rec.log.cutoff,
+            state_law: rec.log.state_law,
             origin: rec.log.origin,
             params: c.p.clone(),
             period: c.period,
@@ -100,6 +105,7 @@ impl StoredOrbit {
         let log = LogBlock {
             kind: self.model,
             cutoff: self.cutoff,
+            state_law: self.state_law,
             origin: self.origin,
         };
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());

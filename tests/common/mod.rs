@@ -41,6 +41,7 @@ pub fn pmma(m: f64, mu2: f64) -> Params {
         mu0: 0.5,
         mu2,
         theta_c: None,
+        state_law: Default::default(),
     }
 }
 
@@ -57,6 +58,7 @@ pub fn brockley(nu: f64) -> Params {
         mu0: 0.5,
         mu2: 0.0,
         theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
+        state_law: Default::default(),
     }
 }
 

@@ -117,6 +117,7 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
         mu0: 0.5,
         mu2: 2.4e-4,
         theta_c: None,
+        state_law: Default::default(),
     };
     let kind = ModelKind::QuasiStatic;
     let mut out = Vec::new();
