@@ -7,6 +7,8 @@
 //! at `rtol = 1e-11`) plus noise of a fixed seed: an independent path to
 //! the fit's model (physical time, the variational equations).
 
+mod common;
+
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use stickslip::analysis::simulate::{simulate, Segment};
@@ -44,15 +46,6 @@ fn scene(mu2: f64) -> (Params, f64, f64) {
     let mut p = s.params;
     p.mu2 = mu2;
     (p, s.units.d0 / s.units.v0, s.units.k_over_w(p.kappa))
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "stickslip-fit-series-{name}-{}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// `mu(t)` of a protocol of `(start [s], V [µm/s])` from steady sliding at
@@ -171,7 +164,7 @@ const OFF: [&str; 4] = ["A=0.0135", "B=0.021", "D0=0.47", "mu0=0.502"];
 
 #[test]
 fn a_velocity_step_gives_its_parameters_back_quasi_static() {
-    let dir = temp_dir("qs");
+    let dir = common::temp_dir("fit-series-qs");
     let path = dir.join("step.csv");
     // 1 -> 3 -> 1 µm/s: quasi-static (m nu^2 / A = 2e-4 at 3 µm/s).
     velocity_step_file(
@@ -199,7 +192,7 @@ fn a_velocity_step_gives_its_parameters_back_quasi_static() {
 
 #[test]
 fn a_velocity_step_gives_its_parameters_back_inertial() {
-    let dir = temp_dir("inertial");
+    let dir = common::temp_dir("fit-series-inertial");
     let path = dir.join("step.csv");
     // 10 -> 100 -> 10 µm/s: inertial (m nu^2 / A = 0.2 at 100 µm/s).
     velocity_step_file(
@@ -244,7 +237,7 @@ fn relaxation_files(dir: &Path, mu2: f64, seed: u64) -> Vec<(Kind, PathBuf)> {
 /// determined, with the data that would determine it.
 #[test]
 fn relaxation_tells_mu2_from_zero() {
-    let dir = temp_dir("relaxation");
+    let dir = common::temp_dir("fit-series-relaxation");
     for (mu2, seed) in [(1e-3, 10), (0.0, 20)] {
         let data = relaxation_files(&dir, mu2, seed);
         let f = fit(data.clone(), "A,B,D0,mu0,mu2", &[]);
@@ -292,7 +285,7 @@ fn series_model(path: &Path, kind: Kind, model: ModelKind) -> (SeriesModel, Valu
 /// sensitivities at the fit's tolerance agree with them to 1e-5.
 #[test]
 fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
-    let dir = temp_dir("sensitivities");
+    let dir = common::temp_dir("fit-series-sensitivities");
     let qs = dir.join("qs.csv");
     velocity_step_file(
         &qs,
@@ -372,7 +365,7 @@ fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
 /// three orders below the data's noise (1e-4, 1e-3 µm).
 #[test]
 fn the_integration_error_is_far_below_the_noise() {
-    let dir = temp_dir("model-error");
+    let dir = common::temp_dir("fit-series-model-error");
     for (kind, model, steps, per_s, bound) in [
         (
             Kind::VelocityStep,
@@ -417,5 +410,118 @@ fn the_integration_error_is_far_below_the_noise() {
         .fold(0.0, f64::max);
     println!("relaxation: largest model error {worst:.2e} um");
     assert!(worst < 1e-6, "{worst}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Bad data stop the command with status 2, naming the file, the row and
+/// the column; a scene without a spring says to give one.
+#[test]
+fn bad_time_series_stop_with_status_2() {
+    let dir = common::temp_dir("fit-series-bad");
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    let cases: [(&str, &str, &str, &[&str]); 4] = [
+        (
+            "velocity_step",
+            "t_s,V_um_s,mu\n0,1,0.5\n1,3,0.51\n1,3,0.5\n",
+            "row 4, column 1 (t_s)",
+            &["increase"],
+        ),
+        (
+            "velocity_step",
+            "t_s,V_um_s,mu\n0,1,0.5\n1,3,nan\n",
+            "row 3, column 3 (mu)",
+            &["finite"],
+        ),
+        (
+            "relaxation",
+            "t_s,slip_um,V_um_s\n0,0,1\n1,0.1,1\n2,0.2,3\n",
+            "row 4, column 3 (V_um_s)",
+            &["one file per velocity"],
+        ),
+        (
+            "relaxation",
+            "t_s,slip,V_um_s\n0,0,1\n1,0.1,1\n",
+            "row 1, column 2",
+            &["slip_um"],
+        ),
+    ];
+    for (k, (kind, text, at, says)) in cases.iter().enumerate() {
+        let file = dir.join(format!("bad-{k}.csv"));
+        std::fs::write(&file, text).unwrap();
+        let data = format!("{kind}={}", file.display());
+        let (code, _, err) =
+            common::stickslip(&["fit", "--scene", SCENE, "--data", &data, "--out", out]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(&format!("{}: {at}", file.display())), "{err}");
+        for s in *says {
+            assert!(err.contains(s), "{err}");
+        }
+    }
+    // The pmma scene has no K: the rig's spring is asked for.
+    let data = "velocity_step=examples/data/pmma-velocity-step.csv";
+    let (code, _, err) =
+        common::stickslip(&["fit", "--scene", "pmma", "--data", data, "--out", out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--set K="), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The example files end to end: every kind in one fit (exit 0, the JSON's
+/// datasets with their models, the figures written), the relaxations alone
+/// partial (exit 4: mu0 not determined).
+#[test]
+fn the_example_time_series_from_the_command_line() {
+    let dir = common::temp_dir("fit-series-cli");
+    let out = dir.join("all");
+    let (code, json, err) = common::stickslip(&[
+        "fit",
+        "--scene",
+        SCENE,
+        "--data",
+        "velocity_step=examples/data/pmma-velocity-step.csv",
+        "--data",
+        "relaxation=examples/data/pmma-relaxation-1.csv",
+        "--data",
+        "steady=examples/data/pmma-steady.csv",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let datasets = v["datasets"].as_array().unwrap();
+    assert_eq!(datasets[0]["kind"], "velocity_step");
+    assert_eq!(datasets[0]["rows"], 2000);
+    assert_eq!(datasets[0]["model"], "quasi-static");
+    assert_eq!(datasets[1]["kind"], "relaxation");
+    assert!(datasets[1]["rms"].as_f64().unwrap() < 1.5e-3);
+    assert!(datasets[2]["model"].is_null());
+    for name in ["velocity_step-mu", "relaxation-slip_um"] {
+        for f in ["", "-residuals"] {
+            assert!(
+                out.join(format!("pmma-machine-fit-{name}{f}.png")).exists(),
+                "{name}{f}"
+            );
+        }
+    }
+    let fitted = std::fs::read_to_string(out.join("fitted.toml")).unwrap();
+    assert!(fitted.contains("K = 1000000"), "{fitted}");
+    let (code, _, err) = common::stickslip(&[
+        "fit",
+        "--scene",
+        SCENE,
+        "--data",
+        "relaxation=examples/data/pmma-relaxation-0.3.csv",
+        "--data",
+        "relaxation=examples/data/pmma-relaxation-3.csv",
+        "--out",
+        dir.join("relax").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(
+        err.contains("mu0") && err.contains("steady-friction"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
