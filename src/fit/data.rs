@@ -278,15 +278,15 @@ impl Dataset {
                 .position(|n| *n == name)
                 .map(|i| columns[i].clone())
         };
-        let position = |name: &str| index.iter().position(|n| *n == name).unwrap_or(0) + 1;
+        // Where a check across rows fails: the file, the row, the column.
+        let at = |k: usize, name: &str| {
+            let c = index.iter().position(|n| *n == name).unwrap_or(0) + 1;
+            format!("{shown}: row {}, column {c} ({name})", row_numbers[k])
+        };
         if let Some(t) = column("t_s") {
             if let Some(k) = (1..rows).find(|&k| t[k] <= t[k - 1]) {
                 return Err(InputError::OutOfRange {
-                    field: format!(
-                        "{shown}: row {}, column {} (t_s)",
-                        row_numbers[k],
-                        position("t_s")
-                    ),
+                    field: at(k, "t_s"),
                     value: t[k].to_string(),
                     expected: format!(
                         "a time after the previous row's {} (times increase strictly)",
@@ -299,11 +299,7 @@ impl Dataset {
             let v = column("V_um_s").unwrap_or_default();
             if let Some(k) = (1..rows).find(|&k| v[k] != v[0]) {
                 return Err(InputError::OutOfRange {
-                    field: format!(
-                        "{shown}: row {}, column {} (V_um_s)",
-                        row_numbers[k],
-                        position("V_um_s")
-                    ),
+                    field: at(k, "V_um_s"),
                     value: v[k].to_string(),
                     expected: format!(
                         "the file's one velocity {} (a relaxation file is one run from steady \
@@ -427,35 +423,47 @@ mod tests {
             (ok.t_s.clone(), ok.measured[0].column),
             (vec![0.0, 5.0], "mu")
         );
-        let e = parse(Kind::VelocityStep, "t_s,V_um_s,mu\n0,1,0.5\n0,10,0.51\n").unwrap_err();
-        assert!(
-            e.contains("d.csv: row 3, column 1 (t_s)") && e.contains("increase"),
-            "{e}"
-        );
-        let e = parse(Kind::VelocityStep, "t_s,V_um_s,mu\n0,1,0.5\n1,10,NaN\n").unwrap_err();
-        assert!(e.contains("row 3, column 3 (mu)"), "{e}");
-        let e = parse(Kind::VelocityStep, "t_s,V_um_s,mu\n0,0,0.5\n1,10,0.5\n").unwrap_err();
-        assert!(
-            e.contains("row 2, column 2 (V_um_s)") && e.contains("> 0"),
-            "{e}"
-        );
-        let e = parse(Kind::VelocityStep, "t,V_um_s,mu\n0,1,0.5\n1,10,0.5\n").unwrap_err();
-        assert!(e.contains("did you mean t_s?"), "{e}");
-        let e = parse(
-            Kind::Relaxation,
-            "t_s,slip_um,V_um_s\n0,0,1\n1,0.1,1\n2,0.2,3\n",
-        )
-        .unwrap_err();
-        assert!(
-            e.contains("row 4, column 3 (V_um_s)") && e.contains("one file per velocity"),
-            "{e}"
-        );
-        let e = parse(Kind::Relaxation, "t_s,slip\n0,0\n1,0.1\n").unwrap_err();
-        assert!(e.contains("did you mean slip_um?"), "{e}");
-        let e = parse(Kind::Relaxation, "t_s,slip_um,V_um_s\n-1,0,1\n1,0.1,1\n").unwrap_err();
-        assert!(
-            e.contains("row 2, column 1 (t_s)") && e.contains(">= 0"),
-            "{e}"
-        );
+        // (kind, file, what the message says)
+        let cases: [(Kind, &str, &[&str]); 7] = [
+            (
+                Kind::VelocityStep,
+                "t_s,V_um_s,mu\n0,1,0.5\n0,10,0.51\n",
+                &["d.csv: row 3, column 1 (t_s)", "increase"],
+            ),
+            (
+                Kind::VelocityStep,
+                "t_s,V_um_s,mu\n0,1,0.5\n1,10,NaN\n",
+                &["row 3, column 3 (mu)"],
+            ),
+            (
+                Kind::VelocityStep,
+                "t_s,V_um_s,mu\n0,0,0.5\n1,10,0.5\n",
+                &["row 2, column 2 (V_um_s)", "> 0"],
+            ),
+            (
+                Kind::VelocityStep,
+                "t,V_um_s,mu\n0,1,0.5\n1,10,0.5\n",
+                &["did you mean t_s?"],
+            ),
+            (
+                Kind::Relaxation,
+                "t_s,slip_um,V_um_s\n0,0,1\n1,0.1,1\n2,0.2,3\n",
+                &["row 4, column 3 (V_um_s)", "one file per velocity"],
+            ),
+            (
+                Kind::Relaxation,
+                "t_s,slip\n0,0\n1,0.1\n",
+                &["did you mean slip_um?"],
+            ),
+            (
+                Kind::Relaxation,
+                "t_s,slip_um,V_um_s\n-1,0,1\n1,0.1,1\n",
+                &["row 2, column 1 (t_s)", ">= 0"],
+            ),
+        ];
+        for (kind, text, says) in cases {
+            let e = parse(kind, text).unwrap_err();
+            assert!(says.iter().all(|s| e.contains(s)), "{e}");
+        }
     }
 }
