@@ -234,8 +234,15 @@ fn relaxation_tells_mu2_from_zero() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// The model of a dataset: its file read, on the scene's rig.
-fn series_model(path: &Path, kind: Kind, model: ModelKind) -> (SeriesModel, Values<f64>) {
+/// The model of a dataset: its file read, on the scene's rig, with the
+/// scene's law, or its cutoff form (`tau = 0.1 s`, `theta_c = 0.25`) for
+/// `cutoff`.
+fn series_model(
+    path: &Path,
+    kind: Kind,
+    model: ModelKind,
+    cutoff: bool,
+) -> (SeriesModel, Values<f64>) {
     let s = stickslip::scene::load(SCENE).unwrap();
     let d = Dataset::read(kind, path).unwrap();
     let values = Values {
@@ -243,17 +250,22 @@ fn series_model(path: &Path, kind: Kind, model: ModelKind) -> (SeriesModel, Valu
         a: s.params.a,
         b: s.params.b,
         d0_um: s.units.d0 * 1e6,
-        ageing: AgeingValue::Mu2(s.params.mu2),
+        ageing: if cutoff {
+            AgeingValue::Tau(0.1)
+        } else {
+            AgeingValue::Mu2(s.params.mu2)
+        },
     };
     let rig = Rig::of(&s.units);
-    let m = SeriesModel::new(&d, model, false, rig, s.units.k_over_w(s.params.kappa));
+    let m = SeriesModel::new(&d, model, cutoff, rig, s.units.k_over_w(s.params.kappa));
     (m, values)
 }
 
 /// The forward sensitivities against central differences of the
 /// integrated solution (step 1e-4 relative, both integrations at rtol
 /// 1e-12: truncation and integration error about 1e-8), for the
-/// quasi-static and the inertial model and both observables; and the
+/// quasi-static and the inertial model, both ageing forms (the cutoff's
+/// `theta_c = tau V0 / D0` moves with D0) and both observables; and the
 /// sensitivities at the fit's tolerance agree with them to 1e-5.
 #[test]
 fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
@@ -282,12 +294,14 @@ fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
     );
     let relaxation = dir.join("relaxation.csv");
     relaxation_file(&relaxation, 2.4e-4, 1.0, 100.0, 50, 0.0, 5);
-    for (path, kind, model) in [
-        (&qs, Kind::VelocityStep, ModelKind::QuasiStatic),
-        (&inertial, Kind::VelocityStep, ModelKind::Inertial),
-        (&relaxation, Kind::Relaxation, ModelKind::QuasiStatic),
+    for (path, kind, model, cutoff) in [
+        (&qs, Kind::VelocityStep, ModelKind::QuasiStatic, false),
+        (&qs, Kind::VelocityStep, ModelKind::QuasiStatic, true),
+        (&inertial, Kind::VelocityStep, ModelKind::Inertial, false),
+        (&inertial, Kind::VelocityStep, ModelKind::Inertial, true),
+        (&relaxation, Kind::Relaxation, ModelKind::QuasiStatic, false),
     ] {
-        let (m, values) = series_model(path, kind, model);
+        let (m, values) = series_model(path, kind, model, cutoff);
         let exact = m.solve_at(&values, 1e-12).unwrap();
         let fit_tol = m.solve(&values).unwrap();
         let q = stickslip::fit::series::law_vector(&values);
@@ -301,7 +315,10 @@ fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
                     a: p[1],
                     b: p[2],
                     d0_um: p[3],
-                    ageing: AgeingValue::Mu2(p[4]),
+                    ageing: match values.ageing {
+                        AgeingValue::Mu2(_) => AgeingValue::Mu2(p[4]),
+                        AgeingValue::Tau(_) => AgeingValue::Tau(p[4]),
+                    },
                 };
                 m.solve_at(&v, 1e-12).unwrap().values
             };
@@ -341,7 +358,7 @@ fn the_integration_error_is_far_below_the_noise() {
     // The largest difference between the model at the truth and the
     // noiseless data of `path`.
     let largest_error = |path: &Path, kind: Kind, model: ModelKind, mu2: f64| {
-        let (m, mut values) = series_model(path, kind, model);
+        let (m, mut values) = series_model(path, kind, model, false);
         values.ageing = AgeingValue::Mu2(mu2);
         let data = Dataset::read(kind, path).unwrap();
         let worst = m
