@@ -375,16 +375,7 @@ fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
             let at = |sign: f64| {
                 let mut p = q;
                 p[k] += sign * h;
-                let v = Values {
-                    mu0: p[0],
-                    a: p[1],
-                    b: p[2],
-                    d0_um: p[3],
-                    ageing: match values.ageing {
-                        AgeingValue::Mu2(_) => AgeingValue::Mu2(p[4]),
-                        AgeingValue::Tau(_) => AgeingValue::Tau(p[4]),
-                    },
-                };
+                let v = stickslip::fit::series::with_law(&values, &p);
                 m.solve_at(&v, 1e-12).unwrap().values
             };
             let (plus, minus) = (at(1.0), at(-1.0));

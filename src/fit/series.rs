@@ -69,8 +69,8 @@ pub fn real_values<T: Scalar>(v: &Values<T>) -> Values<f64> {
     )
 }
 
-/// `values` with the law's values `q`.
-fn with_law<T: Scalar>(values: &Values<f64>, q: &[T]) -> Values<T> {
+/// `values`' ageing form with the law's values `q`.
+pub fn with_law<T: Scalar>(values: &Values<f64>, q: &[T]) -> Values<T> {
     Values {
         mu0: q[0],
         a: q[1],
