@@ -7,6 +7,9 @@
 //! The data of the draws are written here with the closed forms of the
 //! seed (eqs. RR5, C11, C13), not with the code under test.
 
+mod common;
+
+use common::Normal;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use stickslip::fit::data::Kind;
@@ -42,23 +45,6 @@ fn onset(v: f64) -> (f64, f64) {
     let kw = (mu_phi - a) * (1.0 + (v * 1e-6).powi(2) / (w * d0 * a)) / d0;
     let f = v * 1e-6 / (2.0 * PI * d0) * (mu_phi / a - 1.0).sqrt();
     (kw, f)
-}
-
-/// Normal deviates from a fixed seed (SplitMix64, Box–Muller).
-struct Normal(u64);
-
-impl Normal {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn next(&mut self) -> f64 {
-        let (u, v) = (self.uniform().max(1e-300), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
-    }
 }
 
 fn geomspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {

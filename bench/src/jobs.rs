@@ -20,7 +20,7 @@ use stickslip::model::ModelKind;
 use stickslip::params::Params;
 
 /// Names of the jobs, in the order they run.
-pub const JOB_NAMES: [&str; 12] = [
+pub const JOB_NAMES: [&str; 13] = [
     "hopf_point_l1",
     "hopf_point_l1_inertial",
     "hopf_curve_4_decades",
@@ -33,6 +33,7 @@ pub const JOB_NAMES: [&str; 12] = [
     "auto_job4_stiff_branch",
     "auto_job5_fold_curve",
     "hopf_job",
+    "fit_velocity_step",
 ];
 
 /// The command lines of the jobs compared with AUTO-07p (docs/performance.md,
@@ -99,6 +100,10 @@ enum Work {
     /// (scene loaded, model chosen, onset, l1 with its bound, operating
     /// point): the reference of Python's per-call overhead.
     HopfJob(SceneSpec),
+    /// `jobs::fit::run` on a time series (integration with forward
+    /// sensitivities inside Levenberg–Marquardt); its models are built by
+    /// the job itself, so its evaluations are not counted.
+    Fit(Box<(SceneSpec, stickslip::jobs::fit::FitRequest)>),
     /// `find_hopf` (continuation in kappa, Hopf location, normal form with l1).
     Hopf { kind: ModelKind, params: Params },
     /// `hopf_curve` (the Hopf curve in (ln kappa, ln nu) with l1 at every
@@ -123,6 +128,27 @@ enum Work {
     /// its standard output discarded; its models are built by the command
     /// itself, so its evaluations are not counted.
     Command { args: Vec<String>, _dir: TempDir },
+}
+
+/// The velocity-step fit of the issue's speed target (issue 26: four
+/// parameters from 2000 points in at most 2 s): the example data on the
+/// stiff-machine PMMA scene, started from values 5-20 % off, without the
+/// fitted scene's stability band.
+fn fit_work() -> Work {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let spec = scene_spec(
+        &format!("{root}/examples/scenes/pmma-machine.toml"),
+        &["A=0.0135", "B=0.021", "D0=0.47", "mu0=0.502"],
+    );
+    let request = stickslip::jobs::fit::FitRequest {
+        data: vec![(
+            stickslip::fit::data::Kind::VelocityStep,
+            format!("{root}/examples/data/pmma-velocity-step.csv").into(),
+        )],
+        free: Some(["A", "B", "D0", "mu0"].map(String::from).to_vec()),
+        stability: false,
+    };
+    Work::Fit(Box::new((spec, request)))
 }
 
 /// A scene with `--set` overrides, the model chosen.
@@ -151,6 +177,11 @@ impl Job {
                 JOB_NAMES[11],
                 "jobs::hopf::run on the default scene (what `stickslip.hopf()` runs)",
                 Work::HopfJob(SceneSpec::named(stickslip::scene::DEFAULT_SCENE)),
+            ),
+            "fit_velocity_step" => (
+                JOB_NAMES[12],
+                "jobs::fit::run: A, B, D0, mu0 from examples/data/pmma-velocity-step.csv (2000 rows), started 5-20 % off",
+                fit_work(),
             ),
             "hopf_point_l1" => {
                 let setup = scene_spec(stickslip::scene::DEFAULT_SCENE, &[]).setup(|p| *p)?;
@@ -249,6 +280,10 @@ impl Job {
             last_cycle: None,
         };
         match &self.work {
+            Work::Fit(work) => {
+                let f = stickslip::jobs::fit::run(&work.0, &work.1)?;
+                Ok(points(std::hint::black_box(f).datasets[0].rows))
+            }
             Work::HopfJob(spec) => {
                 let h = stickslip::jobs::hopf::run(spec, &HopfRequest::default())?;
                 std::hint::black_box(&h);

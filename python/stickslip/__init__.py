@@ -1370,12 +1370,18 @@ def fit(
     scene's form) fitted to laboratory data (`stickslip fit`), by joint
     weighted least squares with standard errors and correlations.
 
-    scene: the rig the data were taken on (its V0, M and W) and the start
+    scene: the rig the data were taken on (its V0, M, W, and K for the
+        time series) and the start
         of the fit (default: pmma).
     data: (kind, file) pairs, or a dict kind -> file: "steady" (CSV
-        columns V_um_s, mu) or "onset" (V_um_s, K_over_W_per_m, optionally
-        frequency_hz); an optional sigma column (sigma_frequency_hz for
-        the frequency) gives each row's error, else it is estimated.
+        columns V_um_s, mu), "onset" (V_um_s, K_over_W_per_m, optionally
+        frequency_hz), "velocity_step" (t_s, V_um_s, mu: friction under a
+        protocol of load-point velocities, each row's until the next
+        row's time) or "relaxation" (t_s, slip_um, V_um_s: the slip after
+        the drive stops at t = 0, one velocity per file); the time series
+        are integrated on the scene's rig (its K, W, M). An optional sigma
+        column (sigma_frequency_hz for the frequency) gives each row's
+        error, else it is estimated.
     free: the parameters to fit (default: all of the law's).
 
     Returns a `Fit`; `complete` is False (not an exception) when the data

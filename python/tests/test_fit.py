@@ -44,3 +44,36 @@ def test_partial_and_bad_data(root, tmp_path, monkeypatch):
     assert "row 3, column 1 (V_um_s)" in str(e.value)
     with pytest.raises(InputError):
         stickslip.fit("pmma", [("stedy", bad)])
+
+
+MACHINE = "examples/scenes/pmma-machine.toml"
+STEP = ("velocity_step", "examples/data/pmma-velocity-step.csv")
+RELAXATIONS = [("relaxation", f"examples/data/pmma-relaxation-{v}.csv") for v in ("0.3", "1", "3")]
+
+
+def test_time_series_pass_through(root, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    f = stickslip.fit(MACHINE, [STEP])
+    expected = cli("fit", "--scene", MACHINE, "--data", "velocity_step=" + STEP[1],
+                   "--out", str(tmp_path), "--force")
+    expected.pop("files")
+    got = f.to_dict()
+    got.pop("files")
+    assert got == expected
+    assert f.complete
+    for name, truth in [("A", 0.012), ("B", 0.023), ("D0", 0.4), ("mu0", 0.5)]:
+        assert abs(f.value(name) - truth) < 3 * f.std_error(name), name
+    step = got["datasets"][0]
+    assert (step["kind"], step["rows"], step["model"]) == ("velocity_step", 2000, "quasi-static")
+    files = f.figures(tmp_path / "figs")
+    assert any(p.endswith("-fit-velocity_step-mu.png") for p in files)
+    # Relaxations see no mu0: partial, named; without it, complete.
+    partial = stickslip.fit(MACHINE, RELAXATIONS)
+    assert not partial.complete and "mu0" in partial.stop
+    r = stickslip.fit(MACHINE, RELAXATIONS, free="A,B,D0,mu2")
+    assert r.complete and abs(r.value("mu2") - 2.4e-4) < 3 * r.std_error("mu2")
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t_s,slip_um,V_um_s\n0,0,1\n1,0.1,3\n")
+    with pytest.raises(InputError) as e:
+        stickslip.fit(MACHINE, [("relaxation", bad)])
+    assert "row 3, column 3 (V_um_s)" in str(e.value)

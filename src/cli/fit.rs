@@ -15,9 +15,13 @@ pub struct FitArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// A dataset, KIND=FILE, repeatable: steady (CSV columns V_um_s, mu),
-    /// onset (V_um_s, K_over_W_per_m, optionally frequency_hz); an optional
-    /// sigma column gives each row's error (sigma_frequency_hz for the
-    /// frequency), else it is estimated from the residuals.
+    /// onset (V_um_s, K_over_W_per_m, optionally frequency_hz),
+    /// velocity_step (t_s, V_um_s, mu: each row's velocity holds until the
+    /// next row's time, on the scene's rig), relaxation (t_s, slip_um,
+    /// V_um_s: the slip after the drive stops at t = 0, one velocity per
+    /// file); an optional sigma column gives each row's error
+    /// (sigma_frequency_hz for the frequency), else it is estimated from
+    /// the residuals.
     #[arg(long, value_name = "KIND=FILE", required = true)]
     pub data: Vec<String>,
     /// The parameters to fit, comma-separated (default: every parameter of
@@ -153,6 +157,9 @@ fn print_text(fit: &Fit) {
                     " (error per row estimated from the residuals: {s:.3e})"
                 ))
         );
+        if let (Some(model), Some(why)) = (d.model, &d.model_reason) {
+            println!("    integrated in the {model} model: {why}");
+        }
     }
     if let Some(c) = &fit.closed_form {
         let mut line = format!(

@@ -6,10 +6,13 @@
 //! |---|---|---|
 //! | `steady` | `V_um_s`, `mu` | steady-state friction against driving velocity |
 //! | `onset` | `V_um_s`, `K_over_W_per_m`, optionally `frequency_hz` | the stability boundary `(K/W)_c` and the onset frequency |
+//! | `velocity_step` | `t_s`, `V_um_s`, `mu` | friction against time under a protocol of load-point velocities (each row's `V_um_s` holds until the next row's time; steady sliding at the first row's before it) |
+//! | `relaxation` | `t_s`, `slip_um`, `V_um_s` | slip after the drive stops at `t = 0`, from steady sliding at `V_um_s` (one velocity per file) |
 //!
 //! An optional `sigma` column gives each row's measurement error in the
-//! measured quantity (`mu`, or `K_over_W_per_m`; `sigma_frequency_hz` for
-//! the frequency); without it the error is estimated from the residuals.
+//! measured quantity (`mu`, `K_over_W_per_m` or `slip_um`;
+//! `sigma_frequency_hz` for the frequency); without it the error is
+//! estimated from the residuals. Times increase strictly from row to row.
 //! Lines starting with `#` and blank lines are skipped. Every error names
 //! the file, the row (1-based, the header is row 1) and the column.
 
@@ -25,11 +28,22 @@ pub enum Kind {
     /// The onset of stick-slip: `(K/W)_c(V)` (seed eq. KcRR, C11) and,
     /// where measured, its frequency (eq. omegacRR, C13).
     Onset,
+    /// Friction `mu(t)` under a protocol of load-point velocities, on the
+    /// scene's rig (the spring-block equations of docs/model.md).
+    VelocityStep,
+    /// Slip `x(t) - x(0)` after the drive stops at `t = 0`, from steady
+    /// sliding (seed §II.D.2: the creep-like relaxation).
+    Relaxation,
 }
 
 impl Kind {
     /// The kinds, by their names on the command line.
-    pub const ALL: [(&'static str, Kind); 2] = [("steady", Kind::Steady), ("onset", Kind::Onset)];
+    pub const ALL: [(&'static str, Kind); 4] = [
+        ("steady", Kind::Steady),
+        ("onset", Kind::Onset),
+        ("velocity_step", Kind::VelocityStep),
+        ("relaxation", Kind::Relaxation),
+    ];
 
     /// The kind named `name`.
     pub fn parse(name: &str) -> Result<Kind, InputError> {
@@ -50,6 +64,8 @@ impl Kind {
         match self {
             Kind::Steady => "a steady",
             Kind::Onset => "an onset",
+            Kind::VelocityStep => "a velocity_step",
+            Kind::Relaxation => "a relaxation",
         }
     }
 
@@ -58,7 +74,15 @@ impl Kind {
         match self {
             Kind::Steady => "steady",
             Kind::Onset => "onset",
+            Kind::VelocityStep => "velocity_step",
+            Kind::Relaxation => "relaxation",
         }
+    }
+
+    /// Whether the dataset is a time series, modelled by integrating the
+    /// spring-block equations (`velocity_step`, `relaxation`).
+    pub fn is_series(self) -> bool {
+        matches!(self, Kind::VelocityStep | Kind::Relaxation)
     }
 
     /// Required columns, then optional ones.
@@ -69,6 +93,8 @@ impl Kind {
                 &["V_um_s", "K_over_W_per_m"],
                 &["frequency_hz", "sigma", "sigma_frequency_hz"],
             ),
+            Kind::VelocityStep => (&["t_s", "V_um_s", "mu"], &["sigma"]),
+            Kind::Relaxation => (&["t_s", "slip_um", "V_um_s"], &["sigma"]),
         }
     }
 
@@ -93,6 +119,8 @@ pub struct Dataset {
     pub file: PathBuf,
     /// Driving velocities [µm/s], one per row.
     pub v_um_s: Vec<f64>,
+    /// Times [s], one per row (time series; empty otherwise).
+    pub t_s: Vec<f64>,
     /// The measured quantities: `mu` (steady); `K_over_W_per_m` and, when
     /// given, `frequency_hz` (onset).
     pub measured: Vec<Measured>,
@@ -191,7 +219,9 @@ impl Dataset {
             )));
         }
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); index.len()];
+        let mut row_numbers = Vec::new();
         for (row, line) in lines {
+            row_numbers.push(row);
             let cells: Vec<&str> = line.split(',').map(str::trim).collect();
             if cells.len() != index.len() {
                 return Err(malformed(
@@ -210,8 +240,18 @@ impl Dataset {
                         "a number",
                     )
                 })?;
-                let (ok, expected) = match *name {
-                    "mu" => (x.is_finite(), "a finite number"),
+                let first = columns[c].is_empty();
+                let (ok, expected) = match (*name, kind) {
+                    ("mu" | "slip_um", _) => (x.is_finite(), "a finite number"),
+                    ("t_s", Kind::Relaxation) => (
+                        x.is_finite() && x >= 0.0,
+                        "a finite time >= 0 (the drive stops at t = 0)",
+                    ),
+                    ("t_s", _) => (x.is_finite(), "a finite number"),
+                    // A hold (V = 0) inside a protocol, not at its start.
+                    ("V_um_s", Kind::VelocityStep) if !first => {
+                        (x.is_finite() && x >= 0.0, "a finite number >= 0")
+                    }
                     _ => (x.is_finite() && x > 0.0, "a finite number > 0"),
                 };
                 if !ok {
@@ -238,6 +278,37 @@ impl Dataset {
                 .position(|n| *n == name)
                 .map(|i| columns[i].clone())
         };
+        // Where a check across rows fails: the file, the row, the column.
+        let at = |k: usize, name: &str| {
+            let c = index.iter().position(|n| *n == name).unwrap_or(0) + 1;
+            format!("{shown}: row {}, column {c} ({name})", row_numbers[k])
+        };
+        if let Some(t) = column("t_s") {
+            if let Some(k) = (1..rows).find(|&k| t[k] <= t[k - 1]) {
+                return Err(InputError::OutOfRange {
+                    field: at(k, "t_s"),
+                    value: t[k].to_string(),
+                    expected: format!(
+                        "a time after the previous row's {} (times increase strictly)",
+                        t[k - 1]
+                    ),
+                });
+            }
+        }
+        if kind == Kind::Relaxation {
+            let v = column("V_um_s").unwrap_or_default();
+            if let Some(k) = (1..rows).find(|&k| v[k] != v[0]) {
+                return Err(InputError::OutOfRange {
+                    field: at(k, "V_um_s"),
+                    value: v[k].to_string(),
+                    expected: format!(
+                        "the file's one velocity {} (a relaxation file is one run from steady \
+                         sliding: give one file per velocity, --data relaxation=FILE repeated)",
+                        v[0]
+                    ),
+                });
+            }
+        }
         let measured_column = |name: &'static str, sigma: &str| {
             column(name).map(|values| Measured {
                 column: name,
@@ -251,11 +322,14 @@ impl Dataset {
                 measured_column("K_over_W_per_m", "sigma"),
                 measured_column("frequency_hz", "sigma_frequency_hz"),
             ],
+            Kind::VelocityStep => vec![measured_column("mu", "sigma")],
+            Kind::Relaxation => vec![measured_column("slip_um", "sigma")],
         };
         Ok(Dataset {
             kind,
             file: file.to_path_buf(),
             v_um_s: column("V_um_s").unwrap_or_default(),
+            t_s: column("t_s").unwrap_or_default(),
             measured: measured.into_iter().flatten().collect(),
         })
     }
@@ -340,5 +414,56 @@ mod tests {
         assert!(e.contains("header"), "{e}");
         let e = parse_data_option("stedy=x.csv").unwrap_err().to_string();
         assert!(e.contains("did you mean 'steady'"), "{e}");
+    }
+
+    #[test]
+    fn bad_time_series_name_file_row_and_column() {
+        let ok = parse(Kind::VelocityStep, "t_s,V_um_s,mu\n0,1,0.5\n5,10,0.51\n").unwrap();
+        assert_eq!(
+            (ok.t_s.clone(), ok.measured[0].column),
+            (vec![0.0, 5.0], "mu")
+        );
+        // (kind, file, what the message says)
+        let cases: [(Kind, &str, &[&str]); 7] = [
+            (
+                Kind::VelocityStep,
+                "t_s,V_um_s,mu\n0,1,0.5\n0,10,0.51\n",
+                &["d.csv: row 3, column 1 (t_s)", "increase"],
+            ),
+            (
+                Kind::VelocityStep,
+                "t_s,V_um_s,mu\n0,1,0.5\n1,10,NaN\n",
+                &["row 3, column 3 (mu)"],
+            ),
+            (
+                Kind::VelocityStep,
+                "t_s,V_um_s,mu\n0,0,0.5\n1,10,0.5\n",
+                &["row 2, column 2 (V_um_s)", "> 0"],
+            ),
+            (
+                Kind::VelocityStep,
+                "t,V_um_s,mu\n0,1,0.5\n1,10,0.5\n",
+                &["did you mean t_s?"],
+            ),
+            (
+                Kind::Relaxation,
+                "t_s,slip_um,V_um_s\n0,0,1\n1,0.1,1\n2,0.2,3\n",
+                &["row 4, column 3 (V_um_s)", "one file per velocity"],
+            ),
+            (
+                Kind::Relaxation,
+                "t_s,slip\n0,0\n1,0.1\n",
+                &["did you mean slip_um?"],
+            ),
+            (
+                Kind::Relaxation,
+                "t_s,slip_um,V_um_s\n-1,0,1\n1,0.1,1\n",
+                &["row 2, column 1 (t_s)", ">= 0"],
+            ),
+        ];
+        for (kind, text, says) in cases {
+            let e = parse(kind, text).unwrap_err();
+            assert!(says.iter().all(|s| e.contains(s)), "{e}");
+        }
     }
 }

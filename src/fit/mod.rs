@@ -7,3 +7,4 @@
 pub mod data;
 pub mod least_squares;
 pub mod model;
+pub mod series;

@@ -5,7 +5,14 @@
 //! with the data that would determine them, never given a made-up value),
 //! the seed's closed-form route beside the fit, and the fitted scene.
 //!
-//! Positive parameters are fitted as their logarithms; a dataset without
+//! Time series (`velocity_step`, `relaxation`) are modelled by integrating
+//! the spring-block equations on the scene's rig with their forward
+//! sensitivities ([`crate::fit::series`]), in the model `simulate` would
+//! use for the protocol ([`super::simulate::model_of_run`]), and enter the
+//! same least squares.
+//!
+//! Positive parameters are fitted as their logarithms (`mu2` linearly: its
+//! sign is free, and a true 0 gets a symmetric error); a dataset without
 //! a `sigma` column gets the error its residuals give, `s^2 = RSS /
 //! (n (1 - p/N))` (its share of the degrees of freedom), re-estimated
 //! until the fit settles.
@@ -19,11 +26,13 @@ use crate::fit::least_squares::{
     covariance, minimize, scaled_svd, seeded, LeastSquaresError, Minimum, Problem,
 };
 use crate::fit::model::{AgeingValue, Name, Rig, Values};
+use crate::fit::series::{law_vector, real_values, SeriesModel, Solved, N_LAW};
 use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
 use continuation::Scalar;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -95,6 +104,12 @@ pub struct DatasetFit {
     /// The error per row estimated from the residuals, where not given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sigma_estimated: Option<f64>,
+    /// The model integrated for a time series (`quasi-static` or
+    /// `inertial`) and why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_reason: Option<String>,
 }
 
 /// The seed's route to the parameters (§II.D.2), printed beside the fit:
@@ -192,6 +207,9 @@ pub struct Fit {
     pub start: Values<f64>,
     #[serde(skip)]
     pub rig: Rig,
+    /// Per dataset: the model of a time series (`None` for the others).
+    #[serde(skip)]
+    pub series: Vec<Option<SeriesModel>>,
 }
 
 impl Fit {
@@ -199,6 +217,35 @@ impl Fit {
     /// `frequency_hz`) at `v_um_s` on the fit's rig with the values `p`.
     pub fn predict(&self, p: &Values<f64>, column: &str, v_um_s: f64) -> f64 {
         predict(&self.rig, p, column, v_um_s)
+    }
+
+    /// The model of the time series `i` at its rows' times with the values
+    /// `p`; `None` for a dataset that is not a time series or where the
+    /// integration fails (e.g. the scene's values before the fit on a rig
+    /// that stick-slips with them).
+    pub fn series_model(&self, i: usize, p: &Values<f64>) -> Option<Vec<f64>> {
+        let model = self.series.get(i)?.as_ref()?;
+        model.solve(p).ok().map(|s| s.values)
+    }
+}
+
+/// A time series' model with its last solution (the least squares ask for
+/// the residuals and their derivatives at the same values `n + 1` times).
+struct Cached {
+    model: SeriesModel,
+    last: RefCell<Option<([f64; N_LAW], Option<Solved>)>>,
+}
+
+impl Cached {
+    /// `f` of the solution at `v` (solved once per values), `None` where
+    /// the integration fails.
+    fn with<R>(&self, v: &Values<f64>, f: impl FnOnce(&Solved) -> R) -> Option<R> {
+        let q = law_vector(v);
+        let mut last = self.last.borrow_mut();
+        if last.as_ref().is_none_or(|(at, _)| *at != q) {
+            *last = Some((q, self.model.solve(v).ok()));
+        }
+        last.as_ref().and_then(|(_, s)| s.as_ref()).map(f)
     }
 }
 
@@ -210,6 +257,8 @@ struct Joint<'a> {
     free: Vec<Name>,
     /// Per dataset and quantity: the error per row where none is given.
     scale: Vec<Vec<f64>>,
+    /// Per dataset: the model of a time series.
+    series: Vec<Option<Cached>>,
 }
 
 impl Joint<'_> {
@@ -230,6 +279,38 @@ impl Joint<'_> {
             v.set(*name, if name.positive() { xi.exp() } else { *xi });
         }
         v
+    }
+
+    /// The model of the quantity `q` of dataset `i` at every row with the
+    /// values `p`. A time series from its integration with sensitivities
+    /// `J = d model / d q` at the real parts `q0` of the law's values,
+    /// `model(q0) + J (q - q0)`: its value, and for dual numbers its exact
+    /// first derivative.
+    fn model<T: Scalar>(&self, i: usize, q: &Measured, p: &Values<T>) -> Option<Vec<T>> {
+        let d = &self.data[i];
+        let Some(series) = &self.series[i] else {
+            return Some(
+                d.v_um_s
+                    .iter()
+                    .map(|&v| predict(&self.rig, p, q.column, v))
+                    .collect(),
+            );
+        };
+        let law = law_vector(p);
+        let at = real_values(p);
+        let q0 = law_vector(&at);
+        series.with(&at, |solved| {
+            solved
+                .values
+                .iter()
+                .enumerate()
+                .map(|(r, &y)| {
+                    (0..N_LAW).fold(T::from(y), |out, k| {
+                        out + (law[k] - q0[k]) * solved.jacobian[(r, k)]
+                    })
+                })
+                .collect()
+        })
     }
 
     /// The unknowns of `values`.
@@ -256,11 +337,12 @@ impl Problem for Joint<'_> {
     fn residuals<T: Scalar>(&self, x: &[T]) -> Option<Vec<T>> {
         let p = self.values(x);
         let mut out = Vec::new();
-        for (d, scales) in self.data.iter().zip(&self.scale) {
+        for (k, (d, scales)) in self.data.iter().zip(&self.scale).enumerate() {
             for (q, scale) in d.measured.iter().zip(scales) {
-                for (i, (&v, &y)) in d.v_um_s.iter().zip(&q.values).enumerate() {
+                let model = self.model(k, q, &p)?;
+                for (i, (m, &y)) in model.into_iter().zip(&q.values).enumerate() {
                     let sigma = q.sigma.as_ref().map_or(*scale, |s| s[i]);
-                    let r = (predict(&self.rig, &p, q.column, v) - y) / sigma;
+                    let r = (m - y) / sigma;
                     if !r.re().is_finite() {
                         return None;
                     }
@@ -293,7 +375,9 @@ fn scene_values(setup: &Setup) -> Values<f64> {
 fn remedy(name: Name, with: &[Name]) -> String {
     let only_combination = with.len() > 1;
     let what = match name {
-        Name::Mu0 => "steady-friction data",
+        Name::Mu0 => {
+            "steady-friction or velocity-step data (relaxation data see only changes of friction)"
+        }
         Name::A | Name::B
             if only_combination && with.contains(&Name::A) && with.contains(&Name::B) =>
         {
@@ -302,7 +386,9 @@ fn remedy(name: Name, with: &[Name]) -> String {
         }
         Name::A | Name::B => "steady-friction or onset data",
         Name::D0 => "onset data ((K/W)_c against V) or velocity-step data",
-        Name::Mu2 => "steady or onset data over several decades of V, or relaxation data",
+        Name::Mu2 => {
+            "steady or onset data over several decades of V, or relaxation data at several V"
+        }
         Name::Tau => "steady or onset data around and above the friction minimum V_min",
     };
     format!("add {what}")
@@ -312,7 +398,9 @@ fn remedy(name: Name, with: &[Name]) -> String {
 pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     if request.data.is_empty() {
         return Err(InputError::Conflict(
-            "fit needs data: give --data KIND=FILE (KIND steady or onset), repeatable".into(),
+            "fit needs data: give --data KIND=FILE (KIND steady, onset, velocity_step or \
+             relaxation), repeatable"
+                .into(),
         )
         .into());
     }
@@ -367,6 +455,7 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         .into());
     }
     let rig = Rig::of(&setup.scene.units);
+    let series = series_models(spec, &setup, &data, &start, rig)?;
     let mut problem = Joint {
         data: &data,
         rig,
@@ -375,6 +464,15 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         scale: data
             .iter()
             .map(|d| d.measured.iter().map(|_| 1.0).collect())
+            .collect(),
+        series: series
+            .iter()
+            .map(|s| {
+                s.as_ref().map(|(model, _)| Cached {
+                    model: model.clone(),
+                    last: RefCell::new(None),
+                })
+            })
             .collect(),
     };
     let mut not_determined: Vec<NotDetermined> = Vec::new();
@@ -467,7 +565,17 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let rows: usize = data.iter().map(|d| d.rows() * d.measured.len()).sum();
     let chi2 = minimum.residuals.norm_squared();
     let dof = rows.saturating_sub(n);
-    let datasets = dataset_fits(&problem, &values);
+    let mut datasets = dataset_fits(&problem, &values);
+    let mut at = 0;
+    for (d, s) in data.iter().zip(&series) {
+        if let Some((model, reason)) = s {
+            for fit in &mut datasets[at..at + d.measured.len()] {
+                fit.model = Some(model.kind.name());
+                fit.model_reason = Some(reason.clone());
+            }
+        }
+        at += d.measured.len();
+    }
     let fitted_params = fitted_params(&setup, &values);
     let mut fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
     if !not_determined.is_empty() {
@@ -530,7 +638,64 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         values,
         start,
         rig,
+        series: series.into_iter().map(|s| s.map(|(m, _)| m)).collect(),
     })
+}
+
+/// Per dataset, the model of a time series on the scene's rig (`None` for
+/// the other kinds) with why that model (quasi-static or inertial): the
+/// one `simulate` would use for the protocol at the scene's values
+/// ([`super::simulate::model_of_run`], steady sliding at the first
+/// velocity for a unit of time before it). Checked to integrate at the
+/// scene's values, where the fit starts.
+fn series_models(
+    spec: &SceneSpec,
+    setup: &Setup,
+    data: &[Dataset],
+    start: &Values<f64>,
+    rig: Rig,
+) -> Result<Vec<Option<(SeriesModel, String)>>, Error> {
+    let u = &setup.scene.units;
+    let k_over_w = u.k_over_w(setup.scene_params.kappa);
+    let cutoff = matches!(start.ageing, AgeingValue::Tau(_));
+    let mut out = Vec::with_capacity(data.len());
+    for d in data {
+        if !d.kind.is_series() {
+            out.push(None);
+            continue;
+        }
+        let file = d.file.display();
+        if !(setup.stiffness_given() && k_over_w > 0.0 && k_over_w.is_finite()) {
+            return Err(InputError::Conflict(format!(
+                "{file}: {} data are modelled on the scene's rig, whose spring the scene does \
+                 not give: give K (N/m) in the scene or --set K=...",
+                d.kind.name()
+            ))
+            .into());
+        }
+        let protocol = crate::fit::series::Protocol::of(d);
+        let steady = crate::analysis::simulate::Segment {
+            nu: protocol.steady_um_s / rig.v0_um_s,
+            duration: 1.0,
+        };
+        let segments: Vec<_> = std::iter::once(steady)
+            .chain(protocol.segments(u.d0 / u.v0, rig.v0_um_s))
+            .collect();
+        let choice = super::simulate::model_of_run(spec, setup, &segments);
+        let model = SeriesModel::new(d, choice.kind, cutoff, rig, k_over_w);
+        if let Err(e) = model.solve(start) {
+            return Err(NumericalError::Analysis(format!(
+                "{file}: the {} model ({}) at the scene's values, where the fit starts: {e}; \
+                 start from values closer to the data's (--set), and check the rig's K (below \
+                 the critical stiffness the block stick-slips)",
+                d.kind.name(),
+                choice.kind.name()
+            ))
+            .into());
+        }
+        out.push(Some((model, choice.reason)));
+    }
+    Ok(out)
 }
 
 /// Minimises with the errors of datasets without a sigma column estimated
@@ -559,12 +724,13 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
         x = minimum.x.clone();
         let values = problem.values(&x);
         let mut moved = 0.0f64;
-        for (d, scales) in problem.data.iter().zip(problem.scale.iter_mut()) {
+        let mut scales = problem.scale.clone();
+        for (k, (d, scales)) in problem.data.iter().zip(scales.iter_mut()).enumerate() {
             for (q, scale) in d.measured.iter().zip(scales.iter_mut()) {
                 if q.sigma.is_some() {
                     continue;
                 }
-                let rss = residual_sum_of_squares(&problem.rig, &values, d, q);
+                let rss = residual_sum_of_squares(problem, k, &values, q);
                 let n = q.values.len() as f64;
                 let new = (rss / (n * (1.0 - p as f64 / total as f64)))
                     .sqrt()
@@ -573,6 +739,7 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
                 *scale = new;
             }
         }
+        problem.scale = scales;
         if moved < 1e-9 {
             return Ok(minimum);
         }
@@ -601,21 +768,24 @@ fn predict<T: Scalar>(rig: &Rig, p: &Values<T>, column: &str, v_um_s: f64) -> T 
     }
 }
 
-/// `sum (model - data)^2` of the quantity `q` of dataset `d`, unweighted.
-fn residual_sum_of_squares(rig: &Rig, values: &Values<f64>, d: &Dataset, q: &Measured) -> f64 {
-    d.v_um_s
-        .iter()
-        .zip(&q.values)
-        .map(|(&v, &y)| (predict(rig, values, q.column, v) - y).powi(2))
-        .sum()
+/// `sum (model - data)^2` of the quantity `q` of dataset `i`, unweighted
+/// (infinite where the model is undefined).
+fn residual_sum_of_squares(problem: &Joint, i: usize, values: &Values<f64>, q: &Measured) -> f64 {
+    problem.model(i, q, values).map_or(f64::INFINITY, |model| {
+        model
+            .iter()
+            .zip(&q.values)
+            .map(|(m, y)| (m - y).powi(2))
+            .sum()
+    })
 }
 
 /// Per dataset and quantity: the RMS residual and how its error was had.
 fn dataset_fits(problem: &Joint, values: &Values<f64>) -> Vec<DatasetFit> {
     let mut out = Vec::new();
-    for (d, scales) in problem.data.iter().zip(&problem.scale) {
+    for (k, (d, scales)) in problem.data.iter().zip(&problem.scale).enumerate() {
         for (q, scale) in d.measured.iter().zip(scales) {
-            let rss = residual_sum_of_squares(&problem.rig, values, d, q);
+            let rss = residual_sum_of_squares(problem, k, values, q);
             out.push(DatasetFit {
                 kind: d.kind,
                 file: d.file.display().to_string(),
@@ -628,6 +798,8 @@ fn dataset_fits(problem: &Joint, values: &Values<f64>) -> Vec<DatasetFit> {
                     "estimated"
                 },
                 sigma_estimated: q.sigma.is_none().then_some(*scale),
+                model: None,
+                model_reason: None,
             });
         }
     }

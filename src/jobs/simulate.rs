@@ -8,7 +8,7 @@
 
 use super::{SceneSpec, Setup};
 use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
-use crate::analysis::model_choice::{choose_model, params_for};
+use crate::analysis::model_choice::{choose_model, params_for, ModelChoice};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::settle::settle;
 use crate::analysis::settle::SettleError;
@@ -19,6 +19,7 @@ use crate::analysis::simulate::{
 };
 use crate::error::{Error, InputError};
 use crate::jobs::TextUnits;
+use crate::model::ModelKind;
 use crate::records::params_json;
 use crate::records::UnitsRecord;
 use crate::scene::Units;
@@ -104,6 +105,71 @@ pub trait Observer {
     }
 }
 
+/// The model for a protocol whose fastest pulling velocity is `top`
+/// (units `V0`): the one `--model` forces, else [`choose_model`] there.
+fn choice_at(spec: &SceneSpec, setup: &Setup, top: f64) -> ModelChoice {
+    match spec.model {
+        Some(_) => setup.choice.clone(),
+        None => {
+            let mut at_top = setup.scene_params;
+            at_top.nu = top;
+            choose_model(&at_top, None, spec.inertia_threshold)
+        }
+    }
+}
+
+/// The model a run of `protocol` from steady sliding at its first velocity
+/// uses, decided as `simulate` decides it: the model for the protocol's
+/// fastest pulling velocity ([`choice_at`]), and where that is
+/// quasi-static, the inertial one if the run at the scene's parameters
+/// under the watch of the scene's inertia hands over to it
+/// ([`simulate_watched`], `chi = m |dv/dt| / A` above the threshold). A
+/// run that fails keeps the first choice (its caller integrates again and
+/// reports the failure).
+pub fn model_of_run(spec: &SceneSpec, setup: &Setup, protocol: &[Segment]) -> ModelChoice {
+    let top = protocol.iter().map(|seg| seg.nu).fold(0.0, f64::max);
+    let choice = choice_at(spec, setup, top);
+    let watch = InertiaWatch::new(
+        &setup.scene_params,
+        spec.inertia_threshold,
+        spec.model.is_none(),
+    );
+    let Some(nu0) = protocol.first().map(|seg| seg.nu).filter(|nu| *nu > 0.0) else {
+        return choice;
+    };
+    if choice.kind != ModelKind::QuasiStatic || !watch.switch {
+        return choice;
+    }
+    let params = params_for(ModelKind::QuasiStatic, &setup.scene_params);
+    let start = [params.friction().steady(nu0), nu0, nu0.recip()];
+    let options = RunOptions {
+        rtol: 1e-6,
+        watch: Some(&watch),
+        ..RunOptions::default()
+    };
+    let end = simulate_watched(
+        ModelKind::QuasiStatic,
+        &params,
+        start,
+        protocol,
+        None,
+        &options,
+        |_| ControlFlow::Continue(()),
+    );
+    match end.ok().and_then(|e| e.switch) {
+        Some(switch) => ModelChoice {
+            kind: ModelKind::Inertial,
+            inertia_ratio: choice.inertia_ratio,
+            reason: format!(
+                "inertial: the quasi-static run of the protocol hands over at t = {:.4e} D0/V0, \
+                 where m |dv/dt| / A = {:.3e} exceeds {:.0e}",
+                switch.t, switch.chi, watch.threshold
+            ),
+        },
+        None => choice,
+    }
+}
+
 /// A planned run: the scene set up with the model for the protocol's
 /// fastest pulling velocity, the protocol in docs/model.md's units.
 pub struct Plan {
@@ -153,12 +219,8 @@ impl Plan {
             .map(|seg| seg.nu)
             .fold(setup.scene_params.nu, f64::max);
         let chosen_at = spec.model.is_none().then_some(top);
-        if chosen_at.is_some() {
-            let mut at_top = setup.scene_params;
-            at_top.nu = top;
-            setup.choice = choose_model(&at_top, None, spec.inertia_threshold);
-            setup.params = params_for(setup.choice.kind, &setup.scene_params);
-        }
+        setup.choice = choice_at(spec, &setup, top);
+        setup.params = params_for(setup.choice.kind, &setup.scene_params);
         let watch = InertiaWatch::new(
             &setup.scene_params,
             spec.inertia_threshold,

@@ -1,6 +1,6 @@
 //! Figures of `fit`: per measured quantity of each dataset, the data with
 //! the fitted model (and the scene's model it started from) against the
-//! driving velocity, and the residuals.
+//! driving velocity (against time for the time series), and the residuals.
 
 use super::lines::{render, LineFigure, Series};
 use super::PlotError;
@@ -27,76 +27,127 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
             0 => d.kind.name().to_string(),
             n => format!("{}{}", d.kind.name(), n + 1),
         };
-        let (lo, hi) = d
-            .v_um_s
+        // The abscissa: the driving velocity, or the time of a time series
+        // (a relaxation's on a log scale, from its first time after 0).
+        let series = d.kind.is_series();
+        let log_x = !series || d.kind == crate::fit::data::Kind::Relaxation;
+        let x: &[f64] = if series { &d.t_s } else { &d.v_um_s };
+        let shown = |t: f64| !log_x || t > 0.0;
+        let (lo, hi) = x
             .iter()
-            .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
+            .filter(|t| shown(**t))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(*v), b.max(*v))
+            });
         let grid: Vec<f64> = (0..=200)
             .map(|i| lo / 1.5 * (2.25 * hi / lo).powf(i as f64 / 200.0))
             .collect();
+        let x_label = if series {
+            "time t [s]"
+        } else {
+            "driving velocity V [µm/s]"
+        };
+        // The residuals' zero line over the data's abscissa.
+        let (left, right) = if log_x {
+            (lo / 1.5, hi * 1.5)
+        } else {
+            (lo, hi)
+        };
         let file = d.file.file_name().map_or_else(
             || d.file.display().to_string(),
             |f| f.to_string_lossy().into(),
         );
         for q in &d.measured {
+            // A time series' model at its rows' times (nothing where it
+            // does not integrate), the others on a grid of velocities.
             let curve = |p: &Values<f64>| -> Vec<(f64, f64)> {
-                grid.iter().map(|&v| (v, model(p, q.column, v))).collect()
+                if series {
+                    let values = fit.series_model(i, p).unwrap_or_default();
+                    x.iter()
+                        .copied()
+                        .zip(values)
+                        .filter(|(t, _)| shown(*t))
+                        .collect()
+                } else {
+                    grid.iter().map(|&v| (v, model(p, q.column, v))).collect()
+                }
             };
-            let points: Vec<(f64, f64)> = d
-                .v_um_s
+            let points: Vec<(f64, f64)> = x
                 .iter()
                 .copied()
                 .zip(q.values.iter().copied())
+                .filter(|(t, _)| shown(*t))
                 .collect();
+            let fitted_curve = curve(fitted);
+            let points_marked = points.len() <= 300;
             let figure = LineFigure {
                 title: format!("{title}: {} data ({file}) and the fit", d.kind.name()),
-                x_label: "driving velocity V [µm/s]".into(),
-                y_label: label(q.column).into(),
-                log_x: true,
+                x_label: x_label.into(),
+                y_label: label(q.column, series).into(),
+                log_x,
                 // Onset frequencies grow with V over decades.
                 log_y: q.column == "frequency_hz",
-                series: vec![
-                    Series {
-                        label: Some("scene before the fit".into()),
-                        points: curve(start),
-                        color: RGBColor(150, 150, 150),
-                        dashed: true,
-                        markers: false,
-                    },
-                    Series {
-                        label: Some("fitted".into()),
-                        points: curve(fitted),
-                        color: RGBColor(31, 119, 180),
-                        dashed: false,
-                        markers: false,
-                    },
-                    Series {
+                series: {
+                    let data = Series {
                         label: Some("data".into()),
-                        points,
-                        color: RGBColor(214, 39, 40),
+                        points: points.clone(),
+                        color: if series && !points_marked {
+                            RGBColor(240, 160, 160)
+                        } else {
+                            RGBColor(214, 39, 40)
+                        },
                         dashed: false,
-                        markers: true,
-                    },
-                ],
+                        markers: !series || points_marked,
+                    };
+                    let models = [
+                        Series {
+                            label: Some("scene before the fit".into()),
+                            points: curve(start),
+                            color: RGBColor(150, 150, 150),
+                            dashed: true,
+                            markers: false,
+                        },
+                        Series {
+                            label: Some("fitted".into()),
+                            points: fitted_curve.clone(),
+                            color: RGBColor(31, 119, 180),
+                            dashed: false,
+                            markers: false,
+                        },
+                    ];
+                    // A time series' data under the models (long as a line,
+                    // short as markers: either would hide them on top).
+                    if series {
+                        std::iter::once(data).chain(models).collect()
+                    } else {
+                        models.into_iter().chain(std::iter::once(data)).collect()
+                    }
+                },
             };
             let base = with_suffix(stem, &format!("-fit-{kind}-{}", q.column));
             files.extend(render(&figure, &base)?);
-            let residuals: Vec<(f64, f64)> = d
-                .v_um_s
-                .iter()
-                .zip(&q.values)
-                .map(|(&v, &y)| (v, y - model(fitted, q.column, v)))
-                .collect();
+            let residuals: Vec<(f64, f64)> = if series {
+                points
+                    .iter()
+                    .zip(&fitted_curve)
+                    .map(|(&(t, y), &(_, m))| (t, y - m))
+                    .collect()
+            } else {
+                points
+                    .iter()
+                    .map(|&(v, y)| (v, y - model(fitted, q.column, v)))
+                    .collect()
+            };
             let figure = LineFigure {
                 title: format!("{title}: residuals of the {} data ({file})", d.kind.name()),
-                x_label: "driving velocity V [µm/s]".into(),
-                y_label: format!("data - fit: {}", label(q.column)),
-                log_x: true,
+                x_label: x_label.into(),
+                y_label: format!("data - fit: {}", label(q.column, series)),
+                log_x,
                 log_y: false,
                 series: vec![
                     Series {
                         label: None,
-                        points: vec![(lo / 1.5, 0.0), (hi * 1.5, 0.0)],
+                        points: vec![(left, 0.0), (right, 0.0)],
                         color: RGBColor(150, 150, 150),
                         dashed: true,
                         markers: false,
@@ -186,7 +237,7 @@ fn band_figure(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
             fit.scene
         ),
         x_label: "driving velocity V [µm/s]".into(),
-        y_label: label("K_over_W_per_m").into(),
+        y_label: label("K_over_W_per_m", false).into(),
         log_x: true,
         log_y: false,
         series,
@@ -194,11 +245,13 @@ fn band_figure(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
     render(&figure, &with_suffix(stem, "-fit-stability-band"))
 }
 
-/// The axis label of a measured quantity.
-fn label(column: &str) -> &'static str {
+/// The axis label of a measured quantity (of a time series or not).
+fn label(column: &str, series: bool) -> &'static str {
     match column {
+        "mu" if series => "friction coefficient mu (spring force / load)",
         "mu" => "steady friction coefficient mu_ss",
         "K_over_W_per_m" => "critical stiffness over load (K/W)_c [1/m]",
+        "slip_um" => "slip since the drive stopped [µm]",
         _ => "onset frequency f_c [Hz]",
     }
 }
