@@ -216,6 +216,7 @@ impl SeriesModel {
             kind: self.kind,
             cutoff: self.cutoff,
             origin: [0.0; 3],
+            state_law: Default::default(),
         };
         let n = block.dim();
         let nu0 = self.protocol.steady_um_s / self.rig.v0_um_s;
