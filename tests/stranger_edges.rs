@@ -355,3 +355,27 @@ fn a_leg_shrinking_onto_its_hopf_point_ends_there() {
         );
     }
 }
+
+/// A protocol that ends by stopping the drive (docs/cycles.md's stop-and-go
+/// example) is complete: the block creeps toward rest, a regime of its own
+/// (`held`), not an undetermined one. It was exit 4 with "the time span
+/// [0, inf] is not finite" from the settling run at V = 0.
+#[test]
+fn a_protocol_ending_with_the_drive_stopped_is_complete() {
+    let out = temp_dir("stranger-held");
+    let (code, json, err) = stickslip(&[
+        "simulate",
+        "--set",
+        "kappa=10",
+        "--protocol",
+        "1:20,10:2,0:100",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["complete"], true, "{json}");
+    assert_eq!(v["regime"]["kind"], "held", "{json}");
+    assert!(!err.contains("not finite"), "{err}");
+}

@@ -1014,7 +1014,8 @@ class Simulation(_Drawn):
     [D0/V0], `slip` [D0], `log10_v`, `model` (per step), `spring_force_N`,
     `v_um_per_s`, `theta_s`, `slip_um`. `regime` is the regime reached
     after a complete run: {"kind": "periodic", "period_s", "force_drop_N",
-    "slip_um", ...}, {"kind": "steady"} or {"kind": "unsettled", "reason"}.
+    "slip_um", ...}, {"kind": "steady"}, {"kind": "held"} (the last segment stops the drive:
+    the block creeps toward rest) or {"kind": "unsettled", "reason"}.
     `to_dict()` is `stickslip simulate --json` without `files`: the run's
     record (steps, times, the switch, the regime), no time series.
     """

@@ -582,6 +582,10 @@ pub enum RegimeReached {
     },
     /// The oscillation decays onto steady sliding.
     Steady,
+    /// The drive is stopped (`V = 0` in the last segment): the block creeps
+    /// toward rest, which it reaches only as `t -> infinity`; there is no
+    /// steady sliding or cycle to settle on.
+    Held,
     /// Neither within the settling budget, or the integration failed.
     Unsettled(Unsettled),
 }

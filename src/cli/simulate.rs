@@ -339,6 +339,10 @@ fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) ->
             ),
         },
         RegimeReached::Steady => format!("{head}: steady sliding (the oscillation decays)"),
+        RegimeReached::Held => format!(
+            "regime at the end ({at}): the drive is stopped; the block creeps toward rest (no \
+             steady sliding or cycle to settle on)"
+        ),
         RegimeReached::Unsettled(why) => {
             format!("{head}: undetermined — {}", unsettled_text(why, u, units))
         }

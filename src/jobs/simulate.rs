@@ -314,6 +314,9 @@ impl Plan {
         );
         let stride = envelope.stride();
         let regime = match (&end, last, protocol.last()) {
+            (Ok(e), Some(_), Some(seg)) if !e.stopped && seg.nu == 0.0 => {
+                Some(RegimeReached::Held)
+            }
             (Ok(e), Some(at), Some(seg)) if !e.stopped => Some(regime_with_inertia_judged(
                 at,
                 seg.nu,
@@ -569,6 +572,7 @@ impl Simulation {
                 "slip_um": slip * u.d0 * 1e6,
             }),
             RegimeReached::Steady => json!({"kind": "steady"}),
+            RegimeReached::Held => json!({"kind": "held"}),
             RegimeReached::Unsettled(why) => json!({
                 "kind": "unsettled",
                 "reason": unsettled_text(why, u, TextUnits::Physical),
