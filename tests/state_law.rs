@@ -81,17 +81,32 @@ fn both_laws_share_the_hopf_point() {
     let mut cases = Vec::new();
     for nu in [0.1, 1.0, 3.0, 30.0] {
         for (mu2, theta_c) in [(0.0, None), (2.4e-4, None), (0.0, Some(0.01))] {
-            cases.push((ModelKind::QuasiStatic, params(0.012, 0.023, mu2, theta_c, 0.0, nu)));
+            cases.push((
+                ModelKind::QuasiStatic,
+                params(0.012, 0.023, mu2, theta_c, 0.0, nu),
+            ));
             for m in [1e-3, 0.1, 10.0] {
-                cases.push((ModelKind::Inertial, params(0.012, 0.023, mu2, theta_c, m, nu)));
+                cases.push((
+                    ModelKind::Inertial,
+                    params(0.012, 0.023, mu2, theta_c, m, nu),
+                ));
             }
         }
     }
     for (kind, p) in cases {
-        let (ageing, slip) = (hopf(kind, &p, StateLaw::Ageing), hopf(kind, &p, StateLaw::Slip));
+        let (ageing, slip) = (
+            hopf(kind, &p, StateLaw::Ageing),
+            hopf(kind, &p, StateLaw::Slip),
+        );
         let rel = |a: f64, b: f64| (a / b - 1.0).abs();
-        assert!(rel(slip.kappa_c, ageing.kappa_c) < 1e-14, "{kind:?} {p:?}: kappa_c");
-        assert!(rel(slip.omega_c, ageing.omega_c) < 1e-14, "{kind:?} {p:?}: omega_c");
+        assert!(
+            rel(slip.kappa_c, ageing.kappa_c) < 1e-14,
+            "{kind:?} {p:?}: kappa_c"
+        );
+        assert!(
+            rel(slip.omega_c, ageing.omega_c) < 1e-14,
+            "{kind:?} {p:?}: omega_c"
+        );
     }
 }
 
@@ -111,7 +126,11 @@ fn the_slip_laws_l1_against_the_high_precision_reference() {
         // The ageing law's l1 differs (by 40 to 90 %): the laws are not the
         // same beyond the linearization.
         let ageing = hopf(kind, &p, StateLaw::Ageing).onset.l1;
-        assert!((o.l1 / ageing - 1.0).abs() > 0.3, "{label}: {} vs {ageing}", o.l1);
+        assert!(
+            (o.l1 / ageing - 1.0).abs() > 0.3,
+            "{label}: {} vs {ageing}",
+            o.l1
+        );
     }
 }
 
@@ -121,7 +140,11 @@ fn the_plain_quasi_static_slip_law_is_degenerate_like_the_ageing_law() {
         let p = params(0.012, 0.023, 0.0, None, 0.0, nu);
         for law in StateLaw::ALL {
             let o = hopf(ModelKind::QuasiStatic, &p, law).onset;
-            assert_eq!(o.criticality, Criticality::Degenerate, "{law:?} nu = {nu}: {o:?}");
+            assert_eq!(
+                o.criticality,
+                Criticality::Degenerate,
+                "{law:?} nu = {nu}: {o:?}"
+            );
             assert!(o.l1.abs() <= o.l1_error_bound, "{law:?}");
         }
     }
@@ -169,13 +192,20 @@ fn a_slip_law_cycle_is_reproduced_by_integration() {
 fn the_state_law_is_a_scene_key_and_a_set_name() {
     let dir = common::temp_dir("state-law");
     let scene = dir.join("slip.toml");
-    std::fs::write(&scene, "A = 0.012\nB = 0.023\nmu2 = 2.4e-4\nstate_law = \"slip\"\n").unwrap();
+    std::fs::write(
+        &scene,
+        "A = 0.012\nB = 0.023\nmu2 = 2.4e-4\nstate_law = \"slip\"\n",
+    )
+    .unwrap();
     let (code, out, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap(), "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["params"]["state_law"], "slip");
     let l1 = v["l1"].as_f64().unwrap();
-    assert!((l1 / -0.0200138669265728284647869 - 1.0).abs() < 1e-12, "{l1}");
+    assert!(
+        (l1 / -0.0200138669265728284647869 - 1.0).abs() < 1e-12,
+        "{l1}"
+    );
     // The same by --set on the default scene (mu0 does not enter l1).
     let (_, out, _) = stickslip(&["hopf", "--set", "state_law=slip", "--json"]);
     let w: Value = serde_json::from_str(&out).unwrap();
@@ -184,8 +214,14 @@ fn the_state_law_is_a_scene_key_and_a_set_name() {
     std::fs::write(&scene, "A = 0.012\nB = 0.023\nstate_law = \"ruina\"\n").unwrap();
     let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("state_law") && err.contains("ageing") && err.contains("slip"), "{err}");
+    assert!(
+        err.contains("state_law") && err.contains("ageing") && err.contains("slip"),
+        "{err}"
+    );
     let (code, _, err) = stickslip(&["hopf", "--set", "state_law=dieterich"]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("--set state_law") && err.contains("ageing or slip"), "{err}");
+    assert!(
+        err.contains("--set state_law") && err.contains("ageing or slip"),
+        "{err}"
+    );
 }

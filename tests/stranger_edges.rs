@@ -379,3 +379,56 @@ fn a_protocol_ending_with_the_drive_stopped_is_complete() {
     assert_eq!(v["regime"]["kind"], "held", "{json}");
     assert!(!err.contains("not finite"), "{err}");
 }
+
+/// A stranger's subcritical rig (saturating ageing, a light steel slider):
+/// the branch from its simulated stable cycle goes up to the fold of cycles,
+/// one step lands on the small unstable cycles near the Hopf point (8 % of
+/// the largest amplitude), and the next went through the Hopf point and back
+/// along the stable cycles it had traced (exit 0, "end_of_range", the stable
+/// branch twice). Now the pass through the equilibrium is seen (the orbit
+/// turned around, half a period) and the leg ends at the Hopf point.
+#[test]
+fn a_leg_through_its_hopf_point_after_a_fold_ends_there() {
+    const STEEL: &str = "A = 0.010\nB = 0.020\nmu0 = 0.55\ntau = 1.0e-3\nD0 = 1.0\nV0 = 1.0\n\
+                         M = 2.0\nW = 20.0\nV = 800.0\nV_range = [10.0, 10000.0]\nK = 1.7e5\n";
+    let dir = temp_dir("stranger-steel");
+    let scene = dir.join("steel.toml");
+    std::fs::write(&scene, STEEL).unwrap();
+    let out = dir.join("out");
+    let (code, json, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--from-simulation",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["leg_stops"][0]["leg"], "up", "{json}");
+    assert_eq!(v["leg_stops"][0]["reason"], "hopf_point", "{json}");
+    let folds = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["kind"] == "lpc")
+        .count();
+    assert_eq!(folds, 1, "{json}");
+    // The cycles run from the start up to the fold and the Hopf point,
+    // then the down leg from the start: the first cycle below the start's
+    // stiffness is the down leg's first step, close to it. (Retracing, the
+    // up leg went on below the start, 10 % away at its first cycle there.)
+    let start = v["start"]["kappa"].as_f64().unwrap();
+    let first_below = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["kappa"].as_f64().unwrap())
+        .find(|&k| k < start)
+        .unwrap();
+    assert!(
+        (first_below / start - 1.0).abs() < 0.01,
+        "the up leg retraced the stable cycles below its start: {first_below} vs {start}"
+    );
+}

@@ -314,9 +314,7 @@ impl Plan {
         );
         let stride = envelope.stride();
         let regime = match (&end, last, protocol.last()) {
-            (Ok(e), Some(_), Some(seg)) if !e.stopped && seg.nu == 0.0 => {
-                Some(RegimeReached::Held)
-            }
+            (Ok(e), Some(_), Some(seg)) if !e.stopped && seg.nu == 0.0 => Some(RegimeReached::Held),
             (Ok(e), Some(at), Some(seg)) if !e.stopped => Some(regime_with_inertia_judged(
                 at,
                 seg.nu,

@@ -276,6 +276,36 @@ pub fn multiplier_error(n: usize, trivial_error: f64) -> f64 {
 /// of the amplitude at fixed stiffness), not a fold.
 const FOLD_MULTIPLIER: f64 = 1e-3;
 
+/// Samples per orbit of [`deviation`].
+const DEVIATION_SAMPLES: usize = 64;
+
+/// The orbit's state at [`DEVIATION_SAMPLES`] evenly spaced times minus its
+/// mean there, each component scaled by its range (concatenated): how the
+/// orbit winds around its centre, comparable between orbits on different
+/// meshes.
+fn deviation(c: &Cycle) -> Vec<f64> {
+    let xs: Vec<Vec<f64>> = (0..DEVIATION_SAMPLES)
+        .map(|i| c.state_at(i as f64 / DEVIATION_SAMPLES as f64))
+        .collect();
+    let mut out = Vec::with_capacity(DEVIATION_SAMPLES * c.n);
+    for j in 0..c.n {
+        let column = xs.iter().map(|x| x[j]);
+        let mean = column.clone().sum::<f64>() / DEVIATION_SAMPLES as f64;
+        let (lo, hi) = column
+            .clone()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        let range = if hi > lo { hi - lo } else { 1.0 };
+        out.extend(column.map(|v| (v - mean) / range));
+    }
+    out
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 /// An orbit whose every observable's amplitude is below this fraction of
 /// the largest the branch has had, followed by a larger one, is where the
 /// branch passed through the equilibrium (a Hopf point) between steps
@@ -428,6 +458,8 @@ pub struct Cycles<'a, S: VectorField> {
     /// observables), with whether it had shrunk from the orbit before.
     largest_amplitude: Vec<f64>,
     last_relative: Option<(f64, bool)>,
+    /// The last orbit's deviation from its mean ([`deviation`]).
+    last_deviation: Vec<f64>,
     /// The last discretization error estimate, the mesh size it was made
     /// on, and the orbits since (see `refine`).
     last_estimate: f64,
@@ -616,6 +648,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
             previous_trivial_error: f64::INFINITY,
             largest_amplitude: Vec::new(),
             last_relative: None,
+            last_deviation: Vec::new(),
             last_estimate: f64::INFINITY,
             last_ntst: 0,
             since_estimate: 0,
@@ -746,11 +779,21 @@ impl<'a, S: VectorField> Cycles<'a, S> {
 
 impl<S: VectorField> Cycles<'_, S> {
     /// Whether the branch went through the equilibrium between the last
-    /// orbit and `pt`: the last one shrank below [`PASSED`] of the branch's
-    /// largest amplitude (on every observable) and `pt` is larger again. A
-    /// branch through a Hopf point whose parameter turn fell between the
-    /// steps (or was too flat to be seen) would otherwise retrace itself.
+    /// orbit and `pt`: the last one had shrunk and `pt` is larger again, and
+    /// either the last one was below [`PASSED`] of the branch's largest
+    /// amplitude (on every observable) or `pt` is the last one turned
+    /// around (their deviations from their means anticorrelated: through
+    /// the equilibrium the phase condition keeps the phase and the small
+    /// orbit changes sign, half a period). A branch through a Hopf point
+    /// whose parameter turn fell between the steps (or was too flat to be
+    /// seen) would otherwise retrace itself: a stranger's subcritical rig
+    /// stepped from 8 % of its largest amplitude through the Hopf point
+    /// and back along its stable cycles.
     fn passed_through_equilibrium(&mut self, pt: &CyclePoint) -> bool {
+        let deviation = deviation(&pt.cycle);
+        let turned_around = deviation.len() == self.last_deviation.len()
+            && dot(&deviation, &self.last_deviation) < 0.0;
+        self.last_deviation = deviation;
         let amplitudes: Vec<f64> = pt
             .extremes(self.sys)
             .iter()
@@ -769,7 +812,7 @@ impl<S: VectorField> Cycles<'_, S> {
             .fold(0.0f64, f64::max);
         let passed = matches!(
             self.last_relative,
-            Some((last, shrinking)) if shrinking && last < PASSED && relative > last
+            Some((last, shrinking)) if shrinking && (last < PASSED || turned_around) && relative > last
         );
         let shrinking = self.last_relative.is_some_and(|(last, _)| relative < last);
         self.last_relative = Some((relative, shrinking));
