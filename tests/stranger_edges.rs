@@ -17,6 +17,11 @@ mod common;
 use common::{stickslip, temp_dir};
 use serde_json::Value;
 
+/// A stranger's subcritical rig: a light steel slider with saturating
+/// ageing, K above the fold of cycles.
+const STEEL: &str = "A = 0.010\nB = 0.020\nmu0 = 0.55\ntau = 1.0e-3\nD0 = 1.0\nV0 = 1.0\n\
+                     M = 2.0\nW = 20.0\nV = 800.0\nV_range = [10.0, 10000.0]\nK = 1.7e5\n";
+
 /// A press-loaded steel-on-granite rig, written as a user would.
 const GRANITE: &str = r#"
 name = "granite"
@@ -389,8 +394,6 @@ fn a_protocol_ending_with_the_drive_stopped_is_complete() {
 /// turned around, half a period) and the leg ends at the Hopf point.
 #[test]
 fn a_leg_through_its_hopf_point_after_a_fold_ends_there() {
-    const STEEL: &str = "A = 0.010\nB = 0.020\nmu0 = 0.55\ntau = 1.0e-3\nD0 = 1.0\nV0 = 1.0\n\
-                         M = 2.0\nW = 20.0\nV = 800.0\nV_range = [10.0, 10000.0]\nK = 1.7e5\n";
     let dir = temp_dir("stranger-steel");
     let scene = dir.join("steel.toml");
     std::fs::write(&scene, STEEL).unwrap();
@@ -431,4 +434,36 @@ fn a_leg_through_its_hopf_point_after_a_fold_ends_there() {
         (first_below / start - 1.0).abs() < 0.01,
         "the up leg retraced the stable cycles below its start: {first_below} vs {start}"
     );
+}
+
+/// On the subcritical steel rig, `cycles` locates the fold of cycles below
+/// the rig's K (K_fold = 1.6456e5 N/m < 1.7e5): the operating point is
+/// steady sliding, not "undecided ... `stickslip cycles` locates it" (which
+/// this run had just done), and no cycle is wanted there.
+#[test]
+fn the_operating_point_is_decided_by_the_fold_the_branch_locates() {
+    let dir = temp_dir("stranger-steel-op");
+    let scene = dir.join("steel.toml");
+    std::fs::write(&scene, STEEL).unwrap();
+    let out = dir.join("out");
+    let (code, json, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&json).unwrap();
+    let op = &v["operating_point"];
+    assert_eq!(op["regime"], "steady", "{op}");
+    assert_eq!(op["wanted"], false, "{op}");
+    assert!(
+        op["reason"].as_str().unwrap().contains("above the fold"),
+        "{op}"
+    );
+    let fold = v["special_points"][0]["kappa"].as_f64().unwrap();
+    assert!(fold < op["kappa"].as_f64().unwrap() && fold > v["kappa_c"].as_f64().unwrap());
+    assert_eq!(v["complete"], true);
 }

@@ -325,6 +325,8 @@ impl Observer for Printer {
             (Note::Switch(s), Some(_)) => println!("{s}"),
             (Note::Switch(_), None) => {}
             (Note::Warning(w), _) => eprintln!("warning: {w}"),
+            (Note::Regime(r), Some(_)) => println!("{r}"),
+            (Note::Regime(_), None) => {}
         }
     }
 }

@@ -15,8 +15,9 @@ use crate::analysis::cycles::{
     along_branch, collocation_for, requested_points, trace_cycles_from, BranchEnds,
     CycleBifurcation, CycleRecord, CycleRequest, Leg,
 };
-use crate::analysis::hopf::HopfPoint;
+use crate::analysis::hopf::{Criticality, HopfPoint};
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves, LpcStop};
+use crate::analysis::operating_point::{judge, FoldAt, Regime, StabilityAt};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
@@ -120,6 +121,9 @@ pub enum Note {
     Switch(String),
     /// A warning: a forced model outside its validity, negative friction.
     Warning(String),
+    /// The regime at the scene's K, decided once the branch located the
+    /// fold of cycles ([`decided_by_fold`]).
+    Regime(String),
 }
 
 /// Receives what the job computes as it computes it: progress,
@@ -398,6 +402,11 @@ impl Plan {
             }
             Ok(())
         });
+        if let (Some(op), Start::Hopf(h)) = (operating.as_mut(), &start) {
+            if let Some(line) = decided_by_fold(op, &setup, h, &specials, &units) {
+                observer.note(Note::Regime(line));
+            }
+        }
         if let Some(w) = validity_warning(&records, &setup, &watch, forced) {
             observer.note(Note::Warning(w));
         }
@@ -567,6 +576,63 @@ fn operating_cycle(
         }
     }
 }
+
+/// The regime at the scene's K decided by the fold of cycles the branch
+/// from a subcritical Hopf point `h` located (the largest fold stiffness
+/// among `specials`): `hopf` leaves it undecided above `K_c`, for want of
+/// the fold ([`judge`]). Above the fold only steady sliding remains (no
+/// cycle is wanted there); between `K_c` and the fold the rig is bistable.
+/// Returns the line that says so, when it decided.
+fn decided_by_fold(
+    op: &mut OperatingCycle,
+    setup: &Setup,
+    h: &HopfPoint,
+    specials: &[CycleSpecialPoint],
+    units: &Units,
+) -> Option<String> {
+    let fold = specials
+        .iter()
+        .filter(|p| p.kind == CycleBifurcation::Lpc)
+        .map(|p| p.cycle.kappa)
+        .fold(None, |m: Option<f64>, k| Some(m.map_or(k, |m| m.max(k))))?;
+    if op.point.regime != Regime::Undecided || h.onset.criticality != Criticality::Subcritical {
+        return None;
+    }
+    let onset = StabilityAt::located(
+        setup.choice.kind,
+        &setup.scene_params,
+        &setup.params,
+        (h.kappa_c, h.onset.criticality),
+        // The fold is located on the branch to the corrector's tolerance.
+        Some(Some(FoldAt {
+            kappa: fold,
+            error: FOLD_LOCATED * fold,
+        })),
+    );
+    let (regime, margin, reason) = judge(op.point.kappa, &onset);
+    if regime == Regime::Undecided {
+        return None;
+    }
+    op.point.regime = regime;
+    op.point.margin = Some(margin);
+    op.point.reason = format!("{reason} (located on the branch)");
+    if regime == Regime::Steady {
+        op.wanted = false;
+        op.not_delivered = None;
+    }
+    Some(format!(
+        "the scene's K = {:.6e} N/m, with the fold of cycles located at K = {:.6e} N/m: {} — {}",
+        units.stiffness(op.point.kappa),
+        units.stiffness(fold),
+        regime.name(),
+        op.point.reason
+    ))
+}
+
+/// Relative accuracy of a fold of cycles located on a branch (the
+/// corrector's tolerance on the parameter and the orbit's discretization
+/// error, both far below it).
+const FOLD_LOCATED: f64 = 1e-9;
 
 /// The result of `cycles`: its JSON, with the records behind it for the
 /// figures.
