@@ -436,6 +436,8 @@ fn csv_columns_carry_units() {
         "curve",
         "n_unstable",
         "event",
+        // The cycle's label in the run (a count, restarts name it).
+        "label",
     ];
     let check = |header: &[String]| {
         for h in header {
