@@ -467,3 +467,44 @@ fn the_operating_point_is_decided_by_the_fold_the_branch_locates() {
     assert!(fold < op["kappa"].as_f64().unwrap() && fold > v["kappa_c"].as_f64().unwrap());
     assert_eq!(v["complete"], true);
 }
+
+/// The figures of a branch in V draw its cycles in their order along the
+/// branch: the leg toward smaller V reversed, then the other, so a branch
+/// without a fold is monotone in V. They were drawn in the order computed,
+/// and the line from the end of one leg to the start of the other drew a
+/// closed loop (a stranger took it for hysteresis).
+#[test]
+fn a_branch_in_v_is_drawn_along_the_branch() {
+    use stickslip::analysis::control::Control;
+    use stickslip::jobs::cycles::Quiet;
+    use stickslip::jobs::cycles_in::{CyclesInControlRequest, Plan};
+    use stickslip::jobs::SceneSpec;
+    let rig = SceneSpec::named("examples/scenes/rig.toml");
+    let request = CyclesInControlRequest {
+        control: Control::from_param(Some("V")).unwrap().unwrap(),
+        to: 150.0,
+        search: None,
+        at: Vec::new(),
+        from_simulation: true,
+        max_steps: 500,
+        ntst: 40,
+        ntst_max: 1280,
+        collocation: None,
+        from: None,
+    };
+    let plan = Plan::new(&rig, &request).unwrap();
+    let axis = plan.axis();
+    let result = plan.run(&mut Quiet).unwrap();
+    let legs = result.leg_stops.len();
+    assert_eq!(legs, 2, "both legs from the simulated orbit");
+    let along: Vec<f64> = result
+        .along_branch
+        .iter()
+        .map(|&i| axis.value_of(&result.cycles[i]))
+        .collect();
+    assert_eq!(along.len(), result.cycles.len());
+    assert!(
+        along.windows(2).all(|w| w[1] >= w[0]) || along.windows(2).all(|w| w[1] <= w[0]),
+        "not monotone along the branch: {along:?}"
+    );
+}

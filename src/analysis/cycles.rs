@@ -429,8 +429,18 @@ pub fn collocation_for(kind: ModelKind) -> CollocationPoints {
 /// The cycles in their order along the branch: the leg toward smaller
 /// stiffness ([`Leg::Down`]) reversed, then the others as computed.
 pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
-    let down = records.iter().filter(|c| c.leg == Leg::Down).rev();
-    down.chain(records.iter().filter(|c| c.leg != Leg::Down))
+    along_branch_order(records)
+        .into_iter()
+        .map(|i| &records[i])
+        .collect()
+}
+
+/// The indices of `records` in [`along_branch`]'s order.
+pub fn along_branch_order(records: &[CycleRecord]) -> Vec<usize> {
+    let down = (0..records.len())
+        .filter(|&i| records[i].leg == Leg::Down)
+        .rev();
+    down.chain((0..records.len()).filter(|&i| records[i].leg != Leg::Down))
         .collect()
 }
 

@@ -149,8 +149,9 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     csv.finish()?;
     // Whatever was computed is drawn, also when the branch stopped short.
     let points: Vec<(f64, &Cycle)> = result
-        .cycles
+        .along_branch
         .iter()
+        .map(|&i| &result.cycles[i])
         .map(|c| (axis.value_of(c), c))
         .collect();
     let cut = if result.complete {

@@ -11,7 +11,7 @@ use crate::analysis::control::{
     choose_along, cycles_in, upward_range, Control, CyclesInRequest, CyclesStart,
 };
 use crate::analysis::cycles::collocation_for;
-use crate::analysis::cycles::{CycleRecord, CycleRequest, Leg};
+use crate::analysis::cycles::{along_branch_order, CycleRecord, CycleRequest, Leg};
 use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
@@ -321,6 +321,7 @@ impl Plan {
             start,
             critical,
             units: UnitsRecord::of(&units),
+            along_branch: along_branch_order(&records),
             cycles,
             special_points: specials,
             requested_points: request
@@ -417,6 +418,11 @@ pub struct CyclesInControl {
     pub failure: Option<Error>,
     #[serde(skip)]
     pub setup: Setup,
+    /// The indices of `cycles` in their order along the branch: the leg
+    /// toward smaller values reversed, then the others (for figures, whose
+    /// lines join consecutive cycles).
+    #[serde(skip)]
+    pub along_branch: Vec<usize>,
 }
 
 impl CyclesInControl {
