@@ -546,7 +546,7 @@ fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
     let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
     let header = csv.lines().nth(1).unwrap();
     assert!(
-        header.ends_with("K_N_per_m,delta_s_N,nu,V_um_per_s"),
+        header.ends_with("K_N_per_m,delta_s_N,nu,V_um_per_s,label"),
         "{header}"
     );
     assert_eq!(csv.lines().count(), 2 + cycles.len());

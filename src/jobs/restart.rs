@@ -252,6 +252,18 @@ impl Restarted {
                 ),
             ));
         }
+        if setup.scene_params.state_law != self.orbit.state_law {
+            return Err(from.error(
+                "state_law",
+                format!(
+                    "the scene {} now has the {} state law, the stored cycle the {}: the scene \
+                     changed since the run",
+                    spec.scene,
+                    setup.scene_params.state_law.name(),
+                    self.orbit.state_law.name()
+                ),
+            ));
+        }
         let kind = self.orbit.model;
         if setup.choice.kind != kind {
             setup.choice.reason = format!(
