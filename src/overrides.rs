@@ -259,7 +259,13 @@ impl Overrides {
                     },
                     shown: format!("{}={shown}", k.name),
                 }),
-                Override::Dimensionless(..) | Override::StateLaw(_) => None,
+                // A scene key too: a scene written out with the overrides keeps it.
+                Override::StateLaw(law) => Some(SceneOverride {
+                    key: "state_law",
+                    value: toml::Value::String(law.name().into()),
+                    shown: format!("state_law={}", law.name()),
+                }),
+                Override::Dimensionless(..) => None,
             })
             .collect()
     }

@@ -276,7 +276,7 @@ fn scene_toml(scene: SceneArg) -> PyResult<(String, Vec<String>)> {
         .iter()
         .filter(|s| {
             let name = s.split_once('=').map_or(s.as_str(), |(n, _)| n).trim();
-            stickslip::overrides::PhysicalKey::find(name).is_none()
+            !physical.iter().any(|o| o.key == name)
         })
         .cloned()
         .collect();

@@ -97,3 +97,19 @@ def test_errors_name_the_field(tmp_path):
     # The exception pickles (process pools send it back).
     back = pickle.loads(pickle.dumps(e.value))
     assert isinstance(back, InputError) and back.field == e.value.field
+
+
+def test_the_state_law_is_a_scene_key():
+    """state_law = "slip" (issue 27): as a scene key, as an override, and
+    written back by to_toml; the slip law's l1 is docs/reference/
+    slip_law_l1.py's (-0.0200138669265728...) on PMMA's values."""
+    s = stickslip.Scene.builtin("pmma").with_(state_law="slip")
+    h = stickslip.hopf(s)
+    assert h.l1 == pytest.approx(-0.0200138669265728284647869, rel=1e-12)
+    assert s.params["state_law"] == "slip"
+    text = s.to_toml()
+    assert 'state_law = "slip"' in text, text
+    custom = stickslip.Scene(A=0.012, B=0.023, mu2=2.4e-4, state_law="slip")
+    assert stickslip.hopf(custom).l1 == pytest.approx(h.l1, rel=1e-14)
+    with pytest.raises(stickslip.InputError):
+        stickslip.hopf(stickslip.Scene.builtin("pmma").with_(state_law="dieterich"))
