@@ -244,6 +244,7 @@ fn setup<'py>(py: Python<'py>, scene: SceneArg) -> PyResult<Bound<'py, PyDict>> 
     for (name, value) in s.scene_params.named() {
         params.set_item(name, value)?;
     }
+    params.set_item("state_law", s.scene_params.state_law.name())?;
     d.set_item("params", params)?;
     let u = &s.scene.units;
     d.set_item("D0_um", u.d0 * 1e6)?;

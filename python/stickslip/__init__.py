@@ -238,7 +238,7 @@ class Scene:
         return self._set
 
     @property
-    def params(self) -> dict[str, float]:
+    def params(self) -> dict[str, float | str]:
         """The dimensionless parameters (docs/model.md), overrides applied."""
         return dict(self._info["params"])
 
