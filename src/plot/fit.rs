@@ -115,12 +115,19 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
                             markers: false,
                         },
                     ];
+                    // Each marked row's error bar, y ± sigma, where the file
+                    // gives sigma.
+                    let bars = error_bars(x, q, points_marked, q.column == "frequency_hz", shown);
                     // A time series' data under the models (long as a line,
                     // short as markers: either would hide them on top).
                     if series {
-                        std::iter::once(data).chain(models).collect()
+                        std::iter::once(data).chain(bars).chain(models).collect()
                     } else {
-                        models.into_iter().chain(std::iter::once(data)).collect()
+                        models
+                            .into_iter()
+                            .chain(bars)
+                            .chain(std::iter::once(data))
+                            .collect()
                     }
                 },
             };
@@ -165,6 +172,44 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         }
     }
     Ok(files)
+}
+
+/// The error bars `y ± sigma` of the rows of `q` at the abscissae `x` that
+/// are `shown`, one vertical segment each, where the file gives `sigma` and
+/// the rows are drawn as markers (`marked`); on a log axis (`log_y`) a bar
+/// reaching 0 or below ends at a tenth of the value.
+fn error_bars(
+    x: &[f64],
+    q: &crate::fit::data::Measured,
+    marked: bool,
+    log_y: bool,
+    shown: impl Fn(f64) -> bool,
+) -> Vec<Series> {
+    let Some(sigma) = q.sigma.as_ref().filter(|_| marked) else {
+        return Vec::new();
+    };
+    x.iter()
+        .zip(&q.values)
+        .zip(sigma)
+        .filter(|((t, _), _)| shown(**t))
+        .map(|((&t, &y), &e)| Series {
+            label: None,
+            points: vec![
+                (
+                    t,
+                    if log_y && y - e <= 0.0 {
+                        0.1 * y
+                    } else {
+                        y - e
+                    },
+                ),
+                (t, y + e),
+            ],
+            color: RGBColor(214, 39, 40),
+            dashed: false,
+            markers: false,
+        })
+        .collect()
 }
 
 /// `<stem>-fit-stability-band`: the fitted scene's critical stiffness over
@@ -218,6 +263,7 @@ fn band_figure(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         .iter()
         .filter(|d| d.kind == crate::fit::data::Kind::Onset)
     {
+        series.extend(error_bars(&d.v_um_s, &d.measured[0], true, false, |_| true));
         series.push(Series {
             label: Some("onset data".into()),
             points: d
