@@ -568,3 +568,36 @@ fn the_example_time_series_from_the_command_line() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A velocity step taken on a rig softer than the critical stiffness: the
+/// model slides by stick-slip there and the fit says so beside its numbers
+/// (it returned a wrong fit that looked fine, chi²/dof 1 with the errors
+/// estimated; a helper's find). On the stiff machine, no warning.
+#[test]
+fn a_series_on_a_rig_below_the_onset_is_flagged() {
+    let out = std::env::temp_dir().join("stickslip-fit-below-onset");
+    let run = |set: &[&str]| {
+        let mut args = vec![
+            "fit",
+            "--scene",
+            "examples/scenes/pmma-machine.toml",
+            "--data",
+            "velocity_step=examples/data/pmma-velocity-step.csv",
+            "--json",
+            "--force",
+            "--out",
+        ];
+        let out = out.to_str().unwrap().to_string();
+        let mut all: Vec<String> = args.drain(..).map(String::from).collect();
+        all.push(out);
+        all.extend(set.iter().map(|s| s.to_string()));
+        let refs: Vec<&str> = all.iter().map(String::as_str).collect();
+        let (code, json, err) = common::stickslip(&refs);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        v["datasets"][0]["warning"].as_str().map(String::from)
+    };
+    let soft = run(&["--set", "K=1e4"]).expect("a warning on the soft rig");
+    assert!(soft.contains("below the fitted (K/W)_c"), "{soft}");
+    assert_eq!(run(&[]), None);
+}

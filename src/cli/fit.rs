@@ -160,6 +160,9 @@ fn print_text(fit: &Fit) {
         if let (Some(model), Some(why)) = (d.model, &d.model_reason) {
             println!("    integrated in the {model} model: {why}");
         }
+        if let Some(w) = &d.warning {
+            eprintln!("warning: {} {}: {w}", d.kind.name(), d.file);
+        }
     }
     if let Some(c) = &fit.closed_form {
         let mut line = format!(

@@ -110,6 +110,33 @@ pub struct DatasetFit {
     pub model: Option<&'static str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_reason: Option<String>,
+    /// Where the rig's spring is softer than the fitted scene's critical
+    /// stiffness at a velocity of the series' protocol: the model slides by
+    /// stick-slip there, and a fit of a transient to it is not what the
+    /// data kind assumes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
+}
+
+/// Why the time series `d` is taken on a rig (spring `k_over_w`, 1/m) that
+/// slides by stick-slip at a velocity of its protocol with the fitted
+/// `values`: `(K/W)_c` there (Appendix C) above the rig's.
+fn below_onset(rig: &Rig, values: &Values<f64>, d: &Dataset, k_over_w: f64) -> Option<String> {
+    let (v, critical) = d
+        .v_um_s
+        .iter()
+        .filter(|v| **v > 0.0)
+        .map(|&v| (v, predict(rig, values, "K_over_W_per_m", v)))
+        .filter(|(_, c)| c.is_finite())
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (k_over_w < critical).then(|| {
+        format!(
+            "the rig's K/W = {k_over_w:.4e} 1/m lies below the fitted (K/W)_c = {critical:.4e} 1/m \
+             at V = {v:.4e} µm/s of this series' protocol: the model slides by stick-slip there, \
+             and its transient fits noise and stick-slip alike (the rms says how well); a stiffer \
+             rig, or onset data, determine the parameters"
+        )
+    })
 }
 
 /// The seed's route to the parameters (§II.D.2), printed beside the fit:
@@ -569,9 +596,16 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let mut at = 0;
     for (d, s) in data.iter().zip(&series) {
         if let Some((model, reason)) = s {
+            let warning = below_onset(
+                &rig,
+                &values,
+                d,
+                setup.scene.units.k_over_w(setup.scene_params.kappa),
+            );
             for fit in &mut datasets[at..at + d.measured.len()] {
                 fit.model = Some(model.kind.name());
                 fit.model_reason = Some(reason.clone());
+                fit.warning.clone_from(&warning);
             }
         }
         at += d.measured.len();
@@ -800,6 +834,7 @@ fn dataset_fits(problem: &Joint, values: &Values<f64>) -> Vec<DatasetFit> {
                 sigma_estimated: q.sigma.is_none().then_some(*scale),
                 model: None,
                 model_reason: None,
+                warning: None,
             });
         }
     }
