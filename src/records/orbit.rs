@@ -8,11 +8,12 @@ use crate::analysis::cycles::CycleRecord;
 use crate::jobs::{SceneSpec, Setup};
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
-use crate::params::{Param, N_PARAMS};
+use crate::params::{Param, Params, N_PARAMS};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::{CollocationPoints, Mesh};
 use continuation::VectorField;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// One collocated cycle, exactly: a line of the orbits file, found by its
 /// `label` (the cycle's `label` in the JSON and the CSV, `#label` in the
@@ -187,6 +188,11 @@ pub struct Source {
     /// The scene's parameters after `--set` (inertia kept), in the order of
     /// [`StoredOrbit::params`].
     pub scene_params: Vec<f64>,
+    /// Parameters a restarted run took from the point it restarted from,
+    /// by name, on top of `scene_params` (`branch --from`; absent
+    /// otherwise).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub at: BTreeMap<String, f64>,
 }
 
 impl Source {
@@ -206,12 +212,43 @@ impl Source {
             model: spec.model,
             inertia_threshold: spec.inertia_threshold,
             scene_params: setup.scene_params.to_vec(),
+            at: BTreeMap::new(),
         }
     }
 
     /// The run's name for the scene named `scene` ([`crate::file_names::run_name`]).
     pub fn run_name(&self, scene: &str) -> String {
         crate::file_names::run_name(scene, &self.set, self.model.map(|m| m.name()))
+    }
+
+    /// The scene's parameters as written (`theta_c > 0`: the cutoff form),
+    /// with those of `at`, or why they are out of shape.
+    pub fn params(&self) -> Result<Params, String> {
+        let v = &self.scene_params;
+        if v.len() != N_PARAMS || !v.iter().all(|x| x.is_finite()) {
+            return Err(format!(
+                "expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"
+            ));
+        }
+        let theta_c = v[Param::ThetaC as usize];
+        let mut params = Params {
+            kappa: v[Param::Kappa as usize],
+            nu: v[Param::Nu as usize],
+            m: v[Param::M as usize],
+            a: v[Param::A as usize],
+            b: v[Param::B as usize],
+            mu0: v[Param::Mu0 as usize],
+            mu2: v[Param::Mu2 as usize],
+            theta_c: (theta_c > 0.0).then_some(theta_c),
+        };
+        for (name, v) in &self.at {
+            let q = Param::parse(name).map_err(|e| format!("at: {e}"))?;
+            if !v.is_finite() {
+                return Err(format!("at: {name} = {v}: expected a finite number"));
+            }
+            params.set(q, *v);
+        }
+        Ok(params)
     }
 
     /// The scene, overrides and model to set up again.
