@@ -436,6 +436,7 @@ fn csv_columns_carry_units() {
         "curve",
         "n_unstable",
         "event",
+        "label",
     ];
     let check = |header: &[String]| {
         for h in header {

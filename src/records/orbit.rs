@@ -80,6 +80,15 @@ impl StoredOrbit {
         })
     }
 
+    /// Writes the orbit as one line of an orbits file, flushed at once so
+    /// that an interrupted run keeps it.
+    pub fn write_line(&self, file: &mut impl std::io::Write) -> Result<(), crate::error::Error> {
+        let line = serde_json::to_string(self).map_err(std::io::Error::other)?;
+        writeln!(file, "{line}")?;
+        file.flush()?;
+        Ok(())
+    }
+
     /// The continued parameter's value on this orbit.
     pub fn param(&self, p: Param) -> f64 {
         self.params[p as usize]
