@@ -18,12 +18,9 @@ use stickslip::log_model::LogBlock;
 use stickslip::model::ModelKind;
 use stickslip::records::orbit::StoredOrbit;
 
-/// `cycles ARGS --json --out DIR`: the exit status, the JSON and stderr.
-fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {
-    let out = dir.to_str().unwrap();
-    let mut all = vec!["cycles", "--json", "--out", out];
-    all.extend_from_slice(args);
-    let (status, stdout, stderr) = stickslip(&all);
+/// `stickslip ARGS`: the exit status, the JSON it printed and stderr.
+fn json_of(args: &[&str]) -> (i32, Value, String) {
+    let (status, stdout, stderr) = stickslip(args);
     (
         status,
         serde_json::from_str(&stdout).unwrap_or(Value::Null),
@@ -31,14 +28,25 @@ fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {
     )
 }
 
-/// The cycle labelled `label` in the JSON's branch cycles.
-fn labelled(json: &Value, label: u64) -> &Value {
-    json["cycles"]
+/// `cycles ARGS --json --out DIR`: the exit status, the JSON and stderr.
+fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {
+    let out = dir.to_str().unwrap();
+    json_of(&[&["cycles", "--json", "--out", out], args].concat())
+}
+
+/// The entry labelled `label` in the JSON's list `list`.
+fn entry<'a>(json: &'a Value, list: &str, label: u64) -> &'a Value {
+    json[list]
         .as_array()
         .unwrap()
         .iter()
         .find(|c| c["label"] == label)
         .unwrap()
+}
+
+/// The cycle labelled `label` in the JSON's branch cycles.
+fn labelled(json: &Value, label: u64) -> &Value {
+    entry(json, "cycles", label)
 }
 
 fn f(v: &Value, k: &str) -> f64 {
@@ -347,24 +355,12 @@ fn restart_errors_name_the_file_and_the_field() {
 
 /// `branch ARGS --json`: the exit status, the JSON and stderr.
 fn branch(args: &[&str]) -> (i32, Value, String) {
-    let mut all = vec!["branch", "--json"];
-    all.extend_from_slice(args);
-    let (status, stdout, stderr) = stickslip(&all);
-    (
-        status,
-        serde_json::from_str(&stdout).unwrap_or(Value::Null),
-        stderr,
-    )
+    json_of(&[&["branch", "--json"], args].concat())
 }
 
 /// The point labelled `label` of a branch's JSON.
 fn point(json: &Value, label: u64) -> &Value {
-    json["points"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["label"] == label)
-        .unwrap()
+    entry(json, "points", label)
 }
 
 /// `branch --from FILE.json --index N` continues steady sliding from the
@@ -465,24 +461,17 @@ fn branch_restarts_from_a_written_point() {
     // kappa of the first point and nu of this one.
     let nu_file = dir.join("nu.json");
     std::fs::write(&nu_file, in_nu.to_string()).unwrap();
-    let (status, hopf_json, stderr) = {
-        let (s, out, err) = stickslip(&[
-            "hopf",
-            "--json",
-            "--from",
-            nu_file.to_str().unwrap(),
-            "--index",
-            "4",
-        ]);
-        (
-            s,
-            serde_json::from_str::<Value>(&out).unwrap_or(Value::Null),
-            err,
-        )
-    };
+    let (status, hopf_json, stderr) = json_of(&[
+        "hopf",
+        "--json",
+        "--from",
+        nu_file.to_str().unwrap(),
+        "--index",
+        "4",
+    ]);
     assert_eq!(status, 0, "{stderr}");
     let nu = point(&in_nu, 4)["nu"].as_f64().unwrap();
-    let (_, direct, _) = stickslip(&[
+    let (status, direct, _) = json_of(&[
         "hopf",
         "--json",
         "--set",
@@ -490,7 +479,7 @@ fn branch_restarts_from_a_written_point() {
         "--set",
         &format!("nu={nu:?}"),
     ]);
-    let direct: Value = serde_json::from_str(&direct).unwrap();
+    assert_eq!(status, 0);
     for k in ["kappa_c", "omega_c", "l1"] {
         assert_eq!(hopf_json[k], direct[k], "{k}");
     }
@@ -525,9 +514,9 @@ fn hopf_at_a_written_cycle_is_hopf_with_its_parameters() {
     let nu = f(cycle, "nu");
     assert!(nu != first["source"]["scene_params"][1].as_f64().unwrap());
     let json = |args: &[&str]| -> Value {
-        let (status, out, err) = stickslip(args);
+        let (status, json, err) = json_of(args);
         assert_eq!(status, 0, "{err}");
-        serde_json::from_str(&out).unwrap()
+        json
     };
     let from = file.to_str().unwrap();
     let set_nu = format!("nu={nu:?}");

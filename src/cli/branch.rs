@@ -3,7 +3,7 @@
 //! physical or dimensionless units), CSV or JSON, each point one
 //! [`BranchRow`]. Text and CSV rows are written as they are computed.
 
-use super::{describe_params, SceneArgs, Setup, TextUnits};
+use super::{describe_params, from_value, SceneArgs, Setup, TextUnits};
 use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
 use crate::jobs::branch::{BranchRequest, BranchRestart, Observer, Plan};
@@ -89,7 +89,11 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
                 &args.scene.spec(),
                 &BranchRequest {
                     param,
-                    from: args.from.as_deref().map(start_value).transpose()?,
+                    from: args
+                        .from
+                        .as_deref()
+                        .map(|t| from_value(t, "a point of `branch --json` to continue from"))
+                        .transpose()?,
                     to: args.to,
                     max_steps: args.max_steps,
                 },
@@ -148,20 +152,6 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     // The rows are kept (written, or in the JSON); a failure is then
     // reported as it is, a branch short of `--to` as partial.
     branch.status()
-}
-
-/// `--from VALUE` without `--index`: a number (with `--index`, a file).
-fn start_value(text: &str) -> Result<f64, Error> {
-    text.trim().parse().map_err(|_| {
-        InputError::Malformed {
-            field: "--from".into(),
-            value: text.to_string(),
-            expected: "a number in the unit of --param, or FILE.json with --index N (a point \
-                       of `branch --json` to continue from)"
-                .into(),
-        }
-        .into()
-    })
 }
 
 /// The observer of the command line: a text line or a CSV row per point at

@@ -1,9 +1,9 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::{describe_params, describe_params_except, SceneArgs, Setup, TextUnits};
+use super::{describe_params, describe_params_except, from_value, SceneArgs, Setup, TextUnits};
 use crate::analysis::control::Control;
 use crate::analysis::hopf::{Arithmetic, Criticality};
-use crate::error::{Error, InputError};
+use crate::error::Error;
 use crate::jobs::restart::Restart;
 use crate::jobs::{self, hopf::HopfRequest};
 use crate::model::ModelKind;
@@ -78,7 +78,16 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
             jobs::hopf::run_from(&args.scene.spec(), &from, &request)?
         }
         (_, from) => {
-            request.from = from.as_deref().map(range_start).transpose()?;
+            request.from = from
+                .as_deref()
+                .map(|t| {
+                    from_value(
+                    t,
+                    "a cycle of `cycles --json` or a point of `branch --json` whose parameters \
+                     to take",
+                )
+                })
+                .transpose()?;
             jobs::hopf::run(&args.scene.spec(), &request)?
         }
     };
@@ -86,21 +95,6 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
         eprintln!("note: {note}");
     }
     present(args, &hopf.setup, &hopf.report)
-}
-
-/// `--from VALUE` without `--index`: a number (with `--index`, a file).
-fn range_start(text: &str) -> Result<f64, Error> {
-    text.trim().parse().map_err(|_| {
-        InputError::Malformed {
-            field: "--from".into(),
-            value: text.to_string(),
-            expected: "a number in the unit of --param, or FILE.json with --index N (a cycle \
-                       of `cycles --json` or a point of `branch --json` whose parameters to \
-                       take)"
-                .into(),
-        }
-        .into()
-    })
 }
 
 /// The operating point in one line: the stiffness, its margin, the regime
