@@ -401,6 +401,20 @@ fn branch_restarts_from_a_written_point() {
     assert_eq!(again["to"], first["to"]);
     assert_eq!(again["restarted_from"]["label"], n);
     assert_eq!(again["restarted_from"]["kind"], "branch point");
+    // In kappa, the parameter K moves: to the file's end as well.
+    let (status, in_kappa, _) = branch(&[
+        "--from",
+        from,
+        "--index",
+        &n.to_string(),
+        "--param",
+        "kappa",
+        "--max-steps",
+        "2",
+    ]);
+    assert_eq!(status, 4);
+    assert_eq!(in_kappa["to"], first["to"]);
+    assert_eq!(in_kappa["points"][0]["kappa"], point(&first, n)["kappa"]);
     let (stored, restarted) = (point(&first, n), &again["points"][0]);
     for k in ["kappa", "s", "theta", "eig_re_1", "eig_re_2", "K_N_per_m"] {
         assert_eq!(restarted[k], stored[k], "{k}");

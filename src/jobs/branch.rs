@@ -124,9 +124,10 @@ impl Plan {
         };
         let mut plan = Self::at_params(&spec, &request, Some(point.params))?;
         // From the point exactly (not through the control's unit), and in
-        // the file's parameter to the file's end unless --to says otherwise.
+        // the file's parameter (K or kappa alike) to the file's end unless
+        // --to says otherwise.
         plan.range.from = point.params.get(plan.range.param);
-        if r.to.is_none() && control.name() == point.control {
+        if r.to.is_none() && plan.range.param == point.param {
             plan.range.to = point.to;
         }
         if plan.range.from == plan.range.to {

@@ -192,6 +192,10 @@ pub struct Source {
     pub written_by: String,
     pub scene: String,
     pub set: Vec<String>,
+    /// The model forced (`--model`); absent when it was chosen from the
+    /// inertia ratio (every number of a command's JSON is finite and no
+    /// field of a complete result is null).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelKind>,
     pub inertia_threshold: f64,
     /// The scene's parameters after `--set` (inertia kept), in the order of
