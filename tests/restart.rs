@@ -10,16 +10,17 @@ mod common;
 use common::{stickslip, temp_dir};
 use serde_json::Value;
 use std::path::Path;
+use stickslip::analysis::settle::{settle, stuck_start, SettleSettings};
+use stickslip::analysis::simulate::cycle_by_integration;
 use stickslip::jobs::cycles::{CyclesRequest, Observer, Plan};
 use stickslip::jobs::SceneSpec;
+use stickslip::log_model::LogBlock;
+use stickslip::model::ModelKind;
 use stickslip::records::orbit::StoredOrbit;
 
-/// `cycles ARGS --json --out DIR`: the exit status, the JSON and stderr.
-fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {
-    let out = dir.to_str().unwrap();
-    let mut all = vec!["cycles", "--json", "--out", out];
-    all.extend_from_slice(args);
-    let (status, stdout, stderr) = stickslip(&all);
+/// `stickslip ARGS`: the exit status, the JSON it printed and stderr.
+fn json_of(args: &[&str]) -> (i32, Value, String) {
+    let (status, stdout, stderr) = stickslip(args);
     (
         status,
         serde_json::from_str(&stdout).unwrap_or(Value::Null),
@@ -27,14 +28,25 @@ fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {
     )
 }
 
-/// The cycle labelled `label` in the JSON's branch cycles.
-fn labelled(json: &Value, label: u64) -> &Value {
-    json["cycles"]
+/// `cycles ARGS --json --out DIR`: the exit status, the JSON and stderr.
+fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {
+    let out = dir.to_str().unwrap();
+    json_of(&[&["cycles", "--json", "--out", out], args].concat())
+}
+
+/// The entry labelled `label` in the JSON's list `list`.
+fn entry<'a>(json: &'a Value, list: &str, label: u64) -> &'a Value {
+    json[list]
         .as_array()
         .unwrap()
         .iter()
         .find(|c| c["label"] == label)
         .unwrap()
+}
+
+/// The cycle labelled `label` in the JSON's branch cycles.
+fn labelled(json: &Value, label: u64) -> &Value {
+    entry(json, "cycles", label)
 }
 
 fn f(v: &Value, k: &str) -> f64 {
@@ -168,6 +180,31 @@ fn restart_reproduces_the_cycle_and_continues_the_branch() {
         let e = rel(f(reached, k), f(asked, k));
         assert!(e < 1e-8, "{k} at kappa = 0.01075: {e:e}");
     }
+    // Independently: a long simulation at the restarted cycle's parameters
+    // (the PMMA block at its stiffness, with its inertia: the model of the
+    // cycle), from a stuck block, not from the orbit: settled by the return
+    // map (Radau IIA, rtol 1e-10), then integrated on (rtol 1e-12, two
+    // periods, then the extremes of `s` over eight).
+    assert_eq!(restarted["stable"], true);
+    assert_eq!(restarted["model"], "inertial");
+    let p = stickslip::params::Params {
+        kappa: f(restarted, "kappa"),
+        ..common::pmma(f(restarted, "m"), 2.4e-4)
+    };
+    let kind = ModelKind::Inertial;
+    let settled = settle(kind, &p, stuck_start(&p), &SettleSettings::for_params(&p)).unwrap();
+    let start = LogBlock::new(kind, &p).to_model(&settled.section, &p.to_vec());
+    let period = f(restarted, "period");
+    let (t, delta_s) =
+        cycle_by_integration(kind, &p, start, 2.0 * period, 8.0 * period, 4, 1e-12).unwrap();
+    for (k, sim) in [("period", t), ("delta_s", delta_s)] {
+        let e = rel(sim, f(restarted, k));
+        assert!(
+            e < 1e-6,
+            "{k}: simulation {sim} vs restart {}: {e:e}",
+            f(restarted, k)
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -271,6 +308,19 @@ fn restart_errors_name_the_file_and_the_field() {
         &[],
         &["cycles", "not the JSON of `stickslip cycles --json`"],
     );
+    // A branch's JSON is no cycles file.
+    let branch = dir.join("branch.json");
+    std::fs::write(
+        &branch,
+        stickslip(&["branch", "--param", "kappa", "--json", "--max-steps", "3"]).1,
+    )
+    .unwrap();
+    fails(
+        &branch,
+        "0",
+        &[],
+        &["`cycles --from` takes the JSON of `cycles --json`"],
+    );
     fails(
         &good,
         "99",
@@ -301,4 +351,375 @@ fn restart_errors_name_the_file_and_the_field() {
     fails(&good, "1", &["--set", "nu=2"], &["--set/--model"]);
     fails(&good, "1", &["--scene", "rig"], &["source.scene"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `branch ARGS --json`: the exit status, the JSON and stderr.
+fn branch(args: &[&str]) -> (i32, Value, String) {
+    json_of(&[&["branch", "--json"], args].concat())
+}
+
+/// The point labelled `label` of a branch's JSON.
+fn point(json: &Value, label: u64) -> &Value {
+    entry(json, "points", label)
+}
+
+/// `branch --from FILE.json --index N` continues steady sliding from the
+/// written point: in the file's parameter (`K`) its first point is the
+/// stored one bit for bit and it ends where the file's branch ends; in
+/// another (`nu`) it is the branch of a fresh run with `--set kappa=` of
+/// the point's stiffness, row for row; a restart of a restart keeps both
+/// (`source.at`). Independent values: the original run's point, and the
+/// fresh run.
+#[test]
+fn branch_restarts_from_a_written_point() {
+    let dir = temp_dir("restart-branch");
+    let (status, first, _) = branch(&["--param", "K"]);
+    assert_eq!(status, 0);
+    assert_eq!(first["source"]["scene"], "pmma");
+    let labels: Vec<u64> = first["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["label"].as_u64().unwrap())
+        .collect();
+    assert_eq!(labels, (0..labels.len() as u64).collect::<Vec<_>>());
+    let file = dir.join("k.json");
+    std::fs::write(&file, first.to_string()).unwrap();
+    let from = file.to_str().unwrap();
+    // The Hopf point the branch located, and a point before it.
+    let hopf = first["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["event"] == "hopf")
+        .unwrap();
+    let n = hopf["label"].as_u64().unwrap() - 3;
+    let (status, again, stderr) = branch(&["--from", from, "--index", &n.to_string()]);
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(again["param"], "kappa");
+    assert_eq!(again["control"]["param"], "K");
+    assert_eq!(again["to"], first["to"]);
+    assert_eq!(again["restarted_from"]["label"], n);
+    assert_eq!(again["restarted_from"]["kind"], "branch point");
+    // In kappa, the parameter K moves: to the file's end as well.
+    let (status, in_kappa, _) = branch(&[
+        "--from",
+        from,
+        "--index",
+        &n.to_string(),
+        "--param",
+        "kappa",
+        "--max-steps",
+        "2",
+    ]);
+    assert_eq!(status, 4);
+    assert_eq!(in_kappa["to"], first["to"]);
+    assert_eq!(in_kappa["points"][0]["kappa"], point(&first, n)["kappa"]);
+    let (stored, restarted) = (point(&first, n), &again["points"][0]);
+    for k in ["kappa", "s", "theta", "eig_re_1", "eig_re_2", "K_N_per_m"] {
+        assert_eq!(restarted[k], stored[k], "{k}");
+    }
+    // The onset is located again on the restarted branch.
+    let refound = again["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["event"] == "hopf")
+        .expect("the Hopf point again");
+    assert!(rel(f(refound, "kappa"), f(hopf, "kappa")) < 1e-10);
+    assert!(rel(f(refound, "omega"), f(hopf, "omega")) < 1e-10);
+
+    // In nu from the point: the fresh run with --set kappa of the point.
+    let kappa = stored["kappa"].as_f64().unwrap();
+    let (status, in_nu, stderr) = branch(&[
+        "--from",
+        from,
+        "--index",
+        &n.to_string(),
+        "--param",
+        "nu",
+        "--to",
+        "3",
+    ]);
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(in_nu["source"]["at"]["kappa"], stored["kappa"]);
+    let set = format!("kappa={kappa:?}");
+    let (status, fresh, _) = branch(&[
+        "--param",
+        "nu",
+        "--from",
+        "1",
+        "--to",
+        "3",
+        "--set",
+        &set,
+        "--model",
+        "quasi-static",
+    ]);
+    assert_eq!(status, 0);
+    let (a, b) = (
+        in_nu["points"].as_array().unwrap(),
+        fresh["points"].as_array().unwrap(),
+    );
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        for k in ["nu", "K_over_W_per_m", "s", "theta", "eig_re_1", "eig_im_1"] {
+            let (x, y) = (x[k].as_f64().unwrap(), y[k].as_f64().unwrap());
+            assert!(
+                (x - y).abs() <= 1e-12 * y.abs().max(1e-300),
+                "{k}: {x} vs {y}"
+            );
+        }
+    }
+    // A restart of that restart, and the onset at one of its points: at
+    // kappa of the first point and nu of this one.
+    let nu_file = dir.join("nu.json");
+    std::fs::write(&nu_file, in_nu.to_string()).unwrap();
+    let (status, hopf_json, stderr) = json_of(&[
+        "hopf",
+        "--json",
+        "--from",
+        nu_file.to_str().unwrap(),
+        "--index",
+        "4",
+    ]);
+    assert_eq!(status, 0, "{stderr}");
+    let nu = point(&in_nu, 4)["nu"].as_f64().unwrap();
+    let (status, direct, _) = json_of(&[
+        "hopf",
+        "--json",
+        "--set",
+        &set,
+        "--set",
+        &format!("nu={nu:?}"),
+    ]);
+    assert_eq!(status, 0);
+    for k in ["kappa_c", "omega_c", "l1"] {
+        assert_eq!(hopf_json[k], direct[k], "{k}");
+    }
+    assert_eq!(hopf_json["operating_point"], direct["operating_point"]);
+    assert_eq!(hopf_json["restarted_from"]["params"]["nu"], nu);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `hopf --from FILE.json --index N` at a cycle of a branch in the driving
+/// velocity is `hopf` with `--set` of that cycle's parameters (the same
+/// onset to the last bit), in the stiffness and in V.
+#[test]
+fn hopf_at_a_written_cycle_is_hopf_with_its_parameters() {
+    let dir = temp_dir("restart-hopf");
+    let (status, first, _) = cycles(
+        &dir.join("a"),
+        &[
+            "--set",
+            "K=2.5e5",
+            "--param",
+            "V",
+            "--to",
+            "3",
+            "--max-steps",
+            "6",
+        ],
+    );
+    assert_eq!(status, 4);
+    let file = dir.join("a.json");
+    std::fs::write(&file, first.to_string()).unwrap();
+    let cycle = labelled(&first, 6);
+    let nu = f(cycle, "nu");
+    assert!(nu != first["source"]["scene_params"][1].as_f64().unwrap());
+    let json = |args: &[&str]| -> Value {
+        let (status, json, err) = json_of(args);
+        assert_eq!(status, 0, "{err}");
+        json
+    };
+    let from = file.to_str().unwrap();
+    let set_nu = format!("nu={nu:?}");
+    for param in [None, Some("V")] {
+        let mut a = vec!["hopf", "--json", "--from", from, "--index", "6"];
+        let mut b = vec!["hopf", "--json", "--set", "K=2.5e5", "--set", &set_nu];
+        if let Some(p) = param {
+            a.extend(["--param", p]);
+            b.extend(["--param", p]);
+        }
+        let (a, b) = (json(&a), json(&b));
+        assert_eq!(a["restarted_from"]["kind"], "cycle");
+        assert_eq!(a["restarted_from"]["label"], 6);
+        assert_eq!(a["model"], b["model"]);
+        for k in ["kappa_c", "omega_c", "l1"] {
+            // The same onset; in V located along a continuation in nu,
+            // whose steps round differently (1e-14).
+            let e = rel(f(&a, k), f(&b, k));
+            assert!(e < 1e-12, "{param:?} {k}: {e:e}");
+        }
+        if param.is_some() {
+            let (x, y) = (f(&a["critical"], "value"), f(&b["critical"], "value"));
+            assert!(rel(x, y) < 1e-12, "V_c {x} vs {y}");
+        } else {
+            assert_eq!(a["kappa_c"], b["kappa_c"]);
+        }
+    }
+    let text = stickslip(&["hopf", "--from", from, "--index", "6"]).1;
+    assert!(
+        text.contains(&format!("at the parameters of cycle #6 of {from}")),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The faults of `branch --from` and `hopf --from` are input errors (exit
+/// status 2) naming the file and the field: a cycles file to `branch`, an
+/// index out of range, a file without `source`, the end point without
+/// `--to`, `--set` beside it, a control that moves the inertia of a
+/// quasi-static branch, a `--from` that is neither a number nor a file
+/// with `--index`, a file of neither kind to `hopf`.
+#[test]
+fn branch_and_hopf_restart_errors_name_the_file_and_the_field() {
+    let dir = temp_dir("restart-branch-errors");
+    let (status, json, _) = branch(&["--param", "kappa", "--max-steps", "3"]);
+    assert_eq!(status, 4);
+    let n = json["points"].as_array().unwrap().len();
+    let good = dir.join("good.json");
+    std::fs::write(&good, json.to_string()).unwrap();
+    let (_, cycles_json, _) = cycles(&dir.join("c"), &["--max-steps", "2"]);
+    let cycles_file = dir.join("cycles.json");
+    std::fs::write(&cycles_file, cycles_json.to_string()).unwrap();
+    let mut old = json.clone();
+    old.as_object_mut().unwrap().remove("source");
+    let old_file = dir.join("old.json");
+    std::fs::write(&old_file, old.to_string()).unwrap();
+    let mut ended = json.clone();
+    ended["to"] = json["points"][n - 1]["kappa"].clone();
+    let ended_file = dir.join("ended.json");
+    std::fs::write(&ended_file, ended.to_string()).unwrap();
+    let hopf_file = dir.join("hopf.json");
+    std::fs::write(&hopf_file, stickslip(&["hopf", "--json"]).1).unwrap();
+    let fails = |command: &str, file: &Path, index: &str, extra: &[&str], words: &[&str]| {
+        let mut args = vec![command, "--from", file.to_str().unwrap(), "--index", index];
+        args.extend_from_slice(extra);
+        let (status, _, stderr) = stickslip(&args);
+        assert_eq!(status, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(file.to_str().unwrap()), "{stderr}");
+        for w in words {
+            assert!(stderr.contains(w), "{w}: {stderr}");
+        }
+    };
+    fails("branch", &dir.join("missing.json"), "0", &[], &["--from"]);
+    fails(
+        "branch",
+        &cycles_file,
+        "0",
+        &[],
+        &["points", "`branch --from` continues steady sliding"],
+    );
+    fails(
+        "branch",
+        &good,
+        "99",
+        &[],
+        &[
+            "--index",
+            &format!(
+                "no point labelled 99: the file's points are labelled 0 to {}",
+                n - 1
+            ),
+        ],
+    );
+    fails(
+        "branch",
+        &old_file,
+        "0",
+        &[],
+        &["source", "rerun `branch` with this version"],
+    );
+    fails(
+        "branch",
+        &ended_file,
+        &(n - 1).to_string(),
+        &[],
+        &["--to", "the end of the file's branch"],
+    );
+    fails("branch", &good, "1", &["--set", "nu=2"], &["--set/--model"]);
+    fails(
+        "branch",
+        &good,
+        "1",
+        &["--param", "m"],
+        &["--param", "quasi-static"],
+    );
+    fails(
+        "hopf",
+        &hopf_file,
+        "0",
+        &[],
+        &["not the JSON of `stickslip cycles --json`"],
+    );
+    fails("hopf", &good, "99", &[], &["--index"]);
+    fails("hopf", &old_file, "0", &[], &["source"]);
+    // A Python result (no orbits file) gives no cycle's parameters exactly.
+    let mut python = cycles_json.clone();
+    python["orbits_file"] = Value::Null;
+    let python_file = dir.join("python.json");
+    std::fs::write(&python_file, python.to_string()).unwrap();
+    fails("hopf", &python_file, "0", &[], &["orbits_file", "null"]);
+    for command in ["branch", "hopf"] {
+        let mut args = vec![command, "--from", "k.json"];
+        if command == "branch" {
+            args.extend(["--param", "kappa"]);
+        }
+        let (status, _, stderr) = stickslip(&args);
+        assert_eq!(status, 2, "{stderr}");
+        assert!(
+            stderr.contains("--from") && stderr.contains("--index N"),
+            "{stderr}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run whose `--out` was relative is restarted from another directory:
+/// the orbits file is found from the JSON's directory (a stranger's
+/// `cd ..` failed with "cannot read run1/...jsonl (nor ...)").
+#[test]
+fn a_restart_from_another_directory_finds_the_orbits() {
+    let dir = common::temp_dir("restart-elsewhere");
+    let work = dir.join("work");
+    std::fs::create_dir_all(&work).unwrap();
+    let run = |cwd: &std::path::Path, args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+            .current_dir(cwd)
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            out.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&out.stdout).to_string(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let (code, json, err) = run(
+        &work,
+        &[
+            "cycles",
+            "--kappa-fraction",
+            "0.95",
+            "--json",
+            "--out",
+            "run1",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(work.join("run1.json"), &json).unwrap();
+    let (code, _, err) = run(
+        &dir,
+        &[
+            "cycles",
+            "--from",
+            "work/run1.json",
+            "--index",
+            "3",
+            "--out",
+            "again",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
 }

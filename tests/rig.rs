@@ -542,7 +542,8 @@ fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
         at[0]["delta_s_N"].as_f64().unwrap(),
     );
     assert!(rel(at[0]["V_um_per_s"].as_f64().unwrap(), V) < 1e-12);
-    // The CSV has the same cycles, the control after the existing columns.
+    // The CSV has the same cycles, the control after the existing columns,
+    // then the cycle's label (what `cycles --from FILE --index N` names).
     let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
     let header = csv.lines().nth(1).unwrap();
     assert!(

@@ -27,7 +27,7 @@ use stickslip::error::{Error, InputError};
 use stickslip::error::{Interruption, StopSignal};
 use stickslip::file_names::{run_name, stem as files_stem, with_suffix};
 use stickslip::fit::data::Kind;
-use stickslip::jobs::branch::BranchRequest;
+use stickslip::jobs::branch::{BranchRequest, BranchRestart, Plan as BranchPlan};
 use stickslip::jobs::cycles::{asked_stiffnesses, CyclesRequest, Observer, Plan};
 use stickslip::jobs::cycles_in::{asked_values, CyclesInControlRequest};
 use stickslip::jobs::diagram::{run_pair, DiagramRequest};
@@ -37,6 +37,7 @@ use stickslip::jobs::restart::Restart;
 use stickslip::jobs::simulate::SimulateRequest;
 use stickslip::jobs::SceneSpec;
 use stickslip::model::ModelKind;
+use stickslip::params::Param;
 use stickslip::plot::axes::axes_figure;
 use stickslip::plot::cycles::{branch_figures, fold_figure};
 use stickslip::plot::diagram::write_figures;
@@ -46,6 +47,7 @@ use stickslip::plot::PlotError;
 use stickslip::records::branch::BranchRow;
 use stickslip::records::csv::{header, header_of};
 use stickslip::records::cycle::Cycle;
+use stickslip::records::orbit::StoredOrbit;
 use stickslip::records::simulation::SimulationRow;
 use stickslip::scene::{self, Units};
 
@@ -300,15 +302,33 @@ fn scene_toml(scene: SceneArg) -> PyResult<(String, Vec<String>)> {
     Ok((text, dimensionless))
 }
 
+/// `from_file` with `index` (a restart's file and label), both or neither.
+fn restart_of(
+    from_file: Option<PathBuf>,
+    index: Option<usize>,
+    command: &str,
+) -> Result<Option<Restart>, InputError> {
+    match (from_file, index) {
+        (Some(file), Some(index)) => Ok(Some(Restart { file, index })),
+        (None, None) => Ok(None),
+        _ => Err(InputError::Conflict(format!(
+            "from_file and index go together: the JSON of `stickslip {command} --json` (saved \
+             to a file) and the label of one of its entries"
+        ))),
+    }
+}
+
 /// `stickslip hopf`: the JSON the command prints, and its note.
 #[pyfunction]
-#[pyo3(signature = (scene, param=None, from_=None, to=None))]
+#[pyo3(signature = (scene, param=None, from_=None, to=None, from_file=None, index=None))]
 fn hopf(
     py: Python<'_>,
     scene: SceneArg,
     param: Option<String>,
     from_: Option<f64>,
     to: Option<f64>,
+    from_file: Option<PathBuf>,
+    index: Option<usize>,
 ) -> PyResult<(String, Option<String>)> {
     let (spec, shown) = scene.spec()?;
     let result = py.detach(|| {
@@ -317,7 +337,10 @@ fn hopf(
             from: from_,
             to,
         };
-        stickslip::jobs::hopf::run(&spec, &request)
+        match restart_of(from_file, index, "cycles` or `stickslip branch")? {
+            Some(r) => stickslip::jobs::hopf::run_from(&spec, &r, &request),
+            None => stickslip::jobs::hopf::run(&spec, &request),
+        }
     });
     let hopf = result.map_err(|e| to_py(e, shown.as_ref()))?;
     let value =
@@ -333,6 +356,8 @@ struct Signals {
     raised: Option<PyErr>,
     /// When the signals were last checked.
     checked: Instant,
+    /// Where a `cycles` run writes each cycle's orbit (`orbits_file=`).
+    orbits: Option<std::fs::File>,
 }
 
 impl Signals {
@@ -340,7 +365,24 @@ impl Signals {
         Signals {
             raised: None,
             checked: Instant::now(),
+            orbits: None,
         }
+    }
+
+    /// Signals that also write each cycle's orbit to `path` (created or
+    /// replaced), as the command line's `<run>-cycles-orbits.jsonl`; its
+    /// absolute path, for the result's `orbits_file`.
+    fn writing_orbits(path: Option<PathBuf>) -> Result<(Signals, Option<String>), Error> {
+        let mut signals = Signals::new();
+        let Some(path) = path else {
+            return Ok((signals, None));
+        };
+        let file = std::fs::File::create(&path).map_err(|e| {
+            InputError::Conflict(format!("orbits_file: cannot write {}: {e}", path.display()))
+        })?;
+        signals.orbits = Some(file);
+        let shown = std::fs::canonicalize(&path).unwrap_or(path);
+        Ok((signals, Some(shown.display().to_string())))
     }
 
     /// Whether a signal handler raised (checked at most every 20 ms).
@@ -379,6 +421,13 @@ impl Observer for Signals {
         self.checked = Instant::now() - Duration::from_secs(1);
         self.raised_now().then(|| Signals::interruption(at()))
     }
+
+    fn orbit(&mut self, orbit: &StoredOrbit) -> Result<(), Error> {
+        match &mut self.orbits {
+            Some(file) => orbit.write_line(file),
+            None => Ok(()),
+        }
+    }
 }
 
 impl stickslip::jobs::branch::Observer for Signals {
@@ -399,7 +448,7 @@ impl stickslip::jobs::branch::Observer for Signals {
 /// array of `t/T, s, v, theta`), the CSV columns, whether the run was
 /// interrupted, and the failure that ended a leg (`(kind, message)`).
 #[pyfunction]
-#[pyo3(signature = (scene, kappa_fraction, from_simulation, max_steps, ntst, ntst_max, collocation, lpc_curve, at_kappa, at, param, to, search=None, from_file=None, index=None))]
+#[pyo3(signature = (scene, kappa_fraction, from_simulation, max_steps, ntst, ntst_max, collocation, lpc_curve, at_kappa, at, param, to, search=None, from_file=None, index=None, orbits_file=None))]
 #[allow(clippy::too_many_arguments)]
 fn cycles<'py>(
     py: Python<'py>,
@@ -418,21 +467,12 @@ fn cycles<'py>(
     search: Option<(f64, f64)>,
     from_file: Option<std::path::PathBuf>,
     index: Option<usize>,
+    orbits_file: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, shown) = scene.spec()?;
     let err = |e: Error| to_py(e, shown.as_ref());
-    let from = match (from_file, index) {
-        (Some(file), Some(index)) => Some(Restart { file, index }),
-        (None, None) => None,
-        _ => {
-            return Err(err(InputError::Conflict(
-                "from_file and index go together: the JSON of `stickslip cycles --json` and \
-                 the label of one of its cycles"
-                    .into(),
-            )
-            .into()))
-        }
-    };
+    let (mut observer, orbits_file) = Signals::writing_orbits(orbits_file).map_err(err)?;
+    let from = restart_of(from_file, index, "cycles").map_err(|e| err(e.into()))?;
     let control = Control::from_param(param.as_deref()).map_err(|e| err(e.into()))?;
     let collocation = collocation_of(collocation.as_deref()).map_err(|e| err(e.into()))?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
@@ -464,7 +504,7 @@ fn cycles<'py>(
             collocation,
             from,
         };
-        return cycles_in_control(py, &spec, shown.as_ref(), &request);
+        return cycles_in_control(py, &spec, shown.as_ref(), &request, observer, orbits_file);
     }
     if search.is_some() {
         return Err(err(InputError::Conflict(
@@ -494,10 +534,10 @@ fn cycles<'py>(
         to: control.zip(to),
         from,
     };
-    let mut observer = Signals::new();
     let result = py.detach(|| Plan::new(&spec, request).map(|plan| plan.run(&mut observer)));
     let mut result = result.map_err(err)?;
     observer.reraise(py)?;
+    result.orbits_file = orbits_file;
     let d = PyDict::new(py);
     d.set_item("json", to_json(&result)?)?;
     let orbits = PyList::empty(py);
@@ -621,8 +661,9 @@ fn cycles_in_control<'py>(
     spec: &SceneSpec,
     shown: Option<&(String, String)>,
     request: &CyclesInControlRequest,
+    mut observer: Signals,
+    orbits_file: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut observer = Signals::new();
     let result = py.detach(|| {
         stickslip::jobs::cycles_in::Plan::new(spec, request).and_then(|plan| {
             let header = plan.header_record();
@@ -631,6 +672,7 @@ fn cycles_in_control<'py>(
     });
     let (mut result, header) = result.map_err(|e| to_py(e, shown))?;
     observer.reraise(py)?;
+    result.orbits_file = orbits_file;
     let d = PyDict::new(py);
     d.set_item("json", to_json(&result)?)?;
     d.set_item("orbits", PyList::empty(py))?;
@@ -648,25 +690,52 @@ fn cycles_in_control<'py>(
 /// `stickslip branch`: a dict with the JSON the command prints, whether
 /// Ctrl-C stopped it, and the failure that ended it (`(kind, message)`).
 #[pyfunction]
-#[pyo3(signature = (scene, param, from_=None, to=None, max_steps=2000))]
+#[pyo3(signature = (scene, param=None, from_=None, to=None, max_steps=2000, from_file=None, index=None))]
+#[allow(clippy::too_many_arguments)]
 fn branch<'py>(
     py: Python<'py>,
     scene: SceneArg,
-    param: String,
+    param: Option<String>,
     from_: Option<f64>,
     to: Option<f64>,
     max_steps: usize,
+    from_file: Option<PathBuf>,
+    index: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec, shown) = scene.spec()?;
     let mut observer = Signals::new();
     let result = py.detach(|| {
-        let request = BranchRequest {
-            param: Control::parse(&param, "--param")?,
-            from: from_,
-            to,
-            max_steps,
-        };
-        stickslip::jobs::branch::Plan::new(&spec, &request).map(|plan| plan.run(&mut observer))
+        let param = param
+            .as_deref()
+            .map(|p| Control::parse(p, "--param"))
+            .transpose()?;
+        let plan =
+            match (restart_of(from_file, index, "branch")?, param) {
+                (Some(_), _) if from_.is_some() => return Err(InputError::Conflict(
+                    "from_ starts a fresh branch; a restart starts at its point: leave out from_"
+                        .into(),
+                )
+                .into()),
+                (Some(from), param) => BranchPlan::restart(
+                    &spec,
+                    &BranchRestart {
+                        from,
+                        param,
+                        to,
+                        max_steps,
+                    },
+                )?,
+                (None, param) => BranchPlan::new(
+                    &spec,
+                    &BranchRequest {
+                        param: param.unwrap_or(Control::Dimensionless(Param::Kappa)),
+                        from: from_,
+                        to,
+                        max_steps,
+                    },
+                )?,
+            };
+        Ok::<_, Error>(plan.run(&mut observer))
     });
     let mut result = result.map_err(|e| to_py(e, shown.as_ref()))?;
     observer.reraise(py)?;

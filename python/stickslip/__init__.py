@@ -667,6 +667,8 @@ def hopf(
     *,
     model: str | None = None,
     inertia_threshold: float | None = None,
+    from_file: str | os.PathLike | None = None,
+    index: int | None = None,
 ) -> Hopf:
     """The stick-slip onset of `scene` (`stickslip hopf`): where steady
     sliding turns into stick-slip as the stiffness decreases, its frequency,
@@ -682,6 +684,13 @@ def hopf(
         times the scene's value otherwise).
     model: "inertial" or "quasi-static", forced (default: chosen from the
         inertia ratio m nu^2 / mu_v against `inertia_threshold`, 1e-3).
+    from_file, index: the onset at the parameters of the cycle or point
+        labelled `index` of a JSON that `stickslip cycles --json` or
+        `stickslip branch --json` printed, or of a saved `to_dict()` of
+        `branch()` or of `cycles(orbits_file=...)` (as `stickslip hopf
+        --from FILE --index N`); the scene and overrides are the file's
+        (leave out `scene`, `model` and overrides); `restarted_from` in
+        the result names the point.
 
     Returns a `Hopf` whose `to_dict()` is `stickslip hopf --json`'s output.
     Raises `InputError` for bad input (naming the field) and
@@ -693,6 +702,8 @@ def hopf(
         None if param is None else str(param),
         None if from_ is None else float(from_),
         None if to is None else float(to),
+        None if from_file is None else os.fspath(from_file),
+        None if index is None else int(index),
     )
     return Hopf(json.loads(data), note)
 
@@ -742,6 +753,7 @@ def cycles(
     inertia_threshold: float | None = None,
     from_file: str | os.PathLike | None = None,
     index: int | None = None,
+    orbits_file: str | os.PathLike | None = None,
 ) -> Cycles:
     """The stick-slip cycles of `scene` (`stickslip cycles`): the branch of
     periodic orbits born at the Hopf point, continued by collocation toward
@@ -777,7 +789,14 @@ def cycles(
         of a JSON that `stickslip cycles --json` printed (saved to a file),
         as `stickslip cycles --from FILE --index N`: its orbit read exactly
         from the run's orbits file and continued both ways; the scene is
-        the file's (leave out `scene`, `model` and overrides).
+        the file's (leave out `scene`, `model` and overrides). The file
+        may also be a saved `to_dict()` of a run with `orbits_file`.
+    orbits_file: a path to write each labelled cycle's orbit to, exactly,
+        one line per cycle (as the command line's
+        `<run>-cycles-orbits.jsonl`); the result's `orbits_file` then names
+        it, so that its saved `to_dict()` (`json.dump`) can be restarted
+        from. Without it `orbits_file` is None and the result cannot be
+        restarted from (`from_file` refuses it, naming `orbits_file`).
 
     Returns a `Cycles` whose `to_dict()` is `stickslip cycles --json`'s
     output (without the files). Ctrl-C stops the branch at the next cycle
@@ -808,6 +827,7 @@ def cycles(
         _pair("search", search),
         None if from_file is None else os.fspath(from_file),
         None if index is None else int(index),
+        None if orbits_file is None else os.fspath(orbits_file),
     )
     failure = out["failure"]
     result = Cycles(
@@ -1127,27 +1147,35 @@ class Simulation(_Drawn):
 
 def branch(
     scene: Scene | str | None = None,
-    param: str = "kappa",
+    param: str | None = None,
     from_: float | None = None,
     to: float | None = None,
     max_steps: int = 2000,
     *,
     model: str | None = None,
     inertia_threshold: float | None = None,
+    from_file: str | os.PathLike | None = None,
+    index: int | None = None,
 ) -> Branch:
     """Steady sliding continued in a parameter (`stickslip branch`), with
     the eigenvalues at every point and the bifurcations located on it.
 
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
-    param: kappa or nu, or a control parameter in its unit: K [N/m], V
-        [um/s], M [kg], tau [s], or m, A, B, mu2, theta_c (the rows are in
-        the dimensionless parameter it moves).
+    param: kappa (the default) or nu, or a control parameter in its unit:
+        K [N/m], V [um/s], M [kg], tau [s], or m, A, B, mu2, theta_c (the
+        rows are in the dimensionless parameter it moves).
     from_, to: the range, in the unit of `param` (default: kappa, K — from
         a stable stiffness to 1e-3 of it; nu, V — the scene's velocity
         range; others — the scene's value to 1e3 times it).
     max_steps: most continuation steps; a branch short of `to` is returned
         with `complete = False`.
     model, inertia_threshold: as for `hopf`.
+    from_file, index: continue from the point labelled `index` of a JSON
+        that `stickslip branch --json` printed or a saved `to_dict()` of
+        `branch()` (as `stickslip branch --from FILE --index N`): the
+        file's scene, overrides and model, from the point's value exactly,
+        in the file's parameter (to its `to`, or `to`) or in `param`; leave
+        out `scene`, `model`, overrides and `from_`.
 
     Returns a `Branch` whose `to_dict()` is `stickslip branch --json`'s
     output. Ctrl-C stops the branch and returns its points (`interrupted`).
@@ -1157,10 +1185,12 @@ def branch(
     s = _scene(scene)
     out = _native.branch(
         s._arg(model, inertia_threshold),
-        str(param),
+        None if param is None else str(param),
         None if from_ is None else float(from_),
         None if to is None else float(to),
         _count("max_steps", max_steps),
+        None if from_file is None else os.fspath(from_file),
+        None if index is None else int(index),
     )
     failure = out["failure"]
     result = Branch(json.loads(out["json"]), out["interrupted"], failure[1] if failure else None)

@@ -243,6 +243,8 @@ def hopf(
     *,
     model: Model | None = ...,
     inertia_threshold: float | None = ...,
+    from_file: str | os.PathLike[str] | None = ...,
+    index: int | None = ...,
 ) -> Hopf: ...
 def cycles(
     scene: Scene | str | os.PathLike[str] | None = ...,
@@ -261,19 +263,24 @@ def cycles(
     search: tuple[float, float] | None = ...,
     model: Model | None = ...,
     inertia_threshold: float | None = ...,
+    from_file: str | os.PathLike[str] | None = ...,
+    index: int | None = ...,
+    orbits_file: str | os.PathLike[str] | None = ...,
 ) -> Cycles: ...
 
 DEFAULT_CURVE_STEPS: int
 
 def branch(
     scene: Scene | str | os.PathLike[str] | None = ...,
-    param: str = ...,
+    param: str | None = ...,
     from_: float | None = ...,
     to: float | None = ...,
     max_steps: int = ...,
     *,
     model: Model | None = ...,
     inertia_threshold: float | None = ...,
+    from_file: str | os.PathLike[str] | None = ...,
+    index: int | None = ...,
 ) -> Branch: ...
 def diagram(
     scene: Scene | str | os.PathLike[str] | None = ...,

@@ -19,6 +19,9 @@ PMMA_K = Scene.builtin("pmma").with_(K=2e5)
 def _without_files(d):
     d = dict(d)
     d.pop("files")
+    # The command line writes the orbits to a file and names it; Python
+    # only with orbits_file=.
+    d.pop("orbits_file")
     return d
 
 

@@ -3,10 +3,11 @@
 //! physical or dimensionless units), CSV or JSON, each point one
 //! [`BranchRow`]. Text and CSV rows are written as they are computed.
 
-use super::{describe_params, SceneArgs, Setup, TextUnits};
+use super::{describe_params, from_value, SceneArgs, Setup, TextUnits};
 use crate::analysis::control::Control;
-use crate::error::Error;
-use crate::jobs::branch::{BranchRequest, Observer, Plan};
+use crate::error::{Error, InputError};
+use crate::jobs::branch::{BranchRequest, BranchRestart, Observer, Plan};
+use crate::jobs::restart::Restart;
 use crate::params::Param;
 use crate::records::branch::{BranchRow, ParamValue};
 use crate::records::csv::{self, header_of};
@@ -21,14 +22,21 @@ pub struct BranchArgs {
     /// The continuation parameter: kappa or nu, or a control parameter in
     /// its unit, K [N/m], V [um/s], M [kg], tau [s], or m, A, B, mu2,
     /// theta_c (the rows are in the dimensionless parameter it moves: K in
-    /// kappa, V in nu, M in m, or in kappa when W = M g).
-    #[arg(long, value_name = "P")]
-    pub param: String,
+    /// kappa, V in nu, M in m, or in kappa when W = M g). With --from
+    /// FILE.json --index N: default the file's.
+    #[arg(long, value_name = "P", required_unless_present = "index")]
+    pub param: Option<String>,
     #[arg(allow_hyphen_values = true)]
     /// Start value, in the unit of --param (default: kappa, K — a stable stiffness; nu, V — the
-    /// bottom of the scene's velocity range; others — the scene's value).
-    #[arg(long)]
-    pub from: Option<f64>,
+    /// bottom of the scene's velocity range; others — the scene's value). With --index N: the
+    /// JSON that `branch --json` printed (saved to a file), to continue from its point labelled N
+    /// with the file's scene, overrides and model (docs/index.md, "Restart").
+    #[arg(long, value_name = "VALUE|FILE.json")]
+    pub from: Option<String>,
+    /// With --from FILE.json: the label of the point to continue from
+    /// (`label` in the JSON and the CSV, #N in the text).
+    #[arg(long, value_name = "N", requires = "from")]
+    pub index: Option<usize>,
     #[arg(allow_hyphen_values = true)]
     /// End value, in the unit of --param (default: kappa, K — 1e-3 of the start; nu, V — the top
     /// of the scene's velocity range; others — 1e3 times the start, the stiffness 1e-3).
@@ -58,13 +66,45 @@ pub struct BranchArgs {
 
 /// Runs the command.
 pub fn run(args: &BranchArgs) -> Result<(), Error> {
-    let request = BranchRequest {
-        param: Control::parse(&args.param, "--param")?,
-        from: args.from,
-        to: args.to,
-        max_steps: args.max_steps,
-    };
-    let plan = Plan::new(&args.scene.spec(), &request)?;
+    let param = args
+        .param
+        .as_deref()
+        .map(|p| Control::parse(p, "--param"))
+        .transpose()?;
+    let plan =
+        match (args.index, param) {
+            (Some(index), _) => Plan::restart(
+                &args.scene.spec(),
+                &BranchRestart {
+                    from: Restart {
+                        file: args.from.clone().unwrap_or_default().into(),
+                        index,
+                    },
+                    param,
+                    to: args.to,
+                    max_steps: args.max_steps,
+                },
+            )?,
+            (None, Some(param)) => Plan::new(
+                &args.scene.spec(),
+                &BranchRequest {
+                    param,
+                    from: args
+                        .from
+                        .as_deref()
+                        .map(|t| from_value(t, "a point of `branch --json` to continue from"))
+                        .transpose()?,
+                    to: args.to,
+                    max_steps: args.max_steps,
+                },
+            )?,
+            // clap requires --param without --index.
+            (None, None) => return Err(InputError::Conflict(
+                "give --param P (or --from FILE.json --index N to continue from a written point)"
+                    .into(),
+            )
+            .into()),
+        };
     let (setup, range) = (&plan.setup, &plan.range);
     let format = match (args.json, args.csv) {
         (true, _) => Format::Json,
@@ -78,6 +118,17 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         },
     };
     let mut out = std::io::stdout().lock();
+    if let (Some(r), Format::Text { .. }) = (&plan.restarted_from, format) {
+        writeln!(
+            out,
+            "continuing from point #{} of {} ({} model, {} = {:.10e})",
+            r.label,
+            r.file,
+            r.model.name(),
+            range.param.name(),
+            range.from
+        )?;
+    }
     write_head(&mut out, format, setup, range.param, (range.from, range.to))?;
     if matches!(format, Format::Text { .. }) && plan.control.name() != range.param.name() {
         let (from, to) = plan.control_range();
@@ -237,5 +288,10 @@ fn text_line(r: &BranchRow, units: TextUnits, rate: f64) -> String {
         (Some(e), None) => format!("  <- {}", e.name().to_uppercase()),
         (None, _) => String::new(),
     };
-    format!("{columns} {:>3}  {}{tag}", r.n_unstable, evs.join("  "))
+    format!(
+        "{columns} {:>3}  {}{tag}  #{}",
+        r.n_unstable,
+        evs.join("  "),
+        r.label
+    )
 }

@@ -307,7 +307,7 @@ impl Observer for Printer {
     }
 
     fn orbit(&mut self, orbit: &StoredOrbit) -> Result<(), Error> {
-        write_orbit(&mut self.orbits, orbit)
+        orbit.write_line(&mut self.orbits)
     }
 
     fn operating_point(&mut self, op: &OperatingCycle) {
@@ -519,17 +519,6 @@ fn write_operating_csv(csv: &mut impl Write, op: &OperatingCycle) -> Result<(), 
         op.method.unwrap_or("")
     )?;
     write_row(csv, c)
-}
-
-/// One line of the orbits file, flushed at once so an interrupted run keeps it.
-pub fn write_orbit(file: &mut impl Write, orbit: &StoredOrbit) -> Result<(), Error> {
-    writeln!(
-        file,
-        "{}",
-        serde_json::to_string(orbit).map_err(std::io::Error::other)?
-    )?;
-    file.flush()?;
-    Ok(())
 }
 
 /// One CSV row per cycle, flushed at once so an interrupted run keeps it.

@@ -3,7 +3,6 @@
 //! ([`crate::jobs::cycles_in`]) and writes its CSV (row by row), text,
 //! JSON, and the force drop and period against the control.
 
-use super::cycles::write_orbit;
 use super::cycles::CyclesArgs;
 use super::files::{create_file, LineFile};
 use super::interrupt;
@@ -239,6 +238,6 @@ impl Observer for Printer {
     fn note(&mut self, _note: Note) {}
 
     fn orbit(&mut self, orbit: &StoredOrbit) -> Result<(), Error> {
-        write_orbit(&mut self.orbits, orbit)
+        orbit.write_line(&mut self.orbits)
     }
 }

@@ -1,9 +1,10 @@
 //! `stickslip hopf`: the stick-slip onset of a scene, next to Appendix C.
 
-use super::{describe_params, describe_params_except, SceneArgs, Setup, TextUnits};
+use super::{describe_params, describe_params_except, from_value, SceneArgs, Setup, TextUnits};
 use crate::analysis::control::Control;
 use crate::analysis::hopf::{Arithmetic, Criticality};
 use crate::error::Error;
+use crate::jobs::restart::Restart;
 use crate::jobs::{self, hopf::HopfRequest};
 use crate::model::ModelKind;
 use crate::params::Param;
@@ -31,8 +32,15 @@ pub struct HopfArgs {
     pub param: Option<String>,
     /// Low end of the range searched, in the unit of --param (default: the
     /// scene's V_range for V and nu, 1e-3 of the scene's value otherwise).
-    #[arg(long, allow_hyphen_values = true)]
-    pub from: Option<f64>,
+    /// With --index N: the JSON that `cycles --json` or `branch --json`
+    /// printed (saved to a file): the onset at the parameters of its cycle
+    /// or point labelled N, with the file's scene and overrides.
+    #[arg(long, allow_hyphen_values = true, value_name = "VALUE|FILE.json")]
+    pub from: Option<String>,
+    /// With --from FILE.json: the label of the cycle or point whose
+    /// parameters to take (`label` in the JSON and the CSV, #N in the text).
+    #[arg(long, value_name = "N", requires = "from")]
+    pub index: Option<usize>,
     /// High end of the range searched (default: the top of V_range for V
     /// and nu, 1e3 times the scene's value otherwise).
     #[arg(long, allow_hyphen_values = true)]
@@ -56,12 +64,33 @@ fn present(args: &HopfArgs, setup: &Setup, report: &HopfReport) -> Result<(), Er
 
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
-    let request = HopfRequest {
+    let mut request = HopfRequest {
         param: Control::from_param(args.param.as_deref())?,
-        from: args.from,
+        from: None,
         to: args.to,
     };
-    let hopf = jobs::hopf::run(&args.scene.spec(), &request)?;
+    let hopf = match (args.index, &args.from) {
+        (Some(index), Some(file)) => {
+            let from = Restart {
+                file: file.into(),
+                index,
+            };
+            jobs::hopf::run_from(&args.scene.spec(), &from, &request)?
+        }
+        (_, from) => {
+            request.from = from
+                .as_deref()
+                .map(|t| {
+                    from_value(
+                    t,
+                    "a cycle of `cycles --json` or a point of `branch --json` whose parameters \
+                     to take",
+                )
+                })
+                .transpose()?;
+            jobs::hopf::run(&args.scene.spec(), &request)?
+        }
+    };
     if let Some(note) = &hopf.note {
         eprintln!("note: {note}");
     }
@@ -89,6 +118,15 @@ fn operating_point_line(op: &OperatingPoint, units: TextUnits) -> String {
 fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
     let p = &setup.params;
     println!("scene: {} — {}", setup.scene.name, setup.scene.description);
+    if let Some(r) = &report.restarted_from {
+        println!(
+            "at the parameters of {} #{} of {} ({} model there)",
+            r.kind,
+            r.label,
+            r.file,
+            r.model.name()
+        );
+    }
     println!("model: {}", report.model_reason);
     let mut shown = *p;
     let listed = match &report.outcome {

@@ -133,6 +133,22 @@ impl SceneArgs {
 }
 
 /// Runs the parsed command line, writing to standard output.
+/// `--from VALUE` without `--index` (of `branch` and `hopf`): a number in
+/// the unit of `--param`; with `--index` it is a file, `FILE.json`, holding
+/// `what`.
+pub fn from_value(text: &str, what: &str) -> Result<f64, Error> {
+    text.trim().parse().map_err(|_| {
+        crate::error::InputError::Malformed {
+            field: "--from".into(),
+            value: text.to_string(),
+            expected: format!(
+                "a number in the unit of --param, or FILE.json with --index N ({what})"
+            ),
+        }
+        .into()
+    })
+}
+
 pub fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         Command::Hopf(args) => hopf::run(&args),

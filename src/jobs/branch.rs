@@ -4,6 +4,7 @@
 //! [`Observer`] as it is computed; the result ([`Branch`]) is the command's
 //! JSON.
 
+use super::restart::{Restart, RestartRecord};
 use super::{SceneSpec, Setup};
 use crate::analysis::branch::{trace, BranchRequest as Range};
 use crate::analysis::control::{choose_along, Control};
@@ -12,8 +13,9 @@ use crate::analysis::model_choice::params_for;
 use crate::error::{Error, InputError};
 use crate::model::{DrivenBlock, ModelKind};
 use crate::overrides::Overrides;
-use crate::params::Param;
+use crate::params::{Param, Params};
 use crate::records::branch::BranchRow;
+use crate::records::orbit::Source;
 use crate::records::params_json;
 use crate::records::UnitsRecord;
 use serde::Serialize;
@@ -49,17 +51,130 @@ pub struct Plan {
     pub control: Control,
     /// The dimensionless parameter continued, its range and the step limit.
     pub range: Range,
+    /// Where the run came from, for a restart from its points.
+    pub source: Source,
+    /// The point restarted from (`branch --from`), if any.
+    pub restarted_from: Option<RestartRecord>,
+}
+
+/// `branch --from FILE.json --index N`: continue steady sliding from a
+/// point of an earlier `branch --json`.
+#[derive(Clone, Debug)]
+pub struct BranchRestart {
+    /// The file and the point's label.
+    pub from: Restart,
+    /// The parameter to continue in (`None`: the file's `--param`).
+    pub param: Option<Control>,
+    /// End value in the unit of `param` (`None`: in the file's parameter,
+    /// the file's `to`; in another, the default of a fresh run).
+    pub to: Option<f64>,
+    /// Most continuation steps.
+    pub max_steps: usize,
 }
 
 impl Plan {
     /// Sets up `spec`, chooses the model along the branch and its range
     /// (defaults as documented on [`BranchRequest`]), each error naming its option.
     pub fn new(spec: &SceneSpec, request: &BranchRequest) -> Result<Plan, Error> {
+        Self::at_params(spec, request, None)
+    }
+
+    /// The plan of a restart: the scene, its overrides and the model of
+    /// the file (checked to give the same parameters), the parameters of
+    /// the point labelled `index`, continued from the point's value exactly
+    /// in the file's parameter or in `--param`, to `--to` or the file's
+    /// end. `given` is the command line's scene options, which must be
+    /// left out ([`Restart::scene_setup`]). Errors are
+    /// [`InputError::Restart`] naming the file and the field.
+    pub fn restart(given: &SceneSpec, r: &BranchRestart) -> Result<Plan, Error> {
+        let point = r.from.load_branch_point()?;
+        let base = r.from.scene_setup(&point.source, given)?;
+        let refuse = |field: &str, why: String| -> Error {
+            InputError::Restart {
+                path: r.from.file.display().to_string(),
+                field: field.to_string(),
+                reason: why,
+            }
+            .into()
+        };
+        let control = match r.param {
+            Some(c) => c,
+            None => Control::parse(&point.control, "control")
+                .map_err(|e| refuse("control", e.to_string()))?,
+        };
+        let units = base.scene.units;
+        if point.model == ModelKind::QuasiStatic && control.moves_inertia(&units) {
+            return Err(refuse(
+                "--param",
+                format!(
+                    "{} moves the inertia m, which the file's quasi-static model drops: \
+                     continue in another parameter, or run `branch --param {}` afresh",
+                    control.name(),
+                    control.name()
+                ),
+            ));
+        }
+        let mut spec = point.source.spec();
+        spec.model = Some(point.model);
+        let request = BranchRequest {
+            param: control,
+            from: Some(control.value(&units, &point.params)),
+            to: r.to,
+            max_steps: r.max_steps,
+        };
+        let mut plan = Self::at_params(&spec, &request, Some(point.params))?;
+        // From the point exactly (not through the control's unit), and in
+        // the file's parameter (K or kappa alike) to the file's end unless
+        // --to says otherwise.
+        plan.range.from = point.params.get(plan.range.param);
+        if r.to.is_none() && plan.range.param == point.param {
+            plan.range.to = point.to;
+        }
+        if plan.range.from == plan.range.to {
+            return Err(refuse(
+                "--to",
+                format!(
+                    "point #{} is the end of the file's branch ({} = {:e}): give --to",
+                    r.from.index,
+                    point.param.name(),
+                    point.to
+                ),
+            ));
+        }
+        let kind = plan.setup.choice.kind;
+        plan.setup.choice.reason = format!(
+            "{}: the model of point #{} of {}",
+            kind.name(),
+            r.from.index,
+            r.from.file.display()
+        );
+        let mut source = point.source.clone();
+        source
+            .at
+            .insert(point.param.name().to_string(), point.value);
+        plan.source = source;
+        plan.restarted_from = Some(RestartRecord::new(
+            &r.from,
+            "branch point",
+            point.model,
+            &point.params,
+        ));
+        Ok(plan)
+    }
+
+    /// [`Plan::new`], at the scene's parameters `at` instead of the scene's
+    /// own (a restart's point).
+    fn at_params(
+        spec: &SceneSpec,
+        request: &BranchRequest,
+        at: Option<Params>,
+    ) -> Result<Plan, Error> {
         let control = request.param;
         let overrides = Overrides::parse(&spec.set)?;
         let scene = crate::scene::load_with(&spec.scene, &overrides.physical())?;
         let mut scene_params = scene.params;
         overrides.apply_dimensionless(&mut scene_params)?;
+        let scene_params = at.unwrap_or(scene_params);
         let param = control.continued(&scene.units)?;
         control.check_form(&scene_params, "--param")?;
         let (nu_lo, nu_hi) = scene.nu_range;
@@ -86,6 +201,11 @@ impl Plan {
             }
             q
         })?;
+        let source = Source::new(spec, &setup);
+        if let Some(at) = at {
+            setup.scene_params = at;
+            setup.params = params_for(setup.choice.kind, &at);
+        }
         if control.moves_inertia(&setup.scene.units) && setup.choice.kind == ModelKind::QuasiStatic
         {
             if spec.model.is_some() {
@@ -150,6 +270,8 @@ impl Plan {
                 to,
                 max_steps: request.max_steps,
             },
+            source,
+            restarted_from: None,
         })
     }
 
@@ -169,6 +291,8 @@ impl Plan {
             setup,
             control,
             range,
+            source,
+            restarted_from,
         } = self;
         let (kind, param) = (setup.choice.kind, range.param);
         let (params, scene_params, scene_units) =
@@ -188,7 +312,7 @@ impl Plan {
                 events.chain([(&point.p, &point.x, &point.eigenvalues, None)])
             {
                 let at = params.with_vec(p);
-                let row = BranchRow::new(
+                let mut row = BranchRow::new(
                     kind,
                     &at,
                     param,
@@ -197,6 +321,7 @@ impl Plan {
                     event,
                     &units(at.get(param)),
                 );
+                row.label = points.len();
                 observer.point(&row)?;
                 points.push(row);
             }
@@ -233,6 +358,8 @@ impl Plan {
                 from: in_unit(range.from),
                 to: in_unit(range.to),
             }),
+            source,
+            restarted_from,
             failure: traced.err(),
             setup,
         }
@@ -268,6 +395,13 @@ pub struct Branch {
     pub stop: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub control: Option<ControlRange>,
+    /// Where the run came from: the scene as given, the overrides, the
+    /// model forced, and the parameters they gave (with `at`, those of the
+    /// point a restart started from), for `branch --from` and `hopf --from`.
+    pub source: Source,
+    /// The point a restart started from (`branch --from`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restarted_from: Option<RestartRecord>,
     /// The error that ended the branch, if any.
     #[serde(skip)]
     pub failure: Option<Error>,

@@ -3,11 +3,13 @@
 //! rig's operating point, next to Appendix C ([`HopfReport`], the
 //! command's JSON).
 
+use super::restart::Restart;
 use super::{onset_with_degeneracy_resolved, SceneSpec, Setup};
 use crate::analysis::control::{choose_along, onset_in, upward_range, Control, OnsetIn};
 use crate::analysis::hopf::HopfOutcome;
-use crate::analysis::model_choice::params_for;
+use crate::analysis::model_choice::{choose_model, params_for};
 use crate::error::{Error, InputError, NumericalError};
+use crate::params::Params;
 use crate::records::hopf::{Critical, HopfReport};
 
 /// What `hopf` is asked.
@@ -33,8 +35,40 @@ pub struct Hopf {
 
 /// Locates the onset asked for.
 pub fn run(spec: &SceneSpec, request: &HopfRequest) -> Result<Hopf, Error> {
+    run_at(spec, request, None)
+}
+
+/// `hopf --from FILE.json --index N`: the onset asked for at the
+/// parameters of a written cycle or branch point ([`Restart::load_point`]),
+/// with the scene, overrides and forced model of the run that wrote it
+/// (`given`, the command line's scene options, must leave them out:
+/// [`Restart::scene_setup`]); the model is chosen as for `hopf --set` of
+/// those parameters. The report's `restarted_from` names the point.
+pub fn run_from(given: &SceneSpec, from: &Restart, request: &HopfRequest) -> Result<Hopf, Error> {
+    let point = from.load_point()?;
+    from.scene_setup(&point.source, given)?;
+    let mut hopf = run_at(&point.source.spec(), request, Some(point.params))?;
+    hopf.report.restarted_from = Some(point.record());
+    Ok(hopf)
+}
+
+/// The scene of `spec` set up, at the parameters `at` if given (the model
+/// chosen for them, their stiffness given as the scene's).
+fn setup_at(spec: &SceneSpec, at: Option<Params>) -> Result<Setup, Error> {
+    let mut setup = spec.setup(|p| *p)?;
+    if let Some(at) = at {
+        setup.scene_params = at;
+        setup.scene.stiffness_given = at.kappa > 0.0;
+        setup.choice = choose_model(&at, spec.model, spec.inertia_threshold);
+        setup.params = params_for(setup.choice.kind, &at);
+    }
+    Ok(setup)
+}
+
+/// [`run`] at the parameters `at` instead of the scene's (`None`: the scene's).
+fn run_at(spec: &SceneSpec, request: &HopfRequest, at: Option<Params>) -> Result<Hopf, Error> {
     if let Some(c) = request.param.filter(|c| !c.is_stiffness()) {
-        return run_in_control(spec, request, c);
+        return run_in_control(spec, request, c, at);
     }
     if let Some(field) = [("--from", request.from), ("--to", request.to)]
         .into_iter()
@@ -46,10 +80,12 @@ pub fn run(spec: &SceneSpec, request: &HopfRequest) -> Result<Hopf, Error> {
         ))
         .into());
     }
-    let mut setup = spec.setup(|p| *p)?;
+    let mut setup = setup_at(spec, at)?;
     let kappa_set = setup.overrides.sets_stiffness();
     let note = (kappa_set || setup.scene.stiffness_given).then(|| {
-        let source = if setup.overrides.sets("K") {
+        let source = if at.is_some() {
+            "the point's"
+        } else if setup.overrides.sets("K") {
             "--set K"
         } else if kappa_set {
             "--set"
@@ -104,8 +140,9 @@ fn run_in_control(
     spec: &SceneSpec,
     request: &HopfRequest,
     control: Control,
+    at: Option<Params>,
 ) -> Result<Hopf, Error> {
-    let mut setup = spec.setup(|p| *p)?;
+    let mut setup = setup_at(spec, at)?;
     let (units, scene_params) = (setup.scene.units, setup.scene_params);
     let default = control.default_range(&units, &scene_params, setup.scene.nu_range);
     let range = match (request.from, request.to, default) {

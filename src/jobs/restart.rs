@@ -1,7 +1,10 @@
 //! Restarts: a cycle written by an earlier `cycles` run read back
 //! (`cycles --from FILE.json --index N`), exactly as it was computed, with
-//! the scene it was computed for; and the numbering of the cycles a run
-//! writes ([`Labels`]), which is what `--index` names.
+//! the scene it was computed for; a point of steady sliding written by
+//! `branch --json` (`branch --from FILE.json --index N`,
+//! [`Restart::load_branch_point`]); the parameters of either
+//! (`hopf --from`, [`Restart::load_point`]); and the numbering of the
+//! cycles a run writes ([`Labels`]), which is what `--index` names.
 
 use super::cycles::Observer;
 use super::{SceneSpec, Setup};
@@ -9,10 +12,12 @@ use crate::analysis::cycles::CycleRecord;
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::log_model::LogBlock;
-use crate::params::Param;
+use crate::model::ModelKind;
+use crate::params::{Param, Params};
 use crate::records::cycle::Cycle;
 use crate::records::orbit::{Source, StoredOrbit};
 use crate::scene::DEFAULT_SCENE;
+use serde::Serialize;
 use serde_json::Value;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
@@ -61,34 +66,78 @@ impl Restart {
         .into()
     }
 
+    /// The JSON of this restart's file and what wrote it: `cycles --json`
+    /// or `branch --json`, with its `source` (a file of neither kind, or
+    /// written before sources were, is refused naming `what` the caller
+    /// restarts from).
+    fn read(&self) -> Result<(Value, Written, Source), Error> {
+        let text =
+            std::fs::read_to_string(&self.file).map_err(|e| self.error("--from", e.to_string()))?;
+        let json: Value = serde_json::from_str(&text)
+            .map_err(|e| self.error("--from", format!("not JSON ({e})")))?;
+        let has_list = |k: &str| json.get(k).is_some_and(Value::is_array);
+        let written = if has_list("cycles") && json.get("leg_stops").is_some() {
+            Written::Cycles
+        } else if has_list("points") && json.get("param").is_some_and(Value::is_string) {
+            Written::Branch
+        } else {
+            return Err(self.error(
+                "cycles/points",
+                "not the JSON of `stickslip cycles --json` (a list `cycles` with `leg_stops`) \
+                 nor of `stickslip branch --json` (a list `points` with `param`)",
+            ));
+        };
+        let source: Source = match json.get("source") {
+            Some(s) => serde_json::from_value(s.clone())
+                .map_err(|e| self.error("source", format!("out of shape ({e})")))?,
+            None => {
+                return Err(self.error(
+                    "source",
+                    format!(
+                        "this file does not say where its run came from: rerun `{}` with this \
+                         version (its JSON names the scene, the overrides and the parameters in \
+                         `source`)",
+                        written.command()
+                    ),
+                ))
+            }
+        };
+        Ok((json, written, source))
+    }
+
+    /// The error for a file of the other kind than `wanted`.
+    fn other_kind(&self, written: Written, wanted: &str) -> Error {
+        let why = match written {
+            Written::Branch => {
+                "this is the JSON of `branch --json`, whose points are steady sliding, not \
+                 cycles: `cycles --from` takes the JSON of `cycles --json` (a branch point \
+                 restarts with `branch --from`, and `hopf --from` takes either)"
+            }
+            Written::Cycles => {
+                "this is the JSON of `cycles --json`, whose entries are cycles: `branch --from` \
+                 continues steady sliding from a point of `branch --json` (a cycle restarts with \
+                 `cycles --from`, and `hopf --from` takes either)"
+            }
+        };
+        self.error(wanted, why)
+    }
+
     /// Reads the cycle labelled `index` from `file` and its orbits file.
     /// Errors (exit status 2) name the file and the field: a missing or
     /// unreadable file, not a `cycles` JSON, a file written before orbits
     /// were (no `orbits_file`), an index out of range (with the valid
     /// range), an orbits file missing, cut short or edited out of shape.
     pub fn load(&self) -> Result<Restarted, Error> {
-        let text =
-            std::fs::read_to_string(&self.file).map_err(|e| self.error("--from", e.to_string()))?;
-        let json: Value = serde_json::from_str(&text)
-            .map_err(|e| self.error("--from", format!("not JSON ({e})")))?;
-        if !(json.get("cycles").is_some_and(Value::is_array) && json.get("leg_stops").is_some()) {
-            return Err(self.error(
-                "cycles",
-                "not the JSON of `stickslip cycles --json` (no list `cycles` with `leg_stops`)",
-            ));
+        let (json, written, source) = match self.read() {
+            // A file older than sources has no orbits either.
+            Err(e) if matches!(&e, Error::Input(InputError::Restart { field, .. }) if field == "source") => {
+                return Err(self.no_orbits("source"))
+            }
+            r => r?,
+        };
+        if written != Written::Cycles {
+            return Err(self.other_kind(written, "cycles"));
         }
-        let no_orbits = |field: &str| {
-            self.error(
-                field,
-                "this file has no orbits: rerun `cycles` with this version (it writes each \
-                 cycle's orbit to <run>-cycles-orbits.jsonl and names it in `orbits_file`)",
-            )
-        };
-        let source: Source = match json.get("source") {
-            Some(s) => serde_json::from_value(s.clone())
-                .map_err(|e| self.error("source", format!("out of shape ({e})")))?,
-            None => return Err(no_orbits("source")),
-        };
         let orbits = match json.get("orbits_file") {
             Some(Value::String(o)) => o.as_str(),
             // The Python package's results name no file.
@@ -99,20 +148,23 @@ impl Restart {
                      restart from the JSON of `stickslip cycles --json`",
                 ))
             }
-            _ => return Err(no_orbits("orbits_file")),
+            _ => return Err(self.no_orbits("orbits_file")),
         };
-        let entry = self.entry(&json)?;
+        let entry = self.entry(&json, written)?;
         let orbit = self.find_orbit(orbits)?;
         // The orbits file belongs to this JSON: the same period, bit for bit.
         if entry.get("period").and_then(Value::as_f64) != Some(orbit.period) {
             return Err(self.error(
                 "orbits_file",
                 format!(
-                    "{orbits}: the orbit labelled {} has period {:e}, the JSON's cycle {:?}: \
+                    "{orbits}: the orbit labelled {} has period {:e}, the JSON's cycle {}: \
                      the orbits file is another run's",
                     self.index,
                     orbit.period,
-                    entry.get("period")
+                    entry
+                        .get("period")
+                        .and_then(Value::as_f64)
+                        .map_or_else(|| "none".to_string(), |p| format!("{p:e}"))
                 ),
             ));
         }
@@ -129,15 +181,187 @@ impl Restart {
         })
     }
 
-    /// The JSON entry of the cycle labelled `index` (in `cycles`,
-    /// `special_points` or `operating_point.cycle`), or the range of the
-    /// labels.
-    fn entry<'a>(&self, json: &'a Value) -> Result<&'a Value, Error> {
+    /// The error of a `cycles` file that has no orbits (`field` missing).
+    fn no_orbits(&self, field: &str) -> Error {
+        self.error(
+            field,
+            "this file has no orbits: rerun `cycles` with this version (it writes each \
+             cycle's orbit to <run>-cycles-orbits.jsonl and names it in `orbits_file`)",
+        )
+    }
+
+    /// Reads the point labelled `index` of the `branch --json` in `file`:
+    /// the parameter continued there and its value, the run's model, range
+    /// and control. Errors as [`Restart::load`]'s: not a branch JSON (a
+    /// `cycles` one says so), no `source`, an index out of range, a point
+    /// or a field out of shape.
+    pub fn load_branch_point(&self) -> Result<BranchPoint, Error> {
+        let (json, written, source) = self.read()?;
+        if written != Written::Branch {
+            return Err(self.other_kind(written, "points"));
+        }
+        let entry = self.entry(&json, written)?;
+        let name = json
+            .get("param")
+            .and_then(Value::as_str)
+            .unwrap_or_default();
+        let param = Param::parse(name).map_err(|e| self.error("param", e.to_string()))?;
+        let number = |v: Option<&Value>, field: &str| {
+            v.and_then(Value::as_f64)
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| self.error(field, "expected a finite number"))
+        };
+        let value = number(
+            entry.get(name),
+            &format!("points[label {}].{name}", self.index),
+        )?;
+        let model: ModelKind = json
+            .get("model")
+            .cloned()
+            .map(serde_json::from_value)
+            .transpose()
+            .ok()
+            .flatten()
+            .ok_or_else(|| self.error("model", "expected \"quasi-static\" or \"inertial\""))?;
+        let mut params = source
+            .params()
+            .map_err(|why| self.error("source.scene_params", why))?;
+        params.set(param, value);
+        let control = match json.pointer("/control/param") {
+            Some(Value::String(c)) => c.clone(),
+            _ => name.to_string(),
+        };
+        Ok(BranchPoint {
+            to: number(json.get("to"), "to")?,
+            event: entry
+                .get("event")
+                .and_then(Value::as_str)
+                .map(str::to_string),
+            param,
+            value,
+            control,
+            model,
+            params,
+            source,
+            from: self.clone(),
+        })
+    }
+
+    /// The parameters of the cycle or branch point labelled `index` in
+    /// `file` (a `cycles --json` or a `branch --json`), for `hopf --from`:
+    /// the scene's parameters with the point's values (a quasi-static
+    /// cycle, computed without inertia, keeps the scene's `m`).
+    pub fn load_point(&self) -> Result<WrittenPoint, Error> {
+        let (_, written, _) = self.read()?;
+        match written {
+            Written::Cycles => {
+                let r = self.load()?;
+                let scene = r
+                    .source
+                    .params()
+                    .map_err(|why| self.error("source.scene_params", why))?;
+                // The ageing form is the scene's (`with_vec` keeps it).
+                let mut params = scene.with_vec(&r.orbit.params);
+                if r.orbit.model == ModelKind::QuasiStatic {
+                    params.m = scene.m;
+                }
+                Ok(WrittenPoint {
+                    kind: "cycle",
+                    source: r.source,
+                    params,
+                    model: r.orbit.model,
+                    from: self.clone(),
+                })
+            }
+            Written::Branch => {
+                let b = self.load_branch_point()?;
+                Ok(WrittenPoint {
+                    kind: "branch point",
+                    source: b.source,
+                    params: b.params,
+                    model: b.model,
+                    from: self.clone(),
+                })
+            }
+        }
+    }
+
+    /// The scene of `source` set up again, checked to give the same
+    /// parameters; `given` is what the command line or the caller asked
+    /// besides `--from`: an override or a model, or a scene other than the
+    /// file's, is refused (the scene comes from the file; the default scene
+    /// counts as not given). The model is chosen as the run chose it.
+    pub fn scene_setup(&self, source: &Source, given: &SceneSpec) -> Result<Setup, Error> {
+        let spec = source.spec();
+        if !given.set.is_empty() || given.model.is_some() {
+            return Err(self.error(
+                "--set/--model",
+                "the scene, its overrides and the model come from the file; leave out --set \
+                 and --model (or run afresh with them)",
+            ));
+        }
+        if given.scene != DEFAULT_SCENE && given.scene != spec.scene {
+            let same_file = std::fs::canonicalize(&given.scene)
+                .is_ok_and(|p| p.display().to_string() == spec.scene);
+            if !same_file {
+                return Err(self.error(
+                    "source.scene",
+                    format!(
+                        "the file's run is of the scene {}, not --scene {}: leave out --scene",
+                        spec.scene, given.scene
+                    ),
+                ));
+            }
+        }
+        let setup = spec.setup(|p| *p)?;
+        let now = setup.scene_params.to_vec();
+        if let Some(q) = Param::ALL.iter().find(|q| {
+            source.scene_params.get(**q as usize).map(|v| v.to_bits())
+                != Some(now[**q as usize].to_bits())
+        }) {
+            return Err(self.error(
+                "source.scene_params",
+                format!(
+                    "the scene {} now gives {} = {:e}, the file {}: the scene changed since \
+                     the run",
+                    spec.scene,
+                    q.name(),
+                    now[*q as usize],
+                    source
+                        .scene_params
+                        .get(*q as usize)
+                        .map_or_else(|| "no value".to_string(), |v| format!("{v:e}"))
+                ),
+            ));
+        }
+        if setup.scene_params.state_law != source.state_law {
+            return Err(self.error(
+                "source.state_law",
+                format!(
+                    "the scene {} now has the {} state law, the file the {}: the scene changed \
+                     since the run",
+                    spec.scene,
+                    setup.scene_params.state_law.name(),
+                    source.state_law.name()
+                ),
+            ));
+        }
+        Ok(setup)
+    }
+
+    /// The JSON entry labelled `index` (a cycle in `cycles`,
+    /// `special_points` or `operating_point.cycle`; a branch point in
+    /// `points`), or the range of the labels.
+    fn entry<'a>(&self, json: &'a Value, written: Written) -> Result<&'a Value, Error> {
         let list = |k: &str| json.get(k).and_then(Value::as_array).into_iter().flatten();
-        let entries: Vec<&Value> = list("cycles")
-            .chain(list("special_points"))
-            .chain(json.pointer("/operating_point/cycle"))
-            .collect();
+        let entries: Vec<&Value> = match written {
+            Written::Cycles => list("cycles")
+                .chain(list("special_points"))
+                .chain(json.pointer("/operating_point/cycle"))
+                .collect(),
+            Written::Branch => list("points").collect(),
+        };
+        let what = written.entry();
         let labels: Vec<u64> = entries
             .iter()
             .filter_map(|c| c.get("label").and_then(Value::as_u64))
@@ -151,30 +375,35 @@ impl Restart {
                 "--index",
                 match (labels.iter().min(), labels.iter().max()) {
                     (Some(lo), Some(hi)) => format!(
-                        "no cycle labelled {}: the file's cycles are labelled {lo} to {hi} (the \
-                         `label` of each cycle in the JSON and the CSV, #N in the text)",
+                        "no {what} labelled {}: the file's {what}s are labelled {lo} to {hi} \
+                         (the `label` of each {what} in the JSON and the CSV, #N in the text)",
                         self.index
                     ),
-                    _ => "the file holds no cycle".to_string(),
+                    _ => format!("the file holds no {what} with a label"),
                 },
             )),
         }
     }
 
     /// The orbit labelled `index` in the orbits file `written` (as the run
-    /// named it; else beside this JSON, under its own name).
+    /// named it, from the directory it ran in; else from this JSON's
+    /// directory; else beside this JSON under its own name).
     fn find_orbit(&self, written: &str) -> Result<StoredOrbit, Error> {
-        let beside = self
-            .file
-            .parent()
-            .unwrap_or(Path::new(""))
-            .join(Path::new(written).file_name().unwrap_or_default());
-        let file = std::fs::File::open(written)
-            .or_else(|e| std::fs::File::open(&beside).map_err(|_| e))
-            .map_err(|e| {
+        let dir = self.file.parent().unwrap_or(Path::new(""));
+        let mut tried: Vec<PathBuf> = vec![PathBuf::from(written), dir.join(written)];
+        tried.push(dir.join(Path::new(written).file_name().unwrap_or_default()));
+        tried.dedup();
+        let file = tried
+            .iter()
+            .find_map(|p| std::fs::File::open(p).ok())
+            .ok_or_else(|| {
+                let shown: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
                 self.error(
                     "orbits_file",
-                    format!("cannot read {written} (nor {}): {e}", beside.display()),
+                    format!(
+                        "cannot read the orbits file {written}: tried {}",
+                        shown.join(", ")
+                    ),
                 )
             })?;
         /// A line's label, read before the rest of it.
@@ -208,62 +437,10 @@ impl Restart {
 
 impl Restarted {
     /// The scene set up as the run that wrote the cycle had it, checked to
-    /// give the same parameters, with the cycle's model; `given` is what
-    /// the command line or the caller asked besides `--from`: an override
-    /// or a model, or a scene other than the file's, is refused (the scene
-    /// comes from the file; the default scene counts as not given).
+    /// give the same parameters ([`Restart::scene_setup`]), with the
+    /// cycle's model.
     pub fn setup(&self, given: &SceneSpec) -> Result<Setup, Error> {
-        let from = &self.from;
-        let spec = self.source.spec();
-        if !given.set.is_empty() || given.model.is_some() {
-            return Err(from.error(
-                "--set/--model",
-                "the scene, its overrides and the model come from the file; leave out --set \
-                 and --model (or run `cycles` afresh with them)",
-            ));
-        }
-        if given.scene != DEFAULT_SCENE && given.scene != spec.scene {
-            let same_file = std::fs::canonicalize(&given.scene)
-                .is_ok_and(|p| p.display().to_string() == spec.scene);
-            if !same_file {
-                return Err(from.error(
-                    "source.scene",
-                    format!(
-                        "the file's cycles are of the scene {}, not --scene {}: leave out --scene",
-                        spec.scene, given.scene
-                    ),
-                ));
-            }
-        }
-        let mut setup = spec.setup(|p| *p)?;
-        let now = setup.scene_params.to_vec();
-        if let Some(q) = Param::ALL.iter().find(|q| {
-            now[**q as usize].to_bits() != self.source.scene_params[**q as usize].to_bits()
-        }) {
-            return Err(from.error(
-                "source.scene_params",
-                format!(
-                    "the scene {} now gives {} = {:e}, the file {:e}: the scene changed since \
-                     the run",
-                    spec.scene,
-                    q.name(),
-                    now[*q as usize],
-                    self.source.scene_params[*q as usize]
-                ),
-            ));
-        }
-        if setup.scene_params.state_law != self.orbit.state_law {
-            return Err(from.error(
-                "state_law",
-                format!(
-                    "the scene {} now has the {} state law, the stored cycle the {}: the scene \
-                     changed since the run",
-                    spec.scene,
-                    setup.scene_params.state_law.name(),
-                    self.orbit.state_law.name()
-                ),
-            ));
-        }
+        let mut setup = self.from.scene_setup(&self.source, given)?;
         let kind = self.orbit.model;
         if setup.choice.kind != kind {
             setup.choice.reason = format!(
@@ -275,6 +452,115 @@ impl Restarted {
         setup.choice.kind = kind;
         setup.params = crate::analysis::model_choice::params_for(kind, &setup.scene_params);
         Ok(setup)
+    }
+}
+
+/// What wrote a file restarted from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Written {
+    Cycles,
+    Branch,
+}
+
+impl Written {
+    /// The command.
+    fn command(self) -> &'static str {
+        match self {
+            Written::Cycles => "cycles",
+            Written::Branch => "branch",
+        }
+    }
+
+    /// What its labelled entries are.
+    fn entry(self) -> &'static str {
+        match self {
+            Written::Cycles => "cycle",
+            Written::Branch => "point",
+        }
+    }
+}
+
+/// A point of steady sliding read back from a `branch --json`
+/// ([`Restart::load_branch_point`]).
+#[derive(Clone, Debug)]
+pub struct BranchPoint {
+    /// The scene, overrides and model of the run that wrote it.
+    pub source: Source,
+    /// The dimensionless parameter the run continued, and its value here.
+    pub param: Param,
+    pub value: f64,
+    /// The end of the run's range (`to`, in `param`).
+    pub to: f64,
+    /// The run's `--param` (a control such as `K`, or `param` itself).
+    pub control: String,
+    /// The run's model.
+    pub model: ModelKind,
+    /// The scene's parameters with `param` at `value`.
+    pub params: Params,
+    /// The bifurcation located at the point (`hopf`, `fold`), if any.
+    pub event: Option<String>,
+    /// The file and the label.
+    pub from: Restart,
+}
+
+/// The parameters of a written cycle or branch point
+/// ([`Restart::load_point`]).
+#[derive(Clone, Debug)]
+pub struct WrittenPoint {
+    /// `cycle` or `branch point`.
+    pub kind: &'static str,
+    /// The run's scene, overrides and model.
+    pub source: Source,
+    /// The scene's parameters with the point's values.
+    pub params: Params,
+    /// The model the point was computed with.
+    pub model: ModelKind,
+    /// The file and the label.
+    pub from: Restart,
+}
+
+/// Where a run's parameters came from, in its JSON (`restarted_from`):
+/// the file, the label, what the point was and its parameters.
+#[derive(Clone, Debug, Serialize)]
+pub struct RestartRecord {
+    pub file: String,
+    pub label: usize,
+    /// `cycle` or `branch point`.
+    pub kind: &'static str,
+    /// The model the point was computed with.
+    pub model: ModelKind,
+    /// The point's parameters, by name.
+    pub params: Value,
+}
+
+impl RestartRecord {
+    /// The record of the `kind` point labelled in `from`, computed with
+    /// `model` at `params`.
+    pub fn new(from: &Restart, kind: &'static str, model: ModelKind, params: &Params) -> Self {
+        RestartRecord {
+            file: from.file.display().to_string(),
+            label: from.index,
+            kind,
+            model,
+            params: crate::records::params_json(params),
+        }
+    }
+}
+
+impl WrittenPoint {
+    /// The record of where the parameters came from.
+    pub fn record(&self) -> RestartRecord {
+        RestartRecord::new(&self.from, self.kind, self.model, &self.params)
+    }
+
+    /// `cycle #40 of pmma.json`, for the text.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} #{} of {}",
+            self.kind,
+            self.from.index,
+            self.from.file.display()
+        )
     }
 }
 

@@ -56,6 +56,9 @@ pub struct BranchRow {
     /// Spring force in steady sliding, `s W` [N].
     #[serde(rename = "spring_force_N")]
     pub spring_force_n: f64,
+    /// The point's number in the run, from 0 in the order written (what
+    /// `branch --from FILE.json --index N` and `hopf --from` name).
+    pub label: usize,
 }
 
 impl CsvRecord for BranchRow {
@@ -160,6 +163,7 @@ impl BranchRow {
             frequency_hz: omega.map(|w| u.frequency_hz(w)),
             k_n_per_m: u.stiffness(at.kappa),
             spring_force_n: state[0] * u.load,
+            label: 0,
         }
     }
 }
@@ -197,7 +201,7 @@ mod tests {
             header_of(&r).unwrap(),
             "nu,s,v,theta,n_unstable,eig_re_1,eig_im_1,eig_re_2,eig_im_2,eig_re_3,eig_im_3,\
              event,omega,K_over_W_per_m,V_um_per_s,theta_s,K_over_M_per_s2,frequency_hz,\
-             K_N_per_m,spring_force_N"
+             K_N_per_m,spring_force_N,label"
         );
         assert!(row(&r).unwrap().starts_with("2.000000000000000e0,"));
     }

@@ -43,6 +43,10 @@ pub struct HopfReport {
     pub complete: bool,
     /// Always `null` (see `complete`).
     pub stop: Option<String>,
+    /// The written point whose parameters these are (`hopf --from
+    /// FILE.json --index N`); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restarted_from: Option<crate::jobs::restart::RestartRecord>,
 }
 
 /// The onset in a control parameter (`hopf --param P`): its critical value
@@ -323,6 +327,7 @@ impl HopfReport {
             units: UnitsRecord::of(u),
             complete: true,
             stop: None,
+            restarted_from: None,
         }
     }
 }

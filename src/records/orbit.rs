@@ -8,11 +8,12 @@ use crate::analysis::cycles::CycleRecord;
 use crate::jobs::{SceneSpec, Setup};
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
-use crate::params::{Param, StateLaw, N_PARAMS};
+use crate::params::{Param, Params, StateLaw, N_PARAMS};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::{CollocationPoints, Mesh};
 use continuation::VectorField;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// One collocated cycle, exactly: a line of the orbits file, found by its
 /// `label` (the cycle's `label` in the JSON and the CSV, `#label` in the
@@ -82,6 +83,15 @@ impl StoredOrbit {
             dim: c.n,
             u: c.u.clone(),
         })
+    }
+
+    /// Writes the orbit as one line of an orbits file, flushed at once so
+    /// that an interrupted run keeps it.
+    pub fn write_line(&self, file: &mut impl std::io::Write) -> Result<(), crate::error::Error> {
+        let line = serde_json::to_string(self).map_err(std::io::Error::other)?;
+        writeln!(file, "{line}")?;
+        file.flush()?;
+        Ok(())
     }
 
     /// The continued parameter's value on this orbit.
@@ -188,11 +198,24 @@ pub struct Source {
     pub written_by: String,
     pub scene: String,
     pub set: Vec<String>,
+    /// The model forced (`--model`); absent when it was chosen from the
+    /// inertia ratio (every number of a command's JSON is finite and no
+    /// field of a complete result is null).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelKind>,
     pub inertia_threshold: f64,
     /// The scene's parameters after `--set` (inertia kept), in the order of
     /// [`StoredOrbit::params`].
     pub scene_params: Vec<f64>,
+    /// The scene's state law (`ageing` in files written before the slip
+    /// law existed).
+    #[serde(default)]
+    pub state_law: StateLaw,
+    /// Parameters a restarted run took from the point it restarted from,
+    /// by name, on top of `scene_params` (`branch --from`; absent
+    /// otherwise).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub at: BTreeMap<String, f64>,
 }
 
 impl Source {
@@ -212,12 +235,45 @@ impl Source {
             model: spec.model,
             inertia_threshold: spec.inertia_threshold,
             scene_params: setup.scene_params.to_vec(),
+            state_law: setup.scene_params.state_law,
+            at: BTreeMap::new(),
         }
     }
 
     /// The run's name for the scene named `scene` ([`crate::file_names::run_name`]).
     pub fn run_name(&self, scene: &str) -> String {
         crate::file_names::run_name(scene, &self.set, self.model.map(|m| m.name()))
+    }
+
+    /// The scene's parameters as written (`theta_c > 0`: the cutoff form),
+    /// with those of `at`, or why they are out of shape.
+    pub fn params(&self) -> Result<Params, String> {
+        let v = &self.scene_params;
+        if v.len() != N_PARAMS || !v.iter().all(|x| x.is_finite()) {
+            return Err(format!(
+                "expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"
+            ));
+        }
+        let theta_c = v[Param::ThetaC as usize];
+        let mut params = Params {
+            kappa: v[Param::Kappa as usize],
+            nu: v[Param::Nu as usize],
+            m: v[Param::M as usize],
+            a: v[Param::A as usize],
+            b: v[Param::B as usize],
+            mu0: v[Param::Mu0 as usize],
+            mu2: v[Param::Mu2 as usize],
+            theta_c: (theta_c > 0.0).then_some(theta_c),
+            state_law: self.state_law,
+        };
+        for (name, v) in &self.at {
+            let q = Param::parse(name).map_err(|e| format!("at: {e}"))?;
+            if !v.is_finite() {
+                return Err(format!("at: {name} = {v}: expected a finite number"));
+            }
+            params.set(q, *v);
+        }
+        Ok(params)
     }
 
     /// The scene, overrides and model to set up again.
