@@ -203,10 +203,7 @@ fn the_state_law_is_a_scene_key_and_a_set_name() {
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["params"]["state_law"], "slip");
     let l1 = v["l1"].as_f64().unwrap();
-    assert!(
-        (l1 / -0.020013866926572827 - 1.0).abs() < 1e-12,
-        "{l1}"
-    );
+    assert!((l1 / -0.020013866926572827 - 1.0).abs() < 1e-12, "{l1}");
     // The same by --set on the default scene (mu0 does not enter l1).
     let (_, out, _) = stickslip(&["hopf", "--set", "state_law=slip", "--json"]);
     let w: Value = serde_json::from_str(&out).unwrap();
