@@ -22,6 +22,27 @@ use serde_json::Value;
 const STEEL: &str = "A = 0.010\nB = 0.020\nmu0 = 0.55\ntau = 1.0e-3\nD0 = 1.0\nV0 = 1.0\n\
                      M = 2.0\nW = 20.0\nV = 800.0\nV_range = [10.0, 10000.0]\nK = 1.7e5\n";
 
+/// `cycles --json` on [`STEEL`] with `extra` options, in a folder of its
+/// own named `name`: exit 0, the JSON parsed and as written.
+fn steel_cycles(name: &str, extra: &[&str]) -> (Value, String) {
+    let dir = temp_dir(name);
+    let scene = dir.join("steel.toml");
+    std::fs::write(&scene, STEEL).unwrap();
+    let out = dir.join("out");
+    let mut args = vec![
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let (code, json, err) = stickslip(&args);
+    assert_eq!(code, 0, "{err}");
+    (serde_json::from_str(&json).unwrap(), json)
+}
+
 /// A press-loaded steel-on-granite rig, written as a user would.
 const GRANITE: &str = r#"
 name = "granite"
@@ -394,21 +415,7 @@ fn a_protocol_ending_with_the_drive_stopped_is_complete() {
 /// turned around, half a period) and the leg ends at the Hopf point.
 #[test]
 fn a_leg_through_its_hopf_point_after_a_fold_ends_there() {
-    let dir = temp_dir("stranger-steel");
-    let scene = dir.join("steel.toml");
-    std::fs::write(&scene, STEEL).unwrap();
-    let out = dir.join("out");
-    let (code, json, err) = stickslip(&[
-        "cycles",
-        "--scene",
-        scene.to_str().unwrap(),
-        "--from-simulation",
-        "--json",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let v: Value = serde_json::from_str(&json).unwrap();
+    let (v, json) = steel_cycles("stranger-steel", &["--from-simulation"]);
     assert_eq!(v["leg_stops"][0]["leg"], "up", "{json}");
     assert_eq!(v["leg_stops"][0]["reason"], "hopf_point", "{json}");
     let folds = v["special_points"]
@@ -442,20 +449,7 @@ fn a_leg_through_its_hopf_point_after_a_fold_ends_there() {
 /// this run had just done), and no cycle is wanted there.
 #[test]
 fn the_operating_point_is_decided_by_the_fold_the_branch_locates() {
-    let dir = temp_dir("stranger-steel-op");
-    let scene = dir.join("steel.toml");
-    std::fs::write(&scene, STEEL).unwrap();
-    let out = dir.join("out");
-    let (code, json, err) = stickslip(&[
-        "cycles",
-        "--scene",
-        scene.to_str().unwrap(),
-        "--json",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let v: Value = serde_json::from_str(&json).unwrap();
+    let (v, _) = steel_cycles("stranger-steel-op", &[]);
     let op = &v["operating_point"];
     assert_eq!(op["regime"], "steady", "{op}");
     assert_eq!(op["wanted"], false, "{op}");
