@@ -329,3 +329,39 @@ fn sigterm_keeps_the_simulated_time_series() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A branch of two legs (from a simulated orbit) interrupted in its second
+/// leg keeps how the first one ended beside the interruption (a stranger's
+/// interrupted restart showed only `interrupted`, the other leg's stop lost),
+/// and still exits 130.
+#[test]
+fn an_interruption_in_the_second_leg_keeps_the_first_legs_end() {
+    let dir = out_dir("interrupt-second-leg");
+    let out = dir.to_str().unwrap();
+    let csv_path = dir.join("pmma_m=0.01-cycles.csv");
+    let args = [
+        "cycles",
+        "--set",
+        "m=0.01",
+        "--from-simulation",
+        "--kappa-fraction",
+        "0.01",
+        "--max-steps",
+        "100000",
+        "--json",
+        "--out",
+        out,
+    ];
+    // The leg toward larger stiffness ends at the Hopf point after 16 to 20
+    // cycles; 40 rows are well into the other leg.
+    let run = interrupt_when(&args, |_| lines(&csv_path) >= 40);
+    assert_eq!(run.code, Some(130), "{}", run.stderr);
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let reasons: Vec<&str> = v["leg_stops"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["reason"].as_str().unwrap())
+        .collect();
+    assert_eq!(reasons, ["hopf_point", "interrupted"], "{}", run.stdout);
+}

@@ -701,7 +701,8 @@ impl Through<'_> {
 /// toward smaller ([`Leg::Down`]), each leg within `req`'s bounds and step
 /// limit (values of `param`). The starting cycle is handed to `sink` once.
 /// A leg that stops on a numerical failure does not prevent the other; how
-/// each leg ended is returned (`[up, down]`).
+/// each leg ended is returned (`[up, down]`; a signal ends the leg it
+/// came in and the one after it, as interrupted).
 pub fn trace_cycles_through(
     through: &Through,
     param: Param,
@@ -726,7 +727,14 @@ pub fn trace_cycles_through(
                 follow_switching(log, started, leg, i, param, req, watch, &mut sink)
             });
         match outcome {
-            Err(e @ crate::error::Error::Interrupted(_)) => return Err(e),
+            // A signal ends this leg and the ones not run; the legs before
+            // keep how they ended.
+            Err(crate::error::Error::Interrupted(at)) => {
+                for later in &mut legs[i..] {
+                    *later = Err(crate::error::Error::Interrupted(at.clone()));
+                }
+                return Ok(legs);
+            }
             other => legs[i] = other,
         }
     }

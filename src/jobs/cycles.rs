@@ -481,7 +481,7 @@ impl Plan {
                 requested.len()
             );
         }
-        let failure = outcomes.into_iter().find_map(|(_, o)| o.err());
+        let failure = leg_failure(outcomes);
         Cycles {
             scene: setup.scene.name.clone(),
             model: setup.choice.kind,
@@ -708,6 +708,18 @@ impl Cycles {
     pub fn along_branch(&self) -> Vec<&CycleRecord> {
         along_branch(&self.records)
     }
+}
+
+/// What ended the legs `outcomes` short, for the exit status: a signal
+/// first (in whichever leg it came), else the first failure.
+pub fn leg_failure<L, T>(
+    outcomes: impl IntoIterator<Item = (L, Result<T, Error>)>,
+) -> Option<Error> {
+    let (interrupted, failed): (Vec<_>, Vec<_>) = outcomes
+        .into_iter()
+        .filter_map(|(_, o)| o.err())
+        .partition(|e| matches!(e, Error::Interrupted(_)));
+    interrupted.into_iter().chain(failed).next()
 }
 
 /// The answer of a cycle branch as an exit status: a signal or a file that

@@ -340,7 +340,7 @@ impl Plan {
             files: Vec::new(),
             source,
             orbits_file: None,
-            failure: traced.legs.into_iter().find_map(|(_, o)| o.err()),
+            failure: super::cycles::leg_failure(traced.legs),
             setup,
         })
     }
