@@ -723,3 +723,49 @@ fn a_restart_from_another_directory_finds_the_orbits() {
     );
     assert_eq!(code, 0, "{err}");
 }
+
+/// A restart from a large cycle (PMMA with m = 0.01, labels 40 and 51 of a
+/// branch to 0.2 kappa_c) goes back up to the Hopf point and ends there: a
+/// long step over the Hopf point, where the parameter turns and the orbit
+/// collapses, failed to locate that turn ("Newton did not converge after 30
+/// iterations", exit 4: a stranger's find); the step is now taken again
+/// shorter.
+#[test]
+fn a_restart_from_a_large_cycle_ends_at_the_hopf_point() {
+    let dir = common::temp_dir("restart-large");
+    let out = dir.join("run");
+    let (code, json, err) = common::stickslip(&[
+        "cycles",
+        "--set",
+        "m=0.01",
+        "--kappa-fraction",
+        "0.2",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let file = dir.join("run.json");
+    std::fs::write(&file, &json).unwrap();
+    for label in ["40", "51"] {
+        let again = dir.join(format!("again{label}"));
+        let (code, json, err) = common::stickslip(&[
+            "cycles",
+            "--from",
+            file.to_str().unwrap(),
+            "--index",
+            label,
+            "--kappa-fraction",
+            "0.19",
+            "--json",
+            "--out",
+            again.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "label {label}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(
+            v["leg_stops"][0]["reason"], "hopf_point",
+            "label {label}: {json}"
+        );
+    }
+}

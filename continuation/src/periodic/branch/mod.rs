@@ -830,6 +830,11 @@ impl<S: VectorField> Cycles<'_, S> {
     }
 }
 
+/// How often a step across whose orbits the parameter's turn could not be
+/// located is taken again, a quarter as long, from where it started
+/// ([`Curve::advance`]).
+const TURN_RETRIES: usize = 3;
+
 /// How often a step that failed is taken again from the previous orbit on a
 /// finer mesh ([`Cycles::stepped_point`]).
 const REFINEMENT_RETRIES: usize = 3;
@@ -1070,48 +1075,65 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
     fn advance(&mut self) -> Result<Advance<CyclePoint>, ContinuationError> {
         // The branch came back to a Hopf point (see `Stop::HopfPoint`).
         let mut at_hopf = false;
-        let result = self
-            .stepped_point()
-            .and_then(|(mut pt, ds, (coll0, z0, t0))| {
-                let nz = z0.len();
-                if t0[nz - 1] * pt.dp_ds < 0.0 {
-                    let lpc = self.estimated(
-                        self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
-                            Ok(t[nz - 1])
-                        })?,
-                        Reading::Point,
-                    );
-                    let p_fold = lpc.cycle.p[self.k];
-                    let excursion = (p_fold - z0[nz - 1])
-                        .abs()
-                        .max((p_fold - pt.cycle.p[self.k]).abs());
-                    if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
-                        at_hopf = true;
-                    } else if is_fold(&lpc, self.sys.dim())
-                        && excursion > self.parameter_resolution(&z0)
-                    {
-                        pt.attach(CycleEvent::Fold, lpc);
+        let mut retries = 0;
+        let result = loop {
+            let attempt = self
+                .stepped_point()
+                .and_then(|(mut pt, ds, (coll0, z0, t0))| {
+                    let nz = z0.len();
+                    if t0[nz - 1] * pt.dp_ds < 0.0 {
+                        let located =
+                            self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
+                                Ok(t[nz - 1])
+                            });
+                        let lpc = match located {
+                            Ok(lpc) => self.estimated(lpc, Reading::Point),
+                            // The turn of the parameter between the two orbits
+                            // is not found (a long step over a Hopf point,
+                            // where the orbit collapses): taken again shorter.
+                            Err(e) => return Ok(Err((e, ds, (coll0, z0, t0)))),
+                        };
+                        let p_fold = lpc.cycle.p[self.k];
+                        let excursion = (p_fold - z0[nz - 1])
+                            .abs()
+                            .max((p_fold - pt.cycle.p[self.k]).abs());
+                        if collapsed(self.sys, &lpc, &coll0.cycle(&z0)) {
+                            at_hopf = true;
+                        } else if is_fold(&lpc, self.sys.dim())
+                            && excursion > self.parameter_resolution(&z0)
+                        {
+                            pt.attach(CycleEvent::Fold, lpc);
+                        }
                     }
-                }
-                self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
-                // The mesh (hence the length of z) may have been refined since z0.
-                let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
-                for &target in &self.settings.user_points {
-                    if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
-                        let user = self.locate(
-                            &coll0,
-                            &z0,
-                            &t0,
-                            (p0 - target, p1 - target),
-                            ds,
-                            |z, _| Ok(z[nz - 1] - target),
-                        )?;
-                        let user = self.pin(&coll0, user, &t0, target)?;
-                        pt.attach(CycleEvent::User { value: target }, user);
+                    self.detect_multiplier_crossings(&mut pt, &coll0, (&z0, &t0), ds)?;
+                    // The mesh (hence the length of z) may have been refined since z0.
+                    let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
+                    for &target in &self.settings.user_points {
+                        if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
+                            let user = self.locate(
+                                &coll0,
+                                &z0,
+                                &t0,
+                                (p0 - target, p1 - target),
+                                ds,
+                                |z, _| Ok(z[nz - 1] - target),
+                            )?;
+                            let user = self.pin(&coll0, user, &t0, target)?;
+                            pt.attach(CycleEvent::User { value: target }, user);
+                        }
                     }
+                    Ok(Ok(pt))
+                });
+            match attempt {
+                Ok(Ok(pt)) => break Ok(pt),
+                Ok(Err((_, ds, (coll0, z0, t0)))) if retries < TURN_RETRIES => {
+                    retries += 1;
+                    self.restore((coll0.cycle(&z0), t0));
+                    self.ds = 0.25 * ds;
                 }
-                Ok(pt)
-            });
+                Ok(Err((e, ..))) | Err(e) => break Err(e),
+            }
+        };
         self.steps += 1;
         let pt = result?;
         if self.passed_through_equilibrium(&pt) {
