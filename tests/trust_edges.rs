@@ -166,11 +166,18 @@ fn no_period_doubling_from_a_multiplier_through_infinity_and_negative_friction_i
 fn a_run_that_kept_a_cycle_is_partial_and_requested_points_are_answered_once() {
     let dir = temp_dir("trust-exit");
     let out = dir.to_str().unwrap();
-    // One cycle, then a failure: kept, so partial (before: exit 3).
+    // Cycles, then a failure: kept, so partial (before: exit 3 after one
+    // cycle; since the turns a step cannot locate are taken again shorter,
+    // 9 cycles).
     let (code, text, err) = stickslip(&["cycles", "--set", "nu=1e6", "--json", "--out", out]);
     assert_eq!(code, 4, "{err}");
-    assert!(err.contains("partial results: 1 cycles written"), "{err}");
-    assert_eq!(json(&text)["cycles"].as_array().unwrap().len(), 1);
+    let kept = json(&text)["cycles"].as_array().unwrap().len();
+    assert!(kept >= 1, "{err}");
+    assert!(
+        err.contains(&format!("partial results: {kept} cycles written")),
+        "{err}"
+    );
+    assert!(!err.contains("reduce the step size"), "{err}");
     // A repeated stiffness once; one that cannot be delivered (above
     // kappa_c) makes the request incomplete (before: exit 0).
     let (code, text, err) = stickslip(&[

@@ -1131,6 +1131,33 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                     self.restore((coll0.cycle(&z0), t0));
                     self.ds = 0.25 * ds;
                 }
+                // What the engine's own advice would say was done: say so.
+                Ok(Err((
+                    ContinuationError::Newton {
+                        context,
+                        iterations,
+                        residual,
+                        step,
+                        reason,
+                        ..
+                    },
+                    ds,
+                    _,
+                ))) => {
+                    break Err(ContinuationError::Newton {
+                        context: format!(
+                            "{context} (locating the turn of {} between two orbits; the step \
+                             taken {} times, the last with ds = {ds:.1e})",
+                            self.sys.param_name(self.k),
+                            retries + 1
+                        ),
+                        iterations,
+                        residual,
+                        step,
+                        reason,
+                        hint: "shorter steps did not locate it",
+                    })
+                }
                 Ok(Err((e, ..))) | Err(e) => break Err(e),
             }
         };
