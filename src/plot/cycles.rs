@@ -218,20 +218,20 @@ pub fn branch_figures(
             .collect()
     };
     let orbit = LineFigure {
-        title: format!("Cycles in the (s, v) plane, {}", setup.label),
-        x_label: "spring force s = K(Vt - x)/W".into(),
+        title: format!("Cycles in the (K(Vt - x), v) plane, {}", setup.label),
+        x_label: "spring force K(Vt - x) [N]".into(),
         y_label: "slip velocity v [µm/s]".into(),
         log_x: false,
         log_y: true,
-        series: per_cycle(&|_, p| (p[1], u.velocity_um_s(p[2]))),
+        series: per_cycle(&|_, p| (p[1] * u.load, u.velocity_um_s(p[2]))),
     };
     let series = LineFigure {
         title: format!("Spring force over one period, {}", setup.label),
         x_label: "time t [s]".into(),
-        y_label: "spring force s".into(),
+        y_label: "spring force K(Vt - x) [N]".into(),
         log_x: false,
         log_y: false,
-        series: per_cycle(&|c, p| (p[0] * c.period * u.d0 / u.v0, p[1])),
+        series: per_cycle(&|c, p| (p[0] * c.period * u.d0 / u.v0, p[1] * u.load)),
     };
     let mut files = Vec::new();
     for (suffix, fig) in &figures {

@@ -76,10 +76,13 @@ pub fn figures(
             LineFigure {
                 title: format!("Spring force, {name}"),
                 x_label: "time t [s]".into(),
-                y_label: "spring force s = K(Vt - x)/W".into(),
+                y_label: "spring force K(Vt - x) [N]".into(),
                 log_x: false,
                 log_y: false,
-                series: with_switch(vec![line(&traj.s, "s(t)")]),
+                series: with_switch(vec![line(
+                    &traj.s.iter().map(|s| s * u.load).collect::<Vec<f64>>(),
+                    "K(Vt - x)",
+                )]),
             },
         ),
         (
