@@ -3,6 +3,8 @@
 //! (complete rows, no NaN, figures), and say where they stopped; SIGTERM
 //! does the same with exit status 143.
 
+mod common;
+
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -357,11 +359,10 @@ fn an_interruption_in_the_second_leg_keeps_the_first_legs_end() {
     let run = interrupt_when(&args, |_| lines(&csv_path) >= 40);
     assert_eq!(run.code, Some(130), "{}", run.stderr);
     let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
-    let reasons: Vec<&str> = v["leg_stops"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|l| l["reason"].as_str().unwrap())
-        .collect();
-    assert_eq!(reasons, ["hopf_point", "interrupted"], "{}", run.stdout);
+    assert_eq!(
+        common::leg_reasons(&v),
+        ["hopf_point", "interrupted"],
+        "{}",
+        run.stdout
+    );
 }

@@ -251,13 +251,11 @@ fn a_branch_from_a_simulated_orbit_delivers_its_own_stiffness() {
     assert_eq!(code, 0, "{err}");
     let v: Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["requested_points"][0]["delivered"], true, "{json}");
-    let reasons: Vec<&str> = v["leg_stops"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|l| l["reason"].as_str().unwrap())
-        .collect();
-    assert_eq!(reasons, ["hopf_point", "end_of_range"], "{json}");
+    assert_eq!(
+        common::leg_reasons(&v),
+        ["hopf_point", "end_of_range"],
+        "{json}"
+    );
 }
 
 /// A search range written downward is refused with the range to give,

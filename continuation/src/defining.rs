@@ -121,7 +121,7 @@ fn split_parts(v: &DVector<Complex64>) -> (Buf<f64>, Option<Buf<f64>>) {
 }
 
 /// `a . b`, summed in order (as nalgebra's `dot` does for fewer than 8 entries).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).fold(0.0, |acc, (x, y)| acc + x * y)
 }
 

@@ -594,7 +594,7 @@ fn decided_by_fold(
         .iter()
         .filter(|p| p.kind == CycleBifurcation::Lpc)
         .map(|p| p.cycle.kappa)
-        .fold(None, |m: Option<f64>, k| Some(m.map_or(k, |m| m.max(k))))?;
+        .reduce(f64::max)?;
     if op.point.regime != Regime::Undecided || h.onset.criticality != Criticality::Subcritical {
         return None;
     }

@@ -114,3 +114,13 @@ impl Normal {
         (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
     }
 }
+
+/// The `reason` of each entry of a branch JSON's `leg_stops`, in order.
+pub fn leg_reasons(v: &serde_json::Value) -> Vec<String> {
+    v["leg_stops"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["reason"].as_str().unwrap().to_string())
+        .collect()
+}

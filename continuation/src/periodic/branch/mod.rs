@@ -302,10 +302,6 @@ fn deviation(c: &Cycle) -> Vec<f64> {
     out
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
 /// An orbit whose every observable's amplitude is below this fraction of
 /// the largest the branch has had, followed by a larger one, is where the
 /// branch passed through the equilibrium (a Hopf point) between steps
@@ -792,7 +788,7 @@ impl<S: VectorField> Cycles<'_, S> {
     fn passed_through_equilibrium(&mut self, pt: &CyclePoint) -> bool {
         let deviation = deviation(&pt.cycle);
         let turned_around = deviation.len() == self.last_deviation.len()
-            && dot(&deviation, &self.last_deviation) < 0.0;
+            && crate::defining::dot(&deviation, &self.last_deviation) < 0.0;
         self.last_deviation = deviation;
         let amplitudes: Vec<f64> = pt
             .extremes(self.sys)
