@@ -788,10 +788,12 @@ pub struct CyclesInRequest {
     /// Start from a simulated orbit at the scene's value instead of the Hopf point.
     pub from_simulation: bool,
     /// Start from this orbit (in the variables of the block given with
-    /// it), written by an earlier run: a restart, before `from_simulation`.
+    /// it), written by an earlier run: a restart, before `from_simulation`;
+    /// with the parameter it is a fold of cycles in, if it is one.
     pub stored: Option<(
         crate::log_model::LogBlock,
         continuation::periodic::cycle::Cycle,
+        Option<Param>,
     )>,
     /// Step limit, mesh and collocation as for a stiffness branch (its
     /// bounds and requested values are set here, in the continued parameter).
@@ -900,14 +902,18 @@ pub fn cycles_in(
         .iter()
         .map(|&v| control.to_dimensionless(units, params, v))
         .collect();
-    if let Some((log, cycle)) = &req.stored {
+    if let Some((log, cycle, fold_in)) = &req.stored {
         // From the cycle's value to --to, as from a simulated orbit below.
         let start = cycle.p[param as usize];
         let (lo, hi) = (start.min(to) * (1.0 - 1e-3), start.max(to) * (1.0 + 1e-3));
         cycles.kappa_min = lo;
         cycles.kappa_max = hi;
         cycles.cover_requested();
-        let through = crate::analysis::cycles::Through::Stored { log: *log, cycle };
+        let through = crate::analysis::cycles::Through::Stored {
+            log: *log,
+            cycle,
+            fold: *fold_in == Some(param),
+        };
         let [up, down] = crate::analysis::cycles::trace_cycles_through(
             &through, param, &cycles, watch, &mut sink,
         )?;

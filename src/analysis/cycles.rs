@@ -682,8 +682,13 @@ pub enum Through<'a> {
     /// A collocated orbit in the variables of `log`, as an earlier run
     /// wrote it ([`crate::records::orbit::StoredOrbit`]): corrected by
     /// Newton's method on its own mesh at its own parameters, nothing else
-    /// (a restart).
-    Stored { log: LogBlock, cycle: &'a Cycle },
+    /// (a restart). `fold`: the orbit is a fold of cycles in the
+    /// parameter continued, corrected at its period instead.
+    Stored {
+        log: LogBlock,
+        cycle: &'a Cycle,
+        fold: bool,
+    },
 }
 
 impl Through<'_> {
@@ -758,15 +763,21 @@ fn first_cycle<'a>(
         Through::Simulated { log, params, orbit } => {
             sampled_branch(log, params, orbit, param, sign, ntst, req)
         }
-        Through::Stored { log, cycle } => {
+        Through::Stored { log, cycle, fold } => {
             let ntst = cycle.mesh.ntst();
             let start =
                 |unknown| started_branch(log, (*cycle).clone(), param, unknown, sign, ntst, req);
             // At a fold of cycles the orbit is singular at fixed `param`:
             // corrected there at fixed period instead, the legs toward
-            // longer and shorter periods.
-            start(PARAM_UNKNOWN)
-                .or_else(|e| start(PERIOD_UNKNOWN).map_err(|_| e))
+            // longer and shorter periods (also where the correction at
+            // fixed `param` fails, near a fold the run did not locate).
+            let (first, second) = if *fold {
+                (PERIOD_UNKNOWN, PARAM_UNKNOWN)
+            } else {
+                (PARAM_UNKNOWN, PERIOD_UNKNOWN)
+            };
+            start(first)
+                .or_else(|e| start(second).map_err(|_| e))
                 .map(|(first, branch)| (first, branch, ntst))
                 .map_err(|e| {
                     NumericalError::Analysis(format!(

@@ -149,9 +149,16 @@ impl Start {
                         format!("{:.10e} D0/V0", r.orbit.period),
                     ),
                 };
+                let (what, corrected) = match r.fold_in {
+                    Some(p) => (
+                        format!(", a fold of cycles (LPC) in {}", p.name()),
+                        "at its period",
+                    ),
+                    None => (String::new(), "at its parameters"),
+                };
                 return format!(
-                    "restarting from cycle #{} of {} ({} model, {stiffness}, period {period}, \
-                     NTST {}), corrected on its own mesh, continued both ways",
+                    "restarting from cycle #{} of {}{what} ({} model, {stiffness}, period {period}, \
+                     NTST {}), corrected on its own mesh {corrected}, continued both ways",
                     r.from.index,
                     r.from.file.display(),
                     r.orbit.model.name(),
@@ -226,6 +233,7 @@ impl Start {
                 "kind": "restart", "file": r.from.file.display().to_string(),
                 "label": r.from.index, "kappa": r.orbit.param(Param::Kappa),
                 "period": r.orbit.period, "model": r.orbit.model,
+                "lpc": r.fold_in.is_some(),
             }),
             Start::NoCycle { tried, .. } => json!({
                 "kind": "none",
@@ -272,6 +280,7 @@ impl Start {
                 let through = Through::Stored {
                     log: r.log,
                     cycle: &r.cycle,
+                    fold: r.fold_in == Some(Param::Kappa),
                 };
                 match trace_cycles_through(&through, Param::Kappa, req, watch, &mut sink) {
                     Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],

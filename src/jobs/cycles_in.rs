@@ -150,7 +150,7 @@ impl Plan {
             nu_range: setup.scene.nu_range,
             at: r.at.clone(),
             from_simulation: r.from_simulation,
-            stored: restarted.map(|x| (x.log, x.cycle)),
+            stored: restarted.map(|x| (x.log, x.cycle, x.fold_in)),
             cycles: CycleRequest {
                 kappa_min: 0.0,
                 kappa_max: 0.0,

@@ -51,6 +51,10 @@ pub struct Restarted {
     pub cycle: continuation::periodic::cycle::Cycle,
     /// The run's `kappa_c` (the Hopf point's stiffness), if it had one.
     pub kappa_c: Option<f64>,
+    /// The parameter the run continued, when the cycle is a fold of cycles
+    /// (LPC) it located: there the orbit at fixed parameter is not
+    /// isolated, and a branch in that parameter starts at fixed period.
+    pub fold_in: Option<Param>,
     /// The file and the label, for the text and the JSON.
     pub from: Restart,
 }
@@ -177,6 +181,9 @@ impl Restart {
             cycle,
             orbit,
             kappa_c: json.get("kappa_c").and_then(Value::as_f64),
+            fold_in: (entry.get("kind").and_then(Value::as_str) == Some("lpc"))
+                .then(|| continued_param(&json))
+                .flatten(),
             from: self.clone(),
         })
     }
@@ -477,6 +484,16 @@ impl Written {
             Written::Cycles => "cycle",
             Written::Branch => "point",
         }
+    }
+}
+
+/// The dimensionless parameter a `cycles --json` run continued: its
+/// `control.continued` (`cycles --param`), else the stiffness.
+fn continued_param(json: &Value) -> Option<Param> {
+    match json.pointer("/control/continued") {
+        Some(Value::String(name)) => Param::parse(name).ok(),
+        Some(_) => None,
+        None => Some(Param::Kappa),
     }
 }
 

@@ -440,6 +440,12 @@ pub struct Cycles<'a, S: VectorField> {
     /// The first orbit was corrected at its parameter (no orbit part in the
     /// seed): its refinement keeps the parameter.
     start_at_fixed_parameter: bool,
+    /// The first orbit was corrected at its period (the seed along the
+    /// period alone): the caller starts at a fold of cycles, where the
+    /// orbits at fixed parameter are not isolated. The first orbit is read
+    /// as a point ([`Reading::Point`]), like a located fold, and the turn
+    /// of the parameter within the first step is that fold, not a new one.
+    start_at_fold: bool,
     ds: f64,
     /// Orbits handed out (or failed).
     steps: usize,
@@ -618,6 +624,8 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
             s
         });
         let start_at_fixed_parameter = seed[..nz - 1].iter().all(|v| *v == 0.0);
+        let start_at_fold =
+            seed[..nz - 2].iter().all(|v| *v == 0.0) && seed[nz - 2] != 0.0 && seed[nz - 1] == 0.0;
         let w = ArcWeights::at(&z, settings.param_floor);
         let z0 = z.clone();
         newton_bordered(&coll, &mut z, &settings.corrector, &w.row(&seed), &z0)?;
@@ -638,6 +646,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
             tangent,
             coll,
             start_at_fixed_parameter,
+            start_at_fold,
             steps: 0,
             previous_param: f64::NAN,
             previous_mu: Vec::new(),
@@ -1077,7 +1086,10 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                 .stepped_point()
                 .and_then(|(mut pt, ds, (coll0, z0, t0))| {
                     let nz = z0.len();
-                    if t0[nz - 1] * pt.dp_ds < 0.0 {
+                    // From a fold the parameter's turn within the first
+                    // step is the fold the branch started at.
+                    let from_fold = self.steps == 1 && self.start_at_fold;
+                    if t0[nz - 1] * pt.dp_ds < 0.0 && !from_fold {
                         let located =
                             self.locate(&coll0, &z0, &t0, (t0[nz - 1], pt.dp_ds), ds, |_, t| {
                                 Ok(t[nz - 1])

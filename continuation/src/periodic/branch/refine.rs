@@ -309,7 +309,12 @@ impl<S: VectorField> Cycles<'_, S> {
     /// the current mesh, read at its parameter).
     fn renew_estimate(&mut self, point: &CyclePoint) {
         let tangent = self.tangent.clone();
-        self.last_estimate = self.error_estimate(point, &tangent, Reading::AtParameter);
+        let reading = if self.steps == 0 && self.start_at_fold {
+            Reading::Point
+        } else {
+            Reading::AtParameter
+        };
+        self.last_estimate = self.error_estimate(point, &tangent, reading);
         self.last_ntst = self.coll.mesh.ntst();
         self.since_estimate = 0;
     }
