@@ -273,6 +273,30 @@ fn unstable_cycles_and_folds_restart() {
     assert_eq!(start["ntst"], fold["ntst"]);
     assert!(f(start, "error_estimate") < 1e-10);
     assert_eq!(again["special_points"].as_array().map(Vec::len), Some(0));
+    // The file's scene is brockley: another one named on the command line,
+    // the default's name included, is refused, not replaced.
+    let (status, _, stderr) = stickslip(&[
+        "cycles",
+        "--from",
+        file.to_str().unwrap(),
+        "--index",
+        "0",
+        "--scene",
+        "pmma",
+    ]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(
+        stderr.contains("source.scene") && stderr.contains("not --scene pmma"),
+        "{stderr}"
+    );
+    // A label is a whole number from 0: -1 is refused in those words.
+    let (status, _, stderr) =
+        stickslip(&["cycles", "--from", file.to_str().unwrap(), "--index", "-1"]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(
+        stderr.contains("labels are whole numbers from 0"),
+        "{stderr}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -752,3 +752,47 @@ fn the_onset_in_k_is_todays_hopf_with_critical_beside() {
     let expected = (B - 2.0 * MU2 * nu.ln() - A) * (1.0 + r) * W / D0;
     assert!(rel(k_c, expected) < 1e-12, "{k_c} vs {expected}");
 }
+
+/// Where the cycle at the scene's K is not delivered (brockley at 5 cm/s,
+/// above its friction minimum: no Hopf point, and the simulations settle
+/// only at a far smaller stiffness) the text and the JSON say why once,
+/// without the reason's heading twice.
+#[test]
+fn an_undelivered_operating_cycle_says_why_once() {
+    let dir = common::temp_dir("rig-undelivered");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "cycles",
+        "--scene",
+        "brockley",
+        "--set",
+        "K=1e5",
+        "--set",
+        "V=50000",
+        "--max-steps",
+        "3",
+        "--out",
+        out,
+    ];
+    let (status, text, _) = stickslip(&args);
+    assert_eq!(status, 4);
+    assert_eq!(
+        text.matches("no cycle at the scene's K").count(),
+        1,
+        "{text}"
+    );
+    let (status, stdout, _) = stickslip(&[&args[..], &["--json", "--force"]].concat());
+    assert_eq!(status, 4);
+    let json: Value = serde_json::from_str(&stdout).unwrap();
+    let why = json["operating_point"]["not_delivered"].as_str().unwrap();
+    assert!(
+        why.contains("settled on a cycle only at another stiffness"),
+        "{why}"
+    );
+    assert!(!why.contains("scene's K"), "{why}");
+    // Undecided regime: the missing cycle is reported, not a shortfall.
+    assert_eq!(json["operating_point"]["regime"], "undecided");
+    let stop = json["stop"].as_str().unwrap();
+    assert!(stop.matches("scene's K").count() <= 1, "{stop}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -323,6 +323,17 @@ def _scene(scene: Scene | str | os.PathLike | None) -> Scene:
     raise TypeError(f"scene: expected a Scene, a built-in name or a path, not {type(scene).__name__}")
 
 
+def _scene_arg(scene, from_file, model: str | None, inertia_threshold: float | None) -> dict:
+    """The scene options of a job: those of `scene`, or with `from_file`
+    and no scene, none (a restart takes the file's scene and refuses any
+    other, the default's name included)."""
+    if from_file is None or scene is not None:
+        return _scene(scene)._arg(model, inertia_threshold)
+    arg = Scene.builtin(DEFAULT_SCENE)._arg(model, inertia_threshold)
+    arg["builtin"] = ""
+    return arg
+
+
 def _column(values: Sequence[Any]) -> np.ndarray:
     """A JSON column as a numpy array: numbers as float64 (null as NaN),
     integers as int64, booleans as bool (with a null: an object array of
@@ -696,9 +707,8 @@ def hopf(
     Raises `InputError` for bad input (naming the field) and
     `NumericalError` when the onset cannot be located.
     """
-    s = _scene(scene)
     data, note = _native.hopf(
-        s._arg(model, inertia_threshold),
+        _scene_arg(scene, from_file, model, inertia_threshold),
         None if param is None else str(param),
         None if from_ is None else float(from_),
         None if to is None else float(to),
@@ -805,14 +815,13 @@ def cycles(
     (with `.partial`, the cycles computed before) when a numerical method
     fails.
     """
-    s = _scene(scene)
     if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps < 0:
         raise InputError(f"max_steps = {max_steps!r} is out of range: expected an integer >= 0", "max_steps")
     for name, n in (("ntst", ntst), ("ntst_max", ntst_max)):
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
             raise InputError(f"{name} = {n!r} is out of range: expected an integer >= 4", name)
     out = _native.cycles(
-        s._arg(model, inertia_threshold),
+        _scene_arg(scene, from_file, model, inertia_threshold),
         float(kappa_fraction),
         bool(from_simulation),
         int(max_steps),
@@ -1182,9 +1191,8 @@ def branch(
     Raises `InputError` for bad input, `NumericalError` (with `.partial`)
     when the continuation fails.
     """
-    s = _scene(scene)
     out = _native.branch(
-        s._arg(model, inertia_threshold),
+        _scene_arg(scene, from_file, model, inertia_threshold),
         None if param is None else str(param),
         None if from_ is None else float(from_),
         None if to is None else float(to),

@@ -91,3 +91,19 @@ def test_branch_and_hopf_restart_equal_the_cli(cli, tmp_path):
     with pytest.raises(InputError) as e:
         stickslip.branch(from_file=saved, index=99)
     assert "labelled 0 to" in str(e.value)
+
+
+def test_a_scene_beside_from_file_must_be_the_files(cli, tmp_path):
+    """The file's run is of brockley: a scene named beside from_file, the
+    default's name included, is refused naming `source.scene`; the file's
+    own scene is accepted."""
+    path = tmp_path / "brockley.json"
+    path.write_text(json.dumps(cli("cycles", "--scene", "brockley", "--max-steps", "3", expect=4)))
+    with pytest.raises(InputError) as e:
+        stickslip.cycles("pmma", from_file=path, index=1, max_steps=1)
+    assert e.value.field == "source.scene"
+    with pytest.raises(InputError) as e:
+        stickslip.hopf("pmma", from_file=path, index=1)
+    assert e.value.field == "source.scene"
+    d = stickslip.cycles("brockley", from_file=path, index=1, max_steps=1).to_dict()
+    assert d["start"]["label"] == 1

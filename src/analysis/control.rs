@@ -125,6 +125,16 @@ impl Control {
         }
     }
 
+    /// Its unit as text shows it: `µm/s` for `um/s`, nothing for a
+    /// dimensionless parameter.
+    pub fn text_unit(self) -> &'static str {
+        match self.unit() {
+            "um/s" => "µm/s",
+            "1" => "",
+            u => u,
+        }
+    }
+
     /// Whether it is the stiffness (`K` or `kappa`), today's default.
     pub fn is_stiffness(self) -> bool {
         matches!(self, Control::K | Control::Dimensionless(Param::Kappa))

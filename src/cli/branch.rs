@@ -35,7 +35,7 @@ pub struct BranchArgs {
     pub from: Option<String>,
     /// With --from FILE.json: the label of the point to continue from
     /// (`label` in the JSON and the CSV, #N in the text).
-    #[arg(long, value_name = "N", requires = "from")]
+    #[arg(long, value_name = "N", requires = "from", value_parser = super::label)]
     pub index: Option<usize>,
     #[arg(allow_hyphen_values = true)]
     /// End value, in the unit of --param (default: kappa, K — 1e-3 of the start; nu, V — the top
@@ -74,7 +74,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let plan =
         match (args.index, param) {
             (Some(index), _) => Plan::restart(
-                &args.scene.spec(),
+                &args.scene.given(),
                 &BranchRestart {
                     from: Restart {
                         file: args.from.clone().unwrap_or_default().into(),

@@ -105,7 +105,7 @@ pub struct CyclesArgs {
     #[arg(long, value_name = "FILE.json", requires = "index")]
     pub from: Option<PathBuf>,
     /// With --from: the label of the cycle to restart from.
-    #[arg(long, value_name = "N", requires = "from")]
+    #[arg(long, value_name = "N", requires = "from", value_parser = super::label)]
     pub index: Option<usize>,
     #[command(flatten)]
     pub output: OutputArgs,
@@ -164,7 +164,11 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
         return super::cycles_in::run(args, c);
     }
-    let plan = Plan::new(&args.scene.spec(), request(args, control)?)?;
+    let spec = match args.from {
+        Some(_) => args.scene.given(),
+        None => args.scene.spec(),
+    };
+    let plan = Plan::new(&spec, request(args, control)?)?;
     if !args.json {
         plan.describe(args.units)
             .iter()

@@ -18,21 +18,12 @@ use crate::records::cycle::{Cycle, CycleSpecialPoint};
 use crate::records::orbit::StoredOrbit;
 use std::io::Write;
 
-/// The control's unit as the text writes it (`µm/s`; empty when dimensionless).
-fn text_unit(control: Control) -> &'static str {
-    match control.unit() {
-        "um/s" => "µm/s",
-        "1" => "",
-        u => u,
-    }
-}
-
 /// One line of the text: the control's value, period [s], force drop [N].
 fn line(c: &Cycle, control: Control, value: f64) -> String {
     format!(
         "{} = {value:.8e} {}  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s  {}{}  #{}",
         control.name(),
-        text_unit(control),
+        control.text_unit(),
         c.period_s,
         c.delta_s_n,
         c.delta_s,
@@ -81,7 +72,11 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         collocation: args.collocation.map(Into::into),
         from: super::cycles::restart_of(args),
     };
-    let plan = Plan::new(&args.scene.spec(), &request)?;
+    let spec = match request.from {
+        Some(_) => args.scene.given(),
+        None => args.scene.spec(),
+    };
+    let plan = Plan::new(&spec, &request)?;
     let setup = &plan.setup;
     let name = format!("-cycles-in-{}", control.name());
     args.output.create_dir()?;
@@ -120,6 +115,9 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     if !args.json {
         println!("scene: {} — {}", setup.scene.name, setup.scene.description);
         println!("model: {}", setup.choice.reason);
+        if let Some(start) = plan.describe_start() {
+            println!("{start}");
+        }
     }
     interrupt::catch_interrupts();
     let axis = plan.axis();
@@ -167,7 +165,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
                 control.name(),
                 result.setup.label
             ),
-            &match text_unit(control) {
+            &match control.text_unit() {
                 "" => control.name().to_string(),
                 unit => format!("{} [{unit}]", control.name()),
             },
@@ -194,7 +192,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
                 control.name(),
                 control.name(),
                 c.value,
-                text_unit(control),
+                control.text_unit(),
                 c.criticality.name()
             );
         }

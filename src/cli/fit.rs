@@ -51,9 +51,12 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
     };
     let spec = args.scene.spec();
     args.output.create_dir()?;
-    let stem = args
-        .output
-        .stem(&spec_name(&args.scene.scene), &args.scene, false, OUTPUTS)?;
+    let stem = args.output.stem(
+        &spec_name(args.scene.scene_name()),
+        &args.scene,
+        false,
+        OUTPUTS,
+    )?;
     let toml_path = args.output.out.join("fitted.toml");
     if toml_path.exists() && !args.output.force {
         return Err(Error::Output(std::io::Error::other(format!(

@@ -39,7 +39,7 @@ pub struct HopfArgs {
     pub from: Option<String>,
     /// With --from FILE.json: the label of the cycle or point whose
     /// parameters to take (`label` in the JSON and the CSV, #N in the text).
-    #[arg(long, value_name = "N", requires = "from")]
+    #[arg(long, value_name = "N", requires = "from", value_parser = super::label)]
     pub index: Option<usize>,
     /// High end of the range searched (default: the top of V_range for V
     /// and nu, 1e3 times the scene's value otherwise).
@@ -75,7 +75,7 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
                 file: file.into(),
                 index,
             };
-            jobs::hopf::run_from(&args.scene.spec(), &from, &request)?
+            jobs::hopf::run_from(&args.scene.given(), &from, &request)?
         }
         (_, from) => {
             request.from = from

@@ -77,9 +77,10 @@ pub enum Command {
 /// Options shared by every analysis: which scene, overrides, which model.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file.
-    #[arg(long, default_value = scene::DEFAULT_SCENE)]
-    pub scene: String,
+    /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file
+    /// [default: pmma; with --from, the file's].
+    #[arg(long)]
+    pub scene: Option<String>,
     /// Override a parameter, repeatable. Dimensionless (docs/model.md): kappa, nu, m, A, B,
     /// mu0, mu2, theta_c. Or a scene key in its physical unit, applied before the scene is made
     /// dimensionless: K [N/m], M [kg], W [N], V [um/s], V0 [um/s], D0 [um], tau [s],
@@ -116,10 +117,26 @@ impl SceneArgs {
     /// The scene, overrides and model asked for.
     pub fn spec(&self) -> SceneSpec {
         SceneSpec {
-            scene: self.scene.clone(),
+            scene: self.scene_name().to_string(),
             set: self.set.clone(),
             model: self.model.map(Into::into),
             inertia_threshold: self.inertia_threshold,
+        }
+    }
+
+    /// The scene named by `--scene`, else the default.
+    pub fn scene_name(&self) -> &str {
+        self.scene.as_deref().unwrap_or(scene::DEFAULT_SCENE)
+    }
+
+    /// What was asked beside `--from` (a restart, whose scene is the
+    /// file's): [`Self::spec`] with the scene empty when `--scene` was not
+    /// given ([`crate::jobs::restart::Restart::scene_setup`] refuses any
+    /// other scene than the file's, the default's name included).
+    pub fn given(&self) -> SceneSpec {
+        SceneSpec {
+            scene: self.scene.clone().unwrap_or_default(),
+            ..self.spec()
         }
     }
 
@@ -130,6 +147,17 @@ impl SceneArgs {
     ) -> Result<Setup, Error> {
         self.spec().setup(params_at)
     }
+}
+
+/// A value of `--index`: a label as the runs write them (`label` in the
+/// JSON and the CSV, `#N` in the text), a whole number from 0.
+pub fn label(text: &str) -> Result<usize, String> {
+    text.trim().parse().map_err(|_| {
+        format!(
+            "'{text}' is no label: labels are whole numbers from 0 (the `label` of each \
+             entry in the JSON and the CSV, #N in the text)"
+        )
+    })
 }
 
 /// Runs the parsed command line, writing to standard output.

@@ -323,12 +323,14 @@ impl Plan {
                     at_start = true;
                 }
                 _ => {
-                    op.not_delivered = Some(format!(
-                        "no cycle at the scene's K: {}",
-                        start.reason().unwrap_or(
-                            "the simulation settled on a cycle only at another stiffness"
-                        )
-                    ));
+                    op.not_delivered = Some(
+                        start
+                            .reason()
+                            .unwrap_or(
+                                "the simulation settled on a cycle only at another stiffness",
+                            )
+                            .to_string(),
+                    );
                     observer.operating_point(op);
                 }
             }

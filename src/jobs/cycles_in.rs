@@ -98,6 +98,8 @@ pub struct Plan {
     watch: InertiaWatch,
     /// Where the run comes from (the JSON's `source`).
     source: Source,
+    /// For a restart, the cycle restarted from, in words.
+    restarted_from: Option<String>,
 }
 
 impl Plan {
@@ -136,6 +138,29 @@ impl Plan {
             );
             setup.params = params_for(setup.choice.kind, &scene_params);
         }
+        let restarted_from = restarted.as_ref().map(|x| {
+            let value = control.from_dimensionless(&units, &scene_params, x.orbit.param(param));
+            let (fold, corrected) = match x.fold_in {
+                Some(p) => (
+                    format!(", a fold of cycles (LPC) in {}", p.name()),
+                    "at its period",
+                ),
+                None => (String::new(), "at its parameters"),
+            };
+            format!(
+                "restarting from cycle #{} of {}{fold} ({} model, {} = {value:.10e} {}, period \
+                 {:.10e} s, NTST {}), corrected on its own mesh {corrected}, continued both ways \
+                 in {}",
+                x.from.index,
+                x.from.file.display(),
+                x.orbit.model.name(),
+                control.name(),
+                control.text_unit(),
+                x.orbit.period * units.d0 / units.v0,
+                x.orbit.mesh.len() - 1,
+                control.name(),
+            )
+        });
         let collocation = match &restarted {
             // Points other than the model's were forced in the run: again.
             Some(x) if x.cycle.mesh.points != collocation_for(x.orbit.model) => {
@@ -173,7 +198,14 @@ impl Plan {
             request,
             watch,
             source,
+            restarted_from,
         })
+    }
+
+    /// What the text says of the start before the cycles: the cycle
+    /// restarted from, for a restart.
+    pub fn describe_start(&self) -> Option<&str> {
+        self.restarted_from.as_deref()
     }
 
     /// The name of the run (`run_name` of its scene, overrides and model):
@@ -215,6 +247,7 @@ impl Plan {
             request,
             watch,
             source,
+            ..
         } = self;
         let mut labels = Labels::default();
         let (units, scene_params) = (setup.scene.units, setup.scene_params);
@@ -253,8 +286,8 @@ impl Plan {
         let mut stop: Vec<String> = leg_stops
             .iter()
             .map(|l| match l.leg {
-                Some(Leg::Up) => format!("toward larger {}: {}", param.name(), l.message),
-                Some(Leg::Down) => format!("toward smaller {}: {}", param.name(), l.message),
+                Some(Leg::Up) => format!("toward larger {}: {}", control.name(), l.message),
+                Some(Leg::Down) => format!("toward smaller {}: {}", control.name(), l.message),
                 _ => l.message.clone(),
             })
             .collect();

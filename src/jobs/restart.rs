@@ -16,7 +16,6 @@ use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use crate::records::cycle::Cycle;
 use crate::records::orbit::{Source, StoredOrbit};
-use crate::scene::DEFAULT_SCENE;
 use serde::Serialize;
 use serde_json::Value;
 use std::io::BufRead;
@@ -296,8 +295,8 @@ impl Restart {
     /// The scene of `source` set up again, checked to give the same
     /// parameters; `given` is what the command line or the caller asked
     /// besides `--from`: an override or a model, or a scene other than the
-    /// file's, is refused (the scene comes from the file; the default scene
-    /// counts as not given). The model is chosen as the run chose it.
+    /// file's, is refused (the scene comes from the file; an empty name is
+    /// none given). The model is chosen as the run chose it.
     pub fn scene_setup(&self, source: &Source, given: &SceneSpec) -> Result<Setup, Error> {
         let spec = source.spec();
         if !given.set.is_empty() || given.model.is_some() {
@@ -307,7 +306,7 @@ impl Restart {
                  and --model (or run afresh with them)",
             ));
         }
-        if given.scene != DEFAULT_SCENE && given.scene != spec.scene {
+        if !given.scene.is_empty() && given.scene != spec.scene {
             let same_file = std::fs::canonicalize(&given.scene)
                 .is_ok_and(|p| p.display().to_string() == spec.scene);
             if !same_file {

@@ -86,7 +86,7 @@ pub(super) fn run(args: &DiagramArgs, axes: Axes) -> Result<(), Error> {
         .transpose()?;
     let names: Vec<&str> = args
         .scene
-        .scene
+        .scene_name()
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())

@@ -92,7 +92,7 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
     let mut names: Vec<&str> = Vec::new();
     for name in args
         .scene
-        .scene
+        .scene_name()
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
