@@ -162,7 +162,7 @@ fn scene_spec(scene: &str, set: &[&str]) -> SceneSpec {
 /// The diagram command's scene options: `scenes` as they are.
 fn scene_args(scenes: &str) -> SceneArgs {
     SceneArgs {
-        scene: scenes.to_string(),
+        scene: Some(scenes.to_string()),
         set: Vec::new(),
         model: None,
         inertia_threshold: DEFAULT_INERTIA_THRESHOLD,

@@ -414,7 +414,7 @@ mod tests {
         };
         args.create_dir().unwrap();
         let scene = SceneArgs {
-            scene: "pmma".into(),
+            scene: Some("pmma".into()),
             set,
             model: None,
             inertia_threshold: 1e-3,
