@@ -433,7 +433,7 @@ class _Drawn(_Result):
     #: How the result was asked: (function name, scene, keyword options).
     _request: tuple | None = None
 
-    def _set_request(self, handle, function: str, scene: "Scene", options: dict) -> None:
+    def _set_request(self, handle, function: str, scene: "Scene | str | None", options: dict) -> None:
         self._handle = handle
         self._request = (function, scene, dict(options))
 
@@ -847,11 +847,12 @@ def cycles(
         failure[1] if failure else None,
     )
     result._set_request(
-        out["figures"], "cycles", s,
+        out["figures"], "cycles", scene,
         dict(kappa_fraction=kappa_fraction, at_kappa=at_kappa, at=at, max_steps=max_steps,
              lpc_curve=lpc_curve, from_simulation=from_simulation, ntst=ntst,
              ntst_max=ntst_max, collocation=collocation, param=param, to=to,
-             search=search, model=model, inertia_threshold=inertia_threshold),
+             search=search, model=model, inertia_threshold=inertia_threshold,
+             from_file=from_file, index=index),
     )
     if failure and failure[0] == "numerical":
         raise NumericalError(failure[1], partial=result)
