@@ -158,16 +158,30 @@ pub fn search_range(args: &CyclesArgs) -> Result<Option<(f64, f64)>, InputError>
     Ok(Some((lo, hi)))
 }
 
+/// The branch's CSV at `path`, created with its comment line (the scene,
+/// the model, the collocation and what the words in it mean) and header.
+fn csv_with_header(path: &Path, plan: &Plan) -> Result<LineFile, Error> {
+    let mut csv = create_file(path)?;
+    writeln!(
+        csv,
+        "# scene {}; model at the start {} (column model: each row's); collocation {}; stable: \
+         true, false, or undecidable (a nontrivial multiplier within its error of the unit \
+         circle); n/a: not available (the JSON gives the reason)\n{}",
+        plan.setup.scene.name,
+        plan.setup.choice.reason,
+        plan.points_name(),
+        header::<Cycle>()?
+    )?;
+    Ok(csv)
+}
+
 /// Runs the command.
 pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let control = Control::from_param(args.param.as_deref())?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
         return super::cycles_in::run(args, c);
     }
-    let spec = match args.from {
-        Some(_) => args.scene.given(),
-        None => args.scene.spec(),
-    };
+    let spec = args.scene.spec_for(args.from.is_some());
     let plan = Plan::new(&spec, request(args, control)?)?;
     if !args.json {
         plan.describe(args.units)
@@ -183,19 +197,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     let stem = args.output.stem(&name, &args.scene, false, OUTPUTS)?;
     let stem = with_suffix(&stem, "-cycles");
     let csv_path = with_suffix(&stem, ".csv");
-    let mut csv = create_file(&csv_path)?;
+    let csv = csv_with_header(&csv_path, &plan)?;
     let orbits_path = orbits_path(&stem);
     let orbits = create_file(&orbits_path)?;
-    writeln!(
-        csv,
-        "# scene {}; model at the start {} (column model: each row's); collocation {}; stable: \
-         true, false, or undecidable (a nontrivial multiplier within its error of the unit \
-         circle); n/a: not available (the JSON gives the reason)\n{}",
-        plan.setup.scene.name,
-        plan.setup.choice.reason,
-        plan.points_name(),
-        header::<Cycle>()?
-    )?;
     interrupt::catch_interrupts();
     let mut printer = Printer {
         csv,

@@ -72,10 +72,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         collocation: args.collocation.map(Into::into),
         from: super::cycles::restart_of(args),
     };
-    let spec = match request.from {
-        Some(_) => args.scene.given(),
-        None => args.scene.spec(),
-    };
+    let spec = args.scene.spec_for(request.from.is_some());
     let plan = Plan::new(&spec, &request)?;
     let setup = &plan.setup;
     let name = format!("-cycles-in-{}", control.name());

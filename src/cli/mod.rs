@@ -140,6 +140,15 @@ impl SceneArgs {
         }
     }
 
+    /// [`Self::given`] for a restart (`--from`), else [`Self::spec`].
+    pub fn spec_for(&self, restart: bool) -> SceneSpec {
+        if restart {
+            self.given()
+        } else {
+            self.spec()
+        }
+    }
+
     /// [`SceneSpec::setup`] of [`Self::spec`].
     pub fn setup(
         &self,
