@@ -828,31 +828,11 @@ pub struct CyclesIn {
     pub start: CyclesStart,
     /// The dimensionless parameter continued (`nu` for `V`).
     pub param: Param,
-    /// The bounds of the continued parameter.
-    pub bounds: (f64, f64),
-    /// The requested values, in the continued parameter.
-    pub at: Vec<f64>,
     /// How each leg ended (one from a Hopf point, two from an orbit).
     pub legs: Vec<(
         crate::analysis::cycles::Leg,
         Result<continuation::Stop, Error>,
     )>,
-}
-
-impl CyclesIn {
-    /// Whether each requested value was delivered: a cycle located at it
-    /// (a user point within 1e-9 relative) among `records`.
-    pub fn delivered(&self, records: &[CycleRecord]) -> Vec<bool> {
-        let k = self.param as usize;
-        self.at
-            .iter()
-            .map(|&target| {
-                records
-                    .iter()
-                    .any(|c| c.user_point && (c.params[k] - target).abs() <= 1e-9 * target.abs())
-            })
-            .collect()
-    }
 }
 
 /// Traces the cycles in `req.control` from its Hopf point (located by
@@ -930,8 +910,6 @@ pub fn cycles_in(
         return Ok(CyclesIn {
             start: CyclesStart::Stored,
             param,
-            bounds: (cycles.kappa_min, cycles.kappa_max),
-            at: cycles.at_kappa,
             legs: vec![(Leg::Up, up), (Leg::Down, down)],
         });
     }
@@ -967,8 +945,6 @@ pub fn cycles_in(
         return Ok(CyclesIn {
             start: CyclesStart::Simulation,
             param,
-            bounds: (cycles.kappa_min, cycles.kappa_max),
-            at: cycles.at_kappa,
             legs: vec![(Leg::Up, up), (Leg::Down, down)],
         });
     }
@@ -1004,8 +980,6 @@ pub fn cycles_in(
     Ok(CyclesIn {
         start: CyclesStart::Hopf(Box::new(onset)),
         param,
-        bounds: (cycles.kappa_min, cycles.kappa_max),
-        at: cycles.at_kappa,
         legs: vec![(Leg::FromHopf, end)],
     })
 }

@@ -228,75 +228,110 @@ impl CycleRequest {
     }
 }
 
-/// What became of one stiffness asked for (`--at-kappa`).
+/// What became of one value asked for (`--at-kappa`, `--at P=...`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct RequestedPoint {
-    /// The stiffness asked for.
-    pub kappa: f64,
+    /// The value asked for, in the branch's quantity (the stiffness
+    /// `kappa`, or a control in its unit).
+    pub value: f64,
     /// Cycles delivered at it (a branch that turns at folds can pass a
-    /// stiffness more than once).
+    /// value more than once).
     pub delivered: usize,
     /// Why no cycle was delivered (`None` when one was).
     pub reason: Option<NotDelivered>,
 }
 
-/// Why no cycle was delivered at a requested stiffness.
+/// Why no cycle was delivered at a requested value; the values in the
+/// branch's quantity, as [`RequestedPoint::value`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum NotDelivered {
     /// There is no branch at all: why, in words.
     NoBranch(String),
     /// No cycle was computed; `stop` says why the branch stopped.
     NoCycle { stop: String },
-    /// The branch spans `lo .. hi` but passed this stiffness without a cycle.
+    /// The branch spans `lo .. hi` but passed this value without a cycle.
     NotLocated { lo: f64, hi: f64, stop: String },
     /// Beyond the fold of cycles at `fold`, where the branch turns back
     /// (`above` it, or below).
     BeyondFold { above: bool, fold: f64 },
-    /// On the side of `kappa_c` where the cycles born there do not exist.
-    NoCyclesOnThisSide { above: bool, kappa_c: f64 },
-    /// Between `kappa_c` and the branch's first cycle at `first`: the cycles
-    /// there are smaller than the first one computed off the Hopf point.
-    BeforeFirstCycle { first: f64, kappa_c: f64 },
+    /// On the side of the Hopf point at `critical` where the cycles born
+    /// there do not exist.
+    NoCyclesOnThisSide { above: bool, critical: f64 },
+    /// Between the Hopf point at `critical` and the branch's first cycle at
+    /// `first`: the cycles there are smaller than the first one computed
+    /// off the Hopf point.
+    BeforeFirstCycle { first: f64, critical: f64 },
     /// The branch stopped at `end` before reaching it.
     Stopped { end: f64, stop: String },
 }
 
+/// The quantity a branch runs in, for the words of [`NotDelivered`]: the
+/// stiffness ([`Quantity::STIFFNESS`]) or a control in its unit.
+pub struct Quantity<'a> {
+    /// Its name (`kappa`, `V`); its critical value is `<name>_c`.
+    pub name: &'a str,
+    /// What a value of it is called (`stiffness`, `value of V`).
+    pub noun: std::borrow::Cow<'a, str>,
+    /// Its unit after a value (empty when dimensionless).
+    pub unit: &'a str,
+}
+
+impl Quantity<'_> {
+    /// The dimensionless stiffness `kappa`.
+    pub const STIFFNESS: Quantity<'static> = Quantity {
+        name: "kappa",
+        noun: std::borrow::Cow::Borrowed("stiffness"),
+        unit: "",
+    };
+
+    /// A value `written`, followed by the unit.
+    pub fn with_unit(&self, written: String) -> String {
+        match self.unit {
+            "" => written,
+            unit => format!("{written} {unit}"),
+        }
+    }
+}
+
 impl NotDelivered {
-    /// In words, each stiffness written by `stiffness(kappa, decimals)`
-    /// after `kappa = ` (or `kappa_c = `).
-    pub fn describe(&self, stiffness: &dyn Fn(f64, usize) -> String) -> String {
+    /// In words, with the values of the quantity `q`, each written by
+    /// `value(x, decimals)` after `<name> = ` (or `<name>_c = `) and
+    /// followed by its unit.
+    pub fn describe(&self, q: &Quantity, value: &dyn Fn(f64, usize) -> String) -> String {
+        let (name, noun) = (q.name, &q.noun);
+        let v = |x: f64, decimals: usize| q.with_unit(value(x, decimals));
         match self {
             NotDelivered::NoBranch(why) => why.clone(),
             NotDelivered::NoCycle { stop } => format!("no cycle was computed ({stop})"),
             NotDelivered::NotLocated { lo, hi, stop } => format!(
-                "the branch spans kappa = {} .. {} but no cycle was located at this stiffness ({stop})",
-                stiffness(*lo, 6),
-                stiffness(*hi, 6)
+                "the branch spans {name} = {} .. {} but no cycle was located at this {noun} ({stop})",
+                v(*lo, 6),
+                v(*hi, 6)
             ),
             NotDelivered::BeyondFold { above, fold } => format!(
-                "{} the fold of cycles at kappa = {}: the branch turns back there, none of its \
-                 cycles has a {} stiffness",
+                "{} the fold of cycles at {name} = {}: the branch turns back there, none of its \
+                 cycles has a {} {noun}",
                 if *above { "beyond" } else { "below" },
-                stiffness(*fold, 10),
+                v(*fold, 10),
                 if *above { "larger" } else { "smaller" }
             ),
-            NotDelivered::NoCyclesOnThisSide { above, kappa_c } => format!(
-                "{} kappa_c = {}, where no cycle exists on this side: the cycles born at the Hopf \
-                 point exist for kappa {} kappa_c",
+            NotDelivered::NoCyclesOnThisSide { above, critical } => format!(
+                "{} {name}_c = {}, where no cycle exists on this side: the cycles born at the Hopf \
+                 point exist for {name} {} {name}_c",
                 if *above { "above" } else { "below" },
-                stiffness(*kappa_c, 16),
+                v(*critical, 16),
                 if *above { "<" } else { ">" }
             ),
-            NotDelivered::BeforeFirstCycle { first, kappa_c } => format!(
-                "between kappa_c = {} and the branch's first cycle at kappa = {}: the cycles \
-                 there are smaller than the first one computed off the Hopf point (the onset law \
-                 of `hopf` gives their size, Delta_s ~ C sqrt|kappa - kappa_c|)",
-                stiffness(*kappa_c, 16),
-                stiffness(*first, 16)
+            NotDelivered::BeforeFirstCycle { first, critical } => format!(
+                "between {name}_c = {} and the branch's first cycle at {name} = {}: the cycles \
+                 there are smaller than the first one computed off the Hopf point (their size \
+                 goes as sqrt|{name} - {name}_c| near the onset; `hopf` gives the onset law)",
+                v(*critical, 16),
+                v(*first, 16)
             ),
             NotDelivered::Stopped { end, stop } => format!(
-                "the branch stopped at kappa = {} before reaching it ({stop})",
-                stiffness(*end, 10)
+                "the branch stopped at {name} = {} before reaching it ({stop})",
+                v(*end, 10)
             ),
         }
     }
@@ -305,14 +340,16 @@ impl NotDelivered {
 /// [`NotDelivered::describe`] with the stiffnesses as `kappa` alone.
 impl std::fmt::Display for NotDelivered {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.describe(&|kappa, decimals| format!("{kappa:.decimals$e}")))
+        f.write_str(&self.describe(&Quantity::STIFFNESS, &|kappa, decimals| {
+            format!("{kappa:.decimals$e}")
+        }))
     }
 }
 
 /// How the branch started and ended, for the reasons of [`requested_points`].
 #[derive(Clone, Copy, Debug)]
 pub struct BranchEnds<'a> {
-    /// The Hopf point's stiffness, when the branch was born there.
+    /// The Hopf point's value, when the branch was born there.
     pub hopf_start: Option<f64>,
     /// Why the continuation stopped (the legs' outcomes, in words).
     pub stop: &'a str,
@@ -320,32 +357,45 @@ pub struct BranchEnds<'a> {
     pub no_branch: Option<&'a str>,
 }
 
-/// For each stiffness in `requested`, the cycles of `records` delivered at it
-/// (user points within 1e-9 relative of it), or why there is none: beyond a
-/// fold of cycles where the branch turns back, on the side of the Hopf point
-/// where its cycles do not exist, or the branch stopped before reaching it.
+/// One end of a branch in some quantity: the value there, and whether it
+/// is a fold of cycles.
+pub type End = (f64, bool);
+
+/// The least and the largest `value` over the branch `records` (its
+/// cycles, not those at requested values, and the folds of cycles located
+/// on it), each with whether it is a fold; `None` without cycles.
+pub fn extremes(
+    records: &[CycleRecord],
+    value: &dyn Fn(&CycleRecord) -> f64,
+) -> Option<(End, End)> {
+    records
+        .iter()
+        .filter(|c| !c.user_point)
+        .flat_map(|c| {
+            std::iter::once((value(c), false)).chain(c.lpc.as_deref().map(|l| (value(l), true)))
+        })
+        .fold(None, |acc: Option<(End, End)>, (k, fold)| {
+            let (lo, hi) = acc.unwrap_or(((k, fold), (k, fold)));
+            Some((
+                if k < lo.0 { (k, fold) } else { lo },
+                if k > hi.0 { (k, fold) } else { hi },
+            ))
+        })
+}
+
+/// For each value in `requested` (of the quantity `value` gives a cycle:
+/// its stiffness, or a control in its unit, monotone along the continued
+/// parameter), the cycles of `records` delivered at it (user points within
+/// 1e-9 relative of it), or why there is none: beyond a fold of cycles
+/// where the branch turns back, on the side of the Hopf point where its
+/// cycles do not exist, or the branch stopped before reaching it.
 pub fn requested_points(
     requested: &[f64],
     records: &[CycleRecord],
     ends: &BranchEnds,
+    value: &dyn Fn(&CycleRecord) -> f64,
 ) -> Vec<RequestedPoint> {
-    // The extremes of the branch, and whether each is a fold of cycles.
-    let reached = records
-        .iter()
-        .filter(|c| !c.user_point)
-        .flat_map(|c| {
-            std::iter::once((c.kappa, false)).chain(c.lpc.as_deref().map(|l| (l.kappa, true)))
-        })
-        .fold(
-            None,
-            |acc: Option<((f64, bool), (f64, bool))>, (k, fold)| {
-                let (lo, hi) = acc.unwrap_or(((k, fold), (k, fold)));
-                Some((
-                    if k < lo.0 { (k, fold) } else { lo },
-                    if k > hi.0 { (k, fold) } else { hi },
-                ))
-            },
-        );
+    let reached = extremes(records, value);
     requested
         .iter()
         .map(|&target| {
@@ -353,9 +403,9 @@ pub fn requested_points(
                 .iter()
                 .filter(|c| {
                     // A requested point, or a cycle of the branch at the very
-                    // stiffness asked (the simulated orbit a branch starts from).
+                    // value asked (the simulated orbit a branch starts from).
                     let tol = if c.user_point { 1e-9 } else { 1e-12 };
-                    (c.kappa - target).abs() <= tol * target
+                    (value(c) - target).abs() <= tol * target.abs()
                 })
                 .count();
             let reason = (delivered == 0).then(|| match reached {
@@ -385,14 +435,17 @@ pub fn requested_points(
                         {
                             NotDelivered::BeforeFirstCycle {
                                 first: end,
-                                kappa_c: kc,
+                                critical: kc,
                             }
                         }
                         Some(kc)
                             if (above && target > kc && hi <= kc * (1.0 + 1e-9))
                                 || (!above && target < kc && lo >= kc * (1.0 - 1e-9)) =>
                         {
-                            NotDelivered::NoCyclesOnThisSide { above, kappa_c: kc }
+                            NotDelivered::NoCyclesOnThisSide {
+                                above,
+                                critical: kc,
+                            }
                         }
                         _ => NotDelivered::Stopped {
                             end,
@@ -402,7 +455,7 @@ pub fn requested_points(
                 }
             });
             RequestedPoint {
-                kappa: target,
+                value: target,
                 delivered,
                 reason,
             }

@@ -6,6 +6,7 @@ use super::interrupt;
 use super::lpc_output::{lpc_summary, write_lpc_csv};
 use super::{SceneArgs, TextUnits};
 use crate::analysis::control::Control;
+use crate::analysis::cycles::Quantity;
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::jobs::cycles::{asked_stiffnesses, Cycles, CyclesRequest, Note, Observer, Plan};
@@ -329,13 +330,17 @@ impl Observer for Printer {
     }
 
     fn note(&mut self, note: Note) {
-        match (note, self.text) {
-            (Note::Switch(s), Some(_)) => println!("{s}"),
-            (Note::Switch(_), None) => {}
-            (Note::Warning(w), _) => eprintln!("warning: {w}"),
-            (Note::Regime(r), Some(_)) => println!("{r}"),
-            (Note::Regime(_), None) => {}
-        }
+        print_note(note, self.text.is_some());
+    }
+}
+
+/// A note of a cycle branch: a line of the text (none with `--json`,
+/// `text` false), a warning on stderr either way.
+pub fn print_note(note: Note, text: bool) {
+    match note {
+        Note::Switch(line) | Note::Regime(line) if text => println!("{line}"),
+        Note::Switch(_) | Note::Regime(_) => {}
+        Note::Warning(w) => eprintln!("warning: {w}"),
     }
 }
 
@@ -396,7 +401,10 @@ fn print_end(result: &Cycles, files: &[PathBuf]) {
                 r.cycles,
                 if r.cycles == 1 { "" } else { "s" }
             ),
-            Some(why) => println!("{asked}: not delivered: {}", why.describe(&both)),
+            Some(why) => println!(
+                "{asked}: not delivered: {}",
+                why.describe(&Quantity::STIFFNESS, &both)
+            ),
         }
     }
     for f in files {

@@ -10,13 +10,23 @@ use crate::analysis::control::Control;
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::jobs::cycles::{Note, Observer};
-use crate::jobs::cycles_in::{asked_values, Axis, CyclesInControlRequest, Plan};
+use crate::jobs::cycles_in::{asked_values, Axis, CyclesInControl, CyclesInControlRequest, Plan};
 use crate::jobs::restart::orbits_path;
 use crate::plot::cycles::control_figures;
 use crate::records::csv::{header_of, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint};
 use crate::records::orbit::StoredOrbit;
 use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The control's unit as text writes it after a value (` µm/s`; nothing
+/// when dimensionless).
+fn unit_after(control: Control) -> String {
+    match control.text_unit() {
+        "" => String::new(),
+        unit => format!(" {unit}"),
+    }
+}
 
 /// One line of the text: the control's value, period [s], force drop [N].
 fn line(c: &Cycle, control: Control, value: f64) -> String {
@@ -102,7 +112,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
     let orbits = create_file(&orbits_path)?;
     writeln!(
         csv,
-        "# scene {}; cycles in {} [{}]; model {}\n{}",
+        "# scene {}; cycles in {} [{}]; model at the start {} (column model: each row's)\n{}",
         setup.scene.name,
         control.name(),
         control.unit(),
@@ -137,40 +147,19 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
             return Err(e);
         }
     };
+    for (value, why) in result.undelivered() {
+        writeln!(
+            csv,
+            "# requested {} = {} not delivered: {why}",
+            control.name(),
+            axis.in_unit(value, 15)
+        )?;
+    }
     if !result.complete {
         writeln!(csv, "# incomplete: {}", result.stop)?;
     }
     csv.finish()?;
-    // Whatever was computed is drawn, also when the branch stopped short.
-    let points: Vec<(f64, &Cycle)> = result
-        .along_branch
-        .iter()
-        .map(|&i| &result.cycles[i])
-        .map(|c| (axis.value_of(c), c))
-        .collect();
-    let cut = if result.complete {
-        ""
-    } else {
-        " — stopped short (see the stop reason)"
-    };
-    let figures = if points.is_empty() {
-        Vec::new()
-    } else {
-        control_figures(
-            &format!(
-                "Stick-slip cycles in {}, {}{cut}",
-                control.name(),
-                result.setup.label
-            ),
-            &match control.text_unit() {
-                "" => control.name().to_string(),
-                unit => format!("{} [{unit}]", control.name()),
-            },
-            &points,
-            &with_suffix(&stem, &name),
-        )
-        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?
-    };
+    let figures = write_figures(&result, &axis, &with_suffix(&stem, &name))?;
     result.orbits_file = Some(orbits_path.display().to_string());
     result.files = figures
         .iter()
@@ -194,11 +183,68 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
             );
         }
         println!("stopped: {}", result.stop);
+        for (value, why) in result.undelivered() {
+            println!(
+                "requested {} = {value:.10e}{}: not delivered: {why}",
+                control.name(),
+                unit_after(control)
+            );
+        }
         for f in &result.files {
             println!("wrote {f}");
         }
     }
     result.status()
+}
+
+/// The figures of the branch `result` in the control of `axis`, named
+/// after `stem`: whatever was computed is drawn, also when the branch
+/// stopped short (then the title says so), with the switch to the inertial
+/// model where there was one. Returns the files written.
+fn write_figures(
+    result: &CyclesInControl,
+    axis: &Axis,
+    stem: &Path,
+) -> Result<Vec<PathBuf>, Error> {
+    let control = axis.control;
+    let points: Vec<(f64, &Cycle)> = result
+        .along_branch
+        .iter()
+        .map(|&i| &result.cycles[i])
+        .map(|c| (axis.value_of(c), c))
+        .collect();
+    if points.is_empty() {
+        return Ok(Vec::new());
+    }
+    let cut = if result.complete {
+        ""
+    } else {
+        " — stopped short (see the stop reason)"
+    };
+    let model = match &result.model_switch {
+        Some(s) => format!(
+            "quasi-static → inertial model at {} = {:.4e}{}",
+            control.name(),
+            s.value,
+            unit_after(control)
+        ),
+        None => format!("{} model", result.model.name()),
+    };
+    control_figures(
+        &format!(
+            "Stick-slip cycles in {}, {} ({model}){cut}",
+            control.name(),
+            result.setup.label
+        ),
+        &match control.text_unit() {
+            "" => control.name().to_string(),
+            unit => format!("{} [{unit}]", control.name()),
+        },
+        &points,
+        result.model_switch.as_ref().map(|s| s.value),
+        stem,
+    )
+    .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))
 }
 
 /// The observer of the command line: each cycle a CSV row at once and,
@@ -230,7 +276,9 @@ impl Observer for Printer {
         Ok(())
     }
 
-    fn note(&mut self, _note: Note) {}
+    fn note(&mut self, note: Note) {
+        super::cycles::print_note(note, self.text);
+    }
 
     fn orbit(&mut self, orbit: &StoredOrbit) -> Result<(), Error> {
         orbit.write_line(&mut self.orbits)

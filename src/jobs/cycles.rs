@@ -359,19 +359,9 @@ impl Plan {
                 c.kappa,
                 c.ntst
             ));
-            if let Some(prev) = records
-                .last()
-                .filter(|p| p.model != c.model && p.leg == c.leg)
-            {
-                let sw = ModelSwitch {
-                    kappa: c.kappa,
-                    inertial_imbalance: prev.inertial_imbalance,
-                    threshold,
-                    from: "quasi-static",
-                    to: "inertial",
-                    reason: String::new(),
-                }
-                .described();
+            if let Some(sw) = ModelSwitch::between(records.last(), c, threshold, || {
+                format!("kappa = {:.8e}", c.kappa)
+            }) {
                 observer.note(Note::Switch(sw.reason.clone()));
                 switch = Some(sw);
             }
@@ -447,6 +437,7 @@ impl Plan {
                 stop: &stop,
                 no_branch: start.reason(),
             },
+            &|c| c.kappa,
         )
         .iter()
         .zip(&asked)
@@ -877,15 +868,33 @@ pub struct ModelSwitch {
 }
 
 impl ModelSwitch {
-    /// The switch with its reason in words.
-    fn described(mut self) -> Self {
-        self.reason = format!(
-            "switching to the inertial model at kappa = {:.8e}: on the last quasi-static cycle \
-             inertia would shift ln v by chi = max m |dv/dt| / A = {:.3e} > {:.0e} (--inertia-threshold); \
-             the same orbit, corrected with the scene's inertia, continues the branch",
-            self.kappa, self.inertial_imbalance, self.threshold
-        );
-        self
+    /// The switch between `prev`, the cycle before `c`, and `c`, where the
+    /// model changed along one leg (a quasi-static branch handing over to
+    /// the inertial model where the inertia watch said so, with
+    /// `threshold`, `--inertia-threshold`), with its reason in words, `at`
+    /// saying where (`kappa = ...`); `None` where it did not.
+    pub fn between(
+        prev: Option<&CycleRecord>,
+        c: &CycleRecord,
+        threshold: f64,
+        at: impl FnOnce() -> String,
+    ) -> Option<Self> {
+        let prev = prev.filter(|p| p.model != c.model && p.leg == c.leg)?;
+        Some(ModelSwitch {
+            kappa: c.kappa,
+            inertial_imbalance: prev.inertial_imbalance,
+            threshold,
+            from: "quasi-static",
+            to: "inertial",
+            reason: format!(
+                "switching to the inertial model at {}: on the last quasi-static cycle inertia \
+                 would shift ln v by chi = max m |dv/dt| / A = {:.3e} > {threshold:.0e} \
+                 (--inertia-threshold); the same orbit, corrected with the scene's inertia, \
+                 continues the branch",
+                at(),
+                prev.inertial_imbalance
+            ),
+        })
     }
 }
 

@@ -4,14 +4,17 @@
 //! handed to an [`Observer`] ([`super::cycles::Observer`]) with the control
 //! in its unit; the result ([`CyclesInControl`]) is the command's JSON.
 
-use super::cycles::{branch_status, Observer};
-use super::restart::{Labels, Restart};
+use super::cycles::{branch_status, ModelSwitch, Note, Observer};
+use super::restart::{CycleRestartRecord, Labels, Restart};
 use super::{SceneSpec, Setup};
 use crate::analysis::control::{
     choose_along, cycles_in, upward_range, Control, CyclesInRequest, CyclesStart,
 };
 use crate::analysis::cycles::collocation_for;
-use crate::analysis::cycles::{along_branch_order, CycleRecord, CycleRequest, Leg};
+use crate::analysis::cycles::{
+    along_branch_order, extremes, requested_points, BranchEnds, CycleRecord, CycleRequest, Leg,
+    Quantity,
+};
 use crate::analysis::model_choice::params_for;
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::error::{Error, InputError};
@@ -99,7 +102,9 @@ pub struct Plan {
     /// Where the run comes from (the JSON's `source`).
     source: Source,
     /// For a restart, the cycle restarted from, in words.
-    restarted_from: Option<String>,
+    restart_text: Option<String>,
+    /// For a restart, the cycle restarted from (the JSON's `restarted_from`).
+    restarted_from: Option<CycleRestartRecord>,
 }
 
 impl Plan {
@@ -138,7 +143,8 @@ impl Plan {
             );
             setup.params = params_for(setup.choice.kind, &scene_params);
         }
-        let restarted_from = restarted.as_ref().map(|x| {
+        let restarted_from = restarted.as_ref().map(|x| x.record(&scene_params));
+        let restart_text = restarted.as_ref().map(|x| {
             let value = control.from_dimensionless(&units, &scene_params, x.orbit.param(param));
             let (fold, corrected) = match x.fold_in {
                 Some(p) => (
@@ -198,6 +204,7 @@ impl Plan {
             request,
             watch,
             source,
+            restart_text,
             restarted_from,
         })
     }
@@ -205,7 +212,7 @@ impl Plan {
     /// What the text says of the start before the cycles: the cycle
     /// restarted from, for a restart.
     pub fn describe_start(&self) -> Option<&str> {
-        self.restarted_from.as_deref()
+        self.restart_text.as_deref()
     }
 
     /// The name of the run (`run_name` of its scene, overrides and model):
@@ -240,6 +247,7 @@ impl Plan {
     /// Traces the branch, handing each cycle to `observer`. `Err` when no
     /// branch started (nothing computed).
     pub fn run(self, observer: &mut dyn Observer) -> Result<CyclesInControl, Error> {
+        let axis = self.axis();
         let Plan {
             setup,
             control,
@@ -247,11 +255,13 @@ impl Plan {
             request,
             watch,
             source,
+            restarted_from,
             ..
         } = self;
         let mut labels = Labels::default();
         let (units, scene_params) = (setup.scene.units, setup.scene_params);
         let kind = setup.choice.kind;
+        let mut switch: Option<ControlSwitch> = None;
         let mut cycles: Vec<Cycle> = Vec::new();
         let mut records: Vec<CycleRecord> = Vec::new();
         let mut specials: Vec<CycleSpecialPoint> = Vec::new();
@@ -259,6 +269,18 @@ impl Plan {
             let at = || format!("after {} cycles", records.len());
             if let Some(e) = observer.stop(&at) {
                 return Err(e);
+            }
+            let value = axis.value_of_record(c);
+            if let Some(sw) = ModelSwitch::between(records.last(), c, watch.threshold, || {
+                format!("{} = {}", control.name(), axis.in_unit(value, 8))
+            }) {
+                observer.note(Note::Switch(sw.reason.clone()));
+                switch = Some(ControlSwitch {
+                    switch: sw,
+                    param: control.name(),
+                    value,
+                    unit: control.unit(),
+                });
             }
             for rec in c.user.iter().chain([c]) {
                 let mut d = record_of(rec, control, param, &setup);
@@ -281,8 +303,6 @@ impl Plan {
             .iter()
             .map(|(leg, o)| LegStop::new(Some(*leg), o, request.cycles.max_steps))
             .collect();
-        let value_of = |x: f64| control.from_dimensionless(&units, &scene_params, x);
-        let delivered = traced.delivered(&records);
         let mut stop: Vec<String> = leg_stops
             .iter()
             .map(|l| match l.leg {
@@ -291,19 +311,6 @@ impl Plan {
                 _ => l.message.clone(),
             })
             .collect();
-        let missing = delivered.iter().filter(|d| !**d).count();
-        if missing > 0 {
-            stop.push(format!(
-                "{missing} of the {} requested values not delivered: no cycle of the branch there \
-                 (it spans {} = {:.6e} .. {:.6e} {}; none may exist at the others)",
-                request.at.len(),
-                control.name(),
-                value_of(traced.bounds.0).min(value_of(traced.bounds.1)),
-                value_of(traced.bounds.0).max(value_of(traced.bounds.1)),
-                control.unit()
-            ));
-        }
-        let mut complete = leg_stops.iter().all(LegStop::complete) && missing == 0;
         let (start, critical) = match &traced.start {
             CyclesStart::Hopf(o) => {
                 let scene_value = control.value(&units, &scene_params);
@@ -312,15 +319,20 @@ impl Plan {
             CyclesStart::Simulation => ("simulation", None),
             CyclesStart::Stored => ("restart", None),
         };
+        let (requested, missing) = axis.requested(
+            &request.at,
+            &records,
+            &BranchEnds {
+                hopf_start: critical.as_ref().map(|c| c.value),
+                stop: &stop.join("; "),
+                no_branch: None,
+            },
+        );
+        let mut complete = leg_stops.iter().all(LegStop::complete) && missing.is_none();
+        stop.extend(missing);
         // From the Hopf point the cycles go where they are born, which may
         // be away from --to: then none lies between the onset and --to.
         if let Some(c) = critical.as_ref().filter(|_| !cycles.is_empty()) {
-            let axis = Axis {
-                control,
-                param,
-                units,
-                params: scene_params,
-            };
             let side = |v: f64| (v - c.value).signum();
             if !cycles
                 .iter()
@@ -339,37 +351,34 @@ impl Plan {
                 ));
             }
         }
-        let unit = control.unit();
         Ok(CyclesInControl {
             scene: setup.scene.name.clone(),
             model: kind,
             model_reason: setup.choice.reason.clone(),
-            params: params_json(&setup.params),
+            // The parameters of the last model used (the scene's inertia
+            // after a switch to the inertial model), as `cycles`' `params`.
+            params: params_json(match switch {
+                Some(_) => &setup.scene_params,
+                None => &setup.params,
+            }),
             control: ControlEnd {
                 param: control.name(),
-                unit,
+                unit: control.unit(),
                 to: request.to,
                 continued: param.name(),
             },
             start,
+            restarted_from,
             critical,
             units: UnitsRecord::of(&units),
             along_branch: along_branch_order(&records),
             cycles,
             special_points: specials,
-            requested_points: request
-                .at
-                .iter()
-                .zip(&delivered)
-                .map(|(&value, &delivered)| RequestedValue {
-                    value,
-                    unit,
-                    delivered,
-                })
-                .collect(),
+            requested_points: requested,
             complete,
             stop: stop.join("; "),
             leg_stops,
+            model_switch: switch,
             files: Vec::new(),
             source,
             orbits_file: None,
@@ -390,16 +399,87 @@ pub struct Axis {
 }
 
 impl Axis {
+    /// The control's value (its unit) where the continued parameter is `x`.
+    fn at(&self, x: f64) -> f64 {
+        self.control
+            .from_dimensionless(&self.units, &self.params, x)
+    }
+
     /// The control's value (its unit) on the cycle `c`.
     pub fn value_of(&self, c: &Cycle) -> f64 {
-        let x = match (self.param, &c.continued) {
+        self.at(match (self.param, &c.continued) {
             (Param::Kappa, _) => c.kappa,
             (Param::M, _) => c.m,
             (_, Some(v)) => v.value,
             (_, None) => f64::NAN,
-        };
-        self.control
-            .from_dimensionless(&self.units, &self.params, x)
+        })
+    }
+
+    /// The control's value (its unit) on the computed cycle `c`.
+    pub fn value_of_record(&self, c: &CycleRecord) -> f64 {
+        self.at(c.params[self.param as usize])
+    }
+
+    /// The control as messages word it (`V`, `value of V`, `um/s`; no
+    /// unit when dimensionless).
+    pub fn quantity(&self) -> Quantity<'static> {
+        Quantity {
+            name: self.control.name(),
+            noun: format!("value of {}", self.control.name()).into(),
+            unit: match self.control.unit() {
+                "1" => "",
+                unit => unit,
+            },
+        }
+    }
+
+    /// What became of the values `at` of the control (its unit) asked of
+    /// the branch `records`, which started and ended as `ends` says
+    /// ([`requested_points`]), and, where some were not delivered, the
+    /// stop's words for them: how many, and the span of the control over
+    /// the cycles computed.
+    fn requested(
+        &self,
+        at: &[f64],
+        records: &[CycleRecord],
+        ends: &BranchEnds,
+    ) -> (Vec<RequestedValue>, Option<String>) {
+        let value_of = |c: &CycleRecord| self.value_of_record(c);
+        let quantity = self.quantity();
+        let requested: Vec<RequestedValue> = requested_points(at, records, ends, &value_of)
+            .into_iter()
+            .map(|r| RequestedValue {
+                value: r.value,
+                unit: self.control.unit(),
+                delivered: r.delivered > 0,
+                cycles: r.delivered,
+                reason: r
+                    .reason
+                    .map(|why| why.describe(&quantity, &|x, decimals| format!("{x:.decimals$e}"))),
+            })
+            .collect();
+        let missing = requested.iter().filter(|r| r.reason.is_some()).count();
+        let words = (missing > 0).then(|| {
+            let span = extremes(records, &value_of).map_or_else(String::new, |(lo, hi)| {
+                format!(
+                    ": the cycles computed span {} = {:.6e} .. {}",
+                    quantity.name,
+                    lo.0,
+                    self.in_unit(hi.0, 6)
+                )
+            });
+            format!(
+                "{missing} of the {} requested values not delivered (see requested_points){span}",
+                at.len()
+            )
+        });
+        (requested, words)
+    }
+
+    /// `value` of the control with `decimals`, and its unit
+    /// ([`quantity`](Self::quantity)): `1.5e2 um/s`.
+    pub fn in_unit(&self, value: f64, decimals: usize) -> String {
+        self.quantity().with_unit(format!("{value:.decimals$e}"))
     }
 }
 
@@ -420,18 +500,41 @@ pub struct RequestedValue {
     pub value: f64,
     pub unit: &'static str,
     pub delivered: bool,
+    /// How many cycles were delivered at it (a branch that turns at folds
+    /// passes some values twice).
+    pub cycles: usize,
+    /// Why none was delivered, in words (absent when one was), as the
+    /// stiffness branch's `requested_points`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// Where the branch handed over from the quasi-static to the inertial model
+/// (JSON `model_switch`): `cycles`' record, with the control's value there.
+#[derive(Clone, Debug, Serialize)]
+pub struct ControlSwitch {
+    #[serde(flatten)]
+    pub switch: ModelSwitch,
+    /// The control, and its value (in `unit`) on the last quasi-static and
+    /// the first inertial cycle.
+    pub param: &'static str,
+    pub value: f64,
+    pub unit: &'static str,
 }
 
 /// The branch in a control parameter: its JSON and the setup.
 #[derive(Serialize)]
 pub struct CyclesInControl {
     pub scene: String,
+    /// The model at the start (`model_switch` says where it changed).
     pub model: crate::model::ModelKind,
     pub model_reason: String,
     pub params: Value,
     pub control: ControlEnd,
-    /// `hopf` or `simulation`.
+    /// `hopf`, `simulation` or `restart`.
     pub start: &'static str,
+    /// For a restart, the cycle restarted from; `null` otherwise.
+    pub restarted_from: Option<CycleRestartRecord>,
     /// The Hopf point in the control, where the branch started there.
     pub critical: Option<Critical>,
     pub units: UnitsRecord,
@@ -441,6 +544,9 @@ pub struct CyclesInControl {
     pub complete: bool,
     pub stop: String,
     pub leg_stops: Vec<LegStop>,
+    /// Where the branch handed over to the inertial model; `null` where it
+    /// did not.
+    pub model_switch: Option<ControlSwitch>,
     /// The files written (by the command line).
     pub files: Vec<String>,
     /// Where the run came from, as `cycles`' `source`.
@@ -459,6 +565,13 @@ pub struct CyclesInControl {
 }
 
 impl CyclesInControl {
+    /// The requested values not delivered, with why.
+    pub fn undelivered(&self) -> impl Iterator<Item = (f64, &str)> {
+        self.requested_points
+            .iter()
+            .filter_map(|r| Some((r.value, r.reason.as_deref()?)))
+    }
+
     /// The run's answer as an exit status ([`branch_status`]).
     pub fn status(&mut self) -> Result<(), Error> {
         branch_status(

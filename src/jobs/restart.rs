@@ -54,6 +54,11 @@ pub struct Restarted {
     /// (LPC) it located: there the orbit at fixed parameter is not
     /// isolated, and a branch in that parameter starts at fixed period.
     pub fold_in: Option<Param>,
+    /// Why the run started in its model, where its file says so
+    /// (`model_reason`, which `cycles --param` writes: the model judged over
+    /// its range); a stiffness branch chose it at the scene's own values,
+    /// as [`Restart::scene_setup`] chooses it again.
+    pub run_model_reason: Option<String>,
     /// The file and the label, for the text and the JSON.
     pub from: Restart,
 }
@@ -183,6 +188,10 @@ impl Restart {
             fold_in: (entry.get("kind").and_then(Value::as_str) == Some("lpc"))
                 .then(|| continued_param(&json))
                 .flatten(),
+            run_model_reason: json
+                .get("model_reason")
+                .and_then(Value::as_str)
+                .map(str::to_string),
             from: self.clone(),
         })
     }
@@ -266,15 +275,10 @@ impl Restart {
                     .source
                     .params()
                     .map_err(|why| self.error("source.scene_params", why))?;
-                // The ageing form is the scene's (`with_vec` keeps it).
-                let mut params = scene.with_vec(&r.orbit.params);
-                if r.orbit.model == ModelKind::QuasiStatic {
-                    params.m = scene.m;
-                }
                 Ok(WrittenPoint {
                     kind: "cycle",
+                    params: r.params(&scene),
                     source: r.source,
-                    params,
                     model: r.orbit.model,
                     from: self.clone(),
                 })
@@ -444,20 +448,45 @@ impl Restart {
 impl Restarted {
     /// The scene set up as the run that wrote the cycle had it, checked to
     /// give the same parameters ([`Restart::scene_setup`]), with the
-    /// cycle's model.
+    /// cycle's model, and the reason saying so: the model of the cycle,
+    /// with why the run started in its own ([`Restarted::run_model_reason`],
+    /// else the scene's choice).
     pub fn setup(&self, given: &SceneSpec) -> Result<Setup, Error> {
         let mut setup = self.from.scene_setup(&self.source, given)?;
         let kind = self.orbit.model;
-        if setup.choice.kind != kind {
-            setup.choice.reason = format!(
-                "{}: the model of the cycle restarted from (the run started {})",
-                kind.name(),
-                setup.choice.reason
-            );
-        }
+        let run = self
+            .run_model_reason
+            .as_deref()
+            .unwrap_or(&setup.choice.reason);
+        setup.choice.reason = format!(
+            "{}: the model of the cycle restarted from (the run started {run})",
+            kind.name()
+        );
         setup.choice.kind = kind;
         setup.params = crate::analysis::model_choice::params_for(kind, &setup.scene_params);
         Ok(setup)
+    }
+
+    /// The cycle's parameters: the scene's `scene` with the orbit's values
+    /// (the ageing form the scene's; a quasi-static cycle, computed without
+    /// inertia, keeps the scene's `m`).
+    pub fn params(&self, scene: &Params) -> Params {
+        let mut params = scene.with_vec(&self.orbit.params);
+        if self.orbit.model == ModelKind::QuasiStatic {
+            params.m = scene.m;
+        }
+        params
+    }
+
+    /// Where a run restarted from this cycle, with the scene's parameters
+    /// `scene` (JSON `restarted_from`).
+    pub fn record(&self, scene: &Params) -> CycleRestartRecord {
+        CycleRestartRecord {
+            point: RestartRecord::new(&self.from, "cycle", self.orbit.model, &self.params(scene)),
+            kappa: self.orbit.param(Param::Kappa),
+            period: self.orbit.period,
+            lpc: self.fold_in.is_some(),
+        }
     }
 }
 
@@ -547,6 +576,19 @@ pub struct RestartRecord {
     pub model: ModelKind,
     /// The point's parameters, by name.
     pub params: Value,
+}
+
+/// Where a `cycles --param` run restarted from (JSON `restarted_from`):
+/// the record of a restart's point, with what the stiffness branch's
+/// `start` says of a restart (the cycle's `kappa`, its period in `D0/V0`,
+/// whether it is a fold of cycles).
+#[derive(Clone, Debug, Serialize)]
+pub struct CycleRestartRecord {
+    #[serde(flatten)]
+    pub point: RestartRecord,
+    pub kappa: f64,
+    pub period: f64,
+    pub lpc: bool,
 }
 
 impl RestartRecord {

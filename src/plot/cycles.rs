@@ -282,12 +282,15 @@ pub fn fold_figure(
 /// P`): the force drop per slip [N] and the period [s] against the control
 /// in its unit, `points` its value and the cycle along the branch (the
 /// cycles at requested values left out: they repeat the branch); stable
-/// cycles solid blue, unstable dashed red, undecidable dashed grey. The x
+/// cycles solid blue, unstable dashed red, undecidable dashed grey; the
+/// switch from the quasi-static to the inertial model, at the control's
+/// value `switch`, as a dashed line (as [`branch_figures`] marks it). The x
 /// axis is logarithmic where the values span more than a decade.
 pub fn control_figures(
     title: &str,
     x_label: &str,
     points: &[(f64, &Cycle)],
+    switch: Option<f64>,
     stem: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     let along: Vec<&(f64, &Cycle)> = points.iter().filter(|(_, c)| !c.user_point).collect();
@@ -343,13 +346,18 @@ pub fn control_figures(
         ),
         ("-period", "period [s]", &|c: &Cycle| c.period_s),
     ] {
+        let mut series = series(y);
+        if let Some(x) = switch {
+            let (color, label) = SWITCH_MARKER;
+            series.push(vertical_marker(&series, x, label, color));
+        }
         let fig = LineFigure {
             title: title.to_string(),
             x_label: x_label.to_string(),
             y_label: y_label.to_string(),
             log_x,
             log_y: false,
-            series: series(y),
+            series,
         };
         files.extend(render(&fig, &with_suffix(stem, suffix))?);
     }

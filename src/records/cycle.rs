@@ -279,9 +279,9 @@ impl Requested {
     /// What became of `r`, asked for as `asked`, in the units `u`.
     pub fn new(r: &RequestedPoint, asked: Asked, u: &Units) -> Self {
         Requested {
-            kappa: r.kappa,
-            k_over_w_per_m: u.k_over_w(r.kappa),
-            k_n_per_m: u.stiffness(r.kappa),
+            kappa: r.value,
+            k_over_w_per_m: u.k_over_w(r.value),
+            k_n_per_m: u.stiffness(r.value),
             asked,
             delivered: r.delivered > 0,
             cycles: r.delivered,
