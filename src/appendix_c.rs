@@ -1,6 +1,8 @@
 //! Closed forms of the seed's Appendix C (linear stability of steady sliding),
 //! in docs/model.md's dimensionless units. They are the reference the continuation
-//! results are compared with; the analyses never use them to get their answers.
+//! results are compared with; the analyses never use them to get their answers,
+//! except to say, where a search found no onset, that no value of a control can
+//! give one (`analysis::control::onset_excluded`, from C11 and C12).
 
 use crate::params::Params;
 use num_complex::Complex64;

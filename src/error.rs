@@ -108,6 +108,25 @@ pub enum NumericalError {
         /// The options that set the range (`--from and --to`, `--search LO:HI`).
         remedy: &'static str,
     },
+    /// No stick-slip onset along a control parameter over the range
+    /// searched, nor at any other value: Appendix C excludes one
+    /// ([`crate::analysis::control::onset_excluded`]), so no other range is
+    /// advised.
+    #[error(
+        "no stick-slip onset in {param} from {lo:.6e} to {hi:.6e} {unit}, nor at any other \
+         value: {why}"
+    )]
+    NoOnsetAtAnyValue {
+        /// The control parameter.
+        param: String,
+        /// Its unit.
+        unit: String,
+        /// The range searched.
+        lo: f64,
+        hi: f64,
+        /// Why none exists, with the numbers.
+        why: String,
+    },
 }
 
 /// The command-line remedy for an engine failure, appended to its message

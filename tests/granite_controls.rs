@@ -3,7 +3,8 @@
 //! with W = 1 kN, or loaded by its weight) through `cycles --param P` and
 //! `hopf --param P`: the switch to the inertial model said as the stiffness
 //! branch says it, the requested values not delivered with the span of the
-//! cycles computed and each one's reason, a restart's provenance. The
+//! cycles computed and each one's reason, a restart's provenance, and no
+//! futile advice where Appendix C excludes an onset at every value. The
 //! numbers are checked against what the scene gives here, with eq. C11
 //!
 //!     K_c = (mu_phi - mu_v)(W + M V^2 / (mu_v D0)) / D0,
@@ -379,4 +380,98 @@ fn a_restart_in_velocity_names_the_cycle_and_its_model() {
     assert!(!text.contains("quasi-static"), "{text}");
     let csv = std::fs::read_to_string(out.join("granite_restart-10-cycles-in-V.csv")).unwrap();
     assert!(csv.lines().next().unwrap().contains(&reason), "{csv}");
+}
+
+/// `hopf --param` where no value of the control gives an onset says so
+/// with K against Appendix C's K_c, exit status 3, without advising
+/// another range; where one may lie beyond the range searched, it still
+/// advises one (and the onset is there).
+#[test]
+fn no_onset_at_any_value_is_said_with_the_closed_form() {
+    let (_dir, path) = scene("h", GRANITE);
+    let hopf = |extra: &[&str]| {
+        let mut a = vec!["hopf", "--scene", s(&path)];
+        a.extend_from_slice(extra);
+        let (code, _, err) = stickslip(&a);
+        (code, err)
+    };
+    // K_c = (B - A) W / D0 at M = 0 (C12), growing with M: K below it
+    // slides by stick-slip at every mass.
+    let k_c0 = (B - A) * W / D0;
+    assert!(rel(k_c0, 4e5) < 1e-12);
+    let (code, err) = hopf(&["--param", "M"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains(
+            "no stick-slip onset in M from 5.000000e-3 to 5.000000e3 kg, nor at any other value: \
+             steady sliding is unstable (stick-slip) at every M: K = 2.000000e5 N/m is at or \
+             below K_c = 4.000000e5 N/m at M = 0 (C12), and K_c grows with M"
+        ),
+        "{err}"
+    );
+    assert!(!err.contains("search another range"), "{err}");
+    // Velocity strengthening (B < A): stable at every mass.
+    let (code, err) = hopf(&["--param", "M", "--set", "B=0.005"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains(
+            "steady sliding is linearly stable at every M: steady friction is velocity \
+                      strengthening (mu_phi - mu_v = -5.000000e-3"
+        ),
+        "{err}"
+    );
+    assert!(!err.contains("search another range"), "{err}");
+    // The load: K_c grows with W from (B - A) M V^2 / (A D0^2) as W -> 0,
+    // 4e6 N/m with M = 1e9 kg, above K.
+    let (code, err) = hopf(&["--param", "W", "--set", "M=1e9"]);
+    assert_eq!(code, 3, "{err}");
+    let k_c_w0 = (B - A) * 1e9 * 1e-12 / (A * D0 * D0);
+    assert!(rel(k_c_w0, 4e6) < 1e-12);
+    assert!(
+        err.contains(
+            "unstable (stick-slip) at every W: K = 2.000000e5 N/m is at or below K_c = \
+                      4.000000e6 N/m as W -> 0"
+        ),
+        "{err}"
+    );
+    // The velocity with mu2 = 0: mu_phi = B at every V, and K_c grows with
+    // V from (B - A) W / D0.
+    let (code, err) = hopf(&["--param", "V", "--set", "mu2=0"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains(
+            "unstable (stick-slip) at every V: K = 2.000000e5 N/m is at or below K_c = \
+                      4.000000e5 N/m as V -> 0"
+        ),
+        "{err}"
+    );
+    // With K = 5e5 N/m above that least K_c the rig's inertia brings the
+    // onset, at V = sqrt((K/K_c0 - 1) A / m) V0 = 2236.07 µm/s (C11),
+    // beyond the scene's V_range: the advice to search another range
+    // stands, and that range holds it.
+    let (code, err) = hopf(&["--param", "V", "--set", "mu2=0", "--set", "K=5e5"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("search another range with --from and --to (um/s)"),
+        "{err}"
+    );
+    let (code, out, err) = stickslip(&[
+        "hopf",
+        "--scene",
+        s(&path),
+        "--param",
+        "V",
+        "--set",
+        "mu2=0",
+        "--set",
+        "K=5e5",
+        "--to",
+        "1e4",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let m = M * 1e-12 / (W * D0);
+    let v_c = ((5e5 / k_c0 - 1.0) * A / m).sqrt();
+    let found = num(&json(&out)["critical"]["value"]);
+    assert!(rel(found, v_c) < 1e-9, "{found} vs {v_c} µm/s");
 }

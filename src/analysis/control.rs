@@ -479,14 +479,32 @@ pub fn onset_in(
         .into());
     }
     control.check_form(params, "--param")?;
-    let no_onset = |range: (f64, f64), why: String| -> Error {
-        NumericalError::NoOnsetInRange {
-            param: control.name().to_string(),
-            unit: control.unit_in_words().to_string(),
-            lo: range.0,
-            hi: range.1,
-            why,
-            remedy: "--from and --to",
+    // None in the range searched: none at any value where Appendix C
+    // excludes one (and agrees with what the search saw), else another
+    // range may hold it.
+    let no_onset = |range: (f64, f64), unstable: bool, why: String| -> Error {
+        let (param, unit) = (
+            control.name().to_string(),
+            control.unit_in_words().to_string(),
+        );
+        match onset_excluded(params, units, control) {
+            Some(Excluded { unstable: u, why }) if u == unstable => {
+                NumericalError::NoOnsetAtAnyValue {
+                    param,
+                    unit,
+                    lo: range.0,
+                    hi: range.1,
+                    why,
+                }
+            }
+            _ => NumericalError::NoOnsetInRange {
+                param,
+                unit,
+                lo: range.0,
+                hi: range.1,
+                why,
+                remedy: "--from and --to",
+            },
         }
         .into()
     };
@@ -530,6 +548,7 @@ pub fn onset_in(
                 Err(unstable) => {
                     return Err(no_onset(
                         r,
+                        unstable,
                         format!(
                             "steady sliding is {} along the whole range at kappa = {:.6e} \
                              (K = {:.6e} N/m)",
@@ -548,15 +567,20 @@ pub fn onset_in(
         Path::Load => {
             let r = checked_range(control, range)?;
             match along_load(kind, params, units, r)? {
-                Some(w) => (
+                Ok(w) => (
                     w,
                     "root of kappa - kappa_c in 1/W (Illinois), kappa_c located at each trial"
                         .to_string(),
                 ),
-                None => {
+                Err(unstable) => {
                     return Err(no_onset(
                         r,
-                        "kappa - kappa_c keeps its sign at both ends".to_string(),
+                        unstable,
+                        format!(
+                            "kappa - kappa_c keeps its sign at both ends (steady sliding {} at \
+                             both)",
+                            if unstable { "unstable" } else { "stable" }
+                        ),
                     ))
                 }
             }
@@ -598,6 +622,118 @@ pub fn onset_in(
             .flatten(),
         method,
     })
+}
+
+/// Why no value of a control gives an onset ([`onset_excluded`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Excluded {
+    /// Steady sliding is unstable (stick-slip) at every value; else stable
+    /// at every value.
+    pub unstable: bool,
+    /// In words, with the numbers.
+    pub why: String,
+}
+
+/// Where Appendix C decides in closed form that no value of `control`
+/// gives an onset, everything else at the scene's parameters `p` and
+/// `units` (its inertia kept: a model chosen over a range may drop it, the
+/// block beyond that range has it); `None` where it does not decide. With
+/// `K` the spring's stiffness, fixed by each control here, eq. C11 in
+/// physical units reads
+///
+/// ```text
+/// K_c = (mu_phi - mu_v) (W + M V^2 / (mu_v D0)) / D0        (kappa_c W / D0)
+/// ```
+///
+/// and steady sliding is stable for `K > K_c` (docs/model.md). Along
+///
+/// - `M` under a given `W` (and `m`), `mu_phi - mu_v` does not move and
+///   `K_c` grows with `M` from `(mu_phi - mu_v) W / D0` at `M = 0` (C12);
+/// - `W`, likewise with `W`, from `(mu_phi - mu_v) M V^2 / (mu_v D0^2)` as
+///   `W -> 0`;
+/// - `V` (and `nu`) under the ln² form with `mu2 = 0`, `mu_phi = B` does not
+///   move, and `K_c` grows with `V` from `(B - A) W / D0` as `V -> 0`, or
+///   stays there for a block without mass; under the cutoff with `B <= A`,
+///   `mu_phi = B / (1 + V tau / D0) < A` at every `V`.
+///
+/// So where `mu_phi <= mu_v` steady sliding is stable at every value, and
+/// where `K` is at or below the least `K_c` (below it if `K_c` stays) it is
+/// unstable at every value (stable if `K_c` stays below `K`). Other
+/// controls, and `V` under the ln² form with `mu2 != 0` (whose `mu_phi`
+/// sweeps every value, so that an onset exists at some `V`), are not
+/// decided here.
+pub fn onset_excluded(p: &Params, units: &Units, control: Control) -> Option<Excluded> {
+    let name = control.name();
+    let k = units.stiffness(p.kappa);
+    // C12, the least K_c along M (in the unit of kappa).
+    let weakening = crate::appendix_c::critical_stiffness_quasi_static(p);
+    let law = "C11: K_c = (mu_phi - mu_v)(W + M V^2/(mu_v D0))/D0";
+    let stable = |why: String| Excluded {
+        unstable: false,
+        why: format!("steady sliding is linearly stable at every {name}: {why}"),
+    };
+    // The least K_c along the control, where it is, and whether K_c grows
+    // from it (else it stays there).
+    let (least, at, grows) = match control.path(units) {
+        Path::Index {
+            param: Param::Nu, ..
+        } if p.theta_c.is_some() && p.b <= p.a => {
+            return Some(stable(format!(
+                "mu_phi = B/(1 + V tau/D0) < B = {:.6e} <= A = mu_v = {:.6e} at every V (the \
+                 cutoff form), so K_c < 0 < K = {k:.6e} N/m ({law})",
+                p.b, p.a
+            )))
+        }
+        Path::Index {
+            param: Param::Nu, ..
+        } if p.theta_c.is_none() && p.mu2 == 0.0 => (
+            units.stiffness(weakening),
+            format!("as {name} -> 0 (mu_phi = B does not move with V: mu2 = 0)"),
+            p.m > 0.0,
+        ),
+        Path::Index {
+            param: Param::M, ..
+        } => (
+            units.stiffness(weakening),
+            format!("at {name} = 0 (C12)"),
+            true,
+        ),
+        Path::Load => (
+            units.stiffness(weakening * p.inertia_ratio()),
+            "as W -> 0".to_string(),
+            true,
+        ),
+        _ => return None,
+    };
+    let slopes = format!(
+        "mu_phi - mu_v = {weakening:.6e} at V = {:.6e} um/s",
+        units.velocity_um_s(p.nu)
+    );
+    if weakening <= 0.0 {
+        return Some(stable(format!(
+            "steady friction is velocity strengthening ({slopes} <= 0), so K_c <= 0 < K = \
+             {k:.6e} N/m ({law})"
+        )));
+    }
+    let unstable = |why: String| Excluded {
+        unstable: true,
+        why: format!("steady sliding is unstable (stick-slip) at every {name}: {why}"),
+    };
+    match grows {
+        true if k <= least => Some(unstable(format!(
+            "K = {k:.6e} N/m is at or below K_c = {least:.6e} N/m {at}, and K_c grows with \
+             {name} ({law}; {slopes})"
+        ))),
+        false if k < least => Some(unstable(format!(
+            "K = {k:.6e} N/m is below K_c = {least:.6e} N/m, the same at every {name} \
+             ({law}, a block without mass; {slopes})"
+        ))),
+        false if k > least => Some(stable(format!(
+            "K = {k:.6e} N/m is above K_c = {least:.6e} N/m, the same at every {name} ({law}, \
+             a block without mass; {slopes})"
+        ))),
+        _ => None,
+    }
 }
 
 /// The range, present, finite, positive and ordered.
@@ -677,13 +813,14 @@ fn along_index(
 /// `1/W` (`kappa = K D0/W`, `m = M V0^2/(W D0)`): the Illinois method on
 /// `g(u) = kappa(u) - kappa_c(u)`, `u = 1/W`, with `kappa_c` located by
 /// [`find_hopf`] at each trial (`0` where steady sliding is stable at every
-/// stiffness). `None` when `g` has one sign at both ends.
+/// stiffness). When `g` has one sign at both ends: whether steady sliding
+/// is unstable there (`g < 0`).
 fn along_load(
     kind: ModelKind,
     params: &Params,
     units: &Units,
     (lo, hi): (f64, f64),
-) -> Result<Option<f64>, Error> {
+) -> Result<Result<f64, bool>, Error> {
     let g = |u: f64| -> Result<f64, Error> {
         let (p, _) = Control::W.at(units, params, 1.0 / u);
         let kappa_c = match find_hopf(kind, &params_for(kind, &p))? {
@@ -695,20 +832,20 @@ fn along_load(
     let (mut a, mut b) = (1.0 / hi, 1.0 / lo);
     let (mut ga, mut gb) = (g(a)?, g(b)?);
     if ga == 0.0 {
-        return Ok(Some(1.0 / a));
+        return Ok(Ok(1.0 / a));
     }
     if gb == 0.0 {
-        return Ok(Some(1.0 / b));
+        return Ok(Ok(1.0 / b));
     }
     if ga.signum() == gb.signum() {
-        return Ok(None);
+        return Ok(Err(ga < 0.0));
     }
     let mut side = 0;
     for _ in 0..200 {
         let c = (a * gb - b * ga) / (gb - ga);
         let gc = g(c)?;
         if gc == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * c.abs() {
-            return Ok(Some(1.0 / c));
+            return Ok(Ok(1.0 / c));
         }
         if gc.signum() == gb.signum() {
             b = c;
@@ -726,10 +863,10 @@ fn along_load(
             side = -1;
         }
         if gc.abs() <= 4.0 * f64::EPSILON {
-            return Ok(Some(1.0 / c));
+            return Ok(Ok(1.0 / c));
         }
     }
-    Ok(Some(2.0 / (a + b)))
+    Ok(Ok(2.0 / (a + b)))
 }
 
 /// A range `(lo, hi)` in which an onset is searched, checked: finite and
