@@ -601,9 +601,8 @@ fn hopf_at_a_written_cycle_is_hopf_with_its_parameters() {
 /// The faults of `branch --from` and `hopf --from` are input errors (exit
 /// status 2) naming the file and the field: a cycles file to `branch`, an
 /// index out of range, a file without `source`, the end point without
-/// `--to`, `--set` beside it, a control that moves the inertia of a
-/// quasi-static branch, a `--from` that is neither a number nor a file
-/// with `--index`, a file of neither kind to `hopf`.
+/// `--to`, `--set` beside it, a `--from` that is neither a number nor a
+/// file with `--index`, a file of neither kind to `hopf`.
 #[test]
 fn branch_and_hopf_restart_errors_name_the_file_and_the_field() {
     let dir = temp_dir("restart-branch-errors");
@@ -671,13 +670,20 @@ fn branch_and_hopf_restart_errors_name_the_file_and_the_field() {
         &["--to", "the end of the file's branch"],
     );
     fails("branch", &good, "1", &["--set", "nu=2"], &["--set/--model"]);
-    fails(
-        "branch",
-        &good,
+    // A quasi-static point continued in the inertia: the model chosen
+    // afresh, as `branch --param m` at its parameters chooses it.
+    let (status, in_m, stderr) = branch(&[
+        "--from",
+        good.to_str().unwrap(),
+        "--index",
         "1",
-        &["--param", "m"],
-        &["--param", "quasi-static"],
-    );
+        "--param",
+        "m",
+        "--max-steps",
+        "2",
+    ]);
+    assert_eq!(status, 4, "{stderr}");
+    assert_eq!(in_m["model"], "inertial");
     fails(
         "hopf",
         &hopf_file,
@@ -800,4 +806,100 @@ fn a_restart_from_a_large_cycle_ends_at_the_hopf_point() {
             "label {label}: {json}"
         );
     }
+}
+
+/// A press-loaded granite rig (a stranger's): quasi-static at its own
+/// 1 µm/s, inertial toward 1 mm/s.
+const GRANITE: &str = r#"name = "granite"
+description = "granite/granite rig, press loaded"
+A = 0.010
+B = 0.014
+mu0 = 0.7
+mu2 = 2e-4
+D0 = 10.0
+V0 = 1.0
+M = 5.0
+W = 1000.0
+K = 2e5
+V = 1.0
+V_range = [0.01, 1000.0]
+"#;
+
+/// A point of a stiffness branch continued in V chooses its model along
+/// the velocity range as a fresh `branch --param V` at the point's K does
+/// (inertial toward 1 mm/s here, where the K branch was quasi-static): the
+/// same Hopf velocity to 1e-12. A stand-in for the scene file (moved since
+/// the run) is taken where it gives the run's parameters; one that does
+/// not, or an inertia threshold beside --from, is refused.
+#[test]
+fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
+    let dir = temp_dir("restart-granite");
+    let scene = dir.join("granite.toml");
+    std::fs::write(&scene, GRANITE).unwrap();
+    let scene = scene.to_str().unwrap();
+    let (status, k, stderr) = branch(&["--scene", scene, "--param", "K"]);
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(k["model"], "quasi-static");
+    let file = dir.join("k.json");
+    std::fs::write(&file, k.to_string()).unwrap();
+    let file = file.to_str().unwrap();
+    let label = k["points"].as_array().unwrap().len() as u64 - 3;
+    let at = point(&k, label);
+    let hopf_v = |json: &Value| {
+        let hopf: Vec<f64> = json["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| p["event"] == "hopf")
+            .map(|p| f(p, "V_um_per_s"))
+            .collect();
+        assert_eq!(hopf.len(), 1, "{hopf:?}");
+        hopf[0]
+    };
+    let index = label.to_string();
+    let v_args = ["--param", "V", "--to", "1000"];
+    let (status, restarted, stderr) =
+        branch(&[&["--from", file, "--index", &index][..], &v_args].concat());
+    assert_eq!(status, 0, "{stderr}");
+    let k_set = format!("K={}", f(at, "K_N_per_m"));
+    let (status, fresh, stderr) =
+        branch(&[&["--scene", scene, "--set", &k_set][..], &v_args].concat());
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(fresh["model"], "inertial");
+    assert_eq!(restarted["model"], fresh["model"]);
+    assert!(rel(hopf_v(&restarted), hopf_v(&fresh)) < 1e-12);
+    // The scene file moved: named again with --scene it stands in.
+    let moved = dir.join("moved.toml");
+    std::fs::rename(scene, &moved).unwrap();
+    let moved = moved.to_str().unwrap();
+    let (status, _, stderr) = branch(&["--from", file, "--index", &index, "--max-steps", "2"]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("granite.toml"), "{stderr}");
+    let (status, _, stderr) = branch(&[
+        "--from",
+        file,
+        "--index",
+        &index,
+        "--max-steps",
+        "2",
+        "--scene",
+        moved,
+    ]);
+    assert!(status == 0 || status == 4, "{stderr}");
+    // Another rig is no stand-in; nor is the inertia threshold the file's to change.
+    std::fs::write(&moved, GRANITE.replace("B = 0.014", "B = 0.015")).unwrap();
+    let (status, _, stderr) = branch(&["--from", file, "--index", &index, "--scene", moved]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("B = 1.5e-2"), "{stderr}");
+    let (status, _, stderr) = branch(&[
+        "--from",
+        file,
+        "--index",
+        &index,
+        "--inertia-threshold",
+        "1e-2",
+    ]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("--inertia-threshold"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
