@@ -887,7 +887,7 @@ fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
     ]);
     assert!(status == 0 || status == 4, "{stderr}");
     // Another rig is no stand-in; nor is the inertia threshold the file's to change.
-    std::fs::write(&moved, GRANITE.replace("B = 0.014", "B = 0.015")).unwrap();
+    std::fs::write(moved, GRANITE.replace("B = 0.014", "B = 0.015")).unwrap();
     let (status, _, stderr) = branch(&["--from", file, "--index", &index, "--scene", moved]);
     assert_eq!(status, 2, "{stderr}");
     assert!(stderr.contains("B = 1.5e-2"), "{stderr}");
