@@ -264,7 +264,8 @@ fn unstable_cycles_and_folds_restart() {
     );
     // The fold is the start, on its own mesh, read as a point (its error
     // estimate the located fold's, not the ill-posed one at fixed
-    // stiffness), and not found again a step later.
+    // stiffness), reported as the fold once (not found again a step
+    // later), its legs toward longer and shorter periods.
     assert_eq!(again["start"]["lpc"], true);
     let start = labelled(&again, 0);
     for k in ["kappa", "period", "delta_s"] {
@@ -272,7 +273,24 @@ fn unstable_cycles_and_folds_restart() {
     }
     assert_eq!(start["ntst"], fold["ntst"]);
     assert!(f(start, "error_estimate") < 1e-10);
-    assert_eq!(again["special_points"].as_array().map(Vec::len), Some(0));
+    let specials = again["special_points"].as_array().unwrap();
+    assert_eq!(specials.len(), 1);
+    assert_eq!(specials[0]["kind"], "lpc");
+    assert_eq!(f(&specials[0], "delta_s"), f(start, "delta_s"));
+    let stop = again["stop"].as_str().unwrap();
+    assert!(
+        stop.contains("toward longer periods") && stop.contains("toward shorter periods"),
+        "{stop}"
+    );
+    // Its two-parameter curve starts from it.
+    let label = fold["label"].to_string();
+    let a = args(&label);
+    let a: Vec<&str> = a.iter().map(String::as_str).collect();
+    let (_, curve, stderr) = cycles(&dir.join("d"), &[&a[..], &["--lpc-curve"]].concat());
+    assert!(
+        curve["lpc_curve"].as_array().is_some_and(|c| !c.is_empty()),
+        "{stderr}"
+    );
     // The file's scene is brockley: another one named on the command line,
     // the default's name included, is refused, not replaced.
     let (status, _, stderr) = stickslip(&[

@@ -924,7 +924,7 @@ pub fn cycles_in(
             cycle,
             fold: *fold_in == Some(param),
         };
-        let [up, down] = crate::analysis::cycles::trace_cycles_through(
+        let legs = crate::analysis::cycles::trace_cycles_through(
             &through, param, &cycles, watch, &mut sink,
         )?;
         return Ok(CyclesIn {
@@ -932,7 +932,7 @@ pub fn cycles_in(
             param,
             bounds: (cycles.kappa_min, cycles.kappa_max),
             at: cycles.at_kappa,
-            legs: vec![(Leg::Up, up), (Leg::Down, down)],
+            legs: legs.into(),
         });
     }
     if req.from_simulation {
@@ -963,13 +963,12 @@ pub fn cycles_in(
             watch,
             &mut sink,
         )?;
-        let [up, down] = legs;
         return Ok(CyclesIn {
             start: CyclesStart::Simulation,
             param,
             bounds: (cycles.kappa_min, cycles.kappa_max),
             at: cycles.at_kappa,
-            legs: vec![(Leg::Up, up), (Leg::Down, down)],
+            legs: legs.into(),
         });
     }
     let search = req.search.or_else(|| {

@@ -126,7 +126,7 @@ impl Start {
         match self {
             Start::Simulation { orbit, hopf: None } => orbit.params.kappa,
             Start::NoCycle { tried, .. } => tried.tries.first().map_or(0.0, SettleError::kappa),
-            Start::Stored(r) => r.kappa_c.unwrap_or(r.orbit.param(Param::Kappa)),
+            Start::Stored(r) => r.reference_kappa.unwrap_or(r.orbit.param(Param::Kappa)),
             _ => self.kappa_c().unwrap_or(0.0),
         }
     }
@@ -234,6 +234,7 @@ impl Start {
                 "label": r.from.index, "kappa": r.orbit.param(Param::Kappa),
                 "period": r.orbit.period, "model": r.orbit.model,
                 "lpc": r.fold_in.is_some(),
+                "reference_kappa": self.reference_kappa(),
             }),
             Start::NoCycle { tried, .. } => json!({
                 "kind": "none",
@@ -272,7 +273,7 @@ impl Start {
                     watch,
                     &mut sink,
                 ) {
-                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Ok(legs) => legs.map(|(leg, end)| (Some(leg), end)).into(),
                     Err(e) => vec![(None, Err(e))],
                 }
             }
@@ -283,7 +284,7 @@ impl Start {
                     fold: r.fold_in == Some(Param::Kappa),
                 };
                 match trace_cycles_through(&through, Param::Kappa, req, watch, &mut sink) {
-                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Ok(legs) => legs.map(|(leg, end)| (Some(leg), end)).into(),
                     Err(e) => vec![(None, Err(e))],
                 }
             }

@@ -51,6 +51,10 @@ pub struct Restarted {
     pub cycle: continuation::periodic::cycle::Cycle,
     /// The run's `kappa_c` (the Hopf point's stiffness), if it had one.
     pub kappa_c: Option<f64>,
+    /// The stiffness the run measured its range against (`--kappa-fraction`):
+    /// its `kappa_c`, else the simulated orbit's stiffness it started from
+    /// (`start.kappa`), or the one a restart carried on (`start.reference_kappa`).
+    pub reference_kappa: Option<f64>,
     /// The parameter the run continued, when the cycle is a fold of cycles
     /// (LPC) it located: there the orbit at fixed parameter is not
     /// isolated, and a branch in that parameter starts at fixed period.
@@ -199,6 +203,14 @@ impl Restart {
             cycle,
             orbit,
             kappa_c: json.get("kappa_c").and_then(Value::as_f64),
+            reference_kappa: json.get("kappa_c").and_then(Value::as_f64).or_else(|| {
+                let start = |k: &str| json.pointer(&format!("/start/{k}")).and_then(Value::as_f64);
+                match json.pointer("/start/kind").and_then(Value::as_str) {
+                    Some("simulation") => start("kappa"),
+                    Some("restart") => start("reference_kappa"),
+                    _ => None,
+                }
+            }),
             fold_in: (entry.get("kind").and_then(Value::as_str) == Some("lpc"))
                 .then(|| continued_param(&json))
                 .flatten(),
