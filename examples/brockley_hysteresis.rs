@@ -168,7 +168,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cycles.push(c.clone());
         Ok(())
     })?;
-    for leg in legs.iter().filter_map(|l| l.as_ref().err()) {
+    for leg in legs.iter().filter_map(|l| l.1.as_ref().err()) {
         println!("a continuation leg ended: {leg}");
     }
     let lpc = cycles
