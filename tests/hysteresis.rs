@@ -49,7 +49,7 @@ fn branch(p: &Params, req: &CycleRequest) -> Vec<CycleRecord> {
     })
     .unwrap();
     for leg in legs {
-        leg.unwrap();
+        leg.1.unwrap();
     }
     out
 }
