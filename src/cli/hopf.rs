@@ -356,7 +356,15 @@ fn print_normal_form(setup: &Setup, o: &Onset, mu0: f64, units: TextUnits) {
                  (Delta(K x / W) in units of the friction coefficient)"
             );
             let example = c * (0.01 * o.kappa_c).sqrt();
-            println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}");
+            match units {
+                TextUnits::Physical => println!(
+                    "  e.g. 1 % from onset: Delta_s ~ {example:.4e} (a force drop of {:.4e} N)",
+                    example * setup.scene.units.load
+                ),
+                TextUnits::Dimensionless => {
+                    println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}")
+                }
+            }
             if example > mu0.abs() {
                 println!(
                     "  (more than mu0 = {mu0:.3e}, the friction level itself: far beyond what the expansion \
