@@ -115,7 +115,12 @@ const BUILTINS: [(&str, &str); 3] = [
 const BUILTIN_NAMES: [&str; 3] = [BUILTINS[0].0, BUILTINS[1].0, BUILTINS[2].0];
 
 /// Every key a scene file may hold.
-const KEYS: &str = "name description A B mu0 mu2 tau state_law D0 V0 M W g K V V_range";
+const KEYS: &str =
+    "name description A B mu0 mu2 mu_vv mu_vphi tau state_law D0 V0 M W g K V V_range";
+
+/// The keys of the logarithmic ageing form, which `tau` (the cutoff form)
+/// excludes.
+pub const LOG_FORM_KEYS: [&str; 3] = ["mu2", "mu_vv", "mu_vphi"];
 
 /// Names of the built-in scenes (`examples/scenes/NAME.toml`).
 pub fn builtin_names() -> &'static [&'static str] {
@@ -170,8 +175,8 @@ pub struct SceneOverride {
 /// [`load`], with the scene keys of `overrides` replaced (or added) before
 /// the scene is made dimensionless: `K` gives `kappa = K D0 / W` with the
 /// scene's `D0` and `W`, `W` changes `kappa` and `m` together, and so on.
-/// Setting `tau` selects the cutoff form (the scene's `mu2` is dropped, as
-/// `--set theta_c` does). An error of the scene so changed names the
+/// Setting `tau` selects the cutoff form (the scene's `mu2`, `mu_vv` and
+/// `mu_vphi` are dropped, as `--set theta_c` does). An error of the scene so changed names the
 /// overrides (`pmma with --set M=0: ...`).
 pub fn load_with(name_or_path: &str, overrides: &[SceneOverride]) -> Result<Scene, InputError> {
     let base = load(name_or_path)?;
@@ -197,10 +202,7 @@ pub fn table_with(
     let mut t: Table = text.parse().map_err(|e| file_error(name_or_path, e))?;
     t.insert("name".into(), Value::String(base.name.clone()));
     for o in overrides {
-        if o.key == "tau" {
-            t.remove("mu2");
-        }
-        t.insert(o.key.into(), o.value.clone());
+        insert_override(&mut t, o);
     }
     if overrides.is_empty() {
         return Ok((t, name_or_path.to_string()));
@@ -210,6 +212,17 @@ pub fn table_with(
         t,
         format!("{name_or_path} with --set {}", shown.join(" --set ")),
     ))
+}
+
+/// Sets the key of `o` in the scene table `t`; `tau` selects the cutoff
+/// form and drops the keys of the logarithmic one ([`LOG_FORM_KEYS`]).
+pub fn insert_override(t: &mut Table, o: &SceneOverride) {
+    if o.key == "tau" {
+        for key in LOG_FORM_KEYS {
+            t.remove(key);
+        }
+    }
+    t.insert(o.key.into(), o.value.clone());
 }
 
 /// Parses a scene from TOML text; `origin` (a file name) names it in errors
@@ -237,12 +250,20 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
     let a = read(&t, "A", "> 0", "dimensionless")?.ok_or_else(missing_a)?;
     let b = read(&t, "B", ">= 0", "dimensionless")?.unwrap_or(0.0);
     let mu0 = read(&t, "mu0", "", "dimensionless")?.unwrap_or(0.6);
-    let mu2 = read(&t, "mu2", "", "dimensionless")?.unwrap_or(0.0);
+    let mut log_form = [0.0; 3];
+    for (value, key) in log_form.iter_mut().zip(LOG_FORM_KEYS) {
+        *value = read(&t, key, "", "dimensionless")?.unwrap_or(0.0);
+    }
+    let [mu2, mu_vv, mu_vphi] = log_form;
     let tau = read(&t, "tau", "> 0", "seconds")?;
-    if tau.is_some() && mu2 != 0.0 {
+    if let Some((key, _)) = LOG_FORM_KEYS
+        .into_iter()
+        .zip(log_form)
+        .find(|(_, v)| tau.is_some() && *v != 0.0)
+    {
         return Err(InputError::Conflict(format!(
-            "{origin}: scene keys tau and mu2 select different ageing forms \
-             (short-age cutoff vs ln² correction); give only one"
+            "{origin}: scene keys tau and {key} select different ageing forms \
+             (short-age cutoff vs the logarithmic form of mu2, mu_vv, mu_vphi); give only one"
         )));
     }
     let state_law = match string(&t, "state_law")? {
@@ -291,6 +312,8 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         mu2,
         theta_c: tau.map(|tau| tau * v0 / d0),
         state_law,
+        mu_vv,
+        mu_vphi,
     };
     let nu_range = (lo / v0, hi / v0);
     let derived = [
