@@ -459,6 +459,16 @@ mod tests {
         }
         let e = err(&["tau=0.1", "mu2=1e-4"]);
         assert!(e.contains("--set tau and --set mu2 select different ageing forms"));
+        let e = err(&["mu_vphi=1e-4", "theta_c=0.3"]);
+        assert!(e.contains("--set mu_vphi and --set theta_c select different ageing forms"));
+        // The logarithmic form's three parameters go together.
+        let o = set(&["mu2=1e-4", "mu_vv=2e-4", "mu_vphi=-3e-4"]).unwrap();
+        let mut p = crate::scene::builtin("brockley").unwrap().params;
+        o.apply_dimensionless(&mut p).unwrap();
+        assert_eq!(
+            (p.mu2, p.mu_vv, p.mu_vphi, p.theta_c),
+            (1e-4, 2e-4, -3e-4, None)
+        );
     }
 
     #[test]

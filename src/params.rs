@@ -312,7 +312,7 @@ impl Params {
         // on nu; the law defines the slip velocity (and Appendix C its
         // stability) only where it is positive.
         let mu_v = self.mu_v();
-        if !(mu_v > 0.0) {
+        if mu_v.is_nan() || mu_v <= 0.0 {
             return Err(InputError::out_of_range(
                 "mu_v = A + (2 mu_vv - mu_vphi) ln nu",
                 mu_v,
@@ -373,6 +373,34 @@ impl Params {
         self.friction().mu_phi(self.nu, 1.0 / self.nu)
     }
 
+    /// Refuses a range of driving velocities `(lo, hi)` (units of `V0`,
+    /// given by `field`) over which the direct effect at steady sliding,
+    /// `mu_v = A + (2 mu_vv - mu_vphi) ln nu`, does not stay positive
+    /// (linear in `ln nu`, it is checked at both ends): steady sliding needs
+    /// friction rising with the slip velocity (the quasi-static law has no
+    /// velocity otherwise, and Appendix C no onset).
+    pub fn check_velocity_range(
+        &self,
+        (lo, hi): (f64, f64),
+        field: &str,
+    ) -> Result<(), InputError> {
+        for nu in [lo, hi] {
+            let at = Params { nu, ..*self };
+            let mu_v = at.mu_v();
+            if mu_v.is_nan() || mu_v <= 0.0 {
+                let vanishes = (-self.a / (2.0 * self.mu_vv - self.mu_vphi)).exp();
+                return Err(InputError::Conflict(format!(
+                    "{field} {lo:e} .. {hi:e}: the direct effect at steady sliding mu_v = A + \
+                     (2 mu_vv - mu_vphi) ln nu is {mu_v:e} at nu = {nu:e} (A = {:e}, mu_vv = \
+                     {:e}, mu_vphi = {:e}); it vanishes at nu = {vanishes:e}, and steady sliding \
+                     needs mu_v > 0: keep the range on the side of it where mu_v > 0",
+                    self.a, self.mu_vv, self.mu_vphi
+                )));
+            }
+        }
+        Ok(())
+    }
+
     /// Size of the inertia term in eq. C11, `m nu^2 / mu_v`.
     pub fn inertia_ratio(&self) -> f64 {
         self.m * self.nu * self.nu / self.mu_v()
@@ -408,5 +436,72 @@ pub fn friction_from<D: Scalar>(cutoff: bool, p: &[D]) -> FrictionLaw<D> {
                 mu_vphi: p[Param::MuVphi as usize],
             }
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corrected() -> Params {
+        Params {
+            kappa: 0.01,
+            nu: 3.0,
+            m: 0.0,
+            a: 0.012,
+            b: 0.023,
+            mu0: 0.6,
+            mu2: 2.4e-4,
+            theta_c: None,
+            state_law: StateLaw::Ageing,
+            mu_vv: 1e-3,
+            mu_vphi: -5e-4,
+        }
+    }
+
+    #[test]
+    fn the_corrections_belong_to_the_logarithmic_form() {
+        let p = corrected();
+        let names: Vec<&str> = p.named().iter().map(|(n, _)| *n).collect();
+        assert_eq!(
+            names,
+            ["kappa", "nu", "m", "A", "B", "mu0", "mu2", "mu_vv", "mu_vphi"]
+        );
+        // The cutoff clears them; setting one selects the logarithmic form.
+        let mut c = p;
+        c.set(Param::ThetaC, 0.3);
+        assert_eq!((c.mu2, c.mu_vv, c.mu_vphi), (0.0, 0.0, 0.0));
+        let names: Vec<&str> = c.named().iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, ["kappa", "nu", "m", "A", "B", "mu0", "theta_c"]);
+        // A vector read back keeps the form: the cutoff ignores the entries.
+        let back = c.with_vec(&p.to_vec());
+        assert_eq!((back.mu_vv, back.theta_c), (0.0, Some(0.0)));
+        c.set(Param::MuVphi, 2e-4);
+        assert_eq!((c.theta_c, c.mu_vphi), (None, 2e-4));
+        assert_eq!(p.with_vec(&p.to_vec()), p);
+        let mut q = p;
+        let e = q
+            .apply_overrides(&["mu_vv=1e-4".into(), "theta_c=0.3".into()])
+            .unwrap_err();
+        assert!(
+            e.to_string().contains("--set mu_vv and --set theta_c"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_steady_slopes_move_with_nu() {
+        let p = corrected();
+        let ln3 = 3f64.ln();
+        assert!((p.mu_v() - (0.012 + 2.5e-3 * ln3)).abs() < 1e-17);
+        assert!((p.mu_phi() - (0.023 - 9.8e-4 * ln3)).abs() < 1e-17);
+        // The direct effect vanishes at nu = exp(-A / (2 mu_vv - mu_vphi)) = e^-4.8.
+        assert!(p.check_velocity_range((0.01, 100.0), "range").is_ok());
+        let e = p.check_velocity_range((1e-3, 1.0), "range").unwrap_err();
+        assert!(
+            e.to_string().contains("vanishes at nu = 8.2297470490200"),
+            "{e}"
+        );
+        assert!(Params { nu: 1e-3, ..p }.validate().is_err());
     }
 }

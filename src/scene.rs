@@ -467,6 +467,24 @@ mod tests {
     }
 
     #[test]
+    fn the_corrections_in_ln_v_are_dimensionless_keys() {
+        let s = scene("A = 0.012\nB = 0.023\nmu_vv = 1e-3\nmu_vphi = -5e-4\nV = 3");
+        assert_eq!((s.params.mu_vv, s.params.mu_vphi), (1e-3, -5e-4));
+        assert_eq!(
+            (
+                scene("A = 0.01").params.mu_vv,
+                scene("A = 0.01").params.mu_vphi
+            ),
+            (0.0, 0.0)
+        );
+        // The direct effect at steady sliding, A + (2 mu_vv - mu_vphi) ln nu,
+        // must stay positive: 0.01 + 2e-2 ln(0.1) < 0.
+        let e = err("A = 0.01\nmu_vv = 1e-2\nV = 0.1");
+        assert!(e.contains("mu_v = A + (2 mu_vv - mu_vphi) ln nu"), "{e}");
+        assert!(err("A = 0.01\nmu_vv = 'x'").contains("mu_vv: cannot read"));
+    }
+
+    #[test]
     fn given_stiffness_and_load_convert() {
         let s = scene("A = 0.01\nK = 1e5\nM = 2\ng = 10\nD0 = 0.5\nV0 = 2\nV = 8");
         assert!(s.stiffness_given && s.name == "test" && s.params.nu == 4.0);
@@ -538,9 +556,16 @@ mod tests {
         let s = load_with("pmma", &[set("K", Value::Float(2e5))]).unwrap();
         assert!(rel(s.params.kappa, 2e5 * 0.4e-6 / 9.81) < 1e-15);
         assert!(s.stiffness_given && s.name == "pmma");
-        // tau selects the cutoff form, dropping the scene's mu2.
+        // tau selects the cutoff form, dropping the scene's mu2 (and
+        // mu_vv, mu_vphi: a file's keys of the logarithmic form).
         let s = load_with("pmma", &[set("tau", Value::Float(0.4))]).unwrap();
         assert_eq!((s.params.mu2, s.params.theta_c), (0.0, Some(1.0)));
+        let mut t: Table = "A = 0.01\nmu2 = 1e-4\nmu_vv = 2e-4\nmu_vphi = 3e-4"
+            .parse()
+            .unwrap();
+        insert_override(&mut t, &set("tau", Value::Float(0.4)));
+        let keys: Vec<&str> = t.keys().map(String::as_str).collect();
+        assert_eq!(keys, ["A", "tau"]);
         // An error of the changed scene names the overrides.
         let e = load_with("pmma", &[set("M", Value::Float(0.0))]).unwrap_err();
         assert!(e.to_string().starts_with("pmma with --set M=0"), "{e}");
@@ -551,6 +576,10 @@ mod tests {
     fn tau_and_mu2_conflict() {
         let e = err("A = 0.01\ntau = 0.1\nmu2 = 1e-4");
         assert!(e.contains("tau") && e.contains("mu2"), "{e}");
+        for key in ["mu_vv", "mu_vphi"] {
+            let e = err(&format!("A = 0.01\ntau = 0.1\n{key} = -1e-4"));
+            assert!(e.contains(&format!("scene keys tau and {key}")), "{e}");
+        }
         let s = scene("A = 0.01\ntau = 0.1\nmu2 = 0\nD0 = 0.5\nV0 = 2");
         assert!(rel(s.params.theta_c.unwrap(), 0.4) < 1e-15);
     }

@@ -526,6 +526,10 @@ pub fn onset_in(
         }
         Path::Index { param, scale } => {
             let r = checked_range(control, range)?;
+            if param == Param::Nu {
+                let field = format!("the range searched in {}, in nu", control.name());
+                params.check_velocity_range((scale * r.0, scale * r.1), &field)?;
+            }
             match along_index(kind, params, param, (scale * r.0, scale * r.1))? {
                 Ok(x) => (
                     x / scale,

@@ -74,7 +74,7 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
     let ln_v = log.ln_velocity(x, p);
     let ln_theta = log.origin[2] + x[x.len() - 1];
     let mu_v = friction_from(log.cutoff, p).rate_coefficient(2.0 * ln_v, ln_theta);
-    if !(mu_v > 0.0) {
+    if mu_v.is_nan() || mu_v <= 0.0 {
         return f64::MAX;
     }
     m * ln_v.exp() * rate.abs() / mu_v
