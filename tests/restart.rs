@@ -921,3 +921,109 @@ fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
     assert!(stderr.contains("--inertia-threshold"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `json` as written before `mu_vv` and `mu_vphi` existed: the parameter
+/// vectors (`source.scene_params`, and each orbit's `params` in a copy of
+/// its orbits file `orbits`, which the returned JSON names) hold their
+/// first 8 entries, `kappa` to `theta_c`.
+fn before_corrections(json: &Value, orbits: &Path) -> Value {
+    let truncate = |v: &mut Value| {
+        let a = v.as_array_mut().unwrap();
+        assert_eq!(a.len(), 10);
+        assert_eq!(a.split_off(8), [0.0, 0.0]);
+    };
+    let mut old = json.clone();
+    truncate(&mut old["source"]["scene_params"]);
+    if let Some(file) = json["orbits_file"].as_str() {
+        let lines: Vec<String> = std::fs::read_to_string(file)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let mut orbit: Value = serde_json::from_str(l).unwrap();
+                truncate(&mut orbit["params"]);
+                orbit.to_string()
+            })
+            .collect();
+        std::fs::write(orbits, lines.join("\n") + "\n").unwrap();
+        old["orbits_file"] = Value::from(orbits.to_str().unwrap());
+    }
+    old
+}
+
+/// Files written before `mu_vv` and `mu_vphi` (8 parameters) restart with
+/// both 0, as the run that wrote them computed: `cycles --from`, `hopf
+/// --from` and `branch --from` give what they give from the same file in
+/// today's layout (10 parameters), bit for bit.
+#[test]
+fn files_from_before_the_corrections_in_ln_v_restart() {
+    let dir = temp_dir("restart-before-corrections");
+    let (status, json, _) = cycles(&dir.join("a"), &["--set", "nu=3", "--max-steps", "5"]);
+    assert_eq!(status, 4);
+    let (status, branch_json, _) = branch(&["--param", "nu", "--set", "kappa=0.009"]);
+    assert_eq!(status, 0);
+    let write = |name: &str, v: &Value| {
+        let file = dir.join(name);
+        std::fs::write(&file, v.to_string()).unwrap();
+        file.to_str().unwrap().to_string()
+    };
+    let (new, old) = (
+        write("new.json", &json),
+        write(
+            "old.json",
+            &before_corrections(&json, &dir.join("old-orbits.jsonl")),
+        ),
+    );
+    let (new_branch, old_branch) = (
+        write("new-branch.json", &branch_json),
+        write(
+            "old-branch.json",
+            &before_corrections(&branch_json, &dir.join("none")),
+        ),
+    );
+    // Everything but the timing and the files written.
+    let result = |args: &[&str]| -> Value {
+        let (status, mut v, err) = json_of(args);
+        assert!(status == 0 || status == 4, "{args:?}: {err}");
+        for key in [
+            "elapsed_s",
+            "files",
+            "orbits_file",
+            "restarted_from",
+            "figures",
+            "csv",
+        ] {
+            v.as_object_mut().unwrap().remove(key);
+        }
+        v
+    };
+    for (a, b) in [(&new, &old), (&new_branch, &old_branch)] {
+        let hopf = |from: &str| result(&["hopf", "--json", "--from", from, "--index", "2"]);
+        assert_eq!(hopf(a), hopf(b));
+    }
+    let restart = |from: &str, out: &str| {
+        let out = dir.join(out);
+        result(&[
+            "cycles",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+            "--from",
+            from,
+            "--index",
+            "2",
+            "--max-steps",
+            "3",
+        ])
+    };
+    let (a, b) = (restart(&new, "r-new"), restart(&old, "r-old"));
+    assert_eq!(a["cycles"], b["cycles"]);
+    assert_eq!(a["source"], b["source"]);
+    assert_eq!(a["source"]["scene_params"][8], 0.0);
+    // The text names the file restarted from.
+    let again = |from: &str| {
+        let v = result(&["branch", "--json", "--from", from, "--index", "5"]);
+        v.to_string().replace("old-branch.json", "new-branch.json")
+    };
+    assert_eq!(again(&new_branch), again(&old_branch));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -488,7 +488,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         model: log.kind,
         m: c.p[Param::M as usize],
         friction_min,
-        inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
+        inertial_imbalance: inertial_imbalance(log, c, watch.m),
         samples,
         lpc: pt
             .event(CycleEvent::Fold)

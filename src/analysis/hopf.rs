@@ -341,9 +341,21 @@ pub fn stable_stiffness<S: VectorField>(
     params: &Params,
 ) -> Result<f64, NumericalError> {
     // A bound on the friction law's steady-state slopes, |mu_phi| + mu_v <=
-    // B + 2 |mu2| |ln nu| + A (ln^2 law: mu_phi = B - 2 mu2 ln nu; cutoff:
-    // mu_phi <= B): kappa_c of Appendix C is (mu_phi - mu_v)(1 + m nu^2 / mu_v).
-    let scale = (params.b + params.a + 2.0 * params.mu2.abs() * params.nu.ln().abs())
+    // B + A + 2 (|mu2| + |mu_vv| + |mu_vphi|) |ln nu| (logarithmic form:
+    // mu_phi = B + (mu_vphi - 2 mu2) ln nu, mu_v = A + (2 mu_vv - mu_vphi) ln nu;
+    // cutoff: mu_phi <= B, mu_v = A): kappa_c of Appendix C is
+    // (mu_phi - mu_v)(1 + m nu^2 / mu_v).
+    let mu_v = params.mu_v();
+    if mu_v.is_nan() || mu_v <= 0.0 {
+        return Err(NumericalError::Analysis(format!(
+            "the direct effect at steady sliding mu_v = A + (2 mu_vv - mu_vphi) ln nu is \
+             {mu_v:e} at nu = {:e}: friction falls with the slip velocity there, and steady \
+             sliding is unstable at every stiffness (Appendix C needs mu_v > 0)",
+            params.nu
+        )));
+    }
+    let corrections = params.mu2.abs() + params.mu_vv.abs() + params.mu_vphi.abs();
+    let scale = (params.b + params.a + 2.0 * corrections * params.nu.ln().abs())
         * (1.0 + params.inertia_ratio());
     let x = steady_state(kind, params);
     let mut kappa = 4.0 * scale;

@@ -250,6 +250,11 @@ impl Plan {
                 .into());
             }
         }
+        if param == Param::Nu {
+            setup
+                .scene_params
+                .check_velocity_range((from.min(to), from.max(to)), "--from/--to in nu")?;
+        }
         if param != Param::Kappa && setup.params.kappa <= 0.0 {
             return Err(no_stiffness(&setup, control).into());
         }

@@ -321,8 +321,9 @@ fn no_cycle_reason(setup: &Setup, tried: &NoCycleFound) -> String {
 /// What else may reach a coexisting cycle, leaving out what was tried: a
 /// smaller stiffness only where the search stopped above its floor,
 /// `max(A, B) 1e-5` (see `orbit_start`), a velocity nearer the friction minimum only where
-/// steady friction has one (the cutoff law's `V_min`; the ln² law's at
-/// `ln nu = (B - A)/(2 mu2)` for `mu2 > 0`).
+/// steady friction has one ([`crate::friction::FrictionLaw::v_min`]: the cutoff law's
+/// `V_min`; the logarithmic form's at `ln nu = (B - A)/(2 (mu2 + mu_vv - mu_vphi))`
+/// where that sum is positive).
 fn no_cycle_advice(p: &crate::params::Params, tried: &NoCycleFound) -> String {
     let smallest = tried
         .tries
@@ -333,12 +334,7 @@ fn no_cycle_advice(p: &crate::params::Params, tried: &NoCycleFound) -> String {
     if smallest > 1.001e-5 * p.a.max(p.b) {
         tries.push("--set kappa=... smaller".to_string());
     }
-    let minimum = match p.friction().v_min() {
-        Some(v) => Some(v),
-        None if p.theta_c.is_none() && p.mu2 > 0.0 => Some(((p.b - p.a) / (2.0 * p.mu2)).exp()),
-        None => None,
-    };
-    if let Some(v) = minimum.filter(|v| v.is_finite() && *v > 0.0) {
+    if let Some(v) = p.friction().v_min().filter(|v| v.is_finite() && *v > 0.0) {
         tries.push(format!(
             "--set nu=... closer to the friction minimum (nu = {v:.4e})"
         ));
