@@ -71,6 +71,8 @@ fn params(kappa: f64) -> Params {
         mu2: 0.0,
         theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 
@@ -168,7 +170,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cycles.push(c.clone());
         Ok(())
     })?;
-    for leg in legs.iter().filter_map(|l| l.as_ref().err()) {
+    for leg in legs.iter().filter_map(|l| l.1.as_ref().err()) {
         println!("a continuation leg ended: {leg}");
     }
     let lpc = cycles

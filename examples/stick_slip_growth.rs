@@ -22,6 +22,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         mu2: 2.4e-4,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     };
     let kappa_c = base.mu_phi() - base.mu_v();
     let fractions = [0.99, 0.98, 0.97];

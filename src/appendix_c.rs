@@ -65,6 +65,8 @@ mod tests {
             mu2: 5e-4,
             theta_c: None,
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
         }
     }
 

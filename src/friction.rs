@@ -1,7 +1,9 @@
-//! Rate-and-state friction laws of docs/model.md (seed eqs. RR1–RR3, C3).
+//! Rate-and-state friction laws of docs/model.md (seed eqs. RR1–RR3, C3,
+//! and the corrections of §II.D.2).
 //!
 //! ```text
-//! mu(v, theta) = mu0 + A ln v + ageing(theta)
+//! mu(v, theta) = mu0 + A ln v + ageing(theta)                         (RR3)
+//!              + mu_vv (ln v)^2 + mu_vphi (ln theta)(ln v)            (§II.D.2, logarithmic form only)
 //! ageing(theta) = B ln theta + mu2 (ln theta)^2        (Rice–Ruina, optional ln² correction)
 //!              or B ln(1 + theta/theta_c)              (short-age cutoff)
 //! ```
@@ -12,11 +14,14 @@
 
 use continuation::Scalar;
 
-/// The form of the ageing (state) term. Only one of the two forms is active.
+/// The form of the state dependence. Only one of the two forms is active;
+/// the corrections that couple `ln v` to the state or to itself belong to
+/// the logarithmic form (seed §II.D.2 names them beside the ln² term).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Ageing<T> {
-    /// `B ln theta + mu2 (ln theta)^2`; `mu2 = 0` is the plain Rice–Ruina law.
-    Log { b: T, mu2: T },
+    /// `B ln theta + mu2 (ln theta)^2 + mu_vv (ln v)^2 + mu_vphi (ln theta)(ln v)`;
+    /// all three corrections 0 is the plain Rice–Ruina law.
+    Log { b: T, mu2: T, mu_vv: T, mu_vphi: T },
     /// `B ln(1 + theta/theta_c)`: ageing saturates for `theta << theta_c`.
     Cutoff { b: T, theta_c: T },
 }
@@ -26,22 +31,71 @@ pub enum Ageing<T> {
 pub struct FrictionLaw<T> {
     /// Friction coefficient at `v = 1`, `theta = 1`.
     pub mu0: T,
-    /// Direct (rate) effect `A = d mu / d ln v`.
+    /// Direct (rate) effect `A`, `d mu / d ln v` at `v = theta = 1`.
     pub a: T,
-    /// Ageing term.
+    /// Ageing term (and the logarithmic form's corrections).
     pub ageing: Ageing<T>,
 }
 
+/// The friction law gives no slip velocity for a friction `s` at an age
+/// `theta`: on the rising branch of `mu` in `ln v` (`d mu / d ln v > 0`)
+/// it does not reach `s` (docs/model.md, "The quasi-static inversion").
+/// Only the correction `mu_vv` (a parabola in `ln v`) or `mu_vphi` (a
+/// slope `A + mu_vphi ln theta` that can vanish) make this possible.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the friction law gives no slip velocity for s = {s:e} at theta = {theta:e}: with mu_vv and \
+     mu_vphi, mu(v, theta) does not reach s where it rises with ln v (d mu/d ln v > 0)"
+)]
+pub struct NoSlipVelocity {
+    pub s: f64,
+    pub theta: f64,
+}
+
+/// The root `x` of `a x^2 + b x = c` on the rising branch, `2 a x + b > 0`
+/// (the root continuous with `c / b` as `a -> 0`), written without
+/// cancellation: `x = (c / b) 2 / (1 + sqrt(1 + r))`, `r = 4 a c / b^2`,
+/// for `b > 0` and `|r| <= 1`; `x = (sqrt(b^2 + 4 a c) - b) / (2 a)`
+/// otherwise (there `-b` and the root add, or nearly: at most a factor
+/// `sqrt 2 - 1` cancels). `None` where there is none: the discriminant
+/// `b^2 + 4 a c <= 0`, or `a = 0` with `b <= 0`. For `a = 0` the value is
+/// `c / b` exactly (to the last bit, also in every dual part).
+fn rising_root<T: Scalar>(a: T, b: T, c: T) -> Option<T> {
+    if b.re() > 0.0 {
+        let r = a * c * 4.0 / (b * b);
+        if r.re().abs() <= 1.0 {
+            return (r.re() > -1.0).then(|| c / b * 2.0 / ((r + 1.0).sqrt() + 1.0));
+        }
+    }
+    let d = b * b + a * c * 4.0;
+    (a.re() != 0.0 && d.re() > 0.0).then(|| (d.sqrt() - b) / (a * 2.0))
+}
+
 impl<T: Scalar> FrictionLaw<T> {
-    /// `mu(v, theta) = mu0 + A ln v + ageing(theta)`.
+    /// `mu(v, theta) = mu0 + rate_coefficient(ln v, ln theta) ln v + ageing(theta)`
+    /// (module docs).
     pub fn mu(&self, v: T, theta: T) -> T {
-        self.mu0 + self.a * v.ln() + self.ageing_term(theta)
+        let ln_v = v.ln();
+        self.mu0 + self.rate_coefficient(ln_v, theta.ln()) * ln_v + self.ageing_term(theta)
     }
 
-    /// The ageing contribution to `mu` at age `theta`.
+    /// `A + mu_vv x + mu_vphi ln_theta` (`A` for the cutoff form): with
+    /// `x = ln v` the coefficient of `ln v` in `mu`; with `x = 2 ln v` the
+    /// slope `mu_v = d mu / d ln v`; with `x = 2 ln v0 + d` the secant slope
+    /// `(mu(ln v0 + d) - mu(ln v0)) / d` at fixed `theta`.
+    pub fn rate_coefficient(&self, x: T, ln_theta: T) -> T {
+        match self.ageing {
+            Ageing::Log { mu_vv, mu_vphi, .. } => self.a + mu_vv * x + mu_vphi * ln_theta,
+            Ageing::Cutoff { .. } => self.a,
+        }
+    }
+
+    /// The ageing contribution to `mu` at age `theta` (`B ln theta + mu2
+    /// (ln theta)^2`, or the cutoff's): the part of `mu - mu0` that stays at
+    /// `v = 1`.
     pub fn ageing_term(&self, theta: T) -> T {
         match self.ageing {
-            Ageing::Log { b, mu2 } => {
+            Ageing::Log { b, mu2, .. } => {
                 let l = theta.ln();
                 b * l + mu2 * l * l
             }
@@ -60,7 +114,7 @@ impl<T: Scalar> FrictionLaw<T> {
     /// ```
     pub fn ageing_change(&self, ln_theta0: T, d: T) -> T {
         match self.ageing {
-            Ageing::Log { b, mu2 } => b * d + mu2 * d * (ln_theta0 * 2.0 + d),
+            Ageing::Log { b, mu2, .. } => b * d + mu2 * d * (ln_theta0 * 2.0 + d),
             Ageing::Cutoff { b, theta_c } => {
                 let theta0 = ln_theta0.exp();
                 b * (theta0 * d.exp_m1() / (theta_c + theta0)).ln_1p()
@@ -68,18 +122,41 @@ impl<T: Scalar> FrictionLaw<T> {
         }
     }
 
-    /// `mu_phi = d mu / d ln theta` at age `theta` (seed, Appendix C):
-    /// `B + 2 mu2 ln theta`, or `B theta / (theta + theta_c)` with the cutoff.
-    pub fn mu_phi(&self, theta: T) -> T {
+    /// The change of `mu` at fixed `v = e^ln_v0` when `ln theta` moves from
+    /// `ln_theta0` by `d`, without cancellation: [`Self::ageing_change`]
+    /// plus `mu_vphi ln_v0 d`. With the secant slope at the new age, the
+    /// change of `mu` from `(ln_v0, ln_theta0)` by `(dw, d)` is
+    ///
+    /// ```text
+    /// dw rate_coefficient(2 ln_v0 + dw, ln_theta0 + d) + state_change(ln_v0, ln_theta0, d)
+    ///   = dw (A + mu_vv (2 ln_v0 + dw) + mu_vphi (ln_theta0 + d))
+    ///     + ageing_change(ln_theta0, d) + mu_vphi ln_v0 d
+    /// ```
+    pub fn state_change(&self, ln_v0: T, ln_theta0: T, d: T) -> T {
+        let ageing = self.ageing_change(ln_theta0, d);
         match self.ageing {
-            Ageing::Log { b, mu2 } => b + mu2 * theta.ln() * 2.0,
+            Ageing::Log { mu_vphi, .. } => ageing + mu_vphi * ln_v0 * d,
+            Ageing::Cutoff { .. } => ageing,
+        }
+    }
+
+    /// `mu_phi = d mu / d ln theta` at `(v, theta)` (seed, Appendix C):
+    /// `B + 2 mu2 ln theta + mu_vphi ln v`, or `B theta / (theta + theta_c)`
+    /// with the cutoff.
+    pub fn mu_phi(&self, v: T, theta: T) -> T {
+        match self.ageing {
+            Ageing::Log {
+                b, mu2, mu_vphi, ..
+            } => b + mu2 * theta.ln() * 2.0 + mu_vphi * v.ln(),
             Ageing::Cutoff { b, theta_c } => b * theta / (theta + theta_c),
         }
     }
 
-    /// `mu_v = d mu / d ln v = A` (the direct effect).
-    pub fn mu_v(&self) -> T {
-        self.a
+    /// `mu_v = d mu / d ln v` at `(v, theta)` (seed, Appendix C):
+    /// `A + 2 mu_vv ln v + mu_vphi ln theta` (`A`, the direct effect, for
+    /// the plain law and the cutoff).
+    pub fn mu_v(&self, v: T, theta: T) -> T {
+        self.rate_coefficient(v.ln() * 2.0, theta.ln())
     }
 
     /// Steady-state friction `mu_ss(nu) = mu(nu, 1/nu)` (seed eq. RR5).
@@ -87,27 +164,73 @@ impl<T: Scalar> FrictionLaw<T> {
         self.mu(nu, nu.recip())
     }
 
-    /// `d mu_ss / d ln nu = mu_v - mu_phi`: negative means velocity weakening.
+    /// `d mu_ss / d ln nu = mu_v - mu_phi` at steady sliding (`v = nu`,
+    /// `theta = 1/nu`): negative means velocity weakening. With the
+    /// logarithmic form, `(A - B) + 2 (mu2 + mu_vv - mu_vphi) ln nu`.
     pub fn steady_slope(&self, nu: T) -> T {
-        self.mu_v() - self.mu_phi(nu.recip())
+        let theta = nu.recip();
+        self.mu_v(nu, theta) - self.mu_phi(nu, theta)
     }
 
-    /// Inverse of the direct effect: the velocity at which the law gives
-    /// friction `s` at age `theta`, `v = exp((s - mu0 - ageing(theta)) / A)`.
-    /// This slaves `v` in the quasi-static limit.
-    pub fn slip_velocity(&self, s: T, theta: T) -> T {
-        ((s - self.mu0 - self.ageing_term(theta)) / self.a).exp()
+    /// The change `x = ln v - ln_v0` of the slip velocity's logarithm at
+    /// which `mu` at age `e^ln_theta` exceeds its value at `(e^ln_v0,
+    /// e^ln_theta)` by `gap`: the root of
+    ///
+    /// ```text
+    /// mu_vv x^2 + (A + 2 mu_vv ln_v0 + mu_vphi ln_theta) x = gap
+    /// ```
+    ///
+    /// on the rising branch of `mu` in `ln v` (`d mu / d ln v > 0`), the
+    /// root continuous with the linear law's `gap / A` (docs/model.md, "The
+    /// quasi-static inversion"), without cancellation. `None` where the law
+    /// has none: the discriminant is not positive, or the slope
+    /// `A + mu_vphi ln theta` is not positive without `mu_vv`.
+    pub fn ln_velocity_change(&self, ln_v0: T, ln_theta: T, gap: T) -> Option<T> {
+        match self.ageing {
+            Ageing::Log { mu_vv, .. } => {
+                rising_root(mu_vv, self.rate_coefficient(ln_v0 * 2.0, ln_theta), gap)
+            }
+            Ageing::Cutoff { .. } => Some(gap / self.a),
+        }
+    }
+
+    /// Inverse of `mu` in `v`: the velocity at which the law gives friction
+    /// `s` at age `theta`, `v = exp(L)` with `L` the rising root of
+    /// `mu_vv L^2 + (A + mu_vphi ln theta) L = s - mu0 - ageing(theta)`
+    /// ([`Self::ln_velocity_change`] from `v = 1`; `L = (s - mu0 -
+    /// ageing(theta)) / A` without the corrections). This slaves `v` in the
+    /// quasi-static limit; [`NoSlipVelocity`] where the law reaches no `s`.
+    pub fn slip_velocity(&self, s: T, theta: T) -> Result<T, NoSlipVelocity> {
+        let gap = s - self.mu0 - self.ageing_term(theta);
+        self.ln_velocity_change(T::from(0.0), theta.ln(), gap)
+            .map(|l| l.exp())
+            .ok_or(NoSlipVelocity {
+                s: s.re(),
+                theta: theta.re(),
+            })
     }
 }
 
 impl FrictionLaw<f64> {
-    /// Velocity of minimal steady friction for the cutoff law,
-    /// `V_min = (B - A) / (A theta_c)` in units of `V0` (docs/model.md); `None` for
-    /// the logarithmic ageing forms or when `B <= A` (no weakening range).
+    /// Velocity of minimal steady friction in units of `V0` (docs/model.md),
+    /// where [`FrictionLaw::steady_slope`] vanishes and rises: for the cutoff
+    /// law `V_min = (B - A) / (A theta_c)` (`None` when `B <= A`: no
+    /// weakening range); for the logarithmic form, whose `mu_ss` is a
+    /// parabola in `ln nu`, `exp((B - A) / (2 c))` with `c = mu2 + mu_vv -
+    /// mu_vphi` (`None` when `c <= 0`: no minimum).
     pub fn v_min(&self) -> Option<f64> {
         match self.ageing {
             Ageing::Cutoff { b, theta_c } if b > self.a => Some((b - self.a) / (self.a * theta_c)),
-            _ => None,
+            Ageing::Log {
+                b,
+                mu2,
+                mu_vv,
+                mu_vphi,
+            } => {
+                let c = mu2 + mu_vv - mu_vphi;
+                (c > 0.0).then(|| ((b - self.a) / (2.0 * c)).exp())
+            }
+            Ageing::Cutoff { .. } => None,
         }
     }
 }
@@ -123,6 +246,8 @@ mod tests {
             ageing: Ageing::Log {
                 b: 0.023,
                 mu2: 2.4e-4,
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             },
         }
     }
@@ -138,19 +263,39 @@ mod tests {
         }
     }
 
+    /// The ln² law with both corrections of seed §II.D.2.
+    fn corrected_law() -> FrictionLaw<f64> {
+        FrictionLaw {
+            mu0: 0.6,
+            a: 0.012,
+            ageing: Ageing::Log {
+                b: 0.023,
+                mu2: 2.4e-4,
+                mu_vv: 3e-4,
+                mu_vphi: -2e-4,
+            },
+        }
+    }
+
     #[test]
-    fn mu_phi_is_the_log_derivative_of_ageing() {
-        // Central difference in ln(theta) with an O(h^2) error, h = 1e-4.
-        for law in [ln2_law(), cutoff_law()] {
+    fn mu_phi_and_mu_v_are_the_log_derivatives_of_mu() {
+        // Central differences in ln(theta) and ln(v) with an O(h^2) error, h = 1e-4.
+        let h: f64 = 1e-4;
+        for law in [ln2_law(), cutoff_law(), corrected_law()] {
             for theta in [1e-3, 0.7, 5.0, 1e3] {
-                let h: f64 = 1e-4;
-                let fd = (law.ageing_term(theta * h.exp()) - law.ageing_term(theta * (-h).exp()))
-                    / (2.0 * h);
-                let exact = law.mu_phi(theta);
-                assert!(
-                    (fd - exact).abs() <= 1e-8 * exact.abs().max(1e-3),
-                    "{fd} vs {exact}"
-                );
+                for v in [1e-4, 1.0, 30.0] {
+                    let d_theta =
+                        (law.mu(v, theta * h.exp()) - law.mu(v, theta * (-h).exp())) / (2.0 * h);
+                    let d_v =
+                        (law.mu(v * h.exp(), theta) - law.mu(v * (-h).exp(), theta)) / (2.0 * h);
+                    for (fd, exact) in [(d_theta, law.mu_phi(v, theta)), (d_v, law.mu_v(v, theta))]
+                    {
+                        assert!(
+                            (fd - exact).abs() <= 1e-8 * exact.abs().max(1e-3),
+                            "{fd} vs {exact}"
+                        );
+                    }
+                }
             }
         }
     }
@@ -160,7 +305,7 @@ mod tests {
         // Against the plain difference where it does not cancel (d of order
         // one), and for small d against d * mu_phi(theta0) + d^2/2 * the
         // second log-derivative (d = 1e-9: the plain difference would keep
-        // only 7 digits there).
+        // only 7 digits there); mu_phi at v = 1 is the ageing term's slope.
         for law in [ln2_law(), cutoff_law()] {
             for ln0 in [-3.0f64, 0.0, 2.5] {
                 for d in [-1.5, 0.7] {
@@ -172,9 +317,9 @@ mod tests {
                 }
                 let d = 1e-9;
                 let h: f64 = 1e-4;
-                let second =
-                    (law.mu_phi((ln0 + h).exp()) - law.mu_phi((ln0 - h).exp())) / (2.0 * h);
-                let taylor = d * law.mu_phi(ln0.exp()) + 0.5 * d * d * second;
+                let slope = |l: f64| law.mu_phi(1.0, l.exp());
+                let second = (slope(ln0 + h) - slope(ln0 - h)) / (2.0 * h);
+                let taylor = d * slope(ln0) + 0.5 * d * d * second;
                 assert!(
                     (law.ageing_change(ln0, d) / taylor - 1.0).abs() < 1e-14,
                     "{ln0}: {} vs {taylor}",
@@ -185,12 +330,87 @@ mod tests {
     }
 
     #[test]
-    fn slip_velocity_inverts_mu() {
-        let law = ln2_law();
-        for (v, theta) in [(1e-6, 1e6), (1.0, 1.0), (3e3, 2e-4)] {
-            let s = law.mu(v, theta);
-            assert!((law.slip_velocity(s, theta) / v - 1.0).abs() < 1e-12);
+    fn secant_and_state_change_are_the_change_of_mu() {
+        // mu(w0 + dw, p0 + d) - mu(w0, p0) = dw rate_coefficient(2 w0 + dw, p0 + d)
+        // + state_change(w0, p0, d): against the plain difference for steps of
+        // order one, and for steps of 1e-9 against the first-order change
+        // dw mu_v + d mu_phi (relative 1e-8: the second order).
+        for law in [ln2_law(), cutoff_law(), corrected_law()] {
+            let change = |w0: f64, p0: f64, dw: f64, d: f64| {
+                dw * law.rate_coefficient(2.0 * w0 + dw, p0 + d) + law.state_change(w0, p0, d)
+            };
+            for (w0, p0) in [(-4.0f64, 3.0f64), (0.0, 0.0), (2.0, -1.5)] {
+                for (dw, d) in [(-1.5, 0.7), (0.9, -1.1)] {
+                    let plain =
+                        law.mu((w0 + dw).exp(), (p0 + d).exp()) - law.mu(w0.exp(), p0.exp());
+                    assert!((change(w0, p0, dw, d) - plain).abs() < 1e-14, "{w0} {p0}");
+                }
+                let (dw, d) = (1e-9, -2e-9);
+                let (v, theta) = (w0.exp(), p0.exp());
+                let first = dw * law.mu_v(v, theta) + d * law.mu_phi(v, theta);
+                assert!((change(w0, p0, dw, d) / first - 1.0).abs() < 1e-8);
+            }
         }
+    }
+
+    #[test]
+    fn slip_velocity_inverts_mu() {
+        for law in [ln2_law(), corrected_law()] {
+            for (v, theta) in [(1e-6, 1e6), (1.0, 1.0), (3e3, 2e-4)] {
+                let s = law.mu(v, theta);
+                assert!((law.slip_velocity(s, theta).unwrap() / v - 1.0).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn without_mu_vv_the_rising_root_is_the_linear_one_to_the_last_bit() {
+        for (b, c) in [(0.012, 0.3), (0.012, -7.1e-3), (3.0, 1e-300), (1e-90, -2.0)] {
+            assert_eq!(rising_root(0.0, b, c), Some(c / b));
+        }
+        // No root where the slope is not positive.
+        assert_eq!(rising_root(0.0, -0.01, 1.0), None);
+        assert_eq!(rising_root(0.0, 0.0, 1.0), None);
+    }
+
+    #[test]
+    fn the_rising_root_solves_the_quadratic_on_its_rising_branch() {
+        // Both formulas (|4ac/b^2| <= 1 and beyond, b of either sign):
+        // a x^2 + b x = c with 2 a x + b > 0.
+        for (a, b, c) in [
+            (3e-4, 0.012, 0.05),
+            (3e-4, 0.012, -0.11),
+            (-3e-4, 0.012, 0.1),
+            (3e-4, -0.012, 0.02),
+            (3e-4, -0.012, -0.1),
+            (-3e-4, -0.012, -0.1),
+            (3e-4, 1e-9, 0.2),
+        ] {
+            let x: f64 = rising_root(a, b, c).unwrap();
+            assert!(2.0 * a * x + b > 0.0, "{a} {b} {c}");
+            let size = (a * x * x).abs() + (b * x).abs() + c.abs();
+            assert!((a * x * x + b * x - c).abs() < 1e-15 * size, "{a} {b} {c}");
+        }
+        // No root: beyond the vertex of the parabola (discriminant < 0).
+        assert_eq!(rising_root(3e-4, 0.012, -0.2), None);
+        assert_eq!(rising_root(-3e-4, 0.012, 0.2), None);
+    }
+
+    #[test]
+    fn a_friction_beyond_the_law_has_no_slip_velocity() {
+        // mu_vv > 0: mu(., theta = 1) = mu0 + A L + mu_vv L^2 is lowest at
+        // L = -A / (2 mu_vv) = -20, mu0 - A^2 / (4 mu_vv) = 0.48.
+        let law = corrected_law();
+        let e = law.slip_velocity(0.47, 1.0).unwrap_err();
+        assert_eq!(
+            e,
+            NoSlipVelocity {
+                s: 0.47,
+                theta: 1.0
+            }
+        );
+        assert!(e.to_string().contains("mu_vv"), "{e}");
+        assert!(law.slip_velocity(0.481, 1.0).is_ok());
     }
 
     #[test]
@@ -207,5 +427,17 @@ mod tests {
         assert!((v_min - 0.011 / (0.012 * 0.05)).abs() < 1e-12 * v_min);
         assert!(law.steady_slope(v_min).abs() < 1e-15);
         assert!(law.steady_slope(0.5 * v_min) < 0.0 && law.steady_slope(2.0 * v_min) > 0.0);
+    }
+
+    #[test]
+    fn log_steady_friction_is_minimal_at_v_min() {
+        // (A - B) + 2 (mu2 + mu_vv - mu_vphi) ln nu = 0 at ln nu = 0.011 / 1.48e-3.
+        let law = corrected_law();
+        let v_min = law.v_min().unwrap();
+        assert!((v_min.ln() - 0.011 / 1.48e-3).abs() < 1e-13);
+        assert!(law.steady_slope(v_min).abs() < 1e-15);
+        assert!(law.steady_slope(0.5 * v_min) < 0.0 && law.steady_slope(2.0 * v_min) > 0.0);
+        let ln2_min = ln2_law().v_min().unwrap().ln();
+        assert!((ln2_min - 0.011 / 4.8e-4).abs() < 1e-13, "{ln2_min}");
     }
 }

@@ -10,7 +10,9 @@
 //! dphi/dt = e^-phi - e^w           (ageing law; slip law: -e^w (w + phi))
 //! ```
 //!
-//! and quasi-statically `(s, phi)` with `w = (s - mu0 - ageing(e^phi)) / A`.
+//! and quasi-statically `(s, phi)` with `w` the root of `s = mu(e^w, e^phi)`
+//! on the law's rising branch (`w = (s - mu0 - ageing(e^phi)) / A` without
+//! `mu_vv` and `mu_vphi`).
 //!
 //! The state is measured from an origin `(s_o, w_o, phi_o)`
 //! ([`LogBlock::origin`]): `x = (s - s_o, w - w_o, phi - phi_o)` (quasi-static
@@ -20,14 +22,23 @@
 //!
 //! ```text
 //! ds/dt   = kappa ((nu - e^w_o) - e^w_o expm1(x_w))
-//! dw/dt   = (x_s + c - A x_w - ageing_change(phi_o, x_phi)) / (m e^w)
+//! dw/dt   = (x_s + c - A_s x_w - state_change(w_o, phi_o, x_phi)) / (m e^w)
 //! dphi/dt = (e^-phi_o - e^w_o) + e^-phi_o expm1(-x_phi) - e^w_o expm1(x_w)
 //!           (slip law: -(e^w_o + e^w_o expm1(x_w)) ((w_o + phi_o) + x_w + x_phi))
-//! c       = s_o - mu0 - A w_o - ageing(e^phi_o)
+//! c       = s_o - mu(e^w_o, e^phi_o)
+//! A_s     = A + mu_vv (2 w_o + x_w) + mu_vphi (phi_o + x_phi)   (the secant slope in ln v)
+//! state_change = ageing_change(phi_o, x_phi) + mu_vphi w_o x_phi
 //! ```
 //!
-//! ([`FrictionLaw::ageing_change`]; quasi-statically
-//! `x_w = (x_s + c - ageing_change(phi_o, x_phi)) / A`). `c` and the
+//! ([`FrictionLaw::state_change`], [`FrictionLaw::rate_coefficient`]: the
+//! change of `mu` from the origin, `mu_vv x_w (2 w_o + x_w) + mu_vphi
+//! (phi_o x_w + w_o x_phi + x_phi x_w)` with the ageing term's, without
+//! cancellation; `A_s = A` without `mu_vv` and `mu_vphi`). Quasi-statically
+//! `x_w` solves `A_s x_w = x_s + c - state_change`, a quadratic in `x_w`
+//! ([`FrictionLaw::ln_velocity_change`]; `x_w = (x_s + c -
+//! ageing_change(phi_o, x_phi)) / A` without the corrections); where it
+//! has no root on the rising branch the field is infinite (the state left
+//! the model's domain). `c` and the
 //! bracketed constants vanish at steady sliding; near onset a cycle of
 //! amplitude `a` is then resolved relative to `a`, not to `mu0` and `ln nu`,
 //! which matters because the amplitude at fixed stiffness is
@@ -123,11 +134,19 @@ impl VectorField for LogBlock {
         let [_, w_o, phi_o] = self.origin;
         let ew_o = w_o.exp();
         let (x_s, x_phi) = (x[0], x[self.dim() - 1]);
-        // s - mu(v, theta) = x_s + gap0 - A x_w, and quasi-statically 0.
-        let gap0 = self.offset(&law) - law.ageing_change(D::from(phi_o), x_phi) + x_s;
+        // s - mu(v, theta) = gap0 - A_s x_w, and quasi-statically 0.
+        let gap0 = self.offset(&law) - law.state_change(D::from(w_o), D::from(phi_o), x_phi) + x_s;
+        let ln_theta = x_phi + phi_o;
         let x_w = match self.kind {
             ModelKind::Inertial => x[1],
-            ModelKind::QuasiStatic => gap0 / law.a,
+            ModelKind::QuasiStatic => match law.ln_velocity_change(D::from(w_o), ln_theta, gap0) {
+                Some(x_w) => x_w,
+                None => {
+                    rho.fill(D::from(1.0));
+                    g.fill(D::from(f64::INFINITY));
+                    return;
+                }
+            },
         };
         // v - e^w_o = e^w_o expm1(x_w)
         let dv = x_w.exp_m1() * ew_o;
@@ -137,7 +156,7 @@ impl VectorField for LogBlock {
         if self.kind == ModelKind::Inertial {
             // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
-            g[1] = gap0 - law.a * x_w;
+            g[1] = gap0 - law.rate_coefficient(x_w + 2.0 * w_o, ln_theta) * x_w;
             rho[1] = p[Param::M as usize] * v;
         }
     }
@@ -167,11 +186,13 @@ impl LogBlock {
         }
     }
 
-    /// `c = s_o - mu0 - A w_o - ageing(e^phi_o)`: the friction gap `s - mu`
-    /// at the origin (zero at steady sliding, up to rounding).
+    /// `c = s_o - mu0 - (A + mu_vv w_o + mu_vphi phi_o) w_o -
+    /// ageing(e^phi_o)`: the friction gap `s - mu` at the origin (zero at
+    /// steady sliding, up to rounding).
     fn offset<D: Scalar>(&self, law: &FrictionLaw<D>) -> D {
         let [s_o, w_o, phi_o] = self.origin;
-        -law.mu0 - law.a * w_o - law.ageing_term(D::from(phi_o.exp())) + s_o
+        let (w_o, phi_o) = (D::from(w_o), D::from(phi_o));
+        -law.mu0 - law.rate_coefficient(w_o, phi_o) * w_o - law.ageing_term(phi_o.exp()) + s_o
     }
 
     /// A state in docs/model.md's variables `(s, v, theta)` as this model's state.
@@ -184,15 +205,19 @@ impl LogBlock {
     }
 
     /// `ln v` of this model's state: `w_o` plus the state's second entry when
-    /// inertial, `w_o + (x_s + c - ageing_change(phi_o, x_phi)) / A` when
-    /// quasi-static.
+    /// inertial, `w_o + x_w` with `x_w` the root of `A_s x_w = x_s + c -
+    /// state_change(w_o, phi_o, x_phi)` when quasi-static (module docs;
+    /// `w_o + (x_s + c - ageing_change(phi_o, x_phi)) / A` without `mu_vv`
+    /// and `mu_vphi`), infinite outside the law's domain.
     pub fn ln_velocity(&self, x: &[f64], p: &[f64]) -> f64 {
         let [_, w_o, phi_o] = self.origin;
         match self.kind {
             ModelKind::Inertial => w_o + x[1],
             ModelKind::QuasiStatic => {
                 let law = friction_from(self.cutoff, p);
-                w_o + (x[0] + self.offset(&law) - law.ageing_change(phi_o, x[1])) / law.a
+                let gap = x[0] + self.offset(&law) - law.state_change(w_o, phi_o, x[1]);
+                law.ln_velocity_change(w_o, phi_o + x[1], gap)
+                    .map_or(f64::INFINITY, |x_w| w_o + x_w)
             }
         }
     }
@@ -238,6 +263,18 @@ mod tests {
             mu2: 5e-4,
             theta_c: None,
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
+        }
+    }
+
+    /// With both corrections in `ln v` (docs/model.md): `mu_vv < 0`, so that
+    /// the quasi-static law has a velocity at `(s, theta) = (0.55, 2.3)`.
+    fn corrected_params() -> Params {
+        Params {
+            mu_vv: -1e-3,
+            mu_vphi: -5e-4,
+            ..ln2_params()
         }
     }
 
@@ -251,7 +288,7 @@ mod tests {
             theta_c: Some(0.4),
             ..ln2
         };
-        for p in [ln2, cutoff] {
+        for p in [ln2, cutoff, corrected_params()] {
             for kind in [ModelKind::Inertial, ModelKind::QuasiStatic] {
                 for log in [LogBlock::new(kind, &p), LogBlock::centered(kind, &p)] {
                     let lin = DrivenBlock::new(kind, &p);
@@ -259,9 +296,9 @@ mod tests {
                     // The quasi-static velocity is slaved to s and theta.
                     let v = match kind {
                         ModelKind::Inertial => 0.7,
-                        ModelKind::QuasiStatic => {
-                            friction_from(p.theta_c.is_some(), &p.to_vec()).slip_velocity(s, theta)
-                        }
+                        ModelKind::QuasiStatic => friction_from(p.theta_c.is_some(), &p.to_vec())
+                            .slip_velocity(s, theta)
+                            .unwrap(),
                     };
                     let xl = log.from_model(s, v, theta);
                     let fl = eval(&log, &xl, &p.to_vec());
@@ -324,8 +361,10 @@ mod tests {
         // deviation: against the Jacobian at the origin for deviations of
         // 1e-12 (with the log variables themselves, nu - e^w and
         // e^-phi - e^w would lose all but 4 digits of it).
-        let p = ln2_params();
-        for kind in [ModelKind::Inertial, ModelKind::QuasiStatic] {
+        for (p, kind) in [ln2_params(), corrected_params()]
+            .into_iter()
+            .flat_map(|p| [(p, ModelKind::Inertial), (p, ModelKind::QuasiStatic)])
+        {
             let log = LogBlock::centered(kind, &p);
             let n = log.dim();
             let zero = vec![0.0; n];

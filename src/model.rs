@@ -7,7 +7,11 @@
 //! dtheta/dt = 1 - v theta          (ageing law; slip law: -v theta ln(v theta))
 //! ```
 //! Quasi-static model (`m = 0`), state `(s, theta)`, with `v` slaved to the
-//! friction law: `v = exp((s - mu0 - ageing(theta)) / A)`.
+//! friction law, `s = mu(v, theta)` on its rising branch in `ln v`
+//! ([`crate::friction::FrictionLaw::slip_velocity`]; `v = exp((s - mu0 -
+//! ageing(theta)) / A)` without `mu_vv` and `mu_vphi`). Where the law gives
+//! no velocity the field is infinite: the state has left the model's
+//! domain, which the engine reports as such.
 //!
 //! Both take the parameter vector of [`crate::params::Param`].
 
@@ -91,7 +95,10 @@ impl VectorField for QuasiStaticBlock {
     fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
         let law = friction_from(self.cutoff, p);
         let (s, theta) = (x[0], x[1]);
-        let v = law.slip_velocity(s, theta);
+        let Ok(v) = law.slip_velocity(s, theta) else {
+            out.fill(D::from(f64::INFINITY));
+            return;
+        };
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         out[0] = kappa * (nu - v);
         out[1] = self.state_law.rate(v, theta);
@@ -167,11 +174,15 @@ pub fn state_names(kind: ModelKind) -> &'static [&'static str] {
 }
 
 /// The state of either model written as `(s, v, theta)`: in the quasi-static
-/// model `v` is the slaved velocity.
+/// model `v` is the slaved velocity (of a state where the field is finite,
+/// as every state an analysis reports; infinite outside the law's domain).
 pub fn full_state(kind: ModelKind, params: &Params, x: &[f64]) -> [f64; 3] {
     match kind {
         ModelKind::Inertial => [x[0], x[1], x[2]],
-        ModelKind::QuasiStatic => [x[0], params.friction().slip_velocity(x[0], x[1]), x[1]],
+        ModelKind::QuasiStatic => {
+            let v = params.friction().slip_velocity(x[0], x[1]);
+            [x[0], v.unwrap_or(f64::INFINITY), x[1]]
+        }
     }
 }
 
@@ -191,6 +202,8 @@ mod tests {
             mu2: 5e-4,
             theta_c: None,
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
         }
     }
 
@@ -228,17 +241,31 @@ mod tests {
     #[test]
     fn inertial_jacobian_matches_the_linearisation_of_appendix_c() {
         // Linearising at steady sliding (seed eqs. C6–C7 in docs/model.md units):
-        // J = [[0, -kappa, 0], [1/m, -mu_v/(m nu), -mu_phi nu/m], [0, -1/nu, -nu]].
-        let p = params();
+        // J = [[0, -kappa, 0], [1/m, -mu_v/(m nu), -mu_phi nu/m], [0, -1/nu, -nu]],
+        // with the slopes of docs/model.md: mu_v = A + (2 mu_vv - mu_vphi) ln nu,
+        // mu_phi = B + (mu_vphi - 2 mu2) ln nu.
+        let corrected = Params {
+            mu_vv: 1e-3,
+            mu_vphi: -5e-4,
+            ..params()
+        };
+        for p in [params(), corrected] {
+            check_inertial_jacobian(&p);
+        }
+    }
+
+    fn check_inertial_jacobian(p: &Params) {
+        let ln_nu = p.nu.ln();
+        let mu_v = p.a + (2.0 * p.mu_vv - p.mu_vphi) * ln_nu;
+        let mu_phi = p.b + (p.mu_vphi - 2.0 * p.mu2) * ln_nu;
         let j = jacobian(
             &InertialBlock {
                 cutoff: false,
                 state_law: Default::default(),
             },
-            &steady_state(ModelKind::Inertial, &p),
+            &steady_state(ModelKind::Inertial, p),
             &p.to_vec(),
         );
-        let (mu_v, mu_phi) = (p.mu_v(), p.mu_phi());
         let expect = [
             [0.0, -p.kappa, 0.0],
             [1.0 / p.m, -mu_v / (p.m * p.nu), -mu_phi * p.nu / p.m],

@@ -1,20 +1,20 @@
 //! `--set NAME=VALUE` overrides, in either kind of unit:
 //!
 //! * a **dimensionless** parameter of docs/model.md ([`Param`]: `kappa, nu,
-//!   m, A, B, mu0, mu2, theta_c`), applied to the parameters after the scene
-//!   is made dimensionless, as always;
+//!   m, A, B, mu0, mu2, theta_c, mu_vv, mu_vphi`), applied to the parameters
+//!   after the scene is made dimensionless, as always;
 //! * a **scene key in its physical unit** ([`PHYSICAL`]: `K` in N/m, `M` in
 //!   kg, `W` in N, `V` and `V0` in µm/s, `D0` in µm, `tau` in s, `g` in
 //!   m/s², `V_range` as `LO:HI` in µm/s), applied to the scene before it is
 //!   made dimensionless, so that `--set K=2e5` gives `kappa = K D0 / W` with
 //!   the scene's `D0` and `W`, and `--set W=600` changes `kappa` and `m`
-//!   together. The friction coefficients `A, B, mu0, mu2` are the same
-//!   numbers in both (the scene keys are dimensionless) and are applied as
-//!   parameters.
+//!   together. The friction coefficients `A, B, mu0, mu2, mu_vv, mu_vphi`
+//!   are the same numbers in both (the scene keys are dimensionless) and
+//!   are applied as parameters.
 //!
 //! One quantity given both ways (`K` and `kappa`, `V` and `nu`, `M` and
 //! `m`, `tau` and `theta_c`) is refused, naming both; so are the two ageing
-//! forms together (`mu2` with `theta_c` or `tau`). The same name given
+//! forms together (`mu2`, `mu_vv` or `mu_vphi` with `theta_c` or `tau`). The same name given
 //! twice keeps the last value (as the run names do).
 
 use crate::error::{closest, InputError};
@@ -153,13 +153,10 @@ impl Override {
     }
 
     /// The ageing form it selects: `Some(true)` the cutoff (`theta_c`,
-    /// `tau`), `Some(false)` the ln² form (`mu2`).
+    /// `tau`), `Some(false)` the logarithmic form (`mu2`, `mu_vv`,
+    /// `mu_vphi`; [`Param::cutoff_form`]).
     fn ageing_form(&self) -> Option<bool> {
-        match self.name() {
-            "theta_c" | "tau" => Some(true),
-            "mu2" => Some(false),
-            _ => None,
-        }
+        self.quantity().and_then(Param::cutoff_form)
     }
 }
 
@@ -217,7 +214,8 @@ impl Overrides {
                     if a != b {
                         return Err(InputError::Conflict(format!(
                             "--set {} and --set {} select different ageing forms \
-                             (ln² correction vs short-age cutoff); use one",
+                             (the logarithmic form's mu2, mu_vv, mu_vphi vs the short-age \
+                             cutoff tau, theta_c); use one",
                             earlier.name(),
                             parsed.name()
                         )));
@@ -461,6 +459,16 @@ mod tests {
         }
         let e = err(&["tau=0.1", "mu2=1e-4"]);
         assert!(e.contains("--set tau and --set mu2 select different ageing forms"));
+        let e = err(&["mu_vphi=1e-4", "theta_c=0.3"]);
+        assert!(e.contains("--set mu_vphi and --set theta_c select different ageing forms"));
+        // The logarithmic form's three parameters go together.
+        let o = set(&["mu2=1e-4", "mu_vv=2e-4", "mu_vphi=-3e-4"]).unwrap();
+        let mut p = crate::scene::builtin("brockley").unwrap().params;
+        o.apply_dimensionless(&mut p).unwrap();
+        assert_eq!(
+            (p.mu2, p.mu_vv, p.mu_vphi, p.theta_c),
+            (1e-4, 2e-4, -3e-4, None)
+        );
     }
 
     #[test]

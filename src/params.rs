@@ -6,6 +6,7 @@
 //! | `nu` | `V / V0` | driving velocity |
 //! | `m` | `M V0^2 / (W D0)` | inertia |
 //! | `A`, `B`, `mu0`, `mu2` | | friction law coefficients |
+//! | `mu_vv`, `mu_vphi` | | coefficients of `(ln v)^2` and `(ln theta)(ln v)` (seed §II.D.2) |
 //! | `theta_c` | `tau V0 / D0` | ageing cutoff (selects the cutoff form) |
 
 use crate::error::InputError;
@@ -23,6 +24,8 @@ pub enum Param {
     Mu0 = 5,
     Mu2 = 6,
     ThetaC = 7,
+    MuVv = 8,
+    MuVphi = 9,
 }
 
 /// Magnitudes a nonzero dimensionless parameter may have
@@ -30,7 +33,7 @@ pub enum Param {
 pub const MAGNITUDE_RANGE: (f64, f64) = (1e-100, 1e100);
 
 /// Number of entries in the engine's parameter vector.
-pub const N_PARAMS: usize = 8;
+pub const N_PARAMS: usize = 10;
 
 impl Param {
     /// Every parameter, in vector order.
@@ -43,7 +46,13 @@ impl Param {
         Param::Mu0,
         Param::Mu2,
         Param::ThetaC,
+        Param::MuVv,
+        Param::MuVphi,
     ];
+
+    /// The parameters of the logarithmic ageing form, which the cutoff
+    /// form excludes: `mu2`, `mu_vv`, `mu_vphi`.
+    pub const LOG_FORM: [Param; 3] = [Param::Mu2, Param::MuVv, Param::MuVphi];
 
     /// The name used on the command line (`--set NAME=VALUE`) and in JSON.
     pub fn name(self) -> &'static str {
@@ -56,6 +65,19 @@ impl Param {
             Param::Mu0 => "mu0",
             Param::Mu2 => "mu2",
             Param::ThetaC => "theta_c",
+            Param::MuVv => "mu_vv",
+            Param::MuVphi => "mu_vphi",
+        }
+    }
+
+    /// The ageing form this parameter belongs to: `Some(true)` the cutoff
+    /// (`theta_c`), `Some(false)` the logarithmic form ([`Param::LOG_FORM`]),
+    /// `None` both.
+    pub fn cutoff_form(self) -> Option<bool> {
+        match self {
+            Param::ThetaC => Some(true),
+            p if Param::LOG_FORM.contains(&p) => Some(false),
+            _ => None,
         }
     }
 
@@ -80,8 +102,9 @@ impl Param {
 /// The dimensionless parameter set of docs/model.md.
 ///
 /// `theta_c = Some(..)` selects the cutoff ageing form `B ln(1 + theta/theta_c)`;
-/// `None` selects `B ln theta + mu2 (ln theta)^2`. `state_law` is the
-/// evolution law of `theta`.
+/// `None` selects `B ln theta + mu2 (ln theta)^2 + mu_vv (ln v)^2 +
+/// mu_vphi (ln theta)(ln v)` (the last three 0 with the cutoff). `state_law`
+/// is the evolution law of `theta`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Params {
     pub kappa: f64,
@@ -93,6 +116,10 @@ pub struct Params {
     pub mu2: f64,
     pub theta_c: Option<f64>,
     pub state_law: StateLaw,
+    /// Coefficient of `(ln v)^2` (seed §II.D.2).
+    pub mu_vv: f64,
+    /// Coefficient of `(ln theta)(ln v)` (seed §II.D.2).
+    pub mu_vphi: f64,
 }
 
 /// How the state variable `theta` evolves (docs/model.md, "State laws"),
@@ -172,11 +199,14 @@ impl Params {
             Param::Mu0 => self.mu0,
             Param::Mu2 => self.mu2,
             Param::ThetaC => self.theta_c.unwrap_or(0.0),
+            Param::MuVv => self.mu_vv,
+            Param::MuVphi => self.mu_vphi,
         }
     }
 
     /// Sets one parameter. Setting `theta_c` selects the cutoff form (and
-    /// clears `mu2`); setting `mu2` selects the logarithmic form.
+    /// clears `mu2`, `mu_vv`, `mu_vphi`); setting one of these selects the
+    /// logarithmic form.
     pub fn set(&mut self, p: Param, value: f64) {
         match p {
             Param::Kappa => self.kappa = value,
@@ -185,19 +215,22 @@ impl Params {
             Param::A => self.a = value,
             Param::B => self.b = value,
             Param::Mu0 => self.mu0 = value,
-            Param::Mu2 => {
-                self.mu2 = value;
-                self.theta_c = None;
-            }
             Param::ThetaC => {
                 self.theta_c = Some(value);
                 self.mu2 = 0.0;
+                self.mu_vv = 0.0;
+                self.mu_vphi = 0.0;
+            }
+            Param::Mu2 | Param::MuVv | Param::MuVphi => {
+                self.set_value_keep_form(p, value);
+                self.theta_c = None;
             }
         }
     }
 
-    /// Applies `NAME=VALUE` overrides in order. Setting both `mu2` and
-    /// `theta_c` is refused: the two ageing forms exclude each other.
+    /// Applies `NAME=VALUE` overrides in order. Setting `theta_c` with one
+    /// of `mu2`, `mu_vv`, `mu_vphi` is refused: the two ageing forms
+    /// exclude each other.
     pub fn apply_overrides(&mut self, overrides: &[String]) -> Result<(), InputError> {
         let mut form_set_by: Option<Param> = None;
         for item in overrides {
@@ -212,11 +245,12 @@ impl Params {
                 value: value.to_string(),
                 expected: "a number".into(),
             })?;
-            if matches!(p, Param::Mu2 | Param::ThetaC) {
-                if let Some(prev) = form_set_by.filter(|&prev| prev != p) {
+            if let Some(form) = p.cutoff_form() {
+                if let Some(prev) = form_set_by.filter(|prev| prev.cutoff_form() != Some(form)) {
                     return Err(InputError::Conflict(format!(
                         "--set {} and --set {} select different ageing forms \
-                         (ln² correction vs short-age cutoff); use one",
+                         (the logarithmic form's mu2, mu_vv, mu_vphi vs the short-age cutoff \
+                         theta_c); use one",
                         prev.name(),
                         p.name()
                     )));
@@ -274,6 +308,21 @@ impl Params {
                 ));
             }
         }
+        // With mu_vv and mu_vphi the direct effect at steady sliding depends
+        // on nu; the law defines the slip velocity (and Appendix C its
+        // stability) only where it is positive.
+        let mu_v = self.mu_v();
+        if mu_v.is_nan() || mu_v <= 0.0 {
+            return Err(InputError::out_of_range(
+                "mu_v = A + (2 mu_vv - mu_vphi) ln nu",
+                mu_v,
+                &format!(
+                    "> 0: the direct effect d mu/d ln v at steady sliding (A = {:e}, mu_vv = {:e}, \
+                     mu_vphi = {:e}, nu = {:e}); friction must rise with the slip velocity there",
+                    self.a, self.mu_vv, self.mu_vphi, self.nu
+                ),
+            ));
+        }
         Ok(())
     }
 
@@ -289,7 +338,7 @@ impl Params {
             let v = p[q as usize];
             match q {
                 Param::ThetaC if self.theta_c.is_none() => {}
-                Param::Mu2 if self.theta_c.is_some() => {}
+                q if q.cutoff_form() == Some(false) && self.theta_c.is_some() => {}
                 _ => out.set_value_keep_form(q, v),
             }
         }
@@ -300,6 +349,8 @@ impl Params {
         match p {
             Param::ThetaC => self.theta_c = Some(v),
             Param::Mu2 => self.mu2 = v,
+            Param::MuVv => self.mu_vv = v,
+            Param::MuVphi => self.mu_vphi = v,
             _ => self.set(p, v),
         }
     }
@@ -309,14 +360,45 @@ impl Params {
         friction_from(self.theta_c.is_some(), &self.to_vec())
     }
 
-    /// `mu_v = d mu / d ln v` at steady sliding (Appendix C).
+    /// `mu_v = d mu / d ln v` at steady sliding, `v = nu`, `theta = 1/nu`
+    /// (Appendix C): `A + (2 mu_vv - mu_vphi) ln nu`.
     pub fn mu_v(&self) -> f64 {
-        self.friction().mu_v()
+        self.friction().mu_v(self.nu, 1.0 / self.nu)
     }
 
-    /// `mu_phi = d mu / d ln theta` at steady sliding, `theta = 1/nu` (Appendix C).
+    /// `mu_phi = d mu / d ln theta` at steady sliding, `v = nu`, `theta =
+    /// 1/nu` (Appendix C): `B + (mu_vphi - 2 mu2) ln nu`, or `B / (1 + nu
+    /// theta_c)` with the cutoff.
     pub fn mu_phi(&self) -> f64 {
-        self.friction().mu_phi(1.0 / self.nu)
+        self.friction().mu_phi(self.nu, 1.0 / self.nu)
+    }
+
+    /// Refuses a range of driving velocities `(lo, hi)` (units of `V0`,
+    /// given by `field`) over which the direct effect at steady sliding,
+    /// `mu_v = A + (2 mu_vv - mu_vphi) ln nu`, does not stay positive
+    /// (linear in `ln nu`, it is checked at both ends): steady sliding needs
+    /// friction rising with the slip velocity (the quasi-static law has no
+    /// velocity otherwise, and Appendix C no onset).
+    pub fn check_velocity_range(
+        &self,
+        (lo, hi): (f64, f64),
+        field: &str,
+    ) -> Result<(), InputError> {
+        for nu in [lo, hi] {
+            let at = Params { nu, ..*self };
+            let mu_v = at.mu_v();
+            if mu_v.is_nan() || mu_v <= 0.0 {
+                let vanishes = (-self.a / (2.0 * self.mu_vv - self.mu_vphi)).exp();
+                return Err(InputError::Conflict(format!(
+                    "{field} {lo:e} .. {hi:e}: the direct effect at steady sliding mu_v = A + \
+                     (2 mu_vv - mu_vphi) ln nu is {mu_v:e} at nu = {nu:e} (A = {:e}, mu_vv = \
+                     {:e}, mu_vphi = {:e}); it vanishes at nu = {vanishes:e}, and steady sliding \
+                     needs mu_v > 0: keep the range on the side of it where mu_v > 0",
+                    self.a, self.mu_vv, self.mu_vphi
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// Size of the inertia term in eq. C11, `m nu^2 / mu_v`.
@@ -324,12 +406,12 @@ impl Params {
         self.m * self.nu * self.nu / self.mu_v()
     }
 
-    /// Named values, for JSON output (`theta_c` only when the cutoff is on).
+    /// Named values, for JSON output: the parameters of the ageing form in
+    /// use (`theta_c` with the cutoff, `mu2`, `mu_vv`, `mu_vphi` without).
     pub fn named(&self) -> Vec<(&'static str, f64)> {
         Param::ALL
             .iter()
-            .filter(|&&p| !(p == Param::ThetaC && self.theta_c.is_none()))
-            .filter(|&&p| !(p == Param::Mu2 && self.theta_c.is_some()))
+            .filter(|p| p.cutoff_form().is_none_or(|c| c == self.theta_c.is_some()))
             .map(|&p| (p.name(), self.get(p)))
             .collect()
     }
@@ -350,7 +432,76 @@ pub fn friction_from<D: Scalar>(cutoff: bool, p: &[D]) -> FrictionLaw<D> {
             Ageing::Log {
                 b,
                 mu2: p[Param::Mu2 as usize],
+                mu_vv: p[Param::MuVv as usize],
+                mu_vphi: p[Param::MuVphi as usize],
             }
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corrected() -> Params {
+        Params {
+            kappa: 0.01,
+            nu: 3.0,
+            m: 0.0,
+            a: 0.012,
+            b: 0.023,
+            mu0: 0.6,
+            mu2: 2.4e-4,
+            theta_c: None,
+            state_law: StateLaw::Ageing,
+            mu_vv: 1e-3,
+            mu_vphi: -5e-4,
+        }
+    }
+
+    #[test]
+    fn the_corrections_belong_to_the_logarithmic_form() {
+        let p = corrected();
+        let names: Vec<&str> = p.named().iter().map(|(n, _)| *n).collect();
+        assert_eq!(
+            names,
+            ["kappa", "nu", "m", "A", "B", "mu0", "mu2", "mu_vv", "mu_vphi"]
+        );
+        // The cutoff clears them; setting one selects the logarithmic form.
+        let mut c = p;
+        c.set(Param::ThetaC, 0.3);
+        assert_eq!((c.mu2, c.mu_vv, c.mu_vphi), (0.0, 0.0, 0.0));
+        let names: Vec<&str> = c.named().iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, ["kappa", "nu", "m", "A", "B", "mu0", "theta_c"]);
+        // A vector read back keeps the form: the cutoff ignores the entries.
+        let back = c.with_vec(&p.to_vec());
+        assert_eq!((back.mu_vv, back.theta_c), (0.0, Some(0.0)));
+        c.set(Param::MuVphi, 2e-4);
+        assert_eq!((c.theta_c, c.mu_vphi), (None, 2e-4));
+        assert_eq!(p.with_vec(&p.to_vec()), p);
+        let mut q = p;
+        let e = q
+            .apply_overrides(&["mu_vv=1e-4".into(), "theta_c=0.3".into()])
+            .unwrap_err();
+        assert!(
+            e.to_string().contains("--set mu_vv and --set theta_c"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_steady_slopes_move_with_nu() {
+        let p = corrected();
+        let ln3 = 3f64.ln();
+        assert!((p.mu_v() - (0.012 + 2.5e-3 * ln3)).abs() < 1e-17);
+        assert!((p.mu_phi() - (0.023 - 9.8e-4 * ln3)).abs() < 1e-17);
+        // The direct effect vanishes at nu = exp(-A / (2 mu_vv - mu_vphi)) = e^-4.8.
+        assert!(p.check_velocity_range((0.01, 100.0), "range").is_ok());
+        let e = p.check_velocity_range((1e-3, 1.0), "range").unwrap_err();
+        assert!(
+            e.to_string().contains("vanishes at nu = 8.2297470490200"),
+            "{e}"
+        );
+        assert!(Params { nu: 1e-3, ..p }.validate().is_err());
     }
 }

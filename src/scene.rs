@@ -115,7 +115,12 @@ const BUILTINS: [(&str, &str); 3] = [
 const BUILTIN_NAMES: [&str; 3] = [BUILTINS[0].0, BUILTINS[1].0, BUILTINS[2].0];
 
 /// Every key a scene file may hold.
-const KEYS: &str = "name description A B mu0 mu2 tau state_law D0 V0 M W g K V V_range";
+const KEYS: &str =
+    "name description A B mu0 mu2 mu_vv mu_vphi tau state_law D0 V0 M W g K V V_range";
+
+/// The keys of the logarithmic ageing form, which `tau` (the cutoff form)
+/// excludes.
+pub const LOG_FORM_KEYS: [&str; 3] = ["mu2", "mu_vv", "mu_vphi"];
 
 /// Names of the built-in scenes (`examples/scenes/NAME.toml`).
 pub fn builtin_names() -> &'static [&'static str] {
@@ -170,8 +175,8 @@ pub struct SceneOverride {
 /// [`load`], with the scene keys of `overrides` replaced (or added) before
 /// the scene is made dimensionless: `K` gives `kappa = K D0 / W` with the
 /// scene's `D0` and `W`, `W` changes `kappa` and `m` together, and so on.
-/// Setting `tau` selects the cutoff form (the scene's `mu2` is dropped, as
-/// `--set theta_c` does). An error of the scene so changed names the
+/// Setting `tau` selects the cutoff form (the scene's `mu2`, `mu_vv` and
+/// `mu_vphi` are dropped, as `--set theta_c` does). An error of the scene so changed names the
 /// overrides (`pmma with --set M=0: ...`).
 pub fn load_with(name_or_path: &str, overrides: &[SceneOverride]) -> Result<Scene, InputError> {
     let base = load(name_or_path)?;
@@ -197,10 +202,7 @@ pub fn table_with(
     let mut t: Table = text.parse().map_err(|e| file_error(name_or_path, e))?;
     t.insert("name".into(), Value::String(base.name.clone()));
     for o in overrides {
-        if o.key == "tau" {
-            t.remove("mu2");
-        }
-        t.insert(o.key.into(), o.value.clone());
+        insert_override(&mut t, o);
     }
     if overrides.is_empty() {
         return Ok((t, name_or_path.to_string()));
@@ -210,6 +212,17 @@ pub fn table_with(
         t,
         format!("{name_or_path} with --set {}", shown.join(" --set ")),
     ))
+}
+
+/// Sets the key of `o` in the scene table `t`; `tau` selects the cutoff
+/// form and drops the keys of the logarithmic one ([`LOG_FORM_KEYS`]).
+pub fn insert_override(t: &mut Table, o: &SceneOverride) {
+    if o.key == "tau" {
+        for key in LOG_FORM_KEYS {
+            t.remove(key);
+        }
+    }
+    t.insert(o.key.into(), o.value.clone());
 }
 
 /// Parses a scene from TOML text; `origin` (a file name) names it in errors
@@ -237,12 +250,20 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
     let a = read(&t, "A", "> 0", "dimensionless")?.ok_or_else(missing_a)?;
     let b = read(&t, "B", ">= 0", "dimensionless")?.unwrap_or(0.0);
     let mu0 = read(&t, "mu0", "", "dimensionless")?.unwrap_or(0.6);
-    let mu2 = read(&t, "mu2", "", "dimensionless")?.unwrap_or(0.0);
+    let mut log_form = [0.0; 3];
+    for (value, key) in log_form.iter_mut().zip(LOG_FORM_KEYS) {
+        *value = read(&t, key, "", "dimensionless")?.unwrap_or(0.0);
+    }
+    let [mu2, mu_vv, mu_vphi] = log_form;
     let tau = read(&t, "tau", "> 0", "seconds")?;
-    if tau.is_some() && mu2 != 0.0 {
+    if let Some((key, _)) = LOG_FORM_KEYS
+        .into_iter()
+        .zip(log_form)
+        .find(|(_, v)| tau.is_some() && *v != 0.0)
+    {
         return Err(InputError::Conflict(format!(
-            "{origin}: scene keys tau and mu2 select different ageing forms \
-             (short-age cutoff vs ln² correction); give only one"
+            "{origin}: scene keys tau and {key} select different ageing forms \
+             (short-age cutoff vs the logarithmic form of mu2, mu_vv, mu_vphi); give only one"
         )));
     }
     let state_law = match string(&t, "state_law")? {
@@ -291,6 +312,8 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         mu2,
         theta_c: tau.map(|tau| tau * v0 / d0),
         state_law,
+        mu_vv,
+        mu_vphi,
     };
     let nu_range = (lo / v0, hi / v0);
     let derived = [
@@ -444,6 +467,24 @@ mod tests {
     }
 
     #[test]
+    fn the_corrections_in_ln_v_are_dimensionless_keys() {
+        let s = scene("A = 0.012\nB = 0.023\nmu_vv = 1e-3\nmu_vphi = -5e-4\nV = 3");
+        assert_eq!((s.params.mu_vv, s.params.mu_vphi), (1e-3, -5e-4));
+        assert_eq!(
+            (
+                scene("A = 0.01").params.mu_vv,
+                scene("A = 0.01").params.mu_vphi
+            ),
+            (0.0, 0.0)
+        );
+        // The direct effect at steady sliding, A + (2 mu_vv - mu_vphi) ln nu,
+        // must stay positive: 0.01 + 2e-2 ln(0.1) < 0.
+        let e = err("A = 0.01\nmu_vv = 1e-2\nV = 0.1");
+        assert!(e.contains("mu_v = A + (2 mu_vv - mu_vphi) ln nu"), "{e}");
+        assert!(err("A = 0.01\nmu_vv = 'x'").contains("mu_vv: cannot read"));
+    }
+
+    #[test]
     fn given_stiffness_and_load_convert() {
         let s = scene("A = 0.01\nK = 1e5\nM = 2\ng = 10\nD0 = 0.5\nV0 = 2\nV = 8");
         assert!(s.stiffness_given && s.name == "test" && s.params.nu == 4.0);
@@ -515,9 +556,16 @@ mod tests {
         let s = load_with("pmma", &[set("K", Value::Float(2e5))]).unwrap();
         assert!(rel(s.params.kappa, 2e5 * 0.4e-6 / 9.81) < 1e-15);
         assert!(s.stiffness_given && s.name == "pmma");
-        // tau selects the cutoff form, dropping the scene's mu2.
+        // tau selects the cutoff form, dropping the scene's mu2 (and
+        // mu_vv, mu_vphi: a file's keys of the logarithmic form).
         let s = load_with("pmma", &[set("tau", Value::Float(0.4))]).unwrap();
         assert_eq!((s.params.mu2, s.params.theta_c), (0.0, Some(1.0)));
+        let mut t: Table = "A = 0.01\nmu2 = 1e-4\nmu_vv = 2e-4\nmu_vphi = 3e-4"
+            .parse()
+            .unwrap();
+        insert_override(&mut t, &set("tau", Value::Float(0.4)));
+        let keys: Vec<&str> = t.keys().map(String::as_str).collect();
+        assert_eq!(keys, ["A", "tau"]);
         // An error of the changed scene names the overrides.
         let e = load_with("pmma", &[set("M", Value::Float(0.0))]).unwrap_err();
         assert!(e.to_string().starts_with("pmma with --set M=0"), "{e}");
@@ -528,6 +576,10 @@ mod tests {
     fn tau_and_mu2_conflict() {
         let e = err("A = 0.01\ntau = 0.1\nmu2 = 1e-4");
         assert!(e.contains("tau") && e.contains("mu2"), "{e}");
+        for key in ["mu_vv", "mu_vphi"] {
+            let e = err(&format!("A = 0.01\ntau = 0.1\n{key} = -1e-4"));
+            assert!(e.contains(&format!("scene keys tau and {key}")), "{e}");
+        }
         let s = scene("A = 0.01\ntau = 0.1\nmu2 = 0\nD0 = 0.5\nV0 = 2");
         assert!(rel(s.params.theta_c.unwrap(), 0.4) < 1e-15);
     }

@@ -60,6 +60,8 @@ fn sweep(n: usize, seed: u64) -> Vec<Params> {
                 mu2,
                 theta_c: None,
                 state_law: Default::default(),
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             }
         })
         .collect()
@@ -129,6 +131,8 @@ fn hopf_point_of_the_cutoff_law_matches_c11_and_c13() {
             mu2: 0.0,
             theta_c: Some(theta_c),
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
         };
         let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
             panic!("{p:?}: no Hopf")
@@ -245,6 +249,8 @@ fn large_stiffness_eigenvalues_approach_the_asymptotics() {
         mu2: 0.0,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     };
     let block = DrivenBlock::new(ModelKind::Inertial, &base);
     let mut scaled = Vec::new();

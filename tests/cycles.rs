@@ -98,7 +98,7 @@ fn collocation_cycles_agree_with_long_time_integration() {
 #[test]
 fn a_branch_that_returns_to_the_hopf_point_ends_there() {
     use continuation::Stop;
-    use stickslip::analysis::cycles::trace_cycles_from_orbit;
+    use stickslip::analysis::cycles::{trace_cycles_from_orbit, Leg};
     use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
     use stickslip::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
     use stickslip::analysis::orbit_inertia::InertiaWatch;
@@ -130,9 +130,9 @@ fn a_branch_that_returns_to_the_hopf_point_ends_there() {
     })
     .unwrap();
     assert!(
-        matches!(legs[0], Ok(Stop::HopfPoint { .. })),
+        matches!(legs[0], (Leg::Up, Ok(Stop::HopfPoint { .. }))),
         "the leg toward larger stiffness ends at the Hopf point: {:?}",
-        legs[0].as_ref().map_err(|e| e.to_string())
+        legs[0].1.as_ref().map_err(|e| e.to_string())
     );
     // One fold, the real one, well above kappa_c.
     let folds: Vec<f64> = cycles

@@ -44,6 +44,8 @@ fn hopf_curves_match_appendix_c_along_nu() {
                 mu2: 1e-3,
                 theta_c: None,
                 state_law: Default::default(),
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             },
             (0.01, 10.0),
         ),
@@ -59,6 +61,8 @@ fn hopf_curves_match_appendix_c_along_nu() {
                 mu2: 0.0,
                 theta_c: Some(0.05),
                 state_law: Default::default(),
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             },
             (0.1, 10.0),
         ),
@@ -180,6 +184,8 @@ fn inertial_rr_onset_changes_type_at_eta_star() {
             mu2: 0.0,
             theta_c: None,
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
         };
         let d = hopf_curve(
             ModelKind::Inertial,
@@ -242,6 +248,8 @@ fn a_hopf_region_starting_inside_the_range_is_traced_from_its_start() {
         mu2: -1e-3,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     };
     let d = stability_diagram(ModelKind::QuasiStatic, &p, (0.1, 100.0)).unwrap();
     let nu_star = 0.5f64.exp();
@@ -290,6 +298,8 @@ fn curve_points_resolve_l1_at_small_inertia() {
         mu2: 0.0,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     };
     let d = stability_diagram(ModelKind::Inertial, &p, (1.0, 1.5)).unwrap();
     let first = d.points.first().unwrap();

@@ -30,6 +30,8 @@ fn brockley(nu: f64, m: f64, kappa: f64) -> Params {
         mu2: 0.0,
         theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 
@@ -49,7 +51,7 @@ fn branch(p: &Params, req: &CycleRequest) -> Vec<CycleRecord> {
     })
     .unwrap();
     for leg in legs {
-        leg.unwrap();
+        leg.1.unwrap();
     }
     out
 }

@@ -29,6 +29,8 @@ fn rr(m: f64, nu: f64, mu2: f64) -> Params {
         mu2,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 
@@ -57,6 +59,8 @@ fn l1_matches_forty_digit_references() {
                 mu2: 5e-4,
                 theta_c: None,
                 state_law: Default::default(),
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             },
             -6.33249221023467425246e-4,
         ),
@@ -92,6 +96,8 @@ fn l1_matches_forty_digit_references() {
                 mu2: 0.0,
                 theta_c: Some(0.01),
                 state_law: Default::default(),
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             },
             -1.06322912431647633328e-6,
         ),
@@ -152,6 +158,8 @@ fn quasi_static_ln2_l1_and_amplitude_match_closed_forms() {
             mu2,
             theta_c: None,
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
         };
         let h = hopf(ModelKind::QuasiStatic, p);
         let mu_phi = b - 2.0 * mu2 * nu.ln();

@@ -46,6 +46,8 @@ fn rows() -> Vec<Row> {
                 mu2: num("mu2"),
                 theta_c: (!theta_c.is_empty()).then(|| theta_c.parse().unwrap()),
                 state_law: Default::default(),
+                mu_vv: 0.0,
+                mu_vphi: 0.0,
             };
             Row {
                 label: format!(

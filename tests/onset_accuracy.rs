@@ -54,6 +54,8 @@ fn reference(case: &str, eps_max: f64) -> Vec<Reference> {
                     mu2: get("mu2"),
                     theta_c: cells[theta_c].parse().ok(),
                     state_law: Default::default(),
+                    mu_vv: 0.0,
+                    mu_vphi: 0.0,
                 },
                 eps: get("eps"),
                 kappa: get("kappa"),

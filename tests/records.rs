@@ -128,6 +128,7 @@ fn cycles_csv_json_and_text_agree() {
     let physical_fields = [
         ("K/W ", "K_over_W_per_m", 1e-8),
         ("period ", "period_s", 1e-6),
+        ("force drop ", "delta_s_N", 1e-6),
         ("Delta_s ", "delta_s", 1e-6),
         (" v ", "v_min_um_per_s", 1e-3),
         (" .. ", "v_max_um_per_s", 1e-3),
@@ -140,7 +141,7 @@ fn cycles_csv_json_and_text_agree() {
         (" .. ", "v_max", 1e-3),
     ];
     for ((p, d), c) in physical.iter().zip(&dimensionless).zip(&shown) {
-        for (line, fields) in [(p, &physical_fields), (d, &dimensionless_fields)] {
+        for (line, fields) in [(p, &physical_fields[..]), (d, &dimensionless_fields[..])] {
             for (marker, field, rel) in fields {
                 let (text, json) = (number_after(line, marker), f(c, field));
                 assert!(

@@ -264,7 +264,8 @@ fn unstable_cycles_and_folds_restart() {
     );
     // The fold is the start, on its own mesh, read as a point (its error
     // estimate the located fold's, not the ill-posed one at fixed
-    // stiffness), and not found again a step later.
+    // stiffness), reported as the fold once (not found again a step
+    // later), its legs toward longer and shorter periods.
     assert_eq!(again["start"]["lpc"], true);
     let start = labelled(&again, 0);
     for k in ["kappa", "period", "delta_s"] {
@@ -272,7 +273,24 @@ fn unstable_cycles_and_folds_restart() {
     }
     assert_eq!(start["ntst"], fold["ntst"]);
     assert!(f(start, "error_estimate") < 1e-10);
-    assert_eq!(again["special_points"].as_array().map(Vec::len), Some(0));
+    let specials = again["special_points"].as_array().unwrap();
+    assert_eq!(specials.len(), 1);
+    assert_eq!(specials[0]["kind"], "lpc");
+    assert_eq!(f(&specials[0], "delta_s"), f(start, "delta_s"));
+    let stop = again["stop"].as_str().unwrap();
+    assert!(
+        stop.contains("toward longer periods") && stop.contains("toward shorter periods"),
+        "{stop}"
+    );
+    // Its two-parameter curve starts from it.
+    let label = fold["label"].to_string();
+    let a = args(&label);
+    let a: Vec<&str> = a.iter().map(String::as_str).collect();
+    let (_, curve, stderr) = cycles(&dir.join("d"), &[&a[..], &["--lpc-curve"]].concat());
+    assert!(
+        curve["lpc_curve"].as_array().is_some_and(|c| !c.is_empty()),
+        "{stderr}"
+    );
     // The file's scene is brockley: another one named on the command line,
     // the default's name included, is refused, not replaced.
     let (status, _, stderr) = stickslip(&[
@@ -601,9 +619,8 @@ fn hopf_at_a_written_cycle_is_hopf_with_its_parameters() {
 /// The faults of `branch --from` and `hopf --from` are input errors (exit
 /// status 2) naming the file and the field: a cycles file to `branch`, an
 /// index out of range, a file without `source`, the end point without
-/// `--to`, `--set` beside it, a control that moves the inertia of a
-/// quasi-static branch, a `--from` that is neither a number nor a file
-/// with `--index`, a file of neither kind to `hopf`.
+/// `--to`, `--set` beside it, a `--from` that is neither a number nor a
+/// file with `--index`, a file of neither kind to `hopf`.
 #[test]
 fn branch_and_hopf_restart_errors_name_the_file_and_the_field() {
     let dir = temp_dir("restart-branch-errors");
@@ -671,13 +688,20 @@ fn branch_and_hopf_restart_errors_name_the_file_and_the_field() {
         &["--to", "the end of the file's branch"],
     );
     fails("branch", &good, "1", &["--set", "nu=2"], &["--set/--model"]);
-    fails(
-        "branch",
-        &good,
+    // A quasi-static point continued in the inertia: the model chosen
+    // afresh, as `branch --param m` at its parameters chooses it.
+    let (status, in_m, stderr) = branch(&[
+        "--from",
+        good.to_str().unwrap(),
+        "--index",
         "1",
-        &["--param", "m"],
-        &["--param", "quasi-static"],
-    );
+        "--param",
+        "m",
+        "--max-steps",
+        "2",
+    ]);
+    assert_eq!(status, 4, "{stderr}");
+    assert_eq!(in_m["model"], "inertial");
     fails(
         "hopf",
         &hopf_file,
@@ -800,4 +824,206 @@ fn a_restart_from_a_large_cycle_ends_at_the_hopf_point() {
             "label {label}: {json}"
         );
     }
+}
+
+/// A press-loaded granite rig (a stranger's): quasi-static at its own
+/// 1 µm/s, inertial toward 1 mm/s.
+const GRANITE: &str = r#"name = "granite"
+description = "granite/granite rig, press loaded"
+A = 0.010
+B = 0.014
+mu0 = 0.7
+mu2 = 2e-4
+D0 = 10.0
+V0 = 1.0
+M = 5.0
+W = 1000.0
+K = 2e5
+V = 1.0
+V_range = [0.01, 1000.0]
+"#;
+
+/// A point of a stiffness branch continued in V chooses its model along
+/// the velocity range as a fresh `branch --param V` at the point's K does
+/// (inertial toward 1 mm/s here, where the K branch was quasi-static): the
+/// same Hopf velocity to 1e-12. A stand-in for the scene file (moved since
+/// the run) is taken where it gives the run's parameters; one that does
+/// not, or an inertia threshold beside --from, is refused.
+#[test]
+fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
+    let dir = temp_dir("restart-granite");
+    let scene = dir.join("granite.toml");
+    std::fs::write(&scene, GRANITE).unwrap();
+    let scene = scene.to_str().unwrap();
+    let (status, k, stderr) = branch(&["--scene", scene, "--param", "K"]);
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(k["model"], "quasi-static");
+    let file = dir.join("k.json");
+    std::fs::write(&file, k.to_string()).unwrap();
+    let file = file.to_str().unwrap();
+    let label = k["points"].as_array().unwrap().len() as u64 - 3;
+    let at = point(&k, label);
+    let hopf_v = |json: &Value| {
+        let hopf: Vec<f64> = json["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| p["event"] == "hopf")
+            .map(|p| f(p, "V_um_per_s"))
+            .collect();
+        assert_eq!(hopf.len(), 1, "{hopf:?}");
+        hopf[0]
+    };
+    let index = label.to_string();
+    let v_args = ["--param", "V", "--to", "1000"];
+    let (status, restarted, stderr) =
+        branch(&[&["--from", file, "--index", &index][..], &v_args].concat());
+    assert_eq!(status, 0, "{stderr}");
+    let k_set = format!("K={}", f(at, "K_N_per_m"));
+    let (status, fresh, stderr) =
+        branch(&[&["--scene", scene, "--set", &k_set][..], &v_args].concat());
+    assert_eq!(status, 0, "{stderr}");
+    assert_eq!(fresh["model"], "inertial");
+    assert_eq!(restarted["model"], fresh["model"]);
+    assert!(rel(hopf_v(&restarted), hopf_v(&fresh)) < 1e-12);
+    // The scene file moved: named again with --scene it stands in.
+    let moved = dir.join("moved.toml");
+    std::fs::rename(scene, &moved).unwrap();
+    let moved = moved.to_str().unwrap();
+    let (status, _, stderr) = branch(&["--from", file, "--index", &index, "--max-steps", "2"]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("granite.toml"), "{stderr}");
+    let (status, _, stderr) = branch(&[
+        "--from",
+        file,
+        "--index",
+        &index,
+        "--max-steps",
+        "2",
+        "--scene",
+        moved,
+    ]);
+    assert!(status == 0 || status == 4, "{stderr}");
+    // Another rig is no stand-in; nor is the inertia threshold the file's to change.
+    std::fs::write(moved, GRANITE.replace("B = 0.014", "B = 0.015")).unwrap();
+    let (status, _, stderr) = branch(&["--from", file, "--index", &index, "--scene", moved]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("B = 1.5e-2"), "{stderr}");
+    let (status, _, stderr) = branch(&[
+        "--from",
+        file,
+        "--index",
+        &index,
+        "--inertia-threshold",
+        "1e-2",
+    ]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains("--inertia-threshold"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `json` as written before `mu_vv` and `mu_vphi` existed: the parameter
+/// vectors (`source.scene_params`, and each orbit's `params` in a copy of
+/// its orbits file `orbits`, which the returned JSON names) hold their
+/// first 8 entries, `kappa` to `theta_c`.
+fn before_corrections(json: &Value, orbits: &Path) -> Value {
+    let truncate = |v: &mut Value| {
+        let a = v.as_array_mut().unwrap();
+        assert_eq!(a.len(), 10);
+        assert_eq!(a.split_off(8), [0.0, 0.0]);
+    };
+    let mut old = json.clone();
+    truncate(&mut old["source"]["scene_params"]);
+    if let Some(file) = json["orbits_file"].as_str() {
+        let lines: Vec<String> = std::fs::read_to_string(file)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let mut orbit: Value = serde_json::from_str(l).unwrap();
+                truncate(&mut orbit["params"]);
+                orbit.to_string()
+            })
+            .collect();
+        std::fs::write(orbits, lines.join("\n") + "\n").unwrap();
+        old["orbits_file"] = Value::from(orbits.to_str().unwrap());
+    }
+    old
+}
+
+/// Files written before `mu_vv` and `mu_vphi` (8 parameters) restart with
+/// both 0, as the run that wrote them computed: `cycles --from`, `hopf
+/// --from` and `branch --from` give what they give from the same file in
+/// today's layout (10 parameters), bit for bit.
+#[test]
+fn files_from_before_the_corrections_in_ln_v_restart() {
+    let dir = temp_dir("restart-before-corrections");
+    let (status, json, _) = cycles(&dir.join("a"), &["--set", "nu=3", "--max-steps", "5"]);
+    assert_eq!(status, 4);
+    let (status, branch_json, _) = branch(&["--param", "nu", "--set", "kappa=0.009"]);
+    assert_eq!(status, 0);
+    let write = |name: &str, v: &Value| {
+        let file = dir.join(name);
+        std::fs::write(&file, v.to_string()).unwrap();
+        file.to_str().unwrap().to_string()
+    };
+    let (new, old) = (
+        write("new.json", &json),
+        write(
+            "old.json",
+            &before_corrections(&json, &dir.join("old-orbits.jsonl")),
+        ),
+    );
+    let (new_branch, old_branch) = (
+        write("new-branch.json", &branch_json),
+        write(
+            "old-branch.json",
+            &before_corrections(&branch_json, &dir.join("none")),
+        ),
+    );
+    // Everything but the timing and the files written.
+    let result = |args: &[&str]| -> Value {
+        let (status, mut v, err) = json_of(args);
+        assert!(status == 0 || status == 4, "{args:?}: {err}");
+        for key in [
+            "elapsed_s",
+            "files",
+            "orbits_file",
+            "restarted_from",
+            "figures",
+            "csv",
+        ] {
+            v.as_object_mut().unwrap().remove(key);
+        }
+        v
+    };
+    for (a, b) in [(&new, &old), (&new_branch, &old_branch)] {
+        let hopf = |from: &str| result(&["hopf", "--json", "--from", from, "--index", "2"]);
+        assert_eq!(hopf(a), hopf(b));
+    }
+    let restart = |from: &str, out: &str| {
+        let out = dir.join(out);
+        result(&[
+            "cycles",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+            "--from",
+            from,
+            "--index",
+            "2",
+            "--max-steps",
+            "3",
+        ])
+    };
+    let (a, b) = (restart(&new, "r-new"), restart(&old, "r-old"));
+    assert_eq!(a["cycles"], b["cycles"]);
+    assert_eq!(a["source"], b["source"]);
+    assert_eq!(a["source"]["scene_params"][8], 0.0);
+    // The text names the file restarted from.
+    let again = |from: &str| {
+        let v = result(&["branch", "--json", "--from", from, "--index", "5"]);
+        v.to_string().replace("old-branch.json", "new-branch.json")
+    };
+    assert_eq!(again(&new_branch), again(&old_branch));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -19,6 +19,8 @@ fn law(mu2: f64) -> Params {
         mu2,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 

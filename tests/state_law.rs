@@ -32,6 +32,8 @@ fn params(a: f64, b: f64, mu2: f64, theta_c: Option<f64>, m: f64, nu: f64) -> Pa
         mu2,
         theta_c,
         state_law: StateLaw::Ageing,
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 

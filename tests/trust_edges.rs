@@ -389,3 +389,38 @@ fn an_empty_branch_advises_only_what_was_not_tried() {
     assert!(!why.contains("kappa=... smaller"), "{why}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Huge inertia (`m` up to 1e60, far past any rig): the onset is Appendix
+/// C's (eq. C11, exact for the linear stability of steady sliding) to 1e-9,
+/// or a numerical failure that says the Jacobian spans too many decades —
+/// never "no Hopf point" (which `hopf --set m=1e30` said, exit 0, before
+/// the search fell back on Newton's method from the closed form), and
+/// never a wrong point (m = 1e19 gave kappa_c ten times too small).
+#[test]
+fn huge_inertia_locates_the_onset_of_appendix_c_or_says_why_not() {
+    use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
+    use stickslip::appendix_c::critical_stiffness;
+    use stickslip::model::ModelKind;
+    let mut located = 0;
+    for k in 0..=46 {
+        let m = 10f64.powf(14.0 + k as f64);
+        let p = common::pmma(m, 2.4e-4);
+        let exact = critical_stiffness(&p);
+        match find_hopf(ModelKind::Inertial, &p) {
+            Ok(HopfOutcome::Found(h)) => {
+                assert!(
+                    ((h.kappa_c - exact) / exact).abs() < 1e-9,
+                    "m = {m:e}: kappa_c {} vs C11 {exact}",
+                    h.kappa_c
+                );
+                located += 1;
+            }
+            Ok(HopfOutcome::StableForAllStiffness { .. }) => {
+                panic!("m = {m:e}: no Hopf point, C11 puts one at {exact:e}")
+            }
+            Err(e) => assert!(e.to_string().contains("too many decades"), "m = {m:e}: {e}"),
+        }
+    }
+    // 37 of the 47 decades are located today (the others fail as above): a floor.
+    assert!(located >= 37, "{located} of 47 located");
+}

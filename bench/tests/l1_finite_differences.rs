@@ -19,6 +19,8 @@ fn l1_agrees_with_finite_differences_to_their_accuracy() {
         mu2: 5e-4,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     };
     let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
         panic!("no Hopf point: {p:?}");

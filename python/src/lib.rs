@@ -293,10 +293,7 @@ fn scene_toml(scene: SceneArg) -> PyResult<(String, Vec<String>)> {
         t.insert("name".into(), toml::Value::String(scene.stem.clone()));
     }
     for o in &physical {
-        if o.key == "tau" {
-            t.remove("mu2");
-        }
-        t.insert(o.key.into(), o.value.clone());
+        stickslip::scene::insert_override(&mut t, o);
     }
     let text = toml::to_string(&t).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok((text, dimensionless))

@@ -109,9 +109,10 @@ class Scene:
     driving, in laboratory units (a scene file, docs/model.md), with
     overrides. Make one with `Scene.builtin(name)`, `Scene.from_toml(path)`
     or `Scene(A=..., B=..., D0=..., ...)` (the scene file's keys: name,
-    description, A, B, mu0, mu2, tau [s], state_law ("ageing" or "slip"),
-    D0 [um], V0 [um/s], M [kg], W [N], g [m/s^2], K [N/m], V [um/s],
-    V_range [um/s, a pair]); change it with
+    description, A, B, mu0, mu2, mu_vv, mu_vphi (the coefficients of
+    (ln v)^2 and (ln theta)(ln v), docs/model.md), tau [s], state_law
+    ("ageing" or "slip"), D0 [um], V0 [um/s], M [kg], W [N], g [m/s^2],
+    K [N/m], V [um/s], V_range [um/s, a pair]); change it with
     `scene.with_(K=2e5, nu=3)` (the names `--set` takes). Scenes are
     immutable, compare equal when made the same way, and pickle.
     """
@@ -190,7 +191,7 @@ class Scene:
         keys in their units (K [N/m], M [kg], W [N], V [um/s], tau [s], D0
         [um], V0 [um/s], g [m/s^2], V_range=(LO, HI) [um/s], state_law=
         "ageing" or "slip") or the dimensionless parameters (kappa, nu, m,
-        A, B, mu0, mu2, theta_c).
+        A, B, mu0, mu2, theta_c, mu_vv, mu_vphi).
         A name given again replaces its earlier value."""
         items = dict(item.split("=", 1) for item in self._set)
         for name, value in overrides.items():
@@ -689,7 +690,7 @@ def hopf(
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
     param: the control parameter of the onset, everything else at the
         scene's values: K [N/m] (the default), V [um/s], M [kg], W [N],
-        tau [s], or kappa, nu, m, A, B, mu2, theta_c.
+        tau [s], or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi.
     from_, to: the range searched, in the unit of `param` (not for the
         stiffness; default: the scene's V_range for V and nu, 1e-3 to 1e3
         times the scene's value otherwise).
@@ -788,7 +789,7 @@ def cycles(
     param, to: `param="K"` (or "kappa") with `to` ends the branch at that
         stiffness in its unit, in place of `kappa_fraction`; another
         control parameter (V [um/s], M [kg], W [N], tau [s], nu, m, A, B,
-        mu2, theta_c) continues the cycles in it from its Hopf point up to
+        mu2, theta_c, mu_vv, mu_vphi) continues the cycles in it from its Hopf point up to
         `to` in its unit (`stickslip cycles --param V --to 300`); `at` then
         names it ({"V": [100, 200]}); the cycles carry the control's column
         (`V_um_per_s`, ...); no orbit samples and no figures.
@@ -1172,8 +1173,8 @@ def branch(
 
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
     param: kappa (the default) or nu, or a control parameter in its unit:
-        K [N/m], V [um/s], M [kg], tau [s], or m, A, B, mu2, theta_c (the
-        rows are in the dimensionless parameter it moves).
+        K [N/m], V [um/s], M [kg], tau [s], or m, A, B, mu2, theta_c,
+        mu_vv, mu_vphi (the rows are in the dimensionless parameter it moves).
     from_, to: the range, in the unit of `param` (default: kappa, K — from
         a stable stiffness to 1e-3 of it; nu, V — the scene's velocity
         range; others — the scene's value to 1e3 times it).

@@ -16,15 +16,66 @@ Model = Literal["inertial", "quasi-static"]
 
 def scenes() -> dict[str, str]: ...
 
+StateLaw = Literal["ageing", "slip"]
+
 class Scene:
-    def __init__(self, **keys: float | str | Sequence[float]) -> None: ...
+    # The scene file's keys (docs/model.md): the friction law's A, B, mu0,
+    # mu2, mu_vv, mu_vphi (dimensionless), tau [s], state_law; D0 [um],
+    # V0 [um/s], M [kg], W [N], g [m/s^2], K [N/m], V [um/s], V_range [um/s].
+    def __init__(
+        self,
+        *,
+        name: str = ...,
+        description: str = ...,
+        A: float,
+        B: float = ...,
+        mu0: float = ...,
+        mu2: float = ...,
+        mu_vv: float = ...,
+        mu_vphi: float = ...,
+        tau: float = ...,
+        state_law: StateLaw = ...,
+        D0: float = ...,
+        V0: float = ...,
+        M: float = ...,
+        W: float = ...,
+        g: float = ...,
+        K: float = ...,
+        V: float = ...,
+        V_range: Sequence[float] = ...,
+    ) -> None: ...
     @classmethod
     def builtin(cls, name: str = ...) -> Scene: ...
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> Scene: ...
     @classmethod
     def from_toml_text(cls, text: str, name: str = ...) -> Scene: ...
-    def with_(self, **overrides: float | str | tuple[float, float]) -> Scene: ...
+    # The names `--set` takes: the dimensionless parameters, or the scene
+    # keys in their units (V_range a pair), or the state law.
+    def with_(
+        self,
+        *,
+        kappa: float = ...,
+        nu: float = ...,
+        m: float = ...,
+        A: float = ...,
+        B: float = ...,
+        mu0: float = ...,
+        mu2: float = ...,
+        theta_c: float = ...,
+        mu_vv: float = ...,
+        mu_vphi: float = ...,
+        K: float = ...,
+        M: float = ...,
+        W: float = ...,
+        V: float = ...,
+        V0: float = ...,
+        D0: float = ...,
+        tau: float = ...,
+        g: float = ...,
+        V_range: tuple[float, float] = ...,
+        state_law: StateLaw = ...,
+    ) -> Scene: ...
     def to_toml(self) -> str: ...
     @property
     def name(self) -> str: ...

@@ -13,7 +13,7 @@
 //! | `M` (`W = M g`) | `kappa = K D0 / (M g)`; `m = V0^2 / (g D0)` stays | the stiffness, `M_c = K D0 / (g kappa_c)` |
 //! | `W` | `kappa = K D0 / W` and `m = M V0^2 / (W D0)` together | a root of `kappa - kappa_c` in `1/W` |
 //! | `tau`, `theta_c` | `theta_c = tau V0 / D0` | one index |
-//! | `m`, `A`, `B`, `mu2` | itself | one index |
+//! | `m`, `A`, `B`, `mu2`, `mu_vv`, `mu_vphi` | itself | one index |
 //!
 //! `mu0` moves no onset (it shifts the friction level only) and is refused.
 
@@ -46,7 +46,7 @@ pub enum Control {
 
 /// The names [`Control::parse`] takes, with their units (for messages).
 pub const CONTROL_NAMES: &str = "K [N/m], V [um/s], M [kg], W [N], tau [s] (physical); kappa, \
-                                 nu, m, A, B, mu2, theta_c (dimensionless)";
+                                 nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi (dimensionless)";
 
 /// How a control moves the dimensionless parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,13 +86,15 @@ impl Control {
             _ => match Param::parse(name) {
                 Ok(p) => Control::Dimensionless(p),
                 Err(_) => {
-                    let all = [
-                        "K", "V", "M", "W", "tau", "kappa", "nu", "m", "A", "B", "mu2", "theta_c",
-                    ];
+                    let physical = ["K", "V", "M", "W", "tau"];
+                    let dimensionless = Param::ALL.iter().map(|p| p.name());
+                    let all = physical
+                        .into_iter()
+                        .chain(dimensionless.filter(|n| *n != "mu0"));
                     return Err(InputError::UnknownName {
                         what: "--param value",
                         name: name.to_string(),
-                        suggestion: closest(name, all.into_iter()),
+                        suggestion: closest(name, all),
                         allowed: CONTROL_NAMES.to_string(),
                     });
                 }
@@ -152,12 +154,17 @@ impl Control {
     }
 
     /// Refuses a parameter of the ageing form the scene does not use
-    /// (`mu2` with the cutoff, `tau` or `theta_c` with the ln² form): it
-    /// would move nothing. `option` names where it was given (`--param`).
+    /// (`mu2`, `mu_vv` or `mu_vphi` with the cutoff, `tau` or `theta_c`
+    /// with the logarithmic form): it would move nothing. `option` names
+    /// where it was given (`--param`).
     pub fn check_form(self, params: &Params, option: &str) -> Result<(), InputError> {
         let cutoff = params.theta_c.is_some();
         let what = match self {
             Control::Dimensionless(Param::Mu2) if cutoff => "mu2 is the ln² coefficient",
+            Control::Dimensionless(p @ (Param::MuVv | Param::MuVphi)) if cutoff => match p {
+                Param::MuVv => "mu_vv is the (ln v)² coefficient of the logarithmic form",
+                _ => "mu_vphi is the (ln theta)(ln v) coefficient of the logarithmic form",
+            },
             Control::Tau | Control::Dimensionless(Param::ThetaC) if !cutoff => {
                 "tau (theta_c) is the ageing cutoff"
             }
@@ -170,7 +177,7 @@ impl Control {
             if cutoff {
                 "the short-age cutoff, tau"
             } else {
-                "the ln² correction, mu2"
+                "the logarithmic form, mu2, mu_vv, mu_vphi"
             }
         )))
     }
@@ -443,7 +450,7 @@ pub const AGREEMENT: f64 = 1e-8;
 /// stiffness paths).
 ///
 /// One index (`V`, `nu`, `m`, `M` under a given `W`, `A`, `B`, `mu2`,
-/// `theta_c`, `tau`): steady sliding is continued in that parameter from
+/// `mu_vv`, `mu_vphi`, `theta_c`, `tau`): steady sliding is continued in that parameter from
 /// the range's low end to its high end at the scene's `kappa`, and the
 /// first Hopf point is located exactly by the engine (minimally augmented
 /// Hopf system, Newton). The stiffness (`K`, `kappa`, `M` with `W = M g`):
@@ -537,6 +544,10 @@ pub fn onset_in(
         }
         Path::Index { param, scale } => {
             let r = checked_range(control, range)?;
+            if param == Param::Nu {
+                let field = format!("the range searched in {}, in nu", control.name());
+                params.check_velocity_range((scale * r.0, scale * r.1), &field)?;
+            }
             match along_index(kind, params, param, (scale * r.0, scale * r.1))? {
                 Ok(x) => (
                     x / scale,
@@ -1041,13 +1052,13 @@ pub fn cycles_in(
             cycle,
             fold: *fold_in == Some(param),
         };
-        let [up, down] = crate::analysis::cycles::trace_cycles_through(
+        let legs = crate::analysis::cycles::trace_cycles_through(
             &through, param, &cycles, watch, &mut sink,
         )?;
         return Ok(CyclesIn {
             start: CyclesStart::Stored,
             param,
-            legs: vec![(Leg::Up, up), (Leg::Down, down)],
+            legs: legs.into(),
         });
     }
     if req.from_simulation {
@@ -1078,11 +1089,10 @@ pub fn cycles_in(
             watch,
             &mut sink,
         )?;
-        let [up, down] = legs;
         return Ok(CyclesIn {
             start: CyclesStart::Simulation,
             param,
-            legs: vec![(Leg::Up, up), (Leg::Down, down)],
+            legs: legs.into(),
         });
     }
     let search = req.search.or_else(|| {

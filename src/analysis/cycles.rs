@@ -25,7 +25,8 @@ use continuation::predictor_corrector::StepControl;
 pub use continuation::Stop;
 use continuation::{Complex64, VectorField};
 
-/// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`).
+/// Which continuation a cycle comes from (JSON: `from_hopf`, `up`, `down`,
+/// `longer_period`, `shorter_period`, `at_stiffness`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Leg {
@@ -35,6 +36,11 @@ pub enum Leg {
     Up,
     /// From a simulated orbit, first toward decreasing stiffness.
     Down,
+    /// From a fold of cycles restarted from (corrected at its period, where
+    /// both legs go the same way in the parameter): toward longer periods.
+    LongerPeriod,
+    /// From a fold of cycles restarted from: toward shorter periods.
+    ShorterPeriod,
     /// Not on a branch: the cycle at a given stiffness, a simulated orbit
     /// corrected there ([`cycle_through_orbit`]).
     AtStiffness,
@@ -490,10 +496,9 @@ pub fn along_branch(records: &[CycleRecord]) -> Vec<&CycleRecord> {
 
 /// The indices of `records` in [`along_branch`]'s order.
 pub fn along_branch_order(records: &[CycleRecord]) -> Vec<usize> {
-    let down = (0..records.len())
-        .filter(|&i| records[i].leg == Leg::Down)
-        .rev();
-    down.chain((0..records.len()).filter(|&i| records[i].leg != Leg::Down))
+    let second = |i: &usize| matches!(records[*i].leg, Leg::Down | Leg::ShorterPeriod);
+    let down = (0..records.len()).filter(second).rev();
+    down.chain((0..records.len()).filter(|i| !second(i)))
         .collect()
 }
 
@@ -536,7 +541,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         model: log.kind,
         m: c.p[Param::M as usize],
         friction_min,
-        inertial_imbalance: inertial_imbalance(log, c, watch.m, watch.a),
+        inertial_imbalance: inertial_imbalance(log, c, watch.m),
         samples,
         lpc: pt
             .event(CycleEvent::Fold)
@@ -698,7 +703,7 @@ pub fn trace_cycles_from_orbit(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[LegOutcome; 2], crate::error::Error> {
     trace_cycles_from_orbit_in(kind, params, orbit, Param::Kappa, req, watch, sink)
 }
 
@@ -713,7 +718,7 @@ pub fn trace_cycles_from_orbit_in(
     req: &CycleRequest,
     watch: &InertiaWatch,
     sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[LegOutcome; 2], crate::error::Error> {
     let through = Through::Simulated {
         log: LogBlock::centered(kind, params),
         params,
@@ -753,30 +758,56 @@ impl Through<'_> {
     }
 }
 
+/// How a leg of a branch ended, with the leg.
+pub type LegOutcome = (Leg, Result<Stop, crate::error::Error>);
+
 /// Traces the cycles through the orbit `through`: first toward larger
 /// `param` ([`Leg::Up`]: a fold of cycles, LPC, where the branch turns
 /// back, lies that way for a cycle coexisting with stable sliding), then
 /// toward smaller ([`Leg::Down`]), each leg within `req`'s bounds and step
-/// limit (values of `param`). The starting cycle is handed to `sink` once.
+/// limit (values of `param`); from a stored fold of cycles toward longer
+/// and shorter periods ([`Leg::LongerPeriod`], [`Leg::ShorterPeriod`]),
+/// the start handed out as that fold (its `lpc`, for `--lpc-curve` and the
+/// figures). The starting cycle is handed to `sink` once.
 /// A leg that stops on a numerical failure does not prevent the other; how
-/// each leg ended is returned (`[up, down]`; a signal ends the leg it
-/// came in and the one after it, as interrupted).
+/// each leg ended is returned (a signal ends the leg it came in, and the
+/// one after it as not started).
 pub fn trace_cycles_through(
     through: &Through,
     param: Param,
     req: &CycleRequest,
     watch: &InertiaWatch,
     mut sink: impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
-) -> Result<[Result<Stop, crate::error::Error>; 2], crate::error::Error> {
+) -> Result<[LegOutcome; 2], crate::error::Error> {
     let log = through.log();
+    let fold = matches!(through, Through::Stored { fold: true, .. });
+    let (first_leg, second_leg) = if fold {
+        (Leg::LongerPeriod, Leg::ShorterPeriod)
+    } else {
+        (Leg::Up, Leg::Down)
+    };
     // Both overwritten below.
     let mut legs = [
-        Ok(Stop::MaxSteps { steps: 0 }),
-        Ok(Stop::MaxSteps { steps: 0 }),
+        (first_leg, Ok(Stop::MaxSteps { steps: 0 })),
+        (second_leg, Ok(Stop::MaxSteps { steps: 0 })),
     ];
+    // The start of a fold restart is that fold.
+    let mut start_handed = false;
+    let mut sink = |rec: &CycleRecord| {
+        if fold && !start_handed {
+            start_handed = true;
+            let mut start = rec.clone();
+            start.lpc = Some(Box::new(rec.clone()));
+            return sink(&start);
+        }
+        sink(rec)
+    };
     // The second leg starts on the intervals the first one's start needed.
     let mut ntst = req.ntst.max(SAMPLED_NTST);
-    for (i, (leg, sign)) in [(Leg::Up, 1.0), (Leg::Down, -1.0)].into_iter().enumerate() {
+    for (i, (leg, sign)) in [(first_leg, 1.0), (second_leg, -1.0)]
+        .into_iter()
+        .enumerate()
+    {
         let outcome = first_cycle(through, param, sign, ntst, req)
             .map_err(Into::into)
             .and_then(|(first, branch, used)| {
@@ -788,12 +819,18 @@ pub fn trace_cycles_through(
             // A signal ends this leg and the ones not run; the legs before
             // keep how they ended.
             Err(crate::error::Error::Interrupted(at)) => {
-                for later in &mut legs[i..] {
-                    *later = Err(crate::error::Error::Interrupted(at.clone()));
+                for later in &mut legs[i + 1..] {
+                    later.1 = Err(crate::error::Error::Interrupted(
+                        crate::error::Interruption {
+                            signal: at.signal,
+                            at: "before the leg started".into(),
+                        },
+                    ));
                 }
+                legs[i].1 = Err(crate::error::Error::Interrupted(at));
                 return Ok(legs);
             }
-            other => legs[i] = other,
+            other => legs[i].1 = other,
         }
     }
     Ok(legs)

@@ -341,9 +341,21 @@ pub fn stable_stiffness<S: VectorField>(
     params: &Params,
 ) -> Result<f64, NumericalError> {
     // A bound on the friction law's steady-state slopes, |mu_phi| + mu_v <=
-    // B + 2 |mu2| |ln nu| + A (ln^2 law: mu_phi = B - 2 mu2 ln nu; cutoff:
-    // mu_phi <= B): kappa_c of Appendix C is (mu_phi - mu_v)(1 + m nu^2 / mu_v).
-    let scale = (params.b + params.a + 2.0 * params.mu2.abs() * params.nu.ln().abs())
+    // B + A + 2 (|mu2| + |mu_vv| + |mu_vphi|) |ln nu| (logarithmic form:
+    // mu_phi = B + (mu_vphi - 2 mu2) ln nu, mu_v = A + (2 mu_vv - mu_vphi) ln nu;
+    // cutoff: mu_phi <= B, mu_v = A): kappa_c of Appendix C is
+    // (mu_phi - mu_v)(1 + m nu^2 / mu_v).
+    let mu_v = params.mu_v();
+    if mu_v.is_nan() || mu_v <= 0.0 {
+        return Err(NumericalError::Analysis(format!(
+            "the direct effect at steady sliding mu_v = A + (2 mu_vv - mu_vphi) ln nu is \
+             {mu_v:e} at nu = {:e}: friction falls with the slip velocity there, and steady \
+             sliding is unstable at every stiffness (Appendix C needs mu_v > 0)",
+            params.nu
+        )));
+    }
+    let corrections = params.mu2.abs() + params.mu_vv.abs() + params.mu_vphi.abs();
+    let scale = (params.b + params.a + 2.0 * corrections * params.nu.ln().abs())
         * (1.0 + params.inertia_ratio());
     let x = steady_state(kind, params);
     let mut kappa = 4.0 * scale;
@@ -406,6 +418,111 @@ pub fn find_hopf(kind: ModelKind, params: &Params) -> Result<HopfOutcome, Numeri
 /// the Newton settings of the Hopf location given (the accuracy knob of the
 /// work-precision study).
 pub fn find_hopf_with<F: Wrap>(
+    fields: &F,
+    kind: ModelKind,
+    params: &Params,
+    locator: &NewtonSettings,
+) -> Result<HopfOutcome, NumericalError> {
+    let searched = search_hopf(fields, kind, params, locator);
+    if matches!(searched, Ok(HopfOutcome::Found(_))) {
+        return searched;
+    }
+    // Where the search failed or found none but Appendix C (exact for the
+    // linear stability of steady sliding) puts a Hopf point, it is located
+    // from there; the closed form only starts Newton's method.
+    match hopf_from_closed_form(fields, kind, params, locator) {
+        None => searched,
+        Some(Ok(h)) => Ok(HopfOutcome::Found(h)),
+        Some(Err(e)) => {
+            let searched = match searched {
+                Ok(_) => "found no Hopf point on the way down".to_string(),
+                Err(s) => s.to_string(),
+            };
+            Err(NumericalError::Analysis(format!(
+                "the search for the onset failed ({searched}), and Newton's method on the Hopf \
+                 system from Appendix C's kappa_c = {:.10e} failed too ({e}): the Jacobian of \
+                 steady sliding spans too many decades here (m = {:e}, kappa_c = {:.3e}) for \
+                 the onset to be located in double precision",
+                closed_form_kappa_c(kind, params),
+                params.m,
+                closed_form_kappa_c(kind, params)
+            )))
+        }
+    }
+}
+
+/// The Hopf point located by Newton's method on the Hopf system from
+/// Appendix C's `kappa_c` (eqs. C11, C12) and `omega_c` (C13) at the
+/// steady state; `None` where the closed form has no onset (velocity
+/// strengthening, or `kappa_c <= 0`).
+fn hopf_from_closed_form<F: Wrap>(
+    fields: &F,
+    kind: ModelKind,
+    params: &Params,
+    locator: &NewtonSettings,
+) -> Option<Result<HopfPoint, NumericalError>> {
+    let kappa_c = closed_form_kappa_c(kind, params);
+    let omega_c = appendix_c::critical_frequency(params)?;
+    if !(kappa_c > 0.0 && kappa_c.is_finite() && omega_c.is_finite()) {
+        return None;
+    }
+    let block = fields.field(DrivenBlock::new(kind, params));
+    let mut p = *params;
+    p.kappa = kappa_c;
+    let x0 = steady_state(kind, &p);
+    let located = continuation::events::locate_hopf(
+        &block,
+        Param::Kappa as usize,
+        &x0,
+        &p.to_vec(),
+        omega_c,
+        locator,
+    )
+    .map_err(|e| match e {
+        // Said in the onset's terms: the engine's advice on step sizes and
+        // guesses does not apply to a start from the exact linear onset.
+        ContinuationError::Newton {
+            iterations,
+            residual,
+            step,
+            ..
+        } => NumericalError::Analysis(format!(
+            "after {iterations} Newton iterations the residual is {residual:.1e} but the \
+             iterate still moves by {step:.1e}, {:.1e} of kappa_c",
+            step / kappa_c
+        )),
+        other => other.into(),
+    })
+    .and_then(|e| {
+        let EventKind::Hopf { omega } = e.kind else {
+            return Err(NumericalError::Analysis(
+                "Newton's method on the Hopf system returned no Hopf point".into(),
+            ));
+        };
+        let point = &e.point;
+        Ok(HopfPoint {
+            kappa_c: point.param(),
+            omega_c: omega,
+            state: full_state(kind, params, &point.x),
+            eigenvalues: point.eigenvalues.clone(),
+            newton_iterations: point.newton.iterations,
+            residual: point.newton.residual,
+            steps: 0,
+            onset: onset_at(
+                &block,
+                &point.x,
+                &point.p,
+                omega,
+                location_error(kind, params, point.param()),
+            )?,
+        })
+    });
+    Some(located)
+}
+
+/// [`find_hopf_with`]'s search: steady sliding continued from a stable
+/// stiffness toward smaller ones until a Hopf point is detected and located.
+fn search_hopf<F: Wrap>(
     fields: &F,
     kind: ModelKind,
     params: &Params,

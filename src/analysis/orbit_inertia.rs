@@ -3,16 +3,19 @@
 //!
 //! The quasi-static reduction sets `s = mu(v, theta)`: the block's inertia
 //! force `m dv/dt` is dropped from `m dv/dt = s - mu`. Restored, it shifts
-//! the friction balance by `m dv/dt`, which the rate term `A ln v` absorbs
-//! with a change of `ln v` by
+//! the friction balance by `m dv/dt`, which the rate dependence of `mu`
+//! absorbs with a change of `ln v` by
 //!
 //! ```text
-//! chi = max over the orbit of  m |dv/dt| / A  =  m v |d ln v / dt| / A
+//! chi = max over the orbit of  m |dv/dt| / mu_v  =  m v |d ln v / dt| / mu_v
 //! ```
 //!
-//! the relative error the reduction makes in the slip velocity where it
-//! matters most. On the inertial model the same number is `|s - mu| / A`,
-//! the imbalance the inertial orbit actually carries. Together with the
+//! with `mu_v = d mu / d ln v = A + 2 mu_vv ln v + mu_vphi ln theta` at the
+//! state (`A` without the corrections of docs/model.md): the relative error
+//! the reduction makes in the slip velocity where it matters most. On the
+//! inertial model the same number is `|s - mu| / mu_v`, the imbalance the
+//! inertial orbit actually carries; where it passes through `mu_v <= 0`,
+//! which no quasi-static state does, `chi` is the largest `f64`. Together with the
 //! linear criterion at onset (`m nu^2 / mu_v`, [`super::model_choice`]),
 //! which covers small oscillations, it decides the model along a branch:
 //! the quasi-static model holds on an orbit while both are below the same
@@ -21,7 +24,7 @@
 
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
-use crate::params::{Param, Params};
+use crate::params::{friction_from, Param, Params};
 use continuation::periodic::cycle::Cycle;
 use continuation::system::eval;
 
@@ -29,23 +32,23 @@ use continuation::system::eval;
 /// mesh already concentrates intervals on the slip.
 const SAMPLES_PER_INTERVAL: usize = 8;
 
-/// `chi = max m v |d ln v/dt| / A` over the orbit `cycle` of `log` (module
-/// documentation), for the inertia `m` (the scene's, also when the orbit is
-/// quasi-static) and rate coefficient `a`: [`state_imbalance`] at the orbit's
-/// samples.
-pub fn inertial_imbalance(log: &LogBlock, cycle: &Cycle, m: f64, a: f64) -> f64 {
+/// `chi = max m v |d ln v/dt| / mu_v` over the orbit `cycle` of `log`
+/// (module documentation), for the inertia `m` (the scene's, also when the
+/// orbit is quasi-static): [`state_imbalance`] at the orbit's samples.
+pub fn inertial_imbalance(log: &LogBlock, cycle: &Cycle, m: f64) -> f64 {
     cycle
         .samples(SAMPLES_PER_INTERVAL)
         .iter()
-        .map(|(_, x)| state_imbalance(log, x, &cycle.p, m, a))
+        .map(|(_, x)| state_imbalance(log, x, &cycle.p, m))
         .fold(0.0, f64::max)
 }
 
-/// `m v |d ln v/dt| / A` at the state `x` of `log` with parameters `p`. The
+/// `m v |d ln v/dt| / mu_v` at the state `x` of `log` with parameters `p`,
+/// `mu_v = d mu / d ln v` there (the largest `f64` where `mu_v <= 0`). The
 /// time derivative of `ln v` is the state's own (inertial: it is a
 /// variable) or its derivative along the flow by a central difference
 /// (quasi-static: `ln v` is a function of the state).
-pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64, a: f64) -> f64 {
+pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
     let f = eval(log, x, p);
     let rate = match log.kind {
         ModelKind::Inertial => f[1],
@@ -68,7 +71,13 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64, a: f64) -> 
             }
         }
     };
-    m * log.ln_velocity(x, p).exp() * rate.abs() / a
+    let ln_v = log.ln_velocity(x, p);
+    let ln_theta = log.origin[2] + x[x.len() - 1];
+    let mu_v = friction_from(log.cutoff, p).rate_coefficient(2.0 * ln_v, ln_theta);
+    if mu_v.is_nan() || mu_v <= 0.0 {
+        return f64::MAX;
+    }
+    m * ln_v.exp() * rate.abs() / mu_v
 }
 
 /// The quasi-static state `x = (s, ln theta)` as the inertial one
@@ -106,7 +115,8 @@ pub fn inertial_guess(quasi_static: &LogBlock, cycle: &Cycle, m: f64) -> Cycle {
 pub struct InertiaWatch {
     /// The scene's inertia (kept when the branch is quasi-static).
     pub m: f64,
-    /// Rate coefficient `A`.
+    /// Rate coefficient `A` (the relaxation rate `A / (m v)` of a stuck
+    /// inertial block, in a message).
     pub a: f64,
     /// Largest `chi` for which the quasi-static model holds.
     pub threshold: f64,

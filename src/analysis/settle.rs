@@ -300,6 +300,8 @@ mod tests {
             mu2: 0.0,
             theta_c: None,
             state_law: Default::default(),
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
         }
     }
 

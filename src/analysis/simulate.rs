@@ -254,7 +254,7 @@ pub fn simulate_watched(
                 |step| {
                     let flow = out.step(step, &pv, drive, &mut sink);
                     if let Some(w) = watching.filter(|_| flow.is_continue()) {
-                        let chi = state_imbalance(&log, step.x, &pv, w.m, w.a);
+                        let chi = state_imbalance(&log, step.x, &pv, w.m);
                         if chi > w.threshold {
                             hand_over = Some((step.t, chi, inertial_state(&log, step.x, &pv)));
                             return ControlFlow::Break(());

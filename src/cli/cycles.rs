@@ -78,7 +78,7 @@ pub struct CyclesArgs {
     #[arg(long, value_name = "NAME=V1,V2,...")]
     pub at: Vec<String>,
     /// The parameter the cycles are continued in: K [N/m], V [um/s], M [kg],
-    /// tau [s], or kappa, nu, m, A, B, mu2, theta_c (default: the
+    /// tau [s], or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi (default: the
     /// stiffness, as without it). Other than K or kappa it needs --to;
     /// the branch starts at the Hopf point in that parameter (hopf --param)
     /// or, with --from-simulation, from an orbit simulated at the scene's
@@ -446,13 +446,20 @@ fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
     }
 }
 
-/// A cycle in the text units `units`: stiffness, period, `Delta_s` (a
-/// friction coefficient either way) and the range of the slip velocity.
+/// A cycle in the text units `units`: stiffness, period, the force drop
+/// in N (physical units), `Delta_s` (a friction coefficient either way) and
+/// the range of the slip velocity.
 fn cycle_text(units: TextUnits, c: &Cycle) -> String {
     match units {
         TextUnits::Physical => format!(
-            "K/W {:.8e} 1/m  period {:.6e} s  Delta_s {:.6e}  v {:.3e} .. {:.3e} µm/s",
-            c.k_over_w_per_m, c.period_s, c.delta_s, c.v_min_um_per_s, c.v_max_um_per_s
+            "K/W {:.8e} 1/m  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {:.3e} .. \
+             {:.3e} µm/s",
+            c.k_over_w_per_m,
+            c.period_s,
+            c.delta_s_n,
+            c.delta_s,
+            c.v_min_um_per_s,
+            c.v_max_um_per_s
         ),
         TextUnits::Dimensionless => format!(
             "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",

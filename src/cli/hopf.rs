@@ -27,7 +27,7 @@ pub struct HopfArgs {
     pub units: TextUnits,
     /// The control parameter of the onset, with everything else at the
     /// scene's values: K [N/m] (default), V [um/s], M [kg], W [N], tau [s],
-    /// or kappa, nu, m, A, B, mu2, theta_c. JSON: `critical`.
+    /// or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi. JSON: `critical`.
     #[arg(long, value_name = "P")]
     pub param: Option<String>,
     /// Low end of the range searched, in the unit of --param (default: the
@@ -283,14 +283,14 @@ fn print_hopf(setup: &Setup, model: ModelKind, o: &Onset, units: TextUnits) {
 /// The onset type and what the normal form predicts for the emerging cycle.
 /// What makes a degenerate onset decidable, naming only what the scene
 /// does not already have: for the quasi-static plain Rice–Ruina law the
-/// degeneracy is exact (Ranjith & Rice 1999), and the ln² term or inertia
-/// lifts it; elsewhere (a Bautin point) the cycles come from a simulation.
+/// degeneracy is exact (Ranjith & Rice 1999), and the ln² term, either
+/// correction in `ln v` (docs/model.md) or inertia lifts it; elsewhere (a Bautin point) the cycles come from a simulation.
 fn degeneracy_remedy(setup: &Setup) -> String {
     let p = &setup.params;
-    let plain = p.mu2 == 0.0 && p.theta_c.is_none();
+    let plain = p.theta_c.is_none() && [p.mu2, p.mu_vv, p.mu_vphi] == [0.0; 3];
     let mut lifts = Vec::new();
     if plain {
-        lifts.push("the ln² term (mu2)");
+        lifts.push("the ln² term (mu2) or a correction in ln v (mu_vv, mu_vphi)");
     }
     if setup.scene_params.m <= 0.0 {
         lifts.push("inertia (a mass M)");
@@ -356,7 +356,15 @@ fn print_normal_form(setup: &Setup, o: &Onset, mu0: f64, units: TextUnits) {
                  (Delta(K x / W) in units of the friction coefficient)"
             );
             let example = c * (0.01 * o.kappa_c).sqrt();
-            println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}");
+            match units {
+                TextUnits::Physical => println!(
+                    "  e.g. 1 % from onset: Delta_s ~ {example:.4e} (a force drop of {:.4e} N)",
+                    example * setup.scene.units.load
+                ),
+                TextUnits::Dimensionless => {
+                    println!("  e.g. 1 % from onset: Delta_s ~ {example:.4e}")
+                }
+            }
             if example > mu0.abs() {
                 println!(
                     "  (more than mu0 = {mu0:.3e}, the friction level itself: far beyond what the expansion \

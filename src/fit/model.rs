@@ -118,13 +118,19 @@ impl<T: Scalar> Values<T> {
     }
 
     /// The dimensionless friction law (docs/model.md) with the reference
-    /// velocity `v0_um_s`.
+    /// velocity `v0_um_s`; without `mu_vv` and `mu_vphi`, which the fit
+    /// does not model (it refuses a scene that has them, `jobs::fit`).
     fn law(&self, v0_um_s: f64) -> FrictionLaw<T> {
         FrictionLaw {
             mu0: self.mu0,
             a: self.a,
             ageing: match self.ageing {
-                AgeingValue::Mu2(mu2) => Ageing::Log { b: self.b, mu2 },
+                AgeingValue::Mu2(mu2) => Ageing::Log {
+                    b: self.b,
+                    mu2,
+                    mu_vv: T::from(0.0),
+                    mu_vphi: T::from(0.0),
+                },
                 AgeingValue::Tau(tau) => Ageing::Cutoff {
                     b: self.b,
                     theta_c: tau * v0_um_s / self.d0_um,
@@ -161,7 +167,7 @@ impl Rig {
     /// `(kappa_c, mu_phi)` at `V` µm/s (eq. C11).
     fn onset<T: Scalar>(&self, p: &Values<T>, v_um_s: f64) -> (T, T) {
         let nu = v_um_s / self.v0_um_s;
-        let mu_phi = p.law(self.v0_um_s).mu_phi(T::from(1.0 / nu));
+        let mu_phi = p.law(self.v0_um_s).mu_phi(T::from(nu), T::from(1.0 / nu));
         // m = M V0^2 / (W D0), V0 in m/s and D0 in m.
         let m = (p.d0_um * 1e-6).recip() * (self.mass_over_load * (self.v0_um_s * 1e-6).powi(2));
         let kappa_c = (mu_phi - p.a) * (m * nu * nu / p.a + 1.0);

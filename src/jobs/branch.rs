@@ -88,7 +88,7 @@ impl Plan {
     /// [`InputError::Restart`] naming the file and the field.
     pub fn restart(given: &SceneSpec, r: &BranchRestart) -> Result<Plan, Error> {
         let point = r.from.load_branch_point()?;
-        let base = r.from.scene_setup(&point.source, given)?;
+        let (spec, base) = r.from.scene_spec(&point.source, given)?;
         let refuse = |field: &str, why: String| -> Error {
             InputError::Restart {
                 path: r.from.file.display().to_string(),
@@ -103,19 +103,16 @@ impl Plan {
                 .map_err(|e| refuse("control", e.to_string()))?,
         };
         let units = base.scene.units;
-        if point.model == ModelKind::QuasiStatic && control.moves_inertia(&units) {
-            return Err(refuse(
-                "--param",
-                format!(
-                    "{} moves the inertia m, which the file's quasi-static model drops: \
-                     continue in another parameter, or run `branch --param {}` afresh",
-                    control.name(),
-                    control.name()
-                ),
-            ));
+        // In the file's parameter the point keeps its run's model; in
+        // another one the model is chosen along the new range, as a fresh
+        // run at the point's parameters chooses it (the file's forced
+        // model, if any, stays forced; a control that moves the inertia
+        // then gets the inertial model, as `branch --param M` does).
+        let same_param = control.continued(&units)? == point.param;
+        let mut spec = spec;
+        if same_param {
+            spec.model = Some(point.model);
         }
-        let mut spec = point.source.spec();
-        spec.model = Some(point.model);
         let request = BranchRequest {
             param: control,
             from: Some(control.value(&units, &point.params)),
@@ -141,13 +138,14 @@ impl Plan {
                 ),
             ));
         }
-        let kind = plan.setup.choice.kind;
-        plan.setup.choice.reason = format!(
-            "{}: the model of point #{} of {}",
-            kind.name(),
-            r.from.index,
-            r.from.file.display()
-        );
+        if same_param {
+            plan.setup.choice.reason = format!(
+                "{}: the model of point #{} of {}",
+                plan.setup.choice.kind.name(),
+                r.from.index,
+                r.from.file.display()
+            );
+        }
         let mut source = point.source.clone();
         source
             .at
@@ -251,6 +249,11 @@ impl Plan {
                 )
                 .into());
             }
+        }
+        if param == Param::Nu {
+            setup
+                .scene_params
+                .check_velocity_range((from.min(to), from.max(to)), "--from/--to in nu")?;
         }
         if param != Param::Kappa && setup.params.kappa <= 0.0 {
             return Err(no_stiffness(&setup, control).into());

@@ -126,7 +126,7 @@ impl Start {
         match self {
             Start::Simulation { orbit, hopf: None } => orbit.params.kappa,
             Start::NoCycle { tried, .. } => tried.tries.first().map_or(0.0, SettleError::kappa),
-            Start::Stored(r) => r.kappa_c.unwrap_or(r.orbit.param(Param::Kappa)),
+            Start::Stored(r) => r.reference_kappa.unwrap_or(r.orbit.param(Param::Kappa)),
             _ => self.kappa_c().unwrap_or(0.0),
         }
     }
@@ -234,6 +234,7 @@ impl Start {
                 "label": r.from.index, "kappa": r.orbit.param(Param::Kappa),
                 "period": r.orbit.period, "model": r.orbit.model,
                 "lpc": r.fold_in.is_some(),
+                "reference_kappa": self.reference_kappa(),
             }),
             Start::NoCycle { tried, .. } => json!({
                 "kind": "none",
@@ -272,7 +273,7 @@ impl Start {
                     watch,
                     &mut sink,
                 ) {
-                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Ok(legs) => legs.map(|(leg, end)| (Some(leg), end)).into(),
                     Err(e) => vec![(None, Err(e))],
                 }
             }
@@ -283,7 +284,7 @@ impl Start {
                     fold: r.fold_in == Some(Param::Kappa),
                 };
                 match trace_cycles_through(&through, Param::Kappa, req, watch, &mut sink) {
-                    Ok([up, down]) => vec![(Some(Leg::Up), up), (Some(Leg::Down), down)],
+                    Ok(legs) => legs.map(|(leg, end)| (Some(leg), end)).into(),
                     Err(e) => vec![(None, Err(e))],
                 }
             }
@@ -320,8 +321,9 @@ fn no_cycle_reason(setup: &Setup, tried: &NoCycleFound) -> String {
 /// What else may reach a coexisting cycle, leaving out what was tried: a
 /// smaller stiffness only where the search stopped above its floor,
 /// `max(A, B) 1e-5` (see `orbit_start`), a velocity nearer the friction minimum only where
-/// steady friction has one (the cutoff law's `V_min`; the ln² law's at
-/// `ln nu = (B - A)/(2 mu2)` for `mu2 > 0`).
+/// steady friction has one ([`crate::friction::FrictionLaw::v_min`]: the cutoff law's
+/// `V_min`; the logarithmic form's at `ln nu = (B - A)/(2 (mu2 + mu_vv - mu_vphi))`
+/// where that sum is positive).
 fn no_cycle_advice(p: &crate::params::Params, tried: &NoCycleFound) -> String {
     let smallest = tried
         .tries
@@ -332,12 +334,7 @@ fn no_cycle_advice(p: &crate::params::Params, tried: &NoCycleFound) -> String {
     if smallest > 1.001e-5 * p.a.max(p.b) {
         tries.push("--set kappa=... smaller".to_string());
     }
-    let minimum = match p.friction().v_min() {
-        Some(v) => Some(v),
-        None if p.theta_c.is_none() && p.mu2 > 0.0 => Some(((p.b - p.a) / (2.0 * p.mu2)).exp()),
-        None => None,
-    };
-    if let Some(v) = minimum.filter(|v| v.is_finite() && *v > 0.0) {
+    if let Some(v) = p.friction().v_min().filter(|v| v.is_finite() && *v > 0.0) {
         tries.push(format!(
             "--set nu=... closer to the friction minimum (nu = {v:.4e})"
         ));

@@ -342,13 +342,19 @@ impl Plan {
         let mut cycles: Vec<Cycle> = Vec::new();
         let mut specials: Vec<CycleSpecialPoint> = Vec::new();
         let outcomes = start.trace(&setup, &req, &watch, |c| {
-            let at = || match records.last() {
-                Some(r) => format!(
-                    "after {} cycles, the last at kappa = {:.10e}",
-                    records.len(),
-                    r.kappa
-                ),
-                None => "before the first cycle".to_string(),
+            // Counted in the leg the signal came in (the one `c` belongs
+            // to): a leg that has handed out no cycle yet was interrupted
+            // before its first.
+            let at = || {
+                let leg: Vec<&CycleRecord> = records.iter().filter(|r| r.leg == c.leg).collect();
+                match leg.last() {
+                    Some(r) => format!(
+                        "after {} cycles of this leg, the last at kappa = {:.10e}",
+                        leg.len(),
+                        r.kappa
+                    ),
+                    None => "before the leg's first cycle".to_string(),
+                }
             };
             if let Some(e) = observer.stop(&at) {
                 return Err(e);

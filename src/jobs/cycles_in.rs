@@ -308,6 +308,7 @@ impl Plan {
             .map(|l| match l.leg {
                 Some(Leg::Up) => format!("toward larger {}: {}", control.name(), l.message),
                 Some(Leg::Down) => format!("toward smaller {}: {}", control.name(), l.message),
+                Some(Leg::LongerPeriod | Leg::ShorterPeriod) => l.to_string(),
                 _ => l.message.clone(),
             })
             .collect();

@@ -61,6 +61,9 @@ pub fn run_with<F: Wrap>(
         q.nu = hi;
         q
     })?;
+    setup
+        .scene_params
+        .check_velocity_range((lo, hi), "--nu-range (default: the scene's V_range / V0)")?;
     let (diagram, decided) = stability_diagram_deciding(
         fields,
         &setup.choice,

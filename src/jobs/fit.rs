@@ -1,5 +1,6 @@
 //! The `fit` job: the friction law's parameters (`mu0`, `A`, `B`, `D0`,
-//! and `mu2` or `tau` by the scene's form) from laboratory data, by joint
+//! and `mu2` or `tau` by the scene's form; a scene with `mu_vv` or
+//! `mu_vphi` is refused) from laboratory data, by joint
 //! weighted least squares over every dataset, with standard errors, the
 //! correlation matrix, the parameters the data do not determine (named,
 //! with the data that would determine them, never given a made-up value),
@@ -432,6 +433,17 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         .into());
     }
     let setup = spec.setup(|p| *p)?;
+    let p = &setup.scene_params;
+    if let Some((name, value)) = [("mu_vv", p.mu_vv), ("mu_vphi", p.mu_vphi)]
+        .into_iter()
+        .find(|(_, v)| *v != 0.0)
+    {
+        return Err(InputError::Conflict(format!(
+            "fit models the friction law without the corrections mu_vv and mu_vphi, and the \
+             scene has {name} = {value:e}: fit it with --set mu_vv=0 --set mu_vphi=0"
+        ))
+        .into());
+    }
     let data = request
         .data
         .iter()

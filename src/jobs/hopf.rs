@@ -42,12 +42,12 @@ pub fn run(spec: &SceneSpec, request: &HopfRequest) -> Result<Hopf, Error> {
 /// parameters of a written cycle or branch point ([`Restart::load_point`]),
 /// with the scene, overrides and forced model of the run that wrote it
 /// (`given`, the command line's scene options, must leave them out:
-/// [`Restart::scene_setup`]); the model is chosen as for `hopf --set` of
+/// [`Restart::scene_spec`]); the model is chosen as for `hopf --set` of
 /// those parameters. The report's `restarted_from` names the point.
 pub fn run_from(given: &SceneSpec, from: &Restart, request: &HopfRequest) -> Result<Hopf, Error> {
     let point = from.load_point()?;
-    from.scene_setup(&point.source, given)?;
-    let mut hopf = run_at(&point.source.spec(), request, Some(point.params))?;
+    let (spec, _) = from.scene_spec(&point.source, given)?;
+    let mut hopf = run_at(&spec, request, Some(point.params))?;
     hopf.report.restarted_from = Some(point.record());
     Ok(hopf)
 }

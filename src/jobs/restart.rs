@@ -9,6 +9,7 @@
 use super::cycles::Observer;
 use super::{SceneSpec, Setup};
 use crate::analysis::cycles::CycleRecord;
+use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::log_model::LogBlock;
@@ -50,6 +51,10 @@ pub struct Restarted {
     pub cycle: continuation::periodic::cycle::Cycle,
     /// The run's `kappa_c` (the Hopf point's stiffness), if it had one.
     pub kappa_c: Option<f64>,
+    /// The stiffness the run measured its range against (`--kappa-fraction`):
+    /// its `kappa_c`, else the simulated orbit's stiffness it started from
+    /// (`start.kappa`), or the one a restart carried on (`start.reference_kappa`).
+    pub reference_kappa: Option<f64>,
     /// The parameter the run continued, when the cycle is a fold of cycles
     /// (LPC) it located: there the orbit at fixed parameter is not
     /// isolated, and a branch in that parameter starts at fixed period.
@@ -176,6 +181,24 @@ impl Restart {
                 ),
             ));
         }
+        // And the same parameters, each the JSON names (the stiffness, the
+        // inertia, a continued parameter): an orbit edited since would
+        // restart elsewhere than the cycle the JSON reports.
+        for q in Param::ALL {
+            let (stored, reported) = (orbit.param(q), entry.get(q.name()).and_then(Value::as_f64));
+            if reported.is_some_and(|r| r.to_bits() != stored.to_bits()) {
+                return Err(self.error(
+                    "orbits_file",
+                    format!(
+                        "{orbits}: the orbit labelled {} has {} = {stored:e}, the JSON's cycle \
+                         {:e}: the orbits file was edited or is another run's",
+                        self.index,
+                        q.name(),
+                        reported.unwrap_or_default()
+                    ),
+                ));
+            }
+        }
         let (log, cycle) = orbit.cycle().map_err(|(field, why)| {
             self.error(&format!("{orbits}: label {}: {field}", self.index), why)
         })?;
@@ -185,6 +208,14 @@ impl Restart {
             cycle,
             orbit,
             kappa_c: json.get("kappa_c").and_then(Value::as_f64),
+            reference_kappa: json.get("kappa_c").and_then(Value::as_f64).or_else(|| {
+                let start = |k: &str| json.pointer(&format!("/start/{k}")).and_then(Value::as_f64);
+                match json.pointer("/start/kind").and_then(Value::as_str) {
+                    Some("simulation") => start("kappa"),
+                    Some("restart") => start("reference_kappa"),
+                    _ => None,
+                }
+            }),
             fold_in: (entry.get("kind").and_then(Value::as_str) == Some("lpc"))
                 .then(|| continued_param(&json))
                 .flatten(),
@@ -298,30 +329,71 @@ impl Restart {
 
     /// The scene of `source` set up again, checked to give the same
     /// parameters; `given` is what the command line or the caller asked
-    /// besides `--from`: an override or a model, or a scene other than the
-    /// file's, is refused (the scene comes from the file; an empty name is
-    /// none given). The model is chosen as the run chose it.
+    /// besides `--from`: an override, a model or an inertia threshold is
+    /// refused (they come from the file). A scene named in `given` (an
+    /// empty name is none) other than the file's stands in for it (a scene
+    /// file moved since the run) only where it gives the run's parameters
+    /// bit for bit and, while the file's scene can still be read, its
+    /// units. The model is chosen as the run chose it.
     pub fn scene_setup(&self, source: &Source, given: &SceneSpec) -> Result<Setup, Error> {
-        let spec = source.spec();
-        if !given.set.is_empty() || given.model.is_some() {
+        self.scene_spec(source, given).map(|(_, setup)| setup)
+    }
+
+    /// [`Self::scene_setup`] with the scene options it set up (the file's,
+    /// or the scene standing in for it).
+    pub fn scene_spec(
+        &self,
+        source: &Source,
+        given: &SceneSpec,
+    ) -> Result<(SceneSpec, Setup), Error> {
+        let mut spec = source.spec();
+        let threshold_given = given.inertia_threshold != DEFAULT_INERTIA_THRESHOLD
+            && given.inertia_threshold != source.inertia_threshold;
+        if !given.set.is_empty() || given.model.is_some() || threshold_given {
             return Err(self.error(
-                "--set/--model",
-                "the scene, its overrides and the model come from the file; leave out --set \
-                 and --model (or run afresh with them)",
+                "--set/--model/--inertia-threshold",
+                format!(
+                    "the scene, its overrides, the model and the inertia threshold ({:e}) come \
+                     from the file; leave them out (or run afresh with them)",
+                    source.inertia_threshold
+                ),
             ));
         }
-        if !given.scene.is_empty() && given.scene != spec.scene {
-            let same_file = std::fs::canonicalize(&given.scene)
-                .is_ok_and(|p| p.display().to_string() == spec.scene);
-            if !same_file {
-                return Err(self.error(
-                    "source.scene",
-                    format!(
-                        "the file's run is of the scene {}, not --scene {}: leave out --scene",
-                        spec.scene, given.scene
-                    ),
-                ));
+        let same_file = |scene: &str| {
+            std::fs::canonicalize(scene).is_ok_and(|p| p.display().to_string() == spec.scene)
+        };
+        if !given.scene.is_empty() && given.scene != spec.scene && !same_file(&given.scene) {
+            let standing_in = SceneSpec {
+                scene: given.scene.clone(),
+                ..spec.clone()
+            };
+            let units = standing_in
+                .setup(|p| *p)
+                .map_err(|e| {
+                    self.error(
+                        "source.scene",
+                        format!(
+                            "the file's run is of the scene {}; --scene {} cannot stand in for \
+                             it: {e}",
+                            spec.scene, given.scene
+                        ),
+                    )
+                })?
+                .scene
+                .units;
+            if let Ok(run) = spec.setup(|p| *p) {
+                if run.scene.units != units {
+                    return Err(self.error(
+                        "source.scene",
+                        format!(
+                            "the file's run is of the scene {}, not --scene {} (their units \
+                             differ): leave out --scene",
+                            spec.scene, given.scene
+                        ),
+                    ));
+                }
             }
+            spec = standing_in;
         }
         let setup = spec.setup(|p| *p)?;
         let now = setup.scene_params.to_vec();
@@ -329,20 +401,30 @@ impl Restart {
             source.scene_params.get(**q as usize).map(|v| v.to_bits())
                 != Some(now[**q as usize].to_bits())
         }) {
-            return Err(self.error(
-                "source.scene_params",
-                format!(
-                    "the scene {} now gives {} = {:e}, the file {}: the scene changed since \
-                     the run",
-                    spec.scene,
-                    q.name(),
-                    now[*q as usize],
-                    source
-                        .scene_params
-                        .get(*q as usize)
-                        .map_or_else(|| "no value".to_string(), |v| format!("{v:e}"))
-                ),
-            ));
+            let filed = source
+                .scene_params
+                .get(*q as usize)
+                .map_or_else(|| "no value".to_string(), |v| format!("{v:e}"));
+            let (name, now) = (q.name(), now[*q as usize]);
+            return Err(if spec.scene == source.scene {
+                self.error(
+                    "source.scene_params",
+                    format!(
+                        "the scene {} now gives {name} = {now:e}, the file {filed}: the scene \
+                         changed since the run",
+                        spec.scene
+                    ),
+                )
+            } else {
+                self.error(
+                    "source.scene",
+                    format!(
+                        "the file's run is of the scene {}, not --scene {} (which gives {name} = \
+                         {now:e}, the file {filed}): leave out --scene, or name the run's scene",
+                        source.scene, spec.scene
+                    ),
+                )
+            });
         }
         if setup.scene_params.state_law != source.state_law {
             return Err(self.error(
@@ -356,7 +438,7 @@ impl Restart {
                 ),
             ));
         }
-        Ok(setup)
+        Ok((spec, setup))
     }
 
     /// The JSON entry labelled `index` (a cycle in `cycles`,

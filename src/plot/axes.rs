@@ -21,6 +21,8 @@ pub fn axis_label(c: Control) -> String {
             Param::M => "m = M V0² / (W D0)".into(),
             Param::ThetaC => "θ_c = τ V0 / D0".into(),
             Param::Mu2 => "μ2 (ln² ageing)".into(),
+            Param::MuVv => "μ_vv ((ln v)² term)".into(),
+            Param::MuVphi => "μ_vφ ((ln θ)(ln v) term)".into(),
             p => format!("{} (friction law)", p.name()),
         },
     }

@@ -365,6 +365,8 @@ impl fmt::Display for LegStop {
         match self.leg {
             Some(Leg::Up) => write!(f, "toward larger stiffness: {}", self.message),
             Some(Leg::Down) => write!(f, "toward smaller stiffness: {}", self.message),
+            Some(Leg::LongerPeriod) => write!(f, "toward longer periods: {}", self.message),
+            Some(Leg::ShorterPeriod) => write!(f, "toward shorter periods: {}", self.message),
             Some(Leg::FromHopf | Leg::AtStiffness) | None => f.write_str(&self.message),
         }
     }

@@ -12,8 +12,34 @@ use crate::params::{Param, Params, StateLaw, N_PARAMS};
 use continuation::periodic::cycle::Cycle;
 use continuation::periodic::mesh::{CollocationPoints, Mesh};
 use continuation::VectorField;
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize};
 use std::collections::BTreeMap;
+
+/// Entries of the parameter vectors written before `mu_vv` and `mu_vphi`
+/// existed (`kappa` to `theta_c`).
+const N_PARAMS_BEFORE_CORRECTIONS: usize = 8;
+
+/// A parameter vector as written ([`StoredOrbit::params`],
+/// [`Source::scene_params`]): one written before `mu_vv` and `mu_vphi`
+/// existed, with [`N_PARAMS_BEFORE_CORRECTIONS`] entries, reads with both
+/// corrections 0 (the law it was computed with).
+fn parameter_vector<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+    let mut v = Vec::<f64>::deserialize(d)?;
+    if v.len() == N_PARAMS_BEFORE_CORRECTIONS {
+        v.resize(N_PARAMS, 0.0);
+    }
+    Ok(v)
+}
+
+/// The message for a parameter vector out of shape.
+fn parameter_vector_expected() -> String {
+    let names: Vec<&str> = Param::ALL.iter().map(|p| p.name()).collect();
+    format!(
+        "expected {N_PARAMS} finite numbers ({}), or the first \
+         {N_PARAMS_BEFORE_CORRECTIONS} (written before mu_vv and mu_vphi)",
+        names.join(", ")
+    )
+}
 
 /// One collocated cycle, exactly: a line of the orbits file, found by its
 /// `label` (the cycle's `label` in the JSON and the CSV, `#label` in the
@@ -40,7 +66,9 @@ pub struct StoredOrbit {
     /// `(s_o, ln v_o, ln theta_o)`: the point the state is measured from.
     pub origin: [f64; 3],
     /// The full parameter vector, in the order `kappa, nu, m, A, B, mu0,
-    /// mu2, theta_c` (`theta_c` 0 without the cutoff).
+    /// mu2, theta_c, mu_vv, mu_vphi` (`theta_c` 0 without the cutoff; the
+    /// last two absent in files written before them, read as 0).
+    #[serde(deserialize_with = "parameter_vector")]
     pub params: Vec<f64>,
     /// Period in units of `D0/V0`.
     pub period: f64,
@@ -131,12 +159,7 @@ impl StoredOrbit {
             ));
         }
         if self.params.len() != N_PARAMS || !finite(&self.params) {
-            return Err((
-                "params",
-                format!(
-                    "expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"
-                ),
-            ));
+            return Err(("params", parameter_vector_expected()));
         }
         if self.cutoff != (self.param(Param::ThetaC) > 0.0) {
             return Err((
@@ -206,6 +229,7 @@ pub struct Source {
     pub inertia_threshold: f64,
     /// The scene's parameters after `--set` (inertia kept), in the order of
     /// [`StoredOrbit::params`].
+    #[serde(deserialize_with = "parameter_vector")]
     pub scene_params: Vec<f64>,
     /// The scene's state law (`ageing` in files written before the slip
     /// law existed).
@@ -250,9 +274,7 @@ impl Source {
     pub fn params(&self) -> Result<Params, String> {
         let v = &self.scene_params;
         if v.len() != N_PARAMS || !v.iter().all(|x| x.is_finite()) {
-            return Err(format!(
-                "expected {N_PARAMS} finite numbers (kappa, nu, m, A, B, mu0, mu2, theta_c)"
-            ));
+            return Err(parameter_vector_expected());
         }
         let theta_c = v[Param::ThetaC as usize];
         let mut params = Params {
@@ -265,6 +287,8 @@ impl Source {
             mu2: v[Param::Mu2 as usize],
             theta_c: (theta_c > 0.0).then_some(theta_c),
             state_law: self.state_law,
+            mu_vv: v[Param::MuVv as usize],
+            mu_vphi: v[Param::MuVphi as usize],
         };
         for (name, v) in &self.at {
             let q = Param::parse(name).map_err(|e| format!("at: {e}"))?;

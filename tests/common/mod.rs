@@ -42,6 +42,8 @@ pub fn pmma(m: f64, mu2: f64) -> Params {
         mu2,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 
@@ -59,6 +61,8 @@ pub fn brockley(nu: f64) -> Params {
         mu2: 0.0,
         theta_c: Some((0.023 - 0.012) / (0.012 * 100.0)),
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     }
 }
 

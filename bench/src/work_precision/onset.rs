@@ -118,6 +118,8 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
         mu2: 2.4e-4,
         theta_c: None,
         state_law: Default::default(),
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
     };
     let kind = ModelKind::QuasiStatic;
     let mut out = Vec::new();
