@@ -17,22 +17,6 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The pressed rig, as the stranger wrote it.
-const GRANITE: &str = r#"
-name = "granite"
-description = "granite/granite bare-surface rig, press loaded: K = 2e5 N/m, M = 5 kg, W = 1 kN"
-A = 0.010
-B = 0.014
-mu0 = 0.7
-mu2 = 2e-4
-D0 = 10.0       # µm
-V0 = 1.0        # µm/s
-M = 5.0         # kg
-W = 1000.0      # N
-K = 2e5         # N/m
-V = 1.0         # µm/s
-V_range = [0.01, 1000.0]
-"#;
-
 const A: f64 = 0.010;
 const B: f64 = 0.014;
 const MU2: f64 = 2e-4;
@@ -44,7 +28,7 @@ const W: f64 = 1000.0;
 
 /// The rig loaded by its weight, `W = M g` (no `W` key).
 fn weighed() -> String {
-    GRANITE
+    common::GRANITE
         .replace("W = 1000.0      # N\n", "")
         .replace("name = \"granite\"", "name = \"granite-w\"")
 }
@@ -220,7 +204,7 @@ fn onset_velocity() -> f64 {
 /// of the search (1492 µm/s, ten times the onset).
 #[test]
 fn a_velocity_not_delivered_says_why_and_the_cycles_span() {
-    let (dir, path) = scene("v", GRANITE);
+    let (dir, path) = scene("v", common::GRANITE);
     let out = dir.join("out");
     let args = |json: bool| {
         let mut a = vec![
@@ -310,7 +294,7 @@ fn a_velocity_not_delivered_says_why_and_the_cycles_span() {
 /// over its range of V), not the scene's own quasi-static choice at 1 µm/s.
 #[test]
 fn a_restart_in_velocity_names_the_cycle_and_its_model() {
-    let (dir, path) = scene("r", GRANITE);
+    let (dir, path) = scene("r", common::GRANITE);
     let out = dir.join("out");
     let (code, first, err) = stickslip(&[
         "cycles",
@@ -388,7 +372,7 @@ fn a_restart_in_velocity_names_the_cycle_and_its_model() {
 /// advises one (and the onset is there).
 #[test]
 fn no_onset_at_any_value_is_said_with_the_closed_form() {
-    let (_dir, path) = scene("h", GRANITE);
+    let (_dir, path) = scene("h", common::GRANITE);
     let hopf = |extra: &[&str]| {
         let mut a = vec!["hopf", "--scene", s(&path)];
         a.extend_from_slice(extra);

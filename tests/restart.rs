@@ -826,23 +826,6 @@ fn a_restart_from_a_large_cycle_ends_at_the_hopf_point() {
     }
 }
 
-/// A press-loaded granite rig (a stranger's): quasi-static at its own
-/// 1 µm/s, inertial toward 1 mm/s.
-const GRANITE: &str = r#"name = "granite"
-description = "granite/granite rig, press loaded"
-A = 0.010
-B = 0.014
-mu0 = 0.7
-mu2 = 2e-4
-D0 = 10.0
-V0 = 1.0
-M = 5.0
-W = 1000.0
-K = 2e5
-V = 1.0
-V_range = [0.01, 1000.0]
-"#;
-
 /// A point of a stiffness branch continued in V chooses its model along
 /// the velocity range as a fresh `branch --param V` at the point's K does
 /// (inertial toward 1 mm/s here, where the K branch was quasi-static): the
@@ -853,7 +836,7 @@ V_range = [0.01, 1000.0]
 fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
     let dir = temp_dir("restart-granite");
     let scene = dir.join("granite.toml");
-    std::fs::write(&scene, GRANITE).unwrap();
+    std::fs::write(&scene, common::GRANITE).unwrap();
     let scene = scene.to_str().unwrap();
     let (status, k, stderr) = branch(&["--scene", scene, "--param", "K"]);
     assert_eq!(status, 0, "{stderr}");
@@ -905,7 +888,7 @@ fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
     ]);
     assert!(status == 0 || status == 4, "{stderr}");
     // Another rig is no stand-in; nor is the inertia threshold the file's to change.
-    std::fs::write(moved, GRANITE.replace("B = 0.014", "B = 0.015")).unwrap();
+    std::fs::write(moved, common::GRANITE.replace("B = 0.014", "B = 0.015")).unwrap();
     let (status, _, stderr) = branch(&["--from", file, "--index", &index, "--scene", moved]);
     assert_eq!(status, 2, "{stderr}");
     assert!(stderr.contains("B = 1.5e-2"), "{stderr}");

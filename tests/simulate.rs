@@ -404,3 +404,39 @@ fn simulate_reports_the_regime_it_reaches() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The default protocol of the granite rig (40 D0/V0 = 400 s) covers 0.90
+/// of the 442 s period of the stick-slip it reaches: the text says so and
+/// gives a protocol that covers three periods, which then shows them
+/// without the hint.
+#[test]
+fn a_run_shorter_than_its_regimes_period_says_how_long_to_run() {
+    let dir = common::temp_dir("simulate-short");
+    let scene = dir.join("granite.toml");
+    std::fs::write(&scene, common::GRANITE).unwrap();
+    let out = dir.join("out");
+    let run = |protocol: &[&str]| {
+        let args = [
+            &[
+                "simulate",
+                "--scene",
+                scene.to_str().unwrap(),
+                "--force",
+                "--out",
+            ][..],
+            &[out.to_str().unwrap()],
+            protocol,
+        ]
+        .concat();
+        let (status, text, stderr) = common::stickslip(&args);
+        assert_eq!(status, 0, "{stderr}");
+        text
+    };
+    let text = run(&[]);
+    assert!(text.contains("period 4.42129"), "{text}");
+    assert!(text.contains("covers 0.90 of its periods"), "{text}");
+    assert!(text.contains("e.g. 1:1327 for 3 periods"), "{text}");
+    let text = run(&["--protocol", "1:1327"]);
+    assert!(text.contains("period 4.42129"), "{text}");
+    assert!(!text.contains("of its periods"), "{text}");
+}

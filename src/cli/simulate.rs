@@ -244,6 +244,17 @@ fn print_text(sim: &Simulation, units: TextUnits, files: &[PathBuf]) {
     if let (Some(reached), Some(seg)) = (&sim.regime, sim.protocol.last()) {
         if !interrupt::interrupted() {
             println!("{}", regime_line(reached, u, units, seg.nu));
+            if let RegimeReached::Periodic { period, .. } = reached {
+                let shown = seg.duration / period;
+                if shown < FEW_PERIODS {
+                    println!(
+                        "  the last segment covers {shown:.2} of its periods, so the figures and \
+                         the CSV hardly show it: lengthen it (--protocol VELOCITY:DURATION, e.g. \
+                         {} for {FEW_PERIODS:.0} periods)",
+                        protocol_example(u, seg.nu, FEW_PERIODS * period)
+                    );
+                }
+            }
         }
     }
     for f in files {
@@ -307,6 +318,23 @@ impl Rows {
     fn finish(self) -> std::io::Result<()> {
         self.w.finish()
     }
+}
+
+/// Periods of the regime reached that the last segment should cover for
+/// the figures to show it; fewer are pointed out.
+const FEW_PERIODS: f64 = 3.0;
+
+/// A `--protocol` segment `V:DURATION` at `nu` lasting at least
+/// `duration` (units of `D0/V0`), in the protocol's units (µm/s, and whole
+/// seconds rounded up, or 4 digits below one second).
+fn protocol_example(u: &Units, nu: f64, duration: f64) -> String {
+    let seconds = duration * u.d0 / u.v0;
+    let seconds = if seconds >= 1.0 {
+        seconds.ceil().to_string()
+    } else {
+        format!("{seconds:.4e}")
+    };
+    format!("{}:{seconds}", u.velocity_um_s(nu))
 }
 
 /// The regime reached at the end of the run, in words and the text's units:

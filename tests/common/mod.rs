@@ -128,3 +128,22 @@ pub fn leg_reasons(v: &serde_json::Value) -> Vec<String> {
         .map(|l| l["reason"].as_str().unwrap().to_string())
         .collect()
 }
+
+/// A press-loaded granite rig a stranger wrote (quasi-static at its own
+/// 1 µm/s, stick-slip at its K, inertial toward 1 mm/s).
+#[allow(dead_code)]
+pub const GRANITE: &str = r#"
+name = "granite"
+description = "granite/granite bare-surface rig, press loaded: K = 2e5 N/m, M = 5 kg, W = 1 kN"
+A = 0.010
+B = 0.014
+mu0 = 0.7
+mu2 = 2e-4
+D0 = 10.0       # µm
+V0 = 1.0        # µm/s
+M = 5.0         # kg
+W = 1000.0      # N
+K = 2e5         # N/m
+V = 1.0         # µm/s
+V_range = [0.01, 1000.0]
+"#;
