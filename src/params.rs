@@ -373,6 +373,18 @@ impl Params {
         self.friction().mu_phi(self.nu, 1.0 / self.nu)
     }
 
+    /// Where the direct effect `d mu / d ln v = A + 2 mu_vv ln v + mu_vphi
+    /// ln theta` (seed §II.D.2) vanishes at the steady age `theta = 1/nu`:
+    /// the velocity (units of `V0`) below which (`mu_vv > 0`) or above
+    /// which (`mu_vv < 0`) the law gives no slip velocity for a friction
+    /// level, with `true` for a floor. `None` without `mu_vv`.
+    pub fn direct_effect_bound(&self) -> Option<(f64, bool)> {
+        (self.mu_vv != 0.0 && self.theta_c.is_none()).then(|| {
+            let ln_v = (self.mu_vphi * self.nu.ln() - self.a) / (2.0 * self.mu_vv);
+            (ln_v.exp(), self.mu_vv > 0.0)
+        })
+    }
+
     /// Refuses a range of driving velocities `(lo, hi)` (units of `V0`,
     /// given by `field`) over which the direct effect at steady sliding,
     /// `mu_v = A + (2 mu_vv - mu_vphi) ln nu`, does not stay positive

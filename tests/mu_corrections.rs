@@ -582,3 +582,35 @@ fn input_errors_name_the_field() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A rig whose stick phases slow the block below the velocity where the
+/// direct effect `A + 2 mu_vv ln v + mu_vphi ln theta` vanishes (at the
+/// steady age, `ln v* = (mu_vphi ln nu - A) / (2 mu_vv)`): `simulate`
+/// cannot settle, and says that the law leaves its range there, with v*.
+#[test]
+fn a_stick_phase_below_the_laws_range_is_named() {
+    let dir = common::temp_dir("mu-range");
+    let scene = dir.join("pm.toml");
+    std::fs::write(
+        &scene,
+        "name = \"pm\"\ndescription = \"corrections\"\nA = 0.012\nB = 0.023\nmu0 = 0.5\n\
+         mu2 = 2.4e-4\nmu_vv = 3e-4\nmu_vphi = -2e-4\nD0 = 0.4\nV0 = 1.0\nM = 1.0\nW = 300.0\n\
+         K = 2e5\nV = 10.0\nV_range = [0.1, 100.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (status, _, stderr) = common::stickslip(&[
+        "simulate",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 4, "{stderr}");
+    let v_star = ((-2e-4 * 10f64.ln() - 0.012) / (2.0 * 3e-4)).exp();
+    assert!(
+        stderr.contains(&format!("vanishes at v = {v_star:.3e} µm/s")),
+        "{v_star:.3e}: {stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -243,7 +243,10 @@ fn print_text(sim: &Simulation, units: TextUnits, files: &[PathBuf]) {
     );
     if let (Some(reached), Some(seg)) = (&sim.regime, sim.protocol.last()) {
         if !interrupt::interrupted() {
-            println!("{}", regime_line(reached, u, units, seg.nu));
+            println!(
+                "{}",
+                regime_line(reached, u, units, &sim.setup.params, seg.nu)
+            );
             if let RegimeReached::Periodic { period, .. } = reached {
                 let shown = seg.duration / period;
                 if shown < FEW_PERIODS {
@@ -339,7 +342,13 @@ fn protocol_example(u: &Units, nu: f64, duration: f64) -> String {
 
 /// The regime reached at the end of the run, in words and the text's units:
 /// period, force drop `Delta_s W` and slip per event of a stick-slip cycle.
-fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) -> String {
+fn regime_line(
+    reached: &RegimeReached,
+    u: &Units,
+    units: TextUnits,
+    p: &crate::params::Params,
+    nu: f64,
+) -> String {
     let time_unit = u.d0 / u.v0;
     let at = match units {
         TextUnits::Physical => format!("V = {:.4e} µm/s", u.velocity_um_s(nu)),
@@ -372,7 +381,7 @@ fn regime_line(reached: &RegimeReached, u: &Units, units: TextUnits, nu: f64) ->
              steady sliding or cycle to settle on)"
         ),
         RegimeReached::Unsettled(why) => {
-            format!("{head}: undetermined — {}", unsettled_text(why, u, units))
+            format!("{head}: undetermined — {}", unsettled_text(why, u, units, p))
         }
     }
 }

@@ -20,6 +20,7 @@ use crate::analysis::simulate::{
 use crate::error::{Error, InputError};
 use crate::jobs::TextUnits;
 use crate::model::ModelKind;
+use crate::params::Params;
 use crate::records::params_json;
 use crate::records::UnitsRecord;
 use crate::scene::Units;
@@ -400,7 +401,7 @@ fn regime_with_inertia_judged(
 
 /// Why the regime is undetermined, in the text's units and with what a
 /// user of the rig can do.
-pub fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits) -> String {
+pub fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits, p: &Params) -> String {
     let time = |t: f64| match units {
         TextUnits::Physical => format!("{:.4e} s", t * u.d0 / u.v0),
         TextUnits::Dimensionless => format!("{t:.4e} (D0/V0)"),
@@ -417,9 +418,11 @@ pub fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits) -> String {
              a longer --protocol gives it time",
             time(*t)
         ),
-        Unsettled::Settle(SettleError::Integration { time: t, cause, .. }) => {
-            format!("the integration failed at t = {}: {cause}", time(*t))
-        }
+        Unsettled::Settle(SettleError::Integration { time: t, cause, .. }) => format!(
+            "the integration failed at t = {}: {cause}{}",
+            time(*t),
+            law_range(p, u)
+        ),
         Unsettled::Settle(e @ SettleError::Decayed { .. }) => e.summary(),
         Unsettled::Periods {
             extremes,
@@ -430,7 +433,30 @@ pub fn unsettled_text(why: &Unsettled, u: &Units, units: TextUnits) -> String {
             time(*extremes),
             time(*return_map)
         ),
-        Unsettled::Integration(cause) => format!("the integration over the cycle failed: {cause}"),
+        Unsettled::Integration(cause) => format!(
+            "the integration over the cycle failed: {cause}{}",
+            law_range(p, u)
+        ),
+    }
+}
+
+/// Where an integration failure may come from the friction law itself:
+/// with `mu_vv` its direct effect vanishes at a velocity
+/// ([`Params::direct_effect_bound`]), beyond which the law has no slip
+/// velocity, and stick phases reach far below the driving velocity.
+fn law_range(p: &Params, u: &Units) -> String {
+    match p.direct_effect_bound() {
+        Some((v, floor)) => format!(
+            "; note that with mu_vv = {:e} the direct effect A + 2 mu_vv ln v + mu_vphi ln theta \
+             of the law vanishes at v = {:.3e} µm/s (at the steady age) and is negative {} it, \
+             where the law gives no slip velocity for a friction level: a cycle that slides \
+             {} it leaves the law's range (a smaller |mu_vv| moves the bound away)",
+            p.mu_vv,
+            u.velocity_um_s(v),
+            if floor { "below" } else { "above" },
+            if floor { "slower than" } else { "faster than" }
+        ),
+        None => String::new(),
     }
 }
 
@@ -537,7 +563,7 @@ impl Simulation {
             Ok(_) => match &self.regime {
                 Some(RegimeReached::Unsettled(why)) => Some(Shortfall::Undetermined(format!(
                     "the regime the run reaches is undetermined: {}",
-                    unsettled_text(why, u, units)
+                    unsettled_text(why, u, units, &self.setup.params)
                 ))),
                 _ => None,
             },
@@ -573,7 +599,7 @@ impl Simulation {
             RegimeReached::Held => json!({"kind": "held"}),
             RegimeReached::Unsettled(why) => json!({
                 "kind": "unsettled",
-                "reason": unsettled_text(why, u, TextUnits::Physical),
+                "reason": unsettled_text(why, u, TextUnits::Physical, &self.setup.params),
             }),
         });
         let stop = self.shortfall(TextUnits::Physical).map(|s| s.to_string());
