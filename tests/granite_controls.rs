@@ -459,3 +459,41 @@ fn no_onset_at_any_value_is_said_with_the_closed_form() {
     let found = num(&json(&out)["critical"]["value"]);
     assert!(rel(found, v_c) < 1e-9, "{found} vs {v_c} µm/s");
 }
+
+/// A pair diagram (V, M) of the granite rig judges the scene's own
+/// operating point as `hopf` does: K = 2e5 N/m against K_c of C11 at its
+/// V = 1 µm/s, M = 5 kg (mu_v = A, mu_phi = B - 2 mu2 ln nu = B at nu = 1,
+/// so K_c = (B - A) W / D0 (1 + m / A) = 4.0e5 N/m): stick-slip, in the
+/// text and the JSON.
+#[test]
+fn a_pair_diagram_gives_the_operating_points_regime() {
+    let (dir, path) = scene("pair", common::GRANITE);
+    let m = M * 1e-12 / (W * D0); // M V0^2 / (W D0), V0 = 1 µm/s
+    let k_c = (B - A) * W / D0 * (1.0 + m / A);
+    assert!(K < k_c, "{K} {k_c}");
+    let out = dir.join("out");
+    let args = [
+        "diagram",
+        "--scene",
+        s(&path),
+        "--x",
+        "V",
+        "--y",
+        "M",
+        "--out",
+        s(&out),
+        "--force",
+    ];
+    let (code, text, err) = stickslip(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("M = 5.0000 kg: stick-slip (K < K_c"),
+        "{text}"
+    );
+    let (code, stdout, err) = stickslip(&[&args[..], &["--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let j = json(&stdout);
+    let j = if j.is_array() { j[0].clone() } else { j };
+    assert_eq!(j["operating_point"]["regime"], "stick-slip");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -275,6 +275,10 @@ pub fn onset_type(records: &DiagramRecords) -> Option<Criticality> {
 pub struct PairDiagram {
     pub setup: Setup,
     pub diagram: AxesDiagram,
+    /// The regime at the scene's own operating point (its K against the
+    /// onset at its parameters, as `hopf` judges it), when the scene gives
+    /// both coordinates of the pair and its K.
+    pub regime: Option<crate::records::hopf::OperatingPoint>,
 }
 
 /// The Hopf curve of the scene `spec` in the pair `axes`: `x_range` of `P`
@@ -306,7 +310,21 @@ pub fn run_pair(
         spec.inertia_threshold,
     );
     let diagram = axes_diagram(&choice, &params, &units, &req)?;
-    Ok(PairDiagram { setup, diagram })
+    // The same judgement as `hopf`'s; where the onset cannot be located the
+    // point stays without a regime (the curve is the answer asked for).
+    let regime = match diagram.operating {
+        Some(_) if setup.stiffness_given() => {
+            super::hopf::run(spec, &super::hopf::HopfRequest::default())
+                .ok()
+                .and_then(|h| h.report.operating_point)
+        }
+        _ => None,
+    };
+    Ok(PairDiagram {
+        setup,
+        diagram,
+        regime,
+    })
 }
 
 impl PairDiagram {
@@ -319,6 +337,11 @@ impl PairDiagram {
         });
         if let (Value::Object(a), Value::Object(b)) = (&mut v, self.diagram.to_json()) {
             a.extend(b);
+        }
+        if let (Some(op), Some(Value::Object(point))) = (&self.regime, v.get_mut("operating_point"))
+        {
+            point.insert("regime".into(), json!(op.regime));
+            point.insert("reason".into(), json!(op.reason));
         }
         v
     }

@@ -207,13 +207,21 @@ pub(super) fn run(args: &DiagramArgs, axes: Axes) -> Result<(), Error> {
         }
         if let Some((px, py)) = d.operating {
             println!(
-                "  the scene's operating point: {} = {} {}, {} = {} {}",
+                "  the scene's operating point: {} = {} {}, {} = {} {}{}",
                 x.name(),
                 significant(px),
                 x.unit_in_words(),
                 y.name(),
                 significant(py),
-                y.unit_in_words()
+                y.unit_in_words(),
+                pair_diagram
+                    .regime
+                    .as_ref()
+                    .map_or(String::new(), |op| format!(
+                        ": {} ({})",
+                        op.regime.name(),
+                        op.reason
+                    ))
             );
         }
         for f in &files {
