@@ -368,8 +368,30 @@ fn layout(fig: &LineFigure, pixels: (f64, f64)) -> Layout {
     }
 }
 
-/// Width of the colour bar beside a family's plot, in pixels.
+/// Width of the colour bar beside a family's plot, in pixels, for labels
+/// of up to [`BAR_LABEL_CHARS`] characters; longer ones widen it
+/// ([`colorbar_width`]).
 const COLORBAR_WIDTH: u32 = 140;
+
+/// Characters of the colour bar's labels [`COLORBAR_WIDTH`] holds.
+const BAR_LABEL_CHARS: usize = 7;
+
+/// Pixels a character of the colour bar's labels takes (font size 16).
+const BAR_CHAR_PIXELS: u32 = 9;
+
+/// The colour bar's width for the labels of `axis`: [`COLORBAR_WIDTH`],
+/// widened by [`BAR_CHAR_PIXELS`] per character beyond
+/// [`BAR_LABEL_CHARS`] (a stiffness branch over 1e-6 relative is labelled
+/// `3.999994e2`, whose first digit was cut off).
+fn colorbar_width(axis: &Axis) -> u32 {
+    let longest = axis
+        .labels()
+        .iter()
+        .map(|l| l.chars().count())
+        .max()
+        .unwrap_or(0);
+    COLORBAR_WIDTH + BAR_CHAR_PIXELS * longest.saturating_sub(BAR_LABEL_CHARS) as u32
+}
 
 /// What the plotting layer decides for a line figure before it draws:
 /// the points drawn, the axes and the legend's place.
@@ -398,7 +420,8 @@ pub struct Plan {
 /// legend goes where it covers no data ([`layout`]).
 pub fn plan(fig: &LineFigure, bar: Option<&Colorbar>) -> Plan {
     let mut fig = drawable_only(fig);
-    let pixels = plot_pixels(WIDTH - bar.map_or(0, |_| COLORBAR_WIDTH));
+    let bar_axis = bar.map(bar_axis);
+    let pixels = plot_pixels(WIDTH - bar_axis.as_ref().map_or(0, colorbar_width));
     let ranges = bounds(&fig);
     // A line through one point draws nothing: that point is drawn as a
     // marker (a branch of one cycle, a curve of one point).
@@ -418,7 +441,7 @@ pub fn plan(fig: &LineFigure, bar: Option<&Colorbar>) -> Plan {
     Plan {
         x: Axis::new(x0, x1, fig.log_x),
         y: Axis::new(y0, y1, fig.log_y),
-        bar: bar.map(bar_axis),
+        bar: bar_axis,
         legend: labelled.then_some(layout.legend.1),
         corner: layout.legend.0,
         figure: fig,
@@ -467,7 +490,7 @@ fn draw_any<DB: DrawingBackend>(
     let root = match (bar, &plan.bar) {
         (Some(bar), Some(axis)) => {
             let width = root.dim_in_pixel().0;
-            let (main, side) = root.split_horizontally(width - COLORBAR_WIDTH);
+            let (main, side) = root.split_horizontally(width - colorbar_width(axis));
             draw_colorbar(&side, bar, axis)?;
             main
         }
@@ -546,7 +569,7 @@ where
         .margin_top(18 + 30)
         .margin_bottom(18 + 55)
         .margin_right(40)
-        .y_label_area_size(80)
+        .y_label_area_size(80 + colorbar_width(axis) - COLORBAR_WIDTH)
         .build_cartesian_2d(0.0..1.0, yr)
         .map_err(e)?;
     chart.draw_series(strip).map_err(e)?;
@@ -699,6 +722,27 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The colour bar's label area holds its longest label at
+    /// [`BAR_CHAR_PIXELS`] a character, for a branch over 1e-6 relative
+    /// (labels such as `3.999994e2`) as for an ordinary one.
+    #[test]
+    fn the_colour_bar_holds_its_labels() {
+        for (lo, hi) in [(2.0e3, 1.8e4), (399.9994, 400.0), (1e-3, 2e-3)] {
+            let axis = Axis::new(lo, hi, false);
+            let longest = axis
+                .labels()
+                .iter()
+                .map(|l| l.chars().count())
+                .max()
+                .unwrap();
+            let label_area = 80 + colorbar_width(&axis) - COLORBAR_WIDTH;
+            assert!(
+                label_area >= BAR_CHAR_PIXELS * longest as u32,
+                "{lo}..{hi}: {longest} characters in {label_area} px"
+            );
+        }
+    }
 
     fn figure(points: Vec<(f64, f64)>, log_y: bool) -> LineFigure {
         LineFigure {
