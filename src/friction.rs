@@ -580,6 +580,88 @@ mod tests {
     }
 
     #[test]
+    fn the_damped_root_is_the_smallest_on_a_rising_branch() {
+        // F(x) = a x^2 + b x + e expm1(x) - gap; each case's root checked
+        // by its residual (relative to the terms) and its rising slope.
+        let check = |a: f64, b: f64, e: f64, gap: f64| {
+            let x = damped_root(a, b, e, gap).unwrap();
+            let f = a * x * x + b * x + e * x.exp_m1() - gap;
+            // The terms' rounding, and x's own (its ulp times the slope).
+            let slope = 2.0 * a * x + b + e * x.exp();
+            let size = (a * x * x).abs() + (b * x).abs() + (e * x.exp_m1()).abs() + gap.abs();
+            let bound = 8.0 * f64::EPSILON * (size + slope * x.abs());
+            assert!(f.abs() <= bound, "{a} {b} {e} {gap}: {f:e}");
+            assert!(slope > 0.0, "{a} {b} {e} {gap}");
+            x
+        };
+        // a = 0, b > 0 and b = 0: monotone everywhere; b < 0: beyond x1.
+        check(0.0, 0.012, 1e-3, 0.3);
+        check(0.0, 0.0, 1e-3, 2.0);
+        let x = check(0.0, -0.01, 1e-3, 0.5);
+        assert!(x > (0.01f64 / 1e-3).ln());
+        assert_eq!(damped_root(0.0, 0.0, 1e-3, -2e-3), None);
+        // a > 0: convex, the larger root; none below the minimum.
+        let x = check(3e-4, 0.012, 1e-6, -0.05);
+        assert!(2.0 * 3e-4 * x + 0.012 > -1e-6 * x.exp());
+        assert_eq!(damped_root(3e-4, 0.012, 1e-6, -0.2), None);
+        // a < 0, two rising branches (F'(x_c) = -2.3e-3 < 0 at x_c =
+        // ln(-2a/e) = 24.8; F(x1) = 0.12 near the undamped vertex x = 20):
+        // the low one (the undamped law's) while F(x1) > gap, else the high.
+        let (a, b, e) = (-3e-4, 0.012, 1e-14);
+        assert!(check(a, b, 1e-6, 0.2) > 0.0, "monotone: one root");
+        let low = check(a, b, e, 0.1);
+        assert!(low < (-2.0 * a / e).ln() && low < -b / (2.0 * a));
+        let high = check(a, b, e, 0.2);
+        assert!(high > (-2.0 * a / e).ln());
+        // Huge forces: ln v of a few hundred, no overflow.
+        let x = check(0.0, 0.012, 1e-6, 1e300);
+        assert!((x - (1e306f64).ln()).abs() < 1e-9, "{x}");
+        assert_eq!(damped_root(0.0, 0.012, f64::NAN, 0.1), None);
+    }
+
+    #[test]
+    fn the_damped_inversion_carries_exact_derivatives() {
+        // d ln v / d eta_d = -e^L... by implicit differentiation of
+        // b L + eta (e^L - 1) = c: dL/deta = -(e^L - 1) / (b + eta e^L),
+        // dL/dc = 1 / (b + eta e^L); at eta = 1e-3 and at eta = 0 (the
+        // quadratic's root with the damping's derivative).
+        use num_dual::Dual64;
+        for eta in [1e-3, 0.0] {
+            let law = FrictionLaw {
+                eta: Dual64::new(eta, 1.0),
+                mu0: Dual64::from(0.6),
+                a: Dual64::from(0.012),
+                ageing: Ageing::Log {
+                    b: Dual64::from(0.023),
+                    mu2: Dual64::from(0.0),
+                    mu_vv: Dual64::from(0.0),
+                    mu_vphi: Dual64::from(0.0),
+                },
+            };
+            let gap = Dual64::new(0.05, 0.0);
+            let l = law
+                .ln_velocity_change(Dual64::from(0.0), Dual64::from(0.0), gap)
+                .unwrap();
+            let el = l.re.exp();
+            assert!((0.012 * l.re + eta * (el - 1.0) - 0.05).abs() < 1e-16);
+            let expect = -(el - 1.0) / (0.012 + eta * el);
+            assert!(
+                (l.eps / expect - 1.0).abs() < 1e-12,
+                "{eta}: {} vs {expect}",
+                l.eps
+            );
+        }
+        // Without damping the inversion is the quadratic's, to the last bit.
+        let plain = corrected_law();
+        for (w, p, gap) in [(0.3, -1.2, 0.02), (-2.0, 4.0, -0.03)] {
+            assert_eq!(
+                plain.ln_velocity_change(w, p, gap),
+                rising_root(3e-4, plain.rate_coefficient(2.0 * w, p), gap)
+            );
+        }
+    }
+
+    #[test]
     fn a_friction_beyond_the_law_has_no_slip_velocity() {
         // mu_vv > 0: mu(., theta = 1) = mu0 + A L + mu_vv L^2 is lowest at
         // L = -A / (2 mu_vv) = -20, mu0 - A^2 / (4 mu_vv) = 0.48.

@@ -278,7 +278,6 @@ mod tests {
         Params {
             mu_vv: -1e-3,
             mu_vphi: -5e-4,
-            eta_d: 0.0,
             ..ln2_params()
         }
     }

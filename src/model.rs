@@ -212,7 +212,19 @@ mod tests {
 
     #[test]
     fn steady_state_is_an_equilibrium_of_both_models() {
-        let p = params();
+        for p in [
+            params(),
+            Params {
+                eta_d: 2e-3,
+                ..params()
+            },
+        ] {
+            steady_state_is_an_equilibrium(&p);
+        }
+    }
+
+    fn steady_state_is_an_equilibrium(p: &Params) {
+        let p = *p;
         for (kind, f) in [
             (
                 ModelKind::Inertial,
@@ -250,17 +262,21 @@ mod tests {
         let corrected = Params {
             mu_vv: 1e-3,
             mu_vphi: -5e-4,
-            eta_d: 0.0,
             ..params()
         };
-        for p in [params(), corrected] {
+        // With radiation damping mu_v is mu_v + eta_d nu there.
+        let damped = Params {
+            eta_d: 2e-3,
+            ..corrected
+        };
+        for p in [params(), corrected, damped] {
             check_inertial_jacobian(&p);
         }
     }
 
     fn check_inertial_jacobian(p: &Params) {
         let ln_nu = p.nu.ln();
-        let mu_v = p.a + (2.0 * p.mu_vv - p.mu_vphi) * ln_nu;
+        let mu_v = p.a + (2.0 * p.mu_vv - p.mu_vphi) * ln_nu + p.eta_d * p.nu;
         let mu_phi = p.b + (p.mu_vphi - 2.0 * p.mu2) * ln_nu;
         let j = jacobian(
             &InertialBlock {
