@@ -291,7 +291,7 @@ impl<T: Scalar> FrictionLaw<T> {
 /// The root, as every zero of `F'`, by [`increasing_zero`]. `None` where
 /// there is none (or no bracket within `|x| < 1e300`).
 fn damped_root(a: f64, b: f64, e: f64, gap: f64) -> Option<f64> {
-    if !(e > 0.0 && e.is_finite()) || !(a.is_finite() && b.is_finite() && gap.is_finite()) {
+    if !(e > 0.0 && e.is_finite() && a.is_finite() && b.is_finite() && gap.is_finite()) {
         return None;
     }
     let f = |x: f64| {
@@ -308,7 +308,7 @@ fn damped_root(a: f64, b: f64, e: f64, gap: f64) -> Option<f64> {
             let lo = reach(0.0, -1.0, |x| df(x).0 < 0.0)?;
             let hi = reach(0.0, 1.0, |x| df(x).0 > 0.0)?;
             let x1 = increasing_zero(df, lo, hi);
-            if !(f(x1).0 < 0.0) {
+            if !below_zero(f(x1).0) {
                 return None;
             }
             (x1, f64::INFINITY)
@@ -327,7 +327,7 @@ fn damped_root(a: f64, b: f64, e: f64, gap: f64) -> Option<f64> {
                 (f64::NEG_INFINITY, x1)
             } else {
                 let x2 = increasing_zero(df, x_c, reach(x_c, 1.0, |x| df(x).0 > 0.0)?);
-                if !(f(x2).0 < 0.0) {
+                if !below_zero(f(x2).0) {
                     return None;
                 }
                 (x2, f64::INFINITY)
@@ -335,7 +335,7 @@ fn damped_root(a: f64, b: f64, e: f64, gap: f64) -> Option<f64> {
         }
     };
     let below = |x: f64| f(x).0 <= 0.0;
-    let above = |x: f64| !(f(x).0 < 0.0);
+    let above = |x: f64| !below_zero(f(x).0);
     let (lo, hi) = match (lo.is_finite(), hi.is_finite()) {
         (true, true) => (lo, hi),
         (false, true) => (reach(hi, -1.0, below)?, hi),
@@ -344,6 +344,12 @@ fn damped_root(a: f64, b: f64, e: f64, gap: f64) -> Option<f64> {
         (false, false) => (reach(0.0, -1.0, below)?, 0.0),
     };
     Some(increasing_zero(f, lo, hi))
+}
+
+/// Whether `F` at a point is below 0 (and a number): a root lies beyond it
+/// on a rising branch.
+fn below_zero(f: f64) -> bool {
+    f < 0.0
 }
 
 /// The first `x = from + dir 2^k` (`k = 0, 1, ...`, `|x| < 1e300`) where
