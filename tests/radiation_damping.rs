@@ -526,3 +526,23 @@ fn input_errors_name_the_field() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_onset_in_eta_d() {
+    // Quasi-static kappa_c = B - A - 2 mu2 ln nu - eta_d nu (pmma, nu = 1):
+    // at kappa = 0.005 the onset is at eta_d = 0.011 - 0.005 = 0.006.
+    let v = hopf(&[
+        "--model",
+        "quasi-static",
+        "--set",
+        "kappa=0.005",
+        "--param",
+        "eta_d",
+        "--from",
+        "1e-4",
+        "--to",
+        "1e-2",
+    ]);
+    let got = num(&v["critical"], "value");
+    assert!(rel(got, 0.006) < 1e-8, "{got}");
+}
