@@ -610,7 +610,7 @@ fn cycles_text_and_csv_in_both_units() {
             .unwrap()
     };
     let (k_over_w, kappa) = (first(&physical, "K/W "), first(&dimensionless, "kappa "));
-    assert!(physical.contains(" s  Delta_s") && physical.contains(" µm/s"));
+    assert!(physical.contains(" N  Delta_s") && physical.contains(" µm/s"));
     let csv = std::fs::read_to_string(dir.join("pmma-cycles.csv")).unwrap();
     let mut rows = csv.lines().skip_while(|l| !l.starts_with("kappa,"));
     let header: Vec<&str> = rows.next().unwrap().split(',').collect();
