@@ -26,6 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         };
         let d = hopf_curve(
             ModelKind::Inertial,

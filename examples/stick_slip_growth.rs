@@ -24,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     };
     let kappa_c = base.mu_phi() - base.mu_v();
     let fractions = [0.99, 0.98, 0.97];

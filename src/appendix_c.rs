@@ -2,37 +2,48 @@
 //! in docs/model.md's dimensionless units. They are the reference the continuation
 //! results are compared with; the analyses never use them to get their answers,
 //! except to say, where a search found no onset, that no value of a control can
-//! give one (`analysis::control::onset_excluded`, from C11 and C12).
+//! give one (`analysis::control::onset_excluded`, from C11 and C12), and to
+//! start Newton's method on the Hopf system where the search from a stable
+//! stiffness failed (`analysis::hopf::find_hopf_with`).
+//!
+//! With radiation damping the linearized force balance meets the slope
+//! `mu_v + eta_d nu` in `ln v` instead of `mu_v` (the state law is
+//! unchanged): every closed form below takes `mu_v` as
+//! [`Params::mu_v_damped`] (docs/model.md, "Linear stability").
 
 use crate::params::Params;
 use num_complex::Complex64;
 
 /// Critical stiffness with inertia, seed eq. C11:
-/// `kappa_c = (mu_phi - mu_v) (1 + m nu^2 / mu_v)`.
+/// `kappa_c = (mu_phi - mu_v) (1 + m nu^2 / mu_v)`, `mu_v` with damping
+/// ([`Params::mu_v_damped`]).
 pub fn critical_stiffness(p: &Params) -> f64 {
-    (p.mu_phi() - p.mu_v()) * (1.0 + p.inertia_ratio())
+    (p.mu_phi() - p.mu_v_damped()) * (1.0 + p.inertia_ratio())
 }
 
-/// Critical stiffness without inertia, seed eq. C12: `kappa_c = mu_phi - mu_v`.
+/// Critical stiffness without inertia, seed eq. C12: `kappa_c = mu_phi -
+/// mu_v`, `mu_v` with damping.
 pub fn critical_stiffness_quasi_static(p: &Params) -> f64 {
-    p.mu_phi() - p.mu_v()
+    p.mu_phi() - p.mu_v_damped()
 }
 
 /// Critical angular frequency, seed eq. C13: `omega_c = nu sqrt(mu_phi/mu_v - 1)`
-/// (units `V0/D0`); `None` when steady friction is not velocity weakening.
+/// (units `V0/D0`), `mu_v` with damping; `None` when steady friction (with
+/// the damping) is not velocity weakening.
 pub fn critical_frequency(p: &Params) -> Option<f64> {
-    let r = p.mu_phi() / p.mu_v() - 1.0;
+    let r = p.mu_phi() / p.mu_v_damped() - 1.0;
     (r > 0.0).then(|| p.nu * r.sqrt())
 }
 
 /// Coefficients `[a3, a2, a1, a0]` of the characteristic polynomial of the
 /// inertial block at steady sliding, `a3 l^3 + a2 l^2 + a1 l + a0 = 0`:
-/// `m l^3 + (mu_v/nu + m nu) l^2 + (kappa + mu_v - mu_phi) l + kappa nu`.
+/// `m l^3 + (mu_v/nu + m nu) l^2 + (kappa + mu_v - mu_phi) l + kappa nu`,
+/// `mu_v` with damping.
 ///
 /// This is seed eq. C9 with `i Omega = l` (growth rate) in docs/model.md units; at
 /// `m = 0` it reduces to the quasi-static quadratic.
 pub fn characteristic_polynomial(p: &Params) -> [f64; 4] {
-    let (mu_v, mu_phi, nu, m, kappa) = (p.mu_v(), p.mu_phi(), p.nu, p.m, p.kappa);
+    let (mu_v, mu_phi, nu, m, kappa) = (p.mu_v_damped(), p.mu_phi(), p.nu, p.m, p.kappa);
     [m, mu_v / nu + m * nu, kappa + mu_v - mu_phi, kappa * nu]
 }
 
@@ -46,7 +57,10 @@ pub fn characteristic_polynomial(p: &Params) -> [f64; 4] {
 /// terms of the roots of [`characteristic_polynomial`] as `kappa -> inf`.
 pub fn large_stiffness_roots(p: &Params) -> (f64, Complex64) {
     let real = -p.nu;
-    let pair = Complex64::new(-p.mu_v() / (2.0 * p.m * p.nu), (p.kappa / p.m).sqrt());
+    let pair = Complex64::new(
+        -p.mu_v_damped() / (2.0 * p.m * p.nu),
+        (p.kappa / p.m).sqrt(),
+    );
     (real, pair)
 }
 
@@ -67,6 +81,7 @@ mod tests {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         }
     }
 

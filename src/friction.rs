@@ -8,6 +8,11 @@
 //!              or B ln(1 + theta/theta_c)              (short-age cutoff)
 //! ```
 //!
+//! With radiation damping (docs/model.md, "Radiation damping") the block
+//! meets the force `mu(v, theta) + eta_d v` ([`FrictionLaw::eta`]): the
+//! friction law's `mu` is unchanged, the damping adds to it in the force
+//! balance, at steady sliding and in the quasi-static inversion.
+//!
 //! Velocities are in units of `V0`, ages in units of `D0/V0`. The law is generic
 //! over the scalar so that the driven-block models get exact derivatives from
 //! dual numbers.
@@ -35,6 +40,9 @@ pub struct FrictionLaw<T> {
     pub a: T,
     /// Ageing term (and the logarithmic form's corrections).
     pub ageing: Ageing<T>,
+    /// Radiation damping `eta_d = eta V0` (`eta = G / (2 c_s sigma)` in
+    /// s/m): the force balance resists with `mu + eta_d v`. 0 without it.
+    pub eta: T,
 }
 
 /// The friction law gives no slip velocity for a friction `s` at an age
@@ -45,7 +53,7 @@ pub struct FrictionLaw<T> {
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error(
     "the friction law gives no slip velocity for s = {s:e} at theta = {theta:e}: with mu_vv and \
-     mu_vphi, mu(v, theta) does not reach s where it rises with ln v (d mu/d ln v > 0)"
+     mu_vphi, mu(v, theta) + eta_d v does not reach s where it rises with ln v"
 )]
 pub struct NoSlipVelocity {
     pub s: f64,
@@ -164,6 +172,24 @@ impl<T: Scalar> FrictionLaw<T> {
         self.mu(nu, nu.recip())
     }
 
+    /// The radiation-damping force `eta_d v` over the load (docs/model.md,
+    /// "Radiation damping"); exactly 0 without damping, also where `v`
+    /// overflowed (where `0 * inf` would be NaN).
+    pub fn damping(&self, v: T) -> T {
+        if self.eta.re() == 0.0 && !v.re().is_finite() {
+            T::from(0.0)
+        } else {
+            self.eta * v
+        }
+    }
+
+    /// The spring force at steady sliding, `s = mu_ss(nu) + eta_d nu`
+    /// (docs/model.md: `m v' = s - mu - eta_d v` vanishes at `v = nu`,
+    /// `theta = 1/nu`); `mu_ss(nu)` to the last bit without damping.
+    pub fn steady_force(&self, nu: T) -> T {
+        self.steady(nu) + self.damping(nu)
+    }
+
     /// `d mu_ss / d ln nu = mu_v - mu_phi` at steady sliding (`v = nu`,
     /// `theta = 1/nu`): negative means velocity weakening. With the
     /// logarithmic form, `(A - B) + 2 (mu2 + mu_vv - mu_vphi) ln nu`.
@@ -173,35 +199,73 @@ impl<T: Scalar> FrictionLaw<T> {
     }
 
     /// The change `x = ln v - ln_v0` of the slip velocity's logarithm at
-    /// which `mu` at age `e^ln_theta` exceeds its value at `(e^ln_v0,
-    /// e^ln_theta)` by `gap`: the root of
+    /// which the force `mu + eta_d v` at age `e^ln_theta` exceeds its value
+    /// at `(e^ln_v0, e^ln_theta)` by `gap`: the root of
     ///
     /// ```text
-    /// mu_vv x^2 + (A + 2 mu_vv ln_v0 + mu_vphi ln_theta) x = gap
+    /// mu_vv x^2 + (A + 2 mu_vv ln_v0 + mu_vphi ln_theta) x + eta_d e^ln_v0 expm1(x) = gap
     /// ```
     ///
-    /// on the rising branch of `mu` in `ln v` (`d mu / d ln v > 0`), the
-    /// root continuous with the linear law's `gap / A` (docs/model.md, "The
-    /// quasi-static inversion"), without cancellation. `None` where the law
-    /// has none: the discriminant is not positive, or the slope
-    /// `A + mu_vphi ln theta` is not positive without `mu_vv`.
+    /// on a rising branch of the left-hand side in `x` (docs/model.md, "The
+    /// quasi-static inversion"). Without damping it is the quadratic's root
+    /// continuous with the linear law's `gap / A`, without cancellation
+    /// (to the last bit as before damping existed); with damping the
+    /// smallest root where the left-hand side rises ([`damped_root`], a
+    /// bracketed safeguarded Newton iteration in `x`, exact to rounding;
+    /// the dual parts by Newton steps in the scalar). `None` where the law
+    /// has none: without damping the discriminant is not positive, or the
+    /// slope `A + mu_vphi ln theta` is not positive without `mu_vv`; with
+    /// it, the left-hand side does not reach `gap` on a rising branch.
     pub fn ln_velocity_change(&self, ln_v0: T, ln_theta: T, gap: T) -> Option<T> {
-        match self.ageing {
-            Ageing::Log { mu_vv, .. } => {
-                rising_root(mu_vv, self.rate_coefficient(ln_v0 * 2.0, ln_theta), gap)
+        let (a, b) = match self.ageing {
+            Ageing::Log { mu_vv, .. } => (mu_vv, self.rate_coefficient(ln_v0 * 2.0, ln_theta)),
+            Ageing::Cutoff { .. } => (T::from(0.0), self.a),
+        };
+        // The damping's slope scale eta_d v_0: the term is eta_d (v - v_0).
+        let e = self.eta * ln_v0.exp();
+        let lhs = |x: T| a * x * x + b * x + e * x.exp_m1();
+        if e.re() == 0.0 {
+            let x_q = match self.ageing {
+                Ageing::Log { mu_vv, .. } => rising_root(mu_vv, b, gap)?,
+                Ageing::Cutoff { .. } => gap / self.a,
+            };
+            if T::NDERIV == 0 || x_q.re().exp_m1().is_infinite() {
+                return Some(x_q);
             }
-            Ageing::Cutoff { .. } => Some(gap / self.a),
+            // eta_d has no value but may carry derivatives (a parameter of
+            // a continuation from eta_d = 0): the root x_q + d of
+            // Q'(x_q) d + mu_vv d^2 + e expm1(x_q + d) = 0 (Q the quadratic,
+            // Q(x_q) = 0), one order of e per step; d = 0 to the last bit
+            // where e carries none.
+            let slope = a * x_q * 2.0 + b;
+            let mut d = T::from(0.0);
+            for _ in 0..T::NDERIV {
+                d = -(e * (x_q + d).exp_m1() + a * d * d) / slope;
+            }
+            return Some(x_q + d);
         }
+        let x = damped_root(a.re(), b.re(), e.re(), gap.re())?;
+        // Newton steps in the scalar: each doubles the order of the
+        // derivatives carried exactly.
+        let mut x = T::from(x);
+        let mut exact = 0;
+        while exact < T::NDERIV {
+            x -= (lhs(x) - gap) / (a * x * 2.0 + b + e * x.exp());
+            exact = 2 * exact + 1;
+        }
+        Some(x)
     }
 
-    /// Inverse of `mu` in `v`: the velocity at which the law gives friction
-    /// `s` at age `theta`, `v = exp(L)` with `L` the rising root of
-    /// `mu_vv L^2 + (A + mu_vphi ln theta) L = s - mu0 - ageing(theta)`
-    /// ([`Self::ln_velocity_change`] from `v = 1`; `L = (s - mu0 -
-    /// ageing(theta)) / A` without the corrections). This slaves `v` in the
-    /// quasi-static limit; [`NoSlipVelocity`] where the law reaches no `s`.
+    /// Inverse of the force `mu + eta_d v` in `v`: the velocity at which
+    /// the block meets the force `s` at age `theta`, `v = exp(L)` with `L`
+    /// the root of `mu_vv L^2 + (A + mu_vphi ln theta) L + eta_d (e^L - 1)
+    /// = s - mu0 - ageing(theta) - eta_d` ([`Self::ln_velocity_change`]
+    /// from `v = 1`; `L = (s - mu0 - ageing(theta)) / A` without the
+    /// corrections and damping). This slaves `v` in the quasi-static limit;
+    /// [`NoSlipVelocity`] where the law reaches no `s`.
     pub fn slip_velocity(&self, s: T, theta: T) -> Result<T, NoSlipVelocity> {
-        let gap = s - self.mu0 - self.ageing_term(theta);
+        let one = T::from(1.0);
+        let gap = s - self.mu0 - self.ageing_term(theta) - self.damping(one);
         self.ln_velocity_change(T::from(0.0), theta.ln(), gap)
             .map(|l| l.exp())
             .ok_or(NoSlipVelocity {
@@ -209,6 +273,128 @@ impl<T: Scalar> FrictionLaw<T> {
                 theta: theta.re(),
             })
     }
+}
+
+/// The root `x` of `F(x) = a x^2 + b x + e expm1(x) - gap` (`e > 0`, the
+/// damping's slope scale) on a rising branch of `F` (docs/model.md, "The
+/// quasi-static inversion"), in `x`, a logarithm, so that nothing
+/// overflows that matters (`F = inf` beyond `x = 709` only brackets). With
+/// `F' = 2 a x + b + e e^x`, `F'' = 2 a + e e^x`:
+///
+/// - `a >= 0`: `F` is convex; it rises everywhere (`a = 0`, `b > 0`) or
+///   beyond the zero `x1` of `F'` (`a = 0`, `b <= 0`: `F' = b + e e^x`), and has a root there iff `F(x1) < 0`;
+/// - `a < 0`: `F'` is lowest at `x_c = ln(-2a / e)`; `F` rises everywhere
+///   if `F'(x_c) > 0`, else on `x < x1` and `x > x2` (the zeros of `F'`):
+///   the root below `x1` (the branch of the undamped law) if `F(x1) > 0`,
+///   else the one above `x2` (where damping holds the force).
+///
+/// The root, as every zero of `F'`, by [`increasing_zero`]. `None` where
+/// there is none (or no bracket within `|x| < 1e300`).
+fn damped_root(a: f64, b: f64, e: f64, gap: f64) -> Option<f64> {
+    if !(e > 0.0 && e.is_finite() && a.is_finite() && b.is_finite() && gap.is_finite()) {
+        return None;
+    }
+    let f = |x: f64| {
+        (
+            a * x * x + b * x + e * x.exp_m1() - gap,
+            2.0 * a * x + b + e * x.exp(),
+        )
+    };
+    let df = |x: f64| (2.0 * a * x + b + e * x.exp(), 2.0 * a + e * x.exp());
+    let (lo, hi) = if a >= 0.0 {
+        if a == 0.0 && b >= 0.0 {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            let lo = reach(0.0, -1.0, |x| df(x).0 < 0.0)?;
+            let hi = reach(0.0, 1.0, |x| df(x).0 > 0.0)?;
+            let x1 = increasing_zero(df, lo, hi);
+            if !below_zero(f(x1).0) {
+                return None;
+            }
+            (x1, f64::INFINITY)
+        }
+    } else {
+        let x_c = (-2.0 * a).ln() - e.ln();
+        if df(x_c).0 > 0.0 {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            let neg = |x: f64| {
+                let (v, d) = df(x);
+                (-v, -d)
+            };
+            let x1 = increasing_zero(neg, reach(x_c, -1.0, |x| df(x).0 > 0.0)?, x_c);
+            if f(x1).0 > 0.0 {
+                (f64::NEG_INFINITY, x1)
+            } else {
+                let x2 = increasing_zero(df, x_c, reach(x_c, 1.0, |x| df(x).0 > 0.0)?);
+                if !below_zero(f(x2).0) {
+                    return None;
+                }
+                (x2, f64::INFINITY)
+            }
+        }
+    };
+    let below = |x: f64| f(x).0 <= 0.0;
+    let above = |x: f64| !below_zero(f(x).0);
+    let (lo, hi) = match (lo.is_finite(), hi.is_finite()) {
+        (true, true) => (lo, hi),
+        (false, true) => (reach(hi, -1.0, below)?, hi),
+        (true, false) => (lo, reach(lo, 1.0, above)?),
+        (false, false) if below(0.0) => (0.0, reach(0.0, 1.0, above)?),
+        (false, false) => (reach(0.0, -1.0, below)?, 0.0),
+    };
+    Some(increasing_zero(f, lo, hi))
+}
+
+/// Whether `F` at a point is below 0 (and a number): a root lies beyond it
+/// on a rising branch.
+fn below_zero(f: f64) -> bool {
+    f < 0.0
+}
+
+/// The first `x = from + dir 2^k` (`k = 0, 1, ...`, `|x| < 1e300`) where
+/// `holds(x)`: one end of a bracket.
+fn reach(from: f64, dir: f64, holds: impl Fn(f64) -> bool) -> Option<f64> {
+    let mut step = 1.0;
+    while step < 1e300 {
+        let x = from + dir * step;
+        if holds(x) {
+            return Some(x);
+        }
+        step *= 2.0;
+    }
+    None
+}
+
+/// The zero of `g` (value and derivative), increasing on `[lo, hi]` with
+/// `g(lo) <= 0 <= g(hi)`: Newton's method kept inside the bracket, which
+/// every value shrinks, bisection where a step leaves it (or is not a
+/// number: `g = inf` far out). It ends where the step is below rounding or
+/// the bracket is a few ulps wide: exact to rounding.
+fn increasing_zero(g: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
+    let mut x = 0.5 * lo + 0.5 * hi;
+    for _ in 0..3000 {
+        let (v, d) = g(x);
+        if v == 0.0 {
+            return x;
+        }
+        if v < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let newton = x - v / d;
+        let next = if newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * lo + 0.5 * hi
+        };
+        if next == x || hi - lo <= 4.0 * f64::EPSILON * next.abs() {
+            return next;
+        }
+        x = next;
+    }
+    x
 }
 
 impl FrictionLaw<f64> {
@@ -243,6 +429,7 @@ mod tests {
         FrictionLaw {
             mu0: 0.6,
             a: 0.012,
+            eta: 0.0,
             ageing: Ageing::Log {
                 b: 0.023,
                 mu2: 2.4e-4,
@@ -256,6 +443,7 @@ mod tests {
         FrictionLaw {
             mu0: 0.6,
             a: 0.012,
+            eta: 0.0,
             ageing: Ageing::Cutoff {
                 b: 0.023,
                 theta_c: 0.3,
@@ -268,6 +456,7 @@ mod tests {
         FrictionLaw {
             mu0: 0.6,
             a: 0.012,
+            eta: 0.0,
             ageing: Ageing::Log {
                 b: 0.023,
                 mu2: 2.4e-4,
@@ -397,6 +586,88 @@ mod tests {
     }
 
     #[test]
+    fn the_damped_root_is_the_smallest_on_a_rising_branch() {
+        // F(x) = a x^2 + b x + e expm1(x) - gap; each case's root checked
+        // by its residual (relative to the terms) and its rising slope.
+        let check = |a: f64, b: f64, e: f64, gap: f64| {
+            let x = damped_root(a, b, e, gap).unwrap();
+            let f = a * x * x + b * x + e * x.exp_m1() - gap;
+            // The terms' rounding, and x's own (its ulp times the slope).
+            let slope = 2.0 * a * x + b + e * x.exp();
+            let size = (a * x * x).abs() + (b * x).abs() + (e * x.exp_m1()).abs() + gap.abs();
+            let bound = 8.0 * f64::EPSILON * (size + slope * x.abs());
+            assert!(f.abs() <= bound, "{a} {b} {e} {gap}: {f:e}");
+            assert!(slope > 0.0, "{a} {b} {e} {gap}");
+            x
+        };
+        // a = 0, b > 0 and b = 0: monotone everywhere; b < 0: beyond x1.
+        check(0.0, 0.012, 1e-3, 0.3);
+        check(0.0, 0.0, 1e-3, 2.0);
+        let x = check(0.0, -0.01, 1e-3, 0.5);
+        assert!(x > (0.01f64 / 1e-3).ln());
+        assert_eq!(damped_root(0.0, 0.0, 1e-3, -2e-3), None);
+        // a > 0: convex, the larger root; none below the minimum.
+        let x = check(3e-4, 0.012, 1e-6, -0.05);
+        assert!(2.0 * 3e-4 * x + 0.012 > -1e-6 * x.exp());
+        assert_eq!(damped_root(3e-4, 0.012, 1e-6, -0.2), None);
+        // a < 0, two rising branches (F'(x_c) = -2.3e-3 < 0 at x_c =
+        // ln(-2a/e) = 24.8; F(x1) = 0.12 near the undamped vertex x = 20):
+        // the low one (the undamped law's) while F(x1) > gap, else the high.
+        let (a, b, e) = (-3e-4, 0.012, 1e-14);
+        assert!(check(a, b, 1e-6, 0.2) > 0.0, "monotone: one root");
+        let low = check(a, b, e, 0.1);
+        assert!(low < (-2.0 * a / e).ln() && low < -b / (2.0 * a));
+        let high = check(a, b, e, 0.2);
+        assert!(high > (-2.0 * a / e).ln());
+        // Huge forces: ln v of a few hundred, no overflow.
+        let x = check(0.0, 0.012, 1e-6, 1e300);
+        assert!((x - (1e306f64).ln()).abs() < 1e-9, "{x}");
+        assert_eq!(damped_root(0.0, 0.012, f64::NAN, 0.1), None);
+    }
+
+    #[test]
+    fn the_damped_inversion_carries_exact_derivatives() {
+        // d ln v / d eta_d = -e^L... by implicit differentiation of
+        // b L + eta (e^L - 1) = c: dL/deta = -(e^L - 1) / (b + eta e^L),
+        // dL/dc = 1 / (b + eta e^L); at eta = 1e-3 and at eta = 0 (the
+        // quadratic's root with the damping's derivative).
+        use num_dual::Dual64;
+        for eta in [1e-3, 0.0] {
+            let law = FrictionLaw {
+                eta: Dual64::new(eta, 1.0),
+                mu0: Dual64::from(0.6),
+                a: Dual64::from(0.012),
+                ageing: Ageing::Log {
+                    b: Dual64::from(0.023),
+                    mu2: Dual64::from(0.0),
+                    mu_vv: Dual64::from(0.0),
+                    mu_vphi: Dual64::from(0.0),
+                },
+            };
+            let gap = Dual64::new(0.05, 0.0);
+            let l = law
+                .ln_velocity_change(Dual64::from(0.0), Dual64::from(0.0), gap)
+                .unwrap();
+            let el = l.re.exp();
+            assert!((0.012 * l.re + eta * (el - 1.0) - 0.05).abs() < 1e-16);
+            let expect = -(el - 1.0) / (0.012 + eta * el);
+            assert!(
+                (l.eps / expect - 1.0).abs() < 1e-12,
+                "{eta}: {} vs {expect}",
+                l.eps
+            );
+        }
+        // Without damping the inversion is the quadratic's, to the last bit.
+        let plain = corrected_law();
+        for (w, p, gap) in [(0.3, -1.2, 0.02), (-2.0, 4.0, -0.03)] {
+            assert_eq!(
+                plain.ln_velocity_change(w, p, gap),
+                rising_root(3e-4, plain.rate_coefficient(2.0 * w, p), gap)
+            );
+        }
+    }
+
+    #[test]
     fn a_friction_beyond_the_law_has_no_slip_velocity() {
         // mu_vv > 0: mu(., theta = 1) = mu0 + A L + mu_vv L^2 is lowest at
         // L = -A / (2 mu_vv) = -20, mu0 - A^2 / (4 mu_vv) = 0.48.
@@ -418,6 +689,7 @@ mod tests {
         let law = FrictionLaw {
             mu0: 0.4,
             a: 0.012,
+            eta: 0.0,
             ageing: Ageing::Cutoff {
                 b: 0.023,
                 theta_c: 0.05,

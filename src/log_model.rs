@@ -6,12 +6,12 @@
 //!
 //! ```text
 //! ds/dt   = kappa (nu - e^w)
-//! dw/dt   = (s - mu(e^w, e^phi)) / (m e^w)          (inertial)
+//! dw/dt   = (s - mu(e^w, e^phi) - eta_d e^w) / (m e^w)          (inertial)
 //! dphi/dt = e^-phi - e^w           (ageing law; slip law: -e^w (w + phi))
 //! ```
 //!
-//! and quasi-statically `(s, phi)` with `w` the root of `s = mu(e^w, e^phi)`
-//! on the law's rising branch (`w = (s - mu0 - ageing(e^phi)) / A` without
+//! and quasi-statically `(s, phi)` with `w` the root of `s = mu(e^w, e^phi)
+//! + eta_d e^w` on a rising branch (`w = (s - mu0 - ageing(e^phi)) / A` without
 //! `mu_vv` and `mu_vphi`).
 //!
 //! The state is measured from an origin `(s_o, w_o, phi_o)`
@@ -22,10 +22,10 @@
 //!
 //! ```text
 //! ds/dt   = kappa ((nu - e^w_o) - e^w_o expm1(x_w))
-//! dw/dt   = (x_s + c - A_s x_w - state_change(w_o, phi_o, x_phi)) / (m e^w)
+//! dw/dt   = (x_s + c - A_s x_w - state_change(w_o, phi_o, x_phi) - eta_d e^w_o expm1(x_w)) / (m e^w)
 //! dphi/dt = (e^-phi_o - e^w_o) + e^-phi_o expm1(-x_phi) - e^w_o expm1(x_w)
 //!           (slip law: -(e^w_o + e^w_o expm1(x_w)) ((w_o + phi_o) + x_w + x_phi))
-//! c       = s_o - mu(e^w_o, e^phi_o)
+//! c       = s_o - mu(e^w_o, e^phi_o) - eta_d e^w_o
 //! A_s     = A + mu_vv (2 w_o + x_w) + mu_vphi (phi_o + x_phi)   (the secant slope in ln v)
 //! state_change = ageing_change(phi_o, x_phi) + mu_vphi w_o x_phi
 //! ```
@@ -34,7 +34,8 @@
 //! change of `mu` from the origin, `mu_vv x_w (2 w_o + x_w) + mu_vphi
 //! (phi_o x_w + w_o x_phi + x_phi x_w)` with the ageing term's, without
 //! cancellation; `A_s = A` without `mu_vv` and `mu_vphi`). Quasi-statically
-//! `x_w` solves `A_s x_w = x_s + c - state_change`, a quadratic in `x_w`
+//! `x_w` solves `A_s x_w + eta_d e^w_o expm1(x_w) = x_s + c - state_change`,
+//! a quadratic in `x_w` without damping
 //! ([`FrictionLaw::ln_velocity_change`]; `x_w = (x_s + c -
 //! ageing_change(phi_o, x_phi)) / A` without the corrections); where it
 //! has no root on the rising branch the field is infinite (the state left
@@ -156,7 +157,7 @@ impl VectorField for LogBlock {
         if self.kind == ModelKind::Inertial {
             // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
-            g[1] = gap0 - law.rate_coefficient(x_w + 2.0 * w_o, ln_theta) * x_w;
+            g[1] = gap0 - law.rate_coefficient(x_w + 2.0 * w_o, ln_theta) * x_w - law.damping(dv);
             rho[1] = p[Param::M as usize] * v;
         }
     }
@@ -175,24 +176,26 @@ impl LogBlock {
     }
 
     /// The block measured from steady sliding of `params`,
-    /// `(mu(nu, 1/nu), ln nu, -ln nu)`: the variables of the cycle branches,
+    /// `(mu(nu, 1/nu) + eta_d nu, ln nu, -ln nu)`: the variables of the cycle branches,
     /// where a cycle near onset is a small oscillation about that point.
     pub fn centered(kind: ModelKind, params: &Params) -> Self {
         let law = friction_from(params.theta_c.is_some(), &params.to_vec());
         let ln_nu = params.nu.ln();
         LogBlock {
-            origin: [law.steady(params.nu), ln_nu, -ln_nu],
+            origin: [law.steady_force(params.nu), ln_nu, -ln_nu],
             ..LogBlock::new(kind, params)
         }
     }
 
     /// `c = s_o - mu0 - (A + mu_vv w_o + mu_vphi phi_o) w_o -
-    /// ageing(e^phi_o)`: the friction gap `s - mu` at the origin (zero at
-    /// steady sliding, up to rounding).
+    /// ageing(e^phi_o) - eta_d e^w_o`: the force gap `s - mu - eta_d v` at
+    /// the origin (zero at steady sliding, up to rounding).
     fn offset<D: Scalar>(&self, law: &FrictionLaw<D>) -> D {
         let [s_o, w_o, phi_o] = self.origin;
+        let damping = law.damping(D::from(w_o.exp()));
         let (w_o, phi_o) = (D::from(w_o), D::from(phi_o));
         -law.mu0 - law.rate_coefficient(w_o, phi_o) * w_o - law.ageing_term(phi_o.exp()) + s_o
+            - damping
     }
 
     /// A state in docs/model.md's variables `(s, v, theta)` as this model's state.
@@ -265,6 +268,7 @@ mod tests {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         }
     }
 

@@ -3,11 +3,13 @@
 //! Inertial model, state `(s, v, theta)`:
 //! ```text
 //! ds/dt     = kappa (nu - v)
-//! m dv/dt   = s - mu(v, theta)
+//! m dv/dt   = s - mu(v, theta) - eta_d v
 //! dtheta/dt = 1 - v theta          (ageing law; slip law: -v theta ln(v theta))
 //! ```
-//! Quasi-static model (`m = 0`), state `(s, theta)`, with `v` slaved to the
-//! friction law, `s = mu(v, theta)` on its rising branch in `ln v`
+//! with the radiation damping `eta_d v` (docs/model.md, "Radiation
+//! damping"; 0 by default). Quasi-static model (`m = 0`), state `(s,
+//! theta)`, with `v` slaved to the force balance, `s = mu(v, theta) +
+//! eta_d v` on its rising branch in `ln v`
 //! ([`crate::friction::FrictionLaw::slip_velocity`]; `v = exp((s - mu0 -
 //! ageing(theta)) / A)` without `mu_vv` and `mu_vphi`). Where the law gives
 //! no velocity the field is infinite: the state has left the model's
@@ -68,7 +70,7 @@ impl VectorField for InertialBlock {
             p[Param::M as usize],
         );
         out[0] = kappa * (nu - v);
-        out[1] = (s - law.mu(v, theta)) / m;
+        out[1] = (s - law.mu(v, theta) - law.damping(v)) / m;
         out[2] = self.state_law.rate(v, theta);
     }
 }
@@ -154,11 +156,11 @@ impl VectorField for DrivenBlock {
     }
 }
 
-/// Steady sliding (seed eq. RR5): `v = nu`, `theta = 1/nu`, `s = mu(nu, 1/nu)`,
-/// as the state vector of the given model.
+/// Steady sliding (seed eq. RR5): `v = nu`, `theta = 1/nu`, `s = mu(nu,
+/// 1/nu) + eta_d nu`, as the state vector of the given model.
 pub fn steady_state(kind: ModelKind, params: &Params) -> Vec<f64> {
     let nu = params.nu;
-    let s = params.friction().steady(nu);
+    let s = params.friction().steady_force(nu);
     match kind {
         ModelKind::Inertial => vec![s, nu, 1.0 / nu],
         ModelKind::QuasiStatic => vec![s, 1.0 / nu],
@@ -204,12 +206,25 @@ mod tests {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         }
     }
 
     #[test]
     fn steady_state_is_an_equilibrium_of_both_models() {
-        let p = params();
+        for p in [
+            params(),
+            Params {
+                eta_d: 2e-3,
+                ..params()
+            },
+        ] {
+            steady_state_is_an_equilibrium(&p);
+        }
+    }
+
+    fn steady_state_is_an_equilibrium(p: &Params) {
+        let p = *p;
         for (kind, f) in [
             (
                 ModelKind::Inertial,
@@ -249,14 +264,19 @@ mod tests {
             mu_vphi: -5e-4,
             ..params()
         };
-        for p in [params(), corrected] {
+        // With radiation damping mu_v is mu_v + eta_d nu there.
+        let damped = Params {
+            eta_d: 2e-3,
+            ..corrected
+        };
+        for p in [params(), corrected, damped] {
             check_inertial_jacobian(&p);
         }
     }
 
     fn check_inertial_jacobian(p: &Params) {
         let ln_nu = p.nu.ln();
-        let mu_v = p.a + (2.0 * p.mu_vv - p.mu_vphi) * ln_nu;
+        let mu_v = p.a + (2.0 * p.mu_vv - p.mu_vphi) * ln_nu + p.eta_d * p.nu;
         let mu_phi = p.b + (p.mu_vphi - 2.0 * p.mu2) * ln_nu;
         let j = jacobian(
             &InertialBlock {

@@ -1,11 +1,11 @@
 //! `--set NAME=VALUE` overrides, in either kind of unit:
 //!
 //! * a **dimensionless** parameter of docs/model.md ([`Param`]: `kappa, nu,
-//!   m, A, B, mu0, mu2, theta_c, mu_vv, mu_vphi`), applied to the parameters
+//!   m, A, B, mu0, mu2, theta_c, mu_vv, mu_vphi, eta_d`), applied to the parameters
 //!   after the scene is made dimensionless, as always;
 //! * a **scene key in its physical unit** ([`PHYSICAL`]: `K` in N/m, `M` in
 //!   kg, `W` in N, `V` and `V0` in µm/s, `D0` in µm, `tau` in s, `g` in
-//!   m/s², `V_range` as `LO:HI` in µm/s), applied to the scene before it is
+//!   m/s², `eta` in s/m, `V_range` as `LO:HI` in µm/s), applied to the scene before it is
 //!   made dimensionless, so that `--set K=2e5` gives `kappa = K D0 / W` with
 //!   the scene's `D0` and `W`, and `--set W=600` changes `kappa` and `m`
 //!   together. The friction coefficients `A, B, mu0, mu2, mu_vv, mu_vphi`
@@ -13,7 +13,7 @@
 //!   are applied as parameters.
 //!
 //! One quantity given both ways (`K` and `kappa`, `V` and `nu`, `M` and
-//! `m`, `tau` and `theta_c`) is refused, naming both; so are the two ageing
+//! `m`, `tau` and `theta_c`, `eta` and `eta_d`) is refused, naming both; so are the two ageing
 //! forms together (`mu2`, `mu_vv` or `mu_vphi` with `theta_c` or `tau`). The same name given
 //! twice keeps the last value (as the run names do).
 
@@ -41,7 +41,7 @@ pub struct PhysicalKey {
 
 /// Every scene key `--set` takes in its physical unit (the numeric scene
 /// keys other than the friction coefficients, docs/index.md §2).
-pub const PHYSICAL: [PhysicalKey; 9] = [
+pub const PHYSICAL: [PhysicalKey; 10] = [
     key(
         "K",
         "N/m",
@@ -64,6 +64,14 @@ pub const PHYSICAL: [PhysicalKey; 9] = [
     key("D0", "um", "um", "> 0", None, "memory length"),
     key("tau", "s", "s", "> 0", Some(Param::ThetaC), "ageing cutoff"),
     key("g", "m/s^2", "m_per_s2", "> 0", None, "gravity"),
+    key(
+        "eta",
+        "s/m",
+        "s_per_m",
+        ">= 0",
+        Some(Param::EtaD),
+        "radiation damping",
+    ),
     key(
         "V_range",
         "um/s",
@@ -289,6 +297,7 @@ fn quantity_definition(p: &str) -> &'static str {
         "m" => "m = M V0^2 / (W D0), M in kg",
         "nu" => "nu = V / V0, V in um/s",
         "theta_c" => "theta_c = tau V0 / D0, tau in s",
+        "eta_d" => "eta_d = eta V0, eta in s/m, V0 in m/s",
         _ => "",
     }
 }

@@ -8,6 +8,7 @@
 //! | `A`, `B`, `mu0`, `mu2` | | friction law coefficients |
 //! | `mu_vv`, `mu_vphi` | | coefficients of `(ln v)^2` and `(ln theta)(ln v)` (seed §II.D.2) |
 //! | `theta_c` | `tau V0 / D0` | ageing cutoff (selects the cutoff form) |
+//! | `eta_d` | `eta V0` | radiation damping (`eta` in s/m, `V0` in m/s): the force `W eta x'` over `W` is `eta_d v` |
 
 use crate::error::InputError;
 use crate::friction::{Ageing, FrictionLaw};
@@ -26,6 +27,7 @@ pub enum Param {
     ThetaC = 7,
     MuVv = 8,
     MuVphi = 9,
+    EtaD = 10,
 }
 
 /// Magnitudes a nonzero dimensionless parameter may have
@@ -33,7 +35,7 @@ pub enum Param {
 pub const MAGNITUDE_RANGE: (f64, f64) = (1e-100, 1e100);
 
 /// Number of entries in the engine's parameter vector.
-pub const N_PARAMS: usize = 10;
+pub const N_PARAMS: usize = 11;
 
 impl Param {
     /// Every parameter, in vector order.
@@ -48,6 +50,7 @@ impl Param {
         Param::ThetaC,
         Param::MuVv,
         Param::MuVphi,
+        Param::EtaD,
     ];
 
     /// The parameters of the logarithmic ageing form, which the cutoff
@@ -67,6 +70,7 @@ impl Param {
             Param::ThetaC => "theta_c",
             Param::MuVv => "mu_vv",
             Param::MuVphi => "mu_vphi",
+            Param::EtaD => "eta_d",
         }
     }
 
@@ -120,6 +124,9 @@ pub struct Params {
     pub mu_vv: f64,
     /// Coefficient of `(ln theta)(ln v)` (seed §II.D.2).
     pub mu_vphi: f64,
+    /// Radiation damping `eta_d = eta V0` (docs/model.md, "Radiation
+    /// damping"): the force balance `m v' = s - mu(v, theta) - eta_d v`.
+    pub eta_d: f64,
 }
 
 /// How the state variable `theta` evolves (docs/model.md, "State laws"),
@@ -201,6 +208,7 @@ impl Params {
             Param::ThetaC => self.theta_c.unwrap_or(0.0),
             Param::MuVv => self.mu_vv,
             Param::MuVphi => self.mu_vphi,
+            Param::EtaD => self.eta_d,
         }
     }
 
@@ -215,6 +223,7 @@ impl Params {
             Param::A => self.a = value,
             Param::B => self.b = value,
             Param::Mu0 => self.mu0 = value,
+            Param::EtaD => self.eta_d = value,
             Param::ThetaC => {
                 self.theta_c = Some(value);
                 self.mu2 = 0.0;
@@ -276,7 +285,11 @@ impl Params {
                 return Err(InputError::out_of_range(p.name(), v, "> 0"));
             }
         }
-        for (p, v) in [(Param::M, self.m), (Param::Kappa, self.kappa)] {
+        for (p, v) in [
+            (Param::M, self.m),
+            (Param::Kappa, self.kappa),
+            (Param::EtaD, self.eta_d),
+        ] {
             if v < 0.0 {
                 return Err(InputError::out_of_range(p.name(), v, ">= 0"));
             }
@@ -413,9 +426,17 @@ impl Params {
         Ok(())
     }
 
-    /// Size of the inertia term in eq. C11, `m nu^2 / mu_v`.
+    /// The slope in `ln v` of the force the block meets at steady sliding,
+    /// `d (mu + eta_d v) / d ln v = mu_v + eta_d nu` (docs/model.md, "Linear
+    /// stability"): the linearized force balance's `mu_v`, which eqs.
+    /// C11–C13 take with radiation damping (`mu_v` itself without it).
+    pub fn mu_v_damped(&self) -> f64 {
+        self.mu_v() + self.eta_d * self.nu
+    }
+
+    /// Size of the inertia term in eq. C11, `m nu^2 / (mu_v + eta_d nu)`.
     pub fn inertia_ratio(&self) -> f64 {
-        self.m * self.nu * self.nu / self.mu_v()
+        self.m * self.nu * self.nu / self.mu_v_damped()
     }
 
     /// Named values, for JSON output: the parameters of the ageing form in
@@ -435,6 +456,7 @@ pub fn friction_from<D: Scalar>(cutoff: bool, p: &[D]) -> FrictionLaw<D> {
     FrictionLaw {
         mu0: p[Param::Mu0 as usize],
         a: p[Param::A as usize],
+        eta: p[Param::EtaD as usize],
         ageing: if cutoff {
             Ageing::Cutoff {
                 b,
@@ -468,6 +490,7 @@ mod tests {
             state_law: StateLaw::Ageing,
             mu_vv: 1e-3,
             mu_vphi: -5e-4,
+            eta_d: 0.0,
         }
     }
 
@@ -477,14 +500,17 @@ mod tests {
         let names: Vec<&str> = p.named().iter().map(|(n, _)| *n).collect();
         assert_eq!(
             names,
-            ["kappa", "nu", "m", "A", "B", "mu0", "mu2", "mu_vv", "mu_vphi"]
+            ["kappa", "nu", "m", "A", "B", "mu0", "mu2", "mu_vv", "mu_vphi", "eta_d"]
         );
         // The cutoff clears them; setting one selects the logarithmic form.
         let mut c = p;
         c.set(Param::ThetaC, 0.3);
         assert_eq!((c.mu2, c.mu_vv, c.mu_vphi), (0.0, 0.0, 0.0));
         let names: Vec<&str> = c.named().iter().map(|(n, _)| *n).collect();
-        assert_eq!(names, ["kappa", "nu", "m", "A", "B", "mu0", "theta_c"]);
+        assert_eq!(
+            names,
+            ["kappa", "nu", "m", "A", "B", "mu0", "theta_c", "eta_d"]
+        );
         // A vector read back keeps the form: the cutoff ignores the entries.
         let back = c.with_vec(&p.to_vec());
         assert_eq!((back.mu_vv, back.theta_c), (0.0, Some(0.0)));

@@ -116,7 +116,7 @@ const BUILTIN_NAMES: [&str; 3] = [BUILTINS[0].0, BUILTINS[1].0, BUILTINS[2].0];
 
 /// Every key a scene file may hold.
 const KEYS: &str =
-    "name description A B mu0 mu2 mu_vv mu_vphi tau state_law D0 V0 M W g K V V_range";
+    "name description A B mu0 mu2 mu_vv mu_vphi tau eta state_law D0 V0 M W g K V V_range";
 
 /// The keys of the logarithmic ageing form, which `tau` (the cutoff form)
 /// excludes.
@@ -291,6 +291,8 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         None => mass * g,
     };
     let k = read(&t, "K", ">= 0", "N/m")?;
+    // Radiation damping eta = G / (2 c_s sigma), s/m (docs/model.md).
+    let eta = read(&t, "eta", ">= 0", "s/m")?.unwrap_or(0.0);
     let v = read(&t, "V", "> 0", "um/s")?.unwrap_or(v0);
     let (lo, hi) = t.get("V_range").map_or(Ok((0.1 * v, 100.0 * v)), v_range)?;
 
@@ -314,6 +316,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         state_law,
         mu_vv,
         mu_vphi,
+        eta_d: eta * units.v0,
     };
     let nu_range = (lo / v0, hi / v0);
     let derived = [
@@ -322,6 +325,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         ("nu = V / V0", params.nu),
         ("m = M V0^2 / (W D0)", params.m),
         ("theta_c = tau V0 / D0", params.theta_c.unwrap_or(1.0)),
+        ("eta_d = eta V0", params.eta_d),
         ("V_range[0] / V0", nu_range.0),
         ("V_range[1] / V0", nu_range.1),
     ];

@@ -62,6 +62,7 @@ fn sweep(n: usize, seed: u64) -> Vec<Params> {
                 state_law: Default::default(),
                 mu_vv: 0.0,
                 mu_vphi: 0.0,
+                eta_d: 0.0,
             }
         })
         .collect()
@@ -133,6 +134,7 @@ fn hopf_point_of_the_cutoff_law_matches_c11_and_c13() {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         };
         let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
             panic!("{p:?}: no Hopf")
@@ -251,6 +253,7 @@ fn large_stiffness_eigenvalues_approach_the_asymptotics() {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     };
     let block = DrivenBlock::new(ModelKind::Inertial, &base);
     let mut scaled = Vec::new();

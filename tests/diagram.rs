@@ -46,6 +46,7 @@ fn hopf_curves_match_appendix_c_along_nu() {
                 state_law: Default::default(),
                 mu_vv: 0.0,
                 mu_vphi: 0.0,
+                eta_d: 0.0,
             },
             (0.01, 10.0),
         ),
@@ -63,6 +64,7 @@ fn hopf_curves_match_appendix_c_along_nu() {
                 state_law: Default::default(),
                 mu_vv: 0.0,
                 mu_vphi: 0.0,
+                eta_d: 0.0,
             },
             (0.1, 10.0),
         ),
@@ -186,6 +188,7 @@ fn inertial_rr_onset_changes_type_at_eta_star() {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         };
         let d = hopf_curve(
             ModelKind::Inertial,
@@ -250,6 +253,7 @@ fn a_hopf_region_starting_inside_the_range_is_traced_from_its_start() {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     };
     let d = stability_diagram(ModelKind::QuasiStatic, &p, (0.1, 100.0)).unwrap();
     let nu_star = 0.5f64.exp();
@@ -300,6 +304,7 @@ fn curve_points_resolve_l1_at_small_inertia() {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     };
     let d = stability_diagram(ModelKind::Inertial, &p, (1.0, 1.5)).unwrap();
     let first = d.points.first().unwrap();

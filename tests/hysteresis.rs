@@ -32,6 +32,7 @@ fn brockley(nu: f64, m: f64, kappa: f64) -> Params {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     }
 }
 

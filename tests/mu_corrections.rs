@@ -233,6 +233,7 @@ fn law(a: f64, b: f64, mu2: f64, mu_vv: f64, mu_vphi: f64) -> FrictionLaw<f64> {
     FrictionLaw {
         mu0: 0.6,
         a,
+        eta: 0.0,
         ageing: Ageing::Log {
             b,
             mu2,

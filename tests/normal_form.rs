@@ -31,6 +31,7 @@ fn rr(m: f64, nu: f64, mu2: f64) -> Params {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     }
 }
 
@@ -61,6 +62,7 @@ fn l1_matches_forty_digit_references() {
                 state_law: Default::default(),
                 mu_vv: 0.0,
                 mu_vphi: 0.0,
+                eta_d: 0.0,
             },
             -6.33249221023467425246e-4,
         ),
@@ -98,6 +100,7 @@ fn l1_matches_forty_digit_references() {
                 state_law: Default::default(),
                 mu_vv: 0.0,
                 mu_vphi: 0.0,
+                eta_d: 0.0,
             },
             -1.06322912431647633328e-6,
         ),
@@ -160,6 +163,7 @@ fn quasi_static_ln2_l1_and_amplitude_match_closed_forms() {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         };
         let h = hopf(ModelKind::QuasiStatic, p);
         let mu_phi = b - 2.0 * mu2 * nu.ln();

@@ -48,6 +48,7 @@ fn rows() -> Vec<Row> {
                 state_law: Default::default(),
                 mu_vv: 0.0,
                 mu_vphi: 0.0,
+                eta_d: 0.0,
             };
             Row {
                 label: format!(

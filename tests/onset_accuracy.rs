@@ -56,6 +56,7 @@ fn reference(case: &str, eps_max: f64) -> Vec<Reference> {
                     state_law: Default::default(),
                     mu_vv: 0.0,
                     mu_vphi: 0.0,
+                    eta_d: 0.0,
                 },
                 eps: get("eps"),
                 kappa: get("kappa"),

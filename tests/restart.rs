@@ -905,15 +905,16 @@ fn a_branch_point_continued_in_another_parameter_chooses_its_model_afresh() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `json` as written before `mu_vv` and `mu_vphi` existed: the parameter
-/// vectors (`source.scene_params`, and each orbit's `params` in a copy of
-/// its orbits file `orbits`, which the returned JSON names) hold their
-/// first 8 entries, `kappa` to `theta_c`.
-fn before_corrections(json: &Value, orbits: &Path) -> Value {
+/// `json` as written before `mu_vv` and `mu_vphi` existed (`keep = 8`) or
+/// before `eta_d` (`keep = 10`): the parameter vectors
+/// (`source.scene_params`, and each orbit's `params` in a copy of its
+/// orbits file `orbits`, which the returned JSON names) hold their first
+/// `keep` entries, `kappa` to `theta_c` or to `mu_vphi`.
+fn before_corrections(json: &Value, orbits: &Path, keep: usize) -> Value {
     let truncate = |v: &mut Value| {
         let a = v.as_array_mut().unwrap();
-        assert_eq!(a.len(), 10);
-        assert_eq!(a.split_off(8), [0.0, 0.0]);
+        assert_eq!(a.len(), 11);
+        assert!(a.split_off(keep).iter().all(|x| *x == 0.0));
     };
     let mut old = json.clone();
     truncate(&mut old["source"]["scene_params"]);
@@ -933,10 +934,10 @@ fn before_corrections(json: &Value, orbits: &Path) -> Value {
     old
 }
 
-/// Files written before `mu_vv` and `mu_vphi` (8 parameters) restart with
-/// both 0, as the run that wrote them computed: `cycles --from`, `hopf
-/// --from` and `branch --from` give what they give from the same file in
-/// today's layout (10 parameters), bit for bit.
+/// Files written before `mu_vv` and `mu_vphi` (8 parameters) or before
+/// `eta_d` (10) restart with them 0, as the run that wrote them computed:
+/// `cycles --from`, `hopf --from` and `branch --from` give what they give
+/// from the same file in today's layout (11 parameters), bit for bit.
 #[test]
 fn files_from_before_the_corrections_in_ln_v_restart() {
     let dir = temp_dir("restart-before-corrections");
@@ -949,20 +950,34 @@ fn files_from_before_the_corrections_in_ln_v_restart() {
         std::fs::write(&file, v.to_string()).unwrap();
         file.to_str().unwrap().to_string()
     };
-    let (new, old) = (
+    let (new, new_branch) = (
         write("new.json", &json),
-        write(
-            "old.json",
-            &before_corrections(&json, &dir.join("old-orbits.jsonl")),
-        ),
-    );
-    let (new_branch, old_branch) = (
         write("new-branch.json", &branch_json),
-        write(
-            "old-branch.json",
-            &before_corrections(&branch_json, &dir.join("none")),
-        ),
     );
+    for keep in [8, 10] {
+        let orbits = dir.join(format!("old-orbits-{keep}.jsonl"));
+        let old = write(
+            &format!("old-{keep}.json"),
+            &before_corrections(&json, &orbits, keep),
+        );
+        let old_branch = write(
+            &format!("old-branch-{keep}.json"),
+            &before_corrections(&branch_json, &dir.join("none"), keep),
+        );
+        restarts_agree(&dir, (&new, &old), (&new_branch, &old_branch), keep);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The restarts from `new` and `old` (a file in today's layout and the same
+/// written with `keep` parameters) agree: `hopf --from`, `cycles --from`
+/// and `branch --from`.
+fn restarts_agree(
+    dir: &Path,
+    (new, old): (&str, &str),
+    (new_branch, old_branch): (&str, &str),
+    keep: usize,
+) {
     // Everything but the timing and the files written.
     let result = |args: &[&str]| -> Value {
         let (status, mut v, err) = json_of(args);
@@ -979,7 +994,7 @@ fn files_from_before_the_corrections_in_ln_v_restart() {
         }
         v
     };
-    for (a, b) in [(&new, &old), (&new_branch, &old_branch)] {
+    for (a, b) in [(new, old), (new_branch, old_branch)] {
         let hopf = |from: &str| result(&["hopf", "--json", "--from", from, "--index", "2"]);
         assert_eq!(hopf(a), hopf(b));
     }
@@ -998,15 +1013,18 @@ fn files_from_before_the_corrections_in_ln_v_restart() {
             "3",
         ])
     };
-    let (a, b) = (restart(&new, "r-new"), restart(&old, "r-old"));
+    let (a, b) = (
+        restart(new, &format!("r-new-{keep}")),
+        restart(old, &format!("r-old-{keep}")),
+    );
     assert_eq!(a["cycles"], b["cycles"]);
     assert_eq!(a["source"], b["source"]);
-    assert_eq!(a["source"]["scene_params"][8], 0.0);
+    assert_eq!(a["source"]["scene_params"][keep], 0.0);
     // The text names the file restarted from.
     let again = |from: &str| {
         let v = result(&["branch", "--json", "--from", from, "--index", "5"]);
-        v.to_string().replace("old-branch.json", "new-branch.json")
+        v.to_string()
+            .replace(&format!("old-branch-{keep}.json"), "new-branch.json")
     };
-    assert_eq!(again(&new_branch), again(&old_branch));
-    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(again(new_branch), again(old_branch));
 }

@@ -21,6 +21,7 @@ fn law(mu2: f64) -> Params {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     }
 }
 

@@ -34,6 +34,7 @@ fn params(a: f64, b: f64, mu2: f64, theta_c: Option<f64>, m: f64, nu: f64) -> Pa
         state_law: StateLaw::Ageing,
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     }
 }
 

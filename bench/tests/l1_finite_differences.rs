@@ -21,6 +21,7 @@ fn l1_agrees_with_finite_differences_to_their_accuracy() {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     };
     let HopfOutcome::Found(h) = find_hopf(ModelKind::Inertial, &p).unwrap() else {
         panic!("no Hopf point: {p:?}");

@@ -110,7 +110,8 @@ class Scene:
     overrides. Make one with `Scene.builtin(name)`, `Scene.from_toml(path)`
     or `Scene(A=..., B=..., D0=..., ...)` (the scene file's keys: name,
     description, A, B, mu0, mu2, mu_vv, mu_vphi (the coefficients of
-    (ln v)^2 and (ln theta)(ln v), docs/model.md), tau [s], state_law
+    (ln v)^2 and (ln theta)(ln v), docs/model.md), tau [s], eta [s/m]
+    (radiation damping, docs/model.md), state_law
     ("ageing" or "slip"), D0 [um], V0 [um/s], M [kg], W [N], g [m/s^2],
     K [N/m], V [um/s], V_range [um/s, a pair]); change it with
     `scene.with_(K=2e5, nu=3)` (the names `--set` takes). Scenes are
@@ -189,9 +190,9 @@ class Scene:
     def with_(self, **overrides: Any) -> "Scene":
         """This scene with overrides, named as `--set` takes them: the scene
         keys in their units (K [N/m], M [kg], W [N], V [um/s], tau [s], D0
-        [um], V0 [um/s], g [m/s^2], V_range=(LO, HI) [um/s], state_law=
+        [um], V0 [um/s], g [m/s^2], eta [s/m], V_range=(LO, HI) [um/s], state_law=
         "ageing" or "slip") or the dimensionless parameters (kappa, nu, m,
-        A, B, mu0, mu2, theta_c, mu_vv, mu_vphi).
+        A, B, mu0, mu2, theta_c, mu_vv, mu_vphi, eta_d).
         A name given again replaces its earlier value."""
         items = dict(item.split("=", 1) for item in self._set)
         for name, value in overrides.items():

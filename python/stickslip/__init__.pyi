@@ -20,7 +20,8 @@ StateLaw = Literal["ageing", "slip"]
 
 class Scene:
     # The scene file's keys (docs/model.md): the friction law's A, B, mu0,
-    # mu2, mu_vv, mu_vphi (dimensionless), tau [s], state_law; D0 [um],
+    # mu2, mu_vv, mu_vphi (dimensionless), tau [s], eta [s/m] (radiation
+    # damping), state_law; D0 [um],
     # V0 [um/s], M [kg], W [N], g [m/s^2], K [N/m], V [um/s], V_range [um/s].
     def __init__(
         self,
@@ -34,6 +35,7 @@ class Scene:
         mu_vv: float = ...,
         mu_vphi: float = ...,
         tau: float = ...,
+        eta: float = ...,
         state_law: StateLaw = ...,
         D0: float = ...,
         V0: float = ...,
@@ -65,6 +67,7 @@ class Scene:
         theta_c: float = ...,
         mu_vv: float = ...,
         mu_vphi: float = ...,
+        eta_d: float = ...,
         K: float = ...,
         M: float = ...,
         W: float = ...,
@@ -73,6 +76,7 @@ class Scene:
         D0: float = ...,
         tau: float = ...,
         g: float = ...,
+        eta: float = ...,
         V_range: tuple[float, float] = ...,
         state_law: StateLaw = ...,
     ) -> Scene: ...

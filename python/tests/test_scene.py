@@ -113,3 +113,18 @@ def test_the_state_law_is_a_scene_key():
     assert stickslip.hopf(custom).l1 == pytest.approx(h.l1, rel=1e-14)
     with pytest.raises(stickslip.InputError):
         stickslip.hopf(stickslip.Scene.builtin("pmma").with_(state_law="dieterich"))
+
+
+def test_radiation_damping_is_a_scene_key():
+    """eta [s/m] (issue 27): eta_d = eta V0 with V0 in m/s; kappa_c with
+    mu_v + eta_d nu (docs/model.md); with_(eta=...) and eta_d agree."""
+    s = stickslip.Scene(A=0.012, B=0.023, V0=1.0, eta=5000.0)
+    assert s.params["eta_d"] == pytest.approx(5e-3, rel=1e-15)
+    h = stickslip.hopf(s)
+    assert h.kappa_c == pytest.approx(0.023 - 0.012 - 5e-3, rel=1e-10)
+    plain = stickslip.Scene(A=0.012, B=0.023, V0=1.0)
+    assert plain.params["eta_d"] == 0.0
+    assert plain.with_(eta=5000.0).params["eta_d"] == pytest.approx(5e-3, rel=1e-15)
+    assert stickslip.hopf(plain.with_(eta_d=5e-3)).kappa_c == pytest.approx(h.kappa_c, rel=1e-12)
+    with pytest.raises(stickslip.InputError):
+        stickslip.hopf(plain.with_(eta=-1.0))

@@ -46,7 +46,7 @@ pub enum Control {
 
 /// The names [`Control::parse`] takes, with their units (for messages).
 pub const CONTROL_NAMES: &str = "K [N/m], V [um/s], M [kg], W [N], tau [s] (physical); kappa, \
-                                 nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi (dimensionless)";
+                                 nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, eta_d (dimensionless)";
 
 /// How a control moves the dimensionless parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -139,11 +139,12 @@ pub struct StabilityDiagram {
     pub reason: Option<String>,
 }
 
-/// `mu_phi - mu_v` of steady sliding at `nu` (the friction law's slopes).
+/// `mu_phi - mu_v` of steady sliding at `nu` (the friction law's slopes;
+/// `mu_v + eta_d nu` with radiation damping).
 fn weakening_at(params: &Params, nu: f64) -> f64 {
     let mut p = *params;
     p.nu = nu;
-    p.mu_phi() - p.mu_v()
+    p.mu_phi() - p.mu_v_damped()
 }
 
 /// The stretches of `[lo, hi]` in `nu` where steady friction is velocity
@@ -255,7 +256,7 @@ fn first_hopf<F: Wrap>(
     Ok(None)
 }
 
-/// Velocity where `mu_phi(1/nu) = mu_v` (steady friction minimal, `kappa_c = 0`),
+/// Velocity where `mu_phi(1/nu) = mu_v + eta_d nu` (steady force minimal, `kappa_c = 0`),
 /// by Newton's method in `ln nu` from `nu0`, derivative by dual numbers.
 fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
     use num_dual::{Dual64, DualNum};
@@ -270,7 +271,7 @@ fn friction_minimum(params: &Params, nu0: f64) -> Option<f64> {
     let mut ln_nu = nu0.ln();
     for _ in 0..50 {
         let nu = Dual64::new(ln_nu, 1.0).exp();
-        let slope = law.steady_slope(nu);
+        let slope = law.steady_slope(nu) + law.damping(nu);
         if slope.eps == 0.0 {
             return None;
         }

@@ -313,9 +313,10 @@ pub const STRENGTHENING_FLOOR: f64 = 1e-8;
 
 /// Whether steady friction at `params.nu` is velocity strengthening, or
 /// neutral: `mu_phi <= mu_v` (the steady-state slopes of the friction law,
-/// docs/model.md). Then steady sliding is linearly stable for every stiffness.
+/// docs/model.md; `mu_v + eta_d nu` with radiation damping). Then steady
+/// sliding is linearly stable for every stiffness.
 pub fn velocity_strengthening(params: &Params) -> bool {
-    params.mu_phi() <= params.mu_v()
+    params.mu_phi() <= params.mu_v_damped()
 }
 
 /// What the search for the stick-slip onset found.
@@ -355,8 +356,9 @@ pub fn stable_stiffness<S: VectorField>(
         )));
     }
     let corrections = params.mu2.abs() + params.mu_vv.abs() + params.mu_vphi.abs();
-    let scale = (params.b + params.a + 2.0 * corrections * params.nu.ln().abs())
-        * (1.0 + params.inertia_ratio());
+    let scale =
+        (params.b + params.a + 2.0 * corrections * params.nu.ln().abs() + params.eta_d * params.nu)
+            * (1.0 + params.inertia_ratio());
     let x = steady_state(kind, params);
     let mut kappa = 4.0 * scale;
     for _ in 0..60 {
@@ -387,8 +389,8 @@ const NEUTRAL_SHARE: f64 = 1e-4;
 /// `omega_c -> 0`). Appendix C's critical stiffness (C11/C12) and frequency
 /// (C13) are given instead.
 fn near_velocity_neutral(kind: ModelKind, params: &Params, e: ContinuationError) -> NumericalError {
-    let margin = params.mu_phi() - params.mu_v();
-    if !(margin > 0.0 && margin < NEUTRAL_SHARE * params.mu_v()) {
+    let margin = params.mu_phi() - params.mu_v_damped();
+    if !(margin > 0.0 && margin < NEUTRAL_SHARE * params.mu_v_damped()) {
         return e.into();
     }
     let kappa_c = closed_form_kappa_c(kind, params);
@@ -398,7 +400,7 @@ fn near_velocity_neutral(kind: ModelKind, params: &Params, e: ContinuationError)
          slopes that cancel to that fraction of their size, and rounding keeps the Hopf system \
          from locating it; Appendix C gives kappa_c = {kappa_c:.6e} (eq. C11/C12) and \
          omega_c = {:.3e} (C13); the onset type was not computed",
-        margin / params.mu_v(),
+        margin / params.mu_v_damped(),
         appendix_c::critical_frequency(params).unwrap_or(0.0),
     ))
 }

@@ -11,7 +11,8 @@
 //! ```
 //!
 //! with `mu_v = d mu / d ln v = A + 2 mu_vv ln v + mu_vphi ln theta` at the
-//! state (`A` without the corrections of docs/model.md): the relative error
+//! state (`A` without the corrections of docs/model.md; plus `eta_d v` with
+//! radiation damping, which resists beside `mu`): the relative error
 //! the reduction makes in the slip velocity where it matters most. On the
 //! inertial model the same number is `|s - mu| / mu_v`, the imbalance the
 //! inertial orbit actually carries; where it passes through `mu_v <= 0`,
@@ -73,7 +74,9 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
     };
     let ln_v = log.ln_velocity(x, p);
     let ln_theta = log.origin[2] + x[x.len() - 1];
-    let mu_v = friction_from(log.cutoff, p).rate_coefficient(2.0 * ln_v, ln_theta);
+    // The slope in ln v of the force the block meets, mu + eta_d v.
+    let law = friction_from(log.cutoff, p);
+    let mu_v = law.rate_coefficient(2.0 * ln_v, ln_theta) + law.damping(ln_v.exp());
     if mu_v.is_nan() || mu_v <= 0.0 {
         return f64::MAX;
     }

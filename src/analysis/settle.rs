@@ -302,6 +302,7 @@ mod tests {
             state_law: Default::default(),
             mu_vv: 0.0,
             mu_vphi: 0.0,
+            eta_d: 0.0,
         }
     }
 

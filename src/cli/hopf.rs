@@ -27,7 +27,7 @@ pub struct HopfArgs {
     pub units: TextUnits,
     /// The control parameter of the onset, with everything else at the
     /// scene's values: K [N/m] (default), V [um/s], M [kg], W [N], tau [s],
-    /// or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi. JSON: `critical`.
+    /// or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, eta_d. JSON: `critical`.
     #[arg(long, value_name = "P")]
     pub param: Option<String>,
     /// Low end of the range searched, in the unit of --param (default: the

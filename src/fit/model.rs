@@ -118,12 +118,13 @@ impl<T: Scalar> Values<T> {
     }
 
     /// The dimensionless friction law (docs/model.md) with the reference
-    /// velocity `v0_um_s`; without `mu_vv` and `mu_vphi`, which the fit
+    /// velocity `v0_um_s`; without `mu_vv`, `mu_vphi` and `eta_d`, which the fit
     /// does not model (it refuses a scene that has them, `jobs::fit`).
     fn law(&self, v0_um_s: f64) -> FrictionLaw<T> {
         FrictionLaw {
             mu0: self.mu0,
             a: self.a,
+            eta: T::from(0.0),
             ageing: match self.ageing {
                 AgeingValue::Mu2(mu2) => Ageing::Log {
                     b: self.b,

@@ -311,9 +311,9 @@ fn no_cycle_reason(setup: &Setup, tried: &NoCycleFound) -> String {
         kappas.join(", "),
         tried.tries.iter().map(SettleError::summary).collect::<Vec<_>>().join("; "),
         p.nu,
-        p.mu_phi() - p.mu_v(),
+        p.mu_phi() - p.mu_v_damped(),
         p.mu_phi(),
-        p.mu_v(),
+        p.mu_v_damped(),
         no_cycle_advice(p, tried),
     )
 }

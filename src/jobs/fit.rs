@@ -1,6 +1,6 @@
 //! The `fit` job: the friction law's parameters (`mu0`, `A`, `B`, `D0`,
-//! and `mu2` or `tau` by the scene's form; a scene with `mu_vv` or
-//! `mu_vphi` is refused) from laboratory data, by joint
+//! and `mu2` or `tau` by the scene's form; a scene with `mu_vv`,
+//! `mu_vphi` or radiation damping `eta` is refused) from laboratory data, by joint
 //! weighted least squares over every dataset, with standard errors, the
 //! correlation matrix, the parameters the data do not determine (named,
 //! with the data that would determine them, never given a made-up value),
@@ -441,6 +441,14 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         return Err(InputError::Conflict(format!(
             "fit models the friction law without the corrections mu_vv and mu_vphi, and the \
              scene has {name} = {value:e}: fit it with --set mu_vv=0 --set mu_vphi=0"
+        ))
+        .into());
+    }
+    if p.eta_d != 0.0 {
+        return Err(InputError::Conflict(format!(
+            "fit models the block without radiation damping, and the scene has eta_d = {:e} \
+             (scene key eta): fit it with --set eta=0",
+            p.eta_d
         ))
         .into());
     }

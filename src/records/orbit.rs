@@ -19,13 +19,19 @@ use std::collections::BTreeMap;
 /// existed (`kappa` to `theta_c`).
 const N_PARAMS_BEFORE_CORRECTIONS: usize = 8;
 
+/// Entries of the parameter vectors written before `eta_d` existed
+/// (`kappa` to `mu_vphi`).
+const N_PARAMS_BEFORE_DAMPING: usize = 10;
+
 /// A parameter vector as written ([`StoredOrbit::params`],
 /// [`Source::scene_params`]): one written before `mu_vv` and `mu_vphi`
 /// existed, with [`N_PARAMS_BEFORE_CORRECTIONS`] entries, reads with both
-/// corrections 0 (the law it was computed with).
+/// corrections 0, and one written before `eta_d` existed
+/// ([`N_PARAMS_BEFORE_DAMPING`]) without damping (the law it was computed
+/// with).
 fn parameter_vector<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
     let mut v = Vec::<f64>::deserialize(d)?;
-    if v.len() == N_PARAMS_BEFORE_CORRECTIONS {
+    if [N_PARAMS_BEFORE_CORRECTIONS, N_PARAMS_BEFORE_DAMPING].contains(&v.len()) {
         v.resize(N_PARAMS, 0.0);
     }
     Ok(v)
@@ -36,7 +42,8 @@ fn parameter_vector_expected() -> String {
     let names: Vec<&str> = Param::ALL.iter().map(|p| p.name()).collect();
     format!(
         "expected {N_PARAMS} finite numbers ({}), or the first \
-         {N_PARAMS_BEFORE_CORRECTIONS} (written before mu_vv and mu_vphi)",
+         {N_PARAMS_BEFORE_CORRECTIONS} (written before mu_vv and mu_vphi) or \
+         {N_PARAMS_BEFORE_DAMPING} (written before eta_d)",
         names.join(", ")
     )
 }
@@ -66,8 +73,8 @@ pub struct StoredOrbit {
     /// `(s_o, ln v_o, ln theta_o)`: the point the state is measured from.
     pub origin: [f64; 3],
     /// The full parameter vector, in the order `kappa, nu, m, A, B, mu0,
-    /// mu2, theta_c, mu_vv, mu_vphi` (`theta_c` 0 without the cutoff; the
-    /// last two absent in files written before them, read as 0).
+    /// mu2, theta_c, mu_vv, mu_vphi, eta_d` (`theta_c` 0 without the cutoff;
+    /// the last three absent in files written before them, read as 0).
     #[serde(deserialize_with = "parameter_vector")]
     pub params: Vec<f64>,
     /// Period in units of `D0/V0`.
@@ -289,6 +296,7 @@ impl Source {
             state_law: self.state_law,
             mu_vv: v[Param::MuVv as usize],
             mu_vphi: v[Param::MuVphi as usize],
+            eta_d: v[Param::EtaD as usize],
         };
         for (name, v) in &self.at {
             let q = Param::parse(name).map_err(|e| format!("at: {e}"))?;

@@ -44,6 +44,7 @@ pub fn pmma(m: f64, mu2: f64) -> Params {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     }
 }
 
@@ -63,6 +64,7 @@ pub fn brockley(nu: f64) -> Params {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     }
 }
 

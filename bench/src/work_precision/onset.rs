@@ -120,6 +120,7 @@ pub(super) fn study() -> Result<Vec<Measurement>, Error> {
         state_law: Default::default(),
         mu_vv: 0.0,
         mu_vphi: 0.0,
+        eta_d: 0.0,
     };
     let kind = ModelKind::QuasiStatic;
     let mut out = Vec::new();

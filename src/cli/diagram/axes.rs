@@ -16,7 +16,7 @@ use std::time::Instant;
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct AxesArgs {
     /// x axis: the control parameter varied along the curve, in its unit
-    /// (K, V, M, W, tau, kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi); default V.
+    /// (K, V, M, W, tau, kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, eta_d); default V.
     #[arg(long)]
     pub x: Option<String>,
     /// y axis: the control parameter whose critical value is plotted;
