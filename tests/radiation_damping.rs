@@ -546,3 +546,31 @@ fn the_onset_in_eta_d() {
     let got = num(&v["critical"], "value");
     assert!(rel(got, 0.006) < 1e-8, "{got}");
 }
+
+/// The onset in the damping in its own unit, s/m (`--param eta`): on the
+/// fault-like scene (K = 2e9 N/m, kappa = K D0 / W = 2e-3, nu = 1,
+/// quasi-static) C12 with the damped slope, `kappa_c = B - A - eta_d`,
+/// puts it at `eta_d = B - A - kappa = 2e-3`, `eta = eta_d / V0 = 2000 s/m`
+/// (V0 = 1 µm/s), with `critical.dimensionless.eta_d` beside it.
+#[test]
+fn the_onset_in_eta_in_seconds_per_metre() {
+    let dir = temp_dir("damping-eta-control");
+    let scene = dir.join("quake.toml");
+    std::fs::write(&scene, QUAKE).unwrap();
+    let v = hopf(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--param",
+        "eta",
+        "--from",
+        "1",
+        "--to",
+        "1e4",
+    ]);
+    let c = &v["critical"];
+    assert_eq!(c["unit"], "s/m");
+    let eta_d = 0.014 - 0.010 - 2e9 * 10e-6 / 1e7;
+    assert!(rel(num(c, "value"), eta_d / 1e-6) < 1e-9, "{c}");
+    assert!(rel(num(&c["dimensionless"], "eta_d"), eta_d) < 1e-9, "{c}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

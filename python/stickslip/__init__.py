@@ -691,7 +691,7 @@ def hopf(
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
     param: the control parameter of the onset, everything else at the
         scene's values: K [N/m] (the default), V [um/s], M [kg], W [N],
-        tau [s], or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi.
+        tau [s], eta [s/m], or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi.
     from_, to: the range searched, in the unit of `param` (not for the
         stiffness; default: the scene's V_range for V and nu, 1e-3 to 1e3
         times the scene's value otherwise).
@@ -789,7 +789,7 @@ def cycles(
     collocation: "gauss" or "radau" instead of the model's choice.
     param, to: `param="K"` (or "kappa") with `to` ends the branch at that
         stiffness in its unit, in place of `kappa_fraction`; another
-        control parameter (V [um/s], M [kg], W [N], tau [s], nu, m, A, B,
+        control parameter (V [um/s], M [kg], W [N], tau [s], eta [s/m], nu, m, A, B,
         mu2, theta_c, mu_vv, mu_vphi) continues the cycles in it from its Hopf point up to
         `to` in its unit (`stickslip cycles --param V --to 300`); `at` then
         names it ({"V": [100, 200]}); the cycles carry the control's column
@@ -1174,7 +1174,7 @@ def branch(
 
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
     param: kappa (the default) or nu, or a control parameter in its unit:
-        K [N/m], V [um/s], M [kg], tau [s], or m, A, B, mu2, theta_c,
+        K [N/m], V [um/s], M [kg], tau [s], eta [s/m], or m, A, B, mu2, theta_c,
         mu_vv, mu_vphi (the rows are in the dimensionless parameter it moves).
     from_, to: the range, in the unit of `param` (default: kappa, K — from
         a stable stiffness to 1e-3 of it; nu, V — the scene's velocity

@@ -42,11 +42,14 @@ pub enum Control {
     W,
     /// The ageing cutoff `tau` [s].
     Tau,
+    /// The radiation damping `eta` [s/m] (`eta_d = eta V0`).
+    Eta,
 }
 
 /// The names [`Control::parse`] takes, with their units (for messages).
-pub const CONTROL_NAMES: &str = "K [N/m], V [um/s], M [kg], W [N], tau [s] (physical); kappa, \
-                                 nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, eta_d (dimensionless)";
+pub const CONTROL_NAMES: &str = "K [N/m], V [um/s], M [kg], W [N], tau [s], eta [s/m] \
+                                 (physical); kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, \
+                                 eta_d (dimensionless)";
 
 /// How a control moves the dimensionless parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,6 +80,7 @@ impl Control {
             "M" => Control::M,
             "W" => Control::W,
             "tau" => Control::Tau,
+            "eta" => Control::Eta,
             "mu0" => {
                 return Err(InputError::Conflict(format!(
                     "{field} mu0: mu0 shifts the friction level only and moves no onset \
@@ -86,7 +90,7 @@ impl Control {
             _ => match Param::parse(name) {
                 Ok(p) => Control::Dimensionless(p),
                 Err(_) => {
-                    let physical = ["K", "V", "M", "W", "tau"];
+                    let physical = ["K", "V", "M", "W", "tau", "eta"];
                     let dimensionless = Param::ALL.iter().map(|p| p.name());
                     let all = physical
                         .into_iter()
@@ -112,6 +116,7 @@ impl Control {
             Control::M => "M",
             Control::W => "W",
             Control::Tau => "tau",
+            Control::Eta => "eta",
         }
     }
 
@@ -124,6 +129,7 @@ impl Control {
             Control::M => "kg",
             Control::W => "N",
             Control::Tau => "s",
+            Control::Eta => "s/m",
         }
     }
 
@@ -205,6 +211,7 @@ impl Control {
             Control::M => vec![Param::M],
             Control::W => vec![Param::Kappa, Param::M],
             Control::Tau => vec![Param::ThetaC],
+            Control::Eta => vec![Param::EtaD],
         }
     }
 
@@ -232,6 +239,7 @@ impl Control {
             Control::M => index(Param::M, units.v0 * units.v0 / (units.load * units.d0)),
             Control::W => Path::Load,
             Control::Tau => index(Param::ThetaC, units.v0 / units.d0),
+            Control::Eta => index(Param::EtaD, units.v0),
         }
     }
 
@@ -244,6 +252,7 @@ impl Control {
             Control::M => units.mass,
             Control::W => units.load,
             Control::Tau => params.get(Param::ThetaC) * units.d0 / units.v0,
+            Control::Eta => params.get(Param::EtaD) / units.v0,
         }
     }
 
@@ -258,6 +267,7 @@ impl Control {
             Control::K => p.kappa = value * u.d0 / u.load,
             Control::V => p.nu = u.nu_of_velocity_um_s(value),
             Control::Tau => p.set(Param::ThetaC, value * u.v0 / u.d0),
+            Control::Eta => p.set(Param::EtaD, value * u.v0),
             Control::M if u.load_is_weight => {
                 u.mass = value;
                 u.load = value * u.g;

@@ -591,6 +591,7 @@ fn control_column(control: Control) -> Option<&'static str> {
         Control::M => Some("M_kg"),
         Control::W => Some("W_N"),
         Control::Tau => Some("tau_s"),
+        Control::Eta => Some("eta_s_per_m"),
         Control::K | Control::Dimensionless(_) => None,
     }
 }

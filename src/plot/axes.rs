@@ -15,6 +15,7 @@ pub fn axis_label(c: Control) -> String {
         Control::M => "block mass M [kg]".into(),
         Control::W => "normal load W [N]".into(),
         Control::Tau => "ageing cutoff τ [s]".into(),
+        Control::Eta => "radiation damping η [s/m]".into(),
         Control::Dimensionless(p) => match p {
             Param::Kappa => "κ = K D0 / W".into(),
             Param::Nu => "ν = V / V0".into(),
