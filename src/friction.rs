@@ -425,7 +425,8 @@ impl FrictionLaw<f64> {
 mod tests {
     use super::*;
 
-    fn ln2_law() -> FrictionLaw<f64> {
+    /// The ln² law of the PMMA scene with the corrections of seed §II.D.2.
+    fn log_law(mu_vv: f64, mu_vphi: f64) -> FrictionLaw<f64> {
         FrictionLaw {
             mu0: 0.6,
             a: 0.012,
@@ -433,10 +434,14 @@ mod tests {
             ageing: Ageing::Log {
                 b: 0.023,
                 mu2: 2.4e-4,
-                mu_vv: 0.0,
-                mu_vphi: 0.0,
+                mu_vv,
+                mu_vphi,
             },
         }
+    }
+
+    fn ln2_law() -> FrictionLaw<f64> {
+        log_law(0.0, 0.0)
     }
 
     fn cutoff_law() -> FrictionLaw<f64> {
@@ -453,17 +458,7 @@ mod tests {
 
     /// The ln² law with both corrections of seed §II.D.2.
     fn corrected_law() -> FrictionLaw<f64> {
-        FrictionLaw {
-            mu0: 0.6,
-            a: 0.012,
-            eta: 0.0,
-            ageing: Ageing::Log {
-                b: 0.023,
-                mu2: 2.4e-4,
-                mu_vv: 3e-4,
-                mu_vphi: -2e-4,
-            },
-        }
+        log_law(3e-4, -2e-4)
     }
 
     #[test]

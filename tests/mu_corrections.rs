@@ -15,27 +15,10 @@
 
 mod common;
 
-use common::{stickslip, temp_dir};
+use common::{all_finite, assert_l1_matches, hopf_json, json_of, run_json, stickslip, temp_dir};
 use proptest::prelude::*;
 use serde_json::Value;
 use stickslip::friction::{Ageing, FrictionLaw, NoSlipVelocity};
-
-/// `stickslip ARGS`: the exit status and the JSON printed.
-fn json_of(args: &[&str]) -> (i32, Value, String) {
-    let (status, out, err) = stickslip(args);
-    (
-        status,
-        serde_json::from_str(&out).unwrap_or(Value::Null),
-        err,
-    )
-}
-
-/// `hopf --json ARGS`, which must succeed.
-fn hopf(args: &[&str]) -> Value {
-    let (status, v, err) = json_of(&[&["hopf", "--json"], args].concat());
-    assert_eq!(status, 0, "{args:?}: {err}");
-    v
-}
 
 fn num(v: &Value, k: &str) -> f64 {
     v[k].as_f64()
@@ -73,7 +56,7 @@ fn kappa_c_and_omega_c_are_appendix_c_with_the_corrected_slopes() {
             let set_nu = format!("nu={nu}");
             for model in [&["--model", "quasi-static"][..], &["--set", "m=0.05"]] {
                 let args = [&law[..], &["--set", &set_nu, "--set", "mu2=2.4e-4"], model].concat();
-                let v = hopf(&args);
+                let v = hopf_json(&args);
                 let p = &v["params"];
                 let (mu_v, mu_phi) = slopes(p);
                 assert!(rel(num(&v, "mu_v"), mu_v) < 1e-14, "{args:?}: mu_v");
@@ -102,7 +85,7 @@ fn kappa_c_and_omega_c_are_appendix_c_with_the_corrected_slopes() {
     assert_eq!(checked, 16);
     // Where the corrected slopes strengthen steady friction (mu_phi <=
     // mu_v: at nu = 30, 0.019667 <= 0.020503) there is no onset.
-    let v = hopf(&[
+    let v = hopf_json(&[
         "--set",
         "mu_vv=1e-3",
         "--set",
@@ -180,20 +163,9 @@ fn l1_against_the_high_precision_reference() {
         for s in &set {
             args.extend(["--set", s]);
         }
-        let v = hopf(&args);
+        let v = hopf_json(&args);
         assert_eq!(v["model"], model, "{label}");
-        // The reference carries 30 digits; as an f64 it is within half an
-        // ulp, 1.1e-16 relative. hopf's l1 carries its own rounding bound;
-        // beside it, 4 ulps of the reference cover the reference's rounding
-        // to f64 and the bound's own (it is an estimate of rounding, good to
-        // its order). kappa_c and omega_c as in the test above.
-        let (got, bound) = (num(&v, "l1"), num(&v, "l1_error_bound"));
-        let allowed = bound + 4.0 * f64::EPSILON * l1.abs();
-        assert!(
-            (got - l1).abs() <= allowed,
-            "{label}: l1 = {got} vs {l1} (bound {bound:.1e})"
-        );
-        assert!(bound < 1e-8 * l1.abs(), "{label}: l1 resolved");
+        assert_l1_matches(&v, l1, label);
         let criticality = if l1 < 0.0 {
             "supercritical"
         } else {
@@ -209,7 +181,7 @@ fn l1_against_the_high_precision_reference() {
 fn a_correction_lifts_the_degeneracy_of_the_plain_quasi_static_law() {
     // The plain quasi-static law is degenerate (l1 = 0 exactly, Ranjith &
     // Rice); with mu_vv alone it is not (reference case 2: l1 = 0.111).
-    let plain = hopf(&["--model", "quasi-static", "--set", "mu2=0"]);
+    let plain = hopf_json(&["--model", "quasi-static", "--set", "mu2=0"]);
     assert_eq!(plain["criticality"], "degenerate");
     let (status, text, err) = stickslip(&["hopf", "--model", "quasi-static", "--set", "mu2=0"]);
     assert_eq!(status, 0, "{err}");
@@ -217,7 +189,7 @@ fn a_correction_lifts_the_degeneracy_of_the_plain_quasi_static_law() {
         text.contains("a correction in ln v (mu_vv, mu_vphi)"),
         "{text}"
     );
-    let lifted = hopf(&[
+    let lifted = hopf_json(&[
         "--model",
         "quasi-static",
         "--set",
@@ -344,24 +316,6 @@ proptest! {
     }
 }
 
-/// The JSON of `args`, without what names the run (its overrides) or times it.
-fn run_json(args: &[&str]) -> (i32, Value) {
-    let (status, mut v, err) = json_of(args);
-    assert!(status == 0 || status == 4, "{args:?}: {err}");
-    let o = v.as_object_mut().unwrap();
-    for key in [
-        "elapsed_s",
-        "source",
-        "files",
-        "orbits_file",
-        "label",
-        "name",
-    ] {
-        o.remove(key);
-    }
-    (status, v)
-}
-
 #[test]
 fn zero_corrections_are_the_law_without_them_bit_for_bit() {
     // The params JSON gains mu_vv and mu_vphi; every other number is the
@@ -459,18 +413,6 @@ V = 3
 K = 1.68e5
 "#;
 
-/// Every number in `v` is finite (JSON has no NaN: it would be null).
-fn all_finite(v: &Value, at: &str) {
-    match v {
-        Value::Array(a) => a.iter().for_each(|x| all_finite(x, at)),
-        Value::Object(o) => o
-            .iter()
-            .for_each(|(k, x)| all_finite(x, &format!("{at}.{k}"))),
-        Value::Number(n) => assert!(n.as_f64().unwrap().is_finite(), "{at}"),
-        _ => {}
-    }
-}
-
 #[test]
 fn cycles_simulate_and_diagram_run_on_a_scene_with_the_corrections() {
     let dir = temp_dir("mu-corrections-scene");
@@ -513,7 +455,7 @@ fn cycles_simulate_and_diagram_run_on_a_scene_with_the_corrections() {
 fn the_onset_in_mu_vv() {
     // Quasi-static kappa_c = (B - A) - 2 (mu2 + mu_vv - mu_vphi) ln nu: at
     // kappa = 0.009, nu = 3 the onset is at mu_vv = (0.002 / (2 ln 3)) - mu2.
-    let v = hopf(&[
+    let v = hopf_json(&[
         "--model",
         "quasi-static",
         "--set",

@@ -16,27 +16,10 @@
 
 mod common;
 
-use common::{stickslip, temp_dir};
+use common::{all_finite, assert_l1_matches, hopf_json, json_of, run_json, stickslip, temp_dir};
 use proptest::prelude::*;
 use serde_json::Value;
 use stickslip::friction::{Ageing, FrictionLaw};
-
-/// `stickslip ARGS`: the exit status and the JSON printed.
-fn json_of(args: &[&str]) -> (i32, Value, String) {
-    let (status, out, err) = stickslip(args);
-    (
-        status,
-        serde_json::from_str(&out).unwrap_or(Value::Null),
-        err,
-    )
-}
-
-/// `hopf --json ARGS`, which must succeed.
-fn hopf(args: &[&str]) -> Value {
-    let (status, v, err) = json_of(&[&["hopf", "--json"], args].concat());
-    assert_eq!(status, 0, "{args:?}: {err}");
-    v
-}
 
 fn num(v: &Value, k: &str) -> f64 {
     v[k].as_f64()
@@ -71,7 +54,7 @@ fn kappa_c_and_omega_c_are_appendix_c_with_the_damped_slope() {
                     model,
                 ]
                 .concat();
-                let v = hopf(&args);
+                let v = hopf_json(&args);
                 let p = &v["params"];
                 let g = |k: &str| num(p, k);
                 let (nu, m, eta_d) = (g("nu"), g("m"), g("eta_d"));
@@ -96,7 +79,7 @@ fn kappa_c_and_omega_c_are_appendix_c_with_the_damped_slope() {
     assert_eq!(checked, 18);
     // Damping strengthens: with eta_d nu >= mu_phi - mu_v there is no onset
     // (nu = 1: B - A = 0.011).
-    let v = hopf(&["--set", "eta_d=0.012", "--set", "nu=1"]);
+    let v = hopf_json(&["--set", "eta_d=0.012", "--set", "nu=1"]);
     assert_eq!(v["status"], "stable_for_all_stiffness");
 }
 
@@ -162,17 +145,9 @@ fn l1_against_the_high_precision_reference() {
         for s in &set {
             args.extend(["--set", s]);
         }
-        let v = hopf(&args);
+        let v = hopf_json(&args);
         assert_eq!(v["model"], model, "{label}");
-        // As in tests/mu_corrections.rs: hopf's own rounding bound and 4
-        // ulps of the reference (its rounding to f64, the bound's order).
-        let (got, bound) = (num(&v, "l1"), num(&v, "l1_error_bound"));
-        let allowed = bound + 4.0 * f64::EPSILON * l1.abs();
-        assert!(
-            (got - l1).abs() <= allowed,
-            "{label}: l1 = {got} vs {l1} (bound {bound:.1e})"
-        );
-        assert!(bound < 1e-8 * l1.abs(), "{label}: l1 resolved");
+        assert_l1_matches(&v, l1, label);
         assert_eq!(v["criticality"], "supercritical", "{label}");
         assert!(rel(num(&v, "kappa_c"), kappa_c) < 1e-12, "{label}: kappa_c");
         assert!(rel(num(&v, "omega_c"), omega_c) < 1e-12, "{label}: omega_c");
@@ -252,24 +227,6 @@ fn huge_forces_are_held_by_the_damping() {
         law(0.0, 0.0, 0.0).slip_velocity(1e300, 1.0),
         Ok(f64::INFINITY)
     );
-}
-
-/// The JSON of `args`, without what names the run (its overrides) or times it.
-fn run_json(args: &[&str]) -> (i32, Value) {
-    let (status, mut v, err) = json_of(args);
-    assert!(status == 0 || status == 4, "{args:?}: {err}");
-    let o = v.as_object_mut().unwrap();
-    for key in [
-        "elapsed_s",
-        "source",
-        "files",
-        "orbits_file",
-        "label",
-        "name",
-    ] {
-        o.remove(key);
-    }
-    (status, v)
 }
 
 #[test]
@@ -451,18 +408,6 @@ fn radiation_damping_bounds_the_peak_slip_velocity() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Every number in `v` is finite (JSON has no NaN: it would be null).
-fn all_finite(v: &Value, at: &str) {
-    match v {
-        Value::Array(a) => a.iter().for_each(|x| all_finite(x, at)),
-        Value::Object(o) => o
-            .iter()
-            .for_each(|(k, x)| all_finite(x, &format!("{at}.{k}"))),
-        Value::Number(n) => assert!(n.as_f64().unwrap().is_finite(), "{at}"),
-        _ => {}
-    }
-}
-
 #[test]
 fn every_command_runs_on_a_scene_with_damping() {
     let dir = temp_dir("radiation-damping-scene");
@@ -531,7 +476,7 @@ fn input_errors_name_the_field() {
 fn the_onset_in_eta_d() {
     // Quasi-static kappa_c = B - A - 2 mu2 ln nu - eta_d nu (pmma, nu = 1):
     // at kappa = 0.005 the onset is at eta_d = 0.011 - 0.005 = 0.006.
-    let v = hopf(&[
+    let v = hopf_json(&[
         "--model",
         "quasi-static",
         "--set",
@@ -557,7 +502,7 @@ fn the_onset_in_eta_in_seconds_per_metre() {
     let dir = temp_dir("damping-eta-control");
     let scene = dir.join("quake.toml");
     std::fs::write(&scene, QUAKE).unwrap();
-    let v = hopf(&[
+    let v = hopf_json(&[
         "--scene",
         scene.to_str().unwrap(),
         "--param",

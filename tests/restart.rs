@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{stickslip, temp_dir};
+use common::{json_of, stickslip, temp_dir};
 use serde_json::Value;
 use std::path::Path;
 use stickslip::analysis::settle::{settle, stuck_start, SettleSettings};
@@ -17,16 +17,6 @@ use stickslip::jobs::SceneSpec;
 use stickslip::log_model::LogBlock;
 use stickslip::model::ModelKind;
 use stickslip::records::orbit::StoredOrbit;
-
-/// `stickslip ARGS`: the exit status, the JSON it printed and stderr.
-fn json_of(args: &[&str]) -> (i32, Value, String) {
-    let (status, stdout, stderr) = stickslip(args);
-    (
-        status,
-        serde_json::from_str(&stdout).unwrap_or(Value::Null),
-        stderr,
-    )
-}
 
 /// `cycles ARGS --json --out DIR`: the exit status, the JSON and stderr.
 fn cycles(dir: &Path, args: &[&str]) -> (i32, Value, String) {

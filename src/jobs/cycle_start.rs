@@ -149,13 +149,7 @@ impl Start {
                         format!("{:.10e} D0/V0", r.orbit.period),
                     ),
                 };
-                let (what, corrected) = match r.fold_in {
-                    Some(p) => (
-                        format!(", a fold of cycles (LPC) in {}", p.name()),
-                        "at its period",
-                    ),
-                    None => (String::new(), "at its parameters"),
-                };
+                let (what, corrected) = r.correction_words();
                 return format!(
                     "restarting from cycle #{} of {}{what} ({} model, {stiffness}, period {period}, \
                      NTST {}), corrected on its own mesh {corrected}, continued both ways",

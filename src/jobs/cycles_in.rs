@@ -146,13 +146,7 @@ impl Plan {
         let restarted_from = restarted.as_ref().map(|x| x.record(&scene_params));
         let restart_text = restarted.as_ref().map(|x| {
             let value = control.from_dimensionless(&units, &scene_params, x.orbit.param(param));
-            let (fold, corrected) = match x.fold_in {
-                Some(p) => (
-                    format!(", a fold of cycles (LPC) in {}", p.name()),
-                    "at its period",
-                ),
-                None => (String::new(), "at its parameters"),
-            };
+            let (fold, corrected) = x.correction_words();
             format!(
                 "restarting from cycle #{} of {}{fold} ({} model, {} = {value:.10e} {}, period \
                  {:.10e} s, NTST {}), corrected on its own mesh {corrected}, continued both ways \

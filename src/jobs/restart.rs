@@ -362,14 +362,14 @@ impl Restart {
         let same_file = |scene: &str| {
             std::fs::canonicalize(scene).is_ok_and(|p| p.display().to_string() == spec.scene)
         };
-        if !given.scene.is_empty() && given.scene != spec.scene && !same_file(&given.scene) {
-            let standing_in = SceneSpec {
-                scene: given.scene.clone(),
-                ..spec.clone()
-            };
-            let units = standing_in
-                .setup(|p| *p)
-                .map_err(|e| {
+        // Set up once: the stand-in, or the file's scene.
+        let setup =
+            if !given.scene.is_empty() && given.scene != spec.scene && !same_file(&given.scene) {
+                let standing_in = SceneSpec {
+                    scene: given.scene.clone(),
+                    ..spec.clone()
+                };
+                let stand_in = standing_in.setup(|p| *p).map_err(|e| {
                     self.error(
                         "source.scene",
                         format!(
@@ -378,24 +378,24 @@ impl Restart {
                             spec.scene, given.scene
                         ),
                     )
-                })?
-                .scene
-                .units;
-            if let Ok(run) = spec.setup(|p| *p) {
-                if run.scene.units != units {
-                    return Err(self.error(
-                        "source.scene",
-                        format!(
-                            "the file's run is of the scene {}, not --scene {} (their units \
+                })?;
+                if let Ok(run) = spec.setup(|p| *p) {
+                    if run.scene.units != stand_in.scene.units {
+                        return Err(self.error(
+                            "source.scene",
+                            format!(
+                                "the file's run is of the scene {}, not --scene {} (their units \
                              differ): leave out --scene",
-                            spec.scene, given.scene
-                        ),
-                    ));
+                                spec.scene, given.scene
+                            ),
+                        ));
+                    }
                 }
-            }
-            spec = standing_in;
-        }
-        let setup = spec.setup(|p| *p)?;
+                spec = standing_in;
+                stand_in
+            } else {
+                spec.setup(|p| *p)?
+            };
         let now = setup.scene_params.to_vec();
         if let Some(q) = Param::ALL.iter().find(|q| {
             source.scene_params.get(**q as usize).map(|v| v.to_bits())
@@ -528,6 +528,19 @@ impl Restart {
 }
 
 impl Restarted {
+    /// What the text says of the cycle restarted from and how it is
+    /// corrected: `", a fold of cycles (LPC) in kappa"` and `"at its
+    /// period"` for a fold, else nothing and `"at its parameters"`.
+    pub fn correction_words(&self) -> (String, &'static str) {
+        match self.fold_in {
+            Some(p) => (
+                format!(", a fold of cycles (LPC) in {}", p.name()),
+                "at its period",
+            ),
+            None => (String::new(), "at its parameters"),
+        }
+    }
+
     /// The scene set up as the run that wrote the cycle had it, checked to
     /// give the same parameters ([`Restart::scene_setup`]), with the
     /// cycle's model, and the reason saying so: the model of the cycle,

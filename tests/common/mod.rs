@@ -149,3 +149,71 @@ K = 2e5         # N/m
 V = 1.0         # µm/s
 V_range = [0.01, 1000.0]
 "#;
+
+/// `stickslip ARGS`: the exit status, the JSON it printed (`null` when it
+/// printed none) and its standard error.
+pub fn json_of(args: &[&str]) -> (i32, serde_json::Value, String) {
+    let (status, out, err) = stickslip(args);
+    (
+        status,
+        serde_json::from_str(&out).unwrap_or(serde_json::Value::Null),
+        err,
+    )
+}
+
+/// `hopf --json ARGS`, which must succeed.
+pub fn hopf_json(args: &[&str]) -> serde_json::Value {
+    let (status, v, err) = json_of(&[&["hopf", "--json"], args].concat());
+    assert_eq!(status, 0, "{args:?}: {err}");
+    v
+}
+
+/// The JSON of `args` (exit 0 or 4) without what names the run (its
+/// overrides) or times it: two runs of the same numbers compare equal.
+pub fn run_json(args: &[&str]) -> (i32, serde_json::Value) {
+    let (status, mut v, err) = json_of(args);
+    assert!(status == 0 || status == 4, "{args:?}: {err}");
+    let o = v.as_object_mut().unwrap();
+    for key in [
+        "elapsed_s",
+        "source",
+        "files",
+        "orbits_file",
+        "label",
+        "name",
+    ] {
+        o.remove(key);
+    }
+    (status, v)
+}
+
+/// Every number in `v` is finite (JSON has no NaN: it would be null).
+pub fn all_finite(v: &serde_json::Value, at: &str) {
+    use serde_json::Value;
+    match v {
+        Value::Array(a) => a.iter().for_each(|x| all_finite(x, at)),
+        Value::Object(o) => o
+            .iter()
+            .for_each(|(k, x)| all_finite(x, &format!("{at}.{k}"))),
+        Value::Number(n) => assert!(n.as_f64().unwrap().is_finite(), "{at}"),
+        _ => {}
+    }
+}
+
+/// `hopf`'s `l1` in `v` against a high-precision reference `l1`: within
+/// its own rounding bound plus 4 ulps of the reference (the reference
+/// carries 30 digits, within half an ulp as an f64; the bound is an
+/// estimate of rounding, good to its order), the bound below 1e-8 of `l1`.
+pub fn assert_l1_matches(v: &serde_json::Value, l1: f64, label: &str) {
+    let number = |k: &str| {
+        v[k].as_f64()
+            .unwrap_or_else(|| panic!("{label}: {k} missing"))
+    };
+    let (got, bound) = (number("l1"), number("l1_error_bound"));
+    let allowed = bound + 4.0 * f64::EPSILON * l1.abs();
+    assert!(
+        (got - l1).abs() <= allowed,
+        "{label}: l1 = {got} vs {l1} (bound {bound:.1e})"
+    );
+    assert!(bound < 1e-8 * l1.abs(), "{label}: l1 resolved");
+}
