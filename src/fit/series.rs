@@ -28,7 +28,7 @@ use super::model::{AgeingValue, Rig, Values};
 use crate::analysis::simulate::{integration_stop, Segment};
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
-use crate::params::{Param, N_PARAMS};
+use crate::params::{Param, StateLaw, N_PARAMS};
 use continuation::integrate::{Outcome, Output, Radau5, Settings};
 use continuation::{Scalar, VectorField};
 use nalgebra::DMatrix;
@@ -164,12 +164,16 @@ pub enum Observable {
 }
 
 /// One time series' model: the rig, the model (quasi-static or inertial,
-/// decided as `simulate` decides it), the protocol.
+/// decided as `simulate` decides it), the law's forms, the protocol.
 #[derive(Clone, Debug)]
 pub struct SeriesModel {
     pub kind: ModelKind,
     /// The cutoff ageing form (else the logarithmic one).
     pub cutoff: bool,
+    /// The scene's evolution law of `theta` (ageing or slip, docs/model.md):
+    /// a velocity step and a relaxation tell them apart, unlike steady
+    /// sliding and the onset.
+    pub state_law: StateLaw,
     pub rig: Rig,
     /// The rig's stiffness over load `K/W` [1/m].
     pub k_over_w: f64,
@@ -187,10 +191,17 @@ pub struct Solved {
 
 impl SeriesModel {
     /// The model of dataset `d` (a time series) of `kind` on the rig.
-    pub fn new(d: &Dataset, kind: ModelKind, cutoff: bool, rig: Rig, k_over_w: f64) -> Self {
+    pub fn new(
+        d: &Dataset,
+        kind: ModelKind,
+        (cutoff, state_law): (bool, StateLaw),
+        rig: Rig,
+        k_over_w: f64,
+    ) -> Self {
         SeriesModel {
             kind,
             cutoff,
+            state_law,
             rig,
             k_over_w,
             protocol: Protocol::of(d),
@@ -216,7 +227,7 @@ impl SeriesModel {
             kind: self.kind,
             cutoff: self.cutoff,
             origin: [0.0; 3],
-            state_law: Default::default(),
+            state_law: self.state_law,
         };
         let n = block.dim();
         let nu0 = self.protocol.steady_um_s / self.rig.v0_um_s;

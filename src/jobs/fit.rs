@@ -1,5 +1,5 @@
 //! The `fit` job: the friction law's parameters (`mu0`, `A`, `B`, `D0`,
-//! and `mu2` or `tau` by the scene's form; a scene with `mu_vv`,
+//! and `mu2` or `tau` by the scene's form, under its state law; a scene with `mu_vv`,
 //! `mu_vphi` or radiation damping `eta` is refused) from laboratory data, by joint
 //! weighted least squares over every dataset, with standard errors, the
 //! correlation matrix, the parameters the data do not determine (named,
@@ -736,7 +736,13 @@ fn series_models(
             .chain(protocol.segments(u.d0 / u.v0, rig.v0_um_s))
             .collect();
         let choice = super::simulate::model_of_run(spec, setup, &segments);
-        let model = SeriesModel::new(d, choice.kind, cutoff, rig, k_over_w);
+        let model = SeriesModel::new(
+            d,
+            choice.kind,
+            (cutoff, setup.scene_params.state_law),
+            rig,
+            k_over_w,
+        );
         if let Err(e) = model.solve(start) {
             return Err(NumericalError::Analysis(format!(
                 "{file}: the {} model ({}) at the scene's values, where the fit starts: {e}; \
