@@ -13,7 +13,7 @@ use common::Normal;
 use std::path::{Path, PathBuf};
 use stickslip::analysis::simulate::{simulate, Segment};
 use stickslip::fit::data::{Dataset, Kind};
-use stickslip::fit::model::{AgeingValue, Rig, Values};
+use stickslip::fit::model::{AgeingValue, Fixed, Rig, Values};
 use stickslip::fit::series::{SeriesModel, N_LAW};
 use stickslip::jobs::fit::{run, Fit, FitRequest};
 use stickslip::jobs::SceneSpec;
@@ -22,12 +22,16 @@ use stickslip::params::{Params, StateLaw};
 
 const SCENE: &str = "examples/scenes/pmma-machine.toml";
 
-/// The law the data are made with: `mu2` and the evolution law of `theta`
-/// (a bare `mu2` is the ageing law's).
+/// The law the data are made with: `mu2`, the evolution law of `theta`,
+/// the corrections `mu_vv`, `mu_vphi` and the damping `eta_d` (a bare
+/// `mu2` is the ageing law's, without corrections and damping).
 #[derive(Clone, Copy)]
 struct Law {
     mu2: f64,
     state_law: StateLaw,
+    mu_vv: f64,
+    mu_vphi: f64,
+    eta_d: f64,
 }
 
 impl From<f64> for Law {
@@ -35,6 +39,9 @@ impl From<f64> for Law {
         Law {
             mu2,
             state_law: StateLaw::Ageing,
+            mu_vv: 0.0,
+            mu_vphi: 0.0,
+            eta_d: 0.0,
         }
     }
 }
@@ -46,6 +53,7 @@ fn scene(law: Law) -> (Params, f64, f64) {
     let mut p = s.params;
     p.mu2 = law.mu2;
     p.state_law = law.state_law;
+    (p.mu_vv, p.mu_vphi, p.eta_d) = (law.mu_vv, law.mu_vphi, law.eta_d);
     (p, s.units.d0 / s.units.v0, s.units.k_over_w(p.kappa))
 }
 
@@ -76,7 +84,7 @@ fn velocity_step_rows(
         .collect();
     let nu0 = steps[0].1;
     p.nu = nu0;
-    let start = [p.friction().steady(nu0), nu0, 1.0 / nu0];
+    let start = [p.friction().steady_force(nu0), nu0, 1.0 / nu0];
     let grid: Vec<f64> = times.iter().map(|t| t / unit).collect();
     let tr = simulate(kind, &p, start, &protocol, 1e-11, Some(&grid)).unwrap();
     let velocity = |t: f64| {
@@ -142,7 +150,7 @@ fn relaxation_file(path: &Path, mu2: f64, v: f64, t_end: f64, rows: usize, noise
         nu: 0.0,
         duration: t_end / unit,
     }];
-    let start = [p.friction().steady(v), v, 1.0 / v];
+    let start = [p.friction().steady_force(v), v, 1.0 / v];
     let grid: Vec<f64> = times.iter().map(|t| t / unit).collect();
     let tr = simulate(
         ModelKind::QuasiStatic,
@@ -250,8 +258,8 @@ fn a_velocity_step_is_fitted_under_the_scenes_state_law() {
     let rows = velocity_step_rows(
         ModelKind::QuasiStatic,
         Law {
-            mu2: 2.4e-4,
             state_law: StateLaw::Slip,
+            ..Law::from(2.4e-4)
         },
         &[(0.0, 1.0), (2.0, 3.0), (10.0, 1.0)],
         100.0,
@@ -269,7 +277,11 @@ fn a_velocity_step_is_fitted_under_the_scenes_state_law() {
         &[("A", 0.012), ("B", 0.023), ("D0", 0.4), ("mu0", 0.5)],
         0.05,
     );
-    assert!((slip.chi2_per_dof - 1.0).abs() < 0.1, "{}", slip.chi2_per_dof);
+    assert!(
+        (slip.chi2_per_dof - 1.0).abs() < 0.1,
+        "{}",
+        slip.chi2_per_dof
+    );
     assert_eq!(slip.params["state_law"], "slip");
     let ageing = fit(vec![(Kind::VelocityStep, path)], "A,B,D0,mu0", &OFF);
     println!(
@@ -277,6 +289,55 @@ fn a_velocity_step_is_fitted_under_the_scenes_state_law() {
         slip.chi2_per_dof, ageing.chi2_per_dof
     );
     assert!(ageing.chi2_per_dof > 3.0, "{}", ageing.chi2_per_dof);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A velocity step made with the corrections `mu_vv`, `mu_vphi` and
+/// radiation damping (`eta_d = 2e-3`, a sixth of `A` at 1 µm/s, half of
+/// it at 3 µm/s) is fitted with them held at the scene's values: A, B,
+/// D0, mu0 within three standard errors, chi2/dof near 1; fitted without
+/// them the residuals stand far above the noise.
+#[test]
+fn a_velocity_step_is_fitted_with_the_scenes_corrections_and_damping() {
+    let dir = common::temp_dir("fit-series-corrections");
+    let path = dir.join("step.csv");
+    let rows = velocity_step_rows(
+        ModelKind::QuasiStatic,
+        Law {
+            mu_vv: 1e-4,
+            mu_vphi: -1e-4,
+            eta_d: 2e-3,
+            ..Law::from(2.4e-4)
+        },
+        &[(0.0, 1.0), (2.0, 3.0), (10.0, 1.0)],
+        100.0,
+        2000,
+    );
+    write_velocity_step(&path, &rows, 1e-4, 8);
+    let terms = ["mu_vv=1e-4", "mu_vphi=-1e-4", "eta_d=2e-3"];
+    let with = fit(
+        vec![(Kind::VelocityStep, path.clone())],
+        "A,B,D0,mu0",
+        &[&OFF[..], &terms].concat(),
+    );
+    assert!(with.complete, "{:?}", with.stop);
+    recovers(
+        &with,
+        &[("A", 0.012), ("B", 0.023), ("D0", 0.4), ("mu0", 0.5)],
+        0.05,
+    );
+    assert!(
+        (with.chi2_per_dof - 1.0).abs() < 0.1,
+        "{}",
+        with.chi2_per_dof
+    );
+    assert_eq!(with.params["eta_d"], 2e-3);
+    let without = fit(vec![(Kind::VelocityStep, path)], "A,B,D0,mu0", &OFF);
+    println!(
+        "chi2/dof: with the terms {}, without {}",
+        with.chi2_per_dof, without.chi2_per_dof
+    );
+    assert!(without.chi2_per_dof > 3.0, "{}", without.chi2_per_dof);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -368,6 +429,7 @@ fn series_model(
     kind: Kind,
     model: ModelKind,
     cutoff: bool,
+    law: Law,
 ) -> (SeriesModel, Values<f64>) {
     let s = stickslip::scene::load(SCENE).unwrap();
     let d = Dataset::read(kind, path).unwrap();
@@ -379,19 +441,26 @@ fn series_model(
         ageing: if cutoff {
             AgeingValue::Tau(0.1)
         } else {
-            AgeingValue::Mu2(s.params.mu2)
+            AgeingValue::Mu2(law.mu2)
+        },
+        fixed: Fixed {
+            mu_vv: law.mu_vv,
+            mu_vphi: law.mu_vphi,
+            eta_d: law.eta_d,
         },
     };
     let rig = Rig::of(&s.units);
-    let m = SeriesModel::new(&d, model, (cutoff, StateLaw::Ageing), rig, s.units.k_over_w(s.params.kappa));
+    let k_over_w = s.units.k_over_w(s.params.kappa);
+    let m = SeriesModel::new(&d, model, (cutoff, law.state_law), rig, k_over_w);
     (m, values)
 }
 
 /// The forward sensitivities against central differences of the
-/// integrated solution (step 1e-4 relative, both integrations at rtol
-/// 1e-12: truncation and integration error about 1e-8), for the
+/// integrated solution (steps of 4e-4 and 2e-4 relative, extrapolated;
+/// every integration at rtol 1e-12), for the
 /// quasi-static and the inertial model, both ageing forms (the cutoff's
-/// `theta_c = tau V0 / D0` moves with D0) and both observables; and the
+/// `theta_c = tau V0 / D0` moves with D0), both observables, and the slip
+/// law with the corrections and the damping held fixed; and the
 /// sensitivities at the fit's tolerance agree with them to 1e-5.
 #[test]
 fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
@@ -420,26 +489,67 @@ fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
     );
     let relaxation = dir.join("relaxation.csv");
     relaxation_file(&relaxation, 2.4e-4, 1.0, 100.0, 50, 0.0, 5);
-    for (path, kind, model, cutoff) in [
-        (&qs, Kind::VelocityStep, ModelKind::QuasiStatic, false),
-        (&qs, Kind::VelocityStep, ModelKind::QuasiStatic, true),
-        (&inertial, Kind::VelocityStep, ModelKind::Inertial, false),
-        (&inertial, Kind::VelocityStep, ModelKind::Inertial, true),
-        (&relaxation, Kind::Relaxation, ModelKind::QuasiStatic, false),
+    // Without the stop: stopped, the block slows to where the direct
+    // effect A + 2 mu_vv ln v of the terms below vanishes (the edge of
+    // the law's range, where nothing is well conditioned).
+    let qs_run = dir.join("qs-run.csv");
+    velocity_step_file(
+        &qs_run,
+        ModelKind::QuasiStatic,
+        2.4e-4,
+        &[(0.0, 1.0), (0.5, 3.0), (1.5, 1.0)],
+        100.0,
+        300,
+        0.0,
+        6,
+    );
+    let plain = Law::from(2.4e-4);
+    let terms = Law {
+        state_law: StateLaw::Slip,
+        mu_vv: 1e-4,
+        mu_vphi: -1e-4,
+        eta_d: 2e-3,
+        ..plain
+    };
+    let (step, relax) = (Kind::VelocityStep, Kind::Relaxation);
+    let (quasi, inert) = (ModelKind::QuasiStatic, ModelKind::Inertial);
+    for (path, kind, model, cutoff, law) in [
+        (&qs, step, quasi, false, plain),
+        (&qs, step, quasi, true, plain),
+        (&inertial, step, inert, false, plain),
+        (&inertial, step, inert, true, plain),
+        (&relaxation, relax, quasi, false, plain),
+        (&qs_run, step, quasi, false, terms),
+        (&inertial, step, inert, false, terms),
+        (&relaxation, relax, quasi, false, terms),
     ] {
-        let (m, values) = series_model(path, kind, model, cutoff);
+        let (m, values) = series_model(path, kind, model, cutoff, law);
         let exact = m.solve_at(&values, 1e-12).unwrap();
         let fit_tol = m.solve(&values).unwrap();
         let q = stickslip::fit::series::law_vector(&values);
         for k in 0..N_LAW {
-            let h = 1e-4 * q[k].abs();
-            let at = |sign: f64| {
-                let mut p = q;
-                p[k] += sign * h;
-                let v = stickslip::fit::series::with_law(&values, &p);
-                m.solve_at(&v, 1e-12).unwrap().values
+            // Central differences at 4e-4 of the value (at least 4e-6) and
+            // half that, extrapolated (Richardson: truncation O(h^4)):
+            // smaller steps leave the difference to the integrations'
+            // rounding (halving a step of 1e-4 doubled the error against the
+            // sensitivities on the damped relaxation).
+            let h = 4e-4 * q[k].abs().max(1e-2);
+            let central = |h: f64| {
+                let at = |x: f64| {
+                    let mut p = q;
+                    p[k] = x;
+                    let v = stickslip::fit::series::with_law(&values, &p);
+                    m.solve_at(&v, 1e-12).unwrap().values
+                };
+                let (plus, minus) = (at(q[k] + h), at(q[k] - h));
+                let d: Vec<f64> = plus
+                    .iter()
+                    .zip(&minus)
+                    .map(|(a, b)| (a - b) / (2.0 * h))
+                    .collect();
+                d
             };
-            let (plus, minus) = (at(1.0), at(-1.0));
+            let (coarse, fine) = (central(h), central(h / 2.0));
             let column = exact.jacobian.column(k);
             // The slip does not depend on mu0 (a shift of friction and
             // spring force alike): that column vanishes.
@@ -449,8 +559,8 @@ fn sensitivities_are_the_derivatives_of_the_integrated_solution() {
                 continue;
             }
             assert!(size > 0.0, "{path:?} {k}");
-            for (i, (a, b)) in plus.iter().zip(&minus).enumerate() {
-                let fd = (a - b) / (2.0 * h);
+            for (i, (c, f)) in coarse.iter().zip(&fine).enumerate() {
+                let fd = (4.0 * f - c) / 3.0;
                 assert!(
                     (fd - column[i]).abs() < 1e-6 * size,
                     "{path:?} q{k} row {i}: {fd} vs {}",
@@ -475,8 +585,7 @@ fn the_integration_error_is_far_below_the_noise() {
     // The largest difference between the model at the truth and the
     // noiseless data of `path`.
     let largest_error = |path: &Path, kind: Kind, model: ModelKind, mu2: f64| {
-        let (m, mut values) = series_model(path, kind, model, false);
-        values.ageing = AgeingValue::Mu2(mu2);
+        let (m, values) = series_model(path, kind, model, false, Law::from(mu2));
         let data = Dataset::read(kind, path).unwrap();
         let worst = m
             .solve(&values)

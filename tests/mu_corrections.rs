@@ -512,17 +512,6 @@ fn input_errors_name_the_field() {
         &["hopf", "--scene", scene.to_str().unwrap()],
         &["scene keys tau and mu_vv select different ageing forms"],
     );
-    // fit does not model them.
-    fails(
-        &[
-            "fit",
-            "--set",
-            "mu_vv=1e-4",
-            "--data",
-            "steady=examples/data/pmma-steady.csv",
-        ],
-        &["mu_vv = 1e-4", "--set mu_vv=0"],
-    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -464,11 +464,6 @@ fn input_errors_name_the_field() {
     );
     std::fs::write(&scene, "A = 0.01\neta = 'x'\n").unwrap();
     fails(&["hopf", "--scene", scene.to_str().unwrap()], &["eta"]);
-    // fit models the block without damping.
-    fails(
-        &["fit", "--set", "eta=0.5", "--data", "steady=none.csv"],
-        &["eta"],
-    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -24,7 +24,7 @@
 //! stops (`nu = 0`: `ds/dt = -kappa v`).
 
 use super::data::{Dataset, Kind};
-use super::model::{AgeingValue, Rig, Values};
+use super::model::{AgeingValue, Fixed, Rig, Values};
 use crate::analysis::simulate::{integration_stop, Segment};
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -64,12 +64,13 @@ pub fn real_values<T: Scalar>(v: &Values<T>) -> Values<f64> {
             b: 0.0,
             d0_um: 0.0,
             ageing,
+            fixed: v.fixed,
         },
         &q,
     )
 }
 
-/// `values`' ageing form with the law's values `q`.
+/// `values`' ageing form and fixed terms with the law's values `q`.
 pub fn with_law<T: Scalar>(values: &Values<f64>, q: &[T]) -> Values<T> {
     Values {
         mu0: q[0],
@@ -80,6 +81,7 @@ pub fn with_law<T: Scalar>(values: &Values<f64>, q: &[T]) -> Values<T> {
             AgeingValue::Mu2(_) => AgeingValue::Mu2(q[4]),
             AgeingValue::Tau(_) => AgeingValue::Tau(q[4]),
         },
+        fixed: values.fixed,
     }
 }
 
@@ -286,6 +288,7 @@ impl SeriesModel {
             }
             let system = Variational {
                 block,
+                fixed: v.fixed,
                 rig: self.rig,
                 k_over_w: self.k_over_w,
                 nu: v_um_s / self.rig.v0_um_s,
@@ -319,6 +322,8 @@ impl SeriesModel {
 /// the law's values `q` as parameters (module docs).
 struct Variational {
     block: LogBlock,
+    /// The scene's terms held at their values.
+    fixed: Fixed,
     rig: Rig,
     k_over_w: f64,
     nu: f64,
@@ -340,6 +345,9 @@ impl Variational {
         p[Param::A as usize] = q[1];
         p[Param::B as usize] = q[2];
         p[Param::Mu0 as usize] = q[0];
+        p[Param::MuVv as usize] = T::from(self.fixed.mu_vv);
+        p[Param::MuVphi as usize] = T::from(self.fixed.mu_vphi);
+        p[Param::EtaD as usize] = T::from(self.fixed.eta_d);
         let rate = q[3].recip() * self.rig.v0_um_s;
         if self.block.cutoff {
             p[Param::ThetaC as usize] = q[4] * rate;

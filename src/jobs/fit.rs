@@ -1,6 +1,7 @@
 //! The `fit` job: the friction law's parameters (`mu0`, `A`, `B`, `D0`,
-//! and `mu2` or `tau` by the scene's form, under its state law; a scene with `mu_vv`,
-//! `mu_vphi` or radiation damping `eta` is refused) from laboratory data, by joint
+//! and `mu2` or `tau` by the scene's form, under its state law, with the
+//! scene's `mu_vv`, `mu_vphi` and radiation damping `eta` held at their
+//! values) from laboratory data, by joint
 //! weighted least squares over every dataset, with standard errors, the
 //! correlation matrix, the parameters the data do not determine (named,
 //! with the data that would determine them, never given a made-up value),
@@ -26,7 +27,7 @@ use crate::fit::data::{Dataset, Kind, Measured};
 use crate::fit::least_squares::{
     covariance, minimize, scaled_svd, seeded, LeastSquaresError, Minimum, Problem,
 };
-use crate::fit::model::{AgeingValue, Name, Rig, Values};
+use crate::fit::model::{AgeingValue, Fixed, Name, Rig, Values};
 use crate::fit::series::{law_vector, real_values, SeriesModel, Solved, N_LAW};
 use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
@@ -302,6 +303,7 @@ impl Joint<'_> {
                 AgeingValue::Mu2(x) => AgeingValue::Mu2(T::from(x)),
                 AgeingValue::Tau(x) => AgeingValue::Tau(T::from(x)),
             },
+            fixed: b.fixed,
         };
         for (name, xi) in self.free.iter().zip(x) {
             v.set(*name, if name.positive() { xi.exp() } else { *xi });
@@ -396,6 +398,11 @@ fn scene_values(setup: &Setup) -> Values<f64> {
             Some(theta_c) => AgeingValue::Tau(theta_c * u.d0 / u.v0),
             None => AgeingValue::Mu2(p.mu2),
         },
+        fixed: Fixed {
+            mu_vv: p.mu_vv,
+            mu_vphi: p.mu_vphi,
+            eta_d: p.eta_d,
+        },
     }
 }
 
@@ -433,25 +440,6 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
         .into());
     }
     let setup = spec.setup(|p| *p)?;
-    let p = &setup.scene_params;
-    if let Some((name, value)) = [("mu_vv", p.mu_vv), ("mu_vphi", p.mu_vphi)]
-        .into_iter()
-        .find(|(_, v)| *v != 0.0)
-    {
-        return Err(InputError::Conflict(format!(
-            "fit models the friction law without the corrections mu_vv and mu_vphi, and the \
-             scene has {name} = {value:e}: fit it with --set mu_vv=0 --set mu_vphi=0"
-        ))
-        .into());
-    }
-    if p.eta_d != 0.0 {
-        return Err(InputError::Conflict(format!(
-            "fit models the block without radiation damping, and the scene has eta_d = {:e} \
-             (scene key eta): fit it with --set eta=0",
-            p.eta_d
-        ))
-        .into());
-    }
     let data = request
         .data
         .iter()
