@@ -899,3 +899,42 @@ fn diagram_finds_bistability_without_an_onset_below_the_fold_of_cycles() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A branch in a parameter other than the stiffness and the velocity
+/// shows that parameter in the first column of the physical text (the
+/// heading and the range say so), not the stiffness it holds fixed: at `nu
+/// = 3`, `mu2` from 1e-4 to 1e-3 crosses the onset where `kappa = B - A -
+/// 2 mu2 ln nu` (C12; the inertia ratio there is 2e-4).
+#[test]
+fn branch_text_leads_with_the_continued_parameter() {
+    let args = [
+        "branch",
+        "--param",
+        "mu2",
+        "--set",
+        "kappa=0.0105",
+        "--set",
+        "nu=3",
+        "--from",
+        "1e-4",
+        "--to",
+        "1e-3",
+    ];
+    let (code, out, err) = stickslip(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("continuing steady sliding in mu2 from 1.000000e-4 to 1.000000e-3"));
+    let head = out.lines().find(|l| l.contains("#u")).unwrap();
+    assert_eq!(head.split_whitespace().next(), Some("mu2"), "{head}");
+    let rows: Vec<&str> = out
+        .lines()
+        .filter(|l| l.contains("  #") && !l.contains("#u"))
+        .collect();
+    let first = |l: &str| l.split_whitespace().next().unwrap().parse::<f64>().unwrap();
+    assert!(rows.windows(2).all(|w| first(w[1]) > first(w[0])), "{out}");
+    let hopf = rows
+        .iter()
+        .find(|l| l.contains("<- HOPF"))
+        .expect("a Hopf row");
+    let c12 = (0.023 - 0.012 - 0.0105) / (2.0 * 3f64.ln());
+    assert!((first(hopf) / c12 - 1.0).abs() < 1e-3, "{hopf} vs {c12}");
+}

@@ -111,6 +111,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         (false, true) => Format::Csv,
         (false, false) => Format::Text {
             units: args.units,
+            param: range.param,
             rate: match args.units {
                 TextUnits::Physical => setup.scene.units.v0 / setup.scene.units.d0,
                 TextUnits::Dimensionless => 1.0,
@@ -130,16 +131,22 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         )?;
     }
     write_head(&mut out, format, setup, range.param, (range.from, range.to))?;
-    if matches!(format, Format::Text { .. }) && plan.control.name() != range.param.name() {
-        let (from, to) = plan.control_range();
-        writeln!(
-            out,
-            "--param {}: {} from {from:.6e} to {to:.6e} {} (the rows are in {})",
-            plan.control.name(),
-            plan.control.name(),
-            plan.control.unit(),
-            range.param.name()
-        )?;
+    if let Format::Text { units, param, .. } = format {
+        // The column the rows give the continued parameter in.
+        let column = match units {
+            TextUnits::Physical => physical_leading(param)[0].title(param),
+            TextUnits::Dimensionless => param.name(),
+        };
+        if plan.control.name() != param.name() && !column.starts_with(plan.control.name()) {
+            let (from, to) = plan.control_range();
+            writeln!(
+                out,
+                "--param {}: {} from {from:.6e} to {to:.6e} {} (the rows are in {column})",
+                plan.control.name(),
+                plan.control.name(),
+                plan.control.unit(),
+            )?;
+        }
     }
     let mut branch = plan.run(&mut Printer {
         out: &mut out,
@@ -166,7 +173,9 @@ impl<W: Write> Observer for Printer<'_, W> {
         match self.format {
             Format::Json => {}
             Format::Csv => writeln!(self.out, "{}", csv::row(row)?)?,
-            Format::Text { units, rate } => writeln!(self.out, "{}", text_line(row, units, rate))?,
+            Format::Text { units, param, rate } => {
+                writeln!(self.out, "{}", text_line(row, units, param, rate))?
+            }
         }
         Ok(())
     }
@@ -176,9 +185,11 @@ impl<W: Write> Observer for Printer<'_, W> {
 /// entries of one JSON object printed at the end.
 #[derive(Clone, Copy, Debug)]
 enum Format {
-    /// Text in `units`, the eigenvalues in units of `1/rate` (1/s or `V0/D0`).
+    /// Text in `units` for a branch in `param`, the eigenvalues in units of
+    /// `1/rate` (1/s or `V0/D0`).
     Text {
         units: TextUnits,
+        param: Param,
         rate: f64,
     },
     Csv,
@@ -225,27 +236,24 @@ fn write_head(
     writeln!(out, "parameters: {}", describe_params(&setup.params))?;
     let u = &setup.scene.units;
     let range = match (units, param) {
-        (TextUnits::Dimensionless, _) => format!("{} from {from:.6e} to {to:.6e}", param.name()),
         (TextUnits::Physical, Param::Nu) => format!(
             "V from {:.6e} µm/s to {:.6e} µm/s",
             u.velocity_um_s(from),
             u.velocity_um_s(to)
         ),
-        (TextUnits::Physical, _) => format!(
+        (TextUnits::Physical, Param::Kappa) => format!(
             "K/W from {:.6e} 1/m to {:.6e} 1/m",
             u.k_over_w(from),
             u.k_over_w(to)
         ),
+        _ => format!("{} from {from:.6e} to {to:.6e}", param.name()),
     };
     writeln!(out, "continuing steady sliding in {range}")?;
     let titles = match units {
-        TextUnits::Physical => [
-            "K/W [1/m]",
-            "V [µm/s]",
-            "s",
-            "theta [s]",
-            "eigenvalues [1/s]",
-        ],
+        TextUnits::Physical => {
+            let [first, second] = physical_leading(param).map(|c| c.title(param));
+            [first, second, "s", "theta [s]", "eigenvalues [1/s]"]
+        }
         TextUnits::Dimensionless => [param.name(), "s", "v", "theta", "eigenvalues"],
     };
     writeln!(
@@ -256,16 +264,59 @@ fn write_head(
     Ok(())
 }
 
+/// A leading column of the physical text: the stiffness over the load,
+/// the driving velocity, or the continued parameter itself (dimensionless,
+/// as in the JSON rows).
+#[derive(Clone, Copy)]
+enum Leading {
+    StiffnessOverLoad,
+    Velocity,
+    Param,
+}
+
+impl Leading {
+    fn title(self, param: Param) -> &'static str {
+        match self {
+            Leading::StiffnessOverLoad => "K/W [1/m]",
+            Leading::Velocity => "V [µm/s]",
+            Leading::Param => param.name(),
+        }
+    }
+
+    fn value(self, r: &BranchRow) -> f64 {
+        match self {
+            Leading::StiffnessOverLoad => r.k_over_w_per_m,
+            Leading::Velocity => r.v_um_per_s,
+            Leading::Param => r.param.value,
+        }
+    }
+}
+
+/// The two leading columns of the physical text for a branch in `param`:
+/// the one it moves first (K/W for `kappa`, V for `nu`, else the
+/// parameter), then the driving velocity (the stiffness for a branch in V).
+fn physical_leading(param: Param) -> [Leading; 2] {
+    match param {
+        Param::Kappa => [Leading::StiffnessOverLoad, Leading::Velocity],
+        Param::Nu => [Leading::Velocity, Leading::StiffnessOverLoad],
+        _ => [Leading::Param, Leading::Velocity],
+    }
+}
+
 /// A point as a line of the text: the parameter, the state, `#u`, the
 /// eigenvalues and the bifurcation located there, in `units` (physical:
-/// K/W, V, theta in s, the frequency in Hz), the eigenvalues times `rate`.
-fn text_line(r: &BranchRow, units: TextUnits, rate: f64) -> String {
+/// the leading columns of [`physical_leading`], theta in s, the frequency
+/// in Hz), the eigenvalues times `rate`.
+fn text_line(r: &BranchRow, units: TextUnits, param: Param, rate: f64) -> String {
     let (columns, tag) = match units {
         TextUnits::Physical => (
-            format!(
-                "{:>14.8e} {:>14.8e} {:>12.6e} {:>12.6e}",
-                r.k_over_w_per_m, r.v_um_per_s, r.s, r.theta_s
-            ),
+            {
+                let [first, second] = physical_leading(param).map(|c| c.value(r));
+                format!(
+                    "{first:>14.8e} {second:>14.8e} {:>12.6e} {:>12.6e}",
+                    r.s, r.theta_s
+                )
+            },
             r.frequency_hz.map(|f| format!("f = {f:.10e} Hz")),
         ),
         TextUnits::Dimensionless => (
