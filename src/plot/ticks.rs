@@ -1,7 +1,8 @@
 //! Axis ticks: where the labelled ticks and the grid lines of an axis go,
 //! and how the labels read. One axis has one label format: plain decimals
 //! when every label fits in [`PLAIN_CHARS`] characters, else every label in
-//! mantissa-exponent form (`9e-3` never stands next to `0.01`).
+//! mantissa-exponent form where that is no longer (`9e-3` never stands next
+//! to `0.01`; `700.08` is not written `7.0008e2`).
 
 use plotters::coord::combinators::{BindKeyPoints, IntoLogRange, LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
@@ -38,7 +39,7 @@ impl Axis {
         } else {
             linear_ticks(range.0, range.1)
         };
-        let exponent = ticks.iter().any(|&v| {
+        let too_long = ticks.iter().any(|&v| {
             let plain = plain_label(v);
             let digits = plain.trim_start_matches('-');
             digits
@@ -46,6 +47,11 @@ impl Axis {
                 .map_or(digits.len(), |d| d.len() + 1)
                 > PLAIN_CHARS
         });
+        // Only where it does not lengthen the labels: `700.08` stays, not
+        // `7.0008e2`.
+        let longest =
+            |label: fn(f64) -> String| ticks.iter().map(|&v| label(v).len()).max().unwrap_or(0);
+        let exponent = too_long && longest(exponent_label) <= longest(plain_label);
         Axis {
             range,
             log,
@@ -284,6 +290,8 @@ mod tests {
         assert_eq!(labels_of(0.0, 2e4, false)[1..3], ["2000", "4000"]);
         assert_eq!(labels_of(0.0, 2.2e5, false)[1..3], ["2.5e4", "5e4"]);
         assert_eq!(labels_of(1.7e5, 4e5, true), ["2e5", "2.5e5", "3e5", "4e5"]);
+        // Plain where the exponent form would be longer (seen: 7.0008e2).
+        assert_eq!(labels_of(700.05, 700.12, false)[..2], ["700.05", "700.06"]);
         for (lo, hi, log) in [
             (1e-3, 1e9, true),
             (1e-3, 1e-1, true),
