@@ -514,3 +514,38 @@ fn the_onset_in_eta_in_seconds_per_metre() {
     assert!(rel(num(&c["dimensionless"], "eta_d"), eta_d) < 1e-9, "{c}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A simulated start with damping at a stiffness where steady sliding is
+/// stable: the settling run measures its distance from steady sliding with
+/// the damped steady force `mu_ss + eta_d nu` (it took `mu_ss` and never
+/// saw the orbit decay: the start then failed on every mesh), says the
+/// orbit decayed there, starts from `0.9 kappa_c`, and the branch ends at
+/// the damped onset `kappa_c = B - A - eta_d = 9e-3` (C12, quasi-static).
+#[test]
+fn a_simulated_start_with_damping_sees_the_decay() {
+    let dir = temp_dir("radiation-damping-settle");
+    let (code, v) = run_json(&[
+        "cycles",
+        "--from-simulation",
+        "--set",
+        "eta_d=2e-3",
+        "--set",
+        "kappa=0.0095",
+        "--out",
+        dir.to_str().unwrap(),
+        "--force",
+        "--json",
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 0, "{v}");
+    let rejected = v["start"]["rejected"][0]["outcome"].as_str().unwrap();
+    assert!(rejected.contains("decayed to steady sliding"), "{rejected}");
+    assert_eq!(v["leg_stops"][0]["reason"], "hopf_point");
+    let top = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| num(c, "kappa"))
+        .fold(0.0, f64::max);
+    assert!(rel(top, 9e-3) < 1e-5, "{top}");
+}

@@ -54,10 +54,11 @@ impl SettleSettings {
     /// 10 000 periods, and `max_time = 10 000 t*` with the time scale
     /// `t* = max(2 pi sqrt(m/kappa), 10 A/(kappa nu), 1/nu)` — the longest of
     /// the inertial period, the time the spring takes to load by ten
-    /// direct-effect units `A` (a stick phase), and the memory time `D0/V`.
+    /// direct-effect units `A` (a stick phase; with the corrections and
+    /// damping, the slope `mu_v + eta_d nu`), and the memory time `D0/V`.
     pub fn for_params(p: &Params) -> Self {
         let inertial = 2.0 * std::f64::consts::PI * (p.m / p.kappa).sqrt();
-        let loading = 10.0 * p.a / (p.kappa * p.nu);
+        let loading = 10.0 * direct_effect(p) / (p.kappa * p.nu);
         let scale = inertial.max(loading).max(1.0 / p.nu);
         SettleSettings {
             rtol: 1e-10,
@@ -145,19 +146,31 @@ struct Steady {
     s: f64,
     ln_v: f64,
     ln_theta: f64,
-    /// Friction changes are measured in units of the direct effect `A`.
+    /// Force changes are measured in units of the direct effect
+    /// ([`direct_effect`]).
     a: f64,
 }
 
 impl Steady {
     fn of(p: &Params) -> Self {
         Steady {
-            s: p.friction().steady(p.nu),
+            // With radiation damping the spring also balances eta_d nu.
+            s: p.friction().steady_force(p.nu),
             ln_v: p.nu.ln(),
             ln_theta: -p.nu.ln(),
-            a: p.a,
+            a: direct_effect(p),
         }
     }
+}
+
+/// The direct effect at steady sliding, the scale of force changes: `mu_v
+/// + eta_d nu` (`A` with neither the corrections in `ln v` nor damping),
+/// or `A` where that slope is not positive (the law outside its range
+/// there).
+fn direct_effect(p: &Params) -> f64 {
+    Some(p.mu_v_damped())
+        .filter(|x| *x > 0.0 && x.is_finite())
+        .unwrap_or(p.a)
 }
 
 /// Scaled distance between two states `(s, v, theta)`:
@@ -276,13 +289,16 @@ pub fn settle(
 
 /// A stuck start for `params`: the interface aged `theta = 100 t*` with
 /// `t* = max(1/nu, 10 A/(kappa nu))` (the memory time, or the time the
-/// spring takes to load by ten direct-effect units), creeping at
-/// `v = 1e-3 nu`, and the spring force balancing friction, `s = mu(v, theta)`.
-/// Far from steady sliding: the first slip is a large one.
+/// spring takes to load by ten direct-effect units, [`direct_effect`]),
+/// creeping at `v = 1e-3 nu`, and the spring force balancing friction and
+/// damping, `s = mu(v, theta) + eta_d v`. Far from steady sliding: the
+/// first slip is a large one.
 pub fn stuck_start(params: &Params) -> [f64; 3] {
-    let age = 100.0 * (1.0 / params.nu).max(10.0 * params.a / (params.kappa * params.nu));
+    let loading = 10.0 * direct_effect(params) / (params.kappa * params.nu);
+    let age = 100.0 * (1.0 / params.nu).max(loading);
     let v = 1e-3 * params.nu;
-    [params.friction().mu(v, age), v, age]
+    let law = params.friction();
+    [law.mu(v, age) + law.damping(v), v, age]
 }
 
 #[cfg(test)]
