@@ -163,10 +163,10 @@ impl Steady {
     }
 }
 
-/// The direct effect at steady sliding, the scale of force changes: `mu_v
-/// + eta_d nu` (`A` with neither the corrections in `ln v` nor damping),
-/// or `A` where that slope is not positive (the law outside its range
-/// there).
+/// The direct effect at steady sliding, the scale of force changes: the
+/// slope `mu_v + eta_d nu` (`A` with neither the corrections in `ln v`
+/// nor damping), or `A` where that slope is not positive (the law outside
+/// its range there).
 fn direct_effect(p: &Params) -> f64 {
     Some(p.mu_v_damped())
         .filter(|x| *x > 0.0 && x.is_finite())
