@@ -549,3 +549,51 @@ fn a_simulated_start_with_damping_sees_the_decay() {
         .fold(0.0, f64::max);
     assert!(rel(top, 9e-3) < 1e-5, "{top}");
 }
+
+/// `simulate` starts from steady sliding with the damping's share of the
+/// spring force, `s = mu_ss(nu) + eta_d nu` (0.5 + 2e-3 at nu = 1): left
+/// unperturbed at a stable stiffness it stays there (it started at
+/// `mu_ss` and called the decaying transient periodic, `Delta_s` 1.6e-9).
+#[test]
+fn simulate_starts_from_damped_steady_sliding() {
+    let dir = temp_dir("radiation-damping-steady-start");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "simulate",
+        "--json",
+        "--set",
+        "eta_d=2e-3",
+        "--set",
+        "kappa=0.0095",
+        "--perturb",
+        "0",
+        "--protocol",
+        "1:100",
+        "--out",
+        out,
+        "--force",
+    ];
+    let (status, v, err) = json_of(&args);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(v["regime"]["kind"], "steady", "{}", v["regime"]);
+    let csv = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .find(|f| f.ends_with(".csv"))
+        .unwrap()
+        .to_string();
+    let text = std::fs::read_to_string(csv).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "s").unwrap();
+    let rows: Vec<f64> = lines
+        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
+        .collect();
+    assert!(rows.len() >= 10, "{text}");
+    for s in rows {
+        assert!((s - 0.502).abs() < 1e-12, "{s}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

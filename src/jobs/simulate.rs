@@ -142,7 +142,7 @@ pub fn model_of_run(spec: &SceneSpec, setup: &Setup, protocol: &[Segment]) -> Mo
         return choice;
     }
     let params = params_for(ModelKind::QuasiStatic, &setup.scene_params);
-    let start = [params.friction().steady(nu0), nu0, nu0.recip()];
+    let start = [params.friction().steady_force(nu0), nu0, nu0.recip()];
     let options = RunOptions {
         rtol: 1e-6,
         watch: Some(&watch),
@@ -269,7 +269,7 @@ impl Plan {
         let nu0 = protocol[0].nu;
         let mut start_params = setup.params;
         start_params.nu = nu0;
-        let s0 = start_params.friction().steady(nu0);
+        let s0 = start_params.friction().steady_force(nu0);
         let start = [s0, nu0, (1.0 + request.perturb) / nu0];
         let t_end: f64 = protocol.iter().map(|seg| seg.duration).sum();
         let mut envelope = Envelope::new(request.plot_points);
