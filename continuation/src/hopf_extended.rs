@@ -7,7 +7,7 @@
 //! of order one and `l1` of order `m`. In `f64` the result then carries an
 //! absolute error of order `eps` whatever the method, so that at `m = 1e-12`
 //! only a few digits are left. Here the Hopf point itself and every quantity
-//! of the normal form are recomputed with [`DoubleDouble`] (unit roundoff
+//! of the normal form are recomputed with [`DoubleDouble`](crate::double_double::DoubleDouble) (unit roundoff
 //! `u = 2^-104`), starting from the `f64` ones:
 //!
 //! 1. Newton's method on the standard Hopf system in the unknowns
