@@ -168,3 +168,65 @@ fn the_curve_through_a_fold_found_on_a_branch_holds_the_other_folds() {
     );
     assert_holds_branch_folds(curve);
 }
+
+/// Between two Bautin points (a PMMA-like rig, `M = 2 kg`, `W = 200 N`:
+/// at 145.7 and 253.6 µm/s) the curve traced from the first Bautin point
+/// stops short of the second (the fold system ill-conditioned 1.6 % from
+/// it), and the curve traced from the second covers that span: the
+/// diagram is complete, without a gap or a stop (it reported the first
+/// curve's end as a gap and exited 4). Each fold stiffness lies above
+/// `kappa_c` (C11; the hysteretic band of a subcritical onset).
+#[test]
+fn a_span_covered_by_the_curve_from_the_next_bautin_point_is_no_gap() {
+    let dir = common::temp_dir("lpc-two-bautin");
+    let scene = dir.join("rig27.toml");
+    std::fs::write(
+        &scene,
+        "A = 0.011\nB = 0.02\nmu0 = 0.55\nmu2 = 3e-4\nD0 = 0.5\nV0 = 1.0\nM = 2.0\nW = 200.0\n\
+         K = 1e5\nV = 10.0\nV_range = [0.1, 1000.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, v) = common::run_json(&[
+        "diagram",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 0, "{}", v["lpc_stops"]);
+    assert_eq!(v["lpc_complete"], true);
+    assert!(v["lpc_gaps"].as_array().unwrap().is_empty());
+    assert!(v["lpc_stops"].as_array().unwrap().is_empty());
+    let bautin: Vec<f64> = v["special_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["kind"] == "bautin")
+        .map(|p| p["nu"].as_f64().unwrap())
+        .collect();
+    assert_eq!(bautin.len(), 2, "{bautin:?}");
+    let folds = v["lpc_curve"].as_array().unwrap();
+    let nu = |p: &serde_json::Value| p["nu"].as_f64().unwrap();
+    let (lo, hi) = folds
+        .iter()
+        .map(nu)
+        .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    assert!((lo / bautin[0]).ln().abs() < 0.01, "{lo} vs {}", bautin[0]);
+    assert!((hi / bautin[1]).ln().abs() < 0.01, "{hi} vs {}", bautin[1]);
+    // kappa_c at each fold's velocity by C11 (mu_v = A, mu_phi = B - 2
+    // mu2 ln nu).
+    let q = |k: &str| v["params"][k].as_f64().unwrap();
+    let (a, b, mu2, m) = (q("A"), q("B"), q("mu2"), q("m"));
+    for f in folds {
+        let nu = nu(f);
+        let kc = (b - 2.0 * mu2 * nu.ln() - a) * (1.0 + m * nu * nu / a);
+        assert!(
+            f["kappa"].as_f64().unwrap() > kc,
+            "{f} against kappa_c {kc}"
+        );
+    }
+}

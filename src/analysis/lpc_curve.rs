@@ -241,7 +241,41 @@ pub fn lpc_curves<F: Wrap>(
         );
         out.points.push(curve);
     }
+    drop_covered(&mut out, &bautin);
     out
+}
+
+/// Drops the gaps another curve covers (the curve from the next Bautin
+/// point can pass where the one from the first stopped short, the Bautin
+/// point at a gap's end reached within 1 %, as [`trace_through`] counts
+/// it) with the stops at their start: that end is then no failure of the
+/// request. The request is incomplete where a gap is left.
+fn drop_covered(out: &mut LpcCurves, bautin: &[f64]) {
+    let spans: Vec<(f64, f64)> = out
+        .points
+        .iter()
+        .filter(|c| !c.is_empty())
+        .map(|c| {
+            c.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p.nu), hi.max(p.nu))
+                })
+        })
+        .collect();
+    let at_bautin = |nu: f64| bautin.iter().any(|&b| (nu / b).ln().abs() < 1e-12);
+    let reach = 0.01f64.exp();
+    let covered = |&(lo, hi): &(f64, f64)| {
+        let lo = if at_bautin(lo) { lo * reach } else { lo };
+        let hi = if at_bautin(hi) { hi / reach } else { hi };
+        spans.iter().any(|&(a, b)| a <= lo && b >= hi)
+    };
+    let (covered_gaps, left): (Vec<_>, Vec<_>) = out.gaps.iter().partition(|g| covered(g));
+    out.stops.retain(|s| {
+        !s.nu
+            .is_some_and(|nu| covered_gaps.iter().any(|&(lo, hi)| nu == lo || nu == hi))
+    });
+    out.gaps = left;
+    out.incomplete = !out.gaps.is_empty();
 }
 
 /// The curve of folds of cycles through the fold `fold` (an orbit at a fold
