@@ -543,10 +543,11 @@ fn branch_csv_json_and_text_agree() {
     let physical = table("physical");
     let dimensionless = table("dimensionless");
     // Where each number stands in the row, its JSON field, and the
-    // precision of the text (9 digits, 7 for s and theta).
+    // precision of the text (9 digits, 7 for s and theta); a branch in the
+    // velocity leads with it.
     let physical_fields = [
-        ("K_over_W_per_m", 1e-8),
         ("V_um_per_s", 1e-8),
+        ("K_over_W_per_m", 1e-8),
         ("s", 1e-6),
         ("theta_s", 1e-6),
     ];
