@@ -355,7 +355,12 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
 
 /// A numeric key (integers accepted), `None` when absent; it must be finite
 /// and satisfy `bound` ("> 0", ">= 0", or "" for any value).
-fn read(t: &Table, key: &str, bound: &str, unit: &str) -> Result<Option<f64>, InputError> {
+pub(crate) fn read(
+    t: &Table,
+    key: &str,
+    bound: &str,
+    unit: &str,
+) -> Result<Option<f64>, InputError> {
     let Some(value) = t.get(key) else {
         return Ok(None);
     };
@@ -383,7 +388,7 @@ fn number(field: &str, value: &Value, unit: &str) -> Result<f64, InputError> {
 }
 
 /// `V_range = [lo, hi]` in um/s, `0 < lo < hi`.
-fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
+pub(crate) fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
     let Some([lo, hi]) = value.as_array().map(Vec::as_slice) else {
         return Err(malformed(
             "V_range",
@@ -403,7 +408,7 @@ fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
     Ok((lo, hi))
 }
 
-fn string(t: &Table, key: &str) -> Result<Option<String>, InputError> {
+pub(crate) fn string(t: &Table, key: &str) -> Result<Option<String>, InputError> {
     match t.get(key) {
         None => Ok(None),
         Some(Value::String(s)) => Ok(Some(s.clone())),
@@ -412,12 +417,12 @@ fn string(t: &Table, key: &str) -> Result<Option<String>, InputError> {
 }
 
 /// `x` if `ok`, else an out-of-range error naming `field`.
-fn require(ok: bool, field: &str, x: f64, expected: &str) -> Result<f64, InputError> {
+pub(crate) fn require(ok: bool, field: &str, x: f64, expected: &str) -> Result<f64, InputError> {
     ok.then_some(x)
         .ok_or_else(|| InputError::out_of_range(field, x, expected))
 }
 
-fn file_error(path: &str, reason: impl std::fmt::Display) -> InputError {
+pub(crate) fn file_error(path: &str, reason: impl std::fmt::Display) -> InputError {
     InputError::File {
         path: path.into(),
         reason: reason.to_string().trim_end().into(),
