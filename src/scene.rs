@@ -116,7 +116,7 @@ const BUILTIN_NAMES: [&str; 3] = [BUILTINS[0].0, BUILTINS[1].0, BUILTINS[2].0];
 
 /// Every key a scene file may hold.
 const KEYS: &str =
-    "name description A B mu0 mu2 mu_vv mu_vphi tau eta state_law D0 V0 M W g K V V_range";
+    "law name description A B mu0 mu2 mu_vv mu_vphi tau eta state_law D0 V0 M W g K V V_range";
 
 /// The keys of the logarithmic ageing form, which `tau` (the cutoff form)
 /// excludes.
@@ -135,11 +135,71 @@ pub fn builtin(name: &str) -> Option<Scene> {
         .and_then(|(n, text)| from_toml_str(text, n).ok())
 }
 
+/// The family of friction laws a scene belongs to (its key `law`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Law {
+    /// `law = "rate-and-state"` or no `law`: the block of docs/model.md.
+    RateAndState,
+    /// `law = "adhesive"`: Schallamach's soft adhesive contacts
+    /// ([`crate::adhesive`]).
+    Adhesive,
+}
+
+/// The value of `law` for the rate-and-state block.
+pub const RATE_AND_STATE: &str = "rate-and-state";
+
+/// The law of a parsed scene table (`law`, default rate-and-state).
+fn law_in(t: &Table) -> Result<Law, InputError> {
+    match string(t, "law")?.as_deref() {
+        None | Some(RATE_AND_STATE) => Ok(Law::RateAndState),
+        Some(crate::adhesive::scene::LAW) => Ok(Law::Adhesive),
+        Some(other) => Err(InputError::Malformed {
+            field: "law".into(),
+            value: other.into(),
+            expected: format!(
+                "{RATE_AND_STATE} (the default) or {}",
+                crate::adhesive::scene::LAW
+            ),
+        }),
+    }
+}
+
+/// The law of the scene `name_or_path` (a built-in name or a TOML file);
+/// rate-and-state for anything else, whose loading then names the problem.
+pub fn law_of(name_or_path: &str) -> Result<Law, InputError> {
+    if crate::adhesive::scene::builtin_text(name_or_path).is_some() {
+        return Ok(Law::Adhesive);
+    }
+    if builtin(name_or_path).is_some() {
+        return Ok(Law::RateAndState);
+    }
+    match std::fs::read_to_string(name_or_path) {
+        Ok(text) => match text.parse::<Table>() {
+            Ok(t) => law_in(&t).map_err(|e| e.in_file(name_or_path)),
+            Err(_) => Ok(Law::RateAndState),
+        },
+        Err(_) => Ok(Law::RateAndState),
+    }
+}
+
+/// The refusal of an adhesive scene where only the rate-and-state block is
+/// analysed.
+fn adhesive_here(origin: &str) -> InputError {
+    InputError::Conflict(format!(
+        "{origin} is an adhesive scene (law = \"adhesive\"): the commands hopf, branch, \
+         diagram, cycles and simulate analyse it; fit and the Python package analyse \
+         rate-and-state scenes only"
+    ))
+}
+
 /// A built-in name, or else a path to a TOML file; unknown names that are not
 /// files get a suggestion among built-ins.
 pub fn load(name_or_path: &str) -> Result<Scene, InputError> {
     if let Some(scene) = builtin(name_or_path) {
         return Ok(scene);
+    }
+    if crate::adhesive::scene::builtin_text(name_or_path).is_some() {
+        return Err(adhesive_here(name_or_path));
     }
     let path = Path::new(name_or_path);
     let looks_like_path = name_or_path.contains(['/', '\\']) || path.extension().is_some();
@@ -241,6 +301,9 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
             suggestion: closest(key, KEYS.split(' ')),
             allowed: KEYS.replace(' ', ", "),
         });
+    }
+    if law_in(&t)? == Law::Adhesive {
+        return Err(adhesive_here(origin));
     }
     let stem = Path::new(origin).file_stem().and_then(|s| s.to_str());
     let name = string(&t, "name")?.unwrap_or_else(|| stem.unwrap_or(origin).to_string());

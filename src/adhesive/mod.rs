@@ -13,5 +13,6 @@
 
 pub mod analysis;
 pub mod block;
+pub mod jobs;
 pub mod params;
 pub mod scene;

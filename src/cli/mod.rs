@@ -5,6 +5,7 @@
 //! (kept, but the request incomplete) with status 4, a write error with
 //! status 1, Ctrl-C with 130 and SIGTERM with 143 (results kept).
 
+pub mod adhesive;
 pub mod branch;
 
 pub mod cycles;
@@ -199,6 +200,10 @@ pub fn run(cli: Cli) -> Result<(), Error> {
                 if let Some(s) = scene::builtin(name) {
                     println!("{name:10} {}", s.description);
                 }
+            }
+            for name in crate::adhesive::scene::builtin_names() {
+                let s = crate::adhesive::scene::load(name)?;
+                println!("{name:10} {} (law = adhesive)", s.description);
             }
             Ok(())
         }
