@@ -233,8 +233,8 @@ pub struct AdhesiveCycles {
 }
 
 /// `cycles` on an adhesive scene: from the onset down to the scene's
-/// stiffness, in at most `max_steps` steps.
-pub fn cycles(setup: AdhesiveSetup, max_steps: usize) -> Result<AdhesiveCycles, Error> {
+/// stiffness, with the limits `(max_steps, ntst_max)` of the branch.
+pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
     let OnsetOutcome::Found(onset) = find_onset(&p)? else {
         return Err(NumericalError::Analysis(format!(
@@ -250,7 +250,7 @@ pub fn cycles(setup: AdhesiveSetup, max_steps: usize) -> Result<AdhesiveCycles, 
     } else {
         0.5 * onset.kappa_c
     };
-    let run = cycles::trace(&p, &onset, target, max_steps)?;
+    let run = cycles::trace(&p, &onset, target, limits)?;
     let mut q = p;
     q.kappa = target;
     let simulated = settled(&q, 30)?;

@@ -178,15 +178,23 @@ pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
     Ok(())
 }
 
-/// Output stem and the figures' files of a run.
+/// The stem of the files of `command`'s run, `<out>/<run>-<command>`
+/// (its JSON record `<stem>.json`, the figures `<stem>-<figure>.png`),
+/// refused when an earlier run's files exist ([`OutputArgs::stem`]).
 fn stem(
     output: &OutputArgs,
     args: &SceneArgs,
     setup: &AdhesiveSetup,
-    outputs: &[&str],
+    command: &str,
+    figures: &[&str],
 ) -> Result<PathBuf, Error> {
     output.create_dir()?;
-    Ok(output.stem(&setup.scene, args, false, outputs)?)
+    let outputs: Vec<String> = std::iter::once(format!("-{command}.json"))
+        .chain(figures.iter().map(|f| format!("-{command}-{f}.png")))
+        .collect();
+    let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
+    let stem = output.stem(&setup.scene, args, false, &outputs)?;
+    Ok(with_suffix(&stem, &format!("-{command}")))
 }
 
 fn line(points: Vec<(f64, f64)>, label: &str, color: RGBColor, dashed: bool) -> Series {
@@ -235,7 +243,8 @@ pub fn diagram(
         output,
         args,
         &setup,
-        &[".json", "-stability.png", "-steady-friction.png"],
+        "diagram",
+        &["stability", "steady-friction"],
     )?;
     let r = jobs::diagram(setup)?;
     let s = &r.setup;
@@ -324,16 +333,11 @@ pub fn cycles(
     setup: AdhesiveSetup,
     args: &SceneArgs,
     output: &OutputArgs,
-    max_steps: usize,
+    limits: (usize, usize),
     as_json: bool,
 ) -> Result<(), Error> {
-    let stem = stem(
-        output,
-        args,
-        &setup,
-        &[".json", "-period.png", "-orbits.png"],
-    )?;
-    let r = jobs::cycles(setup, max_steps)?;
+    let stem = stem(output, args, &setup, "cycles", &["period", "orbits"])?;
+    let r = jobs::cycles(setup, limits)?;
     if !as_json {
         print_cycles(&r);
     }
@@ -465,7 +469,8 @@ pub fn simulate(
         output,
         args,
         &setup,
-        &[".json", "-spring-force.png", "-velocity.png"],
+        "simulation",
+        &["spring-force", "velocity", "bonds"],
     )?;
     let r = jobs::simulate(setup, protocol, perturb, rtol, max_steps)?;
     let u = r.setup.units;

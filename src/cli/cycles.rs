@@ -192,7 +192,8 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
     ];
     if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
         let output = &args.output;
-        return super::adhesive::cycles(setup, &args.scene, output, args.max_steps, args.json);
+        let limits = (args.max_steps, args.ntst_max);
+        return super::adhesive::cycles(setup, &args.scene, output, limits, args.json);
     }
     let control = Control::from_param(args.param.as_deref())?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {

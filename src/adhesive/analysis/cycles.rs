@@ -70,12 +70,12 @@ fn record(p: &AdhesiveParams, point: &CyclePoint) -> AdhesiveCycle {
 }
 
 /// Continues the cycles from `onset` in `kappa` down to `kappa_to` in at
-/// most `max_steps` steps.
+/// most `max_steps` steps, the mesh refined up to `ntst_max` intervals.
 pub fn trace(
     p: &AdhesiveParams,
     onset: &AdhesiveOnset,
     kappa_to: f64,
-    max_steps: usize,
+    (max_steps, ntst_max): (usize, usize),
 ) -> Result<CycleRun, NumericalError> {
     let mut q = *p;
     q.kappa = onset.kappa_c;
@@ -86,6 +86,7 @@ pub fn trace(
         param_floor: kappa_to.min(onset.kappa_c) * 1e-3,
         mesh: continuation::periodic::branch::Discretization {
             points: CollocationPoints::Radau,
+            ntst_max,
             ..Default::default()
         },
         ..CycleSettings::default()
