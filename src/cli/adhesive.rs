@@ -498,12 +498,11 @@ pub fn simulate(
         let t1 = t0 + u.time_s(seg.duration);
         if seg.nu > 0.0 {
             let v = u.velocity_um_s(seg.nu);
-            v_series.push(line(
-                vec![(t0, v), (t1, v)],
-                "pulling velocity V(t)",
-                GREY,
-                true,
-            ));
+            let mut level = line(vec![(t0, v), (t1, v)], "pulling velocity V(t)", GREY, true);
+            if v_series.len() > 1 {
+                level.label = None;
+            }
+            v_series.push(level);
         }
         t0 = t1;
     }
