@@ -31,7 +31,7 @@ const EULER_GAMMA: f64 = 0.577_215_664_901_532_9;
 /// `h_n(z) = e^z E_n(z)` for `n >= 1`, `z > 0` (NaN otherwise: the callers
 /// pass `z = V_s / v` with `v > 0`).
 pub fn scaled_en(n: usize, z: f64) -> f64 {
-    if !(z > 0.0) || n == 0 {
+    if z.is_nan() || z <= 0.0 || n == 0 {
         return f64::NAN;
     }
     if z.is_infinite() {

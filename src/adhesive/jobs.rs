@@ -51,7 +51,7 @@ impl AdhesiveSetup {
     pub fn new(scene: AdhesiveScene, inertia_threshold: f64) -> Result<Self, Error> {
         let p = scene.params;
         let chi = block::inertia_ratio(&p);
-        if !(chi <= inertia_threshold) {
+        if chi.is_nan() || chi > inertia_threshold {
             return Err(InputError::Conflict(format!(
                 "{}: M = {:e} kg gives the inertia ratio chi = m lambda_n / F_u = {chi:.3e} at \
                  V = {:.6e} um/s, above the inertia threshold {inertia_threshold:e}; the adhesive \
@@ -134,7 +134,7 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
             ("stable_for_all_stiffness", None, Some(steady_slope))
         }
     };
-    let regime = setup.scene_full.stiffness_given.then(|| match &critical {
+    let regime = setup.scene_full.stiffness_given.then_some(match &critical {
         Some(c) if p.kappa < c.onset.kappa_c => "stick-slip",
         _ => "steady sliding",
     });

@@ -116,7 +116,7 @@ pub fn diagram(p: &AdhesiveParams, nus: &[f64]) -> Result<Vec<DiagramPoint>, Num
             let mut q = *p;
             q.nu = nu;
             let (closed, omega) = block::critical_stiffness(&q);
-            if !(closed > 0.0) {
+            if closed.is_nan() || closed <= 0.0 {
                 return Ok(DiagramPoint {
                     nu,
                     kappa_c: None,
