@@ -68,7 +68,10 @@ pub struct BranchArgs {
 pub fn run(args: &BranchArgs) -> Result<(), Error> {
     let in_velocity = matches!(args.param.as_deref(), Some("V" | "nu"));
     let unused = [
-        ("--param other than V", args.param.is_some() && !in_velocity),
+        (
+            "--param (only V or nu)",
+            args.param.is_some() && !in_velocity,
+        ),
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
     ];

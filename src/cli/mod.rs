@@ -79,7 +79,9 @@ pub enum Command {
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
     /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file
-    /// [default: pmma; with --from, the file's].
+    /// [default: pmma; with --from, the file's]. A scene with law = "adhesive" (e.g. gel:
+    /// Schallamach's soft adhesive contacts, docs/model.md) runs hopf, branch --param V,
+    /// diagram, cycles and simulate with its own values, without inertia.
     #[arg(long)]
     pub scene: Option<String>,
     /// Override a parameter, repeatable. Dimensionless (docs/model.md): kappa, nu, m, A, B,
