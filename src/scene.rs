@@ -294,6 +294,9 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
 
 /// A scene from its parsed TOML table; `origin` as for [`from_toml_str`].
 fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
+    if law_in(&t)? == Law::Adhesive {
+        return Err(adhesive_here(origin));
+    }
     if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
         return Err(InputError::UnknownName {
             what: "scene key",
@@ -301,9 +304,6 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
             suggestion: closest(key, KEYS.split(' ')),
             allowed: KEYS.replace(' ', ", "),
         });
-    }
-    if law_in(&t)? == Law::Adhesive {
-        return Err(adhesive_here(origin));
     }
     let stem = Path::new(origin).file_stem().and_then(|s| s.to_str());
     let name = string(&t, "name")?.unwrap_or_else(|| stem.unwrap_or(origin).to_string());
@@ -642,6 +642,21 @@ mod tests {
         let e = load_with("pmma", &[set("M", Value::Float(0.0))]).unwrap_err();
         assert!(e.to_string().starts_with("pmma with --set M=0"), "{e}");
         assert_eq!(load_with("pmma", &[]).unwrap(), builtin("pmma").unwrap());
+    }
+
+    #[test]
+    fn the_law_key_selects_the_family() {
+        let s = scene("law = \"rate-and-state\"\nA = 0.01");
+        assert_eq!(s.params, scene("A = 0.01").params);
+        let e = err("law = \"adhesive\"\nF_a = 1");
+        assert!(e.contains("adhesive scene"), "{e}");
+        assert!(err("law = \"glue\"\nA = 0.01").contains("law: cannot read 'glue'"));
+        assert_eq!(law_of("pmma").unwrap(), Law::RateAndState);
+        assert_eq!(law_of("gel").unwrap(), Law::Adhesive);
+        assert!(load("gel")
+            .unwrap_err()
+            .to_string()
+            .contains("adhesive scene"));
     }
 
     #[test]

@@ -173,3 +173,31 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<AdhesiveScene, InputErr
         nu_range: (lo / v_s, hi / v_s),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gel_converts_to_hand_computed_numbers() {
+        let s = load("gel").unwrap();
+        let p = s.params;
+        let rel = |a: f64, b: f64| ((a - b) / b).abs();
+        // kappa = K V_s tau_out / F_a = 200 * 0.025e-6 * 1 / 0.05.
+        assert!(rel(p.kappa, 1e-4) < 1e-14, "{}", p.kappa);
+        assert!(rel(p.nu, 800.0) < 1e-14 && rel(p.r, 0.1) < 1e-15);
+        assert!(rel(p.f_v, 0.01) < 1e-15 && p.alpha == 0.6);
+        // m = M V_s / (F_a tau_out) = 1e-3 * 0.025e-6 / 0.05.
+        assert!(rel(p.m, 5e-10) < 1e-14, "{}", p.m);
+        assert!(rel(s.units.stiffness_n_m(p.kappa), 200.0) < 1e-14);
+        assert!(rel(s.units.velocity_um_s(p.nu), 20.0) < 1e-14);
+        assert!(s.stiffness_given && s.nu_range.0 < p.nu && p.nu < s.nu_range.1);
+        assert!(!s.description.is_empty());
+    }
+
+    #[test]
+    fn required_keys_are_named() {
+        let e = from_toml_str("law = \"adhesive\"\nV_s = 1", "t.toml").unwrap_err();
+        assert!(e.to_string().contains("the key F_a"), "{e}");
+    }
+}
