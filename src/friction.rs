@@ -354,7 +354,7 @@ fn below_zero(f: f64) -> bool {
 
 /// The first `x = from + dir 2^k` (`k = 0, 1, ...`, `|x| < 1e300`) where
 /// `holds(x)`: one end of a bracket.
-fn reach(from: f64, dir: f64, holds: impl Fn(f64) -> bool) -> Option<f64> {
+pub(crate) fn reach(from: f64, dir: f64, holds: impl Fn(f64) -> bool) -> Option<f64> {
     let mut step = 1.0;
     while step < 1e300 {
         let x = from + dir * step;
@@ -371,7 +371,7 @@ fn reach(from: f64, dir: f64, holds: impl Fn(f64) -> bool) -> Option<f64> {
 /// every value shrinks, bisection where a step leaves it (or is not a
 /// number: `g = inf` far out). It ends where the step is below rounding or
 /// the bracket is a few ulps wide: exact to rounding.
-fn increasing_zero(g: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
+pub(crate) fn increasing_zero(g: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
     let mut x = 0.5 * lo + 0.5 * hi;
     for _ in 0..3000 {
         let (v, d) = g(x);

@@ -1,8 +1,10 @@
 //! stickslip: bifurcation analysis of a rate-and-state driven block.
+pub mod adhesive;
 pub mod analysis;
 pub mod appendix_c;
 pub mod cli;
 pub mod error;
+pub mod exp_integral;
 pub mod file_names;
 pub mod fit;
 pub mod friction;

@@ -116,7 +116,7 @@ const BUILTIN_NAMES: [&str; 3] = [BUILTINS[0].0, BUILTINS[1].0, BUILTINS[2].0];
 
 /// Every key a scene file may hold.
 const KEYS: &str =
-    "name description A B mu0 mu2 mu_vv mu_vphi tau eta state_law D0 V0 M W g K V V_range";
+    "law name description A B mu0 mu2 mu_vv mu_vphi tau eta state_law D0 V0 M W g K V V_range";
 
 /// The keys of the logarithmic ageing form, which `tau` (the cutoff form)
 /// excludes.
@@ -135,11 +135,71 @@ pub fn builtin(name: &str) -> Option<Scene> {
         .and_then(|(n, text)| from_toml_str(text, n).ok())
 }
 
+/// The family of friction laws a scene belongs to (its key `law`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Law {
+    /// `law = "rate-and-state"` or no `law`: the block of docs/model.md.
+    RateAndState,
+    /// `law = "adhesive"`: Schallamach's soft adhesive contacts
+    /// ([`crate::adhesive`]).
+    Adhesive,
+}
+
+/// The value of `law` for the rate-and-state block.
+pub const RATE_AND_STATE: &str = "rate-and-state";
+
+/// The law of a parsed scene table (`law`, default rate-and-state).
+fn law_in(t: &Table) -> Result<Law, InputError> {
+    match string(t, "law")?.as_deref() {
+        None | Some(RATE_AND_STATE) => Ok(Law::RateAndState),
+        Some(crate::adhesive::scene::LAW) => Ok(Law::Adhesive),
+        Some(other) => Err(InputError::Malformed {
+            field: "law".into(),
+            value: other.into(),
+            expected: format!(
+                "{RATE_AND_STATE} (the default) or {}",
+                crate::adhesive::scene::LAW
+            ),
+        }),
+    }
+}
+
+/// The law of the scene `name_or_path` (a built-in name or a TOML file);
+/// rate-and-state for anything else, whose loading then names the problem.
+pub fn law_of(name_or_path: &str) -> Result<Law, InputError> {
+    if crate::adhesive::scene::builtin_text(name_or_path).is_some() {
+        return Ok(Law::Adhesive);
+    }
+    if builtin(name_or_path).is_some() {
+        return Ok(Law::RateAndState);
+    }
+    match std::fs::read_to_string(name_or_path) {
+        Ok(text) => match text.parse::<Table>() {
+            Ok(t) => law_in(&t).map_err(|e| e.in_file(name_or_path)),
+            Err(_) => Ok(Law::RateAndState),
+        },
+        Err(_) => Ok(Law::RateAndState),
+    }
+}
+
+/// The refusal of an adhesive scene where only the rate-and-state block is
+/// analysed.
+fn adhesive_here(origin: &str) -> InputError {
+    InputError::Conflict(format!(
+        "{origin} is an adhesive scene (law = \"adhesive\"): the commands hopf, branch, \
+         diagram, cycles and simulate analyse it; fit and the Python package analyse \
+         rate-and-state scenes only"
+    ))
+}
+
 /// A built-in name, or else a path to a TOML file; unknown names that are not
 /// files get a suggestion among built-ins.
 pub fn load(name_or_path: &str) -> Result<Scene, InputError> {
     if let Some(scene) = builtin(name_or_path) {
         return Ok(scene);
+    }
+    if crate::adhesive::scene::builtin_text(name_or_path).is_some() {
+        return Err(adhesive_here(name_or_path));
     }
     let path = Path::new(name_or_path);
     let looks_like_path = name_or_path.contains(['/', '\\']) || path.extension().is_some();
@@ -234,6 +294,9 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene, InputError> {
 
 /// A scene from its parsed TOML table; `origin` as for [`from_toml_str`].
 fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
+    if law_in(&t)? == Law::Adhesive {
+        return Err(adhesive_here(origin));
+    }
     if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
         return Err(InputError::UnknownName {
             what: "scene key",
@@ -355,7 +418,12 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
 
 /// A numeric key (integers accepted), `None` when absent; it must be finite
 /// and satisfy `bound` ("> 0", ">= 0", or "" for any value).
-fn read(t: &Table, key: &str, bound: &str, unit: &str) -> Result<Option<f64>, InputError> {
+pub(crate) fn read(
+    t: &Table,
+    key: &str,
+    bound: &str,
+    unit: &str,
+) -> Result<Option<f64>, InputError> {
     let Some(value) = t.get(key) else {
         return Ok(None);
     };
@@ -383,7 +451,7 @@ fn number(field: &str, value: &Value, unit: &str) -> Result<f64, InputError> {
 }
 
 /// `V_range = [lo, hi]` in um/s, `0 < lo < hi`.
-fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
+pub(crate) fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
     let Some([lo, hi]) = value.as_array().map(Vec::as_slice) else {
         return Err(malformed(
             "V_range",
@@ -403,7 +471,7 @@ fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
     Ok((lo, hi))
 }
 
-fn string(t: &Table, key: &str) -> Result<Option<String>, InputError> {
+pub(crate) fn string(t: &Table, key: &str) -> Result<Option<String>, InputError> {
     match t.get(key) {
         None => Ok(None),
         Some(Value::String(s)) => Ok(Some(s.clone())),
@@ -412,12 +480,12 @@ fn string(t: &Table, key: &str) -> Result<Option<String>, InputError> {
 }
 
 /// `x` if `ok`, else an out-of-range error naming `field`.
-fn require(ok: bool, field: &str, x: f64, expected: &str) -> Result<f64, InputError> {
+pub(crate) fn require(ok: bool, field: &str, x: f64, expected: &str) -> Result<f64, InputError> {
     ok.then_some(x)
         .ok_or_else(|| InputError::out_of_range(field, x, expected))
 }
 
-fn file_error(path: &str, reason: impl std::fmt::Display) -> InputError {
+pub(crate) fn file_error(path: &str, reason: impl std::fmt::Display) -> InputError {
     InputError::File {
         path: path.into(),
         reason: reason.to_string().trim_end().into(),
@@ -574,6 +642,21 @@ mod tests {
         let e = load_with("pmma", &[set("M", Value::Float(0.0))]).unwrap_err();
         assert!(e.to_string().starts_with("pmma with --set M=0"), "{e}");
         assert_eq!(load_with("pmma", &[]).unwrap(), builtin("pmma").unwrap());
+    }
+
+    #[test]
+    fn the_law_key_selects_the_family() {
+        let s = scene("law = \"rate-and-state\"\nA = 0.01");
+        assert_eq!(s.params, scene("A = 0.01").params);
+        let e = err("law = \"adhesive\"\nF_a = 1");
+        assert!(e.contains("adhesive scene"), "{e}");
+        assert!(err("law = \"glue\"\nA = 0.01").contains("law: cannot read 'glue'"));
+        assert_eq!(law_of("pmma").unwrap(), Law::RateAndState);
+        assert_eq!(law_of("gel").unwrap(), Law::Adhesive);
+        assert!(load("gel")
+            .unwrap_err()
+            .to_string()
+            .contains("adhesive scene"));
     }
 
     #[test]

@@ -66,6 +66,18 @@ pub struct BranchArgs {
 
 /// Runs the command.
 pub fn run(args: &BranchArgs) -> Result<(), Error> {
+    let in_velocity = matches!(args.param.as_deref(), Some("V" | "nu"));
+    let unused = [
+        (
+            "--param (only V or nu)",
+            args.param.is_some() && !in_velocity,
+        ),
+        ("--from", args.from.is_some()),
+        ("--to", args.to.is_some()),
+    ];
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+        return super::adhesive::branch(setup, args.json);
+    }
     let param = args
         .param
         .as_deref()

@@ -178,6 +178,23 @@ fn csv_with_header(path: &Path, plan: &Plan) -> Result<LineFile, Error> {
 
 /// Runs the command.
 pub fn run(args: &CyclesArgs) -> Result<(), Error> {
+    let unused = [
+        ("--kappa-fraction", args.kappa_fraction.is_some()),
+        ("--from-simulation", args.from_simulation),
+        ("--lpc-curve", args.lpc_curve),
+        ("--at-kappa", !args.at_kappa.is_empty()),
+        ("--at", !args.at.is_empty()),
+        ("--param", args.param.is_some()),
+        ("--to", args.to.is_some()),
+        ("--search", args.search.is_some()),
+        ("--from", args.from.is_some()),
+        ("--collocation", args.collocation.is_some()),
+    ];
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+        let output = &args.output;
+        let limits = (args.max_steps, args.ntst_max);
+        return super::adhesive::cycles(setup, &args.scene, output, limits, args.json);
+    }
     let control = Control::from_param(args.param.as_deref())?;
     if let Some(c) = control.filter(|c| !c.is_stiffness()) {
         return super::cycles_in::run(args, c);

@@ -64,6 +64,14 @@ fn present(args: &HopfArgs, setup: &Setup, report: &HopfReport) -> Result<(), Er
 
 /// Runs the command.
 pub fn run(args: &HopfArgs) -> Result<(), Error> {
+    let unused = [
+        ("--param", args.param.is_some()),
+        ("--from", args.from.is_some()),
+        ("--to", args.to.is_some()),
+    ];
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+        return super::adhesive::hopf(setup, args.json);
+    }
     let mut request = HopfRequest {
         param: Control::from_param(args.param.as_deref())?,
         from: None,

@@ -5,6 +5,7 @@
 //! (kept, but the request incomplete) with status 4, a write error with
 //! status 1, Ctrl-C with 130 and SIGTERM with 143 (results kept).
 
+pub mod adhesive;
 pub mod branch;
 
 pub mod cycles;
@@ -78,7 +79,9 @@ pub enum Command {
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
     /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file
-    /// [default: pmma; with --from, the file's].
+    /// [default: pmma; with --from, the file's]. A scene with law = "adhesive" (e.g. gel:
+    /// Schallamach's soft adhesive contacts, docs/model.md) runs hopf, branch --param V,
+    /// diagram, cycles and simulate with its own values, without inertia.
     #[arg(long)]
     pub scene: Option<String>,
     /// Override a parameter, repeatable. Dimensionless (docs/model.md): kappa, nu, m, A, B,
@@ -199,6 +202,10 @@ pub fn run(cli: Cli) -> Result<(), Error> {
                 if let Some(s) = scene::builtin(name) {
                     println!("{name:10} {}", s.description);
                 }
+            }
+            for name in crate::adhesive::scene::builtin_names() {
+                let s = crate::adhesive::scene::load(name)?;
+                println!("{name:10} {} (law = adhesive)", s.description);
             }
             Ok(())
         }

@@ -66,7 +66,7 @@ pub struct SimulateArgs {
 }
 
 /// `--protocol V1:T1,...` as `(V [µm/s], T [s])` segments, each checked.
-fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> {
+pub(super) fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> {
     text.split(',')
         .map(|item| {
             let bad = || InputError::Malformed {
@@ -89,6 +89,18 @@ fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> {
 
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &[])? {
+        let protocol = args.protocol.as_deref().map(parse_protocol).transpose()?;
+        let numbers = (args.perturb, args.rtol, args.max_steps);
+        return super::adhesive::simulate(
+            setup,
+            &args.scene,
+            &args.output,
+            protocol,
+            numbers,
+            args.json,
+        );
+    }
     if args.every < 1 {
         return Err(InputError::out_of_range("--every", args.every as f64, ">= 1").into());
     }

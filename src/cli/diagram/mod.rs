@@ -85,6 +85,13 @@ const OUTPUTS: &[&str] = &[
 /// Runs the command with the models built through `fields` (the benchmark
 /// counts their evaluations).
 pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
+    let unused = [
+        ("--x/--y", args.axes.parse()?.is_some()),
+        ("--nu-range", args.nu_range.is_some()),
+    ];
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+        return super::adhesive::diagram(setup, &args.scene, &args.output, args.json);
+    }
     if let Some(pair) = args.axes.parse()? {
         return axes::run(args, pair);
     }

@@ -1,0 +1,155 @@
+//! Steady sliding of the adhesive block across driving velocities: the
+//! branch at the scene's stiffness (eigenvalues, the Hopf points where it
+//! changes stability, located in `nu` by the engine), and the stability
+//! diagram, the critical stiffness at each velocity located by the engine
+//! (Newton's method on the Hopf system from the closed form), with the
+//! onset type. Steady sliding is explicit (`u = nu`, `n = n_ss(nu)`,
+//! `s = F_ss(nu)`, eq. D2), so both sample a grid in `ln nu`.
+
+use crate::adhesive::block::{self, AdhesiveBlock};
+use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
+use crate::analysis::hopf::{onset_at, Criticality};
+use crate::error::NumericalError;
+use continuation::events::locate_hopf;
+use continuation::linalg::{count_unstable, eigenvalues};
+use continuation::system::jacobian;
+use continuation::{EventKind, NewtonSettings};
+
+/// A point of steady sliding, dimensionless.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SteadyPoint {
+    pub nu: f64,
+    /// Spring force (steady friction) `F_ss / F_a`.
+    pub s: f64,
+    /// Bond fraction `n_ss`.
+    pub n: f64,
+    /// `dF_ss / du`.
+    pub slope: f64,
+    /// Eigenvalues at the given stiffness, `[re, im]`, by decreasing real part.
+    pub eigenvalues: Vec<[f64; 2]>,
+    pub stable: bool,
+}
+
+/// A Hopf point of the steady branch in `nu` at fixed stiffness.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct NuHopf {
+    pub nu: f64,
+    pub omega: f64,
+}
+
+/// The velocity grid: `points_per_decade` in `ln nu` over `[lo, hi]`.
+pub fn grid(lo: f64, hi: f64, points_per_decade: usize) -> Vec<f64> {
+    let n = ((hi / lo).log10() * points_per_decade as f64)
+        .ceil()
+        .max(1.0) as usize;
+    (0..=n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
+        .collect()
+}
+
+/// Steady sliding at every `nu` of `nus` at the stiffness of `p`, and the
+/// Hopf points between grid points where stability changes.
+pub fn branch(
+    p: &AdhesiveParams,
+    nus: &[f64],
+) -> Result<(Vec<SteadyPoint>, Vec<NuHopf>), NumericalError> {
+    let mut points: Vec<SteadyPoint> = Vec::new();
+    let mut hopfs = Vec::new();
+    for &nu in nus {
+        let mut q = *p;
+        q.nu = nu;
+        let x = block::steady_state(&q);
+        let ev = eigenvalues(&jacobian(&AdhesiveBlock, &x, &q.to_vec()))?;
+        let point = SteadyPoint {
+            nu,
+            s: x[0],
+            n: x[1],
+            slope: block::steady_slope(nu, &q),
+            eigenvalues: ev.iter().map(|e| [e.re, e.im]).collect(),
+            stable: count_unstable(&ev) == 0,
+        };
+        if let Some(prev) = points.last().filter(|prev| prev.stable != point.stable) {
+            let mut mid = q;
+            mid.nu = (prev.nu * nu).sqrt();
+            let (_, omega) = block::critical_stiffness(&mid);
+            let omega = if omega.is_finite() {
+                omega
+            } else {
+                ev[0].im.abs()
+            };
+            let located = locate_hopf(
+                &AdhesiveBlock,
+                AdhesiveParam::Nu as usize,
+                &block::steady_state(&mid),
+                &mid.to_vec(),
+                omega,
+                &NewtonSettings::default(),
+            )?;
+            if let EventKind::Hopf { omega } = located.kind {
+                hopfs.push(NuHopf {
+                    nu: located.point.param(),
+                    omega,
+                });
+            }
+        }
+        points.push(point);
+    }
+    Ok((points, hopfs))
+}
+
+/// The onset at one driving velocity.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct DiagramPoint {
+    pub nu: f64,
+    /// Critical stiffness located by the engine; `None` where steady
+    /// friction rises with the velocity (stable at every stiffness).
+    pub kappa_c: Option<f64>,
+    pub omega_c: Option<f64>,
+    pub onset: Option<Criticality>,
+    pub l1: Option<f64>,
+}
+
+/// The stability diagram over `nus`.
+pub fn diagram(p: &AdhesiveParams, nus: &[f64]) -> Result<Vec<DiagramPoint>, NumericalError> {
+    nus.iter()
+        .map(|&nu| {
+            let mut q = *p;
+            q.nu = nu;
+            let (closed, omega) = block::critical_stiffness(&q);
+            if closed.is_nan() || closed <= 0.0 {
+                return Ok(DiagramPoint {
+                    nu,
+                    kappa_c: None,
+                    omega_c: None,
+                    onset: None,
+                    l1: None,
+                });
+            }
+            q.kappa = closed;
+            let e = locate_hopf(
+                &AdhesiveBlock,
+                AdhesiveParam::Kappa as usize,
+                &block::steady_state(&q),
+                &q.to_vec(),
+                omega,
+                &NewtonSettings::default(),
+            )?;
+            let EventKind::Hopf { omega } = e.kind else {
+                return Err(NumericalError::Analysis(format!(
+                    "no Hopf point located at nu = {nu:e}"
+                )));
+            };
+            let error = (e.point.param() - closed)
+                .abs()
+                .max(4.0 * f64::EPSILON * closed);
+            let nf = onset_at(&AdhesiveBlock, &e.point.x, &e.point.p, omega, error)?;
+            Ok(DiagramPoint {
+                nu,
+                kappa_c: Some(e.point.param()),
+                omega_c: Some(omega),
+                onset: Some(nf.criticality),
+                l1: Some(nf.l1),
+            })
+        })
+        .collect()
+}

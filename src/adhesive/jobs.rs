@@ -1,0 +1,387 @@
+//! The commands on an adhesive scene, one function each (`hopf`, `branch`,
+//! `diagram`, `cycles`, `simulate`): the scene and its model decision in,
+//! a result out whose serde form is the command's JSON, in the
+//! experimenter's units with the dimensionless values beside.
+
+use super::analysis::cycles::{self, AdhesiveCycle};
+use super::analysis::onset::{find_onset, AdhesiveOnset, OnsetOutcome};
+use super::analysis::simulate::{simulate as integrate, Run, Segment, SettledCycle};
+use super::analysis::steady::{self, DiagramPoint, NuHopf, SteadyPoint};
+use super::block;
+use super::params::AdhesiveParams;
+use super::scene::{AdhesiveScene, AdhesiveUnits};
+use crate::error::{Error, InputError, NumericalError};
+use serde::Serialize;
+
+/// Why the adhesive block is analysed without inertia ([`block`]).
+pub const MODEL_REASON: &str = "the adhesive block is quasi-static in every command: at fixed \
+    bond fraction the force rises strictly with the slip velocity, so the block without inertia \
+    is regular everywhere (also at the extrema of the N-shaped steady friction); inertia is \
+    judged by chi = m lambda_n / F_u, which must stay below the inertia threshold";
+
+/// What every adhesive result starts with: the scene, its model decision,
+/// its parameters and units, steady friction's extrema.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdhesiveSetup {
+    pub scene: String,
+    pub law: &'static str,
+    pub model: &'static str,
+    pub model_reason: &'static str,
+    /// `chi = m lambda_n / F_u` at steady sliding ([`block::inertia_ratio`]).
+    pub inertia_ratio: f64,
+    pub params: AdhesiveParams,
+    pub units: AdhesiveUnits,
+    /// The maximum of steady friction (the bell of Schallamach's pinning).
+    pub v_max_um_s: Option<f64>,
+    /// The minimum above it, where stick-slip ends (seed §III.D.2).
+    pub v_c_um_s: Option<f64>,
+    /// Steady friction at `V_max` and `V_c`, N.
+    pub force_at_v_max_n: Option<f64>,
+    pub force_at_v_c_n: Option<f64>,
+    #[serde(skip)]
+    pub scene_full: AdhesiveScene,
+}
+
+/// Velocities scanned for the extrema of steady friction, in `V_s`.
+const EXTREMA_RANGE: (f64, f64) = (1e-6, 1e12);
+
+impl AdhesiveSetup {
+    /// The scene's model decision (quasi-static; refused where inertia
+    /// would matter) and steady friction's extrema.
+    pub fn new(scene: AdhesiveScene, inertia_threshold: f64) -> Result<Self, Error> {
+        let p = scene.params;
+        let chi = block::inertia_ratio(&p);
+        if chi.is_nan() || chi > inertia_threshold {
+            return Err(InputError::Conflict(format!(
+                "{}: M = {:e} kg gives the inertia ratio chi = m lambda_n / F_u = {chi:.3e} at \
+                 V = {:.6e} um/s, above the inertia threshold {inertia_threshold:e}; the adhesive \
+                 block is analysed without inertia only (the inertial adhesive block is not \
+                 implemented): lower M, or raise --inertia-threshold to accept the error",
+                scene.name,
+                scene.units.mass,
+                scene.units.velocity_um_s(p.nu)
+            ))
+            .into());
+        }
+        let extrema = block::steady_extrema(&p, EXTREMA_RANGE.0, EXTREMA_RANGE.1);
+        let v_max = extrema.iter().find(|e| e.1).map(|e| e.0);
+        let v_c = v_max.and_then(|m| extrema.iter().find(|e| !e.1 && e.0 > m).map(|e| e.0));
+        let u = scene.units;
+        let force = |nu: f64| u.force_n(block::steady_friction(nu, &p));
+        Ok(AdhesiveSetup {
+            scene: scene.name.clone(),
+            law: super::scene::LAW,
+            model: crate::model::ModelKind::QuasiStatic.name(),
+            model_reason: MODEL_REASON,
+            inertia_ratio: chi,
+            params: p,
+            units: u,
+            v_max_um_s: v_max.map(|nu| u.velocity_um_s(nu)),
+            v_c_um_s: v_c.map(|nu| u.velocity_um_s(nu)),
+            force_at_v_max_n: v_max.map(force),
+            force_at_v_c_n: v_c.map(force),
+            scene_full: scene,
+        })
+    }
+}
+
+/// The onset in the experimenter's units.
+#[derive(Clone, Debug, Serialize)]
+pub struct Critical {
+    #[serde(flatten)]
+    pub onset: AdhesiveOnset,
+    /// `K_c = kappa_c F_a / (V_s tau_out)`, N/m.
+    pub k_c_n_m: f64,
+    /// `omega_c / (2 pi tau_out)`, Hz.
+    pub frequency_hz: f64,
+}
+
+/// The result of `hopf`.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdhesiveHopf {
+    #[serde(flatten)]
+    pub setup: AdhesiveSetup,
+    /// `onset` or `stable_for_all_stiffness`.
+    pub status: &'static str,
+    pub critical: Option<Critical>,
+    /// `dF_ss/du` at the scene's velocity where stable at every stiffness.
+    pub steady_slope: Option<f64>,
+    /// Steady friction at the scene's velocity, N.
+    pub steady_force_n: f64,
+    pub steady_bonds: f64,
+    /// The scene's stiffness against the onset: `stick-slip` or
+    /// `steady sliding` (`None` without `K`).
+    pub regime: Option<&'static str>,
+    pub complete: bool,
+}
+
+/// `hopf` on an adhesive scene.
+pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
+    let p = setup.params;
+    let u = setup.units;
+    let outcome = find_onset(&p)?;
+    let (status, critical, slope) = match outcome {
+        OnsetOutcome::Found(onset) => (
+            "onset",
+            Some(Critical {
+                k_c_n_m: u.stiffness_n_m(onset.kappa_c),
+                frequency_hz: onset.omega_c / (2.0 * std::f64::consts::PI * u.tau_out),
+                onset,
+            }),
+            None,
+        ),
+        OnsetOutcome::StableForAllStiffness { steady_slope } => {
+            ("stable_for_all_stiffness", None, Some(steady_slope))
+        }
+    };
+    let regime = setup.scene_full.stiffness_given.then_some(match &critical {
+        Some(c) if p.kappa < c.onset.kappa_c => "stick-slip",
+        _ => "steady sliding",
+    });
+    Ok(AdhesiveHopf {
+        steady_force_n: u.force_n(block::steady_friction(p.nu, &p)),
+        steady_bonds: block::steady_bonds(p.nu, p.r),
+        setup,
+        status,
+        critical,
+        steady_slope: slope,
+        regime,
+        complete: true,
+    })
+}
+
+/// The result of `branch`: steady sliding across the scene's `V_range` at
+/// its stiffness.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdhesiveBranch {
+    #[serde(flatten)]
+    pub setup: AdhesiveSetup,
+    pub points: Vec<SteadyPoint>,
+    /// The Hopf points in the driving velocity, um/s beside `nu`.
+    pub hopf_points: Vec<NuHopf>,
+    pub hopf_points_um_s: Vec<f64>,
+    pub complete: bool,
+}
+
+/// Points per decade of the velocity grids.
+const PER_DECADE: usize = 20;
+
+/// `branch` on an adhesive scene (in the driving velocity `V`).
+pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
+    let p = setup.params;
+    if !setup.scene_full.stiffness_given {
+        return Err(InputError::Conflict(format!(
+            "{}: the steady branch in V is traced at the rig's stiffness, and the scene gives no \
+             K [N/m]",
+            setup.scene
+        ))
+        .into());
+    }
+    let (lo, hi) = setup.scene_full.nu_range;
+    let (points, hopf_points) = steady::branch(&p, &steady::grid(lo, hi, PER_DECADE))?;
+    Ok(AdhesiveBranch {
+        hopf_points_um_s: hopf_points
+            .iter()
+            .map(|h| setup.units.velocity_um_s(h.nu))
+            .collect(),
+        setup,
+        points,
+        hopf_points,
+        complete: true,
+    })
+}
+
+/// The result of `diagram`: the critical stiffness across `V_range`.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdhesiveDiagram {
+    #[serde(flatten)]
+    pub setup: AdhesiveSetup,
+    pub points: Vec<DiagramPoint>,
+    /// The steady branch at the scene's velocities (for the friction figure).
+    pub steady: Vec<SteadyPoint>,
+    pub complete: bool,
+}
+
+/// `diagram` on an adhesive scene.
+pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
+    let p = setup.params;
+    let (lo, hi) = setup.scene_full.nu_range;
+    let nus = steady::grid(lo, hi, PER_DECADE);
+    let points = steady::diagram(&p, &nus)?;
+    let (steady, _) = steady::branch(&p, &nus)?;
+    Ok(AdhesiveDiagram {
+        setup,
+        points,
+        steady,
+        complete: true,
+    })
+}
+
+/// The result of `cycles`.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdhesiveCycles {
+    #[serde(flatten)]
+    pub setup: AdhesiveSetup,
+    pub onset: AdhesiveOnset,
+    pub cycles: Vec<AdhesiveCycle>,
+    /// The cycle at the scene's stiffness by collocation.
+    pub at_scene: Option<AdhesiveCycle>,
+    /// The same by simulation (settled stick-slip): the second method.
+    pub simulated: Option<SettledCycle>,
+    pub complete: bool,
+    pub stop: Option<String>,
+}
+
+/// `cycles` on an adhesive scene: from the onset down to the scene's
+/// stiffness, with the limits `(max_steps, ntst_max)` of the branch.
+pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCycles, Error> {
+    let p = setup.params;
+    let OnsetOutcome::Found(onset) = find_onset(&p)? else {
+        return Err(NumericalError::Analysis(format!(
+            "steady friction rises with the velocity at V = {:.6e} um/s: steady sliding is \
+             stable at every stiffness and there are no stick-slip cycles (stick-slip lies \
+             between V_max and V_c)",
+            setup.units.velocity_um_s(p.nu)
+        ))
+        .into());
+    };
+    let target = if setup.scene_full.stiffness_given && p.kappa < onset.kappa_c {
+        p.kappa
+    } else {
+        0.5 * onset.kappa_c
+    };
+    let run = cycles::trace(&p, &onset, target, limits)?;
+    let mut q = p;
+    q.kappa = target;
+    let simulated = settled(&q, 30)?;
+    Ok(AdhesiveCycles {
+        setup,
+        onset,
+        complete: run.stop.is_none(),
+        stop: run.stop,
+        cycles: run.cycles,
+        at_scene: run.at_scene,
+        simulated,
+    })
+}
+
+/// The settled stick-slip of the block at `p` by simulation: `periods`
+/// loading times `F_ss / (kappa nu)` from steady sliding perturbed.
+fn settled(p: &AdhesiveParams, periods: usize) -> Result<Option<SettledCycle>, Error> {
+    let mut x = block::steady_state(p);
+    x[1] *= 0.99;
+    let duration = periods as f64 * x[0] / (p.kappa * p.nu);
+    let run = integrate(p, &x, &[Segment { nu: p.nu, duration }], 1e-8, 1_000_000)?;
+    Ok(run.settled(0))
+}
+
+/// The result of `simulate`.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdhesiveSimulation {
+    #[serde(flatten)]
+    pub setup: AdhesiveSetup,
+    pub protocol: Vec<Segment>,
+    pub steps: usize,
+    /// Per segment: the largest spring force, N, and steady friction at its
+    /// velocity, N (a static peak after rest stands above it).
+    pub peak_force_n: Vec<f64>,
+    pub steady_force_n: Vec<f64>,
+    /// The settled stick-slip of the last segment, if any.
+    pub settled: Option<SettledCycle>,
+    pub settled_period_s: Option<f64>,
+    pub settled_force_drop_n: Option<f64>,
+    #[serde(skip)]
+    pub run: Run,
+    pub complete: bool,
+}
+
+/// `simulate` on an adhesive scene under `protocol` (`(V [um/s], T [s])`;
+/// default: the scene's velocity for 30 loading times).
+pub fn simulate(
+    setup: AdhesiveSetup,
+    protocol: Option<Vec<(f64, f64)>>,
+    perturb: f64,
+    rtol: f64,
+    max_steps: usize,
+) -> Result<AdhesiveSimulation, Error> {
+    let p = setup.params;
+    let u = setup.units;
+    if !setup.scene_full.stiffness_given || p.kappa == 0.0 {
+        return Err(InputError::Conflict(format!(
+            "{}: a simulation needs the rig's stiffness; give K [N/m] (> 0) in the scene",
+            setup.scene
+        ))
+        .into());
+    }
+    if !(rtol > 1e-14 && rtol < 1.0) {
+        return Err(InputError::out_of_range("--rtol", rtol, "in (1e-14, 1)").into());
+    }
+    let x_ss = block::steady_state(&p);
+    let protocol: Vec<Segment> = match protocol {
+        Some(list) => list
+            .into_iter()
+            .map(|(v, t)| Segment {
+                nu: u.nu_of_velocity_um_s(v),
+                duration: t / u.tau_out,
+            })
+            .collect(),
+        None => vec![Segment {
+            nu: p.nu,
+            duration: 30.0 * x_ss[0] / (p.kappa * p.nu),
+        }],
+    };
+    let mut start = p;
+    start.nu = protocol
+        .iter()
+        .map(|s| s.nu)
+        .find(|nu| *nu > 0.0)
+        .unwrap_or(p.nu);
+    let mut x = block::steady_state(&start);
+    x[1] *= 1.0 + perturb;
+    if !(x[1] > 0.0 && x[1] <= 1.0) {
+        return Err(InputError::out_of_range(
+            "--perturb",
+            perturb,
+            "a relative change of the bond fraction that keeps it in (0, 1]",
+        )
+        .into());
+    }
+    let run = integrate(&p, &x, &protocol, rtol, max_steps)?;
+    let segment_of = |t: f64| {
+        let mut end = 0.0;
+        protocol
+            .iter()
+            .position(|s| {
+                end += s.duration;
+                t <= end
+            })
+            .unwrap_or(protocol.len() - 1)
+    };
+    let mut peak = vec![f64::NEG_INFINITY; protocol.len()];
+    for (t, s) in run.t.iter().zip(&run.s) {
+        let i = segment_of(*t);
+        peak[i] = peak[i].max(*s);
+    }
+    let settled = run.settled(protocol.len() - 1);
+    Ok(AdhesiveSimulation {
+        steps: run.t.len(),
+        peak_force_n: peak.iter().map(|s| u.force_n(*s)).collect(),
+        steady_force_n: protocol
+            .iter()
+            .map(|s| {
+                if s.nu > 0.0 {
+                    u.force_n(block::steady_friction(s.nu, &p))
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+        settled_period_s: settled.map(|c| u.time_s(c.period)),
+        settled_force_drop_n: settled.map(|c| u.force_n(c.force_drop)),
+        settled,
+        setup,
+        protocol,
+        run,
+        complete: true,
+    })
+}

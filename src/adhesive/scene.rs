@@ -1,0 +1,203 @@
+//! Adhesive scenes (`law = "adhesive"`): a soft slider (gel, elastomer) on
+//! glass in laboratory units, read from TOML and made dimensionless
+//! ([`super::params`]):
+//!
+//! ```text
+//! nu = V / V_s,   kappa = K V_s tau_out / F_a,   r = tau_on / tau_out,
+//! f_v = F_v / F_a,   m = M V_s / (F_a tau_out)
+//! ```
+//!
+//! `F_a` [N] is the pinning force scale `N0 k_B T / b` (seed eq. D1),
+//! `V_s` [µm/s] Schallamach's velocity `k_B T / (kappa b tau_out)` (eq. D7),
+//! `tau_out` and `tau_on` [s] the desorption and readsorption times, `F_v`
+//! [N] and `alpha` the junction's viscous force `F_v (v / V_s)^(1 - alpha)`
+//! (seed §III.D.2), `M` [kg], `K` [N/m], `V` [µm/s] as for the other laws.
+
+use super::params::AdhesiveParams;
+use crate::error::{closest, InputError};
+use crate::scene::{file_error, read, require, string, v_range};
+use toml::Table;
+
+/// The value of the scene key `law` that selects this family.
+pub const LAW: &str = "adhesive";
+
+/// Every key an adhesive scene may hold.
+const KEYS: &str = "law name description F_a V_s tau_out tau_on F_v alpha M K V V_range";
+
+/// The built-in adhesive scenes (`examples/scenes/NAME.toml`).
+const BUILTINS: [(&str, &str); 1] = [("gel", include_str!("../../examples/scenes/gel.toml"))];
+
+/// Physical units of an adhesive scene, to report in the experimenter's units.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct AdhesiveUnits {
+    /// Pinning force scale `F_a` [N].
+    pub f_a: f64,
+    /// Schallamach's velocity `V_s` [m/s].
+    pub v_s: f64,
+    /// Desorption time `tau_out` [s], the unit of time.
+    pub tau_out: f64,
+    /// Block mass `M` [kg].
+    pub mass: f64,
+}
+
+impl AdhesiveUnits {
+    /// A force in N of a dimensionless one (`F / F_a`).
+    pub fn force_n(&self, f: f64) -> f64 {
+        f * self.f_a
+    }
+    /// A velocity in µm/s of a dimensionless one (`v / V_s`).
+    pub fn velocity_um_s(&self, u: f64) -> f64 {
+        u * self.v_s * 1e6
+    }
+    /// The dimensionless velocity of one in µm/s.
+    pub fn nu_of_velocity_um_s(&self, v: f64) -> f64 {
+        v / (self.v_s * 1e6)
+    }
+    /// A time in s of a dimensionless one (`t / tau_out`).
+    pub fn time_s(&self, t: f64) -> f64 {
+        t * self.tau_out
+    }
+    /// A stiffness in N/m of `kappa`: `K = kappa F_a / (V_s tau_out)`.
+    pub fn stiffness_n_m(&self, kappa: f64) -> f64 {
+        kappa * self.f_a / (self.v_s * self.tau_out)
+    }
+}
+
+/// An adhesive experiment and its dimensionless parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AdhesiveScene {
+    pub name: String,
+    pub description: String,
+    pub params: AdhesiveParams,
+    pub units: AdhesiveUnits,
+    /// Whether the scene gives the stiffness `K` (else `kappa = 0`).
+    pub stiffness_given: bool,
+    /// Driving velocities to explore, `V_range / V_s`.
+    pub nu_range: (f64, f64),
+}
+
+/// Names of the built-in adhesive scenes.
+pub fn builtin_names() -> impl Iterator<Item = &'static str> {
+    BUILTINS.iter().map(|(n, _)| *n)
+}
+
+/// The text of a built-in adhesive scene.
+pub fn builtin_text(name: &str) -> Option<&'static str> {
+    BUILTINS.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
+/// A built-in adhesive scene by name, or else a path to a TOML file.
+pub fn load(name_or_path: &str) -> Result<AdhesiveScene, InputError> {
+    if let Some(text) = builtin_text(name_or_path) {
+        return from_toml_str(text, name_or_path);
+    }
+    let text = std::fs::read_to_string(name_or_path).map_err(|e| file_error(name_or_path, e))?;
+    from_toml_str(&text, name_or_path).map_err(|e| e.in_file(name_or_path))
+}
+
+/// Parses an adhesive scene; `origin` names it in errors and gives the
+/// default name (its stem).
+pub fn from_toml_str(text: &str, origin: &str) -> Result<AdhesiveScene, InputError> {
+    let t: Table = text.parse().map_err(|e| file_error(origin, e))?;
+    if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
+        return Err(InputError::UnknownName {
+            what: "key of an adhesive scene",
+            name: key.clone(),
+            suggestion: closest(key, KEYS.split(' ')),
+            allowed: KEYS.replace(' ', ", "),
+        });
+    }
+    let stem = std::path::Path::new(origin)
+        .file_stem()
+        .and_then(|s| s.to_str());
+    let name = string(&t, "name")?.unwrap_or_else(|| stem.unwrap_or(origin).to_string());
+    let description = string(&t, "description")?.unwrap_or_default();
+    let required = |key: &str, unit: &str, meaning: &str| -> Result<f64, InputError> {
+        read(&t, key, "> 0", unit)?.ok_or_else(|| {
+            file_error(
+                origin,
+                format!(
+                    "the key {key} ({meaning}, > 0, in {unit}) is required with law = \"adhesive\""
+                ),
+            )
+        })
+    };
+    let f_a = required("F_a", "N", "pinning force scale N0 kB T / b")?;
+    let v_s = required(
+        "V_s",
+        "um/s",
+        "Schallamach's velocity kB T / (kappa b tau_out)",
+    )?;
+    let tau_out = required("tau_out", "s", "desorption time")?;
+    let tau_on = required("tau_on", "s", "readsorption time")?;
+    let f_v = read(&t, "F_v", ">= 0", "N")?.unwrap_or(0.0);
+    let alpha = read(&t, "alpha", ">= 0", "dimensionless")?.unwrap_or(0.0);
+    require(
+        alpha < 1.0,
+        "alpha",
+        alpha,
+        "in [0, 1) (0: Newtonian junction; about 0.6 for gelatin)",
+    )?;
+    let mass = read(&t, "M", ">= 0", "kg")?.unwrap_or(0.0);
+    let k = read(&t, "K", ">= 0", "N/m")?;
+    let v = read(&t, "V", "> 0", "um/s")?.ok_or_else(|| {
+        file_error(
+            origin,
+            "the key V (driving velocity, > 0, in um/s) is required",
+        )
+    })?;
+    let (lo, hi) = t
+        .get("V_range")
+        .map_or(Ok((0.01 * v, 100.0 * v)), v_range)?;
+    let units = AdhesiveUnits {
+        f_a,
+        v_s: v_s * 1e-6,
+        tau_out,
+        mass,
+    };
+    let params = AdhesiveParams {
+        kappa: k.map_or(0.0, |k| k * units.v_s * tau_out / f_a),
+        nu: v / v_s,
+        r: tau_on / tau_out,
+        f_v: f_v / f_a,
+        alpha,
+        m: mass * units.v_s / (f_a * tau_out),
+    };
+    params.validate().map_err(|e| e.in_file(origin))?;
+    Ok(AdhesiveScene {
+        name,
+        description,
+        params,
+        units,
+        stiffness_given: k.is_some(),
+        nu_range: (lo / v_s, hi / v_s),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gel_converts_to_hand_computed_numbers() {
+        let s = load("gel").unwrap();
+        let p = s.params;
+        let rel = |a: f64, b: f64| ((a - b) / b).abs();
+        // kappa = K V_s tau_out / F_a = 200 * 0.025e-6 * 1 / 0.05.
+        assert!(rel(p.kappa, 1e-4) < 1e-14, "{}", p.kappa);
+        assert!(rel(p.nu, 800.0) < 1e-14 && rel(p.r, 0.1) < 1e-15);
+        assert!(rel(p.f_v, 0.01) < 1e-15 && p.alpha == 0.6);
+        // m = M V_s / (F_a tau_out) = 1e-3 * 0.025e-6 / 0.05.
+        assert!(rel(p.m, 5e-10) < 1e-14, "{}", p.m);
+        assert!(rel(s.units.stiffness_n_m(p.kappa), 200.0) < 1e-14);
+        assert!(rel(s.units.velocity_um_s(p.nu), 20.0) < 1e-14);
+        assert!(s.stiffness_given && s.nu_range.0 < p.nu && p.nu < s.nu_range.1);
+        assert!(!s.description.is_empty());
+    }
+
+    #[test]
+    fn required_keys_are_named() {
+        let e = from_toml_str("law = \"adhesive\"\nV_s = 1", "t.toml").unwrap_err();
+        assert!(e.to_string().contains("the key F_a"), "{e}");
+    }
+}

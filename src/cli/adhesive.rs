@@ -1,0 +1,553 @@
+//! The commands on an adhesive scene (`law = "adhesive"`): text, JSON and
+//! figures of [`crate::adhesive::jobs`]. Each command's `run` hands a scene
+//! whose law is adhesive here first ([`adhesive_setup`]); options of the
+//! rate-and-state analyses that have no meaning for it are refused, naming
+//! the option.
+
+use super::files::{write, OutputArgs};
+use super::SceneArgs;
+use crate::adhesive::jobs::{
+    self, AdhesiveCycles, AdhesiveHopf, AdhesiveSetup, AdhesiveSimulation,
+};
+use crate::adhesive::scene;
+use crate::error::{Error, InputError};
+use crate::file_names::with_suffix;
+use crate::model::ModelKind;
+use crate::plot::lines::{render, vertical_marker, LineFigure, Series};
+use plotters::style::RGBColor;
+use std::path::{Path, PathBuf};
+
+/// The adhesive scene named by `args`, with its model decision, or `None`
+/// for a scene of another law. Refuses what does not apply: `--set` (edit
+/// the scene file), `--model inertial`, and the options named in `unused`
+/// that were given.
+pub fn adhesive_setup(
+    args: &SceneArgs,
+    unused: &[(&str, bool)],
+) -> Result<Option<AdhesiveSetup>, Error> {
+    if crate::scene::law_of(args.scene_name())? != crate::scene::Law::Adhesive {
+        return Ok(None);
+    }
+    let refuse = |option: &str, what: &str| -> Error {
+        InputError::Conflict(format!(
+            "{option} is not available on an adhesive scene (law = \"adhesive\", {}): {what}",
+            args.scene_name()
+        ))
+        .into()
+    };
+    if !args.set.is_empty() {
+        return Err(refuse(
+            "--set",
+            "write the values into a copy of the scene file",
+        ));
+    }
+    if args.model.map(ModelKind::from) == Some(ModelKind::Inertial) {
+        return Err(refuse("--model inertial", jobs::MODEL_REASON));
+    }
+    if let Some((option, _)) = unused.iter().find(|(_, given)| *given) {
+        return Err(refuse(
+            option,
+            "the adhesive block runs with its scene's values (see docs/model.md, \"Soft \
+             adhesive contacts\")",
+        ));
+    }
+    let scene = scene::load(args.scene_name())?;
+    Ok(Some(AdhesiveSetup::new(scene, args.inertia_threshold)?))
+}
+
+fn json<T: serde::Serialize>(value: &T) -> Result<String, Error> {
+    Ok(serde_json::to_string_pretty(value).map_err(std::io::Error::other)?)
+}
+
+fn plot_error(e: crate::plot::PlotError) -> Error {
+    Error::Output(std::io::Error::other(e.to_string()))
+}
+
+/// The lines every command starts its text with.
+fn print_setup(s: &AdhesiveSetup) {
+    let p = &s.params;
+    let u = &s.units;
+    println!(
+        "scene {} (law = adhesive, {} model: chi = m lambda_n / F_u = {:.2e})",
+        s.scene, s.model, s.inertia_ratio
+    );
+    println!(
+        "  F_a = {:.6e} N, V_s = {:.6e} um/s, tau_out = {:.6e} s, tau_on / tau_out = r = {:.6e}, \
+         F_v / F_a = f_v = {:.6e}, alpha = {}",
+        u.f_a,
+        u.v_s * 1e6,
+        u.tau_out,
+        p.r,
+        p.f_v,
+        p.alpha
+    );
+    println!(
+        "  V = {:.6e} um/s (nu = {:.6e}), K = {:.6e} N/m (kappa = {:.6e})",
+        u.velocity_um_s(p.nu),
+        p.nu,
+        u.stiffness_n_m(p.kappa),
+        p.kappa
+    );
+    match (s.v_max_um_s, s.force_at_v_max_n) {
+        (Some(v), Some(f)) => {
+            println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} um/s")
+        }
+        _ => println!("  steady friction: no maximum (no velocity-weakening branch)"),
+    }
+    match (s.v_c_um_s, s.force_at_v_c_n) {
+        (Some(v), Some(f)) => println!(
+            "  steady friction: minimum {f:.6e} N at V_c = {v:.6e} um/s (stick-slip ends above it)"
+        ),
+        _ => println!("  steady friction: no minimum above V_max"),
+    }
+}
+
+/// `hopf` on an adhesive scene.
+pub fn hopf(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
+    let r = jobs::hopf(setup)?;
+    if as_json {
+        println!("{}", json(&r)?);
+        return Ok(());
+    }
+    print_text_hopf(&r);
+    Ok(())
+}
+
+fn print_text_hopf(r: &AdhesiveHopf) {
+    print_setup(&r.setup);
+    println!(
+        "steady sliding at V: force {:.6e} N, bond fraction n = {:.6e}",
+        r.steady_force_n, r.steady_bonds
+    );
+    match &r.critical {
+        Some(c) => {
+            let o = &c.onset;
+            println!(
+                "onset: K_c = {:.6e} N/m (kappa_c = {:.10e}; closed form {:.10e}), frequency \
+                 {:.6e} Hz (omega_c = {:.6e} / tau_out)",
+                c.k_c_n_m, o.kappa_c, o.kappa_c_closed_form, c.frequency_hz, o.omega_c
+            );
+            println!(
+                "onset type: {} (l1 = {:.6e} +- {:.1e})",
+                o.onset.name(),
+                o.l1,
+                o.l1_error_bound
+            );
+        }
+        None => println!(
+            "steady sliding is stable at every stiffness: steady friction rises with V here \
+             (dF_ss/du = {:.3e})",
+            r.steady_slope.unwrap_or(f64::NAN)
+        ),
+    }
+    if let Some(regime) = r.regime {
+        println!("the scene's K: {regime}");
+    }
+}
+
+/// `branch` on an adhesive scene.
+pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
+    let r = jobs::branch(setup)?;
+    if as_json {
+        println!("{}", json(&r)?);
+        return Ok(());
+    }
+    print_setup(&r.setup);
+    let u = &r.setup.units;
+    println!("steady sliding in V at the scene's K:");
+    println!(
+        "  {:>13} {:>13} {:>11} {:>11}  stability",
+        "V [um/s]", "force [N]", "n", "re lambda"
+    );
+    for pt in &r.points {
+        println!(
+            "  {:>13.6e} {:>13.6e} {:>11.4e} {:>11.3e}  {}",
+            u.velocity_um_s(pt.nu),
+            u.force_n(pt.s),
+            pt.n,
+            pt.eigenvalues[0][0],
+            if pt.stable { "stable" } else { "unstable" }
+        );
+    }
+    for (h, v) in r.hopf_points.iter().zip(&r.hopf_points_um_s) {
+        println!(
+            "Hopf point at V = {v:.8e} um/s (nu = {:.8e}, omega = {:.4e} / tau_out)",
+            h.nu, h.omega
+        );
+    }
+    Ok(())
+}
+
+/// The stem of the files of `command`'s run, `<out>/<run>-<command>`
+/// (its JSON record `<stem>.json`, the figures `<stem>-<figure>.png`),
+/// refused when an earlier run's files exist ([`OutputArgs::stem`]).
+fn stem(
+    output: &OutputArgs,
+    args: &SceneArgs,
+    setup: &AdhesiveSetup,
+    command: &str,
+    figures: &[&str],
+) -> Result<PathBuf, Error> {
+    output.create_dir()?;
+    let outputs: Vec<String> = std::iter::once(format!("-{command}.json"))
+        .chain(figures.iter().map(|f| format!("-{command}-{f}.png")))
+        .collect();
+    let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
+    let stem = output.stem(&setup.scene, args, false, &outputs)?;
+    Ok(with_suffix(&stem, &format!("-{command}")))
+}
+
+fn line(points: Vec<(f64, f64)>, label: &str, color: RGBColor, dashed: bool) -> Series {
+    Series {
+        label: Some(label.into()),
+        points,
+        color,
+        dashed,
+        markers: false,
+    }
+}
+
+const BLUE: RGBColor = RGBColor(31, 90, 180);
+const RED: RGBColor = RGBColor(200, 50, 40);
+const GREY: RGBColor = RGBColor(110, 110, 110);
+
+/// Writes the JSON record and names the files.
+fn finish(
+    stem: &Path,
+    record: String,
+    mut files: Vec<PathBuf>,
+    as_json: bool,
+) -> Result<(), Error> {
+    let path = with_suffix(stem, ".json");
+    write(&path, &record)?;
+    files.insert(0, path);
+    if as_json {
+        println!("{record}");
+    } else {
+        for f in files {
+            println!("wrote {}", f.display());
+        }
+    }
+    Ok(())
+}
+
+/// `diagram` on an adhesive scene: the critical stiffness against `V`
+/// (stability diagram) and steady friction against `V`.
+pub fn diagram(
+    setup: AdhesiveSetup,
+    args: &SceneArgs,
+    output: &OutputArgs,
+    as_json: bool,
+) -> Result<(), Error> {
+    let stem = stem(
+        output,
+        args,
+        &setup,
+        "diagram",
+        &["stability", "steady-friction"],
+    )?;
+    let r = jobs::diagram(setup)?;
+    let s = &r.setup;
+    let u = &s.units;
+    if !as_json {
+        print_setup(s);
+        println!("stability diagram: K_c against V (stick-slip below K_c)");
+        for pt in &r.points {
+            match (pt.kappa_c, pt.onset) {
+                (Some(k), Some(o)) => println!(
+                    "  V = {:>12.5e} um/s  K_c = {:>12.5e} N/m  {}",
+                    u.velocity_um_s(pt.nu),
+                    u.stiffness_n_m(k),
+                    o.name()
+                ),
+                _ => println!(
+                    "  V = {:>12.5e} um/s  stable at every stiffness",
+                    u.velocity_um_s(pt.nu)
+                ),
+            }
+        }
+    }
+    let k_c: Vec<(f64, f64)> = r
+        .points
+        .iter()
+        .filter_map(|p| Some((u.velocity_um_s(p.nu), u.stiffness_n_m(p.kappa_c?))))
+        .collect();
+    let mut series = vec![line(k_c, "K_c(V): stick-slip below", BLUE, false)];
+    if s.scene_full.stiffness_given {
+        let v = u.velocity_um_s(s.params.nu);
+        series.push(Series {
+            label: Some(format!(
+                "the scene: V = {v:.3e} um/s, K = {:.3e} N/m",
+                u.stiffness_n_m(s.params.kappa)
+            )),
+            points: vec![(v, u.stiffness_n_m(s.params.kappa))],
+            color: RED,
+            dashed: false,
+            markers: true,
+        });
+    }
+    for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
+        if let Some(v) = v {
+            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} um/s"), GREY);
+            series.push(marker);
+        }
+    }
+    let stability = LineFigure {
+        title: format!("Stability diagram, {} (adhesive, quasi-static)", s.scene),
+        x_label: "driving velocity V [µm/s]".into(),
+        y_label: "critical stiffness K_c [N/m]".into(),
+        log_x: true,
+        log_y: true,
+        series,
+    };
+    let friction: Vec<(f64, f64)> = r
+        .steady
+        .iter()
+        .map(|p| (u.velocity_um_s(p.nu), u.force_n(p.s)))
+        .collect();
+    let mut series = vec![line(friction, "steady friction F_ss(V)", BLUE, false)];
+    for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
+        if let Some(v) = v {
+            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} um/s"), GREY);
+            series.push(marker);
+        }
+    }
+    let steady = LineFigure {
+        title: format!(
+            "Steady friction, {} (Schallamach bonds + junction viscosity)",
+            s.scene
+        ),
+        x_label: "driving velocity V [µm/s]".into(),
+        y_label: "steady friction force [N]".into(),
+        log_x: true,
+        log_y: false,
+        series,
+    };
+    let mut files = render(&stability, &with_suffix(&stem, "-stability")).map_err(plot_error)?;
+    files.extend(render(&steady, &with_suffix(&stem, "-steady-friction")).map_err(plot_error)?);
+    finish(&stem, json(&r)?, files, as_json)
+}
+
+/// `cycles` on an adhesive scene.
+pub fn cycles(
+    setup: AdhesiveSetup,
+    args: &SceneArgs,
+    output: &OutputArgs,
+    limits: (usize, usize),
+    as_json: bool,
+) -> Result<(), Error> {
+    let stem = stem(output, args, &setup, "cycles", &["period", "orbits"])?;
+    let r = jobs::cycles(setup, limits)?;
+    if !as_json {
+        print_cycles(&r);
+    }
+    let u = r.setup.units;
+    let by_k =
+        |f: &dyn Fn(&crate::adhesive::analysis::cycles::AdhesiveCycle) -> f64| -> Vec<(f64, f64)> {
+            r.cycles
+                .iter()
+                .map(|c| (u.stiffness_n_m(c.kappa), f(c)))
+                .collect()
+        };
+    let period = LineFigure {
+        title: format!(
+            "Stick-slip cycles, {}: period and force drop",
+            r.setup.scene
+        ),
+        x_label: "stiffness K [N/m]".into(),
+        y_label: "period [s]; force drop [N] x 1000".into(),
+        log_x: true,
+        log_y: true,
+        series: vec![
+            line(by_k(&|c| u.time_s(c.period)), "period [s]", BLUE, false),
+            line(
+                by_k(&|c| 1e3 * u.force_n(c.s_max - c.s_min)),
+                "force drop [mN]",
+                RED,
+                true,
+            ),
+        ],
+    };
+    let picks: Vec<&crate::adhesive::analysis::cycles::AdhesiveCycle> = {
+        let n = r.cycles.len();
+        let mut idx: Vec<usize> = (0..5).map(|i| i * n.saturating_sub(1) / 4).collect();
+        idx.dedup();
+        idx.into_iter()
+            .filter_map(|i| r.cycles.get(i))
+            .chain(r.at_scene.iter())
+            .collect()
+    };
+    let orbits = LineFigure {
+        title: format!("Cycles in the force-velocity plane, {}", r.setup.scene),
+        x_label: "slip velocity v [µm/s]".into(),
+        y_label: "spring force [N]".into(),
+        log_x: true,
+        log_y: false,
+        series: picks
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let shade = (200.0 * i as f64 / picks.len().max(1) as f64) as u8;
+                line(
+                    c.orbit
+                        .iter()
+                        .map(|o| (u.velocity_um_s(o[2]), u.force_n(o[1])))
+                        .collect(),
+                    &format!("K = {:.3e} N/m", u.stiffness_n_m(c.kappa)),
+                    RGBColor(shade, 60, 200 - shade),
+                    false,
+                )
+            })
+            .collect(),
+    };
+    let mut files = render(&period, &with_suffix(&stem, "-period")).map_err(plot_error)?;
+    files.extend(render(&orbits, &with_suffix(&stem, "-orbits")).map_err(plot_error)?);
+    finish(&stem, json(&r)?, files, as_json)?;
+    match &r.stop {
+        None => Ok(()),
+        Some(why) => Err(Error::Partial(format!(
+            "the cycle branch did not reach the scene's stiffness: {why}"
+        ))),
+    }
+}
+
+fn print_cycles(r: &AdhesiveCycles) {
+    print_setup(&r.setup);
+    let u = r.setup.units;
+    let o = &r.onset;
+    println!(
+        "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+        u.stiffness_n_m(o.kappa_c),
+        o.kappa_c,
+        o.onset.name()
+    );
+    println!(
+        "  {:>12} {:>12} {:>12} {:>13} {:>9}",
+        "K [N/m]", "period [s]", "drop [N]", "v_max [um/s]", "stable"
+    );
+    for c in &r.cycles {
+        println!(
+            "  {:>12.5e} {:>12.5e} {:>12.5e} {:>13.5e} {:>9}",
+            u.stiffness_n_m(c.kappa),
+            u.time_s(c.period),
+            u.force_n(c.s_max - c.s_min),
+            u.velocity_um_s(c.u_max),
+            c.stable
+        );
+    }
+    if let Some(c) = &r.at_scene {
+        println!(
+            "the cycle at K = {:.6e} N/m (collocation): period {:.6e} s, force drop {:.6e} N \
+             (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} um/s",
+            u.stiffness_n_m(c.kappa),
+            u.time_s(c.period),
+            u.force_n(c.s_max - c.s_min),
+            u.force_n(c.s_min),
+            u.force_n(c.s_max),
+            u.velocity_um_s(c.u_max)
+        );
+    }
+    if let Some(c) = &r.simulated {
+        println!(
+            "the same by simulation (settled): period {:.6e} s, force drop {:.6e} N",
+            u.time_s(c.period),
+            u.force_n(c.force_drop)
+        );
+    }
+}
+
+/// `simulate` on an adhesive scene.
+pub fn simulate(
+    setup: AdhesiveSetup,
+    args: &SceneArgs,
+    output: &OutputArgs,
+    protocol: Option<Vec<(f64, f64)>>,
+    (perturb, rtol, max_steps): (f64, f64, usize),
+    as_json: bool,
+) -> Result<(), Error> {
+    let stem = stem(
+        output,
+        args,
+        &setup,
+        "simulation",
+        &["spring-force", "velocity", "bonds"],
+    )?;
+    let r = jobs::simulate(setup, protocol, perturb, rtol, max_steps)?;
+    let u = r.setup.units;
+    if !as_json {
+        print_simulation(&r);
+    }
+    let t: Vec<f64> = r.run.t.iter().map(|t| u.time_s(*t)).collect();
+    let series = |y: Vec<f64>, label: &str| {
+        vec![line(t.iter().copied().zip(y).collect(), label, BLUE, false)]
+    };
+    let force = LineFigure {
+        title: format!("Spring force, {} (adhesive)", r.setup.scene),
+        x_label: "time t [s]".into(),
+        y_label: "spring force K(Vt - x) [N]".into(),
+        log_x: false,
+        log_y: false,
+        series: series(r.run.s.iter().map(|s| u.force_n(*s)).collect(), "K(Vt - x)"),
+    };
+    let mut v_series = series(
+        r.run.u.iter().map(|v| u.velocity_um_s(*v)).collect(),
+        "v(t)",
+    );
+    let mut t0 = 0.0;
+    for seg in &r.protocol {
+        let t1 = t0 + u.time_s(seg.duration);
+        if seg.nu > 0.0 {
+            let v = u.velocity_um_s(seg.nu);
+            let mut level = line(vec![(t0, v), (t1, v)], "pulling velocity V(t)", GREY, true);
+            if v_series.len() > 1 {
+                level.label = None;
+            }
+            v_series.push(level);
+        }
+        t0 = t1;
+    }
+    let velocity = LineFigure {
+        title: format!("Slip velocity, {} (adhesive)", r.setup.scene),
+        x_label: "time t [s]".into(),
+        y_label: "slip velocity v [µm/s]".into(),
+        log_x: false,
+        log_y: true,
+        series: v_series,
+    };
+    let bonds = LineFigure {
+        title: format!("Bonded fraction, {} (adhesive)", r.setup.scene),
+        x_label: "time t [s]".into(),
+        y_label: "fraction of bonded chains n".into(),
+        log_x: false,
+        log_y: false,
+        series: series(r.run.n.clone(), "n(t)"),
+    };
+    let mut files = render(&force, &with_suffix(&stem, "-spring-force")).map_err(plot_error)?;
+    files.extend(render(&velocity, &with_suffix(&stem, "-velocity")).map_err(plot_error)?);
+    files.extend(render(&bonds, &with_suffix(&stem, "-bonds")).map_err(plot_error)?);
+    finish(&stem, json(&r)?, files, as_json)
+}
+
+fn print_simulation(r: &AdhesiveSimulation) {
+    print_setup(&r.setup);
+    let u = r.setup.units;
+    println!("{} steps", r.steps);
+    for (i, seg) in r.protocol.iter().enumerate() {
+        println!(
+            "  segment {}: V = {:.4e} um/s for {:.4e} s: largest force {:.6e} N (steady friction {:.6e} N)",
+            i + 1,
+            u.velocity_um_s(seg.nu),
+            u.time_s(seg.duration),
+            r.peak_force_n[i],
+            r.steady_force_n[i]
+        );
+    }
+    match (r.settled_period_s, r.settled_force_drop_n, r.settled) {
+        (Some(p), Some(d), Some(c)) => println!(
+            "settled stick-slip in the last segment: period {p:.6e} s, force drop {d:.6e} N \
+             (period changed by {:.1e} over the cycle before)",
+            c.period_change
+        ),
+        _ => println!("no settled stick-slip in the last segment (fewer than three force maxima)"),
+    }
+}

@@ -1,0 +1,339 @@
+//! Issue 27, soft adhesive contacts (Schallamach; seed §III.D.3, Appendix D):
+//!
+//! - `E1` and `g(z) = e^z E1(z)` with their derivatives of orders 1–5 on
+//!   the engine's dual numbers, against 40-digit mpmath values over
+//!   `1e-8 <= z <= 1e3` (docs/reference/exp_integral.py,
+//!   exp_integral_out.txt);
+//! - the steady state (D2) and the limits (D8)–(D11), against the seed's
+//!   asymptotic forms with their next-order bounds;
+//! - the gel scene's `V_max`, `V_c`, `kappa_c`, `Omega_c` against mpmath
+//!   (docs/reference/adhesive_gel.py, adhesive_gel_out.txt), the onset
+//!   located by the engine through `hopf --json`;
+//! - every command on a scene written from scratch, its cycle at the
+//!   scene's stiffness by collocation against the settled simulation, the
+//!   static peak after a stop, and the input errors naming the key.
+
+mod common;
+
+use common::{json_of, stickslip, temp_dir};
+use num_dual::{Dual, Dual64, HyperHyperDual64};
+use stickslip::adhesive::block::{bond_rate, lifetime, steady_bonds, steady_friction};
+use stickslip::adhesive::params::AdhesiveParams;
+use stickslip::exp_integral::{e1, scaled_e1};
+
+/// The rows of a reference file: `key value` lines under `[section]`.
+fn reference(section: &str) -> std::collections::HashMap<String, f64> {
+    let text = include_str!("../docs/reference/adhesive_gel_out.txt");
+    let mut inside = false;
+    let mut out = std::collections::HashMap::new();
+    for line in text.lines() {
+        if line.starts_with('[') {
+            inside = line == format!("[{section}]");
+        } else if let (true, Some((k, v))) = (inside, line.split_once(' ')) {
+            out.insert(k.to_string(), v.parse().unwrap());
+        }
+    }
+    out
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    ((a - b) / b).abs()
+}
+
+/// The `k`-th derivative of `g` at `z` on the dual types the engine uses
+/// for each order: `Dual64`, nested duals, `HyperHyperDual64`, and duals of
+/// it (orders 4, 5).
+fn g_derivative(k: usize, z: f64) -> f64 {
+    type D2 = Dual<Dual64>;
+    type D4 = Dual<HyperHyperDual64>;
+    type D5 = Dual<D4>;
+    match k {
+        0 => scaled_e1(z),
+        1 => scaled_e1(Dual64::new(z, 1.0)).eps,
+        2 => {
+            scaled_e1(D2::new(Dual64::new(z, 1.0), Dual64::from(1.0)))
+                .eps
+                .eps
+        }
+        3 => scaled_e1(HyperHyperDual64::new(z, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0)).eps1eps2eps3,
+        4 => {
+            let h = HyperHyperDual64::new(z, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0);
+            scaled_e1(D4::new(h, HyperHyperDual64::from(1.0)))
+                .eps
+                .eps1eps2eps3
+        }
+        _ => {
+            let h = HyperHyperDual64::new(z, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0);
+            let d4 = D4::new(h, HyperHyperDual64::from(1.0));
+            scaled_e1(D5::new(d4, D4::from(1.0))).eps.eps.eps1eps2eps3
+        }
+    }
+}
+
+#[test]
+fn g_and_its_derivatives_of_orders_1_to_5_match_mpmath_from_1e_minus_8_to_1e3() {
+    let text = include_str!("../docs/reference/exp_integral_out.txt");
+    let (mut worst, mut rows) = (0.0f64, 0);
+    for line in text.lines().filter(|l| !l.starts_with('#')) {
+        let cols: Vec<f64> = line.split(' ').map(|c| c.parse().unwrap()).collect();
+        let z = cols[0];
+        assert!((1e-8..=1e3).contains(&z), "z = {z}");
+        for k in 0..=5 {
+            let err = rel(g_derivative(k, z), cols[1 + k]);
+            worst = worst.max(err);
+            assert!(
+                err < 1e-13,
+                "g^({k})({z}): {} vs {}",
+                g_derivative(k, z),
+                cols[1 + k]
+            );
+        }
+        if z <= 700.0 {
+            assert!(
+                rel(e1(z), cols[7]) < 1e-13,
+                "E1({z}) = {} vs {}",
+                e1(z),
+                cols[7]
+            );
+        }
+        rows += 1;
+    }
+    assert!(rows >= 35, "{rows} rows");
+    eprintln!("worst relative error over g^(0..5): {worst:.2e}");
+}
+
+fn schallamach(r: f64) -> AdhesiveParams {
+    AdhesiveParams {
+        kappa: 0.0,
+        nu: 1.0,
+        r,
+        f_v: 0.0,
+        alpha: 0.0,
+        m: 0.0,
+    }
+}
+
+#[test]
+fn steady_bonds_are_d2_and_the_kinetics_vanish_there() {
+    for (u, r) in [(1e-3, 0.1), (1.0, 0.5), (40.0, 0.1), (1e5, 0.9)] {
+        let t = lifetime(u);
+        let n = steady_bonds(u, r);
+        assert!(rel(n, t / (t + r)) < 1e-15, "D2 at u = {u}");
+        // dn/dt = (1 - n)/r - n/T vanishes up to the rounding of its terms.
+        let scale = (1.0 - n) / r;
+        assert!(
+            bond_rate(u, n, r).abs() < 4.0 * f64::EPSILON * scale,
+            "u = {u}"
+        );
+    }
+}
+
+#[test]
+fn the_limits_d8_to_d11_hold_with_their_next_order() {
+    let euler = 0.577_215_664_901_532_9;
+    // D8: t / tau_out = 1 - V/V_s + ... (next term 2 (V/V_s)^2).
+    for u in [1e-6f64, 1e-4, 1e-3] {
+        assert!(
+            ((lifetime(u) - 1.0) / u + 1.0).abs() < 3.0 * u,
+            "D8 at u = {u}"
+        );
+    }
+    // D9: t / tau_out = (V_s/V) (ln(V/V_s) - 0.577...); e^z E1(z) = -gamma
+    // - ln z + z (1 - gamma - ln z) + ..., so the next term is (ln u - gamma + 1)/u^2.
+    for u in [1e4f64, 1e6, 1e8] {
+        let d9 = (u.ln() - euler) / u;
+        assert!(rel(lifetime(u), d9) < 2.0 / u, "D9 at u = {u}");
+    }
+    // D10: F = N0 kappa tau_out^2 / (tau + tau_out) V, i.e. u / (1 + r).
+    let p = schallamach(0.1);
+    for u in [1e-6, 1e-4] {
+        assert!(
+            rel(steady_friction(u, &p), u / 1.1) < 3.0 * u,
+            "D10 at u = {u}"
+        );
+    }
+    // D11: F = (tau_out / tau) (V_s/V) ln^2(V/V_s) at V >> V_max, with the
+    // constant of D9 kept: (ln u - gamma)^2 / (r u); next order T / r.
+    for u in [1e6f64, 1e8] {
+        let d11 = (u.ln() - euler).powi(2) / (0.1 * u);
+        let bound = 2.0 * (lifetime(u) / 0.1 + 1.0 / u.ln());
+        assert!(rel(steady_friction(u, &p), d11) < bound, "D11 at u = {u}");
+    }
+}
+
+fn field(v: &serde_json::Value, key: &str) -> f64 {
+    v[key].as_f64().unwrap_or_else(|| panic!("{key} in {v}"))
+}
+
+#[test]
+fn the_gel_scene_has_the_reference_v_max_v_c_and_onset() {
+    let r = reference("gel");
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(rel(field(&v, "v_max_um_s"), r["V_max_um_s"]) < 1e-9, "{v}");
+    assert!(rel(field(&v, "v_c_um_s"), r["V_c_um_s"]) < 1e-9, "{v}");
+    assert!(rel(field(&v, "force_at_v_max_n"), r["F_max_N"]) < 1e-12);
+    assert!(rel(field(&v, "force_at_v_c_n"), r["F_min_N"]) < 1e-12);
+    assert!(rel(field(&v, "steady_force_n"), r["steady_force_N"]) < 1e-12);
+    let c = &v["critical"];
+    assert!(rel(field(c, "kappa_c"), r["kappa_c"]) < 1e-9, "{c}");
+    assert!(rel(field(c, "omega_c"), r["omega_c"]) < 1e-9, "{c}");
+    assert!(rel(field(c, "k_c_n_m"), r["K_c_N_m"]) < 1e-9, "{c}");
+    assert_eq!(c["onset"], "supercritical");
+    assert_eq!(v["model"], "quasi-static");
+    assert_eq!(v["regime"], "stick-slip");
+    // V_c inside the seed's 25-250 um/s of gelatin.
+    assert!((25.0..250.0).contains(&field(&v, "v_c_um_s")));
+}
+
+const FROM_SCRATCH: &str = "\
+law = \"adhesive\"
+description = \"a Newtonian junction, written for the test\"
+F_a = 0.2
+V_s = 0.1
+tau_out = 2.0
+tau_on = 0.6
+F_v = 2e-5
+alpha = 0
+M = 0.002
+K = 1000.0
+V = 5.0
+V_range = [0.1, 500.0]
+";
+
+fn scene_file(dir: &std::path::Path, text: &str) -> String {
+    let path = dir.join("soft.toml");
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn every_command_runs_on_a_scene_written_from_scratch() {
+    let dir = temp_dir("adhesive-scratch");
+    let scene = scene_file(&dir, FROM_SCRATCH);
+    let out = dir.to_str().unwrap();
+    let r = reference("newtonian");
+    let (status, v, err) = json_of(&["hopf", "--scene", &scene, "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(rel(field(&v, "v_max_um_s"), r["V_max_um_s"]) < 1e-9, "{v}");
+    assert!(rel(field(&v, "v_c_um_s"), r["V_c_um_s"]) < 1e-9, "{v}");
+    assert!(rel(field(&v["critical"], "kappa_c"), r["kappa_c"]) < 1e-9);
+    assert!(rel(field(&v["critical"], "omega_c"), r["omega_c"]) < 1e-9);
+
+    // branch in V: the Hopf points at K = 1000 N/m lie between V_max and V_c.
+    let (status, v, err) = json_of(&["branch", "--scene", &scene, "--param", "V", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    let hopf: Vec<f64> = v["hopf_points_um_s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(hopf.len(), 2, "{v}");
+    assert!(
+        r["V_max_um_s"] < hopf[0] && hopf[1] < r["V_c_um_s"],
+        "{hopf:?}"
+    );
+
+    let (status, v, err) = json_of(&["diagram", "--scene", &scene, "--json", "--out", out]);
+    assert_eq!(status, 0, "{err}");
+    for p in v["points"].as_array().unwrap() {
+        let v_um = field(p, "nu") * 0.1;
+        let weakening = r["V_max_um_s"] < v_um && v_um < r["V_c_um_s"];
+        assert_eq!(p["kappa_c"].is_number(), weakening, "{p}");
+    }
+
+    // cycles: the cycle at the scene's K by collocation against simulation.
+    let (status, v, err) = json_of(&["cycles", "--scene", &scene, "--json", "--out", out]);
+    assert_eq!(status, 0, "{err}");
+    let c = &v["at_scene"];
+    let s = &v["simulated"];
+    assert!(rel(field(c, "kappa"), field(&v["params"], "kappa")) < 1e-9);
+    assert!(
+        rel(field(c, "period"), field(s, "period")) < 1e-5,
+        "{c} {s}"
+    );
+    let drop = field(c, "s_max") - field(c, "s_min");
+    assert!(rel(drop, field(s, "force_drop")) < 1e-5, "{c} {s}");
+
+    let (status, v, err) = json_of(&["simulate", "--scene", &scene, "--json", "--out", out]);
+    assert_eq!(status, 0, "{err}");
+    assert!(field(&v, "settled_period_s") > 0.0);
+    for suffix in [
+        "diagram-stability",
+        "diagram-steady-friction",
+        "cycles-period",
+        "cycles-orbits",
+    ] {
+        assert!(dir.join(format!("soft-{suffix}.png")).is_file(), "{suffix}");
+    }
+}
+
+#[test]
+fn a_stop_longer_than_resticking_gives_a_static_peak_a_short_one_none() {
+    let dir = temp_dir("adhesive-stop");
+    let out = dir.to_str().unwrap();
+    let peak = |stop: &str, name: &str| {
+        let protocol = format!("200:20,0:{stop},200:10");
+        let args = [
+            "simulate", "--scene", "gel", "--json", "--out", out, "--name", name,
+        ];
+        let (status, v, err) = json_of(&[&args[..], &["--protocol", &protocol]].concat());
+        assert_eq!(status, 0, "{err}");
+        let peaks = v["peak_force_n"].as_array().unwrap().clone();
+        (
+            peaks[2].as_f64().unwrap(),
+            v["steady_force_n"][2].as_f64().unwrap(),
+        )
+    };
+    let (short, steady) = peak("0.02", "short");
+    let (long, _) = peak("1", "long");
+    // Above V_c steady sliding is stable: without a stop no peak, after a
+    // stop of tau_on's order none either, after a full resticking one.
+    assert!(short < 1.01 * steady, "{short} vs {steady}");
+    assert!(long > 3.0 * steady, "{long} vs {steady}");
+}
+
+#[test]
+fn bad_adhesive_input_names_the_key() {
+    let dir = temp_dir("adhesive-errors");
+    for (change, key) in [
+        ("tau_on = -0.6", "tau_on"),
+        ("alpha = 1.0", "alpha"),
+        ("F_v = -1e-5", "F_v"),
+        ("F_a = 0", "F_a"),
+        ("V_s = nan", "V_s"),
+        ("K = -1", "K"),
+        ("tau_out = 'long'", "tau_out"),
+        ("tau_onn = 1", "tau_onn"),
+        ("law = \"glue\"", "law"),
+    ] {
+        let first = change.split(' ').next().unwrap();
+        let text: String = FROM_SCRATCH
+            .lines()
+            .filter(|l| !l.starts_with(&format!("{first} ")))
+            .chain([change])
+            .collect::<Vec<_>>()
+            .join("\n");
+        let scene = scene_file(&dir, &text);
+        let (status, _, err) = stickslip(&["hopf", "--scene", &scene]);
+        assert_eq!(status, 2, "{change}: {err}");
+        assert!(err.contains(key), "{change}: {err}");
+    }
+    let scene = scene_file(&dir, &FROM_SCRATCH.replace("M = 0.002", "M = 50"));
+    let (status, _, err) = stickslip(&["hopf", "--scene", &scene]);
+    assert!(status == 2 && err.contains("M = 5e1 kg"), "{err}");
+    let data = dir.join("steady.csv");
+    std::fs::write(&data, "V,mu\n1,0.5\n").unwrap();
+    let data = format!("steady={}", data.display());
+    for args in [
+        vec!["hopf", "--scene", "gel", "--set", "K=10"],
+        vec!["hopf", "--scene", "gel", "--model", "inertial"],
+        vec!["cycles", "--scene", "gel", "--param", "V"],
+        vec!["fit", "--scene", "gel", "--data", &data],
+    ] {
+        let (status, _, err) = stickslip(&args);
+        assert_eq!(status, 2, "{args:?}: {err}");
+        assert!(err.contains("adhesive"), "{args:?}: {err}");
+    }
+}
