@@ -327,7 +327,7 @@ fn bad_adhesive_input_names_the_key() {
     std::fs::write(&data, "V,mu\n1,0.5\n").unwrap();
     let data = format!("steady={}", data.display());
     for args in [
-        vec!["hopf", "--scene", "gel", "--set", "K=10"],
+        vec!["hopf", "--scene", "gel", "--set", "kappa=0.1"],
         vec!["hopf", "--scene", "gel", "--model", "inertial"],
         vec!["cycles", "--scene", "gel", "--param", "V"],
         vec!["fit", "--scene", "gel", "--data", &data],
@@ -335,5 +335,32 @@ fn bad_adhesive_input_names_the_key() {
         let (status, _, err) = stickslip(&args);
         assert_eq!(status, 2, "{args:?}: {err}");
         assert!(err.contains("adhesive"), "{args:?}: {err}");
+    }
+}
+
+/// `--set` on an adhesive scene gives its numbers in the scene file's
+/// units: `K = 1e5 N/m` is `kappa = K V_s tau_out / F_a = 0.05`, above the
+/// gel's `K_c = 7.378e4 N/m` (steady sliding), `K = 5e4 N/m` below it
+/// (stick-slip); a set value is checked as the file's own.
+#[test]
+fn set_overrides_the_adhesive_scenes_numbers() {
+    let run = |k: &str| {
+        let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--json", "--set", k]);
+        assert_eq!(status, 0, "{err}");
+        v
+    };
+    let stiff = run("K=1e5");
+    assert!(rel(field(&stiff["params"], "kappa"), 0.05) < 1e-14);
+    assert_eq!(stiff["regime"], "steady sliding");
+    assert_ne!(run("K=5e4")["regime"], "steady sliding");
+    for (set, words) in [
+        ("K=-1", "K = -1"),
+        ("Kx=1", "did you mean 'K'"),
+        ("alpha=1", "alpha"),
+        ("tau_on", "KEY=VALUE"),
+    ] {
+        let (status, _, err) = stickslip(&["hopf", "--scene", "gel", "--set", set]);
+        assert_eq!(status, 2, "{set}: {err}");
+        assert!(err.contains(words), "{set}: {err}");
     }
 }

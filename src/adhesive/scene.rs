@@ -88,17 +88,74 @@ pub fn builtin_text(name: &str) -> Option<&'static str> {
 
 /// A built-in adhesive scene by name, or else a path to a TOML file.
 pub fn load(name_or_path: &str) -> Result<AdhesiveScene, InputError> {
-    if let Some(text) = builtin_text(name_or_path) {
-        return from_toml_str(text, name_or_path);
+    load_with(name_or_path, &[])
+}
+
+/// The keys `--set` may give on an adhesive scene: its numbers, in the
+/// scene file's units.
+const SETTABLE: &str = "F_a V_s tau_out tau_on F_v alpha M K V";
+
+/// [`load`] with the overrides `set` (`KEY=VALUE`, a key of [`SETTABLE`]
+/// in the scene file's unit) put in place of the file's values before the
+/// scene is read: checked as the file's own values are.
+pub fn load_with(name_or_path: &str, set: &[String]) -> Result<AdhesiveScene, InputError> {
+    let (text, in_file) = match builtin_text(name_or_path) {
+        Some(text) => (text.to_string(), false),
+        None => (
+            std::fs::read_to_string(name_or_path).map_err(|e| file_error(name_or_path, e))?,
+            true,
+        ),
+    };
+    let mut t: Table = text.parse().map_err(|e| file_error(name_or_path, e))?;
+    for item in set {
+        let (key, value) = parse_override(item)?;
+        t.insert(key.to_string(), toml::Value::Float(value));
     }
-    let text = std::fs::read_to_string(name_or_path).map_err(|e| file_error(name_or_path, e))?;
-    from_toml_str(&text, name_or_path).map_err(|e| e.in_file(name_or_path))
+    let scene = from_table(&t, name_or_path);
+    if in_file {
+        scene.map_err(|e| e.in_file(name_or_path))
+    } else {
+        scene
+    }
+}
+
+/// One `--set KEY=VALUE` of an adhesive scene.
+fn parse_override(item: &str) -> Result<(&str, f64), InputError> {
+    let malformed = || InputError::Malformed {
+        field: "--set".into(),
+        value: item.to_string(),
+        expected: format!(
+            "KEY=VALUE with KEY one of the adhesive scene's numbers ({})",
+            SETTABLE.replace(' ', ", ")
+        ),
+    };
+    let (key, value) = item.split_once('=').ok_or_else(malformed)?;
+    let key = key.trim();
+    if !SETTABLE.split(' ').any(|k| k == key) {
+        return Err(InputError::UnknownName {
+            what: "--set key of an adhesive scene",
+            name: key.to_string(),
+            suggestion: closest(key, SETTABLE.split(' ')),
+            allowed: SETTABLE.replace(' ', ", "),
+        });
+    }
+    let value: f64 = value.trim().parse().map_err(|_| InputError::Malformed {
+        field: format!("--set {key}"),
+        value: value.to_string(),
+        expected: "a number".into(),
+    })?;
+    Ok((key, value))
 }
 
 /// Parses an adhesive scene; `origin` names it in errors and gives the
 /// default name (its stem).
 pub fn from_toml_str(text: &str, origin: &str) -> Result<AdhesiveScene, InputError> {
     let t: Table = text.parse().map_err(|e| file_error(origin, e))?;
+    from_table(&t, origin)
+}
+
+/// An adhesive scene from its TOML table.
+fn from_table(t: &Table, origin: &str) -> Result<AdhesiveScene, InputError> {
     if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
         return Err(InputError::UnknownName {
             what: "key of an adhesive scene",
@@ -110,10 +167,10 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<AdhesiveScene, InputErr
     let stem = std::path::Path::new(origin)
         .file_stem()
         .and_then(|s| s.to_str());
-    let name = string(&t, "name")?.unwrap_or_else(|| stem.unwrap_or(origin).to_string());
-    let description = string(&t, "description")?.unwrap_or_default();
+    let name = string(t, "name")?.unwrap_or_else(|| stem.unwrap_or(origin).to_string());
+    let description = string(t, "description")?.unwrap_or_default();
     let required = |key: &str, unit: &str, meaning: &str| -> Result<f64, InputError> {
-        read(&t, key, "> 0", unit)?.ok_or_else(|| {
+        read(t, key, "> 0", unit)?.ok_or_else(|| {
             file_error(
                 origin,
                 format!(
@@ -130,17 +187,17 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<AdhesiveScene, InputErr
     )?;
     let tau_out = required("tau_out", "s", "desorption time")?;
     let tau_on = required("tau_on", "s", "readsorption time")?;
-    let f_v = read(&t, "F_v", ">= 0", "N")?.unwrap_or(0.0);
-    let alpha = read(&t, "alpha", ">= 0", "dimensionless")?.unwrap_or(0.0);
+    let f_v = read(t, "F_v", ">= 0", "N")?.unwrap_or(0.0);
+    let alpha = read(t, "alpha", ">= 0", "dimensionless")?.unwrap_or(0.0);
     require(
         alpha < 1.0,
         "alpha",
         alpha,
         "in [0, 1) (0: Newtonian junction; about 0.6 for gelatin)",
     )?;
-    let mass = read(&t, "M", ">= 0", "kg")?.unwrap_or(0.0);
-    let k = read(&t, "K", ">= 0", "N/m")?;
-    let v = read(&t, "V", "> 0", "um/s")?.ok_or_else(|| {
+    let mass = read(t, "M", ">= 0", "kg")?.unwrap_or(0.0);
+    let k = read(t, "K", ">= 0", "N/m")?;
+    let v = read(t, "V", "> 0", "um/s")?.ok_or_else(|| {
         file_error(
             origin,
             "the key V (driving velocity, > 0, in um/s) is required",

@@ -18,9 +18,9 @@ use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 
 /// The adhesive scene named by `args`, with its model decision, or `None`
-/// for a scene of another law. Refuses what does not apply: `--set` (edit
-/// the scene file), `--model inertial`, and the options named in `unused`
-/// that were given.
+/// for a scene of another law, `--set` applied to the scene's numbers
+/// ([`scene::load_with`]). Refuses what does not apply: `--model
+/// inertial`, and the options named in `unused` that were given.
 pub fn adhesive_setup(
     args: &SceneArgs,
     unused: &[(&str, bool)],
@@ -35,12 +35,6 @@ pub fn adhesive_setup(
         ))
         .into()
     };
-    if !args.set.is_empty() {
-        return Err(refuse(
-            "--set",
-            "write the values into a copy of the scene file",
-        ));
-    }
     if args.model.map(ModelKind::from) == Some(ModelKind::Inertial) {
         return Err(refuse("--model inertial", jobs::MODEL_REASON));
     }
@@ -51,7 +45,7 @@ pub fn adhesive_setup(
              adhesive contacts\")",
         ));
     }
-    let scene = scene::load(args.scene_name())?;
+    let scene = scene::load_with(args.scene_name(), &args.set)?;
     Ok(Some(AdhesiveSetup::new(scene, args.inertia_threshold)?))
 }
 
