@@ -208,18 +208,26 @@ fn to_json(value: &impl serde::Serialize) -> PyResult<String> {
 /// The built-in scenes: `(name, description)`.
 #[pyfunction]
 fn scenes() -> Vec<(String, String)> {
+    let adhesive = stickslip::adhesive::scene::builtin_names()
+        .filter_map(|n| stickslip::adhesive::scene::load(n).ok())
+        .map(|s| (s.name, s.description));
     scene::builtin_names()
         .iter()
         .filter_map(|n| scene::builtin(n))
         .map(|s| (s.name, s.description))
+        .chain(adhesive)
         .collect()
 }
 
 /// The TOML text of a built-in scene.
 #[pyfunction]
 fn builtin_toml(name: &str) -> PyResult<String> {
-    match BUILTIN_TEXTS.iter().find(|(n, _)| *n == name) {
-        Some((_, text)) => Ok(text.to_string()),
+    let rate_and_state = BUILTIN_TEXTS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, t)| *t);
+    match rate_and_state.or(stickslip::adhesive::scene::builtin_text(name)) {
+        Some(text) => Ok(text.to_string()),
         None => Err(scene::load(name)
             .err()
             .map(IntoPy::into_py)
@@ -232,6 +240,35 @@ fn builtin_toml(name: &str) -> PyResult<String> {
 #[pyfunction]
 fn setup<'py>(py: Python<'py>, scene: SceneArg) -> PyResult<Bound<'py, PyDict>> {
     let (spec, shown) = scene.spec()?;
+    let law = scene::law_of(&spec.scene).map_err(|e| to_py(e.into(), shown.as_ref()))?;
+    if law == scene::Law::Adhesive {
+        let s = stickslip::adhesive::scene::load_with(&spec.scene, &spec.set)
+            .map_err(|e| to_py(e.into(), shown.as_ref()))?;
+        let d = PyDict::new(py);
+        d.set_item("name", &s.name)?;
+        d.set_item("description", &s.description)?;
+        d.set_item("law", "adhesive")?;
+        d.set_item("stiffness_given", s.stiffness_given)?;
+        let params = PyDict::new(py);
+        let p = &s.params;
+        for (name, value) in [
+            ("kappa", p.kappa),
+            ("nu", p.nu),
+            ("r", p.r),
+            ("f_v", p.f_v),
+            ("alpha", p.alpha),
+            ("m", p.m),
+        ] {
+            params.set_item(name, value)?;
+        }
+        d.set_item("params", params)?;
+        let u = &s.units;
+        d.set_item(
+            "V_range_um_per_s",
+            (u.velocity_um_s(s.nu_range.0), u.velocity_um_s(s.nu_range.1)),
+        )?;
+        return Ok(d);
+    }
     let s = py
         .detach(|| spec.setup(|p| *p))
         .map_err(|e| to_py(e, shown.as_ref()))?;
@@ -297,6 +334,71 @@ fn scene_toml(scene: SceneArg) -> PyResult<(String, Vec<String>)> {
     }
     let text = toml::to_string(&t).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok((text, dimensionless))
+}
+
+/// The friction law a scene follows: `rate-and-state` or `adhesive` (its
+/// `law` key, docs/model.md).
+#[pyfunction]
+fn law(scene: SceneArg) -> PyResult<&'static str> {
+    let (spec, shown) = scene.spec()?;
+    match scene::law_of(&spec.scene).map_err(|e| to_py(e.into(), shown.as_ref()))? {
+        scene::Law::Adhesive => Ok("adhesive"),
+        scene::Law::RateAndState => Ok("rate-and-state"),
+    }
+}
+
+/// An adhesive scene's job (`command`: hopf, branch, diagram, cycles or
+/// simulate), what `stickslip COMMAND --scene ... --json` prints (no files
+/// written); the model as the command line decides it.
+#[pyfunction]
+#[pyo3(signature = (scene, command, protocol=None, perturb=0.0, rtol=1e-8, max_steps=500, ntst_max=12800))]
+#[allow(clippy::too_many_arguments)]
+fn adhesive(
+    py: Python<'_>,
+    scene: SceneArg,
+    command: &str,
+    protocol: Option<Vec<(f64, f64)>>,
+    perturb: f64,
+    rtol: f64,
+    max_steps: usize,
+    ntst_max: usize,
+) -> PyResult<String> {
+    use stickslip::adhesive::jobs::{self as adhesive_jobs, AdhesiveSetup};
+    let (spec, shown) = scene.spec()?;
+    let job = || -> Result<String, Error> {
+        if spec.model == Some(ModelKind::Inertial) {
+            return Err(InputError::Conflict(format!(
+                "model = \"inertial\" is not available on an adhesive scene ({}): {}",
+                spec.scene,
+                adhesive_jobs::MODEL_REASON
+            ))
+            .into());
+        }
+        let loaded = stickslip::adhesive::scene::load_with(&spec.scene, &spec.set)?;
+        let setup = AdhesiveSetup::new(loaded, spec.inertia_threshold)?;
+        match command {
+            "hopf" => text(&adhesive_jobs::hopf(setup)?),
+            "branch" => text(&adhesive_jobs::branch(setup)?),
+            "diagram" => text(&adhesive_jobs::diagram(setup)?),
+            "cycles" => text(&adhesive_jobs::cycles(setup, (max_steps, ntst_max))?),
+            "simulate" => text(&adhesive_jobs::simulate(
+                setup, protocol, perturb, rtol, max_steps,
+            )?),
+            other => Err(InputError::UnknownName {
+                what: "command",
+                name: other.to_string(),
+                suggestion: None,
+                allowed: "hopf, branch, diagram, cycles, simulate".into(),
+            }
+            .into()),
+        }
+    };
+    py.detach(job).map_err(|e| to_py(e, shown.as_ref()))
+}
+
+/// A job's record as its JSON text.
+fn text(value: &impl serde::Serialize) -> Result<String, Error> {
+    Ok(serde_json::to_string(value).map_err(std::io::Error::other)?)
 }
 
 /// `from_file` with `index` (a restart's file and label), both or neither.
@@ -1011,6 +1113,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builtin_toml, m)?)?;
     m.add_function(wrap_pyfunction!(setup, m)?)?;
     m.add_function(wrap_pyfunction!(scene_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(law, m)?)?;
+    m.add_function(wrap_pyfunction!(adhesive, m)?)?;
     m.add_function(wrap_pyfunction!(hopf, m)?)?;
     m.add_function(wrap_pyfunction!(cycles, m)?)?;
     m.add_function(wrap_pyfunction!(branch, m)?)?;

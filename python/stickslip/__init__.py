@@ -52,6 +52,7 @@ __all__ = [
     "fit",
     "sweep",
     "Hopf",
+    "Adhesive",
     "Branch",
     "Diagram",
     "Cycles",
@@ -404,6 +405,43 @@ class _Result:
     __hash__ = None  # type: ignore[assignment]
 
 
+class Adhesive(_Result):
+    """A job's result on an adhesive scene (`law = "adhesive"`: a gel or an
+    elastomer on glass, Schallamach's bonds, docs/model.md "Soft adhesive
+    contacts"): the command line's JSON (`to_dict()`, `result["key"]`),
+    no files written. `hopf`, `branch`, `diagram`, `cycles` and `simulate`
+    return it for such a scene."""
+
+    def __init__(self, data: dict):
+        self._data = data
+
+    @property
+    def complete(self) -> bool:
+        """Everything requested was delivered."""
+        return bool(self._data.get("complete", True))
+
+    @property
+    def stop(self) -> str | None:
+        """Why the job ended short of the request, if it did."""
+        return self._data.get("stop")
+
+
+def _adhesive(command: str, arg: Any, given: dict, **job: Any) -> Adhesive | None:
+    """`command` on the scene of `arg` when it is adhesive, else `None`.
+    The options in `given` that have a value have no meaning there: refused
+    by name, as the command line refuses them."""
+    if _native.law(arg) != "adhesive":
+        return None
+    for name, value in given.items():
+        if value is not None and value is not False:
+            raise InputError(
+                f"{name} is not available on an adhesive scene: the adhesive block runs with "
+                "its scene's values (docs/model.md, \"Soft adhesive contacts\")",
+                name,
+            )
+    return Adhesive(json.loads(_native.adhesive(arg, command, **job)))
+
+
 class _Columns:
     """Attribute access to a result's columns (the arrays in `_table_attr`),
     then to the fields of its JSON; `_hidden` names are neither."""
@@ -709,8 +747,13 @@ def hopf(
     Raises `InputError` for bad input (naming the field) and
     `NumericalError` when the onset cannot be located.
     """
+    arg = _scene_arg(scene, from_file, model, inertia_threshold)
+    given = dict(param=param, from_=from_, to=to, from_file=from_file, index=index)
+    adhesive = _adhesive("hopf", arg, given)
+    if adhesive is not None:
+        return adhesive
     data, note = _native.hopf(
-        _scene_arg(scene, from_file, model, inertia_threshold),
+        arg,
         None if param is None else str(param),
         None if from_ is None else float(from_),
         None if to is None else float(to),
@@ -822,8 +865,19 @@ def cycles(
     for name, n in (("ntst", ntst), ("ntst_max", ntst_max)):
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
             raise InputError(f"{name} = {n!r} is out of range: expected an integer >= 4", name)
+    arg = _scene_arg(scene, from_file, model, inertia_threshold)
+    given = dict(
+        at_kappa=at_kappa, at=at, lpc_curve=lpc_curve, from_simulation=from_simulation,
+        collocation=collocation, param=param, to=to, search=search, from_file=from_file,
+        index=index, orbits_file=orbits_file,
+    )
+    adhesive = _adhesive(
+        "cycles", arg, given, max_steps=int(max_steps), ntst_max=int(ntst_max)
+    )
+    if adhesive is not None:
+        return adhesive
     out = _native.cycles(
-        _scene_arg(scene, from_file, model, inertia_threshold),
+        arg,
         float(kappa_fraction),
         bool(from_simulation),
         int(max_steps),
@@ -1194,8 +1248,15 @@ def branch(
     Raises `InputError` for bad input, `NumericalError` (with `.partial`)
     when the continuation fails.
     """
+    arg = _scene_arg(scene, from_file, model, inertia_threshold)
+    # An adhesive scene's steady branch runs in V, over its V_range.
+    adhesive_param = None if param in (None, "V") else param
+    given = dict(param=adhesive_param, from_=from_, to=to, from_file=from_file, index=index)
+    adhesive = _adhesive("branch", arg, given)
+    if adhesive is not None:
+        return adhesive
     out = _native.branch(
-        _scene_arg(scene, from_file, model, inertia_threshold),
+        arg,
         None if param is None else str(param),
         None if from_ is None else float(from_),
         None if to is None else float(to),
@@ -1247,6 +1308,10 @@ def diagram(
     effect when it returns.
     """
     s = _scene(scene)
+    given = dict(nu_range=nu_range, max_steps=max_steps, x=x, y=y, x_range=x_range, y_range=y_range)
+    adhesive = _adhesive("diagram", s._arg(model, inertia_threshold), given)
+    if adhesive is not None:
+        return adhesive
     out = _native.diagram(
         s._arg(model, inertia_threshold),
         _pair("nu_range", nu_range),
@@ -1321,6 +1386,13 @@ def simulate(
     time). Ctrl-C stops the run and returns the steps so far.
     """
     s = _scene(scene)
+    adhesive = _adhesive(
+        "simulate", s._arg(model, inertia_threshold), {},
+        protocol=_protocol(protocol), perturb=float(perturb), rtol=float(rtol),
+        max_steps=_count("max_steps", max_steps),
+    )
+    if adhesive is not None:
+        return adhesive
     out = _native.simulate(
         s._arg(model, inertia_threshold),
         _protocol(protocol),

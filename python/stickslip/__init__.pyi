@@ -98,6 +98,16 @@ class Scene:
     def __eq__(self, other: object) -> bool: ...
     def __hash__(self) -> int: ...
 
+class Adhesive:
+    """A job's result on an adhesive scene (law = "adhesive"): the command's JSON."""
+    def to_dict(self) -> dict: ...
+    def to_json(self, indent: int | None = 2) -> str: ...
+    def __getitem__(self, key: str) -> Any: ...
+    @property
+    def complete(self) -> bool: ...
+    @property
+    def stop(self) -> str | None: ...
+
 class Hopf:
     note: str | None
     def to_dict(self) -> dict[str, Any]: ...
@@ -300,7 +310,7 @@ def hopf(
     inertia_threshold: float | None = ...,
     from_file: str | os.PathLike[str] | None = ...,
     index: int | None = ...,
-) -> Hopf: ...
+) -> Hopf | Adhesive: ...
 def cycles(
     scene: Scene | str | os.PathLike[str] | None = ...,
     *,
@@ -321,7 +331,7 @@ def cycles(
     from_file: str | os.PathLike[str] | None = ...,
     index: int | None = ...,
     orbits_file: str | os.PathLike[str] | None = ...,
-) -> Cycles: ...
+) -> Cycles | Adhesive: ...
 
 DEFAULT_CURVE_STEPS: int
 
@@ -336,7 +346,7 @@ def branch(
     inertia_threshold: float | None = ...,
     from_file: str | os.PathLike[str] | None = ...,
     index: int | None = ...,
-) -> Branch: ...
+) -> Branch | Adhesive: ...
 def diagram(
     scene: Scene | str | os.PathLike[str] | None = ...,
     nu_range: tuple[float, float] | None = ...,
@@ -348,7 +358,7 @@ def diagram(
     *,
     model: Model | None = ...,
     inertia_threshold: float | None = ...,
-) -> Diagram: ...
+) -> Diagram | Adhesive: ...
 def simulate(
     scene: Scene | str | os.PathLike[str] | None = ...,
     protocol: Sequence[tuple[float, float]] | str | None = ...,
@@ -359,7 +369,7 @@ def simulate(
     plot_points: int = ...,
     model: Model | None = ...,
     inertia_threshold: float | None = ...,
-) -> Simulation: ...
+) -> Simulation | Adhesive: ...
 def sweep(
     job: Literal["hopf", "diagram", "cycles"],
     grid: Mapping[str, Any] | Sequence[Mapping[str, Any]] | Sequence[Scene],
