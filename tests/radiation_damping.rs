@@ -597,3 +597,22 @@ fn simulate_starts_from_damped_steady_sliding() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `hopf` reports the slope `mu_v` with the damping's `eta_d nu`, the one
+/// Appendix C takes (pmma, nu = 1: `A + eta_d = 0.014`, and quasi-statically
+/// `kappa_c = mu_phi - mu_v`); where the damping alone makes steady
+/// sliding velocity strengthening it says so (it said friction weakens and
+/// the onset lies below the searched stiffnesses).
+#[test]
+fn hopf_reports_the_damped_slope() {
+    let v = hopf_json(&["--set", "eta_d=2e-3"]);
+    assert!(rel(num(&v, "mu_v"), 0.014) < 1e-14, "{}", v["mu_v"]);
+    let c12 = num(&v, "mu_phi") - num(&v, "mu_v");
+    assert!(rel(num(&v, "kappa_c"), c12) < 1e-9, "{}", v["kappa_c"]);
+    let (status, out, err) = stickslip(&["hopf", "--set", "eta=1e6"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        out.contains("with the radiation damping eta_d nu is velocity strengthening"),
+        "{out}"
+    );
+}

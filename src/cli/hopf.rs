@@ -231,9 +231,14 @@ fn print_no_onset(report: &HopfReport, n: &NoOnset, units: TextUnits) {
     let weakening = report.mu_phi - report.mu_v;
     if weakening <= 0.0 {
         println!(
-            "steady sliding is linearly stable for every stiffness: steady friction is velocity \
+            "steady sliding is linearly stable for every stiffness: steady friction{} is velocity \
              strengthening here (mu_phi - mu_v = {weakening:.4e} <= 0). Finite-amplitude (hysteretic) \
-             stick-slip may still exist with inertia."
+             stick-slip may still exist with inertia.",
+            if report.params["eta_d"].as_f64().is_some_and(|e| e > 0.0) {
+                " with the radiation damping eta_d nu"
+            } else {
+                ""
+            }
         );
     } else {
         println!(

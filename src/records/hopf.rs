@@ -24,6 +24,9 @@ pub struct HopfReport {
     /// The parameters, `kappa = kappa_c` (`null` without an onset: the
     /// stiffness is what was searched for).
     pub params: serde_json::Value,
+    /// The slope of the force in `ln v` at steady sliding, with the
+    /// damping's `eta_d nu` (docs/model.md: the `mu_v` of Appendix C with
+    /// radiation damping).
     pub mu_v: f64,
     pub mu_phi: f64,
     #[serde(flatten)]
@@ -321,7 +324,7 @@ impl HopfReport {
             model_reason: setup.choice.reason.clone(),
             inertia_ratio: setup.choice.inertia_ratio,
             params,
-            mu_v: at.mu_v(),
+            mu_v: at.mu_v_damped(),
             mu_phi: at.mu_phi(),
             outcome,
             units: UnitsRecord::of(u),
