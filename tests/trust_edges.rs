@@ -424,3 +424,31 @@ fn huge_inertia_locates_the_onset_of_appendix_c_or_says_why_not() {
     // 37 of the 47 decades are located today (the others fail as above): a floor.
     assert!(located >= 37, "{located} of 47 located");
 }
+
+/// `hopf` where the onset cannot be located in double precision (a direct
+/// effect of 1e-12 with `mu_vv`, damping and the slip law): the failure in
+/// numbers and why, without the engine's advice to reduce a step or
+/// improve a guess, which `hopf` has no option for.
+#[test]
+fn hopf_gives_no_advice_it_has_no_option_for() {
+    let dir = common::temp_dir("trust-hopf-advice");
+    let scene = dir.join("granite.toml");
+    std::fs::write(
+        &scene,
+        "A = 0.010\nB = 0.015\nD0 = 10\nmu0 = 0.6\nmu_vv = 2e-4\nM = 5\nW = 1e5\nK = 5e7\n\
+         V = 1\nstate_law = \"slip\"\neta = 0.01\n",
+    )
+    .unwrap();
+    let (status, _, err) = common::stickslip(&[
+        "hopf",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--set",
+        "A=1e-12",
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(status, 3, "{err}");
+    assert!(err.contains("double precision"), "{err}");
+    assert!(!err.contains("reduce the step size"), "{err}");
+    assert!(!err.contains("initial guess"), "{err}");
+}

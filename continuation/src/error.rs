@@ -45,14 +45,24 @@ fn trivial_multiplier_off(trivial_error: f64) -> String {
     }
 }
 
+/// `; hint`, or nothing without one.
+fn advice(hint: &str) -> String {
+    if hint.is_empty() {
+        String::new()
+    } else {
+        format!("; {hint}")
+    }
+}
+
 /// An engine failure, with the last good state and the numbers that explain it.
 #[derive(Debug, Error)]
 pub enum ContinuationError {
     #[error(
         "Newton did not converge{context} after {iterations} iterations \
-         (residual {}, last step {}, {reason:?}); {hint}",
+         (residual {}, last step {}, {reason:?}){}",
         finite_or(*residual, "beyond the floating-point range"),
-        finite_or(*step, "none")
+        finite_or(*step, "none"),
+        advice(hint)
     )]
     Newton {
         context: String,
@@ -147,6 +157,45 @@ pub enum ContinuationError {
         to: f64,
         cause: Box<ContinuationError>,
     },
+}
+
+impl ContinuationError {
+    /// The failure without the engine's advice on what to try (a Newton
+    /// failure's `hint`, also as the cause of a location): for a caller
+    /// that has no such knob to offer and says what to do itself.
+    pub fn without_hint(self) -> Self {
+        match self {
+            ContinuationError::Newton {
+                context,
+                iterations,
+                residual,
+                step,
+                reason,
+                ..
+            } => ContinuationError::Newton {
+                context,
+                iterations,
+                residual,
+                step,
+                reason,
+                hint: "",
+            },
+            ContinuationError::Location {
+                kind,
+                param_name,
+                from,
+                to,
+                cause,
+            } => ContinuationError::Location {
+                kind,
+                param_name,
+                from,
+                to,
+                cause: Box::new(cause.without_hint()),
+            },
+            other => other,
+        }
+    }
 }
 
 #[cfg(test)]

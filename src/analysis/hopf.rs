@@ -436,8 +436,11 @@ pub fn find_hopf_with<F: Wrap>(
         None => searched,
         Some(Ok(h)) => Ok(HopfOutcome::Found(h)),
         Some(Err(e)) => {
+            // The engine's advice (a smaller step, a better guess) is no
+            // knob of `hopf`: the failure in numbers, the reason after it.
             let searched = match searched {
                 Ok(_) => "found no Hopf point on the way down".to_string(),
+                Err(NumericalError::Continuation(c)) => c.without_hint().to_string(),
                 Err(s) => s.to_string(),
             };
             Err(NumericalError::Analysis(format!(
