@@ -938,3 +938,28 @@ fn branch_text_leads_with_the_continued_parameter() {
     let c12 = (0.023 - 0.012 - 0.0105) / (2.0 * 3f64.ln());
     assert!((first(hopf) / c12 - 1.0).abs() < 1e-3, "{hopf} vs {c12}");
 }
+
+/// `scenes --json`: every built-in scene with its law, as the text lists them.
+#[test]
+fn scenes_json_lists_every_builtin_with_its_law() {
+    let (code, out, err) = stickslip(&["scenes", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let listed: Vec<(&str, &str)> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| (s["name"].as_str().unwrap(), s["law"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        listed,
+        [
+            ("pmma", "rate-and-state"),
+            ("pmma-rr", "rate-and-state"),
+            ("brockley", "rate-and-state"),
+            ("gel", "adhesive")
+        ]
+    );
+    let (_, text, _) = stickslip(&["scenes"]);
+    assert_eq!(text.lines().count(), listed.len());
+}

@@ -72,7 +72,15 @@ pub enum Command {
     #[command(allow_negative_numbers = true)]
     Fit(fit::FitArgs),
     /// List the built-in scenes.
-    Scenes,
+    Scenes(ScenesArgs),
+}
+
+/// Options of `stickslip scenes`.
+#[derive(Args, Debug, Clone)]
+pub struct ScenesArgs {
+    /// Print one JSON array of `{name, description, law}` instead of text.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Options shared by every analysis: which scene, overrides, which model.
@@ -197,15 +205,32 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         Command::Cycles(args) => cycles::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Fit(args) => fit::run(&args),
-        Command::Scenes => {
-            for name in scene::builtin_names() {
-                if let Some(s) = scene::builtin(name) {
-                    println!("{name:10} {}", s.description);
-                }
-            }
+        Command::Scenes(args) => {
+            let mut listed: Vec<(String, String, &str)> = scene::builtin_names()
+                .iter()
+                .filter_map(|name| scene::builtin(name))
+                .map(|s| (s.name, s.description, "rate-and-state"))
+                .collect();
             for name in crate::adhesive::scene::builtin_names() {
                 let s = crate::adhesive::scene::load(name)?;
-                println!("{name:10} {} (law = adhesive)", s.description);
+                listed.push((s.name, s.description, "adhesive"));
+            }
+            if args.json {
+                let records: Vec<serde_json::Value> = listed
+                    .iter()
+                    .map(|(name, description, law)| {
+                        serde_json::json!({"name": name, "description": description, "law": law})
+                    })
+                    .collect();
+                let text = serde_json::to_string_pretty(&records).map_err(std::io::Error::other)?;
+                println!("{text}");
+                return Ok(());
+            }
+            for (name, description, law) in &listed {
+                match *law {
+                    "adhesive" => println!("{name:10} {description} (law = adhesive)"),
+                    _ => println!("{name:10} {description}"),
+                }
             }
             Ok(())
         }
