@@ -45,13 +45,21 @@ impl InputError {
     /// This error of a value read from the scene file `path`, with the file
     /// named before the field (the errors that name no file otherwise).
     pub fn in_file(self, path: &str) -> Self {
+        // Once: a field may already be named in its file.
+        let named = |field: String| {
+            if field.starts_with(&format!("{path}: ")) {
+                field
+            } else {
+                format!("{path}: {field}")
+            }
+        };
         match self {
             InputError::OutOfRange {
                 field,
                 value,
                 expected,
             } => InputError::OutOfRange {
-                field: format!("{path}: {field}"),
+                field: named(field),
                 value,
                 expected,
             },
@@ -60,7 +68,7 @@ impl InputError {
                 value,
                 expected,
             } => InputError::Malformed {
-                field: format!("{path}: {field}"),
+                field: named(field),
                 value,
                 expected,
             },

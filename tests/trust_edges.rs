@@ -452,3 +452,18 @@ fn hopf_gives_no_advice_it_has_no_option_for() {
     assert!(!err.contains("reduce the step size"), "{err}");
     assert!(!err.contains("initial guess"), "{err}");
 }
+
+/// A bad value in a scene file names the file once before the key (the
+/// state law's error named it twice).
+#[test]
+fn a_bad_scene_value_names_its_file_once() {
+    let dir = common::temp_dir("trust-file-once");
+    let scene = dir.join("badstate.toml");
+    std::fs::write(&scene, "A = 0.01\nstate_law = \"slipp\"\n").unwrap();
+    let path = scene.to_str().unwrap();
+    let (status, _, err) = common::stickslip(&["hopf", "--scene", path]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(status, 2, "{err}");
+    assert_eq!(err.matches(path).count(), 1, "{err}");
+    assert!(err.contains("state_law"), "{err}");
+}
