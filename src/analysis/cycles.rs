@@ -325,15 +325,15 @@ impl NotDelivered {
                 "{} {name}_c = {}, where no cycle exists on this side: the cycles born at the Hopf \
                  point exist for {name} {} {name}_c",
                 if *above { "above" } else { "below" },
-                v(*critical, 16),
+                v(*critical, 10),
                 if *above { "<" } else { ">" }
             ),
             NotDelivered::BeforeFirstCycle { first, critical } => format!(
                 "between {name}_c = {} and the branch's first cycle at {name} = {}: the cycles \
                  there are smaller than the first one computed off the Hopf point (their size \
                  goes as sqrt|{name} - {name}_c| near the onset; `hopf` gives the onset law)",
-                v(*critical, 16),
-                v(*first, 16)
+                v(*critical, 10),
+                v(*first, 10)
             ),
             NotDelivered::Stopped { end, stop } => format!(
                 "the branch stopped at {name} = {} before reaching it ({stop})",
