@@ -130,7 +130,7 @@ fn requested_points_are_delivered_or_explained() {
     let above = requested(&v, 0.02);
     assert_eq!(above["delivered"], Value::Bool(false));
     let why = above["reason"].as_str().unwrap();
-    assert!(why.contains("above kappa_c = 1.09999999999999"), "{why}");
+    assert!(why.contains("above kappa_c = 1.1000000000e-2"), "{why}");
     let csv = std::fs::read_to_string(dir.join("pmma-cycles.csv")).unwrap();
     assert!(
         csv.contains("# requested kappa = 2.000000000000000e-2 not delivered: above kappa_c"),
