@@ -230,3 +230,28 @@ fn a_span_covered_by_the_curve_from_the_next_bautin_point_is_no_gap() {
         );
     }
 }
+
+/// A fold-of-cycles curve that stopped short of the request (pmma-rr: its
+/// cycles too stiff for the curve's mesh near 0.39 um/s) ends its CSV with
+/// a `# incomplete` line naming why, as the JSON's `lpc_stops` do.
+#[test]
+fn a_short_fold_curve_csv_says_it_is_incomplete() {
+    let dir = common::temp_dir("diagram-lpc-incomplete");
+    let (code, v) = common::run_json(&[
+        "diagram",
+        "--scene",
+        "pmma-rr",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+        "--force",
+    ]);
+    let csv = std::fs::read_to_string(dir.join("pmma-rr-lpc-curve.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 4);
+    assert_eq!(v["lpc_complete"], false);
+    let last = csv.lines().last().unwrap();
+    let stop = v["lpc_stops"][0]["message"].as_str().unwrap();
+    assert!(last.starts_with("# incomplete: "), "{last}");
+    assert!(last.contains(stop), "{last}");
+}

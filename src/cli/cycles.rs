@@ -380,7 +380,12 @@ fn write_figures(result: &Cycles, stem: &Path, lpc_curve: bool) -> Result<Vec<Pa
             branch_figures(&result.setup, &result.along_branch(), stem, cut).map_err(plot_error)?;
     }
     if lpc_curve && !result.lpc_curve.is_empty() {
-        files.push(write_lpc_csv(stem, &result.scene, &result.lpc_curve)?);
+        files.push(write_lpc_csv(
+            stem,
+            &result.scene,
+            &result.lpc_curve,
+            &result.lpc_stops,
+        )?);
         files.extend(fold_figure(&result.setup, &result.lpc_curve, stem).map_err(plot_error)?);
     }
     Ok(files)

@@ -3,7 +3,7 @@
 //! points) and `cycles --lpc-curve` (curves through the folds of a branch).
 
 use super::TextUnits;
-use crate::analysis::lpc_curve::LpcStop;
+use crate::analysis::lpc_curve::{LpcStop, LpcStopReason};
 use crate::file_names::with_suffix;
 use crate::records::csv::{header, row};
 use crate::records::diagram::FoldPoint;
@@ -34,8 +34,16 @@ pub fn lpc_summary(folds: &[FoldPoint], stops: &[LpcStop], units: TextUnits) -> 
 }
 
 /// Writes `<stem>-lpc-curve.csv`: the folds of scene `scene`, one row
-/// each; in full or not at all ([`crate::cli::files::write`]).
-pub fn write_lpc_csv(stem: &Path, scene: &str, folds: &[FoldPoint]) -> std::io::Result<PathBuf> {
+/// each; in full or not at all ([`crate::cli::files::write`]). A curve that
+/// stopped short of the request (`stops`: those that are no expected end
+/// at a Bautin point or the range's edge) ends with a `# incomplete` line
+/// naming why.
+pub fn write_lpc_csv(
+    stem: &Path,
+    scene: &str,
+    folds: &[FoldPoint],
+    stops: &[LpcStop],
+) -> std::io::Result<PathBuf> {
     let path = with_suffix(stem, "-lpc-curve.csv");
     let mut text = format!(
         "# folds of cycles (LPC) of scene {scene}: the hysteresis boundary\n{}\n",
@@ -44,6 +52,23 @@ pub fn write_lpc_csv(stem: &Path, scene: &str, folds: &[FoldPoint]) -> std::io::
     for p in folds {
         text.push_str(&row(p)?);
         text.push('\n');
+    }
+    let short: Vec<&str> = stops
+        .iter()
+        .filter(|s| {
+            !matches!(
+                s.reason,
+                LpcStopReason::BautinPoint | LpcStopReason::EndOfRange
+            )
+        })
+        .map(|s| s.message.as_str())
+        .collect();
+    if !short.is_empty() {
+        text.push_str(&format!(
+            "{} {}\n",
+            crate::cli::files::INCOMPLETE,
+            short.join("; ")
+        ));
     }
     crate::cli::files::write(&path, text)?;
     Ok(path)

@@ -296,7 +296,12 @@ fn write_csv(
     crate::cli::files::write(&path, w)?;
     let mut files = vec![path];
     if !d.lpc.points.is_empty() {
-        files.push(write_lpc_csv(stem, &setup.scene.name, &records.folds)?);
+        files.push(write_lpc_csv(
+            stem,
+            &setup.scene.name,
+            &records.folds,
+            &d.lpc.stops,
+        )?);
     }
     Ok(files)
 }
