@@ -264,7 +264,7 @@ fn write_head(
     let titles = match units {
         TextUnits::Physical => {
             let [first, second] = physical_leading(param).map(|c| c.title(param));
-            [first, second, "s", "theta [s]", "eigenvalues [1/s]"]
+            [first, second, "s", "age [s]", "eigenvalues [1/s]"]
         }
         TextUnits::Dimensionless => [param.name(), "s", "v", "theta", "eigenvalues"],
     };

@@ -366,7 +366,12 @@ impl Plan {
                 c.ntst
             ));
             if let Some(sw) = ModelSwitch::between(records.last(), c, threshold, || {
-                format!("kappa = {:.8e}", c.kappa)
+                let u = &setup.scene.units;
+                format!(
+                    "K/W = {:.8e} 1/m (kappa = {:.8e})",
+                    u.k_over_w(c.kappa),
+                    c.kappa
+                )
             }) {
                 observer.note(Note::Switch(sw.reason.clone()));
                 switch = Some(sw);
