@@ -89,7 +89,9 @@ pub(super) fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> 
 
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &[])? {
+    if let Some(setup) =
+        super::adhesive::adhesive_setup(&args.scene, &[], super::adhesive::Judged::AtVelocity)?
+    {
         let protocol = args.protocol.as_deref().map(parse_protocol).transpose()?;
         let numbers = (args.perturb, args.rtol, args.max_steps);
         return super::adhesive::simulate(
