@@ -434,7 +434,7 @@ fn hopf_chooses_the_inertial_model_where_chi_exceeds_the_threshold() {
     assert_eq!(status, 0, "{err}");
     assert_eq!(v["model"], "inertial");
     let why = v["model_reason"].as_str().unwrap();
-    assert!(why.contains("exceeds the inertia threshold"), "{why}");
+    assert!(why.contains("is not below the inertia threshold"), "{why}");
     assert!(rel(field(&v, "inertia_ratio"), 2.508e-3) < 1e-3, "{v}");
     let c = &v["critical"];
     assert!(
@@ -448,6 +448,31 @@ fn hopf_chooses_the_inertial_model_where_chi_exceeds_the_threshold() {
     assert_eq!(status, 0, "{err}");
     assert_eq!(f["model"], "inertial");
     assert!(f["model_reason"].as_str().unwrap().starts_with("forced"));
+    // Forcing inertia on a block without mass is refused, naming M.
+    let (status, _, err) = stickslip(&[
+        "hopf", "--scene", "gel", "--set", "M=0", "--model", "inertial",
+    ]);
+    assert!(status == 2 && err.contains("M [kg] > 0"), "{err}");
+    // simulate judges every pulling velocity of its protocol: 200 um/s
+    // (chi = 2.5e-2) asks for inertia though the scene's 20 um/s does not.
+    let dir = temp_dir("adhesive-protocol-model");
+    let out = dir.to_str().unwrap();
+    let (status, s, err) = json_of(&[
+        "simulate",
+        "--scene",
+        "gel",
+        "--json",
+        "--out",
+        out,
+        "--protocol",
+        "20:5,200:5",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(s["model"], "inertial");
+    assert!(s["model_reason"]
+        .as_str()
+        .unwrap()
+        .contains("V = 2.000000e2 um/s"));
     // Inertia raises kappa_c by 1 + chi.
     let ratio = field(&f["critical"], "kappa_c") / field(&v["critical"], "kappa_c");
     assert!(

@@ -337,12 +337,14 @@ pub fn critical_stiffness_of(p: &AdhesiveParams, kind: ModelKind) -> (f64, f64) 
     }
 }
 
-/// The model at one velocity: quasi-static where `chi`
-/// ([`inertia_ratio`]) is at most `threshold`, else inertial; a NaN `chi`
-/// (outside double precision) counts as needing inertia.
+/// The model at one velocity: quasi-static without mass or where `chi`
+/// ([`inertia_ratio`]) is below `threshold` (inertia then raises `kappa_c`
+/// by less than the threshold, relative), else inertial; a NaN `chi`
+/// (outside double precision) counts as needing inertia. The rule of the
+/// rate-and-state block ([`crate::analysis::model_choice`]).
 pub fn model_for(p: &AdhesiveParams, threshold: f64) -> ModelKind {
     let chi = inertia_ratio(p);
-    if chi <= threshold {
+    if p.m == 0.0 || chi < threshold {
         ModelKind::QuasiStatic
     } else {
         ModelKind::Inertial

@@ -15,11 +15,13 @@ use crate::model::ModelKind;
 use serde::Serialize;
 
 /// Where a command judges the inertia ratio: at the scene's velocity
-/// (`hopf`, `cycles`, `simulate`), or at every velocity of the swept
-/// `V_range` (`branch`, `diagram`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// (`hopf`, `cycles`), at every pulling velocity of a protocol
+/// (`simulate`, um/s; the scene's velocity without one), or at every
+/// velocity of the swept `V_range` (`branch`, `diagram`).
+#[derive(Clone, Debug, PartialEq)]
 pub enum Judged {
     AtVelocity,
+    AtPulling(Vec<f64>),
     OverRange,
 }
 
@@ -123,22 +125,43 @@ impl AdhesiveSetup {
         let p = scene.params;
         let u = scene.units;
         let chi = block::inertia_ratio(&p);
-        let at_v = u.velocity_um_s(p.nu);
         let mass = u.mass;
         let (needed, mut reason, chi_max, cross) = match judged {
-            Judged::AtVelocity => {
-                let needed = block::model_for(&p, inertia_threshold);
+            Judged::AtVelocity | Judged::AtPulling(_) => {
+                // The velocity of the largest chi among those judged.
+                let pulled: Vec<f64> = match &judged {
+                    Judged::AtPulling(list) => list
+                        .iter()
+                        .filter(|v| **v > 0.0)
+                        .map(|v| u.nu_of_velocity_um_s(*v))
+                        .collect(),
+                    _ => Vec::new(),
+                };
+                let mut q = p;
+                for nu in pulled {
+                    let mut r = p;
+                    r.nu = nu;
+                    let c = block::inertia_ratio(&r);
+                    if c.is_nan() || c > block::inertia_ratio(&q) {
+                        q = r;
+                    }
+                }
+                let chi = block::inertia_ratio(&q);
+                let at_v = u.velocity_um_s(q.nu);
+                let needed = block::model_for(&q, inertia_threshold);
                 let reason = match needed {
                     ModelKind::QuasiStatic => format!(
                         "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s is below the \
                          inertia threshold {inertia_threshold:e}: the block's inertia (M = \
-                         {mass:e} kg) is negligible, and the block without it is regular \
-                         everywhere (at fixed bond fraction the force rises with the slip velocity)"
+                         {mass:e} kg) raises kappa_c by the factor 1 + chi only, and the block \
+                         without it is regular everywhere (at fixed bond fraction the force \
+                         rises with the slip velocity)"
                     ),
                     ModelKind::Inertial => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s exceeds the \
-                         inertia threshold {inertia_threshold:e}: the block's inertia (M = \
-                         {mass:e} kg) matters, m u dw/dt = s - F(n, u)"
+                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s is not below \
+                         the inertia threshold {inertia_threshold:e}: the block's inertia (M = \
+                         {mass:e} kg) matters (it raises kappa_c by the factor 1 + chi), m u \
+                         dw/dt = s - F(n, u)"
                     ),
                 };
                 (needed, reason, None, None)
@@ -154,7 +177,7 @@ impl AdhesiveSetup {
                         block::inertia_ratio(&q)
                     })
                     .collect();
-                let needs = |c: f64| c.is_nan() || c > inertia_threshold;
+                let needs = |c: f64| !(p.m == 0.0 || c < inertia_threshold);
                 let (i_max, c_max) =
                     chis.iter()
                         .enumerate()
@@ -196,7 +219,7 @@ impl AdhesiveSetup {
                         u.velocity_um_s(c)
                     ),
                     (ModelKind::Inertial, None) => format!(
-                        "chi exceeds the inertia threshold {inertia_threshold:e} over all of \
+                        "chi is not below the inertia threshold {inertia_threshold:e} over all of \
                          {range} ({largest}): the block's inertia (M = {mass:e} kg) matters"
                     ),
                 };
@@ -208,6 +231,14 @@ impl AdhesiveSetup {
                 )
             }
         };
+        if forced == Some(ModelKind::Inertial) && p.m == 0.0 {
+            return Err(InputError::Conflict(format!(
+                "{}: --model inertial needs the block's mass; the scene gives M = 0 (or none): \
+                 give M [kg] > 0 (in the scene or --set M=...), or drop --model",
+                scene.name
+            ))
+            .into());
+        }
         let kind = forced.unwrap_or(needed);
         if let Some(f) = forced {
             reason = format!("forced by --model {} ({reason})", f.name());
