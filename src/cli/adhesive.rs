@@ -298,6 +298,14 @@ pub fn diagram(
             series.push(marker);
         }
     }
+    if let Some(v) = s.inertia_crossing_um_s {
+        let text = format!(
+            "chi = {:.0e} (inertia threshold) at {v:.3e} um/s",
+            s.inertia_threshold
+        );
+        let marker = vertical_marker(&series, v, &text, RED);
+        series.push(marker);
+    }
     let stability = LineFigure {
         title: format!("Stability diagram, {} (adhesive, {})", s.scene, s.model),
         x_label: "driving velocity V [µm/s]".into(),
