@@ -562,3 +562,51 @@ fn the_inertial_cycle_at_the_gels_stiffness_is_simulates_settled_orbit() {
     );
     assert!(cycle["stable"].as_bool().unwrap());
 }
+
+/// The first Lyapunov coefficient of the inertial block, from the engine's
+/// normal form in `(s, ln u, n)`: its coordinate-free consequence, the
+/// amplitude coefficient `C` of `Delta_s ~ C sqrt|kappa - kappa_c|`,
+/// tends to the quasi-static block's as `m -> 0`, the onset type with it.
+#[test]
+fn the_inertial_amplitude_coefficient_tends_to_the_quasi_static_one() {
+    use stickslip::adhesive::analysis::onset::{find_onset, OnsetOutcome};
+    use stickslip::adhesive::block::{AdhesiveBlock, InertialAdhesiveBlock};
+    let quasi = match find_onset(AdhesiveBlock, &gel_with_mass(0.0)).unwrap() {
+        OnsetOutcome::Found(o) => o,
+        other => panic!("{other:?}"),
+    };
+    let c0 = quasi.amplitude_coefficient.unwrap();
+    let mut last = f64::INFINITY;
+    for m in [1e-10, 1e-12, 1e-14] {
+        let o = match find_onset(InertialAdhesiveBlock, &gel_with_mass(m)).unwrap() {
+            OnsetOutcome::Found(o) => o,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(o.onset.name(), quasi.onset.name());
+        let gap = rel(o.amplitude_coefficient.unwrap(), c0);
+        assert!(gap < last.min(1e-3), "m = {m}: {gap}");
+        last = gap;
+    }
+    assert!(last < 1e-6, "{last}");
+}
+
+/// `branch --param V` on the gel in the inertial model (chosen over the
+/// range): its Hopf points are where the inertial closed form's
+/// `kappa_c(V)` equals the scene's `kappa`.
+#[test]
+fn the_inertial_branch_hopf_points_are_where_kappa_c_is_the_scenes() {
+    use stickslip::adhesive::block::critical_stiffness_of;
+    use stickslip::model::ModelKind;
+    let (status, v, err) = json_of(&["branch", "--scene", "gel", "--param", "V", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(v["model"], "inertial");
+    let kappa = field(&v["params"], "kappa");
+    let points = v["hopf_points"].as_array().unwrap();
+    assert_eq!(points.len(), 2, "{v}");
+    for h in points {
+        let mut p = gel_with_mass(5e-10);
+        p.nu = field(h, "nu");
+        let (k, _) = critical_stiffness_of(&p, ModelKind::Inertial);
+        assert!(rel(k, kappa) < 1e-9, "{h}: {k} vs {kappa}");
+    }
+}
