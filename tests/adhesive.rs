@@ -610,3 +610,69 @@ fn the_inertial_branch_hopf_points_are_where_kappa_c_is_the_scenes() {
         assert!(rel(k, kappa) < 1e-9, "{h}: {k} vs {kappa}");
     }
 }
+
+/// Near the gel's Bautin point (the quasi-static onset changes from
+/// subcritical to supercritical at about 0.75 um/s), a small inertia,
+/// chi far below the threshold, changes the onset type in a narrow window
+/// of velocities: there `hopf` takes the inertial model and says why, as
+/// the rate-and-state block does; away from it, the quasi-static one.
+#[test]
+fn where_inertia_changes_the_onset_type_hopf_takes_the_inertial_model() {
+    use stickslip::adhesive::analysis::steady::diagram;
+    use stickslip::adhesive::block::{AdhesiveBlock, InertialAdhesiveBlock};
+    let p = gel_with_mass(5e-10);
+    let l1 = |nu: f64, inertial: bool| {
+        let d = if inertial {
+            diagram(InertialAdhesiveBlock, &p, &[nu], 1.0)
+        } else {
+            diagram(AdhesiveBlock, &p, &[nu], 1.0)
+        };
+        d.unwrap()[0].l1.unwrap()
+    };
+    // The quasi-static Bautin point by bisection in nu (l1 > 0 below).
+    let (mut lo, mut hi) = (0.70 / 0.025, 0.80 / 0.025);
+    assert!(l1(lo, false) > 0.0 && l1(hi, false) < 0.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if l1(mid, false) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // The inertial l1 there has a sign; just on the other side the
+    // quasi-static one has the other.
+    let inertial_sign = l1(lo, true).signum();
+    let nu = if inertial_sign < 0.0 { lo } else { hi };
+    assert!(l1(nu, false).signum() != inertial_sign && l1(nu, true).signum() == inertial_sign);
+    let set = format!("V={}", nu * 0.025);
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--set", &set, "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(field(&v, "inertia_ratio") < 1e-3);
+    assert_eq!(v["model"], "inertial", "{}", v["model_reason"]);
+    assert!(v["model_reason"].as_str().unwrap().contains("onset type"));
+    let (_, v, _) = json_of(&["hopf", "--scene", "gel", "--set", "V=0.6", "--json"]);
+    assert_eq!(v["model"], "quasi-static");
+    // diagram over 0.6 - 0.9 um/s with that velocity in its grid: the
+    // point there needs inertia, as hopf said, the others not.
+    let dir = temp_dir("adhesive-bautin");
+    let text = include_str!("../examples/scenes/gel.toml").replace(
+        "V_range = [0.1, 1000.0]",
+        &format!("V_range = [{}, 0.9]", nu * 0.025),
+    );
+    let scene = scene_file(&dir, &text);
+    let args = [
+        "diagram",
+        "--scene",
+        &scene,
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    let (status, d, err) = json_of(&args);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(d["model"], "inertial", "{}", d["model_reason"]);
+    let points = d["points"].as_array().unwrap();
+    assert_eq!(points[0]["needs_inertia"], true, "{}", points[0]);
+    assert!(points[points.len() - 1]["needs_inertia"] == false);
+}

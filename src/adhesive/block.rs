@@ -341,7 +341,9 @@ pub fn critical_stiffness_of(p: &AdhesiveParams, kind: ModelKind) -> (f64, f64) 
 /// ([`inertia_ratio`]) is below `threshold` (inertia then raises `kappa_c`
 /// by less than the threshold, relative), else inertial; a NaN `chi`
 /// (outside double precision) counts as needing inertia. The rule of the
-/// rate-and-state block ([`crate::analysis::model_choice`]).
+/// rate-and-state block ([`crate::analysis::model_choice`]), whose
+/// exception (inertia where it changes the onset type) the commands add
+/// (`jobs::onset_type_changes`).
 pub fn model_for(p: &AdhesiveParams, threshold: f64) -> ModelKind {
     let chi = inertia_ratio(p);
     if p.m == 0.0 || chi < threshold {

@@ -102,6 +102,35 @@ fn crossing(p: &AdhesiveParams, threshold: f64, a: f64, b: f64) -> f64 {
     (0.5 * (lo + hi)).exp()
 }
 
+/// At each of the velocities `nus`, whether dropping the inertia changes
+/// the onset type: the quasi-static onset degenerate or not the inertial
+/// one (`false` where neither model has an onset); `None` where either
+/// could not be computed.
+pub fn onset_type_changes(p: &AdhesiveParams, nus: &[f64]) -> Option<Vec<Option<bool>>> {
+    use crate::analysis::hopf::Criticality;
+    let quasi = steady::diagram(block::AdhesiveBlock, p, nus, f64::INFINITY).ok()?;
+    let inertial = steady::diagram(block::InertialAdhesiveBlock, p, nus, f64::INFINITY).ok()?;
+    Some(
+        quasi
+            .iter()
+            .zip(&inertial)
+            .map(|(a, b)| match (a.onset, b.onset) {
+                (Some(a), Some(b)) => Some(a == Criticality::Degenerate || a != b),
+                _ => None,
+            })
+            .collect(),
+    )
+}
+
+/// At how many of the velocities `nus` with an onset the onset type
+/// changes without inertia ([`onset_type_changes`]), and of how many.
+pub fn onset_types_differ(p: &AdhesiveParams, nus: &[f64]) -> Option<(usize, usize)> {
+    let changes = onset_type_changes(p, nus)?;
+    let of = changes.iter().flatten().count();
+    let changed = changes.iter().flatten().filter(|c| **c).count();
+    Some((changed, of))
+}
+
 impl AdhesiveSetup {
     /// The scene's model decision and steady friction's extrema: `forced`
     /// when given (`--model`), else quasi-static where the inertia ratio
@@ -126,7 +155,7 @@ impl AdhesiveSetup {
         let u = scene.units;
         let chi = block::inertia_ratio(&p);
         let mass = u.mass;
-        let (needed, mut reason, chi_max, cross) = match judged {
+        let (needed, reason, chi_max, cross) = match judged {
             Judged::AtVelocity | Judged::AtPulling(_) => {
                 // The velocity of the largest chi among those judged.
                 let pulled: Vec<f64> = match &judged {
@@ -239,10 +268,43 @@ impl AdhesiveSetup {
             ))
             .into());
         }
+        // As for the rate-and-state block (`inertia_decides`): where
+        // dropping the inertia changes the onset type at a velocity judged
+        // (the quasi-static onset degenerate, or of the other sign), that
+        // inertia, however small, decides it.
+        let (needed, reason) = match (forced, needed) {
+            (None, ModelKind::QuasiStatic) if p.m > 0.0 => {
+                let nus: Vec<f64> = match &judged {
+                    Judged::AtVelocity => vec![p.nu],
+                    Judged::AtPulling(list) => list
+                        .iter()
+                        .filter(|v| **v > 0.0)
+                        .map(|v| u.nu_of_velocity_um_s(*v))
+                        .collect(),
+                    Judged::OverRange => {
+                        steady::grid(scene.nu_range.0, scene.nu_range.1, PER_DECADE)
+                    }
+                };
+                match onset_types_differ(&p, &nus) {
+                    Some((changed, of)) if changed > 0 => (
+                        ModelKind::Inertial,
+                        format!(
+                            "inertial: the quasi-static onset type is not the inertial one at \
+                             {changed} of the {of} velocities judged (degenerate, l1 = 0 to \
+                             rounding, or of the other sign), so the block's small inertia \
+                             decides the onset type ({reason})"
+                        ),
+                    ),
+                    _ => (needed, reason),
+                }
+            }
+            _ => (needed, reason),
+        };
         let kind = forced.unwrap_or(needed);
-        if let Some(f) = forced {
-            reason = format!("forced by --model {} ({reason})", f.name());
-        }
+        let reason = match forced {
+            Some(f) => format!("forced by --model {} ({reason})", f.name()),
+            None => reason,
+        };
         let extrema = block::steady_extrema(&p, EXTREMA_RANGE.0, EXTREMA_RANGE.1);
         let v_max = extrema.iter().find(|e| e.1).map(|e| e.0);
         let v_c = v_max.and_then(|m| extrema.iter().find(|e| !e.1 && e.0 > m).map(|e| e.0));
@@ -392,7 +454,16 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
     let (lo, hi) = setup.scene_full.nu_range;
     let nus = steady::grid(lo, hi, PER_DECADE);
     let threshold = setup.inertia_threshold;
-    let points = with_model!(setup.model_kind, b => steady::diagram(b, &p, &nus, threshold))?;
+    let mut points = with_model!(setup.model_kind, b => steady::diagram(b, &p, &nus, threshold))?;
+    // Each point's verdict is `hopf`'s there: inertia also where it
+    // changes the onset type.
+    if p.m > 0.0 {
+        if let Some(changes) = onset_type_changes(&p, &nus) {
+            for (point, change) in points.iter_mut().zip(changes) {
+                point.needs_inertia |= change == Some(true);
+            }
+        }
+    }
     let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
     Ok(AdhesiveDiagram {
         setup,

@@ -109,8 +109,9 @@ pub struct DiagramPoint {
     pub onset: Option<Criticality>,
     pub l1: Option<f64>,
     /// The inertia ratio `chi = m lambda_n / F_u` here
-    /// ([`block::inertia_ratio`]), and whether it asks for the inertial
-    /// model (above the threshold): what `hopf` at this velocity decides.
+    /// ([`block::inertia_ratio`]), and whether the inertial model is
+    /// needed here (`chi` not below the threshold; `diagram` adds where
+    /// inertia changes the onset type): what `hopf` at this velocity decides.
     pub inertia_ratio: f64,
     pub needs_inertia: bool,
 }
