@@ -104,8 +104,10 @@ fn crossing(p: &AdhesiveParams, threshold: f64, a: f64, b: f64) -> f64 {
 
 /// At each of the velocities `nus`, whether dropping the inertia changes
 /// the onset type: the quasi-static onset degenerate or not the inertial
-/// one (`false` where neither model has an onset); `None` where either
-/// could not be computed.
+/// one, `None` at a velocity without onset (the factor `1 + chi > 0`
+/// keeps `kappa_c`'s sign, so neither model has one there); `None` in all
+/// where either model's onsets could not be computed (the decision then
+/// rests on `chi`).
 pub fn onset_type_changes(p: &AdhesiveParams, nus: &[f64]) -> Option<Vec<Option<bool>>> {
     use crate::analysis::hopf::Criticality;
     let quasi = steady::diagram(block::AdhesiveBlock, p, nus, f64::INFINITY).ok()?;
