@@ -320,15 +320,20 @@ fn bad_adhesive_input_names_the_key() {
         assert_eq!(status, 2, "{change}: {err}");
         assert!(err.contains(key), "{change}: {err}");
     }
+    // A heavy block is no longer refused: the inertial model, saying why.
     let scene = scene_file(&dir, &FROM_SCRATCH.replace("M = 0.002", "M = 50"));
-    let (status, _, err) = stickslip(&["hopf", "--scene", &scene]);
-    assert!(status == 2 && err.contains("M = 5e1 kg"), "{err}");
+    let (status, v, err) = json_of(&["hopf", "--scene", &scene, "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(v["model"], "inertial", "{v}");
+    assert!(
+        v["model_reason"].as_str().unwrap().contains("M = 5e1 kg"),
+        "{v}"
+    );
     let data = dir.join("steady.csv");
     std::fs::write(&data, "V,mu\n1,0.5\n").unwrap();
     let data = format!("steady={}", data.display());
     for args in [
         vec!["hopf", "--scene", "gel", "--set", "kappa=0.1"],
-        vec!["hopf", "--scene", "gel", "--model", "inertial"],
         vec!["cycles", "--scene", "gel", "--param", "V"],
         vec!["fit", "--scene", "gel", "--data", &data],
     ] {
@@ -363,4 +368,311 @@ fn set_overrides_the_adhesive_scenes_numbers() {
         assert_eq!(status, 2, "{set}: {err}");
         assert!(err.contains(words), "{set}: {err}");
     }
+}
+
+/// The gel with the mass `m` (dimensionless) at its velocity.
+fn gel_with_mass(m: f64) -> AdhesiveParams {
+    let mut p = stickslip::adhesive::scene::load("gel").unwrap().params;
+    p.m = m;
+    p
+}
+
+/// The inertial block's critical stiffness located by the engine (the
+/// steady branch continued in kappa, Newton on the Hopf system) against
+/// the closed form `kappa_c = -lambda_n dF_ss/du (1 + chi)` of the cubic
+/// characteristic polynomial, over five decades of chi; and the limit
+/// `m -> 0`: the quasi-static closed form, approached as `1 + chi`.
+#[test]
+fn the_inertial_onset_is_the_closed_form_and_tends_to_the_quasi_static_one() {
+    use stickslip::adhesive::analysis::onset::{find_onset, OnsetOutcome};
+    use stickslip::adhesive::block::{
+        critical_stiffness, critical_stiffness_of, inertia_ratio, InertialAdhesiveBlock,
+    };
+    use stickslip::model::ModelKind;
+    let onset = |p: &AdhesiveParams| match find_onset(InertialAdhesiveBlock, p).unwrap() {
+        OnsetOutcome::Found(o) => o,
+        other => panic!("{other:?}"),
+    };
+    for m in [1e-12, 1e-10, 5e-10, 1e-8, 1e-6, 1e-5] {
+        let p = gel_with_mass(m);
+        let o = onset(&p);
+        let (closed, omega) = critical_stiffness_of(&p, ModelKind::Inertial);
+        assert!(
+            rel(o.kappa_c, closed) < 1e-10,
+            "m = {m}: {} vs {closed}",
+            o.kappa_c
+        );
+        assert!(
+            rel(o.omega_c, omega) < 1e-9,
+            "m = {m}: {} vs {omega}",
+            o.omega_c
+        );
+        assert!(o.l1.is_finite() && o.state.len() == 3);
+    }
+    let (quasi, _) = critical_stiffness(&gel_with_mass(0.0));
+    let mut last = f64::INFINITY;
+    for m in [1e-9, 1e-11, 1e-13, 1e-15] {
+        let p = gel_with_mass(m);
+        let gap = rel(onset(&p).kappa_c, quasi);
+        let chi = inertia_ratio(&p);
+        assert!(
+            (gap - chi).abs() < 1e-9 + 1e-6 * chi,
+            "m = {m}: {gap} vs chi {chi}"
+        );
+        assert!(gap < last);
+        last = gap;
+    }
+    assert!(last < 1e-9, "{last}");
+}
+
+/// `hopf` on the gel at V = 50 um/s (chi = 2.5e-3 above the threshold
+/// 1e-3) runs the inertial model and says why; at 20 um/s (chi = 4.4e-4)
+/// the quasi-static one; `--model` forces either.
+#[test]
+fn hopf_chooses_the_inertial_model_where_chi_exceeds_the_threshold() {
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--set", "V=50", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(v["model"], "inertial");
+    let why = v["model_reason"].as_str().unwrap();
+    assert!(why.contains("is not below the inertia threshold"), "{why}");
+    assert!(rel(field(&v, "inertia_ratio"), 2.508e-3) < 1e-3, "{v}");
+    let c = &v["critical"];
+    assert!(
+        rel(field(c, "kappa_c"), field(c, "kappa_c_closed_form")) < 1e-10,
+        "{c}"
+    );
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(v["model"], "quasi-static");
+    let (status, f, err) = json_of(&["hopf", "--scene", "gel", "--json", "--model", "inertial"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(f["model"], "inertial");
+    assert!(f["model_reason"].as_str().unwrap().starts_with("forced"));
+    // Forcing inertia on a block without mass is refused, naming M.
+    let (status, _, err) = stickslip(&[
+        "hopf", "--scene", "gel", "--set", "M=0", "--model", "inertial",
+    ]);
+    assert!(status == 2 && err.contains("M [kg] > 0"), "{err}");
+    // simulate judges every pulling velocity of its protocol: 200 um/s
+    // (chi = 2.5e-2) asks for inertia though the scene's 20 um/s does not.
+    let dir = temp_dir("adhesive-protocol-model");
+    let out = dir.to_str().unwrap();
+    let (status, s, err) = json_of(&[
+        "simulate",
+        "--scene",
+        "gel",
+        "--json",
+        "--out",
+        out,
+        "--protocol",
+        "20:5,200:5",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(s["model"], "inertial");
+    assert!(s["model_reason"]
+        .as_str()
+        .unwrap()
+        .contains("V = 2.000000e2 um/s"));
+    // Inertia raises kappa_c by 1 + chi.
+    let ratio = field(&f["critical"], "kappa_c") / field(&v["critical"], "kappa_c");
+    assert!(
+        rel(ratio - 1.0, field(&v, "inertia_ratio")) < 1e-8,
+        "{ratio}"
+    );
+}
+
+/// `diagram` on the gel sweeps 0.1-1000 um/s, where chi crosses the
+/// threshold: the inertial model over the range, and each point's verdict
+/// is `hopf`'s at that velocity, its K_c `hopf`'s (exactly where `hopf` is
+/// inertial, within chi where it is quasi-static).
+#[test]
+fn diagram_judges_chi_over_its_range_as_hopf_does_at_each_velocity() {
+    let dir = temp_dir("adhesive-diagram-model");
+    let out = dir.to_str().unwrap();
+    let (status, d, err) = json_of(&["diagram", "--scene", "gel", "--json", "--out", out]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(d["model"], "inertial", "{}", d["model_reason"]);
+    let crossing = field(&d, "inertia_crossing_um_s");
+    assert!(d["model_reason"].as_str().unwrap().contains("crosses"));
+    let points = d["points"].as_array().unwrap();
+    let v_s = 0.025;
+    let mut checked = 0;
+    for p in points.iter().step_by(4) {
+        let v = field(p, "nu") * v_s;
+        let set = format!("V={v}");
+        let (status, h, err) = json_of(&["hopf", "--scene", "gel", "--set", &set, "--json"]);
+        assert_eq!(status, 0, "{err}");
+        let needs = p["needs_inertia"].as_bool().unwrap();
+        assert_eq!(
+            needs,
+            h["model"] == "inertial",
+            "V = {v}: {p} {}",
+            h["model"]
+        );
+        assert_eq!(
+            needs,
+            v > crossing,
+            "V = {v} against the crossing {crossing}"
+        );
+        if let Some(k) = p["kappa_c"].as_f64() {
+            let kh = field(&h["critical"], "kappa_c");
+            let chi = field(&h, "inertia_ratio");
+            let tol = if needs { 1e-9 } else { 1.01 * chi };
+            assert!(rel(k, kh) < tol, "V = {v}: {k} vs {kh}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "{checked}");
+    // Either side of the crossing, hopf decides accordingly.
+    for (v, model) in [
+        (0.999 * crossing, "quasi-static"),
+        (1.001 * crossing, "inertial"),
+    ] {
+        let set = format!("V={v}");
+        let (_, h, _) = json_of(&["hopf", "--scene", "gel", "--set", &set, "--json"]);
+        assert_eq!(h["model"], model, "V = {v}");
+    }
+}
+
+/// The inertial gel's stick-slip at its K = 200 N/m (V = 50 um/s): the
+/// cycle by collocation of the implicit form against `simulate`'s settled
+/// orbit (Radau IIA in time), period and force drop to 1e-6.
+#[test]
+fn the_inertial_cycle_at_the_gels_stiffness_is_simulates_settled_orbit() {
+    let dir = temp_dir("adhesive-inertial-cycle");
+    let out = dir.to_str().unwrap();
+    let args = ["--scene", "gel", "--set", "V=50", "--json", "--out", out];
+    let (status, c, err) = json_of(&[&["cycles"][..], &args].concat());
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(c["model"], "inertial");
+    let (status, s, err) = json_of(&[&["simulate"][..], &args].concat());
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(s["model"], "inertial");
+    let cycle = &c["at_scene"];
+    let (f_a, tau_out) = (0.05, 1.0);
+    let period = field(cycle, "period") * tau_out;
+    let drop = (field(cycle, "s_max") - field(cycle, "s_min")) * f_a;
+    assert!(
+        rel(period, field(&s, "settled_period_s")) < 1e-6,
+        "{cycle} {s}"
+    );
+    assert!(
+        rel(drop, field(&s, "settled_force_drop_n")) < 1e-6,
+        "{cycle} {s}"
+    );
+    assert!(cycle["stable"].as_bool().unwrap());
+}
+
+/// The first Lyapunov coefficient of the inertial block, from the engine's
+/// normal form in `(s, ln u, n)`: its coordinate-free consequence, the
+/// amplitude coefficient `C` of `Delta_s ~ C sqrt|kappa - kappa_c|`,
+/// tends to the quasi-static block's as `m -> 0`, the onset type with it.
+#[test]
+fn the_inertial_amplitude_coefficient_tends_to_the_quasi_static_one() {
+    use stickslip::adhesive::analysis::onset::{find_onset, OnsetOutcome};
+    use stickslip::adhesive::block::{AdhesiveBlock, InertialAdhesiveBlock};
+    let quasi = match find_onset(AdhesiveBlock, &gel_with_mass(0.0)).unwrap() {
+        OnsetOutcome::Found(o) => o,
+        other => panic!("{other:?}"),
+    };
+    let c0 = quasi.amplitude_coefficient.unwrap();
+    let mut last = f64::INFINITY;
+    for m in [1e-10, 1e-12, 1e-14] {
+        let o = match find_onset(InertialAdhesiveBlock, &gel_with_mass(m)).unwrap() {
+            OnsetOutcome::Found(o) => o,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(o.onset.name(), quasi.onset.name());
+        let gap = rel(o.amplitude_coefficient.unwrap(), c0);
+        assert!(gap < last.min(1e-3), "m = {m}: {gap}");
+        last = gap;
+    }
+    assert!(last < 1e-6, "{last}");
+}
+
+/// `branch --param V` on the gel in the inertial model (chosen over the
+/// range): its Hopf points are where the inertial closed form's
+/// `kappa_c(V)` equals the scene's `kappa`.
+#[test]
+fn the_inertial_branch_hopf_points_are_where_kappa_c_is_the_scenes() {
+    use stickslip::adhesive::block::critical_stiffness_of;
+    use stickslip::model::ModelKind;
+    let (status, v, err) = json_of(&["branch", "--scene", "gel", "--param", "V", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(v["model"], "inertial");
+    let kappa = field(&v["params"], "kappa");
+    let points = v["hopf_points"].as_array().unwrap();
+    assert_eq!(points.len(), 2, "{v}");
+    for h in points {
+        let mut p = gel_with_mass(5e-10);
+        p.nu = field(h, "nu");
+        let (k, _) = critical_stiffness_of(&p, ModelKind::Inertial);
+        assert!(rel(k, kappa) < 1e-9, "{h}: {k} vs {kappa}");
+    }
+}
+
+/// Near the gel's Bautin point (the quasi-static onset changes from
+/// subcritical to supercritical at about 0.75 um/s), a small inertia,
+/// chi far below the threshold, changes the onset type in a narrow window
+/// of velocities: there `hopf` takes the inertial model and says why, as
+/// the rate-and-state block does; away from it, the quasi-static one.
+#[test]
+fn where_inertia_changes_the_onset_type_hopf_takes_the_inertial_model() {
+    use stickslip::adhesive::analysis::steady::diagram;
+    use stickslip::adhesive::block::{AdhesiveBlock, InertialAdhesiveBlock};
+    let p = gel_with_mass(5e-10);
+    let l1 = |nu: f64, inertial: bool| {
+        let d = if inertial {
+            diagram(InertialAdhesiveBlock, &p, &[nu], 1.0)
+        } else {
+            diagram(AdhesiveBlock, &p, &[nu], 1.0)
+        };
+        d.unwrap()[0].l1.unwrap()
+    };
+    // The quasi-static Bautin point by bisection in nu (l1 > 0 below).
+    let (mut lo, mut hi) = (0.70 / 0.025, 0.80 / 0.025);
+    assert!(l1(lo, false) > 0.0 && l1(hi, false) < 0.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if l1(mid, false) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // The inertial l1 there has a sign; just on the other side the
+    // quasi-static one has the other.
+    let inertial_sign = l1(lo, true).signum();
+    let nu = if inertial_sign < 0.0 { lo } else { hi };
+    assert!(l1(nu, false).signum() != inertial_sign && l1(nu, true).signum() == inertial_sign);
+    let set = format!("V={}", nu * 0.025);
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--set", &set, "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(field(&v, "inertia_ratio") < 1e-3);
+    assert_eq!(v["model"], "inertial", "{}", v["model_reason"]);
+    assert!(v["model_reason"].as_str().unwrap().contains("onset type"));
+    let (_, v, _) = json_of(&["hopf", "--scene", "gel", "--set", "V=0.6", "--json"]);
+    assert_eq!(v["model"], "quasi-static");
+    // diagram over 0.6 - 0.9 um/s with that velocity in its grid: the
+    // point there needs inertia, as hopf said, the others not.
+    let dir = temp_dir("adhesive-bautin");
+    let text = include_str!("../examples/scenes/gel.toml").replace(
+        "V_range = [0.1, 1000.0]",
+        &format!("V_range = [{}, 0.9]", nu * 0.025),
+    );
+    let scene = scene_file(&dir, &text);
+    let args = [
+        "diagram",
+        "--scene",
+        &scene,
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    let (status, d, err) = json_of(&args);
+    assert_eq!(status, 0, "{err}");
+    assert_eq!(d["model"], "inertial", "{}", d["model_reason"]);
+    let points = d["points"].as_array().unwrap();
+    assert_eq!(points[0]["needs_inertia"], true, "{}", points[0]);
+    assert!(points[points.len() - 1]["needs_inertia"] == false);
 }

@@ -363,19 +363,17 @@ fn adhesive(
     max_steps: usize,
     ntst_max: usize,
 ) -> PyResult<String> {
-    use stickslip::adhesive::jobs::{self as adhesive_jobs, AdhesiveSetup};
+    use stickslip::adhesive::jobs::{self as adhesive_jobs, AdhesiveSetup, Judged};
     let (spec, shown) = scene.spec()?;
     let job = || -> Result<String, Error> {
-        if spec.model == Some(ModelKind::Inertial) {
-            return Err(InputError::Conflict(format!(
-                "model = \"inertial\" is not available on an adhesive scene ({}): {}",
-                spec.scene,
-                adhesive_jobs::MODEL_REASON
-            ))
-            .into());
-        }
         let loaded = stickslip::adhesive::scene::load_with(&spec.scene, &spec.set)?;
-        let setup = AdhesiveSetup::new(loaded, spec.inertia_threshold)?;
+        // Where inertia is judged, as the command line judges it.
+        let judged = match (command, &protocol) {
+            ("branch" | "diagram", _) => Judged::OverRange,
+            ("simulate", Some(list)) => Judged::AtPulling(list.iter().map(|s| s.0).collect()),
+            _ => Judged::AtVelocity,
+        };
+        let setup = AdhesiveSetup::new(loaded, spec.inertia_threshold, judged, spec.model)?;
         match command {
             "hopf" => text(&adhesive_jobs::hopf(setup)?),
             "branch" => text(&adhesive_jobs::branch(setup)?),

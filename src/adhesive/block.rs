@@ -8,27 +8,38 @@
 //! s     = n g(z) + f_v u^(1 - alpha)                                   (eq. D1 + viscosity)
 //! ```
 //!
-//! **The model.** The block is analysed without inertia (quasi-static),
-//! state `(s, n)`, in every command. At fixed bond fraction `n` the force
-//! `n g(1/u) + f_v u^(1 - alpha)` rises strictly with `u` (its slope in
-//! `ln u` is `n h_2(z) + f_v (1 - alpha) u^(1 - alpha) > 0`,
-//! [`crate::exp_integral::one_minus_z_scaled_e1`]) from 0 at `u = 0` to
-//! infinity: every spring force `s > 0` gives one slip velocity, so the
-//! quasi-static block is regular everywhere, also at the extrema of the
-//! N-shaped *steady* curve (only a block slaved to the steady curve is
-//! singular there). Inertia `m` is judged, not modelled: its ratio to the
-//! friction's slope over the bonds' relaxation time,
-//! `chi = m lambda_n / F_u` ([`inertia_ratio`], the analogue of
-//! `m nu^2 / mu_v`), must stay below the inertia threshold, else the
-//! commands refuse the scene naming `M`. The seed's gel experiments are
-//! such inertia-free stick-slip (§III.D.2).
+//! **The model.** With inertia `m = M V_s / (F_a tau_out)` the block's
+//! velocity is a state, `w = ln u` ([`InertialAdhesiveBlock`], state
+//! `(s, w, n)`):
+//!
+//! ```text
+//! m u dw/dt = s - F(n, u),     F(n, u) = n g(1/u) + f_v u^(1 - alpha)
+//! ```
+//!
+//! collocated in this implicit form (`rho_w = m u`), as the rate-and-state
+//! inertial block is. Without it ([`AdhesiveBlock`], state `(s, n)`) the
+//! velocity is slaved by `s = F(n, u)`: at fixed bond fraction `n` the force
+//! rises strictly with `u` (its slope in `ln u` is `n h_2(z) + f_v (1 -
+//! alpha) u^(1 - alpha) > 0`, [`crate::exp_integral::one_minus_z_scaled_e1`])
+//! from 0 at `u = 0` to infinity, so every spring force `s > 0` gives one
+//! slip velocity and the quasi-static block is regular everywhere, also at
+//! the extrema of the N-shaped *steady* curve. Which of the two a command
+//! uses is decided by the inertia ratio `chi = m lambda_n / F_u`
+//! ([`inertia_ratio`], the inertial time `m / F_u` over the bonds'
+//! relaxation time, the analogue of `m nu^2 / mu_v`): quasi-static where
+//! `chi` stays below the inertia threshold, inertial elsewhere
+//! ([`model_for`]). Inertia raises the critical stiffness by the factor
+//! `1 + chi` and leaves the onset frequency as it is
+//! ([`critical_stiffness_of`]).
 
 use super::params::{AdhesiveParam, AdhesiveParams, N_ADHESIVE_PARAMS};
 use crate::exp_integral::{one_minus_z_scaled_e1, scaled_e1};
 use crate::friction::{increasing_zero, reach};
+use crate::model::ModelKind;
 use continuation::{Scalar, VectorField};
 
-/// The quasi-static adhesive block, state `(s, n)`.
+/// The quasi-static adhesive block, state `(s, n)` (the parameter `m`
+/// unread).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct AdhesiveBlock;
 
@@ -135,6 +146,101 @@ impl VectorField for AdhesiveBlock {
     }
 }
 
+/// The inertial adhesive block, state `(s, w = ln u, n)` (module docs):
+///
+/// ```text
+/// ds/dt       = kappa (nu - u)
+/// m u dw/dt   = s - F(n, u),      F(n, u) = n g(1/u) + f_v u^(1 - alpha)
+/// dn/dt       = (1 - n)/r - n / T(u)
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InertialAdhesiveBlock;
+
+impl VectorField for InertialAdhesiveBlock {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn n_params(&self) -> usize {
+        N_ADHESIVE_PARAMS
+    }
+    fn param_name(&self, k: usize) -> String {
+        AdhesiveParam::ALL[k].name().into()
+    }
+    fn rhs<D: Scalar>(&self, x: &[D], p: &[D], out: &mut [D]) {
+        let mut rho = [D::from(1.0); 3];
+        self.implicit_rhs(x, p, &mut rho, out);
+        out[1] /= rho[1];
+    }
+
+    /// `w = ln u` rises by at most `ln(1 + dw)` for a Newton step `dw > 0`:
+    /// the step `u <- u (1 + dw)` in the velocity, which the force balance
+    /// `m u w' = m u'` holds linearly (as [`crate::log_model::LogBlock`]).
+    fn newton_update(&self, x: &mut [f64], dx: &[f64]) {
+        for (j, (xi, d)) in x.iter_mut().zip(dx).enumerate() {
+            if j == 1 && *d < 0.0 {
+                *xi += (-*d).ln_1p();
+            } else {
+                *xi -= d;
+            }
+        }
+    }
+
+    fn has_implicit_form(&self) -> bool {
+        true
+    }
+
+    /// The velocity equation as the force balance `m u dw/dt = s - F(n,
+    /// u)` (`rho_w = m u`, `g_w = s - F`), the others with `rho = 1`: while
+    /// the block sticks `s - F` is resolved to its rounding, which `dw/dt
+    /// = (s - F) / (m u)` would multiply by `1 / (m u)`.
+    fn implicit_rhs<D: Scalar>(&self, x: &[D], p: &[D], rho: &mut [D], g: &mut [D]) {
+        let at = |q: AdhesiveParam| p[q as usize];
+        let (s, w, n) = (x[0], x[1], x[2]);
+        let u = w.exp();
+        rho.fill(D::from(1.0));
+        g[0] = at(AdhesiveParam::Kappa) * (at(AdhesiveParam::Nu) - u);
+        g[1] = s - force(u, n, at(AdhesiveParam::Fv), at(AdhesiveParam::Alpha));
+        g[2] = bond_rate(u, n, at(AdhesiveParam::R));
+        rho[1] = at(AdhesiveParam::M) * u;
+    }
+}
+
+/// What the analyses need of either block beyond its vector field: steady
+/// sliding as its state, the slip velocity and the bond fraction of a state.
+pub trait AdhesiveModel: VectorField + Copy + Default {
+    /// Which model this is.
+    const KIND: ModelKind;
+    /// Steady sliding at `p.nu` as this block's state.
+    fn steady(&self, p: &AdhesiveParams) -> Vec<f64>;
+    /// The slip velocity `u` of a state (infinite outside the model's domain).
+    fn velocity(&self, p: &AdhesiveParams, x: &[f64]) -> f64;
+    /// The bond fraction `n` of a state (its last entry).
+    fn bonds(&self, x: &[f64]) -> f64 {
+        x[self.dim() - 1]
+    }
+}
+
+impl AdhesiveModel for AdhesiveBlock {
+    const KIND: ModelKind = ModelKind::QuasiStatic;
+    fn steady(&self, p: &AdhesiveParams) -> Vec<f64> {
+        steady_state(p)
+    }
+    fn velocity(&self, p: &AdhesiveParams, x: &[f64]) -> f64 {
+        velocity_of(p, x)
+    }
+}
+
+impl AdhesiveModel for InertialAdhesiveBlock {
+    const KIND: ModelKind = ModelKind::Inertial;
+    /// `(F_ss(nu), ln nu, n_ss(nu))`.
+    fn steady(&self, p: &AdhesiveParams) -> Vec<f64> {
+        vec![steady_friction(p.nu, p), p.nu.ln(), steady_bonds(p.nu, p.r)]
+    }
+    fn velocity(&self, _: &AdhesiveParams, x: &[f64]) -> f64 {
+        x[1].exp()
+    }
+}
+
 /// Steady sliding at `nu`: `(s, n) = (F_ss(nu), n_ss(nu))`.
 pub fn steady_state(p: &AdhesiveParams) -> Vec<f64> {
     vec![steady_friction(p.nu, p), steady_bonds(p.nu, p.r)]
@@ -187,6 +293,64 @@ pub fn critical_stiffness(p: &AdhesiveParams) -> (f64, f64) {
 pub fn inertia_ratio(p: &AdhesiveParams) -> f64 {
     let (f_u, lambda) = steady_slopes(p);
     p.m * lambda / f_u
+}
+
+/// The characteristic polynomial of the inertial block linearized at
+/// steady sliding, `[c0, c1, c2, c3]` of `c3 l^3 + c2 l^2 + c1 l + c0`:
+/// in `(ds, du, dn)` the linearization is `ds' = -kappa du`, `m du' = ds -
+/// F_u du - g dn`, `dn' = N_u du - lambda_n dn` (`g = g(1/nu) = F_n`, `N_u`
+/// the slope of the bond rate in `u`), and with `F_u lambda_n + g N_u =
+/// lambda_n dF_ss/du` (steady bonds `dn_ss/du = N_u / lambda_n`)
+///
+/// ```text
+/// m l^3 + (F_u + m lambda_n) l^2 + (lambda_n dF_ss/du + kappa) l + kappa lambda_n
+/// ```
+///
+/// (`m = 0`: the quasi-static block's `F_u` times its `l^2 - trace l + det`).
+pub fn characteristic_polynomial(p: &AdhesiveParams) -> [f64; 4] {
+    let (f_u, lambda) = steady_slopes(p);
+    [
+        p.kappa * lambda,
+        lambda * steady_slope(p.nu, p) + p.kappa,
+        f_u + p.m * lambda,
+        p.m,
+    ]
+}
+
+/// The critical stiffness of the block of `kind`, `(kappa_c, Omega_c)`.
+/// Quasi-static: [`critical_stiffness`]. Inertial: the Hopf condition of the
+/// cubic [`characteristic_polynomial`], `c2 c1 = c3 c0` with `Omega^2 = c1 /
+/// c3 = c0 / c2`, is linear in `kappa`:
+///
+/// ```text
+/// kappa_c = -lambda_n dF_ss/du (1 + chi),   chi = m lambda_n / F_u,
+/// Omega_c^2 = kappa_c lambda_n / (F_u + m lambda_n)
+/// ```
+///
+/// the quasi-static `kappa_c` raised by `1 + chi`, at the quasi-static
+/// frequency (the limit `m -> 0` is the quasi-static closed form).
+pub fn critical_stiffness_of(p: &AdhesiveParams, kind: ModelKind) -> (f64, f64) {
+    let (kappa_0, omega) = critical_stiffness(p);
+    match kind {
+        ModelKind::QuasiStatic => (kappa_0, omega),
+        ModelKind::Inertial => (kappa_0 * (1.0 + inertia_ratio(p)), omega),
+    }
+}
+
+/// The model at one velocity: quasi-static without mass or where `chi`
+/// ([`inertia_ratio`]) is below `threshold` (inertia then raises `kappa_c`
+/// by less than the threshold, relative), else inertial; a NaN `chi`
+/// (outside double precision) counts as needing inertia. The rule of the
+/// rate-and-state block ([`crate::analysis::model_choice`]), whose
+/// exception (inertia where it changes the onset type) the commands add
+/// (`jobs::onset_type_changes`).
+pub fn model_for(p: &AdhesiveParams, threshold: f64) -> ModelKind {
+    let chi = inertia_ratio(p);
+    if p.m == 0.0 || chi < threshold {
+        ModelKind::QuasiStatic
+    } else {
+        ModelKind::Inertial
+    }
 }
 
 /// The extrema of steady friction over `[lo, hi]`: the zeros of
@@ -270,5 +434,61 @@ mod tests {
             (det / (omega_c * omega_c) - 1.0).abs() < 1e-9,
             "{det} {omega_c}"
         );
+    }
+
+    #[test]
+    fn the_inertial_jacobian_has_the_closed_form_characteristic_polynomial() {
+        // det(l - J) = l^3 - tr l^2 + M2 l - det against c_i / c3, in the
+        // variables (s, ln u, n) the engine differentiates.
+        for m in [1e-9, 1e-6, 1e-3] {
+            let mut p = gel();
+            p.m = m;
+            p.kappa = 0.02;
+            let j = jacobian(
+                &InertialAdhesiveBlock,
+                &InertialAdhesiveBlock.steady(&p),
+                &p.to_vec(),
+            );
+            let tr = j[(0, 0)] + j[(1, 1)] + j[(2, 2)];
+            let minor = |a: usize, b: usize| j[(a, a)] * j[(b, b)] - j[(a, b)] * j[(b, a)];
+            let m2 = minor(0, 1) + minor(0, 2) + minor(1, 2);
+            let det = j.determinant();
+            let [c0, c1, c2, c3] = characteristic_polynomial(&p);
+            for (engine, closed) in [(-tr, c2 / c3), (m2, c1 / c3), (-det, c0 / c3)] {
+                assert!(
+                    (engine / closed - 1.0).abs() < 1e-9,
+                    "m = {m}: {engine} vs {closed}"
+                );
+            }
+            // The Hopf condition c2 c1 = c3 c0 at the closed-form kappa_c.
+            let (kappa_c, omega) = critical_stiffness_of(&p, ModelKind::Inertial);
+            p.kappa = kappa_c;
+            let [c0, c1, c2, c3] = characteristic_polynomial(&p);
+            assert!((c2 * c1 / (c3 * c0) - 1.0).abs() < 1e-12, "m = {m}");
+            assert!((c1 / c3 / (omega * omega) - 1.0).abs() < 1e-12, "m = {m}");
+        }
+    }
+
+    #[test]
+    fn the_inertial_implicit_form_is_the_force_balance() {
+        let mut p = gel();
+        p.m = 1e-4;
+        let x = [0.03, (1e-20f64).ln(), 0.5];
+        let (mut rho, mut g, mut f) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        InertialAdhesiveBlock.implicit_rhs(&x, &p.to_vec(), &mut rho, &mut g);
+        InertialAdhesiveBlock.rhs(&x, &p.to_vec(), &mut f);
+        let gap = 0.03 - force(1e-20, 0.5, p.f_v, p.alpha);
+        assert!((rho[1] / (p.m * 1e-20) - 1.0).abs() < 1e-13, "{rho:?}");
+        assert!((g[1] - gap).abs() < 1e-16, "{} vs {gap}", g[1]);
+        assert_eq!([rho[0], rho[2]], [1.0, 1.0]);
+        assert_eq!([g[0], g[2]], [f[0], f[2]]);
+        assert!((f[1] / (gap / (p.m * 1e-20)) - 1.0).abs() < 1e-13);
+        // Steady sliding is an equilibrium of the inertial block.
+        let f0 = eval(
+            &InertialAdhesiveBlock,
+            &InertialAdhesiveBlock.steady(&p),
+            &p.to_vec(),
+        );
+        assert!(f0.iter().all(|v| v.abs() < 1e-9), "{f0}");
     }
 }

@@ -11,24 +11,57 @@ use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
 use crate::error::{Error, InputError, NumericalError};
+use crate::model::ModelKind;
 use serde::Serialize;
 
-/// Why the adhesive block is analysed without inertia ([`block`]).
-pub const MODEL_REASON: &str = "the adhesive block is quasi-static in every command: at fixed \
-    bond fraction the force rises strictly with the slip velocity, so the block without inertia \
-    is regular everywhere (also at the extrema of the N-shaped steady friction); inertia is \
-    judged by chi = m lambda_n / F_u, which must stay below the inertia threshold";
+/// Where a command judges the inertia ratio: at the scene's velocity
+/// (`hopf`, `cycles`), at every pulling velocity of a protocol
+/// (`simulate`, um/s; the scene's velocity without one), or at every
+/// velocity of the swept `V_range` (`branch`, `diagram`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Judged {
+    AtVelocity,
+    AtPulling(Vec<f64>),
+    OverRange,
+}
 
-/// What every adhesive result starts with: the scene, its model decision,
-/// its parameters and units, steady friction's extrema.
+/// Runs `$body` with `$b` the block of `$kind` (a [`ModelKind`]): the
+/// quasi-static [`block::AdhesiveBlock`] or the
+/// [`block::InertialAdhesiveBlock`].
+macro_rules! with_model {
+    ($kind:expr, $b:ident => $body:expr) => {
+        match $kind {
+            ModelKind::QuasiStatic => {
+                let $b = block::AdhesiveBlock;
+                $body
+            }
+            ModelKind::Inertial => {
+                let $b = block::InertialAdhesiveBlock;
+                $body
+            }
+        }
+    };
+}
+
+/// What every adhesive result starts with: the scene, its model decision
+/// and why, its parameters and units, steady friction's extrema.
 #[derive(Clone, Debug, Serialize)]
 pub struct AdhesiveSetup {
     pub scene: String,
     pub law: &'static str,
     pub model: &'static str,
-    pub model_reason: &'static str,
-    /// `chi = m lambda_n / F_u` at steady sliding ([`block::inertia_ratio`]).
+    pub model_reason: String,
+    #[serde(skip)]
+    pub model_kind: ModelKind,
+    /// `chi = m lambda_n / F_u` at steady sliding at the scene's velocity
+    /// ([`block::inertia_ratio`]).
     pub inertia_ratio: f64,
+    pub inertia_threshold: f64,
+    /// Over the swept range (`branch`, `diagram`): the largest `chi` and
+    /// the velocity where `chi` crosses the threshold, um/s (`None` where it
+    /// does not within the range).
+    pub inertia_ratio_max: Option<f64>,
+    pub inertia_crossing_um_s: Option<f64>,
     pub params: AdhesiveParams,
     pub units: AdhesiveUnits,
     /// The maximum of steady friction (the bell of Schallamach's pinning).
@@ -45,35 +78,249 @@ pub struct AdhesiveSetup {
 /// Velocities scanned for the extrema of steady friction, in `V_s`.
 const EXTREMA_RANGE: (f64, f64) = (1e-6, 1e12);
 
+/// Where `chi(nu) - threshold` changes sign in `[a, b]` (a sign change
+/// given), by bisection in `ln nu` to rounding.
+fn crossing(p: &AdhesiveParams, threshold: f64, a: f64, b: f64) -> f64 {
+    let above = |nu: f64| {
+        let mut q = *p;
+        q.nu = nu;
+        block::model_for(&q, threshold) == ModelKind::Inertial
+    };
+    let side = above(a);
+    let (mut lo, mut hi) = (a.ln(), b.ln());
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if above(mid.exp()) == side {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (0.5 * (lo + hi)).exp()
+}
+
+/// At each of the velocities `nus`, whether dropping the inertia changes
+/// the onset type: the quasi-static onset degenerate or not the inertial
+/// one, `None` at a velocity without onset (the factor `1 + chi > 0`
+/// keeps `kappa_c`'s sign, so neither model has one there); `None` in all
+/// where either model's onsets could not be computed (the decision then
+/// rests on `chi`).
+pub fn onset_type_changes(p: &AdhesiveParams, nus: &[f64]) -> Option<Vec<Option<bool>>> {
+    use crate::analysis::hopf::Criticality;
+    let quasi = steady::diagram(block::AdhesiveBlock, p, nus, f64::INFINITY).ok()?;
+    let inertial = steady::diagram(block::InertialAdhesiveBlock, p, nus, f64::INFINITY).ok()?;
+    Some(
+        quasi
+            .iter()
+            .zip(&inertial)
+            .map(|(a, b)| match (a.onset, b.onset) {
+                (Some(a), Some(b)) => Some(a == Criticality::Degenerate || a != b),
+                _ => None,
+            })
+            .collect(),
+    )
+}
+
+/// At how many of the velocities `nus` with an onset the onset type
+/// changes without inertia ([`onset_type_changes`]), and of how many.
+pub fn onset_types_differ(p: &AdhesiveParams, nus: &[f64]) -> Option<(usize, usize)> {
+    let changes = onset_type_changes(p, nus)?;
+    let of = changes.iter().flatten().count();
+    let changed = changes.iter().flatten().filter(|c| **c).count();
+    Some((changed, of))
+}
+
 impl AdhesiveSetup {
-    /// The scene's model decision (quasi-static; refused where inertia
-    /// would matter) and steady friction's extrema.
-    pub fn new(scene: AdhesiveScene, inertia_threshold: f64) -> Result<Self, Error> {
+    /// The scene's model decision and steady friction's extrema: `forced`
+    /// when given (`--model`), else quasi-static where the inertia ratio
+    /// `chi` is at most `inertia_threshold` where `judged` (at `V`, or at
+    /// every velocity of the grid `branch` and `diagram` sweep), inertial
+    /// where it exceeds it anywhere there ([`block::model_for`]).
+    pub fn new(
+        scene: AdhesiveScene,
+        inertia_threshold: f64,
+        judged: Judged,
+        forced: Option<ModelKind>,
+    ) -> Result<Self, Error> {
+        if !(inertia_threshold >= 0.0 && inertia_threshold.is_finite()) {
+            return Err(InputError::out_of_range(
+                "--inertia-threshold",
+                inertia_threshold,
+                ">= 0 and finite",
+            )
+            .into());
+        }
         let p = scene.params;
+        let u = scene.units;
         let chi = block::inertia_ratio(&p);
-        if chi.is_nan() || chi > inertia_threshold {
+        let mass = u.mass;
+        let (needed, reason, chi_max, cross) = match judged {
+            Judged::AtVelocity | Judged::AtPulling(_) => {
+                // The velocity of the largest chi among those judged.
+                let pulled: Vec<f64> = match &judged {
+                    Judged::AtPulling(list) => list
+                        .iter()
+                        .filter(|v| **v > 0.0)
+                        .map(|v| u.nu_of_velocity_um_s(*v))
+                        .collect(),
+                    _ => Vec::new(),
+                };
+                let mut q = p;
+                for nu in pulled {
+                    let mut r = p;
+                    r.nu = nu;
+                    let c = block::inertia_ratio(&r);
+                    if c.is_nan() || c > block::inertia_ratio(&q) {
+                        q = r;
+                    }
+                }
+                let chi = block::inertia_ratio(&q);
+                let at_v = u.velocity_um_s(q.nu);
+                let needed = block::model_for(&q, inertia_threshold);
+                let reason = match needed {
+                    ModelKind::QuasiStatic => format!(
+                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s is below the \
+                         inertia threshold {inertia_threshold:e}: the block's inertia (M = \
+                         {mass:e} kg) raises kappa_c by the factor 1 + chi only, and the block \
+                         without it is regular everywhere (at fixed bond fraction the force \
+                         rises with the slip velocity)"
+                    ),
+                    ModelKind::Inertial => format!(
+                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s is not below \
+                         the inertia threshold {inertia_threshold:e}: the block's inertia (M = \
+                         {mass:e} kg) matters (it raises kappa_c by the factor 1 + chi), m u \
+                         dw/dt = s - F(n, u)"
+                    ),
+                };
+                (needed, reason, None, None)
+            }
+            Judged::OverRange => {
+                let (lo, hi) = scene.nu_range;
+                let nus = steady::grid(lo, hi, PER_DECADE);
+                let chis: Vec<f64> = nus
+                    .iter()
+                    .map(|&nu| {
+                        let mut q = p;
+                        q.nu = nu;
+                        block::inertia_ratio(&q)
+                    })
+                    .collect();
+                let needs = |c: f64| !(p.m == 0.0 || c < inertia_threshold);
+                let (i_max, c_max) =
+                    chis.iter()
+                        .enumerate()
+                        .fold((0, f64::NEG_INFINITY), |a, (i, c)| {
+                            if c.is_nan() || *c > a.1 {
+                                (i, *c)
+                            } else {
+                                a
+                            }
+                        });
+                let cross = (1..nus.len())
+                    .find(|&i| needs(chis[i]) != needs(chis[i - 1]))
+                    .map(|i| crossing(&p, inertia_threshold, nus[i - 1], nus[i]));
+                let range = format!(
+                    "V_range [{:.4e}, {:.4e}] um/s",
+                    u.velocity_um_s(lo),
+                    u.velocity_um_s(hi)
+                );
+                let largest = format!(
+                    "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} um/s",
+                    u.velocity_um_s(nus[i_max])
+                );
+                let needed = if chis.iter().any(|c| needs(*c)) {
+                    ModelKind::Inertial
+                } else {
+                    ModelKind::QuasiStatic
+                };
+                let reason = match (needed, cross) {
+                    (ModelKind::QuasiStatic, _) => format!(
+                        "chi stays below the inertia threshold {inertia_threshold:e} over \
+                         {range} ({largest}): the block's inertia (M = {mass:e} kg) is \
+                         negligible at every velocity swept"
+                    ),
+                    (ModelKind::Inertial, Some(c)) => format!(
+                        "chi crosses the inertia threshold {inertia_threshold:e} at V = \
+                         {:.6e} um/s within {range} ({largest}): the block's inertia (M = \
+                         {mass:e} kg) matters there, so the inertial model over the whole \
+                         range (each point says where the quasi-static one would do)",
+                        u.velocity_um_s(c)
+                    ),
+                    (ModelKind::Inertial, None) => format!(
+                        "chi is not below the inertia threshold {inertia_threshold:e} over all of \
+                         {range} ({largest}): the block's inertia (M = {mass:e} kg) matters"
+                    ),
+                };
+                (
+                    needed,
+                    reason,
+                    Some(c_max),
+                    cross.map(|c| u.velocity_um_s(c)),
+                )
+            }
+        };
+        if forced == Some(ModelKind::Inertial) && p.m == 0.0 {
             return Err(InputError::Conflict(format!(
-                "{}: M = {:e} kg gives the inertia ratio chi = m lambda_n / F_u = {chi:.3e} at \
-                 V = {:.6e} um/s, above the inertia threshold {inertia_threshold:e}; the adhesive \
-                 block is analysed without inertia only (the inertial adhesive block is not \
-                 implemented): lower M, or raise --inertia-threshold to accept the error",
-                scene.name,
-                scene.units.mass,
-                scene.units.velocity_um_s(p.nu)
+                "{}: --model inertial needs the block's mass; the scene gives M = 0 (or none): \
+                 give M [kg] > 0 (in the scene or --set M=...), or drop --model",
+                scene.name
             ))
             .into());
         }
+        // As for the rate-and-state block (`inertia_decides`): where
+        // dropping the inertia changes the onset type at a velocity judged
+        // (the quasi-static onset degenerate, or of the other sign), that
+        // inertia, however small, decides it.
+        let (needed, reason) = match (forced, needed) {
+            (None, ModelKind::QuasiStatic) if p.m > 0.0 => {
+                let nus: Vec<f64> = match &judged {
+                    Judged::AtVelocity => vec![p.nu],
+                    Judged::AtPulling(list) => list
+                        .iter()
+                        .filter(|v| **v > 0.0)
+                        .map(|v| u.nu_of_velocity_um_s(*v))
+                        .collect(),
+                    Judged::OverRange => {
+                        steady::grid(scene.nu_range.0, scene.nu_range.1, PER_DECADE)
+                    }
+                };
+                match onset_types_differ(&p, &nus) {
+                    Some((changed, of)) if changed > 0 => (
+                        ModelKind::Inertial,
+                        format!(
+                            "inertial: the quasi-static onset type is not the inertial one at \
+                             {changed} of the {of} velocities judged (degenerate, l1 = 0 to \
+                             rounding, or of the other sign), so the block's small inertia \
+                             decides the onset type ({reason})"
+                        ),
+                    ),
+                    _ => (needed, reason),
+                }
+            }
+            _ => (needed, reason),
+        };
+        let kind = forced.unwrap_or(needed);
+        let reason = match forced {
+            Some(f) => format!("forced by --model {} ({reason})", f.name()),
+            None => reason,
+        };
         let extrema = block::steady_extrema(&p, EXTREMA_RANGE.0, EXTREMA_RANGE.1);
         let v_max = extrema.iter().find(|e| e.1).map(|e| e.0);
         let v_c = v_max.and_then(|m| extrema.iter().find(|e| !e.1 && e.0 > m).map(|e| e.0));
-        let u = scene.units;
         let force = |nu: f64| u.force_n(block::steady_friction(nu, &p));
         Ok(AdhesiveSetup {
             scene: scene.name.clone(),
             law: super::scene::LAW,
-            model: crate::model::ModelKind::QuasiStatic.name(),
-            model_reason: MODEL_REASON,
+            model: kind.name(),
+            model_reason: reason,
+            model_kind: kind,
             inertia_ratio: chi,
+            inertia_threshold,
+            inertia_ratio_max: chi_max,
+            inertia_crossing_um_s: cross,
             params: p,
             units: u,
             v_max_um_s: v_max.map(|nu| u.velocity_um_s(nu)),
@@ -119,7 +366,7 @@ pub struct AdhesiveHopf {
 pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
     let p = setup.params;
     let u = setup.units;
-    let outcome = find_onset(&p)?;
+    let outcome = with_model!(setup.model_kind, b => find_onset(b, &p))?;
     let (status, critical, slope) = match outcome {
         OnsetOutcome::Found(onset) => (
             "onset",
@@ -178,7 +425,8 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
         .into());
     }
     let (lo, hi) = setup.scene_full.nu_range;
-    let (points, hopf_points) = steady::branch(&p, &steady::grid(lo, hi, PER_DECADE))?;
+    let nus = steady::grid(lo, hi, PER_DECADE);
+    let (points, hopf_points) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
     Ok(AdhesiveBranch {
         hopf_points_um_s: hopf_points
             .iter()
@@ -207,8 +455,18 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
     let p = setup.params;
     let (lo, hi) = setup.scene_full.nu_range;
     let nus = steady::grid(lo, hi, PER_DECADE);
-    let points = steady::diagram(&p, &nus)?;
-    let (steady, _) = steady::branch(&p, &nus)?;
+    let threshold = setup.inertia_threshold;
+    let mut points = with_model!(setup.model_kind, b => steady::diagram(b, &p, &nus, threshold))?;
+    // Each point's verdict is `hopf`'s there: inertia also where it
+    // changes the onset type.
+    if p.m > 0.0 {
+        if let Some(changes) = onset_type_changes(&p, &nus) {
+            for (point, change) in points.iter_mut().zip(changes) {
+                point.needs_inertia |= change == Some(true);
+            }
+        }
+    }
+    let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
     Ok(AdhesiveDiagram {
         setup,
         points,
@@ -236,7 +494,8 @@ pub struct AdhesiveCycles {
 /// stiffness, with the limits `(max_steps, ntst_max)` of the branch.
 pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
-    let OnsetOutcome::Found(onset) = find_onset(&p)? else {
+    let kind = setup.model_kind;
+    let OnsetOutcome::Found(onset) = with_model!(kind, b => find_onset(b, &p))? else {
         return Err(NumericalError::Analysis(format!(
             "steady friction rises with the velocity at V = {:.6e} um/s: steady sliding is \
              stable at every stiffness and there are no stick-slip cycles (stick-slip lies \
@@ -250,10 +509,10 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
     } else {
         0.5 * onset.kappa_c
     };
-    let run = cycles::trace(&p, &onset, target, limits)?;
+    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits))?;
     let mut q = p;
     q.kappa = target;
-    let simulated = settled(&q, 30)?;
+    let simulated = with_model!(kind, b => settled(b, &q, 30))?;
     Ok(AdhesiveCycles {
         setup,
         onset,
@@ -267,11 +526,23 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
 
 /// The settled stick-slip of the block at `p` by simulation: `periods`
 /// loading times `F_ss / (kappa nu)` from steady sliding perturbed.
-fn settled(p: &AdhesiveParams, periods: usize) -> Result<Option<SettledCycle>, Error> {
-    let mut x = block::steady_state(p);
-    x[1] *= 0.99;
+fn settled<B: block::AdhesiveModel>(
+    model: B,
+    p: &AdhesiveParams,
+    periods: usize,
+) -> Result<Option<SettledCycle>, Error> {
+    let mut x = model.steady(p);
+    let last = x.len() - 1;
+    x[last] *= 0.99;
     let duration = periods as f64 * x[0] / (p.kappa * p.nu);
-    let run = integrate(p, &x, &[Segment { nu: p.nu, duration }], 1e-8, 1_000_000)?;
+    let run = integrate(
+        model,
+        p,
+        &x,
+        &[Segment { nu: p.nu, duration }],
+        1e-8,
+        1_000_000,
+    )?;
     Ok(run.settled(0))
 }
 
@@ -316,6 +587,7 @@ pub fn simulate(
     if !(rtol > 1e-14 && rtol < 1.0) {
         return Err(InputError::out_of_range("--rtol", rtol, "in (1e-14, 1)").into());
     }
+    let kind = setup.model_kind;
     let x_ss = block::steady_state(&p);
     let protocol: Vec<Segment> = match protocol {
         Some(list) => list
@@ -336,9 +608,10 @@ pub fn simulate(
         .map(|s| s.nu)
         .find(|nu| *nu > 0.0)
         .unwrap_or(p.nu);
-    let mut x = block::steady_state(&start);
-    x[1] *= 1.0 + perturb;
-    if !(x[1] > 0.0 && x[1] <= 1.0) {
+    let mut x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &start));
+    let last = x.len() - 1;
+    x[last] *= 1.0 + perturb;
+    if !(x[last] > 0.0 && x[last] <= 1.0) {
         return Err(InputError::out_of_range(
             "--perturb",
             perturb,
@@ -346,7 +619,7 @@ pub fn simulate(
         )
         .into());
     }
-    let run = integrate(&p, &x, &protocol, rtol, max_steps)?;
+    let run = with_model!(kind, b => integrate(b, &p, &x, &protocol, rtol, max_steps))?;
     let segment_of = |t: f64| {
         let mut end = 0.0;
         protocol

@@ -6,8 +6,9 @@
 //!
 //! - [`params`]: the dimensionless parameters and their validation;
 //! - [`scene`]: scenes with `law = "adhesive"` in laboratory units;
-//! - [`block`]: the quasi-static block (the model, and why), steady friction,
-//!   its extrema `V_max`, `V_c`, and the closed-form critical stiffness;
+//! - [`block`]: the quasi-static and the inertial block (the model, and
+//!   why: the inertia ratio `chi`), steady friction, its extrema `V_max`,
+//!   `V_c`, and the closed-form critical stiffness of either;
 //! - [`analysis`]: the onset, the steady branch, the stability diagram,
 //!   the cycles and simulations, in the experimenter's units.
 

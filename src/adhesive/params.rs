@@ -9,7 +9,7 @@
 //! | `r` | `tau_on / tau_out` | readsorption over desorption time (seed's `tau / tau_out`) |
 //! | `f_v` | `F_v / F_a` | junction viscosity |
 //! | `alpha` | | shear thinning of the junction (0: Newtonian) |
-//! | `m` | `M V_s / (F_a tau_out)` | inertia (only judged, see [`super::block`]) |
+//! | `m` | `M V_s / (F_a tau_out)` | inertia (the inertial block, [`super::block::InertialAdhesiveBlock`]) |
 
 use crate::error::InputError;
 
@@ -23,10 +23,12 @@ pub enum AdhesiveParam {
     R = 2,
     Fv = 3,
     Alpha = 4,
+    /// Inertia `m`, read by the inertial block only.
+    M = 5,
 }
 
 /// Number of entries in the engine's parameter vector.
-pub const N_ADHESIVE_PARAMS: usize = 5;
+pub const N_ADHESIVE_PARAMS: usize = 6;
 
 impl AdhesiveParam {
     /// Every parameter, in vector order.
@@ -36,6 +38,7 @@ impl AdhesiveParam {
         AdhesiveParam::R,
         AdhesiveParam::Fv,
         AdhesiveParam::Alpha,
+        AdhesiveParam::M,
     ];
 
     /// The name in messages and JSON.
@@ -46,6 +49,7 @@ impl AdhesiveParam {
             AdhesiveParam::R => "r",
             AdhesiveParam::Fv => "f_v",
             AdhesiveParam::Alpha => "alpha",
+            AdhesiveParam::M => "m",
         }
     }
 }
@@ -67,7 +71,7 @@ pub struct AdhesiveParams {
 impl AdhesiveParams {
     /// The engine's parameter vector ([`AdhesiveParam`] order).
     pub fn to_vec(&self) -> Vec<f64> {
-        vec![self.kappa, self.nu, self.r, self.f_v, self.alpha]
+        vec![self.kappa, self.nu, self.r, self.f_v, self.alpha, self.m]
     }
 
     /// Checks every value, naming the dimensionless parameter and the scene

@@ -6,6 +6,7 @@
 
 use super::files::{write, OutputArgs};
 use super::SceneArgs;
+pub use crate::adhesive::jobs::Judged;
 use crate::adhesive::jobs::{
     self, AdhesiveCycles, AdhesiveHopf, AdhesiveSetup, AdhesiveSimulation,
 };
@@ -19,11 +20,13 @@ use std::path::{Path, PathBuf};
 
 /// The adhesive scene named by `args`, with its model decision, or `None`
 /// for a scene of another law, `--set` applied to the scene's numbers
-/// ([`scene::load_with`]). Refuses what does not apply: `--model
-/// inertial`, and the options named in `unused` that were given.
+/// ([`scene::load_with`]), the model judged where `judged` says (or
+/// forced by `--model`). Refuses the options named in `unused` that were
+/// given.
 pub fn adhesive_setup(
     args: &SceneArgs,
     unused: &[(&str, bool)],
+    judged: Judged,
 ) -> Result<Option<AdhesiveSetup>, Error> {
     if crate::scene::law_of(args.scene_name())? != crate::scene::Law::Adhesive {
         return Ok(None);
@@ -35,9 +38,6 @@ pub fn adhesive_setup(
         ))
         .into()
     };
-    if args.model.map(ModelKind::from) == Some(ModelKind::Inertial) {
-        return Err(refuse("--model inertial", jobs::MODEL_REASON));
-    }
     if let Some((option, _)) = unused.iter().find(|(_, given)| *given) {
         return Err(refuse(
             option,
@@ -46,7 +46,12 @@ pub fn adhesive_setup(
         ));
     }
     let scene = scene::load_with(args.scene_name(), &args.set)?;
-    Ok(Some(AdhesiveSetup::new(scene, args.inertia_threshold)?))
+    Ok(Some(AdhesiveSetup::new(
+        scene,
+        args.inertia_threshold,
+        judged,
+        args.model.map(ModelKind::from),
+    )?))
 }
 
 fn json<T: serde::Serialize>(value: &T) -> Result<String, Error> {
@@ -65,6 +70,7 @@ fn print_setup(s: &AdhesiveSetup) {
         "scene {} (law = adhesive, {} model: chi = m lambda_n / F_u = {:.2e})",
         s.scene, s.model, s.inertia_ratio
     );
+    println!("  model: {} ({})", s.model, s.model_reason);
     println!(
         "  F_a = {:.6e} N, V_s = {:.6e} um/s, tau_out = {:.6e} s, tau_on / tau_out = r = {:.6e}, \
          F_v / F_a = f_v = {:.6e}, alpha = {}",
@@ -249,10 +255,16 @@ pub fn diagram(
         for pt in &r.points {
             match (pt.kappa_c, pt.onset) {
                 (Some(k), Some(o)) => println!(
-                    "  V = {:>12.5e} um/s  K_c = {:>12.5e} N/m  {}",
+                    "  V = {:>12.5e} um/s  K_c = {:>12.5e} N/m  {}  (chi = {:.2e}{})",
                     u.velocity_um_s(pt.nu),
                     u.stiffness_n_m(k),
-                    o.name()
+                    o.name(),
+                    pt.inertia_ratio,
+                    if pt.needs_inertia {
+                        ", needs inertia"
+                    } else {
+                        ""
+                    }
                 ),
                 _ => println!(
                     "  V = {:>12.5e} um/s  stable at every stiffness",
@@ -286,8 +298,16 @@ pub fn diagram(
             series.push(marker);
         }
     }
+    if let Some(v) = s.inertia_crossing_um_s {
+        let text = format!(
+            "chi = {:.0e} (inertia threshold) at {v:.3e} um/s",
+            s.inertia_threshold
+        );
+        let marker = vertical_marker(&series, v, &text, RED);
+        series.push(marker);
+    }
     let stability = LineFigure {
-        title: format!("Stability diagram, {} (adhesive, quasi-static)", s.scene),
+        title: format!("Stability diagram, {} (adhesive, {})", s.scene, s.model),
         x_label: "driving velocity V [µm/s]".into(),
         y_label: "critical stiffness K_c [N/m]".into(),
         log_x: true,

@@ -75,7 +75,9 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
     ];
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+    if let Some(setup) =
+        super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::OverRange)?
+    {
         return super::adhesive::branch(setup, args.json);
     }
     let param = args

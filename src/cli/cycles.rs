@@ -190,7 +190,9 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ("--from", args.from.is_some()),
         ("--collocation", args.collocation.is_some()),
     ];
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+    if let Some(setup) =
+        super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::AtVelocity)?
+    {
         let output = &args.output;
         let limits = (args.max_steps, args.ntst_max);
         return super::adhesive::cycles(setup, &args.scene, output, limits, args.json);

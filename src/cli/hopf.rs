@@ -69,7 +69,9 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
     ];
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+    if let Some(setup) =
+        super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::AtVelocity)?
+    {
         return super::adhesive::hopf(setup, args.json);
     }
     let mut request = HopfRequest {

@@ -89,7 +89,8 @@ pub struct SceneArgs {
     /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file
     /// [default: pmma; with --from, the file's]. A scene with law = "adhesive" (e.g. gel:
     /// Schallamach's soft adhesive contacts, docs/model.md) runs hopf, branch --param V,
-    /// diagram, cycles and simulate with its own values, without inertia.
+    /// diagram, cycles and simulate with its own values, quasi-static or inertial by its
+    /// inertia ratio chi = m lambda_n / F_u.
     #[arg(long)]
     pub scene: Option<String>,
     /// Override a parameter, repeatable. Dimensionless (docs/model.md): kappa, nu, m, A, B,
@@ -101,10 +102,13 @@ pub struct SceneArgs {
     /// mu2, mu_vv or mu_vphi the logarithmic form.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v.
+    /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v (adhesive
+    /// scenes: chi = m lambda_n / F_u).
     #[arg(long, value_enum)]
     pub model: Option<ModelArg>,
-    /// Inertia is dropped (quasi-static model) when m nu^2 / mu_v is below this.
+    /// Inertia is dropped (quasi-static model) when m nu^2 / mu_v is below this (adhesive
+    /// scenes: chi = m lambda_n / F_u, at V, at a protocol's pulling velocities, or at every
+    /// velocity of V_range for branch and diagram).
     #[arg(long, default_value_t = DEFAULT_INERTIA_THRESHOLD)]
     pub inertia_threshold: f64,
 }

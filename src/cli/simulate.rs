@@ -89,8 +89,17 @@ pub(super) fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> 
 
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &[])? {
-        let protocol = args.protocol.as_deref().map(parse_protocol).transpose()?;
+    let adhesive = crate::scene::law_of(args.scene.scene_name())? == crate::scene::Law::Adhesive;
+    let protocol = if adhesive {
+        args.protocol.as_deref().map(parse_protocol).transpose()?
+    } else {
+        None
+    };
+    let judged = match &protocol {
+        Some(list) => super::adhesive::Judged::AtPulling(list.iter().map(|s| s.0).collect()),
+        None => super::adhesive::Judged::AtVelocity,
+    };
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &[], judged)? {
         let numbers = (args.perturb, args.rtol, args.max_steps);
         return super::adhesive::simulate(
             setup,

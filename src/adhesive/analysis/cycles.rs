@@ -4,7 +4,7 @@
 //! where the cycle is located exactly (a user point).
 
 use super::onset::AdhesiveOnset;
-use crate::adhesive::block::{velocity_of, AdhesiveBlock};
+use crate::adhesive::block::AdhesiveModel;
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::error::NumericalError;
 use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
@@ -43,17 +43,17 @@ pub struct CycleRun {
     pub stop: Option<String>,
 }
 
-fn record(p: &AdhesiveParams, point: &CyclePoint) -> AdhesiveCycle {
+fn record<B: AdhesiveModel>(model: B, p: &AdhesiveParams, point: &CyclePoint) -> AdhesiveCycle {
     let c = &point.cycle;
     let mut q = *p;
     q.kappa = c.p[AdhesiveParam::Kappa as usize];
-    let (s_min, s_max) = c.range(&AdhesiveBlock, 0);
-    let (n_min, n_max) = c.range(&AdhesiveBlock, 1);
-    let (u_min, u_max) = c.range_of(&AdhesiveBlock, |x| velocity_of(&q, x));
+    let (s_min, s_max) = c.range(&model, 0);
+    let (n_min, n_max) = c.range(&model, model.dim() - 1);
+    let (u_min, u_max) = c.range_of(&model, |x| model.velocity(&q, x));
     let orbit = c
         .samples(4)
         .into_iter()
-        .map(|(tau, x)| [tau, x[0], velocity_of(&q, &x), x[1]])
+        .map(|(tau, x)| [tau, x[0], model.velocity(&q, &x), model.bonds(&x)])
         .collect();
     AdhesiveCycle {
         kappa: q.kappa,
@@ -71,7 +71,8 @@ fn record(p: &AdhesiveParams, point: &CyclePoint) -> AdhesiveCycle {
 
 /// Continues the cycles from `onset` in `kappa` down to `kappa_to` in at
 /// most `max_steps` steps, the mesh refined up to `ntst_max` intervals.
-pub fn trace(
+pub fn trace<B: AdhesiveModel>(
+    model: B,
     p: &AdhesiveParams,
     onset: &AdhesiveOnset,
     kappa_to: f64,
@@ -93,7 +94,7 @@ pub fn trace(
     };
     let k = AdhesiveParam::Kappa as usize;
     let mut branch = CycleBranch::from_hopf(
-        &AdhesiveBlock,
+        &model,
         &onset.state,
         onset.omega_c,
         &q.to_vec(),
@@ -106,9 +107,9 @@ pub fn trace(
         match point {
             Ok(point) => {
                 if let Some(user) = point.user_points().next() {
-                    at_scene = Some(record(p, user));
+                    at_scene = Some(record(model, p, user));
                 }
-                cycles.push(record(p, &point));
+                cycles.push(record(model, p, &point));
             }
             Err(e) => {
                 failure = Some(e.to_string());

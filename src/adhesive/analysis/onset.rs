@@ -5,7 +5,7 @@
 //! minimally augmented Hopf system), its normal form, and the closed form
 //! of [`block::critical_stiffness`] beside it.
 
-use crate::adhesive::block::{self, AdhesiveBlock};
+use crate::adhesive::block::{self, AdhesiveModel};
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::analysis::hopf::{onset_at, Criticality};
 use crate::error::NumericalError;
@@ -19,16 +19,18 @@ pub struct AdhesiveOnset {
     pub kappa_c: f64,
     /// Angular frequency at onset, in `1 / tau_out`.
     pub omega_c: f64,
-    /// `kappa_c` of the closed form ([`block::critical_stiffness`]).
+    /// `kappa_c` of the closed form ([`block::critical_stiffness_of`], the
+    /// model's).
     pub kappa_c_closed_form: f64,
-    /// The first Lyapunov coefficient in the coordinates `(s, n)`.
+    /// The first Lyapunov coefficient in the model's coordinates (`(s, n)`
+    /// quasi-static, `(s, ln u, n)` inertial).
     pub l1: f64,
     pub l1_error_bound: f64,
     pub onset: Criticality,
     /// `C` in `Delta_s ~ C sqrt|kappa - kappa_c|` (dimensionless forces).
     pub amplitude_coefficient: Option<f64>,
-    /// Steady sliding at onset, `(s, n)`.
-    pub state: [f64; 2],
+    /// Steady sliding at onset, the model's state.
+    pub state: Vec<f64>,
 }
 
 /// What the search found.
@@ -44,9 +46,12 @@ pub enum OnsetOutcome {
     },
 }
 
-/// Locates the onset at the parameters `p` (its `kappa` ignored).
-pub fn find_onset(p: &AdhesiveParams) -> Result<OnsetOutcome, NumericalError> {
-    let (closed, _) = block::critical_stiffness(p);
+/// Locates the onset of `model` at the parameters `p` (its `kappa` ignored).
+pub fn find_onset<B: AdhesiveModel>(
+    model: B,
+    p: &AdhesiveParams,
+) -> Result<OnsetOutcome, NumericalError> {
+    let (closed, _) = block::critical_stiffness_of(p, B::KIND);
     if !closed.is_finite() {
         return Err(NumericalError::Analysis(format!(
             "the slopes of steady friction are not finite at nu = {:e}: the velocity is outside \
@@ -74,9 +79,9 @@ pub fn find_onset(p: &AdhesiveParams) -> Result<OnsetOutcome, NumericalError> {
         max_steps: 1000,
         ..Default::default()
     };
-    let x0 = block::steady_state(&q);
+    let x0 = model.steady(&q);
     let k = AdhesiveParam::Kappa as usize;
-    let branch = Branch::new(&AdhesiveBlock, &x0, &q.to_vec(), k, settings)?;
+    let branch = Branch::new(&model, &x0, &q.to_vec(), k, settings)?;
     for point in branch {
         let point = point?;
         let hopf = point.events.iter().find_map(|e| match e.kind {
@@ -85,7 +90,7 @@ pub fn find_onset(p: &AdhesiveParams) -> Result<OnsetOutcome, NumericalError> {
         });
         if let Some((e, omega)) = hopf {
             let kappa_error = (e.param() - closed).abs().max(4.0 * f64::EPSILON * closed);
-            let nf = onset_at(&AdhesiveBlock, &e.x, &e.p, omega, kappa_error)?;
+            let nf = onset_at(&model, &e.x, &e.p, omega, kappa_error)?;
             return Ok(OnsetOutcome::Found(AdhesiveOnset {
                 kappa_c: e.param(),
                 omega_c: omega,
@@ -94,7 +99,7 @@ pub fn find_onset(p: &AdhesiveParams) -> Result<OnsetOutcome, NumericalError> {
                 l1_error_bound: nf.l1_error_bound,
                 onset: nf.criticality,
                 amplitude_coefficient: nf.amplitude_coefficient,
-                state: [e.x[0], e.x[1]],
+                state: e.x.to_vec(),
             }));
         }
         if point.n_unstable > 0 {

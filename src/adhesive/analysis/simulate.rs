@@ -4,7 +4,7 @@
 //! rises through the pulling velocity (`ds/dt = kappa (nu - u) = 0`), the
 //! minima where it falls through it.
 
-use crate::adhesive::block::{velocity_of, AdhesiveBlock};
+use crate::adhesive::block::AdhesiveModel;
 use crate::adhesive::params::AdhesiveParams;
 use crate::error::NumericalError;
 use continuation::integrate::{EventDirection, EventFunction, Outcome, Output, Radau5, Settings};
@@ -43,9 +43,10 @@ pub struct SettledCycle {
     pub period_change: f64,
 }
 
-/// Integrates from `x0` through `protocol` at relative tolerance `rtol`,
+/// Integrates `model` from `x0` (its state) through `protocol` at relative tolerance `rtol`,
 /// with at most `max_steps` steps in all.
-pub fn simulate(
+pub fn simulate<B: AdhesiveModel>(
+    model: B,
     p: &AdhesiveParams,
     x0: &[f64],
     protocol: &[Segment],
@@ -58,22 +59,22 @@ pub fn simulate(
         let mut q = *p;
         q.nu = seg.nu;
         let nu = seg.nu;
-        let v = |_: f64, x: &[f64]| velocity_of(&q, x) - nu;
+        let v = |_: f64, x: &[f64]| model.velocity(&q, x) - nu;
         let settings = Settings {
             rtol,
             atol: 1e-12,
             max_steps: max_steps.saturating_sub(run.t.len()).max(1),
             ..Settings::default()
         };
-        let mut radau = Radau5::new(&AdhesiveBlock, &q.to_vec(), settings)
+        let mut radau = Radau5::new(&model, &q.to_vec(), settings)
             .with_event(EventFunction::new(v).direction(EventDirection::Rising));
         radau.add_event(EventFunction::new(v).direction(EventDirection::Falling));
         let sol = radau.solve(t0, &x, t0 + seg.duration, Output::Steps);
         for (t, xs) in sol.t.iter().zip(&sol.x).skip(usize::from(index > 0)) {
             run.t.push(*t);
             run.s.push(xs[0]);
-            run.n.push(xs[1]);
-            run.u.push(velocity_of(&q, xs));
+            run.n.push(model.bonds(xs));
+            run.u.push(model.velocity(&q, xs));
         }
         for c in &sol.events {
             let list = if c.index == 0 {

@@ -6,7 +6,7 @@
 //! onset type. Steady sliding is explicit (`u = nu`, `n = n_ss(nu)`,
 //! `s = F_ss(nu)`, eq. D2), so both sample a grid in `ln nu`.
 
-use crate::adhesive::block::{self, AdhesiveBlock};
+use crate::adhesive::block::{self, AdhesiveModel};
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::analysis::hopf::{onset_at, Criticality};
 use crate::error::NumericalError;
@@ -49,7 +49,8 @@ pub fn grid(lo: f64, hi: f64, points_per_decade: usize) -> Vec<f64> {
 
 /// Steady sliding at every `nu` of `nus` at the stiffness of `p`, and the
 /// Hopf points between grid points where stability changes.
-pub fn branch(
+pub fn branch<B: AdhesiveModel>(
+    model: B,
     p: &AdhesiveParams,
     nus: &[f64],
 ) -> Result<(Vec<SteadyPoint>, Vec<NuHopf>), NumericalError> {
@@ -58,12 +59,12 @@ pub fn branch(
     for &nu in nus {
         let mut q = *p;
         q.nu = nu;
-        let x = block::steady_state(&q);
-        let ev = eigenvalues(&jacobian(&AdhesiveBlock, &x, &q.to_vec()))?;
+        let x = model.steady(&q);
+        let ev = eigenvalues(&jacobian(&model, &x, &q.to_vec()))?;
         let point = SteadyPoint {
             nu,
             s: x[0],
-            n: x[1],
+            n: model.bonds(&x),
             slope: block::steady_slope(nu, &q),
             eigenvalues: ev.iter().map(|e| [e.re, e.im]).collect(),
             stable: count_unstable(&ev) == 0,
@@ -71,16 +72,16 @@ pub fn branch(
         if let Some(prev) = points.last().filter(|prev| prev.stable != point.stable) {
             let mut mid = q;
             mid.nu = (prev.nu * nu).sqrt();
-            let (_, omega) = block::critical_stiffness(&mid);
+            let (_, omega) = block::critical_stiffness_of(&mid, B::KIND);
             let omega = if omega.is_finite() {
                 omega
             } else {
                 ev[0].im.abs()
             };
             let located = locate_hopf(
-                &AdhesiveBlock,
+                &model,
                 AdhesiveParam::Nu as usize,
-                &block::steady_state(&mid),
+                &model.steady(&mid),
                 &mid.to_vec(),
                 omega,
                 &NewtonSettings::default(),
@@ -107,15 +108,30 @@ pub struct DiagramPoint {
     pub omega_c: Option<f64>,
     pub onset: Option<Criticality>,
     pub l1: Option<f64>,
+    /// The inertia ratio `chi = m lambda_n / F_u` here
+    /// ([`block::inertia_ratio`]), and whether the inertial model is
+    /// needed here (`chi` not below the threshold; `diagram` adds where
+    /// inertia changes the onset type): what `hopf` at this velocity decides.
+    pub inertia_ratio: f64,
+    pub needs_inertia: bool,
 }
 
-/// The stability diagram over `nus`.
-pub fn diagram(p: &AdhesiveParams, nus: &[f64]) -> Result<Vec<DiagramPoint>, NumericalError> {
+/// The stability diagram of `model` over `nus`, each point with its
+/// inertia ratio against `threshold`.
+pub fn diagram<B: AdhesiveModel>(
+    model: B,
+    p: &AdhesiveParams,
+    nus: &[f64],
+    threshold: f64,
+) -> Result<Vec<DiagramPoint>, NumericalError> {
     nus.iter()
         .map(|&nu| {
             let mut q = *p;
             q.nu = nu;
-            let (closed, omega) = block::critical_stiffness(&q);
+            let inertia_ratio = block::inertia_ratio(&q);
+            let needs_inertia =
+                block::model_for(&q, threshold) == crate::model::ModelKind::Inertial;
+            let (closed, omega) = block::critical_stiffness_of(&q, B::KIND);
             if closed.is_nan() || closed <= 0.0 {
                 return Ok(DiagramPoint {
                     nu,
@@ -123,13 +139,15 @@ pub fn diagram(p: &AdhesiveParams, nus: &[f64]) -> Result<Vec<DiagramPoint>, Num
                     omega_c: None,
                     onset: None,
                     l1: None,
+                    inertia_ratio,
+                    needs_inertia,
                 });
             }
             q.kappa = closed;
             let e = locate_hopf(
-                &AdhesiveBlock,
+                &model,
                 AdhesiveParam::Kappa as usize,
-                &block::steady_state(&q),
+                &model.steady(&q),
                 &q.to_vec(),
                 omega,
                 &NewtonSettings::default(),
@@ -142,13 +160,15 @@ pub fn diagram(p: &AdhesiveParams, nus: &[f64]) -> Result<Vec<DiagramPoint>, Num
             let error = (e.point.param() - closed)
                 .abs()
                 .max(4.0 * f64::EPSILON * closed);
-            let nf = onset_at(&AdhesiveBlock, &e.point.x, &e.point.p, omega, error)?;
+            let nf = onset_at(&model, &e.point.x, &e.point.p, omega, error)?;
             Ok(DiagramPoint {
                 nu,
                 kappa_c: Some(e.point.param()),
                 omega_c: Some(omega),
                 onset: Some(nf.criticality),
                 l1: Some(nf.l1),
+                inertia_ratio,
+                needs_inertia,
             })
         })
         .collect()

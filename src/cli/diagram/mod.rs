@@ -89,7 +89,9 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
         ("--x/--y", args.axes.parse()?.is_some()),
         ("--nu-range", args.nu_range.is_some()),
     ];
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused)? {
+    if let Some(setup) =
+        super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::OverRange)?
+    {
         return super::adhesive::diagram(setup, &args.scene, &args.output, args.json);
     }
     if let Some(pair) = args.axes.parse()? {
