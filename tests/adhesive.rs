@@ -676,3 +676,40 @@ fn where_inertia_changes_the_onset_type_hopf_takes_the_inertial_model() {
     assert_eq!(points[0]["needs_inertia"], true, "{}", points[0]);
     assert!(points[points.len() - 1]["needs_inertia"] == false);
 }
+
+/// `K = 0` on an adhesive scene (no spring): `hopf` leaves the regime
+/// undecided, as for the rate-and-state block, and `cycles` traces down to
+/// half the critical stiffness, one step past it at most (it ran toward
+/// `kappa = 0` without end).
+#[test]
+fn no_spring_is_no_operating_point() {
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--set", "K=0", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        v["regime"]
+            .as_str()
+            .unwrap()
+            .starts_with("undecided (K = 0"),
+        "{}",
+        v["regime"]
+    );
+    let dir = temp_dir("adhesive-no-spring");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "cycles", "--scene", "gel", "--set", "K=0", "--json", "--out", out, "--force",
+    ];
+    let (status, v, err) = json_of(&args);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(status, 0, "{err}");
+    let kappa_c = field(&v["onset"], "kappa_c");
+    let lowest = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| field(c, "kappa"))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (0.45..=0.5).contains(&(lowest / kappa_c)),
+        "{lowest} of {kappa_c}"
+    );
+}

@@ -382,6 +382,9 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
         }
     };
     let regime = setup.scene_full.stiffness_given.then_some(match &critical {
+        _ if p.kappa == 0.0 => {
+            "undecided (K = 0: no spring, hence no steady sliding driven through it)"
+        }
         Some(c) if p.kappa < c.onset.kappa_c => "stick-slip",
         _ => "steady sliding",
     });
@@ -504,7 +507,9 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
         ))
         .into());
     };
-    let target = if setup.scene_full.stiffness_given && p.kappa < onset.kappa_c {
+    // Down to the scene's stiffness where it has one below the onset (a
+    // spring, K > 0), else to half the critical stiffness.
+    let target = if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < onset.kappa_c {
         p.kappa
     } else {
         0.5 * onset.kappa_c
