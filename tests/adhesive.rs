@@ -472,7 +472,7 @@ fn hopf_chooses_the_inertial_model_where_chi_exceeds_the_threshold() {
     assert!(s["model_reason"]
         .as_str()
         .unwrap()
-        .contains("V = 2.000000e2 um/s"));
+        .contains("V = 2.000000e2 µm/s"));
     // Inertia raises kappa_c by 1 + chi.
     let ratio = field(&f["critical"], "kappa_c") / field(&v["critical"], "kappa_c");
     assert!(

@@ -182,14 +182,14 @@ impl AdhesiveSetup {
                 let needed = block::model_for(&q, inertia_threshold);
                 let reason = match needed {
                     ModelKind::QuasiStatic => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s is below the \
+                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is below the \
                          inertia threshold {inertia_threshold:e}: the block's inertia (M = \
                          {mass:e} kg) raises kappa_c by the factor 1 + chi only, and the block \
                          without it is regular everywhere (at fixed bond fraction the force \
                          rises with the slip velocity)"
                     ),
                     ModelKind::Inertial => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} um/s is not below \
+                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is not below \
                          the inertia threshold {inertia_threshold:e}: the block's inertia (M = \
                          {mass:e} kg) matters (it raises kappa_c by the factor 1 + chi), m u \
                          dw/dt = s - F(n, u)"
@@ -223,12 +223,12 @@ impl AdhesiveSetup {
                     .find(|&i| needs(chis[i]) != needs(chis[i - 1]))
                     .map(|i| crossing(&p, inertia_threshold, nus[i - 1], nus[i]));
                 let range = format!(
-                    "V_range [{:.4e}, {:.4e}] um/s",
+                    "V_range [{:.4e}, {:.4e}] µm/s",
                     u.velocity_um_s(lo),
                     u.velocity_um_s(hi)
                 );
                 let largest = format!(
-                    "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} um/s",
+                    "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} µm/s",
                     u.velocity_um_s(nus[i_max])
                 );
                 let needed = if chis.iter().any(|c| needs(*c)) {

@@ -182,7 +182,7 @@ fn from_table(t: &Table, origin: &str) -> Result<AdhesiveScene, InputError> {
     let f_a = required("F_a", "N", "pinning force scale N0 kB T / b")?;
     let v_s = required(
         "V_s",
-        "um/s",
+        "µm/s",
         "Schallamach's velocity kB T / (kappa b tau_out)",
     )?;
     let tau_out = required("tau_out", "s", "desorption time")?;
@@ -197,10 +197,10 @@ fn from_table(t: &Table, origin: &str) -> Result<AdhesiveScene, InputError> {
     )?;
     let mass = read(t, "M", ">= 0", "kg")?.unwrap_or(0.0);
     let k = read(t, "K", ">= 0", "N/m")?;
-    let v = read(t, "V", "> 0", "um/s")?.ok_or_else(|| {
+    let v = read(t, "V", "> 0", "µm/s")?.ok_or_else(|| {
         file_error(
             origin,
-            "the key V (driving velocity, > 0, in um/s) is required",
+            "the key V (driving velocity, > 0, in µm/s) is required",
         )
     })?;
     let (lo, hi) = t

@@ -72,7 +72,7 @@ fn print_setup(s: &AdhesiveSetup) {
     );
     println!("  model: {} ({})", s.model, s.model_reason);
     println!(
-        "  F_a = {:.6e} N, V_s = {:.6e} um/s, tau_out = {:.6e} s, tau_on / tau_out = r = {:.6e}, \
+        "  F_a = {:.6e} N, V_s = {:.6e} µm/s, tau_out = {:.6e} s, tau_on / tau_out = r = {:.6e}, \
          F_v / F_a = f_v = {:.6e}, alpha = {}",
         u.f_a,
         u.v_s * 1e6,
@@ -82,7 +82,7 @@ fn print_setup(s: &AdhesiveSetup) {
         p.alpha
     );
     println!(
-        "  V = {:.6e} um/s (nu = {:.6e}), K = {:.6e} N/m (kappa = {:.6e})",
+        "  V = {:.6e} µm/s (nu = {:.6e}), K = {:.6e} N/m (kappa = {:.6e})",
         u.velocity_um_s(p.nu),
         p.nu,
         u.stiffness_n_m(p.kappa),
@@ -90,13 +90,13 @@ fn print_setup(s: &AdhesiveSetup) {
     );
     match (s.v_max_um_s, s.force_at_v_max_n) {
         (Some(v), Some(f)) => {
-            println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} um/s")
+            println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} µm/s")
         }
         _ => println!("  steady friction: no maximum (no velocity-weakening branch)"),
     }
     match (s.v_c_um_s, s.force_at_v_c_n) {
         (Some(v), Some(f)) => println!(
-            "  steady friction: minimum {f:.6e} N at V_c = {v:.6e} um/s (stick-slip ends above it)"
+            "  steady friction: minimum {f:.6e} N at V_c = {v:.6e} µm/s (stick-slip ends above it)"
         ),
         _ => println!("  steady friction: no minimum above V_max"),
     }
@@ -157,7 +157,7 @@ pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
     println!("steady sliding in V at the scene's K:");
     println!(
         "  {:>13} {:>13} {:>11} {:>11}  stability",
-        "V [um/s]", "force [N]", "n", "re lambda"
+        "V [µm/s]", "force [N]", "n", "re lambda"
     );
     for pt in &r.points {
         println!(
@@ -171,7 +171,7 @@ pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
     }
     for (h, v) in r.hopf_points.iter().zip(&r.hopf_points_um_s) {
         println!(
-            "Hopf point at V = {v:.8e} um/s (nu = {:.8e}, omega = {:.4e} / tau_out)",
+            "Hopf point at V = {v:.8e} µm/s (nu = {:.8e}, omega = {:.4e} / tau_out)",
             h.nu, h.omega
         );
     }
@@ -255,7 +255,7 @@ pub fn diagram(
         for pt in &r.points {
             match (pt.kappa_c, pt.onset) {
                 (Some(k), Some(o)) => println!(
-                    "  V = {:>12.5e} um/s  K_c = {:>12.5e} N/m  {}  (chi = {:.2e}{})",
+                    "  V = {:>12.5e} µm/s  K_c = {:>12.5e} N/m  {}  (chi = {:.2e}{})",
                     u.velocity_um_s(pt.nu),
                     u.stiffness_n_m(k),
                     o.name(),
@@ -267,7 +267,7 @@ pub fn diagram(
                     }
                 ),
                 _ => println!(
-                    "  V = {:>12.5e} um/s  stable at every stiffness",
+                    "  V = {:>12.5e} µm/s  stable at every stiffness",
                     u.velocity_um_s(pt.nu)
                 ),
             }
@@ -283,7 +283,7 @@ pub fn diagram(
         let v = u.velocity_um_s(s.params.nu);
         series.push(Series {
             label: Some(format!(
-                "the scene: V = {v:.3e} um/s, K = {:.3e} N/m",
+                "the scene: V = {v:.3e} µm/s, K = {:.3e} N/m",
                 u.stiffness_n_m(s.params.kappa)
             )),
             points: vec![(v, u.stiffness_n_m(s.params.kappa))],
@@ -294,13 +294,13 @@ pub fn diagram(
     }
     for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
         if let Some(v) = v {
-            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} um/s"), GREY);
+            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} µm/s"), GREY);
             series.push(marker);
         }
     }
     if let Some(v) = s.inertia_crossing_um_s {
         let text = format!(
-            "chi = {:.0e} (inertia threshold) at {v:.3e} um/s",
+            "chi = {:.0e} (inertia threshold) at {v:.3e} µm/s",
             s.inertia_threshold
         );
         let marker = vertical_marker(&series, v, &text, RED);
@@ -322,7 +322,7 @@ pub fn diagram(
     let mut series = vec![line(friction, "steady friction F_ss(V)", BLUE, false)];
     for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
         if let Some(v) = v {
-            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} um/s"), GREY);
+            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} µm/s"), GREY);
             series.push(marker);
         }
     }
@@ -437,7 +437,7 @@ fn print_cycles(r: &AdhesiveCycles) {
     );
     println!(
         "  {:>12} {:>12} {:>12} {:>13} {:>9}",
-        "K [N/m]", "period [s]", "drop [N]", "v_max [um/s]", "stable"
+        "K [N/m]", "period [s]", "drop [N]", "v_max [µm/s]", "stable"
     );
     for c in &r.cycles {
         println!(
@@ -452,7 +452,7 @@ fn print_cycles(r: &AdhesiveCycles) {
     if let Some(c) = &r.at_scene {
         println!(
             "the cycle at K = {:.6e} N/m (collocation): period {:.6e} s, force drop {:.6e} N \
-             (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} um/s",
+             (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} µm/s",
             u.stiffness_n_m(c.kappa),
             u.time_s(c.period),
             u.force_n(c.s_max - c.s_min),
@@ -548,7 +548,7 @@ fn print_simulation(r: &AdhesiveSimulation) {
     println!("{} steps", r.steps);
     for (i, seg) in r.protocol.iter().enumerate() {
         println!(
-            "  segment {}: V = {:.4e} um/s for {:.4e} s: largest force {:.6e} N (steady friction {:.6e} N)",
+            "  segment {}: V = {:.4e} µm/s for {:.4e} s: largest force {:.6e} N (steady friction {:.6e} N)",
             i + 1,
             u.velocity_um_s(seg.nu),
             u.time_s(seg.duration),
