@@ -333,6 +333,26 @@ K = 2e9
 M = 10
 "#;
 
+/// The column `name` of the CSV a `simulate --json` run `v` wrote (its
+/// comment lines skipped).
+fn csv_column(v: &Value, name: &str) -> Vec<f64> {
+    let csv = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .find(|f| f.ends_with(".csv"))
+        .unwrap()
+        .to_string();
+    let text = std::fs::read_to_string(csv).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
+        .collect()
+}
+
 /// The largest slip velocity in um/s of a `simulate` CSV, and the run's
 /// stress drop `Delta_s` (its settled cycle, JSON `regime`).
 fn simulated(scene: &str, out: &str, eta: &str) -> (f64, f64) {
@@ -359,21 +379,7 @@ fn simulated(scene: &str, out: &str, eta: &str) -> (f64, f64) {
         num(&v["params"], "eta_d"),
         eta.parse::<f64>().unwrap() * 1e-6
     );
-    let csv = v["files"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter_map(Value::as_str)
-        .find(|f| f.ends_with(".csv"))
-        .unwrap()
-        .to_string();
-    let text = std::fs::read_to_string(csv).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "v_um_per_s").unwrap();
-    let v_max = lines
-        .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
-        .fold(0.0, f64::max);
+    let v_max = csv_column(&v, "v_um_per_s").into_iter().fold(0.0, f64::max);
     (v_max, num(&v["regime"], "delta_s"))
 }
 
@@ -576,22 +582,8 @@ fn simulate_starts_from_damped_steady_sliding() {
     let (status, v, err) = json_of(&args);
     assert_eq!(status, 0, "{err}");
     assert_eq!(v["regime"]["kind"], "steady", "{}", v["regime"]);
-    let csv = v["files"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter_map(Value::as_str)
-        .find(|f| f.ends_with(".csv"))
-        .unwrap()
-        .to_string();
-    let text = std::fs::read_to_string(csv).unwrap();
-    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "s").unwrap();
-    let rows: Vec<f64> = lines
-        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
-        .collect();
-    assert!(rows.len() >= 10, "{text}");
+    let rows = csv_column(&v, "s");
+    assert!(rows.len() >= 10, "{rows:?}");
     for s in rows {
         assert!((s - 0.502).abs() < 1e-12, "{s}");
     }
