@@ -54,16 +54,31 @@ impl Cycle {
     /// Samples `(tau, x)` at `per_interval` evenly spaced points of every
     /// interval (closing with `tau = 1`).
     pub fn samples(&self, per_interval: usize) -> Vec<(f64, Vec<f64>)> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(self.mesh.ntst() * per_interval + 1);
+        self.each_sample(per_interval, |tau, x| out.push((tau, x.to_vec())));
+        out
+    }
+
+    /// `visit(tau, x)` at the samples of [`Cycle::samples`], in their order,
+    /// the state in one buffer (no allocation per sample).
+    pub fn each_sample(&self, per_interval: usize, mut visit: impl FnMut(f64, &[f64])) {
+        let mut x = vec![0.0; self.n];
+        let mut at = |tau: f64, x: &mut [f64]| {
+            x.fill(0.0);
+            self.state_into(tau, x);
+            visit(tau, x);
+        };
         for i in 0..self.mesh.ntst() {
             for s in 0..per_interval {
                 let tau = self.mesh.t[i]
                     + (self.mesh.t[i + 1] - self.mesh.t[i]) * s as f64 / per_interval as f64;
-                out.push((tau, self.state_at(tau)));
+                at(tau, &mut x);
             }
         }
-        out.push((1.0, self.state_at(0.0)));
-        out
+        // The closing sample at `tau = 1` is the state at 0.
+        x.fill(0.0);
+        self.state_into(0.0, &mut x);
+        visit(1.0, &x);
     }
 
     /// Least and greatest value of component `j` over the orbit, to the
