@@ -27,7 +27,9 @@ use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::Mesh;
-use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights, OrbitJacobian};
+use crate::periodic::newton::{
+    chord_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
+};
 use crate::system::VectorField;
 
 /// The share of the distance of the nontrivial multipliers from the unit
@@ -273,16 +275,16 @@ impl<S: VectorField> Cycles<'_, S> {
         let anchor = z.clone();
         let tangent = self.tangent_on(&orbit.mesh, tangent, &coarse.mesh, &z);
         let w = ArcWeights::at(&z, self.settings.param_floor);
-        if newton_bordered(
-            &coll,
-            &mut z,
-            &self.settings.corrector,
-            &w.row(&tangent),
-            &anchor,
-        )
-        .is_err()
-        {
-            return f64::INFINITY;
+        let row = w.row(&tangent);
+        // The coarse orbit is the fine one to the discretization error:
+        // chord iterations, and Newton's method from the start again where
+        // they do not converge.
+        let corrector = &self.settings.corrector;
+        if chord_bordered(&coll, &mut z, corrector, &row, &anchor).is_err() {
+            z.copy_from_slice(&anchor);
+            if newton_bordered(&coll, &mut z, corrector, &row, &anchor).is_err() {
+                return f64::INFINITY;
+            }
         }
         let order = orbit.mesh.degree as i32 + 1;
         let nz = z.len();
