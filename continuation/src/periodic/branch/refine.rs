@@ -28,7 +28,7 @@ use crate::periodic::collocation::Collocation;
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::Mesh;
 use crate::periodic::newton::{
-    chord_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
+    chord_bordered, correct_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
 };
 use crate::system::VectorField;
 
@@ -219,7 +219,10 @@ impl<S: VectorField> Cycles<'_, S> {
     /// hyperplane through it normal to the branch: well posed also near a
     /// Hopf point or a fold, where the orbit at fixed parameter is
     /// ill-determined. A first orbit that was corrected at its parameter
-    /// stays there. The corrected orbit becomes the phase reference.
+    /// stays there. The corrected orbit becomes the phase reference; the
+    /// system linearized there is kept for its multipliers
+    /// ([`Cycles::point`]: they come from the collocation rows, which the
+    /// new phase reference does not change).
     pub(super) fn correct_on_mesh(
         &mut self,
         settings: &NewtonSettings,
@@ -230,7 +233,8 @@ impl<S: VectorField> Cycles<'_, S> {
             ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
         };
         let anchor = self.z.clone();
-        let rep = newton_bordered(&self.coll, &mut self.z, settings, &row, &anchor)?;
+        let (rep, at) = correct_bordered(&self.coll, &mut self.z, settings, &row, &anchor)?;
+        self.jacobian = Some((self.z.clone(), at.jacobian));
         self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
         Ok(rep)
     }
