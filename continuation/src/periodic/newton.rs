@@ -84,9 +84,8 @@ pub struct OrbitJacobian {
     /// A reduction of an earlier linearization, whose storage the next
     /// reduction reuses.
     spare: Cell<Option<CyclicReduction>>,
-    /// The storage of the bordered solves: the dense rows and the
-    /// [`Bordered`] system's, kept between solves.
-    solves: Cell<Option<(DMatrix<f64>, BorderedStore)>>,
+    /// The storage of the bordered solves, kept between solves.
+    solves: Cell<Option<Solves>>,
 }
 
 impl OrbitJacobian {
@@ -107,6 +106,10 @@ impl OrbitJacobian {
         coll.linearize_into(z, &mut self.lin);
         if let Some(reduction) = self.reduction.take() {
             self.spare.set(Some(reduction));
+        }
+        if let Some(mut solves) = self.solves.take() {
+            solves.extra.clear();
+            self.solves.set(Some(solves));
         }
     }
 
@@ -145,24 +148,53 @@ impl OrbitJacobian {
         let nn = self.lin.phase.len();
         shape("the bordering row", nn + 2, extra)?;
         shape("the right-hand side", nn + 2, rhs)?;
-        let (mut rows, store) = self.solves.take().unwrap_or_default();
-        if rows.shape() != (2, nn + 2) {
-            rows = DMatrix::zeros(2, nn + 2);
-        }
-        // Row 0: the phase condition on the nodes, zero on `T` and `p`.
-        for (c, v) in self.lin.phase.iter().enumerate() {
-            rows[(0, c)] = *v;
-        }
-        rows[(0, nn)] = 0.0;
-        rows[(0, nn + 1)] = 0.0;
-        rows.row_mut(1).copy_from_slice(extra);
-        let (result, store) = match Bordered::on_border(self.reduction(), &mut rows, store) {
-            Ok(mut system) => (system.solve_into(rhs, x), system.into_store()),
+        let Solves {
+            mut rows,
+            store,
+            extra: mut reduced_for,
+        } = self.solves.take().unwrap_or_default();
+        // Chord steps solve with one reduction and one bordering row again
+        // and again: the bordered system reduced for them is kept.
+        let system = if reduced_for == extra {
+            Ok(Bordered::reused(self.reduction(), store))
+        } else {
+            if rows.shape() != (2, nn + 2) {
+                rows = DMatrix::zeros(2, nn + 2);
+            }
+            // Row 0: the phase condition on the nodes, zero on `T` and `p`.
+            for (c, v) in self.lin.phase.iter().enumerate() {
+                rows[(0, c)] = *v;
+            }
+            rows[(0, nn)] = 0.0;
+            rows[(0, nn + 1)] = 0.0;
+            rows.row_mut(1).copy_from_slice(extra);
+            Bordered::on_border(self.reduction(), &mut rows, store)
+        };
+        reduced_for.clear();
+        let (result, store) = match system {
+            Ok(mut system) => {
+                reduced_for.extend_from_slice(extra);
+                (system.solve_into(rhs, x), system.into_store())
+            }
             Err(e) => (Err(e), BorderedStore::default()),
         };
-        self.solves.set(Some((rows, store)));
+        self.solves.set(Some(Solves {
+            rows,
+            store,
+            extra: reduced_for,
+        }));
         result
     }
+}
+
+/// The storage of [`OrbitJacobian::solve_into`]: the dense rows and the
+/// [`Bordered`] system's, with the bordering row that system was reduced
+/// for (empty: none, or the reduction changed since).
+#[derive(Default)]
+struct Solves {
+    rows: DMatrix<f64>,
+    store: BorderedStore,
+    extra: Vec<f64>,
 }
 
 /// The collocation system bordered by `<row, z - anchor> = 0`, for
