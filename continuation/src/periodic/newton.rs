@@ -206,39 +206,11 @@ struct BorderedCollocation<'c, 'a, S: VectorField> {
     /// The last point Newton's method is done with: the next one is
     /// linearized and reduced in its storage.
     spare: Option<BorderedPoint>,
-    /// Iterates linearized: the steps from the later ones are chord steps,
-    /// with the Jacobian of the last linearized iterate (its reduction
-    /// kept), those iterates evaluated for their residual alone
-    /// ([`chord_bordered`]).
-    linearized: usize,
-    /// Iterates evaluated so far.
-    evaluations: usize,
-    /// The last two relative Newton steps (the last first), and whether
-    /// the steps past the linearized iterates are chord steps: decided
-    /// there, where the last step must have fallen by
-    /// [`CHORD_CONTRACTION`] (a Newton iteration that converges slowly,
-    /// on a stiff orbit, goes on as Newton's method).
-    steps: Cell<[f64; 2]>,
-    chord_steps: bool,
+    /// Chord iterations: every step with the Jacobian of the first iterate
+    /// (its reduction kept), the later iterates evaluated for their residual
+    /// alone ([`chord_bordered`]).
+    chord: bool,
 }
-
-/// How much the last Newton step must have fallen against the one before
-/// for the correction to go on by chord steps ([`correct_along`]).
-const CHORD_CONTRACTION: f64 = 0.1;
-
-impl<S: VectorField> BorderedCollocation<'_, '_, S> {
-    /// Whether the iterate evaluated last is past the linearized ones.
-    fn chord(&self) -> bool {
-        self.chord_steps && self.evaluations > self.linearized
-    }
-}
-
-/// A chord step has converged when its relative size is at most this share
-/// of the step tolerance: the chord iterates contract linearly, by a factor
-/// `rho` (the Jacobian's relative change across the correction), and the
-/// last one is off by about `rho` times the last step, where Newton's is
-/// off by its square; a thousandth of the tolerance leaves it as close.
-const CHORD_STEP_SHARE: f64 = 1e-3;
 
 /// The bordered collocation system linearized at an orbit: the
 /// collocation Jacobian and the residual with the bordering equation's last.
@@ -269,12 +241,7 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
             jacobian: OrbitJacobian::new(Linearization::default(), self.coll.sys.dim()),
             rhs: Vec::new(),
         });
-        self.evaluations += 1;
-        if self.evaluations == self.linearized + 1 && self.linearized > 1 {
-            let [last, before] = self.steps.get();
-            self.chord_steps = last <= CHORD_CONTRACTION * before;
-        }
-        if self.chord() && point.jacobian.is_reduced() {
+        if self.chord && point.jacobian.is_reduced() {
             self.coll.residual_into(z, &mut point.rhs);
         } else {
             point.jacobian.relinearize(self.coll, z);
@@ -319,17 +286,6 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
         point.jacobian.solve_into(self.row, &point.rhs, dz)
     }
 
-    /// The default's, divided by [`CHORD_STEP_SHARE`] for a chord step.
-    fn relative_step(&self, dz: &[f64], z: &[f64]) -> f64 {
-        let relative = newton::max_norm(dz) / (1.0 + newton::max_norm(z));
-        self.steps.set([relative, self.steps.get()[0]]);
-        if self.chord() {
-            relative / CHORD_STEP_SHARE
-        } else {
-            relative
-        }
-    }
-
     /// A step that no longer shrinks while within 1e3 of the tolerance is
     /// the rounding floor of the solve: converged as far as it can be.
     fn stall(&self) -> Stall {
@@ -363,35 +319,14 @@ pub fn correct_bordered<S: VectorField>(
     row: &[f64],
     anchor: &[f64],
 ) -> Result<(NewtonReport, BorderedPoint), ContinuationError> {
-    solve_bordered(coll, z, settings, row, anchor, usize::MAX)
-        .map(|(report, point, _)| (report, point))
-}
-
-/// Newton's method on the collocation system bordered by `<row, z -
-/// anchor> = 0`, its first `linearized` iterates linearized and the rest
-/// taken by chord steps ([`chord_bordered`]); returns the report, the last
-/// point evaluated and whether that point is linearized at the solution
-/// (not when its Jacobian is a chord step's).
-fn solve_bordered<S: VectorField>(
-    coll: &Collocation<S>,
-    z: &mut [f64],
-    settings: &NewtonSettings,
-    row: &[f64],
-    anchor: &[f64],
-    linearized: usize,
-) -> Result<(NewtonReport, BorderedPoint, bool), ContinuationError> {
     let mut problem = BorderedCollocation {
         coll,
         row,
         anchor,
         spare: None,
-        linearized,
-        evaluations: 0,
-        steps: Cell::new([f64::INFINITY; 2]),
-        chord_steps: true,
+        chord: false,
     };
-    let (report, point) = newton::iterate(&mut problem, z, settings)?;
-    Ok((report, point, !problem.chord()))
+    newton::iterate(&mut problem, z, settings)
 }
 
 /// [`newton_bordered`] by chord iterations (the simplified Newton method;
@@ -399,15 +334,14 @@ fn solve_bordered<S: VectorField>(
 /// every step solved with the Jacobian of the first iterate, reduced once,
 /// the later iterates evaluated for their residual alone
 /// ([`Collocation::residual_into`]; the rounding floor of the residual
-/// stays the first iterate's), to [`CHORD_STEP_SHARE`] of the step
-/// tolerance. The iterates contract by about the Jacobian's relative change
-/// across the correction, so from a guess whose correction is small (an
-/// orbit moved onto another mesh of the same branch, `1e-8` relative) the
-/// steps fall as fast as Newton's, at a fraction of an iteration's cost (a
-/// residual and a solve, no linearization or reduction); for solutions only
-/// (the Jacobian at the solution is not formed). Where they do not
-/// converge within the settings' iterations, `z` is left where they
-/// stopped (and `Err`).
+/// stays the first iterate's). The iterates contract by about the
+/// Jacobian's relative change across the correction, so from a guess whose
+/// correction is small (an orbit moved onto another mesh of the same
+/// branch, `1e-8` relative) the steps fall as fast as Newton's, at a
+/// fraction of an iteration's cost (a residual and a solve, no
+/// linearization or reduction); for solutions only (the Jacobian at the
+/// solution is not formed). Where they do not converge within the
+/// settings' iterations, `z` is left where they stopped (and `Err`).
 pub fn chord_bordered<S: VectorField>(
     coll: &Collocation<S>,
     z: &mut [f64],
@@ -415,7 +349,14 @@ pub fn chord_bordered<S: VectorField>(
     row: &[f64],
     anchor: &[f64],
 ) -> Result<NewtonReport, ContinuationError> {
-    solve_bordered(coll, z, settings, row, anchor, 1).map(|(report, ..)| report)
+    let mut problem = BorderedCollocation {
+        coll,
+        row,
+        anchor,
+        spare: None,
+        chord: true,
+    };
+    newton::iterate(&mut problem, z, settings).map(|(report, _)| report)
 }
 
 /// [`correct_bordered`] without the linearization.
@@ -461,20 +402,9 @@ pub fn tangent_from(
     Ok(t.iter().map(|v| sign * v / norm).collect())
 }
 
-/// Iterates of a correction along the branch that are linearized: an
-/// easy correction (at most three iterations, after which the step grows)
-/// is Newton's method throughout; a harder one goes on by chord steps from
-/// the third iterate's Jacobian, and is linearized again at the solution
-/// (and where the chord steps do not converge, Newton's method is taken
-/// from the prediction again). With two, the chord steps of corrections
-/// Newton's method finishes in three stop the step from growing: job 4 of
-/// docs/performance.md took 265 orbits instead of 170.
-const LINEARIZED_STEPS: usize = 3;
-
 /// Predicts `z0 + sigma t` and corrects it on the collocation system plus the
-/// pseudo-arclength condition `<t, z - prediction>_w = 0` (the first
-/// [`LINEARIZED_STEPS`] iterates by Newton's method, then chord steps);
-/// returns the orbit, the report and the system linearized there.
+/// pseudo-arclength condition `<t, z - prediction>_w = 0`; returns the orbit,
+/// the report and the system linearized there.
 pub fn correct_along<S: VectorField>(
     coll: &Collocation<S>,
     z0: &[f64],
@@ -485,20 +415,6 @@ pub fn correct_along<S: VectorField>(
 ) -> Result<(Vec<f64>, NewtonReport, BorderedPoint), ContinuationError> {
     let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
     let mut z = pred.clone();
-    let row = w.row(t);
-    let (rep, mut point, at_solution) =
-        match solve_bordered(coll, &mut z, settings, &row, &pred, LINEARIZED_STEPS) {
-            Ok(solved) => solved,
-            // Where chord steps do not converge (stiff orbits whose Newton
-            // iterations converge slowly), Newton's method may: from the
-            // prediction again.
-            Err(_) => {
-                z.copy_from_slice(&pred);
-                solve_bordered(coll, &mut z, settings, &row, &pred, usize::MAX)?
-            }
-        };
-    if !at_solution {
-        point.jacobian.relinearize(coll, &z);
-    }
+    let (rep, point) = correct_bordered(coll, &mut z, settings, &w.row(t), &pred)?;
     Ok((z, rep, point))
 }
