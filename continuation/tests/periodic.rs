@@ -713,3 +713,44 @@ fn implicit_form_jacobian_matches_central_differences_of_its_residual() {
         }
     }
 }
+
+#[test]
+fn the_residual_alone_is_the_linearizations() {
+    // `Collocation::residual_into` (what chord iterations evaluate) against
+    // the residual `linearize` writes, off the solution, in the explicit and
+    // the implicit form: the same values, summed in the same order.
+    let mesh = Mesh::uniform(6, 3, CollocationPoints::Radau);
+    let u: Vec<f64> = (0..mesh.n_nodes())
+        .flat_map(|g| {
+            let a = 2.0 * std::f64::consts::PI * mesh.node_time(g / 3, g % 3);
+            [0.7 * a.cos() + 0.05 * (3.0 * a).sin(), 0.6 * a.sin()]
+        })
+        .collect();
+    let c = Cycle {
+        mesh,
+        u,
+        period: 3.1,
+        p: vec![0.4],
+        n: 2,
+    };
+    let explicit = StuartLandau { w: 2.0, g: 0.5 };
+    let implicit = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
+    let compare = |coll_residual: Vec<f64>, lin_residual: &[f64], form: &str| {
+        assert_eq!(coll_residual.len(), lin_residual.len());
+        for (i, (a, b)) in coll_residual.iter().zip(lin_residual).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-15 * (1.0 + b.abs()),
+                "{form}, residual {i}: {a:e} vs {b:e}"
+            );
+        }
+    };
+    let coll = Collocation::new(&explicit, &c, 0);
+    let z = coll.unknowns(&c);
+    let mut residual = Vec::new();
+    coll.residual_into(&z, &mut residual);
+    compare(residual, &coll.linearize(&z).residual, "explicit");
+    let coll = Collocation::new(&implicit, &c, 0);
+    let mut residual = Vec::new();
+    coll.residual_into(&z, &mut residual);
+    compare(residual, &coll.linearize(&z).residual, "implicit");
+}

@@ -27,7 +27,7 @@ use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
 use continuation::periodic::cycle::Cycle;
-use continuation::system::eval;
+use continuation::system::VectorField;
 
 /// Orbit samples per mesh interval for [`inertial_imbalance`]: the adapted
 /// mesh already concentrates intervals on the slip.
@@ -37,11 +37,11 @@ const SAMPLES_PER_INTERVAL: usize = 8;
 /// (module documentation), for the inertia `m` (the scene's, also when the
 /// orbit is quasi-static): [`state_imbalance`] at the orbit's samples.
 pub fn inertial_imbalance(log: &LogBlock, cycle: &Cycle, m: f64) -> f64 {
-    cycle
-        .samples(SAMPLES_PER_INTERVAL)
-        .iter()
-        .map(|(_, x)| state_imbalance(log, x, &cycle.p, m))
-        .fold(0.0, f64::max)
+    let mut chi = 0.0f64;
+    cycle.each_sample(SAMPLES_PER_INTERVAL, |_, x| {
+        chi = chi.max(state_imbalance(log, x, &cycle.p, m));
+    });
+    chi
 }
 
 /// `m v |d ln v/dt| / mu_v` at the state `x` of `log` with parameters `p`,
@@ -50,12 +50,15 @@ pub fn inertial_imbalance(log: &LogBlock, cycle: &Cycle, m: f64) -> f64 {
 /// variable) or its derivative along the flow by a central difference
 /// (quasi-static: `ln v` is a function of the state).
 pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
-    let f = eval(log, x, p);
+    // At most 3 states: on the stack (this runs at every sample of every orbit).
+    let mut f = [0.0; 3];
+    let f = &mut f[..log.dim()];
+    log.rhs(x, p, f);
     let rate = match log.kind {
         ModelKind::Inertial => f[1],
         ModelKind::QuasiStatic => {
             let size = x.iter().fold(1.0f64, |s, v| s.max(v.abs()));
-            let speed = f.amax();
+            let speed = f.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             if speed == 0.0 {
                 0.0
             } else {

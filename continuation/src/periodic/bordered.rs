@@ -616,6 +616,16 @@ impl<'a> Bordered<'a> {
         Self::reduced(reduction, Cow::Borrowed(&reduction.border), rows, store)
     }
 
+    /// The system [`Bordered::on_border`] last reduced into `store` on
+    /// `reduction`, again (the same dense rows: nothing to reduce).
+    pub fn reused(reduction: &'a CyclicReduction, store: BorderedStore) -> Self {
+        Bordered {
+            reduction,
+            columns: Cow::Borrowed(&reduction.border),
+            store,
+        }
+    }
+
     /// The storage, for the next system.
     pub fn into_store(self) -> BorderedStore {
         self.store

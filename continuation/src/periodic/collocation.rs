@@ -263,6 +263,86 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         lin.scratch = scratch;
     }
 
+    /// The state `x` and its derivative `dx` in the local variable (`h T`
+    /// times the time derivative) at collocation point `kk` of interval `i`
+    /// of the orbit `z` (`n` entries each, overwritten).
+    /// `N` as in [`Collocation::interval`].
+    #[inline(always)]
+    fn point_state<const N: usize>(
+        &self,
+        i: usize,
+        kk: usize,
+        z: &[f64],
+        x: &mut [f64],
+        dx: &mut [f64],
+    ) {
+        let n = if N == 0 { x.len() } else { N };
+        let m = self.mesh.degree;
+        let node = |g: usize| &z[g * n..(g + 1) * n];
+        x.fill(0.0);
+        dx.fill(0.0);
+        // Relative to the interval's first node (the basis sums to 1,
+        // its derivatives to 0): the derivative is then rounded
+        // relative to the change across the interval, not to the
+        // values themselves.
+        let v0 = node(self.mesh.node(i, 0));
+        for l in 1..=m {
+            let v = node(self.mesh.node(i, l));
+            for j in 0..n {
+                let d = v[j] - v0[j];
+                x[j] += self.mesh.basis[kk][l] * d;
+                dx[j] += self.mesh.dbasis[kk][l] * d;
+            }
+        }
+        for j in 0..n {
+            x[j] += v0[j];
+        }
+    }
+
+    /// The residual of the collocation system at `z` alone (no
+    /// derivatives: `f`, or the implicit form's `rho` and `g`, in `f64`),
+    /// into `out` (`N + 1` entries: the collocation residuals, then the
+    /// phase condition), the same values as [`Collocation::linearize_into`]
+    /// writes, summed in the same order.
+    pub fn residual_into(&self, z: &[f64], out: &mut Vec<f64>) {
+        let n = self.sys.dim();
+        let m = self.mesh.degree;
+        let nn = self.mesh.n_nodes() * n;
+        let period = z[nn];
+        let mut p: SmallVec<[f64; 16]> = SmallVec::from_slice(&self.p);
+        p[self.k] = z[nn + 1];
+        out.clear();
+        out.resize(nn + 1, 0.0);
+        let mut scratch = SmallVec::<[f64; 64]>::from_elem(0.0, 4 * n);
+        let (x, rest) = scratch.split_at_mut(n);
+        let (dx, rest) = rest.split_at_mut(n);
+        let (f, rho) = rest.split_at_mut(n);
+        let mut phase_residual = 0.0;
+        for (i, residual) in out[..nn].chunks_exact_mut(m * n).enumerate() {
+            let h = self.mesh.t[i + 1] - self.mesh.t[i];
+            let mut interval_phase = 0.0;
+            for kk in 0..m {
+                self.point_state::<0>(i, kk, z, x, dx);
+                if self.implicit {
+                    self.sys.implicit_rhs(x, &p, rho, f);
+                } else {
+                    rho.fill(1.0);
+                    self.sys.rhs(x, &p, f);
+                }
+                for j in 0..n {
+                    residual[kk * n + j] = rho[j] * dx[j] - h * period * f[j];
+                }
+                let w = h * self.mesh.weights[kk];
+                let dref = &self.phase_ref[(i * m + kk) * n..(i * m + kk + 1) * n];
+                for j in 0..n {
+                    interval_phase += w * x[j] * dref[j];
+                }
+            }
+            phase_residual += interval_phase;
+        }
+        out[nn] = phase_residual;
+    }
+
     /// The collocation equations of interval `i` at `z` (parameters `p`),
     /// linearized into `out`: its block, its `m n` residuals and its
     /// phase-row entries on its `m + 1` nodes; returns its terms of the
@@ -305,25 +385,8 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let block = block.as_mut_slice();
         for kk in 0..m {
             let row0 = kk * n;
-            x.fill(0.0);
-            dx.fill(0.0);
             row_sums.fill(0.0);
-            // Relative to the interval's first node (the basis sums to 1,
-            // its derivatives to 0): the derivative is then rounded
-            // relative to the change across the interval, not to the
-            // values themselves.
-            let v0 = node(self.mesh.node(i, 0));
-            for l in 1..=m {
-                let v = node(self.mesh.node(i, l));
-                for j in 0..n {
-                    let d = v[j] - v0[j];
-                    x[j] += self.mesh.basis[kk][l] * d;
-                    dx[j] += self.mesh.dbasis[kk][l] * d;
-                }
-            }
-            for j in 0..n {
-                x[j] += v0[j];
-            }
+            self.point_state::<N>(i, kk, z, x, dx);
             if self.implicit {
                 // Row r, `rho_r x'_r - g_r` times `h T` (`x'_r = dx_r / (h T)`):
                 // its derivatives along `x_c` and `p_k`, divided by `-h T`,

@@ -38,6 +38,12 @@ impl Cycle {
     /// [`Cycle::state_at`] added into `x` (`n` entries, zero for the state itself).
     fn state_into(&self, tau: f64, x: &mut [f64]) {
         let (i, z) = self.mesh.locate(tau);
+        self.interval_into(i, z, x);
+    }
+
+    /// The polynomial of interval `i` at local coordinate `z` in `[0, 1]`,
+    /// added into `x` (`n` entries).
+    fn interval_into(&self, i: usize, z: f64, x: &mut [f64]) {
         for (l, b) in lagrange_values(self.mesh.degree, z).iter().enumerate() {
             for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
                 *xj += b * uj;
@@ -48,16 +54,31 @@ impl Cycle {
     /// Samples `(tau, x)` at `per_interval` evenly spaced points of every
     /// interval (closing with `tau = 1`).
     pub fn samples(&self, per_interval: usize) -> Vec<(f64, Vec<f64>)> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(self.mesh.ntst() * per_interval + 1);
+        self.each_sample(per_interval, |tau, x| out.push((tau, x.to_vec())));
+        out
+    }
+
+    /// `visit(tau, x)` at the samples of [`Cycle::samples`], in their order,
+    /// the state in one buffer (no allocation per sample).
+    pub fn each_sample(&self, per_interval: usize, mut visit: impl FnMut(f64, &[f64])) {
+        let mut x = vec![0.0; self.n];
+        let mut at = |tau: f64, x: &mut [f64]| {
+            x.fill(0.0);
+            self.state_into(tau, x);
+            visit(tau, x);
+        };
         for i in 0..self.mesh.ntst() {
             for s in 0..per_interval {
                 let tau = self.mesh.t[i]
                     + (self.mesh.t[i + 1] - self.mesh.t[i]) * s as f64 / per_interval as f64;
-                out.push((tau, self.state_at(tau)));
+                at(tau, &mut x);
             }
         }
-        out.push((1.0, self.state_at(0.0)));
-        out
+        // The closing sample at `tau = 1` is the state at 0.
+        x.fill(0.0);
+        self.state_into(0.0, &mut x);
+        visit(1.0, &x);
     }
 
     /// Least and greatest value of component `j` over the orbit, to the
@@ -80,7 +101,7 @@ impl Cycle {
     /// (`O(h^(2m))` with Gauss points, `O(h^(2m-1))` with Radau points, like
     /// the period). An extreme is therefore not read off the polynomial: it
     /// is bracketed by the extreme of 8 samples per interval, and then
-    /// maximised (Brent) over the value of [`Cycle::step_from_node`] — one
+    /// maximised (Brent, started from the polynomial's extreme: [`Cycle::extreme_in`]) over the value of [`Cycle::step_from_node`] — one
     /// collocation step of the same points from the mesh point before it, whose
     /// end value carries the mesh point's accuracy plus a local error
     /// `O(delta^(2m+1))` (Gauss) or `O(delta^(2m))` (Radau).
@@ -120,22 +141,26 @@ impl Cycle {
                 .unwrap_or(0);
             let (i, s) = (best / per, best % per);
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
-            let f = |i: usize, delta: f64| sign * g(&stepper.state(i, delta));
             // The samples next to the best one bracket the extreme; at the
             // start of an interval the bracket reaches into the one before.
-            let inside = brent_max(
-                |d| f(i, d),
-                h * s.saturating_sub(1) as f64 / per as f64,
-                h * (s + 1) as f64 / per as f64,
+            let inside = self.extreme_in(
+                &stepper,
+                |x| sign * g(x),
+                i,
+                (
+                    h * s.saturating_sub(1) as f64 / per as f64,
+                    h * (s + 1) as f64 / per as f64,
+                ),
                 floor,
             );
             let value = if s == 0 {
                 let before = (i + ntst - 1) % ntst;
                 let hb = self.mesh.t[before + 1] - self.mesh.t[before];
-                inside.max(brent_max(
-                    |d| f(before, d),
-                    hb * (per - 1) as f64 / per as f64,
-                    hb,
+                inside.max(self.extreme_in(
+                    &stepper,
+                    |x| sign * g(x),
+                    before,
+                    (hb * (per - 1) as f64 / per as f64, hb),
                     floor,
                 ))
             } else {
@@ -144,6 +169,69 @@ impl Cycle {
             sign * value
         };
         (pick(-1.0), pick(1.0))
+    }
+
+    /// Largest value of `f(x(t_i + delta))` for `delta` in `lo..=hi`, `x`
+    /// the collocation step of `stepper` from mesh point `i`
+    /// ([`Cycle::step_from_node`]), by Brent's method ([`brent_max`]) to
+    /// `floor`.
+    ///
+    /// Each value costs a collocation step (a small Newton iteration), so
+    /// the search starts where the interval's polynomial, the same curve
+    /// to `O(h^(m+1))` at the cost of a basis evaluation, has its extreme
+    /// (Brent's method on the polynomial): the steps are searched on
+    /// [`NARROW`] of the bracket around it, and on the whole bracket only
+    /// if the extreme found there lies on an inner edge of the narrowed one.
+    /// Where the polynomial's extreme is an end of the bracket (within
+    /// [`EDGE`] of it, a mesh point), which Brent's method approaches only
+    /// by many short steps, that end's value is taken when the steps fall
+    /// away from it over the narrowed bracket (at half and all of its
+    /// width). The extremes equal those of the search over the whole
+    /// bracket to the rounding of the values (jobs 3 and 4 of
+    /// docs/performance.md: within 3e-14 relative; 8.5 collocation steps
+    /// per extreme on job 4 instead of 15).
+    fn extreme_in<S: VectorField>(
+        &self,
+        stepper: &Stepper<S>,
+        f: impl Fn(&[f64]) -> f64,
+        i: usize,
+        (lo, hi): (f64, f64),
+        floor: f64,
+    ) -> f64 {
+        let stepped = |delta: f64| f(&stepper.state(i, delta));
+        let h = self.mesh.t[i + 1] - self.mesh.t[i];
+        let mut x = vec![0.0; self.n];
+        let polynomial = |delta: f64| {
+            x.fill(0.0);
+            self.interval_into(i, delta / h, &mut x);
+            f(&x)
+        };
+        let (guess, _) = brent_max(polynomial, lo, hi, floor);
+        let r = NARROW * (hi - lo);
+        let near = EDGE * (hi - lo);
+        if guess - lo <= near || hi - guess <= near {
+            // The polynomial's extreme is the mesh point at the end of the
+            // bracket: so is the steps', where they fall away from it.
+            let (end, inward) = if guess - lo <= near {
+                (lo, r)
+            } else {
+                (hi, -r)
+            };
+            let edge = stepped(end);
+            let (half, full) = (stepped(end + 0.5 * inward), stepped(end + inward));
+            if edge >= half && half >= full {
+                return edge;
+            }
+        }
+        let (a, b) = ((guess - r).max(lo), (guess + r).min(hi));
+        let (at, value) = brent_max(&stepped, a, b, floor);
+        // Twice Brent's tolerance in the abscissa: an extreme at the edge.
+        let edge = 4e-10 * (b - a).max(at.abs());
+        if (a > lo && at - a <= edge) || (b < hi && b - at <= edge) {
+            brent_max(stepped, lo, hi, floor).1.max(value)
+        } else {
+            value
+        }
     }
 
     /// The state at normalized time `t_i + delta` (`0 <= delta <= h_i`) by
@@ -197,6 +285,14 @@ struct Stepper<'a, S: VectorField> {
 
 /// The factored stage Jacobian of a [`Stepper`].
 type StageLu = nalgebra::LU<f64, Dyn, Dyn>;
+
+/// The share of its bracket around the polynomial's extreme that the search
+/// for an extreme of the collocation steps starts on ([`Cycle::extreme_in`]).
+const NARROW: f64 = 1.0 / 32.0;
+
+/// A polynomial's extreme within this share of its bracket from an end is
+/// taken to be at that end, a mesh point ([`Cycle::extreme_in`]).
+const EDGE: f64 = 1e-9;
 
 /// Steps within this fraction of the step of the last factored stage
 /// Jacobian reuse it: the chord iterations then contract by about this
@@ -378,9 +474,9 @@ impl<'a, S: VectorField> Stepper<'a, S> {
 /// flat, so the value is then exact to rounding. (Not `sqrt(eps)`: the slip
 /// of a stiff orbit can be as narrow as 1e-8 of its mesh interval, and its
 /// peak velocity was then off by 1e-7.)
-fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, floor: f64) -> f64 {
+fn brent_max(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f64, floor: f64) -> (f64, f64) {
     let g = 0.5 * (3.0 - 5f64.sqrt());
-    let neg = |x: f64| -f(x);
+    let mut neg = |x: f64| -f(x);
     let (mut x, mut w, mut v) = (a + g * (b - a), a + g * (b - a), a + g * (b - a));
     let mut fx = neg(x);
     let (mut fw, mut fv) = (fx, fx);
@@ -389,6 +485,7 @@ fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, floor: f64) -> f64 
     let mut settled = false;
     // Also the ends: the extreme may sit on the bracket's edge (a mesh point).
     let (fa, fb) = (neg(a), neg(b));
+    let (a_start, b_start) = (a, b);
     for _ in 0..100 {
         let xm = 0.5 * (a + b);
         let tol1 = 1e-10 * x.abs().max((b - a).abs()).max(f64::MIN_POSITIVE);
@@ -452,5 +549,14 @@ fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, floor: f64) -> f64 
             }
         }
     }
-    -(fx.min(fa).min(fb))
+    // The best of the ends and the search (as `f64::min`, NaN only if all are).
+    let best = fx.min(fa).min(fb);
+    let at = if best == fx {
+        x
+    } else if best == fa {
+        a_start
+    } else {
+        b_start
+    };
+    (at, -best)
 }

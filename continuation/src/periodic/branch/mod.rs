@@ -480,9 +480,11 @@ pub struct Cycles<'a, S: VectorField> {
     /// need changes along the branch). Reset when their error turns out to
     /// be rounding.
     multiplier_ntst: (usize, usize),
-    /// The collocation Jacobian at the orbit `z` the last step ended on,
-    /// with that `z`: its reduction gives the orbit's multipliers without
-    /// linearizing again.
+    /// The collocation Jacobian at the orbit `z` the last step (or
+    /// correction on a new mesh) ended on, with that `z`: its reduction gives
+    /// the orbit's multipliers without linearizing again (its phase row may
+    /// be the reference's before the orbit became it, which they do not
+    /// involve).
     jacobian: Option<(Vec<f64>, OrbitJacobian)>,
 }
 

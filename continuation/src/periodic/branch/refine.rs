@@ -27,7 +27,9 @@ use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
 use crate::periodic::cycle::Cycle;
 use crate::periodic::mesh::Mesh;
-use crate::periodic::newton::{newton_bordered, unit_row, ArcWeights, OrbitJacobian};
+use crate::periodic::newton::{
+    chord_bordered, correct_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
+};
 use crate::system::VectorField;
 
 /// The share of the distance of the nontrivial multipliers from the unit
@@ -217,7 +219,10 @@ impl<S: VectorField> Cycles<'_, S> {
     /// hyperplane through it normal to the branch: well posed also near a
     /// Hopf point or a fold, where the orbit at fixed parameter is
     /// ill-determined. A first orbit that was corrected at its parameter
-    /// stays there. The corrected orbit becomes the phase reference.
+    /// stays there. The corrected orbit becomes the phase reference; the
+    /// system linearized there is kept for its multipliers
+    /// ([`Cycles::point`]: they come from the collocation rows, which the
+    /// new phase reference does not change).
     pub(super) fn correct_on_mesh(
         &mut self,
         settings: &NewtonSettings,
@@ -228,7 +233,8 @@ impl<S: VectorField> Cycles<'_, S> {
             ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
         };
         let anchor = self.z.clone();
-        let rep = newton_bordered(&self.coll, &mut self.z, settings, &row, &anchor)?;
+        let (rep, at) = correct_bordered(&self.coll, &mut self.z, settings, &row, &anchor)?;
+        self.jacobian = Some((self.z.clone(), at.jacobian));
         self.coll = Collocation::new(self.sys, &self.coll.cycle(&self.z), self.k);
         Ok(rep)
     }
@@ -273,16 +279,16 @@ impl<S: VectorField> Cycles<'_, S> {
         let anchor = z.clone();
         let tangent = self.tangent_on(&orbit.mesh, tangent, &coarse.mesh, &z);
         let w = ArcWeights::at(&z, self.settings.param_floor);
-        if newton_bordered(
-            &coll,
-            &mut z,
-            &self.settings.corrector,
-            &w.row(&tangent),
-            &anchor,
-        )
-        .is_err()
-        {
-            return f64::INFINITY;
+        let row = w.row(&tangent);
+        // The coarse orbit is the fine one to the discretization error:
+        // chord iterations, and Newton's method from the start again where
+        // they do not converge.
+        let corrector = &self.settings.corrector;
+        if chord_bordered(&coll, &mut z, corrector, &row, &anchor).is_err() {
+            z.copy_from_slice(&anchor);
+            if newton_bordered(&coll, &mut z, corrector, &row, &anchor).is_err() {
+                return f64::INFINITY;
+            }
         }
         let order = orbit.mesh.degree as i32 + 1;
         let nz = z.len();
