@@ -713,3 +713,37 @@ fn no_spring_is_no_operating_point() {
         "{lowest} of {kappa_c}"
     );
 }
+
+/// Every adhesive command's JSON has the common frame: `complete`, `stop`,
+/// and `units` in named physical units (`F_a_N`, `V_s_um_per_s` as the
+/// scene file gives it, `tau_out_s`, `M_kg`).
+#[test]
+fn adhesive_json_has_the_common_frame() {
+    let dir = temp_dir("adhesive-frame");
+    let out = dir.to_str().unwrap();
+    for command in ["hopf", "diagram", "simulate"] {
+        let args = ["--scene", "gel", "--json", "--out", out, "--force"];
+        let args: Vec<&str> = std::iter::once(command)
+            .chain(
+                if command == "hopf" {
+                    &args[..3]
+                } else {
+                    &args[..]
+                }
+                .iter()
+                .copied(),
+            )
+            .collect();
+        let (status, v, err) = json_of(&args);
+        assert_eq!(status, 0, "{command}: {err}");
+        assert_eq!(v["complete"], true, "{command}");
+        assert!(v.get("stop").is_some(), "{command}: no stop");
+        let u = &v["setup"]["units"];
+        let u = if u.is_null() { &v["units"] } else { u };
+        assert_eq!(field(u, "V_s_um_per_s"), 0.025, "{command}: {u}");
+        assert_eq!(field(u, "F_a_N"), 0.05);
+        assert_eq!(field(u, "tau_out_s"), 1.0);
+        assert_eq!(field(u, "M_kg"), 1e-3);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -360,6 +360,9 @@ pub struct AdhesiveHopf {
     /// `steady sliding` (`None` without `K`).
     pub regime: Option<&'static str>,
     pub complete: bool,
+    /// Why the job ended short of the request (`null`: it delivered all;
+    /// a failure is an error instead), as every command's JSON has it.
+    pub stop: Option<String>,
 }
 
 /// `hopf` on an adhesive scene.
@@ -397,6 +400,7 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
         steady_slope: slope,
         regime,
         complete: true,
+        stop: None,
     })
 }
 
@@ -411,6 +415,9 @@ pub struct AdhesiveBranch {
     pub hopf_points: Vec<NuHopf>,
     pub hopf_points_um_s: Vec<f64>,
     pub complete: bool,
+    /// Why the job ended short of the request (`null`: it delivered all;
+    /// a failure is an error instead), as every command's JSON has it.
+    pub stop: Option<String>,
 }
 
 /// Points per decade of the velocity grids.
@@ -439,6 +446,7 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
         points,
         hopf_points,
         complete: true,
+        stop: None,
     })
 }
 
@@ -451,6 +459,9 @@ pub struct AdhesiveDiagram {
     /// The steady branch at the scene's velocities (for the friction figure).
     pub steady: Vec<SteadyPoint>,
     pub complete: bool,
+    /// Why the job ended short of the request (`null`: it delivered all;
+    /// a failure is an error instead), as every command's JSON has it.
+    pub stop: Option<String>,
 }
 
 /// `diagram` on an adhesive scene.
@@ -475,6 +486,7 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
         points,
         steady,
         complete: true,
+        stop: None,
     })
 }
 
@@ -569,6 +581,9 @@ pub struct AdhesiveSimulation {
     #[serde(skip)]
     pub run: Run,
     pub complete: bool,
+    /// Why the job ended short of the request (`null`: it delivered all;
+    /// a failure is an error instead), as every command's JSON has it.
+    pub stop: Option<String>,
 }
 
 /// `simulate` on an adhesive scene under `protocol` (`(V [um/s], T [s])`;
@@ -661,5 +676,6 @@ pub fn simulate(
         protocol,
         run,
         complete: true,
+        stop: None,
     })
 }

@@ -31,13 +31,23 @@ const BUILTINS: [(&str, &str); 1] = [("gel", include_str!("../../examples/scenes
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct AdhesiveUnits {
     /// Pinning force scale `F_a` [N].
+    #[serde(rename = "F_a_N")]
     pub f_a: f64,
-    /// Schallamach's velocity `V_s` [m/s].
+    /// Schallamach's velocity `V_s` [m/s] (JSON: in µm/s).
+    #[serde(rename = "V_s_um_per_s", serialize_with = "micrometres")]
     pub v_s: f64,
     /// Desorption time `tau_out` [s], the unit of time.
+    #[serde(rename = "tau_out_s")]
     pub tau_out: f64,
     /// Block mass `M` [kg].
+    #[serde(rename = "M_kg")]
     pub mass: f64,
+}
+
+/// A velocity in m/s written in µm/s (divided by the factor it was
+/// multiplied with, which gives the scene's own value back).
+fn micrometres<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_f64(v / 1e-6)
 }
 
 impl AdhesiveUnits {
