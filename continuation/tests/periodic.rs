@@ -662,25 +662,32 @@ fn implicit_form_gives_the_closed_form_cycles_and_multipliers() {
     stuart_landau_branch_is_the_closed_form(&ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 }));
 }
 
-#[test]
-fn implicit_form_jacobian_matches_central_differences_of_its_residual() {
-    // Off the solution (a perturbed orbit) every term of the Jacobian counts,
-    // also d rho / dx times x' and d rho / dp.
-    let sys = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
-    let mesh = Mesh::uniform(6, 3, CollocationPoints::Gauss);
+/// An orbit off the solution of the Stuart–Landau field on 6 intervals of
+/// degree 3 (an ellipse with a third harmonic, period 3.1, parameter
+/// 0.4): where every term of the collocation equations counts.
+fn perturbed_orbit(points: CollocationPoints) -> Cycle {
+    let mesh = Mesh::uniform(6, 3, points);
     let u: Vec<f64> = (0..mesh.n_nodes())
         .flat_map(|g| {
             let a = 2.0 * std::f64::consts::PI * mesh.node_time(g / 3, g % 3);
             [0.7 * a.cos() + 0.05 * (3.0 * a).sin(), 0.6 * a.sin()]
         })
         .collect();
-    let c = Cycle {
+    Cycle {
         mesh,
         u,
         period: 3.1,
         p: vec![0.4],
         n: 2,
-    };
+    }
+}
+
+#[test]
+fn implicit_form_jacobian_matches_central_differences_of_its_residual() {
+    // Off the solution (a perturbed orbit) every term of the Jacobian counts,
+    // also d rho / dx times x' and d rho / dp.
+    let sys = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
+    let c = perturbed_orbit(CollocationPoints::Gauss);
     let coll = Collocation::new(&sys, &c, 0);
     let z0 = coll.unknowns(&c);
     let lin = coll.linearize(&z0);
@@ -719,20 +726,7 @@ fn the_residual_alone_is_the_linearizations() {
     // `Collocation::residual_into` (what chord iterations evaluate) against
     // the residual `linearize` writes, off the solution, in the explicit and
     // the implicit form: the same values, summed in the same order.
-    let mesh = Mesh::uniform(6, 3, CollocationPoints::Radau);
-    let u: Vec<f64> = (0..mesh.n_nodes())
-        .flat_map(|g| {
-            let a = 2.0 * std::f64::consts::PI * mesh.node_time(g / 3, g % 3);
-            [0.7 * a.cos() + 0.05 * (3.0 * a).sin(), 0.6 * a.sin()]
-        })
-        .collect();
-    let c = Cycle {
-        mesh,
-        u,
-        period: 3.1,
-        p: vec![0.4],
-        n: 2,
-    };
+    let c = perturbed_orbit(CollocationPoints::Radau);
     let explicit = StuartLandau { w: 2.0, g: 0.5 };
     let implicit = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
     let compare = |coll_residual: Vec<f64>, lin_residual: &[f64], form: &str| {
