@@ -1,9 +1,9 @@
 //! Continuation results against the closed forms of the seed's Appendix C
 //! and against the roots of the exact characteristic cubic (eq. C9).
 
-use continuation::linalg::{count_unstable, eigenvalues};
 use continuation::system::jacobian;
 use continuation::Complex64;
+use continuation::{count_unstable, eigenvalues};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};
 use stickslip::appendix_c;
 use stickslip::model::{steady_state, DrivenBlock, ModelKind};

@@ -4,12 +4,10 @@
 mod common;
 
 use common::brockley;
-use continuation::newton::NewtonSettings;
-use continuation::periodic::branch::{
-    CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization,
-};
-use continuation::periodic::lpc::locate_lpc;
-use continuation::periodic::mesh::CollocationPoints;
+use continuation::periodic::locate_lpc;
+use continuation::periodic::CollocationPoints;
+use continuation::periodic::{CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization};
+use continuation::NewtonSettings;
 use stickslip::analysis::cycles::{hopf_start, start_amplitude};
 use stickslip::analysis::diagram::{stability_diagram, SpecialKind};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};

@@ -4,9 +4,9 @@
 //! long-time integration (a different method).
 
 use super::reference::reference_cycle;
-use continuation::periodic::branch::{CycleBranch, CycleSettings, Discretization};
-use continuation::periodic::cycle::Cycle;
-use continuation::predictor_corrector::StepControl;
+use continuation::periodic::Cycle;
+use continuation::periodic::{CycleBranch, CycleSettings, Discretization};
+use continuation::StepControl;
 use continuation::{VectorField, Wrap};
 use stickslip::analysis::cycles::{collocation_for, start_amplitude};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};

@@ -3,7 +3,7 @@
 use super::cycles::{CycleWork, LastCycle};
 use super::sandbox::{silence_stdout, TempDir};
 use clap::Parser;
-use continuation::counted::N_EVAL_KINDS;
+use continuation::N_EVAL_KINDS;
 use continuation::{AsIs, ContinuationSettings, Counting, Wrap};
 use serde_json::Value;
 use std::path::Path;
@@ -260,7 +260,7 @@ impl Job {
 
     /// Runs the job once with every model it builds [`Counted`](continuation::Counted)
     /// into one tally; returns what it produced and the evaluations, indexed
-    /// like [`EVAL_KINDS`](continuation::counted::EVAL_KINDS).
+    /// like [`EVAL_KINDS`](continuation::EVAL_KINDS).
     pub fn run_counted(&self) -> Result<(Tally, [u64; N_EVAL_KINDS]), Error> {
         let counting = Counting::new();
         let tally = self.execute(&counting, true)?;

@@ -30,7 +30,7 @@ pub use report::{format_seconds, table, to_json};
 #[cfg(test)]
 mod tests {
     use super::*;
-    use continuation::counted::EVAL_KINDS;
+    use continuation::EVAL_KINDS;
 
     #[test]
     fn quick_run_gives_one_record_per_job_with_the_public_keys() {

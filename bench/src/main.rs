@@ -2,7 +2,7 @@
 //! their vector-field evaluations, or runs the work-precision study.
 
 use clap::Parser;
-use continuation::counted::EVAL_KINDS;
+use continuation::EVAL_KINDS;
 use std::process::ExitCode;
 use stickslip::error::Error;
 use stickslip_bench::{run_all, table, to_json, Settings};

@@ -3,7 +3,7 @@
 
 use super::cycles::Accuracy;
 use super::jobs::{jobs, Job};
-use continuation::counted::N_EVAL_KINDS;
+use continuation::N_EVAL_KINDS;
 use std::time::{Duration, Instant};
 use stickslip::error::Error;
 
@@ -54,7 +54,7 @@ pub struct JobReport {
     /// Timed runs.
     pub repetitions: usize,
     /// Vector-field evaluations of one run, indexed like
-    /// [`EVAL_KINDS`](continuation::counted::EVAL_KINDS).
+    /// [`EVAL_KINDS`](continuation::EVAL_KINDS).
     pub evals: [u64; N_EVAL_KINDS],
     /// For a cycle branch: its last cycle against long-time integration.
     pub accuracy: Option<Accuracy>,

@@ -1,7 +1,7 @@
 //! The measurements as JSON records and as a text table.
 
 use super::measure::JobReport;
-use continuation::counted::EVAL_KINDS;
+use continuation::EVAL_KINDS;
 use serde_json::{json, Value};
 
 impl JobReport {

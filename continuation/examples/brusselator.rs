@@ -16,7 +16,7 @@
 
 use continuation::codim2::{CurveSettings, HopfCurve};
 use continuation::normal_form::hopf_normal_form;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings, Discretization};
+use continuation::periodic::{CycleBranch, CyclePoint, CycleSettings, Discretization};
 use continuation::{
     Branch, ContinuationSettings, Event, EventKind, Scalar, StepControl, VectorField,
 };

@@ -131,11 +131,6 @@ impl<G: DefiningSystem> Stepper<G> {
         &self.tangent
     }
 
-    /// Current step size.
-    pub fn ds(&self) -> f64 {
-        self.ds
-    }
-
     /// Moves back to an earlier point with a new step size (for a caller that
     /// rejects a step, e.g. because events need a shorter bracket).
     pub fn restore(
@@ -389,9 +384,6 @@ mod tests {
     impl DefiningSystem for Circle {
         fn n_equations(&self) -> usize {
             1
-        }
-        fn n_unknowns(&self) -> usize {
-            2
         }
         fn eval(&self, z: &DVector<f64>, g: &mut DVector<f64>, dg: &mut DMatrix<f64>) {
             g[0] = z[0] * z[0] + z[1] * z[1] - 1.0;

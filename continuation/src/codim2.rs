@@ -2,10 +2,10 @@
 //! Kuznetsov 1998, §10.2.2), with Bautin (generalized Hopf) points located on
 //! Hopf curves where the first Lyapunov coefficient `l1` changes sign.
 //!
-//! A Hopf curve is the solution curve of [`HopfSystem`] with two free
-//! parameters, `z = (x, omega, p_a, p_b)`; a fold curve that of [`FoldSystem`],
-//! `z = (x, p_a, p_b)`. Both are traced by the shared [`Stepper`], as
-//! [`Curve`]s of the [`Driver`].
+//! A Hopf curve is the solution curve of `HopfSystem` with two free
+//! parameters, `z = (x, omega, p_a, p_b)`; a fold curve that of `FoldSystem`,
+//! `z = (x, p_a, p_b)`. Both are traced by the shared `Stepper`, as
+//! `Curve`s of the [`Driver`].
 
 use crate::arclength::{Bound, CurveControl, Stepper};
 use crate::defining::{DefiningSystem, FoldSystem, FreeParams, HopfSystem};
@@ -119,7 +119,7 @@ pub enum HopfCurveEvent {
 /// [`Stop::FrequencyVanishing`] or [`Stop::MaxSteps`].
 pub type HopfCurve<'a, S> = Driver<Hopf<'a, S>>;
 
-/// The [`Curve`] of a [`HopfCurve`].
+/// The `Curve` of a [`HopfCurve`].
 pub struct Hopf<'a, S: VectorField> {
     sys: &'a S,
     stepper: Stepper<HopfSystem<'a, S>>,

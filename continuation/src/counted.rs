@@ -25,7 +25,7 @@ pub const N_EVAL_KINDS: usize = 6;
 /// Names of the evaluation kinds of [`EvalCounts`], in order: plain `f64`,
 /// then scalar types carrying derivatives up to order 1 (`Dual64`), 2
 /// (`HyperDual64`, `Dual<Dual64>`), 3 (`HyperHyperDual64`, three nested
-/// duals), 4 and 5 (nested duals of [`crate::hopf_series`]).
+/// duals), 4 and 5 (nested duals of `hopf_series`).
 pub const EVAL_KINDS: [&str; N_EVAL_KINDS] =
     ["f64", "order1", "order2", "order3", "order4", "order5"];
 

@@ -26,8 +26,6 @@ use smallvec::SmallVec;
 pub trait DefiningSystem {
     /// Number of equations.
     fn n_equations(&self) -> usize;
-    /// Number of unknowns.
-    fn n_unknowns(&self) -> usize;
     /// Writes `G(z)` into `g` and `DG(z)` into the first `n_equations` rows of `dg`.
     fn eval(&self, z: &DVector<f64>, g: &mut DVector<f64>, dg: &mut DMatrix<f64>);
     /// Called at every accepted point: refresh auxiliary data (bordering vectors).
@@ -141,9 +139,6 @@ impl<S: VectorField> DefiningSystem for EquilibriumSystem<'_, S> {
     fn n_equations(&self) -> usize {
         self.sys.dim()
     }
-    fn n_unknowns(&self) -> usize {
-        self.sys.dim() + self.params.free.len()
-    }
     fn eval(&self, z: &DVector<f64>, g: &mut DVector<f64>, dg: &mut DMatrix<f64>) {
         let n = self.sys.dim();
         let p = self.params.with(&z.as_slice()[n..]);
@@ -188,9 +183,6 @@ impl<'a, S: VectorField> FoldSystem<'a, S> {
 impl<S: VectorField> DefiningSystem for FoldSystem<'_, S> {
     fn n_equations(&self) -> usize {
         self.sys.dim() + 1
-    }
-    fn n_unknowns(&self) -> usize {
-        self.sys.dim() + self.params.free.len()
     }
     fn eval(&self, z: &DVector<f64>, g: &mut DVector<f64>, dg: &mut DMatrix<f64>) {
         let n = self.sys.dim();
@@ -290,9 +282,6 @@ impl<'a, S: VectorField> HopfSystem<'a, S> {
 impl<S: VectorField> DefiningSystem for HopfSystem<'_, S> {
     fn n_equations(&self) -> usize {
         self.sys.dim() + 2
-    }
-    fn n_unknowns(&self) -> usize {
-        self.sys.dim() + 1 + self.params.free.len()
     }
     fn eval(&self, z: &DVector<f64>, g: &mut DVector<f64>, dg: &mut DMatrix<f64>) {
         let n = self.sys.dim();

@@ -65,7 +65,7 @@ pub enum Stop {
     MaxPeriod {
         /// The period of the last orbit.
         period: f64,
-        /// The limit ([`crate::periodic::branch::CycleSettings::max_period`]).
+        /// The limit ([`CycleSettings::max_period`](crate::periodic::CycleSettings::max_period)).
         max_period: f64,
     },
     /// A cycle branch came back to a Hopf point: its cycles shrank to the
@@ -98,7 +98,7 @@ pub enum Stop {
     SmallAmplitude {
         /// The largest range of a component over the last orbit's nodes.
         amplitude: f64,
-        /// The limit ([`crate::periodic::lpc::LpcCurveSettings::min_amplitude`]).
+        /// The limit ([`LpcCurveSettings::min_amplitude`](crate::periodic::LpcCurveSettings::min_amplitude)).
         min_amplitude: f64,
     },
 }

@@ -48,8 +48,8 @@ impl EventKind {
     }
 }
 
-/// A located bifurcation of equilibria: the one [`crate::driver::Event`]
-/// with an [`EventKind`] and the [`Equilibrium`] at it; its `error` is the
+/// A located bifurcation of equilibria: the one `Event`
+/// with an [`EventKind`] and the `Equilibrium` at it; its `error` is the
 /// last Newton step of the location.
 pub type Event = crate::driver::Event<EventKind, Equilibrium>;
 
@@ -146,7 +146,7 @@ fn solve_square<G: DefiningSystem>(
 }
 
 /// Locates a Hopf point from the guess `(x0, p0[k], omega0)` by Newton's
-/// method on the minimally augmented system ([`HopfSystem`]); `p0` holds the
+/// method on the minimally augmented system (`HopfSystem`); `p0` holds the
 /// other parameters.
 pub fn locate_hopf<S: VectorField>(
     sys: &S,

@@ -166,7 +166,7 @@ const ROW_SPREAD_FOR_PENCIL: f64 = 1e6;
 /// backward-stable eigenvalue routine gives each an absolute error of order
 /// `eps |a|`: the slow ones, of order one, then carry errors `eps / m`. So
 /// the slow ones come from the inverse instead, `a^-1 = (D a)^-1 D` with `D`
-/// the row equilibration ([`row_equilibration`]): `D a` has rows of unit
+/// the row equilibration (`row_equilibration`): `D a` has rows of unit
 /// size and is well conditioned where the stiffness comes from the scaling,
 /// and `a^-1` has the slow eigenvalues as its largest ones, `1/lambda`, each
 /// with an error of order `eps |a^-1|` — relative `eps` for the slowest. An

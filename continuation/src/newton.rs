@@ -25,7 +25,7 @@ pub struct NewtonSettings {
     /// Relative step tolerance (max norm). Default `1e-11`.
     pub step_tol: f64,
     /// Residual tolerance relative to the scale of the residual (max norms;
-    /// see [`Linearized::residual_bound`]). Default `1e-10`.
+    /// see `residual_bound`). Default `1e-10`.
     pub residual_tol: f64,
     /// Iteration limit. Default `12`.
     pub max_iter: usize,

@@ -15,6 +15,9 @@
 //! `|z|^2 = -Re(lambda') (p - p_c) / Re(c1)` and component `j` oscillates with
 //! peak-to-peak amplitude `4 |q_j| |z|`.
 
+pub use crate::hopf_extended::{hopf_normal_form_extended, ExtendedHopf};
+pub use crate::hopf_series::{hopf_series, HopfSeries};
+
 use crate::error::ContinuationError;
 use crate::hopf_pencil::HopfPencil;
 use crate::linalg::eigenpair_near;
@@ -64,11 +67,11 @@ pub(crate) fn rounding_factor(n: usize) -> f64 {
 /// with a bound on the rounding error of `l1`.
 ///
 /// The critical vectors and resolvents come from the row-equilibrated pencil
-/// ([`HopfPencil`]), so that rows of size `1/m` (small inertia) never enter a
+/// (`HopfPencil`), so that rows of size `1/m` (small inertia) never enter a
 /// factorization. With `S_k = sum_i |p_i| |r_k,i|` the size of the `k`-th
 /// term before its own cancellation, `kappa_0`, `kappa_2` the componentwise
 /// condition numbers of the two resolvents and `e_q` the relative error of
-/// the critical vectors ([`HopfPencil::eigen_error`]),
+/// the critical vectors (`eigen_error`),
 ///
 /// ```text
 /// |error(c1)| <= (g (1 + kappa_0) + e_q) (S_1 + S_2 + S_3) + g (kappa_0 S_2 + kappa_2 S_3),   g = 8 n eps

@@ -1,8 +1,8 @@
 //! Fifth-order Hopf normal form against the Bautin normal form, whose
 //! coefficients are known, before and after a nonlinear change of coordinates.
 
-use continuation::hopf_series::hopf_series;
 use continuation::normal_form::hopf_normal_form;
+use continuation::normal_form::hopf_series;
 use continuation::{Scalar, VectorField};
 
 /// `Z' = i w Z + c1 Z |Z|^2 + c2 Z |Z|^4` in `x = (Re Z, Im Z)`, seen through the

@@ -1,6 +1,6 @@
 //! The engine on textbook systems whose bifurcations are known in closed form.
 
-use continuation::predictor_corrector::StepControl;
+use continuation::StepControl;
 use continuation::{Branch, ContinuationSettings, Direction, EventKind, Scalar, VectorField};
 
 /// Collects all located events of a branch, failing the test on any error.
@@ -113,7 +113,7 @@ fn hopf_normal_form_hopf_point_and_frequency() {
 /// and the radius `sqrt(-(p - p0) / c)` of the normal form at every orbit.
 #[test]
 fn cycles_switch_from_a_located_hopf_point() {
-    use continuation::periodic::branch::{CycleBranch, CycleSettings};
+    use continuation::periodic::{CycleBranch, CycleSettings};
     let sys = HopfNormalForm {
         p0: 0.37,
         w: 2.5,
@@ -230,7 +230,7 @@ fn neutral_saddle_is_not_reported_as_hopf() {
             point.param(),
             point.events
         );
-        let t = continuation::events::hopf_test(&point.eigenvalues);
+        let t = continuation::hopf_test(&point.eigenvalues);
         crossed |= prev_test.is_some_and(|a| a * t < 0.0);
         prev_test = Some(t);
     }

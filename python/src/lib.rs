@@ -7,7 +7,7 @@
 //! arrays. The pure-Python layer (`python/stickslip/__init__.py`) wraps
 //! these in `Scene` and result objects.
 
-use continuation::periodic::mesh::CollocationPoints;
+use continuation::periodic::CollocationPoints;
 use continuation::AsIs;
 use numpy::ndarray::Array2;
 use numpy::IntoPyArray;

@@ -366,7 +366,7 @@ pub fn steady_extrema(p: &AdhesiveParams, lo: f64, hi: f64) -> Vec<(f64, bool)> 
             let (f0, f1) = (slope(w[0]), slope(w[1]));
             (f0.signum() != f1.signum() && f0 != 0.0).then(|| {
                 let ok = |w: f64| Ok::<f64, std::convert::Infallible>(slope(w));
-                let Ok(br) = continuation::root::illinois(
+                let Ok(br) = continuation::illinois(
                     ok,
                     (w[0], f0),
                     (w[1], f1),

@@ -3,7 +3,7 @@
 use crate::error::NumericalError;
 use crate::model::{steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
-use continuation::predictor_corrector::StepControl;
+use continuation::StepControl;
 use continuation::{Branch, BranchPoint, ContinuationSettings, Direction};
 
 /// The branch to trace: the parameter and its range.

@@ -24,7 +24,7 @@ use crate::error::{closest, Error, InputError, NumericalError};
 use crate::model::{steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
 use crate::scene::Units;
-use continuation::predictor_corrector::StepControl;
+use continuation::StepControl;
 use continuation::{Branch, ContinuationSettings, Direction, EventKind};
 
 /// A control parameter of the rig.
@@ -960,7 +960,7 @@ pub struct CyclesInRequest {
     /// with the parameter it is a fold of cycles in, if it is one.
     pub stored: Option<(
         crate::log_model::LogBlock,
-        continuation::periodic::cycle::Cycle,
+        continuation::periodic::Cycle,
         Option<Param>,
     )>,
     /// Step limit, mesh and collocation as for a stiffness branch (its

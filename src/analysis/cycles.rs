@@ -14,14 +14,14 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
-pub use continuation::periodic::branch::Stability;
-use continuation::periodic::branch::{
+use continuation::periodic::CollocationPoints;
+use continuation::periodic::Cycle;
+pub use continuation::periodic::Stability;
+use continuation::periodic::{
     CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization, FloquetPolicy,
     WhenUndecidable,
 };
-use continuation::periodic::cycle::Cycle;
-use continuation::periodic::mesh::CollocationPoints;
-use continuation::predictor_corrector::StepControl;
+use continuation::StepControl;
 pub use continuation::Stop;
 use continuation::{Complex64, VectorField};
 

@@ -16,10 +16,10 @@ use crate::analysis::model_choice::{inertia_decides, params_for, ModelChoice};
 use crate::error::NumericalError;
 use crate::model::{full_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
-use continuation::arclength::CurveControl;
 use continuation::codim2::{CurveSettings, HopfCurve, HopfCurvePoint};
-use continuation::hopf_series::hopf_series;
-use continuation::predictor_corrector::StepControl;
+use continuation::normal_form::hopf_series;
+use continuation::CurveControl;
+use continuation::StepControl;
 use continuation::Stop;
 use continuation::{AsIs, ContinuationSettings, LogParameters, NewtonSettings, VectorField, Wrap};
 

@@ -2,22 +2,22 @@
 //!
 //! The steady branch is continued in `kappa` from a stable stiffness downward;
 //! the Hopf test function's sign change is located by Newton's method on the
-//! minimally augmented Hopf system (engine, [`continuation::events`]). The
+//! minimally augmented Hopf system (engine, [`continuation::locate_hopf`]). The
 //! closed forms of Appendix C are not used to find the point.
 
 use crate::appendix_c;
 use crate::error::NumericalError;
 use crate::model::{full_state, steady_state, DrivenBlock, ModelKind};
 use crate::params::{Param, Params};
-use continuation::double_double::DoubleDouble;
-use continuation::hopf_extended::hopf_normal_form_extended;
-use continuation::hopf_series::hopf_series;
-use continuation::linalg::{count_unstable, eigenvalues};
+use continuation::normal_form::hopf_normal_form_extended;
+use continuation::normal_form::hopf_series;
 use continuation::normal_form::{
     eigenvalue_derivative, hopf_normal_form, onset_law, HopfNormalForm,
 };
-use continuation::predictor_corrector::StepControl;
 use continuation::system::jacobian;
+use continuation::DoubleDouble;
+use continuation::StepControl;
+use continuation::{count_unstable, eigenvalues};
 use continuation::{
     AsIs, Branch, Complex64, ContinuationError, ContinuationSettings, Direction, EventKind,
     NewtonSettings, VectorField, Wrap,
@@ -115,7 +115,7 @@ pub enum Arithmetic {
     /// `f64` throughout.
     Double,
     /// The Hopf point and the normal form recomputed in double-double
-    /// ([`continuation::hopf_extended`]), where `f64` left fewer than
+    /// ([`continuation::normal_form::hopf_normal_form_extended`]), where `f64` left fewer than
     /// [`EXTENDED_DIGITS`] digits.
     DoubleDouble,
 }
@@ -475,7 +475,7 @@ fn hopf_from_closed_form<F: Wrap>(
     let mut p = *params;
     p.kappa = kappa_c;
     let x0 = steady_state(kind, &p);
-    let located = continuation::events::locate_hopf(
+    let located = continuation::locate_hopf(
         &block,
         Param::Kappa as usize,
         &x0,

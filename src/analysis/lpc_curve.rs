@@ -13,11 +13,11 @@ use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
-use continuation::error::ContinuationError;
-use continuation::periodic::branch::{CycleEvent, CycleSettings, Discretization, FloquetPolicy};
-use continuation::periodic::cycle::Cycle;
-use continuation::periodic::lpc::{LpcCurve, LpcCurveSettings};
-use continuation::predictor_corrector::StepControl;
+use continuation::periodic::Cycle;
+use continuation::periodic::{CycleEvent, CycleSettings, Discretization, FloquetPolicy};
+use continuation::periodic::{LpcCurve, LpcCurveSettings};
+use continuation::ContinuationError;
+use continuation::StepControl;
 use continuation::{ContinuationSettings, VectorField, Wrap};
 
 /// Mesh intervals of the cycles a curve of folds starts on.

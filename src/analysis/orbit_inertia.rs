@@ -26,7 +26,7 @@
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
-use continuation::periodic::cycle::Cycle;
+use continuation::periodic::Cycle;
 use continuation::system::VectorField;
 
 /// Orbit samples per mesh interval for [`inertial_imbalance`]: the adapted

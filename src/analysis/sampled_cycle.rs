@@ -18,9 +18,9 @@ use super::simulate::integration_stop;
 use crate::log_model::LogBlock;
 use crate::params::Params;
 use continuation::integrate::{Output, Radau5, Settings, Solution};
-use continuation::periodic::adapt::equidistribute;
-use continuation::periodic::cycle::Cycle;
-use continuation::periodic::mesh::Mesh;
+use continuation::periodic::equidistribute;
+use continuation::periodic::Cycle;
+use continuation::periodic::Mesh;
 use continuation::VectorField;
 
 /// Collocation degree of the sampled cycle (the engine's default).

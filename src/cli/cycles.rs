@@ -16,7 +16,7 @@ use crate::records::csv::{header, row};
 use crate::records::cycle::{Cycle, CycleSpecialPoint, OperatingCycle, Requested};
 use crate::records::orbit::StoredOrbit;
 use clap::Args;
-use continuation::periodic::mesh::CollocationPoints;
+use continuation::periodic::CollocationPoints;
 use indicatif::ProgressBar;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -30,7 +30,7 @@ use crate::records::hopf::OperatingPoint;
 use crate::records::orbit::{points_name, Source, StoredOrbit};
 use crate::records::{params_json, UnitsRecord};
 use crate::scene::Units;
-use continuation::periodic::mesh::CollocationPoints;
+use continuation::periodic::CollocationPoints;
 use serde::Serialize;
 use serde_json::Value;
 
@@ -1019,8 +1019,6 @@ fn numerics(points: CollocationPoints, forced: bool, kind: ModelKind) -> String 
             CollocationPoints::Gauss => "Gauss-Legendre",
             CollocationPoints::Radau => "Radau IIA",
         },
-        continuation::periodic::branch::CycleSettings::default()
-            .mesh
-            .degree
+        continuation::periodic::CycleSettings::default().mesh.degree
     )
 }

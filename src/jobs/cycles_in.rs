@@ -26,7 +26,7 @@ use crate::records::orbit::Source;
 use crate::records::params_json;
 use crate::records::UnitsRecord;
 use crate::scene::Units;
-use continuation::periodic::mesh::CollocationPoints;
+use continuation::periodic::CollocationPoints;
 use serde::Serialize;
 use serde_json::Value;
 

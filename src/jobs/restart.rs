@@ -48,7 +48,7 @@ pub struct Restarted {
     pub orbit: StoredOrbit,
     /// Its variables and the cycle on its mesh.
     pub log: LogBlock,
-    pub cycle: continuation::periodic::cycle::Cycle,
+    pub cycle: continuation::periodic::Cycle,
     /// The run's `kappa_c` (the Hopf point's stiffness), if it had one.
     pub kappa_c: Option<f64>,
     /// The stiffness the run measured its range against (`--kappa-fraction`):

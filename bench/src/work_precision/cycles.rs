@@ -13,11 +13,11 @@
 
 use super::{points, render_figure, time_it, Measurement};
 use crate::{reference_cycle, ReferenceCycle};
-use continuation::periodic::adapt::equidistribute;
-use continuation::periodic::branch::{CycleBranch, CycleSettings, Discretization, FloquetPolicy};
-use continuation::periodic::cycle::Cycle;
-use continuation::periodic::mesh::Mesh;
-use continuation::predictor_corrector::StepControl;
+use continuation::periodic::equidistribute;
+use continuation::periodic::Cycle;
+use continuation::periodic::Mesh;
+use continuation::periodic::{CycleBranch, CycleSettings, Discretization, FloquetPolicy};
+use continuation::StepControl;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 use stickslip::analysis::hopf::{find_hopf, HopfOutcome};

@@ -4,7 +4,7 @@
 //! quasi-static ln² closed form).
 
 use super::{methods, points, render_figure, time_it, Measurement};
-use continuation::linalg::eigenpair_near;
+use continuation::eigenpair_near;
 use continuation::normal_form::hopf_normal_form;
 use continuation::system::{eval, jacobian};
 use continuation::AsIs;

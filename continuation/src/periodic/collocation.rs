@@ -136,11 +136,6 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         }
     }
 
-    /// Number of unknowns `N + 2`.
-    pub fn n_unknowns(&self) -> usize {
-        self.mesh.n_nodes() * self.sys.dim() + 2
-    }
-
     /// The orbit described by unknowns `z`.
     pub fn cycle(&self, z: &[f64]) -> Cycle {
         let nn = self.mesh.n_nodes() * self.sys.dim();

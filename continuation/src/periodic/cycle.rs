@@ -101,7 +101,7 @@ impl Cycle {
     /// (`O(h^(2m))` with Gauss points, `O(h^(2m-1))` with Radau points, like
     /// the period). An extreme is therefore not read off the polynomial: it
     /// is bracketed by the extreme of 8 samples per interval, and then
-    /// maximised (Brent, started from the polynomial's extreme: [`Cycle::extreme_in`]) over the value of [`Cycle::step_from_node`] — one
+    /// maximised (Brent, started from the polynomial's extreme: `extreme_in`) over the value of [`Cycle::step_from_node`] — one
     /// collocation step of the same points from the mesh point before it, whose
     /// end value carries the mesh point's accuracy plus a local error
     /// `O(delta^(2m+1))` (Gauss) or `O(delta^(2m))` (Radau).

@@ -1,12 +1,24 @@
 //! Periodic orbits: orthogonal collocation, Floquet multipliers, and
 //! continuation of cycles from a Hopf point.
 
-pub mod adapt;
-pub mod bordered;
-pub mod branch;
-pub mod collocation;
-pub mod cycle;
-pub mod floquet;
-pub mod lpc;
-pub mod mesh;
-pub mod newton;
+mod adapt;
+mod bordered;
+mod branch;
+mod collocation;
+mod cycle;
+mod floquet;
+mod lpc;
+mod mesh;
+mod newton;
+
+pub use adapt::equidistribute;
+pub use branch::{
+    CycleBranch, CycleEvent, CyclePoint, CycleSettings, Discretization, FloquetPolicy, Stability,
+    WhenUndecidable,
+};
+pub use cycle::Cycle;
+pub use lpc::{locate_lpc, FoldsOfCycles, LpcCurve, LpcCurveSettings};
+pub use mesh::{CollocationPoints, Mesh};
+
+#[cfg(test)]
+mod tests;

@@ -7,8 +7,8 @@ use super::onset::AdhesiveOnset;
 use crate::adhesive::block::AdhesiveModel;
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::error::NumericalError;
-use continuation::periodic::branch::{CycleBranch, CyclePoint, CycleSettings};
-use continuation::periodic::mesh::CollocationPoints;
+use continuation::periodic::CollocationPoints;
+use continuation::periodic::{CycleBranch, CyclePoint, CycleSettings};
 
 /// One cycle, dimensionless.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -85,7 +85,7 @@ pub fn trace<B: AdhesiveModel>(
         p_min: kappa_to,
         user_points: vec![kappa_to],
         param_floor: kappa_to.min(onset.kappa_c) * 1e-3,
-        mesh: continuation::periodic::branch::Discretization {
+        mesh: continuation::periodic::Discretization {
             points: CollocationPoints::Radau,
             ntst_max,
             ..Default::default()

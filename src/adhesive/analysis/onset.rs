@@ -9,7 +9,7 @@ use crate::adhesive::block::{self, AdhesiveModel};
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::analysis::hopf::{onset_at, Criticality};
 use crate::error::NumericalError;
-use continuation::predictor_corrector::StepControl;
+use continuation::StepControl;
 use continuation::{Branch, ContinuationSettings, Direction, EventKind};
 
 /// A located onset.

@@ -10,9 +10,9 @@ use crate::adhesive::block::{self, AdhesiveModel};
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::analysis::hopf::{onset_at, Criticality};
 use crate::error::NumericalError;
-use continuation::events::locate_hopf;
-use continuation::linalg::{count_unstable, eigenvalues};
+use continuation::locate_hopf;
 use continuation::system::jacobian;
+use continuation::{count_unstable, eigenvalues};
 use continuation::{EventKind, NewtonSettings};
 
 /// A point of steady sliding, dimensionless.

@@ -58,7 +58,7 @@ pub struct CycleSettings {
     /// How the Floquet multipliers are made accurate enough to decide.
     pub floquet: FloquetPolicy,
     /// Step-size control of the pseudo-arclength steps (norm of
-    /// [`ArcWeights`]). Default: `ds = 1e-3`, `ds_min = 1e-12`,
+    /// `ArcWeights`). Default: `ds = 1e-3`, `ds_min = 1e-12`,
     /// `ds_max = 0.5`, growth 1.3 after at most 3 Newton iterations, turns of
     /// the tangent up to `acos 0.8`.
     pub step: StepControl,
@@ -222,7 +222,7 @@ pub enum Stability {
     /// multiplier `modulus` lies within `error` of the unit circle.
     Undecidable { modulus: f64, error: f64 },
     /// The Floquet pencil left `missing` nontrivial multipliers undetermined
-    /// (singular to rounding, see [`super::floquet::pencil_multipliers`]).
+    /// (singular to rounding, see `pencil_multipliers`).
     Undetermined { missing: usize },
     /// Rounding swamps the multipliers: the trivial one is off by
     /// `trivial_error` (`None`: the pencil did not determine it), beyond
@@ -332,7 +332,7 @@ fn collapsed<S: VectorField>(sys: &S, located: &CyclePoint, before: &Cycle) -> b
 pub struct CyclePoint {
     pub cycle: Cycle,
     /// Floquet multipliers by decreasing modulus (including the trivial one),
-    /// those the pencil determined ([`super::floquet::pencil_multipliers`]).
+    /// those the pencil determined (`pencil_multipliers`).
     pub multipliers: Vec<Complex64>,
     /// Index of the trivial multiplier in `multipliers`, when determined.
     pub trivial: Option<usize>,
@@ -349,7 +349,7 @@ pub struct CyclePoint {
     /// renewed every fifth orbit, and the last estimate is reported in between.
     pub error_estimate: f64,
     /// Multipliers outside the unit circle by more than their error
-    /// ([`multiplier_error`]), the trivial one excluded.
+    /// (`multiplier_error`), the trivial one excluded.
     pub n_unstable: usize,
     /// Stability decided with the multipliers' error.
     pub stability: Stability,

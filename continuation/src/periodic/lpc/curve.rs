@@ -87,7 +87,7 @@ impl Default for LpcCurveSettings {
 /// [`Stop::MaxSteps`], or after the first error.
 pub type LpcCurve<'a, S> = Driver<FoldsOfCycles<'a, S>>;
 
-/// The [`Curve`] of an [`LpcCurve`].
+/// The `Curve` of an [`LpcCurve`].
 pub struct FoldsOfCycles<'a, S: VectorField> {
     sys: &'a S,
     k1: usize,
