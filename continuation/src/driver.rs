@@ -1,8 +1,8 @@
 //! The one continuation driver: every curve of the crate — branches of
 //! equilibria ([`crate::branch::Branch`]), Hopf and fold curves
 //! ([`crate::codim2`]), cycle branches
-//! ([`crate::periodic::branch::CycleBranch`]) and curves of folds of cycles
-//! ([`crate::periodic::lpc::LpcCurve`]) — is a [`Curve`] (its start, and
+//! ([`crate::periodic::CycleBranch`]) and curves of folds of cycles
+//! ([`crate::periodic::LpcCurve`]) — is a [`Curve`] (its start, and
 //! one step on from its last point, with the step of
 //! [`crate::predictor_corrector`] inside) iterated by [`Driver`], which owns
 //! the count of steps, the [`Stop`] and the end after an error.
@@ -24,7 +24,7 @@ use std::fmt;
 /// A special point located between two points of a curve, attached to the
 /// later one: its `kind` (the curve's vocabulary:
 /// [`crate::events::EventKind`], [`crate::codim2::HopfCurveEvent`],
-/// [`crate::periodic::branch::CycleEvent`]), the located `point` (a point of
+/// [`crate::periodic::CycleEvent`]), the located `point` (a point of
 /// the curve, or of the equilibrium at the bifurcation), and its `error`.
 #[derive(Clone, Debug)]
 pub struct Event<K, P> {
@@ -35,7 +35,7 @@ pub struct Event<K, P> {
     /// Its error: the last Newton step of the location (equilibria), the
     /// bound on the rounding error of `l1` (a Bautin point), the estimated
     /// discretization error of the orbit (cycles; see
-    /// [`crate::periodic::branch::CyclePoint::error_estimate`]).
+    /// [`crate::periodic::CyclePoint::error_estimate`]).
     pub error: f64,
 }
 

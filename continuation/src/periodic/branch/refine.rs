@@ -25,8 +25,8 @@ use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
-use crate::periodic::cycle::Cycle;
-use crate::periodic::mesh::Mesh;
+use crate::periodic::Cycle;
+use crate::periodic::Mesh;
 use crate::periodic::newton::{
     chord_bordered, correct_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
 };
