@@ -6,6 +6,8 @@
 //! §IV.5), which make the scheme L-stable for stiff orbits.
 
 use smallvec::SmallVec;
+use std::ops::Deref;
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// Gauss–Legendre points on `(0, 1)` and their weights, by Newton's method
 /// on the Legendre polynomial `P_m` (three-term recurrence).
@@ -144,11 +146,13 @@ pub enum CollocationPoints {
     Radau,
 }
 
-/// A collocation mesh with its precomputed basis tables.
-#[derive(Clone, Debug)]
-pub struct Mesh {
-    /// Mesh points `0 = t_0 < ... < t_NTST = 1`.
-    pub t: Vec<f64>,
+/// The collocation tableau of one degree and kind of collocation points:
+/// the points on `(0, 1]`, their quadrature weights and the Lagrange basis
+/// on the interval's `m + 1` equidistant nodes, with its derivative, at
+/// each point. Built once per degree and kind ([`Tableau::shared`]) and
+/// shared by every mesh that uses it.
+#[derive(Debug, PartialEq)]
+pub struct Tableau {
     /// Polynomial degree `m`.
     pub degree: usize,
     /// Which collocation points.
@@ -162,21 +166,14 @@ pub struct Mesh {
     pub dbasis: Vec<Vec<f64>>,
 }
 
-impl Mesh {
-    /// A Gauss mesh on the given points (strictly increasing, from 0 to 1).
-    pub fn new(t: Vec<f64>, degree: usize) -> Self {
-        Mesh::with_points(t, degree, CollocationPoints::Gauss)
-    }
-
-    /// A mesh on the given points with the given collocation points.
-    pub fn with_points(t: Vec<f64>, degree: usize, points: CollocationPoints) -> Self {
+impl Tableau {
+    fn new(degree: usize, points: CollocationPoints) -> Self {
         let (nodes, weights) = match points {
             CollocationPoints::Gauss => gauss_legendre(degree),
             CollocationPoints::Radau => radau_right(degree),
         };
         let (basis, dbasis) = nodes.iter().map(|&z| lagrange(degree, z)).unzip();
-        Mesh {
-            t,
+        Tableau {
             degree,
             points,
             nodes,
@@ -186,18 +183,62 @@ impl Mesh {
         }
     }
 
-    /// A mesh of the same degree and collocation points on other mesh
-    /// points; the points, weights and basis tables are this mesh's (the
-    /// Radau points are found by bisection: not again for every new mesh).
+    /// The tableau of `degree` and `points`: built at the first request
+    /// (the Radau points by bisection), the same one afterwards.
+    pub fn shared(degree: usize, points: CollocationPoints) -> Arc<Tableau> {
+        static BUILT: Mutex<Vec<Arc<Tableau>>> = Mutex::new(Vec::new());
+        // A panic elsewhere while the list was held leaves it intact
+        // (entries are pushed whole): poisoning is no reason to fail.
+        let mut built = BUILT.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(t) = built
+            .iter()
+            .find(|t| t.degree == degree && t.points == points)
+        {
+            return Arc::clone(t);
+        }
+        let tableau = Arc::new(Tableau::new(degree, points));
+        built.push(Arc::clone(&tableau));
+        tableau
+    }
+}
+
+/// A collocation mesh: its points and the shared [`Tableau`] of its degree
+/// and collocation points (read through the mesh: `mesh.degree`,
+/// `mesh.basis`, ...). A clone copies the mesh points only.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    /// Mesh points `0 = t_0 < ... < t_NTST = 1`.
+    pub t: Vec<f64>,
+    tableau: Arc<Tableau>,
+}
+
+impl Deref for Mesh {
+    type Target = Tableau;
+
+    fn deref(&self) -> &Tableau {
+        &self.tableau
+    }
+}
+
+impl Mesh {
+    /// A Gauss mesh on the given points (strictly increasing, from 0 to 1).
+    pub fn new(t: Vec<f64>, degree: usize) -> Self {
+        Mesh::with_points(t, degree, CollocationPoints::Gauss)
+    }
+
+    /// A mesh on the given points with the given collocation points.
+    pub fn with_points(t: Vec<f64>, degree: usize, points: CollocationPoints) -> Self {
+        Mesh {
+            t,
+            tableau: Tableau::shared(degree, points),
+        }
+    }
+
+    /// A mesh of the same degree and collocation points on other mesh points.
     pub fn on(&self, t: Vec<f64>) -> Self {
         Mesh {
             t,
-            degree: self.degree,
-            points: self.points,
-            nodes: self.nodes.clone(),
-            weights: self.weights.clone(),
-            basis: self.basis.clone(),
-            dbasis: self.dbasis.clone(),
+            tableau: Arc::clone(&self.tableau),
         }
     }
 

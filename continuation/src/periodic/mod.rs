@@ -18,7 +18,7 @@ pub use branch::{
 };
 pub use cycle::Cycle;
 pub use lpc::{locate_lpc, FoldsOfCycles, LpcCurve, LpcCurveSettings};
-pub use mesh::{CollocationPoints, Mesh};
+pub use mesh::{CollocationPoints, Mesh, Tableau};
 
 #[cfg(test)]
 mod tests;

@@ -25,11 +25,11 @@ use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
-use crate::periodic::Cycle;
-use crate::periodic::Mesh;
 use crate::periodic::newton::{
     chord_bordered, correct_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
 };
+use crate::periodic::Cycle;
+use crate::periodic::Mesh;
 use crate::system::VectorField;
 
 /// The share of the distance of the nontrivial multipliers from the unit

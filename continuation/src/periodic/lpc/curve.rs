@@ -8,9 +8,9 @@ use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::branch::{CycleEvent, CyclePoint};
-use crate::periodic::Cycle;
-use crate::periodic::CollocationPoints;
 use crate::periodic::newton::unit_row;
+use crate::periodic::CollocationPoints;
+use crate::periodic::Cycle;
 use crate::predictor_corrector::{self, Corrected, CurveProblem, StepControl};
 use crate::system::VectorField;
 
