@@ -23,7 +23,8 @@ fn log(p: &Params) -> LogBlock {
 }
 
 /// The fold on the branch of cycles born at the Hopf point of `p` (route 1:
-/// sign change of dp/ds, located by regula falsi) and the orbit before it.
+/// sign change of dp/ds, located by regula falsi) and the branch's orbit
+/// nearest to it in the stiffness (the one before it or the first past it).
 fn fold_on_branch(p: &Params) -> (CyclePoint, CyclePoint) {
     fold_on_branch_with(p, CollocationPoints::Gauss)
 }
@@ -53,7 +54,15 @@ fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, Cy
     for pt in branch {
         let pt = pt.unwrap();
         if let Some(lpc) = pt.event(CycleEvent::Fold) {
-            return (lpc.clone(), previous.unwrap());
+            let before: CyclePoint = previous.expect("a cycle before the fold");
+            let kappa = |c: &CyclePoint| c.cycle.p[Param::Kappa as usize];
+            let distance = |c: &CyclePoint| (kappa(c) - kappa(lpc)).abs();
+            let nearest = if distance(&pt) < distance(&before) {
+                pt.clone()
+            } else {
+                before
+            };
+            return (lpc.clone(), nearest);
         }
         previous = Some(pt);
     }
@@ -62,9 +71,11 @@ fn fold_on_branch_with(p: &Params, points: CollocationPoints) -> (CyclePoint, Cy
 
 #[test]
 fn fold_of_cycles_by_two_routes_and_against_auto() {
-    let (fold, before) = fold_on_branch(&brockley(90.0));
+    let (fold, nearest) = fold_on_branch(&brockley(90.0));
     let route1 = fold.cycle.p[Param::Kappa as usize];
-    // Route 2: Newton on the minimally augmented system from the orbit before the fold.
+    // Route 2: Newton on the minimally augmented system from the branch's
+    // orbit nearest to the fold (chord steps make the branch's steps longer:
+    // the orbit before it may lie 1.3 % away, outside Newton's basin).
     let newton = NewtonSettings {
         step_tol: 1e-12,
         residual_tol: 1e-10,
@@ -72,7 +83,7 @@ fn fold_of_cycles_by_two_routes_and_against_auto() {
     };
     let route2 = locate_lpc(
         &log(&brockley(90.0)),
-        &before.cycle,
+        &nearest.cycle,
         Param::Kappa as usize,
         &newton,
     )
