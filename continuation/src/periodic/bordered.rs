@@ -277,8 +277,8 @@ impl CyclicReduction {
     /// the storage when the mesh has the same shape.
     pub fn factor(&mut self, lin: &Linearization) {
         let n = self.n;
-        let ntst = lin.local.len();
-        let mn = lin.local[0].nrows();
+        let ntst = lin.blocks.count();
+        let mn = lin.blocks.shape().0;
         let m = mn / n;
         if self.m != m || self.intervals.len() != ntst {
             self.m = m;
@@ -316,9 +316,13 @@ impl CyclicReduction {
         }
         // Every column of `ends` is overwritten for each interval.
         let ends = &mut scratch.ends;
-        for (i, (iv, block)) in self.intervals.iter_mut().zip(&lin.local).enumerate() {
+        for (i, (iv, data)) in self
+            .intervals
+            .iter_mut()
+            .zip(lin.blocks.slices())
+            .enumerate()
+        {
             // Column-major: column c of the block is data[c mn..(c + 1) mn].
-            let data = block.as_slice();
             let column = |c: usize| &data[c * mn..(c + 1) * mn];
             iv.scale.fill(0.0);
             for c in 0..(m + 1) * n {
@@ -925,6 +929,7 @@ fn finite(x: Vec<f64>) -> Result<Vec<f64>, ContinuationError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::periodic::collocation::Blocks;
     use crate::periodic::newton::OrbitJacobian;
 
     /// A small deterministic pseudo-random sequence in (-1, 1).
@@ -959,7 +964,7 @@ mod tests {
         dense.view_mut((0, nn), (1, k)).fill(0.0);
         let lin = Linearization {
             residual: Vec::new(),
-            local: locals,
+            blocks: Blocks::from_matrices(&locals),
             phase: dense.row(0).columns(0, nn).iter().copied().collect(),
             term_scale: 0.0,
             trace_integral: 0.0,
@@ -972,7 +977,8 @@ mod tests {
             .columns_mut(0, j)
             .copy_from(&lin.border_columns().columns(0, j));
         let mut full = DMatrix::zeros(dim, dim);
-        for (i, b) in lin.local.iter().enumerate() {
+        for i in 0..ntst {
+            let b = lin.blocks.block(i);
             for r in 0..mn {
                 for l in 0..=m {
                     let node = (i * m + l) % (ntst * m);

@@ -23,7 +23,7 @@
 use super::cycle::Cycle;
 use super::mesh::Mesh;
 use crate::system::{implicit_first_order, VectorField};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixView};
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
@@ -47,9 +47,8 @@ pub struct Collocation<'a, S: VectorField> {
 pub struct Linearization {
     /// Collocation residuals (interval-major, `N` values), then the phase condition.
     pub residual: Vec<f64>,
-    /// Interval `i`'s Jacobian rows (`m n` of them) on its `m + 1` nodes
-    /// (`n` columns each), then on `T` and `p_k`.
-    pub local: Vec<DMatrix<f64>>,
+    /// The intervals' Jacobian blocks in one slab ([`Blocks`]).
+    pub blocks: Blocks,
     /// The phase condition's row on the node values (it involves neither `T` nor `p_k`).
     pub phase: Vec<f64>,
     /// Largest size of the terms of a collocation residual and of its
@@ -82,17 +81,87 @@ pub(crate) struct LinearizeScratch {
 /// [`implicit_first_order`]; empty for the explicit form).
 type PointScratch = (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>);
 
+/// The Jacobian blocks of the collocation rows, one per interval, in one
+/// contiguous slab: interval `i`'s block (its `m n` rows on its `m + 1`
+/// nodes, `n` columns each, then on `T` and `p_k`) is column-major at
+/// `data[i rows cols..(i + 1) rows cols]`.
+#[derive(Clone, Debug, Default)]
+pub struct Blocks {
+    data: Vec<f64>,
+    rows: usize,
+    cols: usize,
+}
+
+impl Blocks {
+    /// `count` blocks of `rows x cols`, zero.
+    pub fn zeros(count: usize, (rows, cols): (usize, usize)) -> Self {
+        Blocks {
+            data: vec![0.0; count * rows * cols],
+            rows,
+            cols,
+        }
+    }
+
+    /// Makes it `count` blocks of `rows x cols` (keeps the storage and its
+    /// values when the shape is already that).
+    fn reshape(&mut self, count: usize, (rows, cols): (usize, usize)) {
+        if (self.rows, self.cols) != (rows, cols) || self.data.len() != count * rows * cols {
+            *self = Blocks::zeros(count, (rows, cols));
+        }
+    }
+
+    /// Number of blocks (intervals).
+    pub fn count(&self) -> usize {
+        self.data
+            .len()
+            .checked_div(self.rows * self.cols)
+            .unwrap_or(0)
+    }
+
+    /// The shape `(rows, cols)` of every block.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+
+    /// Block `i`, column-major.
+    pub fn slice(&self, i: usize) -> &[f64] {
+        let size = self.rows * self.cols;
+        &self.data[i * size..(i + 1) * size]
+    }
+
+    /// Block `i` as a matrix view.
+    pub fn block(&self, i: usize) -> DMatrixView<'_, f64> {
+        DMatrixView::from_slice(self.slice(i), self.rows, self.cols)
+    }
+
+    /// The blocks in order, column-major.
+    pub fn slices(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.data.chunks_exact((self.rows * self.cols).max(1))
+    }
+
+    /// The blocks from matrices of one shape.
+    #[cfg(test)]
+    pub fn from_matrices(blocks: &[DMatrix<f64>]) -> Self {
+        let (rows, cols) = blocks.first().map_or((0, 0), |b| b.shape());
+        Blocks {
+            data: blocks.iter().flat_map(|b| b.iter().copied()).collect(),
+            rows,
+            cols,
+        }
+    }
+}
+
 impl Linearization {
     /// The border columns `dF/dT`, `dF/dp_k` of the collocation rows
     /// (interval-major, `N x 2`).
     pub fn border_columns(&self) -> DMatrix<f64> {
-        let mn = self.local[0].nrows();
-        let nodes = self.local[0].ncols() - 2;
-        let mut columns = DMatrix::zeros(self.local.len() * mn, 2);
-        for (i, block) in self.local.iter().enumerate() {
+        let (mn, cols) = self.blocks.shape();
+        let nodes = cols - 2;
+        let mut columns = DMatrix::zeros(self.blocks.count() * mn, 2);
+        for i in 0..self.blocks.count() {
             columns
                 .rows_mut(i * mn, mn)
-                .copy_from(&block.columns(nodes, 2));
+                .copy_from(&self.blocks.block(i).columns(nodes, 2));
         }
         columns
     }
@@ -182,9 +251,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         p.extend_from_slice(&self.p);
         p[self.k] = z[nn + 1];
         let p = &*p;
-        if lin.local.len() != ntst || lin.local.first().map(|b| b.shape()) != Some((mn, ncols)) {
-            lin.local = vec![DMatrix::zeros(mn, ncols); ntst];
-        }
+        lin.blocks.reshape(ntst, (mn, ncols));
         lin.residual.resize(nn + 1, 0.0);
         // Each interval's phase-row entries on its m + 1 nodes (neighbours
         // share a node), added up after.
@@ -213,8 +280,9 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let parts = &mut scratch.parts;
         parts.clear();
         if ntst >= PARALLEL_INTERVALS {
-            lin.local
-                .par_iter_mut()
+            lin.blocks
+                .data
+                .par_chunks_exact_mut(mn * ncols)
                 .zip(lin.residual[..nn].par_chunks_exact_mut(mn))
                 .zip(phase_parts.par_chunks_exact_mut((m + 1) * n))
                 .enumerate()
@@ -227,8 +295,9 @@ impl<'a, S: VectorField> Collocation<'a, S> {
                 *jac = jacobian();
             }
             parts.extend(
-                lin.local
-                    .iter_mut()
+                lin.blocks
+                    .data
+                    .chunks_exact_mut(mn * ncols)
                     .zip(lin.residual[..nn].chunks_exact_mut(mn))
                     .zip(phase_parts.chunks_exact_mut((m + 1) * n))
                     .enumerate()
@@ -377,7 +446,6 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let (fp, rho) = rest.split_at_mut(n);
         rho.fill(1.0);
         // Column-major: entry (r, c) of the block at `c mn + r`.
-        let block = block.as_mut_slice();
         for kk in 0..m {
             let row0 = kk * n;
             row_sums.fill(0.0);
@@ -441,10 +509,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
 
 /// Where [`Collocation::interval`] writes: the interval's block, its
 /// residuals and its phase-row entries.
-type IntervalOut<'o> = (&'o mut DMatrix<f64>, &'o mut [f64], &'o mut [f64]);
+type IntervalOut<'o> = (&'o mut [f64], &'o mut [f64], &'o mut [f64]);
 
 /// [`IntervalOut`] as the iterators zip it.
-type Zipped<'o> = ((&'o mut DMatrix<f64>, &'o mut [f64]), &'o mut [f64]);
+type Zipped<'o> = ((&'o mut [f64], &'o mut [f64]), &'o mut [f64]);
 
 /// One interval's terms of the phase residual, the term scale (a maximum)
 /// and the trace integral; also their totals over the mesh.

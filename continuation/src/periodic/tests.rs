@@ -714,7 +714,7 @@ fn implicit_form_jacobian_matches_central_differences_of_its_residual() {
             let (up, down) = (at(h), at(-h));
             for r in 0..m * n {
                 let fd = (up[r] - down[r]) / (2.0 * h);
-                let exact = lin.local[i][(r, col)];
+                let exact = lin.blocks.block(i)[(r, col)];
                 assert!(
                     (fd - exact).abs() <= 1e-7 * (1.0 + exact.abs()),
                     "interval {i} row {r} column {col}: {exact} vs differences {fd}"
