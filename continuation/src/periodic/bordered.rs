@@ -574,6 +574,42 @@ impl SmallLu {
     }
 }
 
+impl SmallLu {
+    /// `g <- A^{-T} g` from the same factors; `false` when `A` is singular.
+    /// With `P A Q = L U` (nalgebra's `FullPivLU`: `A^{-1} = Q U^{-1} L^{-1}
+    /// P`), `A^{-T} = P^T L^{-T} U^{-T} Q^T`.
+    fn solve_transpose_mut(&self, g: &mut DVector<f64>) -> bool {
+        fn fixed<const D: usize>(
+            lu: &FullPivLU<f64, Const<D>, Const<D>>,
+            g: &mut DVector<f64>,
+        ) -> bool
+        where
+            Const<D>: nalgebra::DimMin<Const<D>, Output = Const<D>>,
+        {
+            let mut b = SVector::<f64, D>::from_column_slice(g.as_slice());
+            lu.q().permute_rows(&mut b);
+            let ok = lu.u().tr_solve_upper_triangular_mut(&mut b)
+                && lu.l().tr_solve_lower_triangular_mut(&mut b);
+            lu.p().inv_permute_rows(&mut b);
+            g.copy_from_slice(b.as_slice());
+            ok
+        }
+        match self {
+            SmallLu::L3(lu) => fixed(lu, g),
+            SmallLu::L4(lu) => fixed(lu, g),
+            SmallLu::L5(lu) => fixed(lu, g),
+            SmallLu::L6(lu) => fixed(lu, g),
+            SmallLu::Dynamic(lu) => {
+                lu.q().permute_rows(g);
+                let ok = lu.u().tr_solve_upper_triangular_mut(g)
+                    && lu.l().tr_solve_lower_triangular_mut(g);
+                lu.p().inv_permute_rows(g);
+                ok
+            }
+        }
+    }
+}
+
 /// `target` holds a matrix of shape `shape` (its entries arbitrary), reusing its storage.
 fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
     if target.shape() != (rows, cols) {
@@ -875,13 +911,11 @@ impl<'a> Bordered<'a> {
         let mut g = DVector::zeros(n + k);
         g.rows_mut(0, n).copy_from_slice(&t[..n]);
         g.rows_mut(n, k).copy_from_slice(&t[nn..]);
-        let sol = self
-            .store
-            .last
-            .transpose()
-            .full_piv_lu()
-            .solve(&g)
-            .ok_or(ContinuationError::Singular)?;
+        let lu = self.store.lu.as_ref().expect("factored in `reduced`");
+        if !lu.solve_transpose_mut(&mut g) {
+            return Err(ContinuationError::Singular);
+        }
+        let sol = g;
         s[red.relation_rows(red.last)].copy_from_slice(sol.rows(0, n).as_slice());
         s[nn..].copy_from_slice(sol.rows(n, k).as_slice());
         // w = R^T (I - Lambda)^T s.
