@@ -481,13 +481,15 @@ pub fn tangent_from(
 /// for its tangent and multipliers. The solution is the same to the
 /// tolerance; the work is about 3 linearizations and reductions a step in
 /// place of 6 (Deuflhard 2004, §2.1.4, on the simplified Newton method).
+///
+/// `storage`: a Jacobian no longer needed (the previous step's), whose
+/// storage the correction linearizes into.
 pub fn correct_along<S: VectorField>(
     coll: &Collocation<S>,
-    z0: &[f64],
-    t: &[f64],
-    sigma: f64,
+    (z0, t, sigma): (&[f64], &[f64], f64),
     w: &ArcWeights,
     settings: &NewtonSettings,
+    storage: Option<OrbitJacobian>,
 ) -> Result<(Vec<f64>, NewtonReport, BorderedPoint), ContinuationError> {
     let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
     let mut z = pred.clone();
@@ -496,7 +498,10 @@ pub fn correct_along<S: VectorField>(
         coll,
         row: &row,
         anchor: &pred,
-        spare: None,
+        spare: storage.map(|jacobian| BorderedPoint {
+            jacobian,
+            rhs: Vec::new(),
+        }),
         mode: Linearize::UntilFast(Cell::new(Hybrid {
             steps: [f64::INFINITY; 2],
             ..Hybrid::default()

@@ -486,6 +486,9 @@ pub struct Cycles<'a, S: VectorField> {
     /// be the reference's before the orbit became it, which they do not
     /// involve).
     jacobian: Option<(Vec<f64>, OrbitJacobian)>,
+    /// A Jacobian no longer needed (replaced by the last accepted step's),
+    /// whose storage the next correction along the branch linearizes into.
+    spare: Option<OrbitJacobian>,
 }
 
 impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
@@ -637,6 +640,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
         let max_steps = settings.max_steps;
         let cycles = Cycles {
             jacobian: Some((z.clone(), jacobian)),
+            spare: None,
             sys,
             k,
             ds: settings.step.ds,
@@ -680,6 +684,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
             corrector: &self.settings.corrector,
             k: self.k,
             jacobian: &mut self.jacobian,
+            spare: &mut self.spare,
         };
         let stepped = predictor_corrector::step(&mut curve, &self.settings.step, &mut self.ds)?;
         Ok((stepped.report, stepped.ds))
@@ -705,7 +710,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         let w = ArcWeights::at(z0, self.settings.param_floor);
         crate::root::illinois(
             |sigma| {
-                let (z, rep, at) = correct_along(coll, z0, t0, sigma, &w, &LOCATOR)?;
+                let (z, rep, at) = correct_along(coll, (z0, t0, sigma), &w, &LOCATOR, None)?;
                 let t = tangent_from(&at.jacobian, t0, &w)?;
                 let fz = f(&z, &t)?;
                 best = Some((point_at(coll, &z, &at.jacobian, &t, rep)?, t));
@@ -957,6 +962,9 @@ struct CycleStep<'b, 'a, S: VectorField> {
     k: usize,
     /// Where the accepted step keeps its orbit's Jacobian.
     jacobian: &'b mut Option<(Vec<f64>, OrbitJacobian)>,
+    /// The storage the corrections linearize into (the Jacobian the last
+    /// accepted step replaced, or a rejected correction's).
+    spare: &'b mut Option<OrbitJacobian>,
 }
 
 impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
@@ -964,8 +972,13 @@ impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
     type Tangent = Vec<f64>;
 
     fn correct(&mut self, ds: f64) -> Result<Corrected<Self::Point>, ContinuationError> {
-        let (z, report, at) =
-            correct_along(self.coll, self.z, self.tangent, ds, &self.w, self.corrector)?;
+        let (z, report, at) = correct_along(
+            self.coll,
+            (self.z, self.tangent, ds),
+            &self.w,
+            self.corrector,
+            self.spare.take(),
+        )?;
         Ok(Corrected {
             point: (z, at),
             report,
@@ -984,7 +997,9 @@ impl<S: VectorField> CurveProblem for CycleStep<'_, '_, S> {
     }
 
     fn accept(&mut self, (z, at): Self::Point, tangent: Vec<f64>) -> Result<(), ContinuationError> {
-        *self.jacobian = Some((z.clone(), at.jacobian));
+        if let Some((_, replaced)) = self.jacobian.replace((z.clone(), at.jacobian)) {
+            *self.spare = Some(replaced);
+        }
         *self.z = z;
         *self.tangent = tangent;
         Ok(())
