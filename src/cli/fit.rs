@@ -3,12 +3,17 @@
 
 use super::files::{write_whole, OutputArgs};
 use super::SceneArgs;
+use crate::adhesive::fit::AdhesiveFit;
 use crate::analysis::hopf::Criticality;
-use crate::error::Error;
+use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::fit::data::parse_data_option;
-use crate::jobs::fit::{run as fit, Fit, FitRequest, OnsetTypeAt};
+use crate::jobs::fit::{
+    run as fit, Correlation, DatasetFit, Estimate, Fit, FitRequest, NotDetermined, OnsetTypeAt,
+};
+use crate::scene::Law;
 use clap::Args;
+use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
@@ -40,15 +45,21 @@ const OUTPUTS: &[&str] = &["-fit.json"];
 
 /// Runs the command.
 pub fn run(args: &FitArgs) -> Result<(), Error> {
-    let request = FitRequest {
-        data: args
-            .data
-            .iter()
-            .map(|d| parse_data_option(d))
-            .collect::<Result<_, _>>()?,
-        free: args.free.clone(),
-        stability: true,
-    };
+    let data: Vec<_> = args
+        .data
+        .iter()
+        .map(|d| parse_data_option(d))
+        .collect::<Result<_, _>>()?;
+    let adhesive = crate::scene::law_of(args.scene.scene_name())? == Law::Adhesive;
+    if adhesive && args.scene.model.is_some() {
+        return Err(InputError::Conflict(format!(
+            "--model is not available for fit on an adhesive scene ({}): steady friction has \
+             no model to choose, and the critical stiffness is fitted with the scene's inertia \
+             (the factor 1 + chi, docs/model.md)",
+            args.scene.scene_name()
+        ))
+        .into());
+    }
     let spec = args.scene.spec();
     args.output.create_dir()?;
     let stem = args.output.stem(
@@ -67,106 +78,122 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
     // A fit takes a fraction of a second: Ctrl-C (or SIGTERM) lets it
     // write its files whole, then the run ends as interrupted.
     super::interrupt::catch_interrupts();
-    let mut result = fit(&spec, &request)?;
-    let mut files = crate::plot::fit::figures(&result, &stem)
-        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?;
-    write_whole(&toml_path, &result.fitted_toml)?;
-    files.push(toml_path);
-    let json_path = with_suffix(&stem, "-fit.json");
-    files.push(json_path.clone());
-    result.files = files.iter().map(|f| f.display().to_string()).collect();
-    let json = serde_json::to_string_pretty(&result).map_err(std::io::Error::other)?;
-    write_whole(&json_path, &json)?;
-    if args.json {
-        println!("{json}");
+    let stop = if adhesive {
+        let mut result = crate::adhesive::fit::run(
+            args.scene.scene_name(),
+            &args.scene.set,
+            &data,
+            args.free.as_deref(),
+        )?;
+        let figures = crate::plot::fit::data_figures(&result, &stem).map_err(plot_error)?;
+        result.files = write_fitted(figures, &toml_path, &result.fitted_toml, &stem)?;
+        let json = write_json(&result, &stem)?;
+        if args.json {
+            println!("{json}");
+        } else {
+            print_adhesive(&result);
+        }
+        result.stop
     } else {
-        print_text(&result);
-    }
+        let request = FitRequest {
+            data,
+            free: args.free.clone(),
+            stability: true,
+        };
+        let mut result = fit(&spec, &request)?;
+        let figures = crate::plot::fit::figures(&result, &stem).map_err(plot_error)?;
+        result.files = write_fitted(figures, &toml_path, &result.fitted_toml, &stem)?;
+        let json = write_json(&result, &stem)?;
+        if args.json {
+            println!("{json}");
+        } else {
+            print_text(&result);
+        }
+        result.stop
+    };
     if super::interrupt::interrupted() {
         return Err(super::interrupt::stopped(
             "after the fit (its files are written whole)".into(),
         ));
     }
-    match &result.stop {
+    match stop {
         None => Ok(()),
-        Some(why) => Err(Error::Partial(why.clone())),
+        Some(why) => Err(Error::Partial(why)),
     }
 }
 
-/// The scene's file stem or built-in name, for the run's name.
+fn plot_error(e: crate::plot::PlotError) -> Error {
+    Error::Output(std::io::Error::other(e.to_string()))
+}
+
+/// Writes the fitted scene to `toml_path`; the files of the fit: its
+/// figures, the fitted scene and the JSON (written by [`write_json`]).
+fn write_fitted(
+    mut files: Vec<PathBuf>,
+    toml_path: &Path,
+    toml: &str,
+    stem: &Path,
+) -> Result<Vec<String>, Error> {
+    write_whole(toml_path, toml)?;
+    files.push(toml_path.to_path_buf());
+    files.push(with_suffix(stem, "-fit.json"));
+    Ok(files.iter().map(|f| f.display().to_string()).collect())
+}
+
+/// Writes the JSON `<stem>-fit.json`; the JSON.
+fn write_json<T: serde::Serialize>(result: &T, stem: &Path) -> Result<String, Error> {
+    let json = serde_json::to_string_pretty(result).map_err(std::io::Error::other)?;
+    write_whole(&with_suffix(stem, "-fit.json"), &json)?;
+    Ok(json)
+}
+
+/// The scene's name (of its file, or built in), for the run's name.
 fn spec_name(scene: &str) -> String {
-    crate::scene::load(scene).map_or_else(|_| scene.to_string(), |s| s.name)
+    crate::scene::load(scene)
+        .map(|s| s.name)
+        .or_else(|_| crate::adhesive::scene::load(scene).map(|s| s.name))
+        .unwrap_or_else(|_| scene.to_string())
+}
+
+/// The adhesive fit as text: the parameters with their errors, what is
+/// held and why, the datasets' residuals, the files.
+fn print_adhesive(fit: &AdhesiveFit) {
+    println!("scene: {} ({} law)", fit.scene, fit.law);
+    print_parameters(&fit.parameters, &fit.not_determined, &fit.correlation);
+    for h in &fit.held {
+        println!(
+            "{} held at the scene's {:.6e}: {}",
+            h.name, h.value, h.reason
+        );
+    }
+    let r = &fit.ratio_tau_on_over_tau_out;
+    println!(
+        "tau_on / tau_out = {:.6e}{} (scene {:.6e})",
+        r.value,
+        r.std_error
+            .map_or(" (not fitted)".into(), |e| format!(" +- {e:.3e}")),
+        r.start
+    );
+    print_residuals(
+        (fit.chi2, fit.dof, fit.chi2_per_dof),
+        fit.iterations,
+        &fit.datasets,
+    );
+    for f in &fit.files {
+        println!("wrote {f}");
+    }
 }
 
 /// The fit as text: the parameters with their errors, the seed's
 /// closed-form route beside them, the datasets' residuals, the files.
 fn print_text(fit: &Fit) {
     println!("scene: {} ({} law)", fit.scene, fit.law);
-    println!(
-        "{:<5} {:>14} {:>12} {:>6}  {:<15} {:>14}",
-        "", "value", "std. error", "unit", "", "scene (start)"
-    );
-    for (name, e) in &fit.parameters {
-        let error = e.std_error.map_or("-".into(), |s| format!("{s:.3e}"));
-        let status = if e.given.is_empty() {
-            e.status.to_string()
-        } else {
-            format!("{} (given {})", e.status, e.given.join(", "))
-        };
-        println!(
-            "{name:<5} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
-            e.value, e.unit, e.start
-        );
-    }
-    for n in &fit.not_determined {
-        let with = if n.with.len() > 1 {
-            format!(
-                " (only a combination of {} is determined)",
-                n.with.join(", ")
-            )
-        } else {
-            String::new()
-        };
-        println!(
-            "{} is not determined by these data{with}: {}; kept at the scene's {:.6e}",
-            n.name, n.remedy, n.kept_at
-        );
-    }
-    if fit.correlation.names.len() > 1 {
-        println!("correlation ({}):", fit.correlation.names.join(", "));
-        for row in &fit.correlation.matrix {
-            let cells: Vec<String> = row.iter().map(|c| format!("{c:>7.3}")).collect();
-            println!("  {}", cells.join(" "));
-        }
-    }
-    println!(
-        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iteration{}",
-        fit.chi2,
-        fit.dof,
-        fit.chi2_per_dof,
+    print_parameters(&fit.parameters, &fit.not_determined, &fit.correlation);
+    print_residuals(
+        (fit.chi2, fit.dof, fit.chi2_per_dof),
         fit.iterations,
-        if fit.iterations == 1 { "" } else { "s" }
+        &fit.datasets,
     );
-    for d in &fit.datasets {
-        println!(
-            "  {} {} ({} rows): {} rms residual {:.3e}{}",
-            d.kind.name(),
-            d.file,
-            d.rows,
-            d.quantity,
-            d.rms,
-            d.sigma_estimated
-                .map_or(" (errors given)".into(), |s| format!(
-                    " (error per row estimated from the residuals: {s:.3e})"
-                ))
-        );
-        if let (Some(model), Some(why)) = (d.model, &d.model_reason) {
-            println!("    integrated in the {model} model: {why}");
-        }
-        if let Some(w) = &d.warning {
-            eprintln!("warning: {} {}: {w}", d.kind.name(), d.file);
-        }
-    }
     if let Some(c) = &fit.closed_form {
         let mut line = format!(
             "closed forms ({}): B - A = {:.4e}, mu0 = {:.5}",
@@ -232,5 +259,89 @@ fn print_text(fit: &Fit) {
     }
     for f in &fit.files {
         println!("wrote {f}");
+    }
+}
+
+/// The parameters' table (value, standard error, unit, status, start), the
+/// undetermined ones with what to add, and the correlations.
+pub(crate) fn print_parameters(
+    parameters: &std::collections::BTreeMap<&'static str, Estimate>,
+    not_determined: &[NotDetermined],
+    correlation: &Correlation,
+) {
+    // The names' column: at least 5 wide (`tau_out` needs 7).
+    let w = parameters.keys().map(|k| k.len()).max().unwrap_or(0).max(5);
+    println!(
+        "{:<w$} {:>14} {:>12} {:>6}  {:<15} {:>14}",
+        "", "value", "std. error", "unit", "", "scene (start)"
+    );
+    for (name, e) in parameters {
+        let error = e.std_error.map_or("-".into(), |s| format!("{s:.3e}"));
+        let status = if e.given.is_empty() {
+            e.status.to_string()
+        } else {
+            format!("{} (given {})", e.status, e.given.join(", "))
+        };
+        println!(
+            "{name:<w$} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
+            e.value, e.unit, e.start
+        );
+    }
+    for n in not_determined {
+        let with = if n.with.len() > 1 {
+            format!(
+                " (only a combination of {} is determined)",
+                n.with.join(", ")
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "{} is not determined by these data{with}: {}; kept at the scene's {:.6e}",
+            n.name, n.remedy, n.kept_at
+        );
+    }
+    if correlation.names.len() > 1 {
+        println!("correlation ({}):", correlation.names.join(", "));
+        for row in &correlation.matrix {
+            let cells: Vec<String> = row.iter().map(|c| format!("{c:>7.3}")).collect();
+            println!("  {}", cells.join(" "));
+        }
+    }
+}
+
+/// chi2 with its degrees of freedom and the residuals of each dataset.
+pub(crate) fn print_residuals(
+    (chi2, dof, chi2_per_dof): (f64, usize, f64),
+    iterations: usize,
+    datasets: &[DatasetFit],
+) {
+    println!(
+        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iteration{}",
+        chi2,
+        dof,
+        chi2_per_dof,
+        iterations,
+        if iterations == 1 { "" } else { "s" }
+    );
+    for d in datasets {
+        println!(
+            "  {} {} ({} rows): {} rms residual {:.3e}{}",
+            d.kind.name(),
+            d.file,
+            d.rows,
+            d.quantity,
+            d.rms,
+            d.sigma_estimated
+                .map_or(" (errors given)".into(), |s| format!(
+                    " (error per row estimated from the residuals: {s:.3e})"
+                ))
+        );
+        if let (Some(model), Some(why)) = (d.model, &d.model_reason) {
+            println!("    integrated in the {model} model: {why}");
+        }
+        if let Some(w) = &d.warning {
+            eprintln!("warning: {} {}: {w}", d.kind.name(), d.file);
+        }
     }
 }
