@@ -94,32 +94,30 @@ def main():
     onset_v = [float(f"{v:.6g}") for v in geomspace(1.0, 80.0, 8)]
     slow_v = [float(f"{v:.6g}") for v in geomspace(0.05, 2.0, 15)]
     source = "synthetic: docs/reference/fit_adhesive_data.py"
-    with open(root / "examples" / "data" / "gel-steady.csv", "w") as f:
-        f.write(f"# steady friction of a gelatin gel on glass ({source})\n")
-        f.write("V_um_s,F_N\n")
-        for v in steady_v:
-            f.write(f"{v:.6g},{float(steady_n(v)) + rng.gauss(0, 3e-4):.6e}\n")
-    with open(root / "examples" / "data" / "gel-onset.csv", "w") as f:
-        f.write(f"# stick-slip onset of a gelatin gel on glass ({source})\n")
-        f.write("V_um_s,K_N_per_m,sigma\n")
-        for v in onset_v:
-            k = float(critical_n_m(v))
-            f.write(f"{v:.6g},{k * (1 + rng.gauss(0, 0.03)):.6e},{0.03 * k:.4e}\n")
-    with open(root / "tests" / "data" / "gel-steady-exact.csv", "w") as f:
-        f.write(f"# steady friction of the gel scene without noise ({source})\n")
-        f.write("V_um_s,F_N\n")
-        for v in steady_v:
-            f.write(f"{v:.6g},{mp.nstr(steady_n(v), 17)}\n")
-    with open(root / "tests" / "data" / "gel-onset-exact.csv", "w") as f:
-        f.write(f"# critical stiffness of the gel scene without noise ({source})\n")
-        f.write("V_um_s,K_N_per_m\n")
-        for v in onset_v:
-            f.write(f"{v:.6g},{mp.nstr(critical_n_m(v), 17)}\n")
-    with open(root / "tests" / "data" / "gel-steady-slow.csv", "w") as f:
-        f.write(f"# steady friction of the gel below 2 um/s, no viscous regime ({source})\n")
-        f.write("V_um_s,F_N\n")
-        for v in slow_v:
-            f.write(f"{v:.6g},{float(steady_n(v)) + rng.gauss(0, 3e-4):.6e}\n")
+    examples, tests = root / "examples" / "data", root / "tests" / "data"
+
+    def write(path, what, header, rows):
+        with open(path, "w") as f:
+            f.write(f"# {what} ({source})\n{header}\n")
+            for row in rows:
+                f.write(",".join(row) + "\n")
+
+    # The noisy files draw in this order: steady, onset, slow.
+    write(examples / "gel-steady.csv", "steady friction of a gelatin gel on glass",
+          "V_um_s,F_N",
+          [(f"{v:.6g}", f"{float(steady_n(v)) + rng.gauss(0, 3e-4):.6e}") for v in steady_v])
+    onset = [(v, float(critical_n_m(v))) for v in onset_v]
+    write(examples / "gel-onset.csv", "stick-slip onset of a gelatin gel on glass",
+          "V_um_s,K_N_per_m,sigma",
+          [(f"{v:.6g}", f"{k * (1 + rng.gauss(0, 0.03)):.6e}", f"{0.03 * k:.4e}")
+           for v, k in onset])
+    write(tests / "gel-steady-exact.csv", "steady friction of the gel scene without noise",
+          "V_um_s,F_N", [(f"{v:.6g}", mp.nstr(steady_n(v), 17)) for v in steady_v])
+    write(tests / "gel-onset-exact.csv", "critical stiffness of the gel scene without noise",
+          "V_um_s,K_N_per_m", [(f"{v:.6g}", mp.nstr(critical_n_m(v), 17)) for v in onset_v])
+    write(tests / "gel-steady-slow.csv",
+          "steady friction of the gel below 2 um/s, no viscous regime", "V_um_s,F_N",
+          [(f"{v:.6g}", f"{float(steady_n(v)) + rng.gauss(0, 3e-4):.6e}") for v in slow_v])
     print("generating parameters (examples/scenes/gel.toml)")
     for name, value in [("F_a", F_A), ("V_s", V_S_UM), ("tau_on", TAU_ON),
                         ("tau_out", TAU_OUT), ("F_v", F_V), ("alpha", ALPHA)]:

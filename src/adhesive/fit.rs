@@ -32,14 +32,13 @@ use crate::error::{Error, InputError};
 use crate::fit::data::{Dataset, Kind, Measured};
 use crate::fit::least_squares::{covariance, Problem};
 use crate::jobs::fit::{
-    correlation, dataset_fits, fit_determined, weighted_residuals, Correlation, DataFit,
-    DatasetFit, Estimate, NotDetermined,
+    fit_determined, summarize, weighted_residuals, DataFit, Entry, Estimate, NotDetermined,
+    Outcome, Rows, Summary,
 };
 use crate::model::ModelKind;
 use crate::scene::Law;
 use continuation::Scalar;
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// A parameter of the adhesive law, in its scene unit.
@@ -211,11 +210,10 @@ fn logarithmic(name: Name, start: f64) -> bool {
 
 /// The least-squares problem.
 struct Joint<'a> {
-    data: &'a [Dataset],
+    rows: Rows<'a>,
     mass_kg: f64,
     base: Values<f64>,
     free: Vec<Name>,
-    scale: Vec<Vec<f64>>,
 }
 
 impl Joint<'_> {
@@ -238,14 +236,11 @@ impl Joint<'_> {
 }
 
 impl DataFit for Joint<'_> {
-    fn data(&self) -> &[Dataset] {
-        self.data
+    fn rows(&self) -> &Rows<'_> {
+        &self.rows
     }
-    fn scale(&self) -> &[Vec<f64>] {
-        &self.scale
-    }
-    fn set_scale(&mut self, scale: Vec<Vec<f64>>) {
-        self.scale = scale;
+    fn rows_mut(&mut self) -> &mut Vec<Vec<f64>> {
+        &mut self.rows.scale
     }
     fn model_at<T: Scalar>(&self, i: usize, q: &Measured, x: &[T]) -> Option<Vec<T>> {
         let v = self.values(x);
@@ -255,7 +250,7 @@ impl DataFit for Joint<'_> {
             return None;
         }
         Some(
-            self.data[i]
+            self.rows.data[i]
                 .v_um_s
                 .iter()
                 .map(|&speed| v.predict(self.mass_kg, q.column, speed))
@@ -328,13 +323,8 @@ pub struct AdhesiveFit {
     pub scene: String,
     /// `adhesive`.
     pub law: &'static str,
-    pub parameters: BTreeMap<&'static str, Estimate>,
-    pub correlation: Correlation,
-    pub chi2: f64,
-    pub dof: usize,
-    pub chi2_per_dof: f64,
-    pub datasets: Vec<DatasetFit>,
-    pub not_determined: Vec<NotDetermined>,
+    #[serde(flatten)]
+    pub summary: Summary,
     /// Parameters held because the data kinds given cannot see them
     /// (`tau_out` without onset data).
     pub held: Vec<Held>,
@@ -342,22 +332,8 @@ pub struct AdhesiveFit {
     /// (`null` where `tau_on` is not fitted), the combination steady
     /// friction determines.
     pub ratio_tau_on_over_tau_out: Estimate,
-    /// The fitted scene's dimensionless parameters.
-    pub params: serde_json::Value,
-    pub units: AdhesiveUnits,
-    pub iterations: usize,
-    pub complete: bool,
-    pub stop: Option<String>,
-    /// The files written (by the command line).
-    pub files: Vec<String>,
-    #[serde(skip)]
-    pub fitted_toml: String,
-    #[serde(skip)]
-    pub data: Vec<Dataset>,
-    #[serde(skip)]
-    pub values: Values<f64>,
-    #[serde(skip)]
-    pub start: Values<f64>,
+    #[serde(flatten)]
+    pub outcome: Outcome<Values<f64>, AdhesiveUnits>,
     /// The scene's block mass, kg.
     #[serde(skip)]
     pub mass_kg: f64,
@@ -432,14 +408,10 @@ pub fn run(
     }
     let mass_kg = scene.units.mass;
     let mut problem = Joint {
-        data: &data,
+        rows: Rows::new(&data),
         mass_kg,
         base: start,
         free: requested.clone(),
-        scale: data
-            .iter()
-            .map(|d| d.measured.iter().map(|_| 1.0).collect())
-            .collect(),
     };
     let (minimum, not_determined) = fit_determined(&mut problem, |key, with, error| {
         let name = Name::by_key(key);
@@ -470,41 +442,18 @@ pub fn run(
     let c = covariance(&minimum.jacobian).ok_or_else(|| {
         crate::error::NumericalError::Analysis("the fit's normal matrix J^T J is singular".into())
     })?;
-    // Standard errors through the logarithm (delta method: d value = value
-    // d ln value).
-    let error_of = |k: usize, name: Name, value: f64| {
-        let sd = c[(k, k)].sqrt();
-        if logarithmic(name, start.get(name)) {
-            value * sd
-        } else {
-            sd
-        }
-    };
-    let mut parameters = BTreeMap::new();
-    for name in Name::ALL {
-        let value = values.get(name);
-        let fitted = problem.free.iter().position(|n| *n == name);
-        let status = match fitted {
-            Some(_) => "fitted",
-            None if not_determined.iter().any(|n| n.name == name.key()) => "not_determined",
-            None => "fixed",
-        };
-        parameters.insert(
-            name.key(),
-            Estimate {
-                value,
-                std_error: fitted.map(|k| error_of(k, name, value)),
-                unit: name.unit(),
-                status,
-                start: start.get(name),
-                given: not_determined
-                    .iter()
-                    .filter(|n| fitted.is_some() && n.with.contains(&name.key()))
-                    .map(|n| n.name)
-                    .collect(),
-            },
-        );
-    }
+    let entries: Vec<Entry> = Name::ALL
+        .into_iter()
+        .map(|name| Entry {
+            key: name.key(),
+            unit: name.unit(),
+            value: values.get(name),
+            start: start.get(name),
+            logarithmic: logarithmic(name, start.get(name)),
+        })
+        .collect();
+    let not_determined_names: Vec<&'static str> = not_determined.iter().map(|n| n.name).collect();
+    let summary = summarize(&problem, &minimum, &c, &entries, not_determined);
     let ratio = values.tau_on / values.tau_out;
     let ratio_error = {
         // ln r = ln tau_on - ln tau_out: the variance of the difference.
@@ -530,44 +479,33 @@ pub fn run(
         start: start.tau_on / start.tau_out,
         given: Vec::new(),
     };
-    let correlation = correlation(problem.free_keys(), &c);
-    let rows: usize = data.iter().map(|d| d.rows() * d.measured.len()).sum();
-    let chi2 = minimum.residuals.norm_squared();
-    let dof = rows.saturating_sub(problem.free.len());
-    let datasets = dataset_fits(&problem, &minimum.x);
-    let fitted = fitted_scene(&scene, &values, &data, scene_name, set, &not_determined)?;
-    let stop = (!not_determined.is_empty()).then(|| {
-        format!(
-            "not determined by the data: {}",
-            not_determined
-                .iter()
-                .map(|n| format!("{} ({})", n.name, n.remedy))
-                .collect::<Vec<_>>()
-                .join("; ")
-        )
-    });
+    let fitted = fitted_scene(
+        &scene,
+        &values,
+        &data,
+        scene_name,
+        set,
+        &not_determined_names,
+    )?;
+    let stop = summary.stop.clone();
     Ok(AdhesiveFit {
         scene: scene.name.clone(),
         law: adhesive_scene::LAW,
-        parameters,
-        correlation,
-        chi2,
-        dof,
-        chi2_per_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
-        datasets,
-        not_determined,
+        summary,
         held,
         ratio_tau_on_over_tau_out,
-        params: serde_json::to_value(fitted.1.params).map_err(std::io::Error::other)?,
-        units: fitted.1.units,
-        iterations: minimum.iterations,
-        complete: stop.is_none(),
-        stop,
-        files: Vec::new(),
-        fitted_toml: fitted.0,
-        data,
-        values,
-        start,
+        outcome: Outcome {
+            params: serde_json::to_value(fitted.1.params).map_err(std::io::Error::other)?,
+            units: fitted.1.units,
+            iterations: minimum.iterations,
+            complete: stop.is_none(),
+            stop,
+            files: Vec::new(),
+            fitted_toml: fitted.0,
+            data,
+            values,
+            start,
+        },
         mass_kg,
     })
 }
@@ -581,7 +519,7 @@ fn fitted_scene(
     data: &[Dataset],
     scene_name: &str,
     set: &[String],
-    not_determined: &[NotDetermined],
+    not_determined: &[&str],
 ) -> Result<(String, AdhesiveScene), Error> {
     let text = match adhesive_scene::builtin_text(scene_name) {
         Some(t) => t.to_string(),
@@ -618,10 +556,9 @@ fn fitted_scene(
     let mut text = toml::to_string(&table).map_err(|e| std::io::Error::other(e.to_string()))?;
     let back = adhesive_scene::from_toml_str(&text, "fitted.toml")?;
     if !not_determined.is_empty() {
-        let names: Vec<&str> = not_determined.iter().map(|n| n.name).collect();
         text = format!(
             "# not determined by the data, kept at the scene's values: {}\n{text}",
-            names.join(", ")
+            not_determined.join(", ")
         );
     }
     Ok((text, back))

@@ -8,9 +8,7 @@ use crate::analysis::hopf::Criticality;
 use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::fit::data::parse_data_option;
-use crate::jobs::fit::{
-    run as fit, Correlation, DatasetFit, Estimate, Fit, FitRequest, NotDetermined, OnsetTypeAt,
-};
+use crate::jobs::fit::{run as fit, Fit, FitRequest, OnsetTypeAt, Outcome, Summary};
 use crate::scene::Law;
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -86,14 +84,9 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
             args.free.as_deref(),
         )?;
         let figures = crate::plot::fit::data_figures(&result, &stem).map_err(plot_error)?;
-        result.files = write_fitted(figures, &toml_path, &result.fitted_toml, &stem)?;
-        let json = write_json(&result, &stem)?;
-        if args.json {
-            println!("{json}");
-        } else {
-            print_adhesive(&result);
-        }
-        result.stop
+        write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
+        emit(&result, &stem, args.json, print_adhesive)?;
+        result.summary.stop
     } else {
         let request = FitRequest {
             data,
@@ -102,14 +95,9 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
         };
         let mut result = fit(&spec, &request)?;
         let figures = crate::plot::fit::figures(&result, &stem).map_err(plot_error)?;
-        result.files = write_fitted(figures, &toml_path, &result.fitted_toml, &stem)?;
-        let json = write_json(&result, &stem)?;
-        if args.json {
-            println!("{json}");
-        } else {
-            print_text(&result);
-        }
-        result.stop
+        write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
+        emit(&result, &stem, args.json, print_text)?;
+        result.summary.stop
     };
     if super::interrupt::interrupted() {
         return Err(super::interrupt::stopped(
@@ -126,25 +114,38 @@ fn plot_error(e: crate::plot::PlotError) -> Error {
     Error::Output(std::io::Error::other(e.to_string()))
 }
 
-/// Writes the fitted scene to `toml_path`; the files of the fit: its
-/// figures, the fitted scene and the JSON (written by [`write_json`]).
-fn write_fitted(
+/// Writes the fitted scene to `toml_path`, and lists the files of the fit
+/// in `outcome`: its figures, the fitted scene and the JSON (written by
+/// [`emit`]).
+fn write_fitted<V, U>(
+    outcome: &mut Outcome<V, U>,
     mut files: Vec<PathBuf>,
     toml_path: &Path,
-    toml: &str,
     stem: &Path,
-) -> Result<Vec<String>, Error> {
-    write_whole(toml_path, toml)?;
+) -> Result<(), Error> {
+    write_whole(toml_path, &outcome.fitted_toml)?;
     files.push(toml_path.to_path_buf());
     files.push(with_suffix(stem, "-fit.json"));
-    Ok(files.iter().map(|f| f.display().to_string()).collect())
+    outcome.files = files.iter().map(|f| f.display().to_string()).collect();
+    Ok(())
 }
 
-/// Writes the JSON `<stem>-fit.json`; the JSON.
-fn write_json<T: serde::Serialize>(result: &T, stem: &Path) -> Result<String, Error> {
+/// Writes the JSON `<stem>-fit.json`, and prints it (`as_json`) or the
+/// text `print` makes.
+fn emit<T: serde::Serialize>(
+    result: &T,
+    stem: &Path,
+    as_json: bool,
+    print: fn(&T),
+) -> Result<(), Error> {
     let json = serde_json::to_string_pretty(result).map_err(std::io::Error::other)?;
     write_whole(&with_suffix(stem, "-fit.json"), &json)?;
-    Ok(json)
+    if as_json {
+        println!("{json}");
+    } else {
+        print(result);
+    }
+    Ok(())
 }
 
 /// The scene's name (of its file, or built in), for the run's name.
@@ -159,7 +160,7 @@ fn spec_name(scene: &str) -> String {
 /// held and why, the datasets' residuals, the files.
 fn print_adhesive(fit: &AdhesiveFit) {
     println!("scene: {} ({} law)", fit.scene, fit.law);
-    print_parameters(&fit.parameters, &fit.not_determined, &fit.correlation);
+    print_parameters(&fit.summary);
     for h in &fit.held {
         println!(
             "{} held at the scene's {:.6e}: {}",
@@ -174,12 +175,8 @@ fn print_adhesive(fit: &AdhesiveFit) {
             .map_or(" (not fitted)".into(), |e| format!(" +- {e:.3e}")),
         r.start
     );
-    print_residuals(
-        (fit.chi2, fit.dof, fit.chi2_per_dof),
-        fit.iterations,
-        &fit.datasets,
-    );
-    for f in &fit.files {
+    print_residuals(&fit.summary, fit.outcome.iterations);
+    for f in &fit.outcome.files {
         println!("wrote {f}");
     }
 }
@@ -188,12 +185,8 @@ fn print_adhesive(fit: &AdhesiveFit) {
 /// closed-form route beside them, the datasets' residuals, the files.
 fn print_text(fit: &Fit) {
     println!("scene: {} ({} law)", fit.scene, fit.law);
-    print_parameters(&fit.parameters, &fit.not_determined, &fit.correlation);
-    print_residuals(
-        (fit.chi2, fit.dof, fit.chi2_per_dof),
-        fit.iterations,
-        &fit.datasets,
-    );
+    print_parameters(&fit.summary);
+    print_residuals(&fit.summary, fit.outcome.iterations);
     if let Some(c) = &fit.closed_form {
         let mut line = format!(
             "closed forms ({}): B - A = {:.4e}, mu0 = {:.5}",
@@ -257,18 +250,19 @@ fn print_text(fit: &Fit) {
             last.l1,
         );
     }
-    for f in &fit.files {
+    for f in &fit.outcome.files {
         println!("wrote {f}");
     }
 }
 
 /// The parameters' table (value, standard error, unit, status, start), the
 /// undetermined ones with what to add, and the correlations.
-pub(crate) fn print_parameters(
-    parameters: &std::collections::BTreeMap<&'static str, Estimate>,
-    not_determined: &[NotDetermined],
-    correlation: &Correlation,
-) {
+fn print_parameters(summary: &Summary) {
+    let (parameters, not_determined, correlation) = (
+        &summary.parameters,
+        &summary.not_determined,
+        &summary.correlation,
+    );
     // The names' column: at least 5 wide (`tau_out` needs 7).
     let w = parameters.keys().map(|k| k.len()).max().unwrap_or(0).max(5);
     println!(
@@ -311,11 +305,13 @@ pub(crate) fn print_parameters(
 }
 
 /// chi2 with its degrees of freedom and the residuals of each dataset.
-pub(crate) fn print_residuals(
-    (chi2, dof, chi2_per_dof): (f64, usize, f64),
-    iterations: usize,
-    datasets: &[DatasetFit],
-) {
+fn print_residuals(summary: &Summary, iterations: usize) {
+    let (chi2, dof, chi2_per_dof, datasets) = (
+        summary.chi2,
+        summary.dof,
+        summary.chi2_per_dof,
+        &summary.datasets,
+    );
     println!(
         "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iteration{}",
         chi2,

@@ -194,12 +194,11 @@ pub struct Correlation {
     pub matrix: Vec<Vec<f64>>,
 }
 
-/// The result of `fit`: its serde form is the command's JSON.
+/// What every fit reports of its estimate, either family of laws: the
+/// parameters with their errors, the correlations, chi2, the residuals per
+/// dataset, what the data do not determine, and why it is partial.
 #[derive(Serialize)]
-pub struct Fit {
-    pub scene: String,
-    /// `rice-ruina`, `ln2` or `cutoff`.
-    pub law: &'static str,
+pub struct Summary {
     pub parameters: BTreeMap<&'static str, Estimate>,
     pub correlation: Correlation,
     pub chi2: f64,
@@ -207,17 +206,104 @@ pub struct Fit {
     pub chi2_per_dof: f64,
     pub datasets: Vec<DatasetFit>,
     pub not_determined: Vec<NotDetermined>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub closed_form: Option<ClosedForm>,
-    /// The fitted scene's stability boundary over its velocity range with
-    /// the 95 % band.
-    pub band: Vec<BandPoint>,
-    /// Its onset type along the range, with the share of sampled
-    /// parameter sets that agree.
-    pub onset_type: Vec<OnsetTypeAt>,
-    /// The fitted scene's dimensionless parameters.
+    /// Why the fit is partial (`None`: complete); the JSON's `stop`.
+    #[serde(skip)]
+    pub stop: Option<String>,
+}
+
+/// The undetermined parameters with what would determine each.
+fn listed(not_determined: &[NotDetermined]) -> String {
+    not_determined
+        .iter()
+        .map(|n| format!("{} ({})", n.name, n.remedy))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// One parameter of the law for [`summarize`]: its name, unit, value,
+/// scene value, and whether it was fitted as its logarithm.
+pub(crate) struct Entry {
+    pub key: &'static str,
+    pub unit: &'static str,
+    pub value: f64,
+    pub start: f64,
+    pub logarithmic: bool,
+}
+
+/// The summary of the minimum of `problem` (the unknowns still free after
+/// holding `not_determined`): each entry's estimate, its standard error
+/// from the covariance `c` by the delta method (`d value = value d ln
+/// value` for a logarithmic one), the correlations, chi2 and the
+/// residuals.
+pub(crate) fn summarize<P: DataFit>(
+    problem: &P,
+    minimum: &Minimum,
+    c: &DMatrix<f64>,
+    entries: &[Entry],
+    not_determined: Vec<NotDetermined>,
+) -> Summary {
+    let free = problem.free_keys();
+    let mut parameters = BTreeMap::new();
+    for e in entries {
+        let fitted = free.iter().position(|n| *n == e.key);
+        let status = match fitted {
+            Some(_) => "fitted",
+            None if not_determined.iter().any(|n| n.name == e.key) => "not_determined",
+            None => "fixed",
+        };
+        let std_error = fitted.map(|k| {
+            let sd = c[(k, k)].sqrt();
+            if e.logarithmic {
+                e.value * sd
+            } else {
+                sd
+            }
+        });
+        parameters.insert(
+            e.key,
+            Estimate {
+                value: e.value,
+                std_error,
+                unit: e.unit,
+                status,
+                start: e.start,
+                given: not_determined
+                    .iter()
+                    .filter(|n| fitted.is_some() && n.with.contains(&e.key))
+                    .map(|n| n.name)
+                    .collect(),
+            },
+        );
+    }
+    let rows: usize = problem
+        .data()
+        .iter()
+        .map(|d| d.rows() * d.measured.len())
+        .sum();
+    let chi2 = minimum.residuals.norm_squared();
+    let dof = rows.saturating_sub(free.len());
+    let stop = (!not_determined.is_empty())
+        .then(|| format!("not determined by the data: {}", listed(&not_determined)));
+    Summary {
+        parameters,
+        correlation: correlation(free, c),
+        chi2,
+        dof,
+        chi2_per_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
+        datasets: dataset_fits(problem, &minimum.x),
+        not_determined,
+        stop,
+    }
+}
+
+/// What every fit's result ends with, either family of laws: the fitted
+/// scene's dimensionless parameters and units (`U`), how the fit ended,
+/// the files written, and (not in the JSON) the fitted scene as TOML, the
+/// datasets and the fitted and starting values (`V`), for the figures.
+#[derive(Serialize)]
+pub struct Outcome<V, U> {
     pub params: serde_json::Value,
-    pub units: UnitsRecord,
+    pub units: U,
     pub iterations: usize,
     pub complete: bool,
     pub stop: Option<String>,
@@ -226,14 +312,33 @@ pub struct Fit {
     /// The fitted scene as a TOML file.
     #[serde(skip)]
     pub fitted_toml: String,
-    /// The datasets and the fitted values, for the figures.
     #[serde(skip)]
     pub data: Vec<Dataset>,
     #[serde(skip)]
-    pub values: Values<f64>,
+    pub values: V,
     /// The scene's values the fit started from.
     #[serde(skip)]
-    pub start: Values<f64>,
+    pub start: V,
+}
+
+/// The result of `fit`: its serde form is the command's JSON.
+#[derive(Serialize)]
+pub struct Fit {
+    pub scene: String,
+    /// `rice-ruina`, `ln2` or `cutoff`.
+    pub law: &'static str,
+    #[serde(flatten)]
+    pub summary: Summary,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_form: Option<ClosedForm>,
+    /// The fitted scene's stability boundary over its velocity range with
+    /// the 95 % band.
+    pub band: Vec<BandPoint>,
+    /// Its onset type along the range, with the share of sampled
+    /// parameter sets that agree.
+    pub onset_type: Vec<OnsetTypeAt>,
+    #[serde(flatten)]
+    pub outcome: Outcome<Values<f64>, UnitsRecord>,
     #[serde(skip)]
     pub rig: Rig,
     /// Per dataset: the model of a time series (`None` for the others).
@@ -251,9 +356,9 @@ impl Fit {
     /// The fitted values (`fitted`) or the scene's the fit started from.
     pub fn values_of(&self, fitted: bool) -> &Values<f64> {
         if fitted {
-            &self.values
+            &self.outcome.values
         } else {
-            &self.start
+            &self.outcome.start
         }
     }
 
@@ -289,12 +394,10 @@ impl Cached {
 
 /// The least-squares problem: weighted residuals of every measured value.
 struct Joint<'a> {
-    data: &'a [Dataset],
+    rows: Rows<'a>,
     rig: Rig,
     base: Values<f64>,
     free: Vec<Name>,
-    /// Per dataset and quantity: the error per row where none is given.
-    scale: Vec<Vec<f64>>,
     /// Per dataset: the model of a time series.
     series: Vec<Option<Cached>>,
 }
@@ -326,7 +429,7 @@ impl Joint<'_> {
     /// `model(q0) + J (q - q0)`: its value, and for dual numbers its exact
     /// first derivative.
     fn model<T: Scalar>(&self, i: usize, q: &Measured, p: &Values<T>) -> Option<Vec<T>> {
-        let d = &self.data[i];
+        let d = &self.rows.data[i];
         let Some(series) = &self.series[i] else {
             return Some(
                 d.v_um_s
@@ -369,14 +472,11 @@ impl Joint<'_> {
 }
 
 impl DataFit for Joint<'_> {
-    fn data(&self) -> &[Dataset] {
-        self.data
+    fn rows(&self) -> &Rows<'_> {
+        &self.rows
     }
-    fn scale(&self) -> &[Vec<f64>] {
-        &self.scale
-    }
-    fn set_scale(&mut self, scale: Vec<Vec<f64>>) {
-        self.scale = scale;
+    fn rows_mut(&mut self) -> &mut Vec<Vec<f64>> {
+        &mut self.rows.scale
     }
     fn model_at<T: Scalar>(&self, i: usize, q: &Measured, x: &[T]) -> Option<Vec<T>> {
         self.model(i, q, &self.values(x))
@@ -409,11 +509,20 @@ impl Problem for Joint<'_> {
 /// summary need, for either family of laws (the rate-and-state fit here,
 /// the adhesive one in [`crate::adhesive::fit`]).
 pub(crate) trait DataFit {
+    /// The datasets with their errors.
+    fn rows(&self) -> &Rows<'_>;
+    fn rows_mut(&mut self) -> &mut Vec<Vec<f64>>;
     /// The datasets.
-    fn data(&self) -> &[Dataset];
+    fn data(&self) -> &[Dataset] {
+        self.rows().data
+    }
     /// Per dataset and quantity: the error per row where none is given.
-    fn scale(&self) -> &[Vec<f64>];
-    fn set_scale(&mut self, scale: Vec<Vec<f64>>);
+    fn scale(&self) -> &[Vec<f64>] {
+        &self.rows().scale
+    }
+    fn set_scale(&mut self, scale: Vec<Vec<f64>>) {
+        *self.rows_mut() = scale;
+    }
     /// The model of the quantity `q` of dataset `i` at every row, at `x`.
     fn model_at<T: Scalar>(&self, i: usize, q: &Measured, x: &[T]) -> Option<Vec<T>>;
     /// The names of the unknowns.
@@ -428,6 +537,25 @@ pub(crate) trait DataFit {
     /// a positive parameter fitted as its logarithm).
     fn error_limit(&self, _k: usize) -> f64 {
         f64::INFINITY
+    }
+}
+
+/// The datasets of a fit and, per dataset and quantity, the error per row
+/// where the file gives none (estimated from the residuals; 1 at first).
+pub(crate) struct Rows<'a> {
+    pub data: &'a [Dataset],
+    pub scale: Vec<Vec<f64>>,
+}
+
+impl<'a> Rows<'a> {
+    pub fn new(data: &'a [Dataset]) -> Rows<'a> {
+        Rows {
+            data,
+            scale: data
+                .iter()
+                .map(|d| d.measured.iter().map(|_| 1.0).collect())
+                .collect(),
+        }
     }
 }
 
@@ -473,11 +601,7 @@ pub(crate) fn fit_determined<P: DataFit + Problem>(
         if problem.unknowns() == 0 {
             return Err(NumericalError::Analysis(format!(
                 "the data determine none of the parameters asked for: {}",
-                not_determined
-                    .iter()
-                    .map(|n| format!("{} ({})", n.name, n.remedy))
-                    .collect::<Vec<_>>()
-                    .join("; ")
+                listed(&not_determined)
             ))
             .into());
         }
@@ -493,7 +617,8 @@ pub(crate) fn fit_determined<P: DataFit + Problem>(
             let k = (0..keys.len())
                 .max_by(|&a, &b| over(a).total_cmp(&over(b)))
                 .unwrap_or(0);
-            if !(over(k) > 1.0) {
+            // (A NaN error, from a singular covariance, is over.)
+            if over(k) <= 1.0 {
                 return Ok((minimum, not_determined));
             }
             let with: Vec<&'static str> = (0..keys.len())
@@ -659,14 +784,10 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let rig = Rig::of(&setup.scene.units);
     let series = series_models(spec, &setup, &data, &start, rig)?;
     let mut problem = Joint {
-        data: &data,
+        rows: Rows::new(&data),
         rig,
         base: start,
         free: requested.clone(),
-        scale: data
-            .iter()
-            .map(|d| d.measured.iter().map(|_| 1.0).collect())
-            .collect(),
         series: series
             .iter()
             .map(|s| {
@@ -691,46 +812,19 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let c = covariance(&minimum.jacobian).ok_or_else(|| {
         NumericalError::Analysis("the fit's normal matrix J^T J is singular".into())
     })?;
-    let mut parameters = BTreeMap::new();
-    for name in &law_names {
-        let value = values.get(*name).unwrap_or(f64::NAN);
-        let fitted = problem.free.iter().position(|n| n == name);
-        let status = match fitted {
-            Some(_) => "fitted",
-            None if not_determined.iter().any(|n| n.name == name.key()) => "not_determined",
-            None => "fixed",
-        };
-        let std_error = fitted.map(|k| {
-            let sd = c[(k, k)].sqrt();
-            // Delta method through the logarithm: d value = value d ln(value).
-            if name.positive() {
-                value * sd
-            } else {
-                sd
-            }
-        });
-        parameters.insert(
-            name.key(),
-            Estimate {
-                value,
-                std_error,
-                unit: name.unit(),
-                status,
-                start: start.get(*name).unwrap_or(f64::NAN),
-                given: not_determined
-                    .iter()
-                    .filter(|n| fitted.is_some() && n.with.contains(&name.key()))
-                    .map(|n| n.name)
-                    .collect(),
-            },
-        );
-    }
-    let n = problem.free.len();
-    let correlation = correlation(problem.free.iter().map(|n| n.key()).collect(), &c);
-    let rows: usize = data.iter().map(|d| d.rows() * d.measured.len()).sum();
-    let chi2 = minimum.residuals.norm_squared();
-    let dof = rows.saturating_sub(n);
-    let mut datasets = dataset_fits(&problem, &minimum.x);
+    let entries: Vec<Entry> = law_names
+        .iter()
+        .map(|name| Entry {
+            key: name.key(),
+            unit: name.unit(),
+            value: values.get(*name).unwrap_or(f64::NAN),
+            start: start.get(*name).unwrap_or(f64::NAN),
+            logarithmic: name.positive(),
+        })
+        .collect();
+    let not_determined_names: Vec<&'static str> = not_determined.iter().map(|n| n.name).collect();
+    let mut summary = summarize(&problem, &minimum, &c, &entries, not_determined);
+    let datasets = &mut summary.datasets;
     let mut at = 0;
     for (d, s) in data.iter().zip(&series) {
         if let Some((model, reason)) = s {
@@ -750,8 +844,8 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     }
     let fitted_params = fitted_params(&setup, &values);
     let mut fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
-    if !not_determined.is_empty() {
-        let names: Vec<&str> = not_determined.iter().map(|n| n.name).collect();
+    if !not_determined_names.is_empty() {
+        let names = &not_determined_names;
         fitted_toml = format!(
             "# not determined by the data, kept at the scene's values: {}\n{fitted_toml}",
             names.join(", ")
@@ -760,7 +854,7 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let closed_form = closed_form(&data, &rig);
     // With a parameter left at the scene's value for want of data, a band
     // would claim a precision the data do not give.
-    let (band, onset_type) = if request.stability && not_determined.is_empty() {
+    let (band, onset_type) = if request.stability && not_determined_names.is_empty() {
         let draws = Draws::new(&minimum.x, &c);
         (
             band(&setup, &problem, &minimum.x, &c, &draws),
@@ -769,16 +863,7 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     } else {
         (Vec::new(), Vec::new())
     };
-    let stop = (!not_determined.is_empty()).then(|| {
-        format!(
-            "not determined by the data: {}",
-            not_determined
-                .iter()
-                .map(|n| format!("{} ({})", n.name, n.remedy))
-                .collect::<Vec<_>>()
-                .join("; ")
-        )
-    });
+    let stop = summary.stop.clone();
     Ok(Fit {
         scene: setup.scene.name.clone(),
         law: match start.ageing {
@@ -786,29 +871,25 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
             AgeingValue::Mu2(m) if m != 0.0 || requested.contains(&Name::Mu2) => "ln2",
             AgeingValue::Mu2(_) => "rice-ruina",
         },
-        parameters,
-        correlation,
-        chi2,
-        dof,
-        chi2_per_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
-        datasets,
-        not_determined,
+        summary,
         closed_form,
         band,
         onset_type,
-        params: params_json(&fitted_params),
-        units: UnitsRecord::of(&Units {
-            d0: values.d0_um * 1e-6,
-            ..setup.scene.units
-        }),
-        iterations: minimum.iterations,
-        complete: stop.is_none(),
-        stop,
-        files: Vec::new(),
-        fitted_toml,
-        data: data.clone(),
-        values,
-        start,
+        outcome: Outcome {
+            params: params_json(&fitted_params),
+            units: UnitsRecord::of(&Units {
+                d0: values.d0_um * 1e-6,
+                ..setup.scene.units
+            }),
+            iterations: minimum.iterations,
+            complete: stop.is_none(),
+            stop,
+            files: Vec::new(),
+            fitted_toml,
+            data: data.clone(),
+            values,
+            start,
+        },
         rig,
         series: series.into_iter().map(|s| s.map(|(m, _)| m)).collect(),
     })

@@ -32,7 +32,7 @@ impl Drawn for Fit {
         &self.scene
     }
     fn data(&self) -> &[Dataset] {
-        &self.data
+        &self.outcome.data
     }
     fn model(&self, fitted: bool, column: &str, v: f64) -> f64 {
         self.predict(self.values_of(fitted), column, v)
@@ -47,10 +47,14 @@ impl Drawn for AdhesiveFit {
         &self.scene
     }
     fn data(&self) -> &[Dataset] {
-        &self.data
+        &self.outcome.data
     }
     fn model(&self, fitted: bool, column: &str, v: f64) -> f64 {
-        let values = if fitted { &self.values } else { &self.start };
+        let values = if fitted {
+            &self.outcome.values
+        } else {
+            &self.outcome.start
+        };
         values.predict(self.mass_kg, column, v)
     }
 }
@@ -320,6 +324,7 @@ fn band_figure(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         },
     ];
     for d in fit
+        .outcome
         .data
         .iter()
         .filter(|d| d.kind == crate::fit::data::Kind::Onset)
