@@ -193,7 +193,8 @@ impl Values<f64> {
         let (p, u) = (&scene.params, &scene.units);
         Values {
             f_a: u.f_a,
-            v_s_um_s: u.v_s * 1e6,
+            // (Divided by the factor it was multiplied with: the scene's own value.)
+            v_s_um_s: u.v_s / 1e-6,
             tau_on: p.r * u.tau_out,
             tau_out: u.tau_out,
             f_v: p.f_v * u.f_a,

@@ -24,11 +24,14 @@ pub struct FitArgs {
     /// V_um_s: the slip after the drive stops at t = 0, one velocity per
     /// file); an optional sigma column gives each row's error
     /// (sigma_frequency_hz for the frequency), else it is estimated from
-    /// the residuals.
+    /// the residuals. An adhesive scene (law = "adhesive") takes steady
+    /// (V_um_s, F_N: the friction force in N) and onset (V_um_s, K_N_per_m:
+    /// the critical stiffness).
     #[arg(long, value_name = "KIND=FILE", required = true)]
     pub data: Vec<String>,
     /// The parameters to fit, comma-separated (default: every parameter of
-    /// the scene's law: mu0, A, B, D0, and mu2 or tau).
+    /// the scene's law: mu0, A, B, D0, and mu2 or tau; adhesive: F_a, V_s,
+    /// tau_on, F_v, alpha, and tau_out with onset data).
     #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
     pub free: Option<Vec<String>>,
     #[command(flatten)]
