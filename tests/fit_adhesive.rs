@@ -188,10 +188,7 @@ fn noise_free_data_give_the_gel_to_1e_8() {
     // quasi-static: the script's quasi-static value).
     let fitted = dir.join("fitted.toml");
     let hopf = common::hopf_json(&["--scene", fitted.to_str().unwrap()]);
-    let k_c = hopf["critical"]["k_c_n_m"]
-        .as_f64()
-        .or_else(|| hopf["critical"]["K_c_N_per_m"].as_f64())
-        .unwrap();
+    let k_c = hopf["critical"]["K_N_per_m"].as_f64().unwrap();
     let expected = script_value("K_c(20 um/s) quasi-static");
     assert!((k_c / expected - 1.0).abs() < 1e-7, "{k_c} vs {expected}");
 }
@@ -331,10 +328,7 @@ fn the_model_is_the_scripts_and_the_engines() {
     // hopf --model inertial at 50 µm/s locates K_c with the engine.
     let hopf = common::hopf_json(&["--scene", "gel", "--set", "V=50", "--model", "inertial"]);
     let c = &hopf["critical"];
-    let located = c["k_c_n_m"]
-        .as_f64()
-        .or_else(|| c["K_c_N_per_m"].as_f64())
-        .unwrap();
+    let located = c["K_N_per_m"].as_f64().unwrap();
     let model = values.critical_stiffness_n_m(mass, 50.0);
     assert!((model / located - 1.0).abs() < 1e-9, "{model} vs {located}");
 }

@@ -61,15 +61,20 @@ pub struct AdhesiveSetup {
     /// the velocity where `chi` crosses the threshold, um/s (`None` where it
     /// does not within the range).
     pub inertia_ratio_max: Option<f64>,
+    #[serde(rename = "inertia_crossing_um_per_s")]
     pub inertia_crossing_um_s: Option<f64>,
     pub params: AdhesiveParams,
     pub units: AdhesiveUnits,
     /// The maximum of steady friction (the bell of Schallamach's pinning).
+    #[serde(rename = "V_max_um_per_s")]
     pub v_max_um_s: Option<f64>,
     /// The minimum above it, where stick-slip ends (seed §III.D.2).
+    #[serde(rename = "V_c_um_per_s")]
     pub v_c_um_s: Option<f64>,
     /// Steady friction at `V_max` and `V_c`, N.
+    #[serde(rename = "force_at_V_max_N")]
     pub force_at_v_max_n: Option<f64>,
+    #[serde(rename = "force_at_V_c_N")]
     pub force_at_v_c_n: Option<f64>,
     #[serde(skip)]
     pub scene_full: AdhesiveScene,
@@ -338,6 +343,7 @@ pub struct Critical {
     #[serde(flatten)]
     pub onset: AdhesiveOnset,
     /// `K_c = kappa_c F_a / (V_s tau_out)`, N/m.
+    #[serde(rename = "K_N_per_m")]
     pub k_c_n_m: f64,
     /// `omega_c / (2 pi tau_out)`, Hz.
     pub frequency_hz: f64,
@@ -354,6 +360,7 @@ pub struct AdhesiveHopf {
     /// `dF_ss/du` at the scene's velocity where stable at every stiffness.
     pub steady_slope: Option<f64>,
     /// Steady friction at the scene's velocity, N.
+    #[serde(rename = "steady_force_N")]
     pub steady_force_n: f64,
     pub steady_bonds: f64,
     /// The scene's stiffness against the onset: `stick-slip` or
@@ -410,14 +417,52 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
 pub struct AdhesiveBranch {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
-    pub points: Vec<SteadyPoint>,
+    pub points: Vec<SteadyRecord>,
     /// The Hopf points in the driving velocity, um/s beside `nu`.
     pub hopf_points: Vec<NuHopf>,
+    #[serde(rename = "hopf_points_V_um_per_s")]
     pub hopf_points_um_s: Vec<f64>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
     /// a failure is an error instead), as every command's JSON has it.
     pub stop: Option<String>,
+}
+
+/// A point of steady sliding with its physical values beside the
+/// dimensionless ones (`nu`, `s`).
+#[derive(Clone, Debug, Serialize)]
+pub struct SteadyRecord {
+    #[serde(flatten)]
+    pub point: SteadyPoint,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    #[serde(rename = "steady_force_N")]
+    pub steady_force_n: f64,
+}
+
+/// A point of the stability diagram with its physical values beside the
+/// dimensionless ones (`nu`, `kappa_c`, `omega_c`).
+#[derive(Clone, Debug, Serialize)]
+pub struct OnsetRecord {
+    #[serde(flatten)]
+    pub point: DiagramPoint,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: Option<f64>,
+    pub frequency_hz: Option<f64>,
+}
+
+/// The steady points in the experimenter's units.
+fn steady_records(points: Vec<SteadyPoint>, u: &AdhesiveUnits) -> Vec<SteadyRecord> {
+    points
+        .into_iter()
+        .map(|point| SteadyRecord {
+            v_um_per_s: u.velocity_um_s(point.nu),
+            steady_force_n: u.force_n(point.s),
+            point,
+        })
+        .collect()
 }
 
 /// Points per decade of the velocity grids.
@@ -442,8 +487,8 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
             .iter()
             .map(|h| setup.units.velocity_um_s(h.nu))
             .collect(),
+        points: steady_records(points, &setup.units),
         setup,
-        points,
         hopf_points,
         complete: true,
         stop: None,
@@ -455,9 +500,9 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
 pub struct AdhesiveDiagram {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
-    pub points: Vec<DiagramPoint>,
+    pub points: Vec<OnsetRecord>,
     /// The steady branch at the scene's velocities (for the friction figure).
-    pub steady: Vec<SteadyPoint>,
+    pub steady: Vec<SteadyRecord>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
     /// a failure is an error instead), as every command's JSON has it.
@@ -481,10 +526,21 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
         }
     }
     let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
+    let u = setup.units;
     Ok(AdhesiveDiagram {
+        points: points
+            .into_iter()
+            .map(|point| OnsetRecord {
+                v_um_per_s: u.velocity_um_s(point.nu),
+                k_n_per_m: point.kappa_c.map(|k| u.stiffness_n_m(k)),
+                frequency_hz: point
+                    .omega_c
+                    .map(|w| w / (2.0 * std::f64::consts::PI * u.tau_out)),
+                point,
+            })
+            .collect(),
+        steady: steady_records(steady, &u),
         setup,
-        points,
-        steady,
         complete: true,
         stop: None,
     })
@@ -563,20 +619,39 @@ fn settled<B: block::AdhesiveModel>(
     Ok(run.settled(0))
 }
 
+/// One segment of a protocol: its velocity `nu` and duration (in
+/// `tau_out`), and the same in µm/s and s.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct SegmentRecord {
+    #[serde(flatten)]
+    pub segment: Segment,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    pub duration_s: f64,
+}
+
 /// The result of `simulate`.
 #[derive(Clone, Debug, Serialize)]
 pub struct AdhesiveSimulation {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
+    #[serde(skip)]
     pub protocol: Vec<Segment>,
+    /// The protocol in the JSON: each segment dimensionless and in the
+    /// experimenter's units.
+    #[serde(rename = "protocol")]
+    pub protocol_record: Vec<SegmentRecord>,
     pub steps: usize,
     /// Per segment: the largest spring force, N, and steady friction at its
     /// velocity, N (a static peak after rest stands above it).
+    #[serde(rename = "peak_force_N")]
     pub peak_force_n: Vec<f64>,
+    #[serde(rename = "steady_force_N")]
     pub steady_force_n: Vec<f64>,
     /// The settled stick-slip of the last segment, if any.
     pub settled: Option<SettledCycle>,
     pub settled_period_s: Option<f64>,
+    #[serde(rename = "settled_force_drop_N")]
     pub settled_force_drop_n: Option<f64>,
     #[serde(skip)]
     pub run: Run,
@@ -657,6 +732,14 @@ pub fn simulate(
     }
     let settled = run.settled(protocol.len() - 1);
     Ok(AdhesiveSimulation {
+        protocol_record: protocol
+            .iter()
+            .map(|&segment| SegmentRecord {
+                segment,
+                v_um_per_s: u.velocity_um_s(segment.nu),
+                duration_s: u.time_s(segment.duration),
+            })
+            .collect(),
         steps: run.t.len(),
         peak_force_n: peak.iter().map(|s| u.force_n(*s)).collect(),
         steady_force_n: protocol

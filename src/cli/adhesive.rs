@@ -153,17 +153,17 @@ pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
         return Ok(());
     }
     print_setup(&r.setup);
-    let u = &r.setup.units;
     println!("steady sliding in V at the scene's K:");
     println!(
         "  {:>13} {:>13} {:>11} {:>11}  stability",
         "V [µm/s]", "force [N]", "n", "re lambda"
     );
-    for pt in &r.points {
+    for r in &r.points {
+        let pt = &r.point;
         println!(
             "  {:>13.6e} {:>13.6e} {:>11.4e} {:>11.3e}  {}",
-            u.velocity_um_s(pt.nu),
-            u.force_n(pt.s),
+            r.v_um_per_s,
+            r.steady_force_n,
             pt.n,
             pt.eigenvalues[0][0],
             if pt.stable { "stable" } else { "unstable" }
@@ -252,12 +252,13 @@ pub fn diagram(
     if !as_json {
         print_setup(s);
         println!("stability diagram: K_c against V (stick-slip below K_c)");
-        for pt in &r.points {
-            match (pt.kappa_c, pt.onset) {
+        for record in &r.points {
+            let pt = &record.point;
+            match (record.k_n_per_m, pt.onset) {
                 (Some(k), Some(o)) => println!(
                     "  V = {:>12.5e} µm/s  K_c = {:>12.5e} N/m  {}  (chi = {:.2e}{})",
-                    u.velocity_um_s(pt.nu),
-                    u.stiffness_n_m(k),
+                    record.v_um_per_s,
+                    k,
                     o.name(),
                     pt.inertia_ratio,
                     if pt.needs_inertia {
@@ -268,7 +269,7 @@ pub fn diagram(
                 ),
                 _ => println!(
                     "  V = {:>12.5e} µm/s  stable at every stiffness",
-                    u.velocity_um_s(pt.nu)
+                    record.v_um_per_s
                 ),
             }
         }
@@ -276,7 +277,7 @@ pub fn diagram(
     let k_c: Vec<(f64, f64)> = r
         .points
         .iter()
-        .filter_map(|p| Some((u.velocity_um_s(p.nu), u.stiffness_n_m(p.kappa_c?))))
+        .filter_map(|p| Some((p.v_um_per_s, p.k_n_per_m?)))
         .collect();
     let mut series = vec![line(k_c, "K_c(V): stick-slip below", BLUE, false)];
     if s.scene_full.stiffness_given {
@@ -317,7 +318,7 @@ pub fn diagram(
     let friction: Vec<(f64, f64)> = r
         .steady
         .iter()
-        .map(|p| (u.velocity_um_s(p.nu), u.force_n(p.s)))
+        .map(|p| (p.v_um_per_s, p.steady_force_n))
         .collect();
     let mut series = vec![line(friction, "steady friction F_ss(V)", BLUE, false)];
     for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
