@@ -805,3 +805,29 @@ fn simulate_protocol_is_given_in_um_per_s_and_seconds_too() {
         assert!((field(seg, "duration") - t / 2.0).abs() < 1e-15, "{seg}");
     }
 }
+
+/// `--set` of a key the adhesive scene does not have: a dimensionless
+/// parameter names the scene key it comes from (`nu` is `V`, not the
+/// `M` an edit distance would pick), a rate-and-state key gets no
+/// suggestion, and every message lists the scene's keys.
+#[test]
+fn unknown_set_keys_list_the_adhesive_keys() {
+    let keys = "F_a, V_s, tau_out, tau_on, F_v, alpha, M, K, V";
+    for (key, says) in [
+        ("nu", Some("'V'")),
+        ("kappa", Some("'K'")),
+        ("r", Some("'tau_on'")),
+        ("tau_of", Some("'tau_on'")),
+        ("mu0", None),
+        ("A", None),
+    ] {
+        let set = format!("{key}=3");
+        let (status, _, err) = stickslip(&["hopf", "--scene", "gel", "--set", &set]);
+        assert_eq!(status, 2, "{err}");
+        assert!(err.contains(keys), "{err}");
+        match says {
+            Some(s) => assert!(err.contains(&format!("did you mean {s}?")), "{err}"),
+            None => assert!(!err.contains("did you mean"), "{err}"),
+        }
+    }
+}

@@ -105,6 +105,22 @@ pub fn load(name_or_path: &str) -> Result<AdhesiveScene, InputError> {
 /// scene file's units.
 const SETTABLE: &str = "F_a V_s tau_out tau_on F_v alpha M K V";
 
+/// The keys of a rate-and-state scene and its dimensionless parameters,
+/// which an adhesive scene does not have.
+const RATE_AND_STATE_KEYS: &str =
+    "A B mu0 mu2 D0 V0 W tau g eta theta_c mu_vv mu_vphi eta_d";
+
+/// The adhesive block's dimensionless parameters and the scene key each
+/// is made from (`nu = V / V_s`, `kappa = K V_s tau_out / F_a`, `r = tau_on
+/// / tau_out`, `f_v = F_v / F_a`, `m = M V_s / (F_a tau_out)`).
+const DIMENSIONLESS: [(&str, &str); 5] = [
+    ("nu", "V"),
+    ("kappa", "K"),
+    ("r", "tau_on"),
+    ("f_v", "F_v"),
+    ("m", "M"),
+];
+
 /// [`load`] with the overrides `set` (`KEY=VALUE`, a key of [`SETTABLE`]
 /// in the scene file's unit) put in place of the file's values before the
 /// scene is read: checked as the file's own values are.
@@ -142,10 +158,28 @@ fn parse_override(item: &str) -> Result<(&str, f64), InputError> {
     let (key, value) = item.split_once('=').ok_or_else(malformed)?;
     let key = key.trim();
     if !SETTABLE.split(' ').any(|k| k == key) {
+        // A dimensionless parameter (docs/model.md) names the scene key it
+        // comes from; anything else the closest key, if one is close.
+        let from = DIMENSIONLESS
+            .iter()
+            .find(|(d, _)| *d == key)
+            .map(|(_, k)| k.to_string());
+        // A rate-and-state key has no counterpart to suggest.
+        let rate_and_state = RATE_AND_STATE_KEYS.split(' ').any(|k| k == key);
         return Err(InputError::UnknownName {
-            what: "--set key of an adhesive scene",
+            what: if rate_and_state {
+                "--set key of an adhesive scene (this is a rate-and-state key; an adhesive \
+                 scene has its own law)"
+            } else {
+                "--set key of an adhesive scene (its numbers in the scene file's units; the \
+                 dimensionless nu, kappa, r, f_v, m follow from them)"
+            },
             name: key.to_string(),
-            suggestion: closest(key, SETTABLE.split(' ')),
+            suggestion: from.or_else(|| {
+                (!rate_and_state)
+                    .then(|| closest(key, SETTABLE.split(' ')))
+                    .flatten()
+            }),
             allowed: SETTABLE.replace(' ', ", "),
         });
     }
