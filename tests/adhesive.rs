@@ -831,3 +831,28 @@ fn unknown_set_keys_list_the_adhesive_keys() {
         }
     }
 }
+
+/// `tau_on > tau_out` is valid (the bond kinetics and friction law hold
+/// for every r > 0) but outside Schallamach's assumption: accepted with a
+/// warning on stderr and in the JSON, the run complete; the gel (r = 0.1)
+/// has none.
+#[test]
+fn slow_readsorption_is_warned_not_refused() {
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--set", "tau_on=2", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        err.contains("warning: tau_on = 2e0 s > tau_out = 1e0 s"),
+        "{err}"
+    );
+    let warnings = v["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{v}");
+    // n = 1 / (1 + r) at rest, r = 2.
+    assert!(warnings[0]
+        .as_str()
+        .unwrap()
+        .contains("n = 1/(1 + r) = 0.3333"));
+    assert_eq!(v["complete"], true);
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(v["warnings"].as_array().unwrap().is_empty() && !err.contains("warning"));
+}

@@ -333,6 +333,9 @@ pub struct AdhesiveFit {
     /// (`null` where `tau_on` is not fitted), the combination steady
     /// friction determines.
     pub ratio_tau_on_over_tau_out: Estimate,
+    /// What is unusual in the scene or the fitted scene but valid
+    /// (`tau_on > tau_out`), also on stderr.
+    pub warnings: Vec<String>,
     #[serde(flatten)]
     pub outcome: Outcome<Values<f64>, AdhesiveUnits>,
     /// The scene's block mass, kg.
@@ -489,7 +492,20 @@ pub fn run(
         &not_determined_names,
     )?;
     let stop = summary.stop.clone();
+    let mut warnings: Vec<String> = scene
+        .warnings
+        .iter()
+        .map(|w| format!("the scene: {w}"))
+        .collect();
+    warnings.extend(
+        fitted
+            .1
+            .warnings
+            .iter()
+            .map(|w| format!("the fitted scene: {w}")),
+    );
     Ok(AdhesiveFit {
+        warnings,
         scene: scene.name.clone(),
         law: adhesive_scene::LAW,
         summary,

@@ -76,6 +76,8 @@ pub struct AdhesiveSetup {
     pub force_at_v_max_n: Option<f64>,
     #[serde(rename = "force_at_V_c_N")]
     pub force_at_v_c_n: Option<f64>,
+    /// What is unusual in the scene but valid (also on stderr).
+    pub warnings: Vec<String>,
     #[serde(skip)]
     pub scene_full: AdhesiveScene,
 }
@@ -332,6 +334,7 @@ impl AdhesiveSetup {
             v_c_um_s: v_c.map(|nu| u.velocity_um_s(nu)),
             force_at_v_max_n: v_max.map(force),
             force_at_v_c_n: v_c.map(force),
+            warnings: scene.warnings.clone(),
             scene_full: scene,
         })
     }

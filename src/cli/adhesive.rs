@@ -46,6 +46,9 @@ pub fn adhesive_setup(
         ));
     }
     let scene = scene::load_with(args.scene_name(), &args.set)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
     Ok(Some(AdhesiveSetup::new(
         scene,
         args.inertia_threshold,

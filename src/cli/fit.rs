@@ -89,6 +89,9 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
         let figures = crate::plot::fit::data_figures(&result, &stem).map_err(plot_error)?;
         write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
         emit(&result, &stem, args.json, print_adhesive)?;
+        for w in &result.warnings {
+            eprintln!("warning: {w}");
+        }
         result.summary.stop
     } else {
         let request = FitRequest {
