@@ -856,3 +856,68 @@ fn slow_readsorption_is_warned_not_refused() {
     assert_eq!(status, 0, "{err}");
     assert!(v["warnings"].as_array().unwrap().is_empty() && !err.contains("warning"));
 }
+
+/// `diagram`'s verdict at the scene's own K and V, judged as the
+/// rate-and-state diagram judges it: the gel's 200 N/m at 20 µm/s lies far
+/// below K_c (the value of docs/reference/fit_adhesive_data.py, with the
+/// block's inertia: the diagram runs inertial), 1e6 N/m above a
+/// supercritical onset is steady sliding, and above the subcritical onset
+/// at 0.7 µm/s it is undecided (cycles may coexist up to their fold).
+#[test]
+fn diagram_judges_the_operating_point() {
+    let dir = temp_dir("adhesive-operating-point");
+    let script = std::fs::read_to_string("docs/reference/fit_adhesive_data_out.txt").unwrap();
+    let k_c: f64 = script
+        .lines()
+        .find(|l| l.starts_with("K_c(20 um/s) with inertia"))
+        .and_then(|l| l.rsplit(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    let cases: [(&[&str], &str, &str); 3] = [
+        (&[], "stick-slip", "K < K_c"),
+        (&["--set", "K=1e6"], "steady", "supercritical"),
+        (
+            &["--set", "K=1e6", "--set", "V=0.7"],
+            "undecided",
+            "subcritical",
+        ),
+    ];
+    for (i, (set, regime, says)) in cases.iter().enumerate() {
+        let out = dir.join(format!("case-{i}"));
+        let args = [
+            &[
+                "diagram",
+                "--scene",
+                "gel",
+                "--json",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            *set,
+        ]
+        .concat();
+        let (status, v, err) = json_of(&args);
+        assert_eq!(status, 0, "{err}");
+        let op = &v["operating_point"];
+        assert_eq!(op["regime"], *regime, "{op}");
+        assert!(op["reason"].as_str().unwrap().contains(says), "{op}");
+        assert_eq!(op["in_range"], true);
+        if i == 0 {
+            let located = field(op, "K_c_N_per_m");
+            assert!((located / k_c - 1.0).abs() < 1e-9, "{located} vs {k_c}");
+            assert!((field(op, "margin") - (200.0 / k_c - 1.0)).abs() < 1e-9);
+        }
+    }
+    // The text says it too.
+    let (status, out, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "gel",
+        "--out",
+        dir.join("text").to_str().unwrap(),
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert!(out.contains("operating point: K = 200.00 N/m"), "{out}");
+    assert!(out.contains(": stick-slip — K < K_c"), "{out}");
+}

@@ -44,6 +44,17 @@ const START_OFF: [&str; 6] = [
     "alpha=0.5",
 ];
 
+/// The example's steady and onset data (with noise), and the same
+/// velocities without noise.
+const EXAMPLE: [&str; 2] = [
+    "steady=examples/data/gel-steady.csv",
+    "onset=examples/data/gel-onset.csv",
+];
+const EXACT: [&str; 2] = [
+    "steady=tests/data/gel-steady-exact.csv",
+    "onset=tests/data/gel-onset-exact.csv",
+];
+
 /// `fit --json --scene gel` with `set` and `data` into a fresh folder: the
 /// exit status, the JSON and the folder.
 fn fit(name: &str, set: &[&str], data: &[&str]) -> (i32, Value, std::path::PathBuf) {
@@ -117,14 +128,7 @@ fn the_example_recovers_the_gel_within_three_standard_errors() {
     assert!((sigma / 3e-4 - 1.0).abs() < 0.25, "{sigma}");
 
     // With the onset: all six, tau_out too.
-    let (status, v, dir) = fit(
-        "adh-joint",
-        &START_OFF,
-        &[
-            "steady=examples/data/gel-steady.csv",
-            "onset=examples/data/gel-onset.csv",
-        ],
-    );
+    let (status, v, dir) = fit("adh-joint", &START_OFF, &EXAMPLE);
     assert_eq!(status, 0, "{v}");
     for (name, truth) in truth() {
         let e = &v["parameters"][name.as_str()];
@@ -160,14 +164,7 @@ fn the_example_recovers_the_gel_within_three_standard_errors() {
 
 #[test]
 fn noise_free_data_give_the_gel_to_1e_8() {
-    let (status, v, dir) = fit(
-        "adh-exact",
-        &START_OFF,
-        &[
-            "steady=tests/data/gel-steady-exact.csv",
-            "onset=tests/data/gel-onset-exact.csv",
-        ],
-    );
+    let (status, v, dir) = fit("adh-exact", &START_OFF, &EXACT);
     assert_eq!(status, 0, "{v}");
     for (name, truth) in truth() {
         let value = v["parameters"][name.as_str()]["value"].as_f64().unwrap();

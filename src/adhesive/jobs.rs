@@ -10,7 +10,9 @@ use super::analysis::steady::{self, DiagramPoint, NuHopf, SteadyPoint};
 use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
+use crate::analysis::operating_point::{judge, judge_without_onset, Regime, StabilityAt};
 use crate::error::{Error, InputError, NumericalError};
+use crate::jobs::diagram::OperatingPoint;
 use crate::model::ModelKind;
 use serde::Serialize;
 
@@ -506,10 +508,72 @@ pub struct AdhesiveDiagram {
     pub points: Vec<OnsetRecord>,
     /// The steady branch at the scene's velocities (for the friction figure).
     pub steady: Vec<SteadyRecord>,
+    /// The scene's own K and V against the diagram, and the verdict
+    /// (`null` without `K`): as the rate-and-state `diagram` judges it.
+    pub operating_point: Option<OperatingPoint>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
     /// a failure is an error instead), as every command's JSON has it.
     pub stop: Option<String>,
+}
+
+/// The scene's stiffness and velocity against its onset there (located as
+/// `hopf` locates it, in the diagram's model), judged as the rate-and-state
+/// diagram judges its operating point ([`judge`]: stick-slip below `K_c`;
+/// above it steady sliding with a supercritical onset, undecided with a
+/// subcritical one, whose fold of cycles `cycles` locates); `None` without
+/// `K`. With the quasi-static model and a mass, `K` above the quasi-static
+/// `K_c` by less than the factor `1 + chi` inertia adds is undecided.
+fn operating_point(setup: &AdhesiveSetup) -> Result<Option<OperatingPoint>, Error> {
+    if !setup.scene_full.stiffness_given {
+        return Ok(None);
+    }
+    let (p, u) = (setup.params, setup.units);
+    let (lo, hi) = setup.scene_full.nu_range;
+    let mut op = OperatingPoint::unjudged(
+        (u.stiffness_n_m(p.kappa), p.kappa),
+        (u.velocity_um_s(p.nu), p.nu),
+        lo <= p.nu && p.nu <= hi,
+    );
+    if p.kappa == 0.0 {
+        return Ok(Some(op));
+    }
+    let onset = match with_model!(setup.model_kind, b => find_onset(b, &p))? {
+        OnsetOutcome::Found(onset) => onset,
+        OnsetOutcome::StableForAllStiffness { .. } => {
+            let (regime, reason) = judge_without_onset(p.kappa, None);
+            op.regime = regime;
+            op.reason = op.with_range_note(reason);
+            return Ok(Some(op));
+        }
+    };
+    let at = StabilityAt {
+        kappa_c: onset.kappa_c,
+        criticality: onset.onset,
+        tolerance: ((onset.kappa_c - onset.kappa_c_closed_form) / onset.kappa_c_closed_form).abs(),
+        dropped_inertia: None,
+        fold: None,
+    };
+    let (regime, margin, reason) = judge(p.kappa, &at);
+    let chi = block::inertia_ratio(&p);
+    let dropped = setup.model_kind == ModelKind::QuasiStatic && p.m > 0.0;
+    let (regime, reason) = if dropped && margin > 0.0 && margin <= chi + at.tolerance {
+        (
+            Regime::Undecided,
+            format!(
+                "K exceeds the quasi-static K_c by less than the factor 1 + chi the dropped \
+                 inertia adds (chi = {chi:.3e}): rerun with --model inertial"
+            ),
+        )
+    } else {
+        (regime, reason)
+    };
+    op.regime = regime;
+    op.reason = op.with_range_note(reason);
+    op.margin = Some(margin);
+    op.kappa_c = Some(onset.kappa_c);
+    op.k_c_n_per_m = Some(u.stiffness_n_m(onset.kappa_c));
+    Ok(Some(op))
 }
 
 /// `diagram` on an adhesive scene.
@@ -530,7 +594,9 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
     }
     let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
     let u = setup.units;
+    let operating_point = operating_point(&setup)?;
     Ok(AdhesiveDiagram {
+        operating_point,
         points: points
             .into_iter()
             .map(|point| OnsetRecord {

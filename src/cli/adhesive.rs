@@ -234,6 +234,92 @@ fn finish(
     Ok(())
 }
 
+/// The stability diagram's figure in the rate-and-state diagram's
+/// convention ([`crate::plot::stability`]): the critical stiffness located
+/// by the engine, solid where the onset is supercritical, dashed red where
+/// it is subcritical, the closed form as dots, a marker where the onset
+/// type changes between grid points (a Bautin point), vertical lines where
+/// `K_c -> 0` (the friction maximum and minimum) and where `chi` crosses
+/// the inertia threshold, and the scene's operating point with its verdict.
+fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::StabilityFigure {
+    use crate::plot::stability::{segments, OperatingMarker, StabilityFigure};
+    let s = &r.setup;
+    let u = &s.units;
+    let curve: Vec<(f64, f64, crate::analysis::hopf::Criticality)> = r
+        .points
+        .iter()
+        .filter_map(|p| Some((p.v_um_per_s, p.k_n_per_m?, p.point.onset?)))
+        .collect();
+    let reference = r
+        .points
+        .iter()
+        .step_by(4)
+        .filter_map(|p| {
+            let mut q = s.params;
+            q.nu = p.point.nu;
+            let (k, _) = crate::adhesive::block::critical_stiffness_of(&q, s.model_kind);
+            (k > 0.0).then(|| (p.v_um_per_s, u.stiffness_n_m(k)))
+        })
+        .collect();
+    let markers = curve
+        .windows(2)
+        .filter(|w| w[0].2 != w[1].2)
+        .map(|w| {
+            (
+                "Bautin (l1 = 0), between grid points".to_string(),
+                (w[0].0 * w[1].0).sqrt(),
+                (w[0].1 * w[1].1).sqrt(),
+            )
+        })
+        .collect();
+    let mut vlines: Vec<(String, f64)> =
+        [(s.v_max_um_s, "maximum V_max"), (s.v_c_um_s, "minimum V_c")]
+            .into_iter()
+            .filter_map(|(v, what)| Some((format!("K_c → 0: friction {what}"), v?)))
+            .collect();
+    if let Some(v) = s.inertia_crossing_um_s {
+        vlines.push((
+            format!("chi = {:.0e} (inertia threshold)", s.inertia_threshold),
+            v,
+        ));
+    }
+    let (lo, hi) = s.scene_full.nu_range;
+    StabilityFigure {
+        title: format!(
+            "Stability diagram, {} (adhesive, {} model)",
+            s.scene, s.model
+        ),
+        x_label: "driving velocity V [µm/s]".into(),
+        y_label: "critical stiffness K_c [N/m]".into(),
+        segments: segments(&curve),
+        reference,
+        reference_label: "closed form, kappa_c = -lambda_n dF_ss/du (1 + chi)".into(),
+        markers,
+        operating_point: r
+            .operating_point
+            .as_ref()
+            .filter(|op| op.in_range)
+            .map(|op| OperatingMarker {
+                label: format!(
+                    "operating point: K = {} N/m at V = {} µm/s ({})",
+                    crate::records::significant(op.k_n_per_m),
+                    crate::records::significant(op.v_um_per_s),
+                    op.regime.name()
+                ),
+                x: op.v_um_per_s,
+                y: op.k_n_per_m,
+                margin: op.margin,
+            }),
+        vlines,
+        lpc: Vec::new(),
+        bistable: Vec::new(),
+        unknown: Vec::new(),
+        x_range: (u.velocity_um_s(lo), u.velocity_um_s(hi)),
+        notes: Vec::new(),
+        stable_above: true,
+    }
+}
+
 /// `diagram` on an adhesive scene: the critical stiffness against `V`
 /// (stability diagram) and steady friction against `V`.
 pub fn diagram(
@@ -251,7 +337,6 @@ pub fn diagram(
     )?;
     let r = jobs::diagram(setup)?;
     let s = &r.setup;
-    let u = &s.units;
     if !as_json {
         print_setup(s);
         println!("stability diagram: K_c against V (stick-slip below K_c)");
@@ -277,47 +362,12 @@ pub fn diagram(
             }
         }
     }
-    let k_c: Vec<(f64, f64)> = r
-        .points
-        .iter()
-        .filter_map(|p| Some((p.v_um_per_s, p.k_n_per_m?)))
-        .collect();
-    let mut series = vec![line(k_c, "K_c(V): stick-slip below", BLUE, false)];
-    if s.scene_full.stiffness_given {
-        let v = u.velocity_um_s(s.params.nu);
-        series.push(Series {
-            label: Some(format!(
-                "the scene: V = {v:.3e} µm/s, K = {:.3e} N/m",
-                u.stiffness_n_m(s.params.kappa)
-            )),
-            points: vec![(v, u.stiffness_n_m(s.params.kappa))],
-            color: RED,
-            dashed: false,
-            markers: true,
-        });
-    }
-    for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
-        if let Some(v) = v {
-            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} µm/s"), GREY);
-            series.push(marker);
+    if !as_json {
+        if let Some(op) = &r.operating_point {
+            println!("{}", op.line());
         }
     }
-    if let Some(v) = s.inertia_crossing_um_s {
-        let text = format!(
-            "chi = {:.0e} (inertia threshold) at {v:.3e} µm/s",
-            s.inertia_threshold
-        );
-        let marker = vertical_marker(&series, v, &text, RED);
-        series.push(marker);
-    }
-    let stability = LineFigure {
-        title: format!("Stability diagram, {} (adhesive, {})", s.scene, s.model),
-        x_label: "driving velocity V [µm/s]".into(),
-        y_label: "critical stiffness K_c [N/m]".into(),
-        log_x: true,
-        log_y: true,
-        series,
-    };
+    let stability = stability_figure(&r);
     let friction: Vec<(f64, f64)> = r
         .steady
         .iter()
@@ -341,7 +391,8 @@ pub fn diagram(
         log_y: false,
         series,
     };
-    let mut files = render(&stability, &with_suffix(&stem, "-stability")).map_err(plot_error)?;
+    let mut files = crate::plot::stability::render(&stability, &with_suffix(&stem, "-stability"))
+        .map_err(plot_error)?;
     files.extend(render(&steady, &with_suffix(&stem, "-steady-friction")).map_err(plot_error)?);
     finish(&stem, json(&r)?, files, as_json)
 }
