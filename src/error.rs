@@ -185,10 +185,7 @@ impl Error {
 pub fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
     candidates
         .map(|c| (levenshtein(&name.to_lowercase(), &c.to_lowercase()), c))
-        // Close, and not a rewrite of every letter (`nu` is not `M`).
-        .filter(|(d, c)| {
-            *d <= 2.max(c.len() / 3) && *d < name.chars().count().max(c.chars().count())
-        })
+        .filter(|(d, c)| *d <= 2.max(c.len() / 3))
         .min_by_key(|(d, _)| *d)
         .map(|(_, c)| c.to_string())
 }

@@ -921,3 +921,16 @@ fn diagram_judges_the_operating_point() {
     assert!(out.contains("operating point: K = 200.00 N/m"), "{out}");
     assert!(out.contains(": stick-slip — K < K_c"), "{out}");
 }
+
+/// `hopf` above a subcritical onset (the gel at 0.7 µm/s, below its Bautin
+/// point) does not promise steady sliding alone: cycles may coexist.
+#[test]
+fn hopf_above_a_subcritical_onset_says_cycles_may_coexist() {
+    let v = common::hopf_json(&["--scene", "gel", "--set", "V=0.7", "--set", "K=1e6"]);
+    assert_eq!(v["critical"]["onset"], "subcritical", "{v}");
+    let regime = v["regime"].as_str().unwrap();
+    assert!(regime.contains("possibly coexisting"), "{regime}");
+    let v = common::hopf_json(&["--scene", "gel", "--set", "K=1e6"]);
+    assert_eq!(v["critical"]["onset"], "supercritical");
+    assert_eq!(v["regime"], "steady sliding");
+}

@@ -368,8 +368,9 @@ pub struct AdhesiveHopf {
     #[serde(rename = "steady_force_N")]
     pub steady_force_n: f64,
     pub steady_bonds: f64,
-    /// The scene's stiffness against the onset: `stick-slip` or
-    /// `steady sliding` (`None` without `K`).
+    /// The scene's stiffness against the onset: `stick-slip`, `steady
+    /// sliding`, or above a subcritical onset `steady sliding, stick-slip
+    /// possibly coexisting ...` (`None` without `K`).
     pub regime: Option<&'static str>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
@@ -401,6 +402,12 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
             "undecided (K = 0: no spring, hence no steady sliding driven through it)"
         }
         Some(c) if p.kappa < c.onset.kappa_c => "stick-slip",
+        // Above a subcritical onset finite cycles may coexist (as
+        // `diagram`'s operating point says).
+        Some(c) if c.onset.onset == crate::analysis::hopf::Criticality::Subcritical => {
+            "steady sliding, stick-slip possibly coexisting (a subcritical onset: cycles persist \
+             above K_c up to their fold, which `stickslip cycles` locates)"
+        }
         _ => "steady sliding",
     });
     Ok(AdhesiveHopf {
