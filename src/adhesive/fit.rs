@@ -139,14 +139,15 @@ impl<T: Scalar> Values<T> {
         }
     }
 
-    fn set(&mut self, name: Name, x: T) {
-        match name {
-            Name::Fa => self.f_a = x,
-            Name::Vs => self.v_s_um_s = x,
-            Name::TauOn => self.tau_on = x,
-            Name::TauOut => self.tau_out = x,
-            Name::Fv => self.f_v = x,
-            Name::Alpha => self.alpha = x,
+    /// The values `f(name)` of every parameter.
+    fn from_fn(f: impl Fn(Name) -> T) -> Values<T> {
+        Values {
+            f_a: f(Name::Fa),
+            v_s_um_s: f(Name::Vs),
+            tau_on: f(Name::TauOn),
+            tau_out: f(Name::TauOut),
+            f_v: f(Name::Fv),
+            alpha: f(Name::Alpha),
         }
     }
 
@@ -219,20 +220,13 @@ struct Joint<'a> {
 
 impl Joint<'_> {
     fn values<T: Scalar>(&self, x: &[T]) -> Values<T> {
-        let b = &self.base;
-        let mut v = Values {
-            f_a: T::from(b.f_a),
-            v_s_um_s: T::from(b.v_s_um_s),
-            tau_on: T::from(b.tau_on),
-            tau_out: T::from(b.tau_out),
-            f_v: T::from(b.f_v),
-            alpha: T::from(b.alpha),
-        };
-        for (name, xi) in self.free.iter().zip(x) {
-            let log = logarithmic(*name, self.base.get(*name));
-            v.set(*name, if log { xi.exp() } else { *xi });
-        }
-        v
+        // Each parameter: its unknown where free (the logarithm's
+        // exponential where fitted as one), else the scene's value.
+        Values::from_fn(|name| match self.free.iter().position(|n| *n == name) {
+            Some(k) if logarithmic(name, self.base.get(name)) => x[k].exp(),
+            Some(k) => x[k],
+            None => T::from(self.base.get(name)),
+        })
     }
 }
 
