@@ -187,8 +187,8 @@ pub fn law_of(name_or_path: &str) -> Result<Law, InputError> {
 fn adhesive_here(origin: &str) -> InputError {
     InputError::Conflict(format!(
         "{origin} is an adhesive scene (law = \"adhesive\"): the commands hopf, branch, \
-         diagram, cycles and simulate analyse it (and the Python functions of the same \
-         names); fit analyses rate-and-state scenes only"
+         diagram, cycles, simulate and fit analyse it (and the Python functions of the same \
+         names) with its own law, not this rate-and-state analysis"
     ))
 }
 

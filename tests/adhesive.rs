@@ -170,20 +170,23 @@ fn the_gel_scene_has_the_reference_v_max_v_c_and_onset() {
     let r = reference("gel");
     let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--json"]);
     assert_eq!(status, 0, "{err}");
-    assert!(rel(field(&v, "v_max_um_s"), r["V_max_um_s"]) < 1e-9, "{v}");
-    assert!(rel(field(&v, "v_c_um_s"), r["V_c_um_s"]) < 1e-9, "{v}");
-    assert!(rel(field(&v, "force_at_v_max_n"), r["F_max_N"]) < 1e-12);
-    assert!(rel(field(&v, "force_at_v_c_n"), r["F_min_N"]) < 1e-12);
-    assert!(rel(field(&v, "steady_force_n"), r["steady_force_N"]) < 1e-12);
+    assert!(
+        rel(field(&v, "V_max_um_per_s"), r["V_max_um_s"]) < 1e-9,
+        "{v}"
+    );
+    assert!(rel(field(&v, "V_c_um_per_s"), r["V_c_um_s"]) < 1e-9, "{v}");
+    assert!(rel(field(&v, "force_at_V_max_N"), r["F_max_N"]) < 1e-12);
+    assert!(rel(field(&v, "force_at_V_c_N"), r["F_min_N"]) < 1e-12);
+    assert!(rel(field(&v, "steady_force_N"), r["steady_force_N"]) < 1e-12);
     let c = &v["critical"];
     assert!(rel(field(c, "kappa_c"), r["kappa_c"]) < 1e-9, "{c}");
     assert!(rel(field(c, "omega_c"), r["omega_c"]) < 1e-9, "{c}");
-    assert!(rel(field(c, "k_c_n_m"), r["K_c_N_m"]) < 1e-9, "{c}");
+    assert!(rel(field(c, "K_N_per_m"), r["K_c_N_m"]) < 1e-9, "{c}");
     assert_eq!(c["onset"], "supercritical");
     assert_eq!(v["model"], "quasi-static");
     assert_eq!(v["regime"], "stick-slip");
     // V_c inside the seed's 25-250 um/s of gelatin.
-    assert!((25.0..250.0).contains(&field(&v, "v_c_um_s")));
+    assert!((25.0..250.0).contains(&field(&v, "V_c_um_per_s")));
 }
 
 const FROM_SCRATCH: &str = "\
@@ -215,15 +218,18 @@ fn every_command_runs_on_a_scene_written_from_scratch() {
     let r = reference("newtonian");
     let (status, v, err) = json_of(&["hopf", "--scene", &scene, "--json"]);
     assert_eq!(status, 0, "{err}");
-    assert!(rel(field(&v, "v_max_um_s"), r["V_max_um_s"]) < 1e-9, "{v}");
-    assert!(rel(field(&v, "v_c_um_s"), r["V_c_um_s"]) < 1e-9, "{v}");
+    assert!(
+        rel(field(&v, "V_max_um_per_s"), r["V_max_um_s"]) < 1e-9,
+        "{v}"
+    );
+    assert!(rel(field(&v, "V_c_um_per_s"), r["V_c_um_s"]) < 1e-9, "{v}");
     assert!(rel(field(&v["critical"], "kappa_c"), r["kappa_c"]) < 1e-9);
     assert!(rel(field(&v["critical"], "omega_c"), r["omega_c"]) < 1e-9);
 
     // branch in V: the Hopf points at K = 1000 N/m lie between V_max and V_c.
     let (status, v, err) = json_of(&["branch", "--scene", &scene, "--param", "V", "--json"]);
     assert_eq!(status, 0, "{err}");
-    let hopf: Vec<f64> = v["hopf_points_um_s"]
+    let hopf: Vec<f64> = v["hopf_points_V_um_per_s"]
         .as_array()
         .unwrap()
         .iter()
@@ -280,10 +286,10 @@ fn a_stop_longer_than_resticking_gives_a_static_peak_a_short_one_none() {
         ];
         let (status, v, err) = json_of(&[&args[..], &["--protocol", &protocol]].concat());
         assert_eq!(status, 0, "{err}");
-        let peaks = v["peak_force_n"].as_array().unwrap().clone();
+        let peaks = v["peak_force_N"].as_array().unwrap().clone();
         (
             peaks[2].as_f64().unwrap(),
-            v["steady_force_n"][2].as_f64().unwrap(),
+            v["steady_force_N"][2].as_f64().unwrap(),
         )
     };
     let (short, steady) = peak("0.02", "short");
@@ -492,10 +498,32 @@ fn diagram_judges_chi_over_its_range_as_hopf_does_at_each_velocity() {
     let (status, d, err) = json_of(&["diagram", "--scene", "gel", "--json", "--out", out]);
     assert_eq!(status, 0, "{err}");
     assert_eq!(d["model"], "inertial", "{}", d["model_reason"]);
-    let crossing = field(&d, "inertia_crossing_um_s");
+    let crossing = field(&d, "inertia_crossing_um_per_s");
     assert!(d["model_reason"].as_str().unwrap().contains("crosses"));
     let points = d["points"].as_array().unwrap();
     let v_s = 0.025;
+    // The physical values beside the dimensionless ones: V = nu V_s, K_c =
+    // kappa_c F_a / (V_s tau_out) = kappa_c 2e6 N/m, f = omega / (2 pi
+    // tau_out), steady force = s F_a (the gel's 0.05 N, 0.025 µm/s, 1 s).
+    for p in points {
+        assert!((field(p, "V_um_per_s") / (field(p, "nu") * v_s) - 1.0).abs() < 1e-14);
+        if p["kappa_c"].is_number() {
+            let k = field(p, "kappa_c") * 2e6;
+            assert!((field(p, "K_N_per_m") / k - 1.0).abs() < 1e-14, "{p}");
+            let f = field(p, "omega_c") / (2.0 * std::f64::consts::PI);
+            assert!((field(p, "frequency_hz") / f - 1.0).abs() < 1e-14, "{p}");
+        } else {
+            assert!(
+                p["K_N_per_m"].is_null() && p["frequency_hz"].is_null(),
+                "{p}"
+            );
+        }
+    }
+    for p in d["steady"].as_array().unwrap() {
+        let f = field(p, "s") * 0.05;
+        assert!((field(p, "steady_force_N") / f - 1.0).abs() < 1e-14, "{p}");
+        assert!((field(p, "V_um_per_s") / (field(p, "nu") * v_s) - 1.0).abs() < 1e-14);
+    }
     let mut checked = 0;
     for p in points.iter().step_by(4) {
         let v = field(p, "nu") * v_s;
@@ -557,7 +585,7 @@ fn the_inertial_cycle_at_the_gels_stiffness_is_simulates_settled_orbit() {
         "{cycle} {s}"
     );
     assert!(
-        rel(drop, field(&s, "settled_force_drop_n")) < 1e-6,
+        rel(drop, field(&s, "settled_force_drop_N")) < 1e-6,
         "{cycle} {s}"
     );
     assert!(cycle["stable"].as_bool().unwrap());
@@ -746,4 +774,163 @@ fn adhesive_json_has_the_common_frame() {
         assert_eq!(field(u, "M_kg"), 1e-3);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `simulate`'s protocol in the JSON in the experimenter's units beside
+/// the dimensionless ones: the command line's velocities and durations
+/// back, and `nu = V / V_s`, `duration = T / tau_out` (here tau_out = 2 s).
+#[test]
+fn simulate_protocol_is_given_in_um_per_s_and_seconds_too() {
+    let dir = temp_dir("adhesive-protocol-units");
+    let (status, v, err) = json_of(&[
+        "simulate",
+        "--scene",
+        "gel",
+        "--set",
+        "tau_out=2",
+        "--protocol",
+        "200:4,0:1,50:2",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(status == 0 || status == 4, "{err}");
+    let protocol = v["protocol"].as_array().unwrap();
+    let given = [(200.0, 4.0), (0.0, 1.0), (50.0, 2.0)];
+    assert_eq!(protocol.len(), given.len());
+    for (seg, (speed, t)) in protocol.iter().zip(given) {
+        assert_eq!(field(seg, "V_um_per_s"), speed, "{seg}");
+        assert_eq!(field(seg, "duration_s"), t, "{seg}");
+        assert!((field(seg, "nu") - speed / 0.025).abs() <= 1e-12 * speed / 0.025);
+        assert!((field(seg, "duration") - t / 2.0).abs() < 1e-15, "{seg}");
+    }
+}
+
+/// `--set` of a key the adhesive scene does not have: a dimensionless
+/// parameter names the scene key it comes from (`nu` is `V`, not the
+/// `M` an edit distance would pick), a rate-and-state key gets no
+/// suggestion, and every message lists the scene's keys.
+#[test]
+fn unknown_set_keys_list_the_adhesive_keys() {
+    let keys = "F_a, V_s, tau_out, tau_on, F_v, alpha, M, K, V";
+    for (key, says) in [
+        ("nu", Some("'V'")),
+        ("kappa", Some("'K'")),
+        ("r", Some("'tau_on'")),
+        ("tau_of", Some("'tau_on'")),
+        ("mu0", None),
+        ("A", None),
+    ] {
+        let set = format!("{key}=3");
+        let (status, _, err) = stickslip(&["hopf", "--scene", "gel", "--set", &set]);
+        assert_eq!(status, 2, "{err}");
+        assert!(err.contains(keys), "{err}");
+        match says {
+            Some(s) => assert!(err.contains(&format!("did you mean {s}?")), "{err}"),
+            None => assert!(!err.contains("did you mean"), "{err}"),
+        }
+    }
+}
+
+/// `tau_on > tau_out` is valid (the bond kinetics and friction law hold
+/// for every r > 0) but outside Schallamach's assumption: accepted with a
+/// warning on stderr and in the JSON, the run complete; the gel (r = 0.1)
+/// has none.
+#[test]
+fn slow_readsorption_is_warned_not_refused() {
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--set", "tau_on=2", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        err.contains("warning: tau_on = 2e0 s > tau_out = 1e0 s"),
+        "{err}"
+    );
+    let warnings = v["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{v}");
+    // n = 1 / (1 + r) at rest, r = 2.
+    assert!(warnings[0]
+        .as_str()
+        .unwrap()
+        .contains("n = 1/(1 + r) = 0.3333"));
+    assert_eq!(v["complete"], true);
+    let (status, v, err) = json_of(&["hopf", "--scene", "gel", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(v["warnings"].as_array().unwrap().is_empty() && !err.contains("warning"));
+}
+
+/// `diagram`'s verdict at the scene's own K and V, judged as the
+/// rate-and-state diagram judges it: the gel's 200 N/m at 20 µm/s lies far
+/// below K_c (the value of docs/reference/fit_adhesive_data.py, with the
+/// block's inertia: the diagram runs inertial), 1e6 N/m above a
+/// supercritical onset is steady sliding, and above the subcritical onset
+/// at 0.7 µm/s it is undecided (cycles may coexist up to their fold).
+#[test]
+fn diagram_judges_the_operating_point() {
+    let dir = temp_dir("adhesive-operating-point");
+    let script = std::fs::read_to_string("docs/reference/fit_adhesive_data_out.txt").unwrap();
+    let k_c: f64 = script
+        .lines()
+        .find(|l| l.starts_with("K_c(20 um/s) with inertia"))
+        .and_then(|l| l.rsplit(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    let cases: [(&[&str], &str, &str); 3] = [
+        (&[], "stick-slip", "K < K_c"),
+        (&["--set", "K=1e6"], "steady", "supercritical"),
+        (
+            &["--set", "K=1e6", "--set", "V=0.7"],
+            "undecided",
+            "subcritical",
+        ),
+    ];
+    for (i, (set, regime, says)) in cases.iter().enumerate() {
+        let out = dir.join(format!("case-{i}"));
+        let args = [
+            &[
+                "diagram",
+                "--scene",
+                "gel",
+                "--json",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            *set,
+        ]
+        .concat();
+        let (status, v, err) = json_of(&args);
+        assert_eq!(status, 0, "{err}");
+        let op = &v["operating_point"];
+        assert_eq!(op["regime"], *regime, "{op}");
+        assert!(op["reason"].as_str().unwrap().contains(says), "{op}");
+        assert_eq!(op["in_range"], true);
+        if i == 0 {
+            let located = field(op, "K_c_N_per_m");
+            assert!((located / k_c - 1.0).abs() < 1e-9, "{located} vs {k_c}");
+            assert!((field(op, "margin") - (200.0 / k_c - 1.0)).abs() < 1e-9);
+        }
+    }
+    // The text says it too.
+    let (status, out, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "gel",
+        "--out",
+        dir.join("text").to_str().unwrap(),
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert!(out.contains("operating point: K = 200.00 N/m"), "{out}");
+    assert!(out.contains(": stick-slip — K < K_c"), "{out}");
+}
+
+/// `hopf` above a subcritical onset (the gel at 0.7 µm/s, below its Bautin
+/// point) does not promise steady sliding alone: cycles may coexist.
+#[test]
+fn hopf_above_a_subcritical_onset_says_cycles_may_coexist() {
+    let v = common::hopf_json(&["--scene", "gel", "--set", "V=0.7", "--set", "K=1e6"]);
+    assert_eq!(v["critical"]["onset"], "subcritical", "{v}");
+    let regime = v["regime"].as_str().unwrap();
+    assert!(regime.contains("possibly coexisting"), "{regime}");
+    let v = common::hopf_json(&["--scene", "gel", "--set", "K=1e6"]);
+    assert_eq!(v["critical"]["onset"], "supercritical");
+    assert_eq!(v["regime"], "steady sliding");
 }

@@ -112,9 +112,9 @@ fn the_seeds_pmma_values_from_the_example_data() {
         None,
     )
     .unwrap();
-    assert!(f.complete && f.not_determined.is_empty());
+    assert!(f.outcome.complete && f.summary.not_determined.is_empty());
     for (name, value) in TRUTH {
-        let e = &f.parameters[name];
+        let e = &f.summary.parameters[name];
         let sd = e.std_error.unwrap();
         assert!(
             (e.value - value).abs() < 3.0 * sd,
@@ -124,9 +124,13 @@ fn the_seeds_pmma_values_from_the_example_data() {
     }
     // As precise as the seed's measurement (A = 0.012 ± 0.002, B = 0.023
     // ± 0.002, D0 = 0.4 ± 0.04 µm) or better, from 20 points.
-    assert!(f.parameters["A"].std_error.unwrap() < 0.002);
-    assert!(f.parameters["D0"].std_error.unwrap() < 0.04);
-    assert!((f.chi2_per_dof - 1.0).abs() < 0.8, "{}", f.chi2_per_dof);
+    assert!(f.summary.parameters["A"].std_error.unwrap() < 0.002);
+    assert!(f.summary.parameters["D0"].std_error.unwrap() < 0.04);
+    assert!(
+        (f.summary.chi2_per_dof - 1.0).abs() < 0.8,
+        "{}",
+        f.summary.chi2_per_dof
+    );
     // The seed's closed-form route beside it agrees to its own precision.
     let c = f.closed_form.as_ref().unwrap();
     assert!((c.b_minus_a - 0.011).abs() < 1e-3 && (c.d0_um.unwrap() - 0.4).abs() < 0.03);
@@ -158,7 +162,7 @@ fn the_seeds_pmma_values_from_the_example_data() {
     // (quasi-static there, inertia shifts it by 2e-5) is the fitted B - A.
     let dir = temp_dir("scene");
     let path = dir.join("fitted.toml");
-    std::fs::write(&path, &f.fitted_toml).unwrap();
+    std::fs::write(&path, &f.outcome.fitted_toml).unwrap();
     let hopf = jobs::hopf::run(
         &SceneSpec::named(path.to_str().unwrap()),
         &HopfRequest::default(),
@@ -167,7 +171,7 @@ fn the_seeds_pmma_values_from_the_example_data() {
     let kappa_c = serde_json::to_value(&hopf.report).unwrap()["kappa_c"]
         .as_f64()
         .unwrap();
-    let b_minus_a = f.parameters["B"].value - f.parameters["A"].value;
+    let b_minus_a = f.summary.parameters["B"].value - f.summary.parameters["A"].value;
     assert!(
         (kappa_c / b_minus_a - 1.0).abs() < 1e-13,
         "{kappa_c} {b_minus_a}"
@@ -175,7 +179,7 @@ fn the_seeds_pmma_values_from_the_example_data() {
     let k_over_w = serde_json::to_value(&hopf.report).unwrap()["physical"]["K_over_W_per_m"]
         .as_f64()
         .unwrap();
-    let d0 = f.parameters["D0"].value * 1e-6;
+    let d0 = f.summary.parameters["D0"].value * 1e-6;
     assert!(
         (k_over_w * d0 / b_minus_a - 1.0).abs() < 1e-13,
         "{k_over_w}"
@@ -197,7 +201,7 @@ fn one_sigma_covers_the_truth_68_percent_of_the_time() {
         let (s, o) = draw(&dir, k, &mut noise);
         let f = fit_with(vec![(Kind::Steady, s), (Kind::Onset, o)], None, false).unwrap();
         for (i, (name, value)) in TRUTH.iter().enumerate() {
-            let e = &f.parameters[name];
+            let e = &f.summary.parameters[name];
             if (e.value - value).abs() <= e.std_error.unwrap() {
                 inside[i] += 1;
             }
@@ -221,25 +225,25 @@ fn what_steady_data_cannot_determine_is_named_not_invented() {
         None,
     )
     .unwrap();
-    assert!(!f.complete);
-    let names: Vec<&str> = f.not_determined.iter().map(|n| n.name).collect();
+    assert!(!f.outcome.complete);
+    let names: Vec<&str> = f.summary.not_determined.iter().map(|n| n.name).collect();
     assert!(
         names.contains(&"D0") && (names.contains(&"A") || names.contains(&"B")),
         "{names:?}"
     );
-    for n in &f.not_determined {
-        let e = &f.parameters[n.name];
+    for n in &f.summary.not_determined {
+        let e = &f.summary.parameters[n.name];
         assert!(e.std_error.is_none() && e.value == e.start && e.status == "not_determined");
         assert!(n.remedy.starts_with("add "), "{}", n.remedy);
     }
     // B - A, what steady data do determine, is the truth's within the
     // error of B given A (the closed form's straight line leaves out the
     // mu2 curvature and is off by 5e-4 here).
-    let b_minus_a = f.parameters["B"].value - f.parameters["A"].value;
-    let sd = f.parameters["B"].std_error.unwrap();
-    assert_eq!(f.parameters["B"].given, vec!["A"]);
+    let b_minus_a = f.summary.parameters["B"].value - f.summary.parameters["A"].value;
+    let sd = f.summary.parameters["B"].std_error.unwrap();
+    assert_eq!(f.summary.parameters["B"].given, vec!["A"]);
     assert!((b_minus_a - 0.011).abs() < 3.0 * sd, "{b_minus_a} ± {sd}");
-    assert!(f.stop.as_ref().unwrap().contains("D0"));
+    assert!(f.outcome.stop.as_ref().unwrap().contains("D0"));
     // No stability band that would claim a precision the data do not give.
     assert!(f.band.is_empty() && f.onset_type.is_empty());
     // --free restricts to what is determined: then the answer is complete.
@@ -248,8 +252,8 @@ fn what_steady_data_cannot_determine_is_named_not_invented() {
         Some("mu0,B,mu2"),
     )
     .unwrap();
-    assert!(f.complete, "{:?}", f.stop);
-    assert_eq!(f.parameters["A"].status, "fixed");
+    assert!(f.outcome.complete, "{:?}", f.outcome.stop);
+    assert_eq!(f.summary.parameters["A"].status, "fixed");
     // A name the law does not have.
     let e = fit(
         vec![(Kind::Steady, "examples/data/pmma-steady.csv".into())],

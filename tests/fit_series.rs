@@ -186,7 +186,7 @@ fn fit(data: Vec<(Kind, PathBuf)>, free: &str, set: &[&str]) -> Fit {
 /// the error below `precision` relative).
 fn recovers(f: &Fit, truth: &[(&str, f64)], precision: f64) {
     for (name, value) in truth {
-        let e = &f.parameters[name];
+        let e = &f.summary.parameters[name];
         let sd = e.std_error.unwrap();
         println!("{name} = {} ± {sd} (truth {value})", e.value);
         assert!(
@@ -210,15 +210,19 @@ fn velocity_step_recovered(model: ModelKind, steps: &[(f64, f64)], per_s: f64, f
     let path = dir.join("step.csv");
     velocity_step_file(&path, model, 2.4e-4, steps, per_s, 2000, 1e-4, 1);
     let f = fit(vec![(Kind::VelocityStep, path)], free, &OFF);
-    assert!(f.complete, "{:?}", f.stop);
-    assert_eq!(f.datasets[0].model, Some(model.name()));
+    assert!(f.outcome.complete, "{:?}", f.outcome.stop);
+    assert_eq!(f.summary.datasets[0].model, Some(model.name()));
     recovers(
         &f,
         &[("A", 0.012), ("B", 0.023), ("D0", 0.4), ("mu0", 0.5)],
         0.05,
     );
-    assert!((f.chi2_per_dof - 1.0).abs() < 0.1, "{}", f.chi2_per_dof);
-    assert!((f.datasets[0].rms / 1e-4 - 1.0).abs() < 0.1);
+    assert!(
+        (f.summary.chi2_per_dof - 1.0).abs() < 0.1,
+        "{}",
+        f.summary.chi2_per_dof
+    );
+    assert!((f.summary.datasets[0].rms / 1e-4 - 1.0).abs() < 0.1);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -271,24 +275,28 @@ fn a_velocity_step_is_fitted_under_the_scenes_state_law() {
         "A,B,D0,mu0",
         &[&OFF[..], &["state_law=slip"]].concat(),
     );
-    assert!(slip.complete, "{:?}", slip.stop);
+    assert!(slip.outcome.complete, "{:?}", slip.outcome.stop);
     recovers(
         &slip,
         &[("A", 0.012), ("B", 0.023), ("D0", 0.4), ("mu0", 0.5)],
         0.05,
     );
     assert!(
-        (slip.chi2_per_dof - 1.0).abs() < 0.1,
+        (slip.summary.chi2_per_dof - 1.0).abs() < 0.1,
         "{}",
-        slip.chi2_per_dof
+        slip.summary.chi2_per_dof
     );
-    assert_eq!(slip.params["state_law"], "slip");
+    assert_eq!(slip.outcome.params["state_law"], "slip");
     let ageing = fit(vec![(Kind::VelocityStep, path)], "A,B,D0,mu0", &OFF);
     println!(
         "chi2/dof: slip law {}, ageing law {}",
-        slip.chi2_per_dof, ageing.chi2_per_dof
+        slip.summary.chi2_per_dof, ageing.summary.chi2_per_dof
     );
-    assert!(ageing.chi2_per_dof > 3.0, "{}", ageing.chi2_per_dof);
+    assert!(
+        ageing.summary.chi2_per_dof > 3.0,
+        "{}",
+        ageing.summary.chi2_per_dof
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -320,24 +328,28 @@ fn a_velocity_step_is_fitted_with_the_scenes_corrections_and_damping() {
         "A,B,D0,mu0",
         &[&OFF[..], &terms].concat(),
     );
-    assert!(with.complete, "{:?}", with.stop);
+    assert!(with.outcome.complete, "{:?}", with.outcome.stop);
     recovers(
         &with,
         &[("A", 0.012), ("B", 0.023), ("D0", 0.4), ("mu0", 0.5)],
         0.05,
     );
     assert!(
-        (with.chi2_per_dof - 1.0).abs() < 0.1,
+        (with.summary.chi2_per_dof - 1.0).abs() < 0.1,
         "{}",
-        with.chi2_per_dof
+        with.summary.chi2_per_dof
     );
-    assert_eq!(with.params["eta_d"], 2e-3);
+    assert_eq!(with.outcome.params["eta_d"], 2e-3);
     let without = fit(vec![(Kind::VelocityStep, path)], "A,B,D0,mu0", &OFF);
     println!(
         "chi2/dof: with the terms {}, without {}",
-        with.chi2_per_dof, without.chi2_per_dof
+        with.summary.chi2_per_dof, without.summary.chi2_per_dof
     );
-    assert!(without.chi2_per_dof > 3.0, "{}", without.chi2_per_dof);
+    assert!(
+        without.summary.chi2_per_dof > 3.0,
+        "{}",
+        without.summary.chi2_per_dof
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -364,7 +376,7 @@ fn velocity_step_errors_cover_the_truth_68_percent_of_the_time() {
         write_velocity_step(&path, &rows, 1e-4, 1000 + k as u64);
         let f = fit(vec![(Kind::VelocityStep, path)], "A,B,D0,mu0", &[]);
         for (i, (name, value)) in truth.iter().enumerate() {
-            let e = &f.parameters[name];
+            let e = &f.summary.parameters[name];
             inside[i] += usize::from((e.value - value).abs() <= e.std_error.unwrap());
         }
     }
@@ -400,17 +412,17 @@ fn relaxation_tells_mu2_from_zero() {
     for (mu2, seed) in [(1e-3, 10), (0.0, 20)] {
         let data = relaxation_files(&dir, mu2, seed);
         let f = fit(data.clone(), "A,B,D0,mu0,mu2", &[]);
-        assert!(!f.complete);
-        assert_eq!(f.not_determined.len(), 1);
-        let n = &f.not_determined[0];
+        assert!(!f.outcome.complete);
+        assert_eq!(f.summary.not_determined.len(), 1);
+        let n = &f.summary.not_determined[0];
         assert!(n.name == "mu0" && n.remedy.contains("steady"), "{n:?}");
-        assert_eq!(f.parameters["mu0"].status, "not_determined");
+        assert_eq!(f.summary.parameters["mu0"].status, "not_determined");
         // Asking for what relaxations determine: complete.
         let f = fit(data, "A,B,D0,mu2", &[]);
-        assert!(f.complete, "{:?}", f.stop);
-        assert_eq!(f.datasets.len(), 3);
+        assert!(f.outcome.complete, "{:?}", f.outcome.stop);
+        assert_eq!(f.summary.datasets.len(), 3);
         recovers(&f, &[("A", 0.012), ("B", 0.023), ("D0", 0.4)], 0.05);
-        let e = &f.parameters["mu2"];
+        let e = &f.summary.parameters["mu2"];
         let sd = e.std_error.unwrap();
         println!("mu2 = {} ± {sd} (truth {mu2})", e.value);
         assert!((e.value - mu2).abs() < 3.0 * sd, "{} ± {sd}", e.value);

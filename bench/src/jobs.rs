@@ -282,7 +282,7 @@ impl Job {
         match &self.work {
             Work::Fit(work) => {
                 let f = stickslip::jobs::fit::run(&work.0, &work.1)?;
-                Ok(points(std::hint::black_box(f).datasets[0].rows))
+                Ok(points(std::hint::black_box(f).summary.datasets[0].rows))
             }
             Work::HopfJob(spec) => {
                 let h = stickslip::jobs::hopf::run(spec, &HopfRequest::default())?;

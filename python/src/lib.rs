@@ -708,6 +708,7 @@ impl Figures {
         let scene = spec
             .setup(|p| *p)
             .map(|s| s.scene.name)
+            .or_else(|_| stickslip::adhesive::scene::load(&spec.scene).map(|s| s.name))
             .unwrap_or_else(|_| "scene".into());
         Figures {
             draw: Box::new(draw),
@@ -863,6 +864,20 @@ fn fit<'py>(
         .map(|(kind, file)| Ok((Kind::parse(&kind)?, file)))
         .collect::<Result<Vec<_>, InputError>>()
         .map_err(|e| err(e.into()))?;
+    // An adhesive scene: its own law's fit (stickslip::adhesive::fit).
+    let adhesive = stickslip::scene::law_of(&spec.scene).map_err(|e| err(e.into()))?
+        == stickslip::scene::Law::Adhesive;
+    if adhesive {
+        let result = py
+            .detach(|| {
+                stickslip::adhesive::fit::run(&spec.scene, &spec.set, &data, free.as_deref())
+            })
+            .map_err(err)?;
+        let toml = result.outcome.fitted_toml.clone();
+        return fit_dict(py, &spec, result, toml, |r, stem| {
+            stickslip::plot::fit::data_figures(r, stem)
+        });
+    }
     let request = FitRequest {
         data,
         free,
@@ -871,12 +886,23 @@ fn fit<'py>(
     let result = py
         .detach(|| stickslip::jobs::fit::run(&spec, &request))
         .map_err(err)?;
+    let toml = result.outcome.fitted_toml.clone();
+    fit_dict(py, &spec, result, toml, stickslip::plot::fit::figures)
+}
+
+/// What `fit` returns: the JSON of `result`, the fitted scene `toml` and
+/// the figures `draw` makes.
+fn fit_dict<'py, T: serde::Serialize + Send + Sync + 'static>(
+    py: Python<'py>,
+    spec: &SceneSpec,
+    result: T,
+    toml: String,
+    draw: fn(&T, &Path) -> Result<Vec<PathBuf>, PlotError>,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("json", to_json(&result)?)?;
-    d.set_item("fitted_toml", &result.fitted_toml)?;
-    let figures = Figures::new(&spec, move |stem| {
-        stickslip::plot::fit::figures(&result, stem)
-    });
+    d.set_item("fitted_toml", toml)?;
+    let figures = Figures::new(spec, move |stem| draw(&result, stem));
     d.set_item("figures", Py::new(py, figures)?)?;
     Ok(d)
 }

@@ -1500,6 +1500,11 @@ def fit(
         error, else it is estimated.
     free: the parameters to fit (default: all of the law's).
 
+    An adhesive scene (law = "adhesive", e.g. "gel") is fitted with its own
+    law (F_a, V_s, tau_on, tau_out, F_v, alpha) to "steady" (V_um_s, F_N:
+    the friction force) and "onset" (V_um_s, K_N_per_m: the critical
+    stiffness) data; see docs/fit.md, "Adhesive scenes".
+
     Returns a `Fit`; `complete` is False (not an exception) when the data
     leave a parameter undetermined: it is named in `not_determined` with
     the data that would determine it, and kept at the scene's value.

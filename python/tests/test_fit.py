@@ -77,3 +77,28 @@ def test_time_series_pass_through(root, cli, tmp_path, monkeypatch):
     with pytest.raises(InputError) as e:
         stickslip.fit(MACHINE, [("relaxation", bad)])
     assert "row 3, column 3 (V_um_s)" in str(e.value)
+
+
+def test_an_adhesive_scene_is_fitted_with_its_own_law(root, cli, tmp_path, monkeypatch):
+    """The gel: the JSON of `stickslip fit --scene gel --json`, the values
+    of docs/reference/fit_adhesive_data.py within three standard errors,
+    the fitted scene adhesive and read back by hopf."""
+    monkeypatch.chdir(root)
+    data = [("steady", "examples/data/gel-steady.csv"), ("onset", "examples/data/gel-onset.csv")]
+    f = stickslip.fit("gel", data)
+    expected = cli("fit", "--scene", "gel", "--data", "steady=examples/data/gel-steady.csv",
+                   "--data", "onset=examples/data/gel-onset.csv", "--out", str(tmp_path),
+                   "--force")
+    expected.pop("files")
+    got = f.to_dict()
+    got.pop("files")
+    assert got == expected
+    assert got["law"] == "adhesive" and f.complete
+    truth = {"F_a": 0.05, "V_s": 0.025, "tau_on": 0.1, "tau_out": 1.0, "F_v": 5e-4, "alpha": 0.6}
+    for name, value in truth.items():
+        assert abs(f.value(name) - value) < 3 * f.std_error(name), name
+    assert 'law = "adhesive"' in f.fitted_toml
+    hopf = stickslip.hopf(f.scene())
+    assert hopf.to_dict()["critical"]["K_N_per_m"] > 0
+    files = f.figures(tmp_path / "figs")
+    assert any(p.endswith("-fit-steady-F_N.png") for p in files)

@@ -37,6 +37,7 @@ use crate::exp_integral::{one_minus_z_scaled_e1, scaled_e1};
 use crate::friction::{increasing_zero, reach};
 use crate::model::ModelKind;
 use continuation::{Scalar, VectorField};
+use num_dual::Dual;
 
 /// The quasi-static adhesive block, state `(s, n)` (the parameter `m`
 /// unread).
@@ -75,15 +76,51 @@ pub fn steady_bonds<D: Scalar>(u: D, r: D) -> D {
     t / (t + r)
 }
 
+/// The parameters of steady sliding and of its onset, `r`, `f_v`, `alpha`
+/// and `m` ([`AdhesiveParams`]), on any scalar: the fit
+/// ([`crate::adhesive::fit`]) differentiates steady friction and the
+/// critical stiffness in them through dual numbers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadyLaw<D> {
+    pub r: D,
+    pub f_v: D,
+    pub alpha: D,
+    pub m: D,
+}
+
+impl SteadyLaw<f64> {
+    /// The law of `p`, on the scalar `D`.
+    pub fn of<D: Scalar>(p: &AdhesiveParams) -> SteadyLaw<D> {
+        SteadyLaw {
+            r: D::from(p.r),
+            f_v: D::from(p.f_v),
+            alpha: D::from(p.alpha),
+            m: D::from(p.m),
+        }
+    }
+}
+
+impl<D: Scalar> SteadyLaw<D> {
+    /// The same values as constants of a dual number over `D`.
+    fn lifted(&self) -> SteadyLaw<Dual<D>> {
+        SteadyLaw {
+            r: Dual::from_re(self.r),
+            f_v: Dual::from_re(self.f_v),
+            alpha: Dual::from_re(self.alpha),
+            m: Dual::from_re(self.m),
+        }
+    }
+}
+
 /// Steady friction `F_ss(u) = n_ss(u) g(1/u) + f_v u^(1 - alpha)` (eqs. D2,
-/// D3, with the junction's viscosity).
+/// D3, with the junction's viscosity), the parameters on any scalar.
+pub fn steady_force<D: Scalar>(u: D, law: &SteadyLaw<D>) -> D {
+    force(u, steady_bonds(u, law.r), law.f_v, law.alpha)
+}
+
+/// Steady friction of the scene's parameters ([`steady_force`]).
 pub fn steady_friction<D: Scalar>(u: D, p: &AdhesiveParams) -> D {
-    force(
-        u,
-        steady_bonds(u, D::from(p.r)),
-        D::from(p.f_v),
-        D::from(p.alpha),
-    )
+    steady_force(u, &SteadyLaw::of(p))
 }
 
 /// The slip velocity `u` at which the block meets the force `s` with bond
@@ -253,19 +290,23 @@ pub fn velocity_of(p: &AdhesiveParams, x: &[f64]) -> f64 {
 }
 
 /// The slope of the force at fixed bonds, `F_u = dF/du`, and the bonds'
-/// relaxation rate `lambda_n = 1/r + 1/T` at steady sliding.
-fn steady_slopes(p: &AdhesiveParams) -> (f64, f64) {
-    let u = p.nu;
-    let n = steady_bonds(u, p.r);
-    let f_u =
-        (n * one_minus_z_scaled_e1(1.0 / u) + p.f_v * (1.0 - p.alpha) * u.powf(1.0 - p.alpha)) / u;
-    (f_u, 1.0 / p.r + 1.0 / lifetime(u))
+/// relaxation rate `lambda_n = 1/r + 1/T` at steady sliding at `u`.
+fn steady_slopes<D: Scalar>(u: D, law: &SteadyLaw<D>) -> (D, D) {
+    let n = steady_bonds(u, law.r);
+    let beta = -law.alpha + 1.0;
+    let f_u = (n * one_minus_z_scaled_e1(u.recip()) + law.f_v * beta * (beta * u.ln()).exp()) / u;
+    (f_u, law.r.recip() + lifetime(u).recip())
+}
+
+/// The slope `dF_ss / du` of steady friction at `u`, the parameters on any
+/// scalar (exact, by a dual number over it).
+pub fn steady_force_slope<D: Scalar>(u: D, law: &SteadyLaw<D>) -> D {
+    steady_force(Dual::new(u, D::from(1.0)), &law.lifted()).eps
 }
 
 /// The slope `dF_ss / du` of steady friction at `u` (exact, by a dual number).
 pub fn steady_slope(u: f64, p: &AdhesiveParams) -> f64 {
-    use num_dual::Dual64;
-    steady_friction(Dual64::from(u).derivative(), p).eps
+    steady_force_slope(u, &SteadyLaw::of(p))
 }
 
 /// The critical stiffness of the quasi-static block, the analogue of
@@ -282,16 +323,14 @@ pub fn steady_slope(u: f64, p: &AdhesiveParams) -> f64 {
 /// `V_max` and `V_c`), and is stable at every stiffness elsewhere.
 /// `(kappa_c, Omega_c)`; `Omega_c` is NaN where `kappa_c <= 0`.
 pub fn critical_stiffness(p: &AdhesiveParams) -> (f64, f64) {
-    let (f_u, lambda) = steady_slopes(p);
-    let kappa_c = -lambda * steady_slope(p.nu, p);
-    (kappa_c, (kappa_c * lambda / f_u).sqrt())
+    critical_stiffness_of(p, ModelKind::QuasiStatic)
 }
 
 /// The inertia ratio `chi = m lambda_n / F_u` at steady sliding: the
 /// inertial time `m / F_u` over the bonds' relaxation time `1 / lambda_n`
 /// (for the rate-and-state block the same ratio is `m nu^2 / mu_v`).
 pub fn inertia_ratio(p: &AdhesiveParams) -> f64 {
-    let (f_u, lambda) = steady_slopes(p);
+    let (f_u, lambda) = steady_slopes(p.nu, &SteadyLaw::of(p));
     p.m * lambda / f_u
 }
 
@@ -308,7 +347,7 @@ pub fn inertia_ratio(p: &AdhesiveParams) -> f64 {
 ///
 /// (`m = 0`: the quasi-static block's `F_u` times its `l^2 - trace l + det`).
 pub fn characteristic_polynomial(p: &AdhesiveParams) -> [f64; 4] {
-    let (f_u, lambda) = steady_slopes(p);
+    let (f_u, lambda) = steady_slopes(p.nu, &SteadyLaw::of(p));
     [
         p.kappa * lambda,
         lambda * steady_slope(p.nu, p) + p.kappa,
@@ -330,10 +369,17 @@ pub fn characteristic_polynomial(p: &AdhesiveParams) -> [f64; 4] {
 /// the quasi-static `kappa_c` raised by `1 + chi`, at the quasi-static
 /// frequency (the limit `m -> 0` is the quasi-static closed form).
 pub fn critical_stiffness_of(p: &AdhesiveParams, kind: ModelKind) -> (f64, f64) {
-    let (kappa_0, omega) = critical_stiffness(p);
+    critical_stiffness_at(p.nu, &SteadyLaw::of(p), kind)
+}
+
+/// [`critical_stiffness_of`] at `nu` with the parameters on any scalar.
+pub fn critical_stiffness_at<D: Scalar>(nu: D, law: &SteadyLaw<D>, kind: ModelKind) -> (D, D) {
+    let (f_u, lambda) = steady_slopes(nu, law);
+    let kappa_0 = -lambda * steady_force_slope(nu, law);
+    let omega = (kappa_0 * lambda / f_u).sqrt();
     match kind {
         ModelKind::QuasiStatic => (kappa_0, omega),
-        ModelKind::Inertial => (kappa_0 * (1.0 + inertia_ratio(p)), omega),
+        ModelKind::Inertial => (kappa_0 * (law.m * lambda / f_u + 1.0), omega),
     }
 }
 

@@ -10,7 +10,9 @@ use super::analysis::steady::{self, DiagramPoint, NuHopf, SteadyPoint};
 use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
+use crate::analysis::operating_point::{judge, judge_without_onset, Regime, StabilityAt};
 use crate::error::{Error, InputError, NumericalError};
+use crate::jobs::diagram::OperatingPoint;
 use crate::model::ModelKind;
 use serde::Serialize;
 
@@ -61,16 +63,23 @@ pub struct AdhesiveSetup {
     /// the velocity where `chi` crosses the threshold, um/s (`None` where it
     /// does not within the range).
     pub inertia_ratio_max: Option<f64>,
+    #[serde(rename = "inertia_crossing_um_per_s")]
     pub inertia_crossing_um_s: Option<f64>,
     pub params: AdhesiveParams,
     pub units: AdhesiveUnits,
     /// The maximum of steady friction (the bell of Schallamach's pinning).
+    #[serde(rename = "V_max_um_per_s")]
     pub v_max_um_s: Option<f64>,
     /// The minimum above it, where stick-slip ends (seed §III.D.2).
+    #[serde(rename = "V_c_um_per_s")]
     pub v_c_um_s: Option<f64>,
     /// Steady friction at `V_max` and `V_c`, N.
+    #[serde(rename = "force_at_V_max_N")]
     pub force_at_v_max_n: Option<f64>,
+    #[serde(rename = "force_at_V_c_N")]
     pub force_at_v_c_n: Option<f64>,
+    /// What is unusual in the scene but valid (also on stderr).
+    pub warnings: Vec<String>,
     #[serde(skip)]
     pub scene_full: AdhesiveScene,
 }
@@ -327,6 +336,7 @@ impl AdhesiveSetup {
             v_c_um_s: v_c.map(|nu| u.velocity_um_s(nu)),
             force_at_v_max_n: v_max.map(force),
             force_at_v_c_n: v_c.map(force),
+            warnings: scene.warnings.clone(),
             scene_full: scene,
         })
     }
@@ -338,6 +348,7 @@ pub struct Critical {
     #[serde(flatten)]
     pub onset: AdhesiveOnset,
     /// `K_c = kappa_c F_a / (V_s tau_out)`, N/m.
+    #[serde(rename = "K_N_per_m")]
     pub k_c_n_m: f64,
     /// `omega_c / (2 pi tau_out)`, Hz.
     pub frequency_hz: f64,
@@ -354,10 +365,12 @@ pub struct AdhesiveHopf {
     /// `dF_ss/du` at the scene's velocity where stable at every stiffness.
     pub steady_slope: Option<f64>,
     /// Steady friction at the scene's velocity, N.
+    #[serde(rename = "steady_force_N")]
     pub steady_force_n: f64,
     pub steady_bonds: f64,
-    /// The scene's stiffness against the onset: `stick-slip` or
-    /// `steady sliding` (`None` without `K`).
+    /// The scene's stiffness against the onset: `stick-slip`, `steady
+    /// sliding`, or above a subcritical onset `steady sliding, stick-slip
+    /// possibly coexisting ...` (`None` without `K`).
     pub regime: Option<&'static str>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
@@ -389,6 +402,12 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
             "undecided (K = 0: no spring, hence no steady sliding driven through it)"
         }
         Some(c) if p.kappa < c.onset.kappa_c => "stick-slip",
+        // Above a subcritical onset finite cycles may coexist (as
+        // `diagram`'s operating point says).
+        Some(c) if c.onset.onset == crate::analysis::hopf::Criticality::Subcritical => {
+            "steady sliding, stick-slip possibly coexisting (a subcritical onset: cycles persist \
+             above K_c up to their fold, which `stickslip cycles` locates)"
+        }
         _ => "steady sliding",
     });
     Ok(AdhesiveHopf {
@@ -410,14 +429,52 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
 pub struct AdhesiveBranch {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
-    pub points: Vec<SteadyPoint>,
+    pub points: Vec<SteadyRecord>,
     /// The Hopf points in the driving velocity, um/s beside `nu`.
     pub hopf_points: Vec<NuHopf>,
+    #[serde(rename = "hopf_points_V_um_per_s")]
     pub hopf_points_um_s: Vec<f64>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
     /// a failure is an error instead), as every command's JSON has it.
     pub stop: Option<String>,
+}
+
+/// A point of steady sliding with its physical values beside the
+/// dimensionless ones (`nu`, `s`).
+#[derive(Clone, Debug, Serialize)]
+pub struct SteadyRecord {
+    #[serde(flatten)]
+    pub point: SteadyPoint,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    #[serde(rename = "steady_force_N")]
+    pub steady_force_n: f64,
+}
+
+/// A point of the stability diagram with its physical values beside the
+/// dimensionless ones (`nu`, `kappa_c`, `omega_c`).
+#[derive(Clone, Debug, Serialize)]
+pub struct OnsetRecord {
+    #[serde(flatten)]
+    pub point: DiagramPoint,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: Option<f64>,
+    pub frequency_hz: Option<f64>,
+}
+
+/// The steady points in the experimenter's units.
+fn steady_records(points: Vec<SteadyPoint>, u: &AdhesiveUnits) -> Vec<SteadyRecord> {
+    points
+        .into_iter()
+        .map(|point| SteadyRecord {
+            v_um_per_s: u.velocity_um_s(point.nu),
+            steady_force_n: u.force_n(point.s),
+            point,
+        })
+        .collect()
 }
 
 /// Points per decade of the velocity grids.
@@ -442,8 +499,8 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
             .iter()
             .map(|h| setup.units.velocity_um_s(h.nu))
             .collect(),
+        points: steady_records(points, &setup.units),
         setup,
-        points,
         hopf_points,
         complete: true,
         stop: None,
@@ -455,13 +512,75 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
 pub struct AdhesiveDiagram {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
-    pub points: Vec<DiagramPoint>,
+    pub points: Vec<OnsetRecord>,
     /// The steady branch at the scene's velocities (for the friction figure).
-    pub steady: Vec<SteadyPoint>,
+    pub steady: Vec<SteadyRecord>,
+    /// The scene's own K and V against the diagram, and the verdict
+    /// (`null` without `K`): as the rate-and-state `diagram` judges it.
+    pub operating_point: Option<OperatingPoint>,
     pub complete: bool,
     /// Why the job ended short of the request (`null`: it delivered all;
     /// a failure is an error instead), as every command's JSON has it.
     pub stop: Option<String>,
+}
+
+/// The scene's stiffness and velocity against its onset there (located as
+/// `hopf` locates it, in the diagram's model), judged as the rate-and-state
+/// diagram judges its operating point ([`judge`]: stick-slip below `K_c`;
+/// above it steady sliding with a supercritical onset, undecided with a
+/// subcritical one, whose fold of cycles `cycles` locates); `None` without
+/// `K`. With the quasi-static model and a mass, `K` above the quasi-static
+/// `K_c` by less than the factor `1 + chi` inertia adds is undecided.
+fn operating_point(setup: &AdhesiveSetup) -> Result<Option<OperatingPoint>, Error> {
+    if !setup.scene_full.stiffness_given {
+        return Ok(None);
+    }
+    let (p, u) = (setup.params, setup.units);
+    let (lo, hi) = setup.scene_full.nu_range;
+    let mut op = OperatingPoint::unjudged(
+        (u.stiffness_n_m(p.kappa), p.kappa),
+        (u.velocity_um_s(p.nu), p.nu),
+        lo <= p.nu && p.nu <= hi,
+    );
+    if p.kappa == 0.0 {
+        return Ok(Some(op));
+    }
+    let onset = match with_model!(setup.model_kind, b => find_onset(b, &p))? {
+        OnsetOutcome::Found(onset) => onset,
+        OnsetOutcome::StableForAllStiffness { .. } => {
+            let (regime, reason) = judge_without_onset(p.kappa, None);
+            op.regime = regime;
+            op.reason = op.with_range_note(reason);
+            return Ok(Some(op));
+        }
+    };
+    let at = StabilityAt {
+        kappa_c: onset.kappa_c,
+        criticality: onset.onset,
+        tolerance: ((onset.kappa_c - onset.kappa_c_closed_form) / onset.kappa_c_closed_form).abs(),
+        dropped_inertia: None,
+        fold: None,
+    };
+    let (regime, margin, reason) = judge(p.kappa, &at);
+    let chi = block::inertia_ratio(&p);
+    let dropped = setup.model_kind == ModelKind::QuasiStatic && p.m > 0.0;
+    let (regime, reason) = if dropped && margin > 0.0 && margin <= chi + at.tolerance {
+        (
+            Regime::Undecided,
+            format!(
+                "K exceeds the quasi-static K_c by less than the factor 1 + chi the dropped \
+                 inertia adds (chi = {chi:.3e}): rerun with --model inertial"
+            ),
+        )
+    } else {
+        (regime, reason)
+    };
+    op.regime = regime;
+    op.reason = op.with_range_note(reason);
+    op.margin = Some(margin);
+    op.kappa_c = Some(onset.kappa_c);
+    op.k_c_n_per_m = Some(u.stiffness_n_m(onset.kappa_c));
+    Ok(Some(op))
 }
 
 /// `diagram` on an adhesive scene.
@@ -481,10 +600,23 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
         }
     }
     let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
+    let u = setup.units;
+    let operating_point = operating_point(&setup)?;
     Ok(AdhesiveDiagram {
+        operating_point,
+        points: points
+            .into_iter()
+            .map(|point| OnsetRecord {
+                v_um_per_s: u.velocity_um_s(point.nu),
+                k_n_per_m: point.kappa_c.map(|k| u.stiffness_n_m(k)),
+                frequency_hz: point
+                    .omega_c
+                    .map(|w| w / (2.0 * std::f64::consts::PI * u.tau_out)),
+                point,
+            })
+            .collect(),
+        steady: steady_records(steady, &u),
         setup,
-        points,
-        steady,
         complete: true,
         stop: None,
     })
@@ -563,20 +695,39 @@ fn settled<B: block::AdhesiveModel>(
     Ok(run.settled(0))
 }
 
+/// One segment of a protocol: its velocity `nu` and duration (in
+/// `tau_out`), and the same in µm/s and s.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct SegmentRecord {
+    #[serde(flatten)]
+    pub segment: Segment,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    pub duration_s: f64,
+}
+
 /// The result of `simulate`.
 #[derive(Clone, Debug, Serialize)]
 pub struct AdhesiveSimulation {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
+    #[serde(skip)]
     pub protocol: Vec<Segment>,
+    /// The protocol in the JSON: each segment dimensionless and in the
+    /// experimenter's units.
+    #[serde(rename = "protocol")]
+    pub protocol_record: Vec<SegmentRecord>,
     pub steps: usize,
     /// Per segment: the largest spring force, N, and steady friction at its
     /// velocity, N (a static peak after rest stands above it).
+    #[serde(rename = "peak_force_N")]
     pub peak_force_n: Vec<f64>,
+    #[serde(rename = "steady_force_N")]
     pub steady_force_n: Vec<f64>,
     /// The settled stick-slip of the last segment, if any.
     pub settled: Option<SettledCycle>,
     pub settled_period_s: Option<f64>,
+    #[serde(rename = "settled_force_drop_N")]
     pub settled_force_drop_n: Option<f64>,
     #[serde(skip)]
     pub run: Run,
@@ -657,6 +808,14 @@ pub fn simulate(
     }
     let settled = run.settled(protocol.len() - 1);
     Ok(AdhesiveSimulation {
+        protocol_record: protocol
+            .iter()
+            .map(|&segment| SegmentRecord {
+                segment,
+                v_um_per_s: u.velocity_um_s(segment.nu),
+                duration_s: u.time_s(segment.duration),
+            })
+            .collect(),
         steps: run.t.len(),
         peak_force_n: peak.iter().map(|s| u.force_n(*s)).collect(),
         steady_force_n: protocol

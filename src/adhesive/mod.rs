@@ -14,6 +14,7 @@
 
 pub mod analysis;
 pub mod block;
+pub mod fit;
 pub mod jobs;
 pub mod params;
 pub mod scene;

@@ -84,6 +84,29 @@ pub struct AdhesiveScene {
     pub stiffness_given: bool,
     /// Driving velocities to explore, `V_range / V_s`.
     pub nu_range: (f64, f64),
+    /// What is unusual in the scene but valid (`tau_on > tau_out`), for
+    /// stderr and the JSON.
+    pub warnings: Vec<String>,
+}
+
+/// The warning of a scene whose readsorption is slower than desorption,
+/// `r = tau_on / tau_out > 1`. Valid: the bond kinetics and the friction
+/// law (eqs. D2, D3) hold for every `r > 0`, and steady friction keeps its
+/// bell (rising as `F_a v / V_s / (1 + r)`). Unusual: Schallamach's
+/// picture assumes chains readsorb faster than they desorb (`tau_on <
+/// tau_out`, docs/model.md), and with `r > 1` fewer than half the chains
+/// are bonded at rest (`n = 1 / (1 + r)`).
+fn slow_readsorption(tau_on: f64, tau_out: f64) -> Option<String> {
+    (tau_on > tau_out).then(|| {
+        format!(
+            "tau_on = {tau_on:e} s > tau_out = {tau_out:e} s (r = tau_on / tau_out = {:.4e} > \
+             1): chains readsorb slower than they desorb, so fewer than half are bonded at \
+             rest (n = 1/(1 + r) = {:.4}); Schallamach's picture assumes tau_on < tau_out. \
+             The model holds for any r > 0; check that the two times are not swapped",
+            tau_on / tau_out,
+            1.0 / (1.0 + tau_on / tau_out)
+        )
+    })
 }
 
 /// Names of the built-in adhesive scenes.
@@ -104,6 +127,21 @@ pub fn load(name_or_path: &str) -> Result<AdhesiveScene, InputError> {
 /// The keys `--set` may give on an adhesive scene: its numbers, in the
 /// scene file's units.
 const SETTABLE: &str = "F_a V_s tau_out tau_on F_v alpha M K V";
+
+/// The keys of a rate-and-state scene and its dimensionless parameters,
+/// which an adhesive scene does not have.
+const RATE_AND_STATE_KEYS: &str = "A B mu0 mu2 D0 V0 W tau g eta theta_c mu_vv mu_vphi eta_d";
+
+/// The adhesive block's dimensionless parameters and the scene key each
+/// is made from (`nu = V / V_s`, `kappa = K V_s tau_out / F_a`, `r = tau_on
+/// / tau_out`, `f_v = F_v / F_a`, `m = M V_s / (F_a tau_out)`).
+const DIMENSIONLESS: [(&str, &str); 5] = [
+    ("nu", "V"),
+    ("kappa", "K"),
+    ("r", "tau_on"),
+    ("f_v", "F_v"),
+    ("m", "M"),
+];
 
 /// [`load`] with the overrides `set` (`KEY=VALUE`, a key of [`SETTABLE`]
 /// in the scene file's unit) put in place of the file's values before the
@@ -142,10 +180,28 @@ fn parse_override(item: &str) -> Result<(&str, f64), InputError> {
     let (key, value) = item.split_once('=').ok_or_else(malformed)?;
     let key = key.trim();
     if !SETTABLE.split(' ').any(|k| k == key) {
+        // A dimensionless parameter (docs/model.md) names the scene key it
+        // comes from; anything else the closest key, if one is close.
+        let from = DIMENSIONLESS
+            .iter()
+            .find(|(d, _)| *d == key)
+            .map(|(_, k)| k.to_string());
+        // A rate-and-state key has no counterpart to suggest.
+        let rate_and_state = RATE_AND_STATE_KEYS.split(' ').any(|k| k == key);
         return Err(InputError::UnknownName {
-            what: "--set key of an adhesive scene",
+            what: if rate_and_state {
+                "--set key of an adhesive scene (this is a rate-and-state key; an adhesive \
+                 scene has its own law)"
+            } else {
+                "--set key of an adhesive scene (its numbers in the scene file's units; the \
+                 dimensionless nu, kappa, r, f_v, m follow from them)"
+            },
             name: key.to_string(),
-            suggestion: closest(key, SETTABLE.split(' ')),
+            suggestion: from.or_else(|| {
+                (!rate_and_state)
+                    .then(|| closest(key, SETTABLE.split(' ')))
+                    .flatten()
+            }),
             allowed: SETTABLE.replace(' ', ", "),
         });
     }
@@ -238,6 +294,7 @@ fn from_table(t: &Table, origin: &str) -> Result<AdhesiveScene, InputError> {
         units,
         stiffness_given: k.is_some(),
         nu_range: (lo / v_s, hi / v_s),
+        warnings: slow_readsorption(tau_on, tau_out).into_iter().collect(),
     })
 }
 

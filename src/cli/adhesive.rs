@@ -46,6 +46,9 @@ pub fn adhesive_setup(
         ));
     }
     let scene = scene::load_with(args.scene_name(), &args.set)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
     Ok(Some(AdhesiveSetup::new(
         scene,
         args.inertia_threshold,
@@ -153,17 +156,17 @@ pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
         return Ok(());
     }
     print_setup(&r.setup);
-    let u = &r.setup.units;
     println!("steady sliding in V at the scene's K:");
     println!(
         "  {:>13} {:>13} {:>11} {:>11}  stability",
         "V [µm/s]", "force [N]", "n", "re lambda"
     );
-    for pt in &r.points {
+    for r in &r.points {
+        let pt = &r.point;
         println!(
             "  {:>13.6e} {:>13.6e} {:>11.4e} {:>11.3e}  {}",
-            u.velocity_um_s(pt.nu),
-            u.force_n(pt.s),
+            r.v_um_per_s,
+            r.steady_force_n,
             pt.n,
             pt.eigenvalues[0][0],
             if pt.stable { "stable" } else { "unstable" }
@@ -231,6 +234,92 @@ fn finish(
     Ok(())
 }
 
+/// The stability diagram's figure in the rate-and-state diagram's
+/// convention ([`crate::plot::stability`]): the critical stiffness located
+/// by the engine, solid where the onset is supercritical, dashed red where
+/// it is subcritical, the closed form as dots, a marker where the onset
+/// type changes between grid points (a Bautin point), vertical lines where
+/// `K_c -> 0` (the friction maximum and minimum) and where `chi` crosses
+/// the inertia threshold, and the scene's operating point with its verdict.
+fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::StabilityFigure {
+    use crate::plot::stability::{segments, OperatingMarker, StabilityFigure};
+    let s = &r.setup;
+    let u = &s.units;
+    let curve: Vec<(f64, f64, crate::analysis::hopf::Criticality)> = r
+        .points
+        .iter()
+        .filter_map(|p| Some((p.v_um_per_s, p.k_n_per_m?, p.point.onset?)))
+        .collect();
+    let reference = r
+        .points
+        .iter()
+        .step_by(4)
+        .filter_map(|p| {
+            let mut q = s.params;
+            q.nu = p.point.nu;
+            let (k, _) = crate::adhesive::block::critical_stiffness_of(&q, s.model_kind);
+            (k > 0.0).then(|| (p.v_um_per_s, u.stiffness_n_m(k)))
+        })
+        .collect();
+    let markers = curve
+        .windows(2)
+        .filter(|w| w[0].2 != w[1].2)
+        .map(|w| {
+            (
+                "Bautin (l1 = 0), between grid points".to_string(),
+                (w[0].0 * w[1].0).sqrt(),
+                (w[0].1 * w[1].1).sqrt(),
+            )
+        })
+        .collect();
+    let mut vlines: Vec<(String, f64)> =
+        [(s.v_max_um_s, "maximum V_max"), (s.v_c_um_s, "minimum V_c")]
+            .into_iter()
+            .filter_map(|(v, what)| Some((format!("K_c → 0: friction {what}"), v?)))
+            .collect();
+    if let Some(v) = s.inertia_crossing_um_s {
+        vlines.push((
+            format!("chi = {:.0e} (inertia threshold)", s.inertia_threshold),
+            v,
+        ));
+    }
+    let (lo, hi) = s.scene_full.nu_range;
+    StabilityFigure {
+        title: format!(
+            "Stability diagram, {} (adhesive, {} model)",
+            s.scene, s.model
+        ),
+        x_label: "driving velocity V [µm/s]".into(),
+        y_label: "critical stiffness K_c [N/m]".into(),
+        segments: segments(&curve),
+        reference,
+        reference_label: "closed form, kappa_c = -lambda_n dF_ss/du (1 + chi)".into(),
+        markers,
+        operating_point: r
+            .operating_point
+            .as_ref()
+            .filter(|op| op.in_range)
+            .map(|op| OperatingMarker {
+                label: format!(
+                    "operating point: K = {} N/m at V = {} µm/s ({})",
+                    crate::records::significant(op.k_n_per_m),
+                    crate::records::significant(op.v_um_per_s),
+                    op.regime.name()
+                ),
+                x: op.v_um_per_s,
+                y: op.k_n_per_m,
+                margin: op.margin,
+            }),
+        vlines,
+        lpc: Vec::new(),
+        bistable: Vec::new(),
+        unknown: Vec::new(),
+        x_range: (u.velocity_um_s(lo), u.velocity_um_s(hi)),
+        notes: Vec::new(),
+        stable_above: true,
+    }
+}
+
 /// `diagram` on an adhesive scene: the critical stiffness against `V`
 /// (stability diagram) and steady friction against `V`.
 pub fn diagram(
@@ -248,16 +337,16 @@ pub fn diagram(
     )?;
     let r = jobs::diagram(setup)?;
     let s = &r.setup;
-    let u = &s.units;
     if !as_json {
         print_setup(s);
         println!("stability diagram: K_c against V (stick-slip below K_c)");
-        for pt in &r.points {
-            match (pt.kappa_c, pt.onset) {
+        for record in &r.points {
+            let pt = &record.point;
+            match (record.k_n_per_m, pt.onset) {
                 (Some(k), Some(o)) => println!(
                     "  V = {:>12.5e} µm/s  K_c = {:>12.5e} N/m  {}  (chi = {:.2e}{})",
-                    u.velocity_um_s(pt.nu),
-                    u.stiffness_n_m(k),
+                    record.v_um_per_s,
+                    k,
                     o.name(),
                     pt.inertia_ratio,
                     if pt.needs_inertia {
@@ -268,56 +357,21 @@ pub fn diagram(
                 ),
                 _ => println!(
                     "  V = {:>12.5e} µm/s  stable at every stiffness",
-                    u.velocity_um_s(pt.nu)
+                    record.v_um_per_s
                 ),
             }
         }
     }
-    let k_c: Vec<(f64, f64)> = r
-        .points
-        .iter()
-        .filter_map(|p| Some((u.velocity_um_s(p.nu), u.stiffness_n_m(p.kappa_c?))))
-        .collect();
-    let mut series = vec![line(k_c, "K_c(V): stick-slip below", BLUE, false)];
-    if s.scene_full.stiffness_given {
-        let v = u.velocity_um_s(s.params.nu);
-        series.push(Series {
-            label: Some(format!(
-                "the scene: V = {v:.3e} µm/s, K = {:.3e} N/m",
-                u.stiffness_n_m(s.params.kappa)
-            )),
-            points: vec![(v, u.stiffness_n_m(s.params.kappa))],
-            color: RED,
-            dashed: false,
-            markers: true,
-        });
-    }
-    for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
-        if let Some(v) = v {
-            let marker = vertical_marker(&series, v, &format!("{label} = {v:.3e} µm/s"), GREY);
-            series.push(marker);
+    if !as_json {
+        if let Some(op) = &r.operating_point {
+            println!("{}", op.line());
         }
     }
-    if let Some(v) = s.inertia_crossing_um_s {
-        let text = format!(
-            "chi = {:.0e} (inertia threshold) at {v:.3e} µm/s",
-            s.inertia_threshold
-        );
-        let marker = vertical_marker(&series, v, &text, RED);
-        series.push(marker);
-    }
-    let stability = LineFigure {
-        title: format!("Stability diagram, {} (adhesive, {})", s.scene, s.model),
-        x_label: "driving velocity V [µm/s]".into(),
-        y_label: "critical stiffness K_c [N/m]".into(),
-        log_x: true,
-        log_y: true,
-        series,
-    };
+    let stability = stability_figure(&r);
     let friction: Vec<(f64, f64)> = r
         .steady
         .iter()
-        .map(|p| (u.velocity_um_s(p.nu), u.force_n(p.s)))
+        .map(|p| (p.v_um_per_s, p.steady_force_n))
         .collect();
     let mut series = vec![line(friction, "steady friction F_ss(V)", BLUE, false)];
     for (v, label) in [(s.v_max_um_s, "V_max"), (s.v_c_um_s, "V_c")] {
@@ -337,7 +391,8 @@ pub fn diagram(
         log_y: false,
         series,
     };
-    let mut files = render(&stability, &with_suffix(&stem, "-stability")).map_err(plot_error)?;
+    let mut files = crate::plot::stability::render(&stability, &with_suffix(&stem, "-stability"))
+        .map_err(plot_error)?;
     files.extend(render(&steady, &with_suffix(&stem, "-steady-friction")).map_err(plot_error)?);
     finish(&stem, json(&r)?, files, as_json)
 }

@@ -3,12 +3,15 @@
 
 use super::files::{write_whole, OutputArgs};
 use super::SceneArgs;
+use crate::adhesive::fit::AdhesiveFit;
 use crate::analysis::hopf::Criticality;
-use crate::error::Error;
+use crate::error::{Error, InputError};
 use crate::file_names::with_suffix;
 use crate::fit::data::parse_data_option;
-use crate::jobs::fit::{run as fit, Fit, FitRequest, OnsetTypeAt};
+use crate::jobs::fit::{run as fit, Fit, FitRequest, OnsetTypeAt, Outcome, Summary};
+use crate::scene::Law;
 use clap::Args;
+use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
@@ -21,11 +24,14 @@ pub struct FitArgs {
     /// V_um_s: the slip after the drive stops at t = 0, one velocity per
     /// file); an optional sigma column gives each row's error
     /// (sigma_frequency_hz for the frequency), else it is estimated from
-    /// the residuals.
+    /// the residuals. An adhesive scene (law = "adhesive") takes steady
+    /// (V_um_s, F_N: the friction force in N) and onset (V_um_s, K_N_per_m:
+    /// the critical stiffness).
     #[arg(long, value_name = "KIND=FILE", required = true)]
     pub data: Vec<String>,
     /// The parameters to fit, comma-separated (default: every parameter of
-    /// the scene's law: mu0, A, B, D0, and mu2 or tau).
+    /// the scene's law: mu0, A, B, D0, and mu2 or tau; adhesive: F_a, V_s,
+    /// tau_on, F_v, alpha, and tau_out with onset data).
     #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
     pub free: Option<Vec<String>>,
     #[command(flatten)]
@@ -40,15 +46,21 @@ const OUTPUTS: &[&str] = &["-fit.json"];
 
 /// Runs the command.
 pub fn run(args: &FitArgs) -> Result<(), Error> {
-    let request = FitRequest {
-        data: args
-            .data
-            .iter()
-            .map(|d| parse_data_option(d))
-            .collect::<Result<_, _>>()?,
-        free: args.free.clone(),
-        stability: true,
-    };
+    let data: Vec<_> = args
+        .data
+        .iter()
+        .map(|d| parse_data_option(d))
+        .collect::<Result<_, _>>()?;
+    let adhesive = crate::scene::law_of(args.scene.scene_name())? == Law::Adhesive;
+    if adhesive && args.scene.model.is_some() {
+        return Err(InputError::Conflict(format!(
+            "--model is not available for fit on an adhesive scene ({}): steady friction has \
+             no model to choose, and the critical stiffness is fitted with the scene's inertia \
+             (the factor 1 + chi, docs/model.md)",
+            args.scene.scene_name()
+        ))
+        .into());
+    }
     let spec = args.scene.spec();
     args.output.create_dir()?;
     let stem = args.output.stem(
@@ -67,106 +79,120 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
     // A fit takes a fraction of a second: Ctrl-C (or SIGTERM) lets it
     // write its files whole, then the run ends as interrupted.
     super::interrupt::catch_interrupts();
-    let mut result = fit(&spec, &request)?;
-    let mut files = crate::plot::fit::figures(&result, &stem)
-        .map_err(|e| Error::Output(std::io::Error::other(e.to_string())))?;
-    write_whole(&toml_path, &result.fitted_toml)?;
-    files.push(toml_path);
-    let json_path = with_suffix(&stem, "-fit.json");
-    files.push(json_path.clone());
-    result.files = files.iter().map(|f| f.display().to_string()).collect();
-    let json = serde_json::to_string_pretty(&result).map_err(std::io::Error::other)?;
-    write_whole(&json_path, &json)?;
-    if args.json {
-        println!("{json}");
+    let stop = if adhesive {
+        let mut result = crate::adhesive::fit::run(
+            args.scene.scene_name(),
+            &args.scene.set,
+            &data,
+            args.free.as_deref(),
+        )?;
+        let figures = crate::plot::fit::data_figures(&result, &stem).map_err(plot_error)?;
+        write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
+        emit(&result, &stem, args.json, print_adhesive)?;
+        for w in &result.warnings {
+            eprintln!("warning: {w}");
+        }
+        result.summary.stop
     } else {
-        print_text(&result);
-    }
+        let request = FitRequest {
+            data,
+            free: args.free.clone(),
+            stability: true,
+        };
+        let mut result = fit(&spec, &request)?;
+        let figures = crate::plot::fit::figures(&result, &stem).map_err(plot_error)?;
+        write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
+        emit(&result, &stem, args.json, print_text)?;
+        result.summary.stop
+    };
     if super::interrupt::interrupted() {
         return Err(super::interrupt::stopped(
             "after the fit (its files are written whole)".into(),
         ));
     }
-    match &result.stop {
+    match stop {
         None => Ok(()),
-        Some(why) => Err(Error::Partial(why.clone())),
+        Some(why) => Err(Error::Partial(why)),
     }
 }
 
-/// The scene's file stem or built-in name, for the run's name.
+fn plot_error(e: crate::plot::PlotError) -> Error {
+    Error::Output(std::io::Error::other(e.to_string()))
+}
+
+/// Writes the fitted scene to `toml_path`, and lists the files of the fit
+/// in `outcome`: its figures, the fitted scene and the JSON (written by
+/// [`emit`]).
+fn write_fitted<V, U>(
+    outcome: &mut Outcome<V, U>,
+    mut files: Vec<PathBuf>,
+    toml_path: &Path,
+    stem: &Path,
+) -> Result<(), Error> {
+    write_whole(toml_path, &outcome.fitted_toml)?;
+    files.push(toml_path.to_path_buf());
+    files.push(with_suffix(stem, "-fit.json"));
+    outcome.files = files.iter().map(|f| f.display().to_string()).collect();
+    Ok(())
+}
+
+/// Writes the JSON `<stem>-fit.json`, and prints it (`as_json`) or the
+/// text `print` makes.
+fn emit<T: serde::Serialize>(
+    result: &T,
+    stem: &Path,
+    as_json: bool,
+    print: fn(&T),
+) -> Result<(), Error> {
+    let json = serde_json::to_string_pretty(result).map_err(std::io::Error::other)?;
+    write_whole(&with_suffix(stem, "-fit.json"), &json)?;
+    if as_json {
+        println!("{json}");
+    } else {
+        print(result);
+    }
+    Ok(())
+}
+
+/// The scene's name (of its file, or built in), for the run's name.
 fn spec_name(scene: &str) -> String {
-    crate::scene::load(scene).map_or_else(|_| scene.to_string(), |s| s.name)
+    crate::scene::load(scene)
+        .map(|s| s.name)
+        .or_else(|_| crate::adhesive::scene::load(scene).map(|s| s.name))
+        .unwrap_or_else(|_| scene.to_string())
+}
+
+/// The adhesive fit as text: the parameters with their errors, what is
+/// held and why, the datasets' residuals, the files.
+fn print_adhesive(fit: &AdhesiveFit) {
+    println!("scene: {} ({} law)", fit.scene, fit.law);
+    print_parameters(&fit.summary);
+    for h in &fit.held {
+        println!(
+            "{} held at the scene's {:.6e}: {}",
+            h.name, h.value, h.reason
+        );
+    }
+    let r = &fit.ratio_tau_on_over_tau_out;
+    println!(
+        "tau_on / tau_out = {:.6e}{} (scene {:.6e})",
+        r.value,
+        r.std_error
+            .map_or(" (not fitted)".into(), |e| format!(" +- {e:.3e}")),
+        r.start
+    );
+    print_residuals(&fit.summary, fit.outcome.iterations);
+    for f in &fit.outcome.files {
+        println!("wrote {f}");
+    }
 }
 
 /// The fit as text: the parameters with their errors, the seed's
 /// closed-form route beside them, the datasets' residuals, the files.
 fn print_text(fit: &Fit) {
     println!("scene: {} ({} law)", fit.scene, fit.law);
-    println!(
-        "{:<5} {:>14} {:>12} {:>6}  {:<15} {:>14}",
-        "", "value", "std. error", "unit", "", "scene (start)"
-    );
-    for (name, e) in &fit.parameters {
-        let error = e.std_error.map_or("-".into(), |s| format!("{s:.3e}"));
-        let status = if e.given.is_empty() {
-            e.status.to_string()
-        } else {
-            format!("{} (given {})", e.status, e.given.join(", "))
-        };
-        println!(
-            "{name:<5} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
-            e.value, e.unit, e.start
-        );
-    }
-    for n in &fit.not_determined {
-        let with = if n.with.len() > 1 {
-            format!(
-                " (only a combination of {} is determined)",
-                n.with.join(", ")
-            )
-        } else {
-            String::new()
-        };
-        println!(
-            "{} is not determined by these data{with}: {}; kept at the scene's {:.6e}",
-            n.name, n.remedy, n.kept_at
-        );
-    }
-    if fit.correlation.names.len() > 1 {
-        println!("correlation ({}):", fit.correlation.names.join(", "));
-        for row in &fit.correlation.matrix {
-            let cells: Vec<String> = row.iter().map(|c| format!("{c:>7.3}")).collect();
-            println!("  {}", cells.join(" "));
-        }
-    }
-    println!(
-        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iteration{}",
-        fit.chi2,
-        fit.dof,
-        fit.chi2_per_dof,
-        fit.iterations,
-        if fit.iterations == 1 { "" } else { "s" }
-    );
-    for d in &fit.datasets {
-        println!(
-            "  {} {} ({} rows): {} rms residual {:.3e}{}",
-            d.kind.name(),
-            d.file,
-            d.rows,
-            d.quantity,
-            d.rms,
-            d.sigma_estimated
-                .map_or(" (errors given)".into(), |s| format!(
-                    " (error per row estimated from the residuals: {s:.3e})"
-                ))
-        );
-        if let (Some(model), Some(why)) = (d.model, &d.model_reason) {
-            println!("    integrated in the {model} model: {why}");
-        }
-        if let Some(w) = &d.warning {
-            eprintln!("warning: {} {}: {w}", d.kind.name(), d.file);
-        }
-    }
+    print_parameters(&fit.summary);
+    print_residuals(&fit.summary, fit.outcome.iterations);
     if let Some(c) = &fit.closed_form {
         let mut line = format!(
             "closed forms ({}): B - A = {:.4e}, mu0 = {:.5}",
@@ -230,7 +256,94 @@ fn print_text(fit: &Fit) {
             last.l1,
         );
     }
-    for f in &fit.files {
+    for f in &fit.outcome.files {
         println!("wrote {f}");
+    }
+}
+
+/// The parameters' table (value, standard error, unit, status, start), the
+/// undetermined ones with what to add, and the correlations.
+fn print_parameters(summary: &Summary) {
+    let (parameters, not_determined, correlation) = (
+        &summary.parameters,
+        &summary.not_determined,
+        &summary.correlation,
+    );
+    // The names' column: at least 5 wide (`tau_out` needs 7).
+    let w = parameters.keys().map(|k| k.len()).max().unwrap_or(0).max(5);
+    println!(
+        "{:<w$} {:>14} {:>12} {:>6}  {:<15} {:>14}",
+        "", "value", "std. error", "unit", "", "scene (start)"
+    );
+    for (name, e) in parameters {
+        let error = e.std_error.map_or("-".into(), |s| format!("{s:.3e}"));
+        let status = if e.given.is_empty() {
+            e.status.to_string()
+        } else {
+            format!("{} (given {})", e.status, e.given.join(", "))
+        };
+        println!(
+            "{name:<w$} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
+            e.value, e.unit, e.start
+        );
+    }
+    for n in not_determined {
+        let with = if n.with.len() > 1 {
+            format!(
+                " (only a combination of {} is determined)",
+                n.with.join(", ")
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "{} is not determined by these data{with}: {}; kept at the scene's {:.6e}",
+            n.name, n.remedy, n.kept_at
+        );
+    }
+    if correlation.names.len() > 1 {
+        println!("correlation ({}):", correlation.names.join(", "));
+        for row in &correlation.matrix {
+            let cells: Vec<String> = row.iter().map(|c| format!("{c:>7.3}")).collect();
+            println!("  {}", cells.join(" "));
+        }
+    }
+}
+
+/// chi2 with its degrees of freedom and the residuals of each dataset.
+fn print_residuals(summary: &Summary, iterations: usize) {
+    let (chi2, dof, chi2_per_dof, datasets) = (
+        summary.chi2,
+        summary.dof,
+        summary.chi2_per_dof,
+        &summary.datasets,
+    );
+    println!(
+        "chi2 = {:.4e} for {} degrees of freedom (chi2/dof = {:.3}), {} iteration{}",
+        chi2,
+        dof,
+        chi2_per_dof,
+        iterations,
+        if iterations == 1 { "" } else { "s" }
+    );
+    for d in datasets {
+        println!(
+            "  {} {} ({} rows): {} rms residual {:.3e}{}",
+            d.kind.name(),
+            d.file,
+            d.rows,
+            d.quantity,
+            d.rms,
+            d.sigma_estimated
+                .map_or(" (errors given)".into(), |s| format!(
+                    " (error per row estimated from the residuals: {s:.3e})"
+                ))
+        );
+        if let (Some(model), Some(why)) = (d.model, &d.model_reason) {
+            println!("    integrated in the {model} model: {why}");
+        }
+        if let Some(w) = &d.warning {
+            eprintln!("warning: {} {}: {w}", d.kind.name(), d.file);
+        }
     }
 }

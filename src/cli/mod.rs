@@ -68,7 +68,7 @@ pub enum Command {
     /// Integrate driven sliding in time under a protocol of pulling velocities (jumps, stop-and-go).
     #[command(allow_negative_numbers = true)]
     Simulate(simulate::SimulateArgs),
-    /// Fit the friction law's parameters (mu0, A, B, D0, mu2 or tau) to laboratory data (steady friction, the onset), with errors; write the fitted scene.
+    /// Fit the friction law's parameters (mu0, A, B, D0, mu2 or tau; adhesive scenes: F_a, V_s, tau_on, tau_out, F_v, alpha) to laboratory data (steady friction, the onset), with errors; write the fitted scene.
     #[command(allow_negative_numbers = true)]
     Fit(fit::FitArgs),
     /// List the built-in scenes.
@@ -89,7 +89,7 @@ pub struct SceneArgs {
     /// A built-in scene name (see `stickslip scenes`) or a path to a TOML scene file
     /// [default: pmma; with --from, the file's]. A scene with law = "adhesive" (e.g. gel:
     /// Schallamach's soft adhesive contacts, docs/model.md) runs hopf, branch --param V,
-    /// diagram, cycles and simulate with its own values, quasi-static or inertial by its
+    /// diagram, cycles, simulate and fit with its own values, quasi-static or inertial by its
     /// inertia ratio chi = m lambda_n / F_u.
     #[arg(long)]
     pub scene: Option<String>,

@@ -17,6 +17,7 @@
 //! the file, the row (1-based, the header is row 1) and the column.
 
 use crate::error::InputError;
+use crate::scene::Law;
 use std::path::{Path, PathBuf};
 
 /// What a dataset measures.
@@ -85,17 +86,30 @@ impl Kind {
         matches!(self, Kind::VelocityStep | Kind::Relaxation)
     }
 
-    /// Required columns, then optional ones.
-    fn columns(self) -> (&'static [&'static str], &'static [&'static str]) {
-        match self {
-            Kind::Steady => (&["V_um_s", "mu"], &["sigma"]),
-            Kind::Onset => (
+    /// Required columns, then optional ones, for a scene of `law`; `None`
+    /// where the law has no model of this kind.
+    fn columns(self, law: Law) -> Option<(&'static [&'static str], &'static [&'static str])> {
+        Some(match (law, self) {
+            (Law::RateAndState, Kind::Steady) => (&["V_um_s", "mu"], &["sigma"]),
+            (Law::RateAndState, Kind::Onset) => (
                 &["V_um_s", "K_over_W_per_m"],
                 &["frequency_hz", "sigma", "sigma_frequency_hz"],
             ),
-            Kind::VelocityStep => (&["t_s", "V_um_s", "mu"], &["sigma"]),
-            Kind::Relaxation => (&["t_s", "slip_um", "V_um_s"], &["sigma"]),
-        }
+            (Law::RateAndState, Kind::VelocityStep) => (&["t_s", "V_um_s", "mu"], &["sigma"]),
+            (Law::RateAndState, Kind::Relaxation) => (&["t_s", "slip_um", "V_um_s"], &["sigma"]),
+            (Law::Adhesive, Kind::Steady) => (&["V_um_s", "F_N"], &["sigma"]),
+            (Law::Adhesive, Kind::Onset) => (&["V_um_s", "K_N_per_m"], &["sigma"]),
+            (Law::Adhesive, _) => return None,
+        })
+    }
+
+    /// The kinds a scene of `law` is fitted to.
+    pub fn of_law(law: Law) -> Vec<&'static str> {
+        Kind::ALL
+            .iter()
+            .filter(|(_, k)| k.columns(law).is_some())
+            .map(|(n, _)| *n)
+            .collect()
     }
 
     /// Fewest rows a dataset of this kind needs.
@@ -127,8 +141,13 @@ pub struct Dataset {
 }
 
 impl Dataset {
-    /// Reads `file` as a dataset of `kind`.
+    /// Reads `file` as a dataset of `kind` for a rate-and-state scene.
     pub fn read(kind: Kind, file: &Path) -> Result<Dataset, InputError> {
+        Dataset::read_for(Law::RateAndState, kind, file)
+    }
+
+    /// Reads `file` as a dataset of `kind` for a scene of `law`.
+    pub fn read_for(law: Law, kind: Kind, file: &Path) -> Result<Dataset, InputError> {
         let text = std::fs::read_to_string(file).map_err(|e| {
             InputError::Conflict(format!(
                 "cannot read the {} data file {}: {e}",
@@ -136,12 +155,27 @@ impl Dataset {
                 file.display()
             ))
         })?;
-        Dataset::parse(kind, file, &text)
+        Dataset::parse_for(law, kind, file, &text)
     }
 
-    /// Parses `text`, the contents of `file`.
+    /// Parses `text`, the contents of `file`, for a rate-and-state scene.
     pub fn parse(kind: Kind, file: &Path, text: &str) -> Result<Dataset, InputError> {
+        Dataset::parse_for(Law::RateAndState, kind, file, text)
+    }
+
+    /// Parses `text`, the contents of `file`, as data of `kind` for a scene
+    /// of `law` (an adhesive scene: `steady` in force, `F_N`, and `onset`
+    /// as the critical stiffness itself, `K_N_per_m`).
+    pub fn parse_for(law: Law, kind: Kind, file: &Path, text: &str) -> Result<Dataset, InputError> {
         let shown = file.display().to_string();
+        let (required, optional) = kind.columns(law).ok_or_else(|| {
+            InputError::Conflict(format!(
+                "{shown}: {} data are fitted on rate-and-state scenes only; an adhesive scene \
+                 (law = \"adhesive\") is fitted to {} data",
+                kind.name(),
+                Kind::of_law(law).join(" and ")
+            ))
+        })?;
         let mut lines = text
             .lines()
             .enumerate()
@@ -155,7 +189,6 @@ impl Dataset {
                 "a header row of column names",
             ));
         };
-        let (required, optional) = kind.columns();
         // A spreadsheet's "CSV UTF-8" starts with a byte-order mark.
         let header = header.trim_start_matches('\u{feff}');
         if header.contains(';') && !header.contains(',') {
@@ -242,7 +275,7 @@ impl Dataset {
                 })?;
                 let first = columns[c].is_empty();
                 let (ok, expected) = match (*name, kind) {
-                    ("mu" | "slip_um", _) => (x.is_finite(), "a finite number"),
+                    ("mu" | "slip_um" | "F_N", _) => (x.is_finite(), "a finite number"),
                     ("t_s", Kind::Relaxation) => (
                         x.is_finite() && x >= 0.0,
                         "a finite time >= 0 (the drive stops at t = 0)",
@@ -316,15 +349,14 @@ impl Dataset {
                 sigma: column(sigma),
             })
         };
-        let measured = match kind {
-            Kind::Steady => vec![measured_column("mu", "sigma")],
-            Kind::Onset => vec![
-                measured_column("K_over_W_per_m", "sigma"),
-                measured_column("frequency_hz", "sigma_frequency_hz"),
-            ],
-            Kind::VelocityStep => vec![measured_column("mu", "sigma")],
-            Kind::Relaxation => vec![measured_column("slip_um", "sigma")],
-        };
+        // The measured quantities: the required columns after the velocity
+        // and the time, then the frequency where given.
+        let measured: Vec<_> = required
+            .iter()
+            .filter(|c| !matches!(**c, "V_um_s" | "t_s"))
+            .map(|c| measured_column(c, "sigma"))
+            .chain([measured_column("frequency_hz", "sigma_frequency_hz")])
+            .collect();
         Ok(Dataset {
             kind,
             file: file.to_path_buf(),

@@ -189,22 +189,12 @@ impl OperatingPoint {
         let p = setup.params;
         let u = &setup.scene.units;
         let kappa = setup.scene_params.kappa;
-        let mut op = OperatingPoint {
-            k_n_per_m: u.stiffness(kappa),
-            kappa,
-            v_um_per_s: u.velocity_um_s(p.nu),
-            nu: p.nu,
-            regime: Regime::Undecided,
-            margin: None,
-            kappa_c: None,
-            k_c_n_per_m: None,
-            kappa_fold: None,
-            kappa_fold_error: None,
-            in_range: lo <= p.nu && p.nu <= hi,
-            reason: String::new(),
-        };
+        let mut op = OperatingPoint::unjudged(
+            (u.stiffness(kappa), kappa),
+            (u.velocity_um_s(p.nu), p.nu),
+            lo <= p.nu && p.nu <= hi,
+        );
         if kappa == 0.0 {
-            op.reason = "K = 0: no spring, hence no steady sliding driven through it".into();
             return Ok(op);
         }
         let fold = fold_at(&d.lpc.points, p.nu);
@@ -231,8 +221,36 @@ impl OperatingPoint {
         Ok(op)
     }
 
+    /// The point `(K [N/m], kappa)` at `(V [µm/s], nu)`, not judged yet
+    /// (undecided, no onset), `in_range` of the diagram; judged at once
+    /// where `K = 0`.
+    pub(crate) fn unjudged(
+        (k_n_per_m, kappa): (f64, f64),
+        (v_um_per_s, nu): (f64, f64),
+        in_range: bool,
+    ) -> OperatingPoint {
+        OperatingPoint {
+            k_n_per_m,
+            kappa,
+            v_um_per_s,
+            nu,
+            regime: Regime::Undecided,
+            margin: None,
+            kappa_c: None,
+            k_c_n_per_m: None,
+            kappa_fold: None,
+            kappa_fold_error: None,
+            in_range,
+            reason: if kappa == 0.0 {
+                "K = 0: no spring, hence no steady sliding driven through it".into()
+            } else {
+                String::new()
+            },
+        }
+    }
+
     /// `reason`, noting when the scene's velocity lies outside the range.
-    fn with_range_note(&self, reason: String) -> String {
+    pub(crate) fn with_range_note(&self, reason: String) -> String {
         if self.in_range {
             reason
         } else {

@@ -194,12 +194,11 @@ pub struct Correlation {
     pub matrix: Vec<Vec<f64>>,
 }
 
-/// The result of `fit`: its serde form is the command's JSON.
+/// What every fit reports of its estimate, either family of laws: the
+/// parameters with their errors, the correlations, chi2, the residuals per
+/// dataset, what the data do not determine, and why it is partial.
 #[derive(Serialize)]
-pub struct Fit {
-    pub scene: String,
-    /// `rice-ruina`, `ln2` or `cutoff`.
-    pub law: &'static str,
+pub struct Summary {
     pub parameters: BTreeMap<&'static str, Estimate>,
     pub correlation: Correlation,
     pub chi2: f64,
@@ -207,17 +206,104 @@ pub struct Fit {
     pub chi2_per_dof: f64,
     pub datasets: Vec<DatasetFit>,
     pub not_determined: Vec<NotDetermined>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub closed_form: Option<ClosedForm>,
-    /// The fitted scene's stability boundary over its velocity range with
-    /// the 95 % band.
-    pub band: Vec<BandPoint>,
-    /// Its onset type along the range, with the share of sampled
-    /// parameter sets that agree.
-    pub onset_type: Vec<OnsetTypeAt>,
-    /// The fitted scene's dimensionless parameters.
+    /// Why the fit is partial (`None`: complete); the JSON's `stop`.
+    #[serde(skip)]
+    pub stop: Option<String>,
+}
+
+/// The undetermined parameters with what would determine each.
+fn listed(not_determined: &[NotDetermined]) -> String {
+    not_determined
+        .iter()
+        .map(|n| format!("{} ({})", n.name, n.remedy))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// One parameter of the law for [`summarize`]: its name, unit, value,
+/// scene value, and whether it was fitted as its logarithm.
+pub(crate) struct Entry {
+    pub key: &'static str,
+    pub unit: &'static str,
+    pub value: f64,
+    pub start: f64,
+    pub logarithmic: bool,
+}
+
+/// The summary of the minimum of `problem` (the unknowns still free after
+/// holding `not_determined`): each entry's estimate, its standard error
+/// from the covariance `c` by the delta method (`d value = value d ln
+/// value` for a logarithmic one), the correlations, chi2 and the
+/// residuals.
+pub(crate) fn summarize<P: DataFit>(
+    problem: &P,
+    minimum: &Minimum,
+    c: &DMatrix<f64>,
+    entries: &[Entry],
+    not_determined: Vec<NotDetermined>,
+) -> Summary {
+    let free = problem.free_keys();
+    let mut parameters = BTreeMap::new();
+    for e in entries {
+        let fitted = free.iter().position(|n| *n == e.key);
+        let status = match fitted {
+            Some(_) => "fitted",
+            None if not_determined.iter().any(|n| n.name == e.key) => "not_determined",
+            None => "fixed",
+        };
+        let std_error = fitted.map(|k| {
+            let sd = c[(k, k)].sqrt();
+            if e.logarithmic {
+                e.value * sd
+            } else {
+                sd
+            }
+        });
+        parameters.insert(
+            e.key,
+            Estimate {
+                value: e.value,
+                std_error,
+                unit: e.unit,
+                status,
+                start: e.start,
+                given: not_determined
+                    .iter()
+                    .filter(|n| fitted.is_some() && n.with.contains(&e.key))
+                    .map(|n| n.name)
+                    .collect(),
+            },
+        );
+    }
+    let rows: usize = problem
+        .data()
+        .iter()
+        .map(|d| d.rows() * d.measured.len())
+        .sum();
+    let chi2 = minimum.residuals.norm_squared();
+    let dof = rows.saturating_sub(free.len());
+    let stop = (!not_determined.is_empty())
+        .then(|| format!("not determined by the data: {}", listed(&not_determined)));
+    Summary {
+        parameters,
+        correlation: correlation(free, c),
+        chi2,
+        dof,
+        chi2_per_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
+        datasets: dataset_fits(problem, &minimum.x),
+        not_determined,
+        stop,
+    }
+}
+
+/// What every fit's result ends with, either family of laws: the fitted
+/// scene's dimensionless parameters and units (`U`), how the fit ended,
+/// the files written, and (not in the JSON) the fitted scene as TOML, the
+/// datasets and the fitted and starting values (`V`), for the figures.
+#[derive(Serialize)]
+pub struct Outcome<V, U> {
     pub params: serde_json::Value,
-    pub units: UnitsRecord,
+    pub units: U,
     pub iterations: usize,
     pub complete: bool,
     pub stop: Option<String>,
@@ -226,14 +312,33 @@ pub struct Fit {
     /// The fitted scene as a TOML file.
     #[serde(skip)]
     pub fitted_toml: String,
-    /// The datasets and the fitted values, for the figures.
     #[serde(skip)]
     pub data: Vec<Dataset>,
     #[serde(skip)]
-    pub values: Values<f64>,
+    pub values: V,
     /// The scene's values the fit started from.
     #[serde(skip)]
-    pub start: Values<f64>,
+    pub start: V,
+}
+
+/// The result of `fit`: its serde form is the command's JSON.
+#[derive(Serialize)]
+pub struct Fit {
+    pub scene: String,
+    /// `rice-ruina`, `ln2` or `cutoff`.
+    pub law: &'static str,
+    #[serde(flatten)]
+    pub summary: Summary,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_form: Option<ClosedForm>,
+    /// The fitted scene's stability boundary over its velocity range with
+    /// the 95 % band.
+    pub band: Vec<BandPoint>,
+    /// Its onset type along the range, with the share of sampled
+    /// parameter sets that agree.
+    pub onset_type: Vec<OnsetTypeAt>,
+    #[serde(flatten)]
+    pub outcome: Outcome<Values<f64>, UnitsRecord>,
     #[serde(skip)]
     pub rig: Rig,
     /// Per dataset: the model of a time series (`None` for the others).
@@ -246,6 +351,15 @@ impl Fit {
     /// `frequency_hz`) at `v_um_s` on the fit's rig with the values `p`.
     pub fn predict(&self, p: &Values<f64>, column: &str, v_um_s: f64) -> f64 {
         predict(&self.rig, p, column, v_um_s)
+    }
+
+    /// The fitted values (`fitted`) or the scene's the fit started from.
+    pub fn values_of(&self, fitted: bool) -> &Values<f64> {
+        if fitted {
+            &self.outcome.values
+        } else {
+            &self.outcome.start
+        }
     }
 
     /// The model of the time series `i` at its rows' times with the values
@@ -280,12 +394,10 @@ impl Cached {
 
 /// The least-squares problem: weighted residuals of every measured value.
 struct Joint<'a> {
-    data: &'a [Dataset],
+    rows: Rows<'a>,
     rig: Rig,
     base: Values<f64>,
     free: Vec<Name>,
-    /// Per dataset and quantity: the error per row where none is given.
-    scale: Vec<Vec<f64>>,
     /// Per dataset: the model of a time series.
     series: Vec<Option<Cached>>,
 }
@@ -317,7 +429,7 @@ impl Joint<'_> {
     /// `model(q0) + J (q - q0)`: its value, and for dual numbers its exact
     /// first derivative.
     fn model<T: Scalar>(&self, i: usize, q: &Measured, p: &Values<T>) -> Option<Vec<T>> {
-        let d = &self.data[i];
+        let d = &self.rows.data[i];
         let Some(series) = &self.series[i] else {
             return Some(
                 d.v_um_s
@@ -359,28 +471,195 @@ impl Joint<'_> {
     }
 }
 
+impl DataFit for Joint<'_> {
+    fn rows(&self) -> &Rows<'_> {
+        &self.rows
+    }
+    fn rows_mut(&mut self) -> &mut Vec<Vec<f64>> {
+        &mut self.rows.scale
+    }
+    fn model_at<T: Scalar>(&self, i: usize, q: &Measured, x: &[T]) -> Option<Vec<T>> {
+        self.model(i, q, &self.values(x))
+    }
+    fn free_keys(&self) -> Vec<&'static str> {
+        self.free.iter().map(|n| n.key()).collect()
+    }
+    fn start(&self) -> Vec<f64> {
+        self.unknowns_of(&self.base)
+    }
+    fn hold(&mut self, k: usize) -> Vec<&'static str> {
+        self.free.remove(k);
+        Vec::new()
+    }
+}
+
 impl Problem for Joint<'_> {
     fn unknowns(&self) -> usize {
         self.free.len()
     }
 
     fn residuals<T: Scalar>(&self, x: &[T]) -> Option<Vec<T>> {
-        let p = self.values(x);
-        let mut out = Vec::new();
-        for (k, (d, scales)) in self.data.iter().zip(&self.scale).enumerate() {
-            for (q, scale) in d.measured.iter().zip(scales) {
-                let model = self.model(k, q, &p)?;
-                for (i, (m, &y)) in model.into_iter().zip(&q.values).enumerate() {
-                    let sigma = q.sigma.as_ref().map_or(*scale, |s| s[i]);
-                    let r = (m - y) / sigma;
-                    if !r.re().is_finite() {
-                        return None;
-                    }
-                    out.push(r);
+        weighted_residuals(self, x)
+    }
+}
+
+/// A joint weighted least-squares problem over datasets, in the unknowns
+/// `x` (logarithms of positive parameters): what the estimation of the
+/// errors, the search for undetermined parameters and the residuals'
+/// summary need, for either family of laws (the rate-and-state fit here,
+/// the adhesive one in [`crate::adhesive::fit`]).
+pub(crate) trait DataFit {
+    /// The datasets with their errors.
+    fn rows(&self) -> &Rows<'_>;
+    fn rows_mut(&mut self) -> &mut Vec<Vec<f64>>;
+    /// The datasets.
+    fn data(&self) -> &[Dataset] {
+        self.rows().data
+    }
+    /// Per dataset and quantity: the error per row where none is given.
+    fn scale(&self) -> &[Vec<f64>] {
+        &self.rows().scale
+    }
+    fn set_scale(&mut self, scale: Vec<Vec<f64>>) {
+        *self.rows_mut() = scale;
+    }
+    /// The model of the quantity `q` of dataset `i` at every row, at `x`.
+    fn model_at<T: Scalar>(&self, i: usize, q: &Measured, x: &[T]) -> Option<Vec<T>>;
+    /// The names of the unknowns.
+    fn free_keys(&self) -> Vec<&'static str>;
+    /// The unknowns at the scene's values, where the fit starts.
+    fn start(&self) -> Vec<f64>;
+    /// Holds the `k`-th unknown at the scene's value; the names of the
+    /// unknowns held with it (whose value means nothing without it).
+    fn hold(&mut self, k: usize) -> Vec<&'static str>;
+    /// The standard error of the `k`-th unknown above which its value
+    /// means nothing (default: none; the adhesive fit: 1, a factor `e` in
+    /// a positive parameter fitted as its logarithm).
+    fn error_limit(&self, _k: usize) -> f64 {
+        f64::INFINITY
+    }
+}
+
+/// The datasets of a fit and, per dataset and quantity, the error per row
+/// where the file gives none (estimated from the residuals; 1 at first).
+pub(crate) struct Rows<'a> {
+    pub data: &'a [Dataset],
+    pub scale: Vec<Vec<f64>>,
+}
+
+impl<'a> Rows<'a> {
+    pub fn new(data: &'a [Dataset]) -> Rows<'a> {
+        Rows {
+            data,
+            scale: data
+                .iter()
+                .map(|d| d.measured.iter().map(|_| 1.0).collect())
+                .collect(),
+        }
+    }
+}
+
+/// The weighted residuals `(model - data) / sigma` of every measured value
+/// of `problem` at `x`; `None` where the model is undefined.
+pub(crate) fn weighted_residuals<P: DataFit, T: Scalar>(problem: &P, x: &[T]) -> Option<Vec<T>> {
+    let mut out = Vec::new();
+    for (k, (d, scales)) in problem.data().iter().zip(problem.scale()).enumerate() {
+        for (q, scale) in d.measured.iter().zip(scales) {
+            let model = problem.model_at(k, q, x)?;
+            for (i, (m, &y)) in model.into_iter().zip(&q.values).enumerate() {
+                let sigma = q.sigma.as_ref().map_or(*scale, |s| s[i]);
+                let r = (m - y) / sigma;
+                if !r.re().is_finite() {
+                    return None;
                 }
+                out.push(r);
             }
         }
-        Some(out)
+    }
+    Some(out)
+}
+
+/// Fits `problem`, holding at the scene's values the parameters the data
+/// do not determine, each described by `describe(name, with, error)`
+/// (`with`: the parameters only a combination of which is determined;
+/// `error`: the standard error that was too large, if that was why). The
+/// minimum, the undetermined ones. Undetermined is
+///
+/// - a direction of the unknowns the data do not see at all: a singular
+///   value of the column-scaled Jacobian below [`UNDETERMINED`] of the
+///   largest (the parameter with the largest share of that direction is
+///   held; `with`: those with a share above 0.1);
+/// - a parameter whose standard error from `(J^T J)^-1` exceeds its
+///   [`DataFit::error_limit`] (the one with the largest error over its
+///   limit is held; `with`: those correlated with it by more than 0.9).
+pub(crate) fn fit_determined<P: DataFit + Problem>(
+    problem: &mut P,
+    mut describe: impl FnMut(&'static str, &[&'static str], Option<f64>) -> NotDetermined,
+) -> Result<(Minimum, Vec<NotDetermined>), Error> {
+    let mut not_determined: Vec<NotDetermined> = Vec::new();
+    loop {
+        if problem.unknowns() == 0 {
+            return Err(NumericalError::Analysis(format!(
+                "the data determine none of the parameters asked for: {}",
+                listed(&not_determined)
+            ))
+            .into());
+        }
+        let minimum = fit_with_estimated_errors(problem)?;
+        let (s, v) = scaled_svd(&minimum.jacobian);
+        let weakest = s.len() - 1;
+        let keys = problem.free_keys();
+        let (k, with, error) = if s[weakest] > UNDETERMINED * s[0] && s[0] > 0.0 {
+            // Each error against its limit.
+            let c = covariance(&minimum.jacobian)
+                .unwrap_or_else(|| DMatrix::from_element(keys.len(), keys.len(), f64::INFINITY));
+            let over = |k: usize| c[(k, k)].sqrt() / problem.error_limit(k);
+            let k = (0..keys.len())
+                .max_by(|&a, &b| over(a).total_cmp(&over(b)))
+                .unwrap_or(0);
+            // (A NaN error, from a singular covariance, is over.)
+            if over(k) <= 1.0 {
+                return Ok((minimum, not_determined));
+            }
+            let with: Vec<&'static str> = (0..keys.len())
+                .filter(|&j| (c[(k, j)] / (c[(k, k)] * c[(j, j)]).sqrt()).abs() > 0.9)
+                .map(|j| keys[j])
+                .collect();
+            (k, with, Some(c[(k, k)].sqrt()))
+        } else {
+            // The direction the data leave free: its parameters; the one
+            // with the largest share is kept at the scene's value.
+            let direction = v.column(weakest);
+            let share = |k: usize| direction[k].abs();
+            let with: Vec<&'static str> = (0..keys.len())
+                .filter(|&k| share(k) > 0.1)
+                .map(|k| keys[k])
+                .collect();
+            let k = (0..keys.len())
+                .max_by(|&a, &b| share(a).total_cmp(&share(b)))
+                .unwrap_or(0);
+            (k, with, None)
+        };
+        let along = problem.hold(k);
+        not_determined.push(describe(keys[k], &with, error));
+        for name in along {
+            not_determined.push(describe(name, &[keys[k], name], None));
+        }
+    }
+}
+
+/// The correlation matrix of the unknowns `names` from their covariance `c`.
+pub(crate) fn correlation(names: Vec<&'static str>, c: &DMatrix<f64>) -> Correlation {
+    let n = names.len();
+    Correlation {
+        names,
+        matrix: (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt())
+                    .collect()
+            })
+            .collect(),
     }
 }
 
@@ -406,6 +685,14 @@ fn scene_values(setup: &Setup) -> Values<f64> {
     }
 }
 
+/// The parameter of the scene key `key`.
+fn by_key(key: &str) -> Name {
+    Name::ALL
+        .into_iter()
+        .find(|n| n.key() == key)
+        .unwrap_or(Name::Mu0)
+}
+
 /// Which data determine a parameter.
 fn remedy(name: Name, with: &[Name]) -> String {
     let only_combination = with.len() > 1;
@@ -429,16 +716,34 @@ fn remedy(name: Name, with: &[Name]) -> String {
     format!("add {what}")
 }
 
-/// Fits the scene `spec` to the data of `request`.
-pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
-    if request.data.is_empty() {
+/// Refuses a fit without data or with a file given twice.
+pub(crate) fn check_request(data: &[(Kind, PathBuf)]) -> Result<(), Error> {
+    if data.is_empty() {
         return Err(InputError::Conflict(
             "fit needs data: give --data KIND=FILE (KIND steady, onset, velocity_step or \
-             relaxation), repeatable"
+             relaxation; steady and onset on an adhesive scene), repeatable"
                 .into(),
         )
         .into());
     }
+    if let Some((i, (_, file))) = data
+        .iter()
+        .enumerate()
+        .find(|(i, d)| data[..*i].contains(d))
+    {
+        return Err(InputError::Conflict(format!(
+            "--data gives {} twice (data #{}): each measurement counts once",
+            file.display(),
+            i + 1
+        ))
+        .into());
+    }
+    Ok(())
+}
+
+/// Fits the scene `spec` to the data of `request`.
+pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
+    check_request(&request.data)?;
     let setup = spec.setup(|p| *p)?;
     let data = request
         .data
@@ -476,30 +781,13 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     {
         return Err(InputError::Conflict(format!("--free names {} twice", twice.1.key())).into());
     }
-    if let Some((i, (_, file))) = request
-        .data
-        .iter()
-        .enumerate()
-        .find(|(i, d)| request.data[..*i].contains(d))
-    {
-        return Err(InputError::Conflict(format!(
-            "--data gives {} twice (data #{}): each measurement counts once",
-            file.display(),
-            i + 1
-        ))
-        .into());
-    }
     let rig = Rig::of(&setup.scene.units);
     let series = series_models(spec, &setup, &data, &start, rig)?;
     let mut problem = Joint {
-        data: &data,
+        rows: Rows::new(&data),
         rig,
         base: start,
         free: requested.clone(),
-        scale: data
-            .iter()
-            .map(|d| d.measured.iter().map(|_| 1.0).collect())
-            .collect(),
         series: series
             .iter()
             .map(|s| {
@@ -510,97 +798,33 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
             })
             .collect(),
     };
-    let mut not_determined: Vec<NotDetermined> = Vec::new();
-    let (minimum, values) = loop {
-        if problem.free.is_empty() {
-            return Err(NumericalError::Analysis(format!(
-                "the data determine none of the parameters asked for: {}",
-                not_determined
-                    .iter()
-                    .map(|n| format!("{} ({})", n.name, n.remedy))
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            ))
-            .into());
-        }
-        let minimum = fit_with_estimated_errors(&mut problem)?;
-        let (s, v) = scaled_svd(&minimum.jacobian);
-        let weakest = s.len() - 1;
-        if s[weakest] > UNDETERMINED * s[0] && s[0] > 0.0 {
-            let values = problem.values(&minimum.x);
-            break (minimum, values);
-        }
-        // The direction the data leave free: its parameters; the one with
-        // the largest share is kept at the scene's value.
-        let direction = v.column(weakest);
-        let share = |k: usize| direction[k].abs();
-        let with: Vec<Name> = (0..problem.free.len())
-            .filter(|&k| share(k) > 0.1)
-            .map(|k| problem.free[k])
-            .collect();
-        let k = (0..problem.free.len())
-            .max_by(|&a, &b| share(a).total_cmp(&share(b)))
-            .unwrap_or(0);
-        let name = problem.free.remove(k);
-        not_determined.push(NotDetermined {
-            name: name.key(),
+    let (minimum, not_determined) = fit_determined(&mut problem, |key, with, _| {
+        let name = by_key(key);
+        let with: Vec<Name> = with.iter().map(|k| by_key(k)).collect();
+        NotDetermined {
+            name: key,
             with: with.iter().map(|n| n.key()).collect(),
             remedy: remedy(name, &with),
             kept_at: start.get(name).unwrap_or(f64::NAN),
-        });
-    };
+        }
+    })?;
+    let values = problem.values(&minimum.x);
     let c = covariance(&minimum.jacobian).ok_or_else(|| {
         NumericalError::Analysis("the fit's normal matrix J^T J is singular".into())
     })?;
-    let mut parameters = BTreeMap::new();
-    for name in &law_names {
-        let value = values.get(*name).unwrap_or(f64::NAN);
-        let fitted = problem.free.iter().position(|n| n == name);
-        let status = match fitted {
-            Some(_) => "fitted",
-            None if not_determined.iter().any(|n| n.name == name.key()) => "not_determined",
-            None => "fixed",
-        };
-        let std_error = fitted.map(|k| {
-            let sd = c[(k, k)].sqrt();
-            // Delta method through the logarithm: d value = value d ln(value).
-            if name.positive() {
-                value * sd
-            } else {
-                sd
-            }
-        });
-        parameters.insert(
-            name.key(),
-            Estimate {
-                value,
-                std_error,
-                unit: name.unit(),
-                status,
-                start: start.get(*name).unwrap_or(f64::NAN),
-                given: not_determined
-                    .iter()
-                    .filter(|n| fitted.is_some() && n.with.contains(&name.key()))
-                    .map(|n| n.name)
-                    .collect(),
-            },
-        );
-    }
-    let n = problem.free.len();
-    let correlation = Correlation {
-        names: problem.free.iter().map(|n| n.key()).collect(),
-        matrix: (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt())
-                    .collect()
-            })
-            .collect(),
-    };
-    let rows: usize = data.iter().map(|d| d.rows() * d.measured.len()).sum();
-    let chi2 = minimum.residuals.norm_squared();
-    let dof = rows.saturating_sub(n);
-    let mut datasets = dataset_fits(&problem, &values);
+    let entries: Vec<Entry> = law_names
+        .iter()
+        .map(|name| Entry {
+            key: name.key(),
+            unit: name.unit(),
+            value: values.get(*name).unwrap_or(f64::NAN),
+            start: start.get(*name).unwrap_or(f64::NAN),
+            logarithmic: name.positive(),
+        })
+        .collect();
+    let not_determined_names: Vec<&'static str> = not_determined.iter().map(|n| n.name).collect();
+    let mut summary = summarize(&problem, &minimum, &c, &entries, not_determined);
+    let datasets = &mut summary.datasets;
     let mut at = 0;
     for (d, s) in data.iter().zip(&series) {
         if let Some((model, reason)) = s {
@@ -620,8 +844,8 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     }
     let fitted_params = fitted_params(&setup, &values);
     let mut fitted_toml = fitted_toml(spec, &setup, &values, &data)?;
-    if !not_determined.is_empty() {
-        let names: Vec<&str> = not_determined.iter().map(|n| n.name).collect();
+    if !not_determined_names.is_empty() {
+        let names = &not_determined_names;
         fitted_toml = format!(
             "# not determined by the data, kept at the scene's values: {}\n{fitted_toml}",
             names.join(", ")
@@ -630,7 +854,7 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     let closed_form = closed_form(&data, &rig);
     // With a parameter left at the scene's value for want of data, a band
     // would claim a precision the data do not give.
-    let (band, onset_type) = if request.stability && not_determined.is_empty() {
+    let (band, onset_type) = if request.stability && not_determined_names.is_empty() {
         let draws = Draws::new(&minimum.x, &c);
         (
             band(&setup, &problem, &minimum.x, &c, &draws),
@@ -639,16 +863,7 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
     } else {
         (Vec::new(), Vec::new())
     };
-    let stop = (!not_determined.is_empty()).then(|| {
-        format!(
-            "not determined by the data: {}",
-            not_determined
-                .iter()
-                .map(|n| format!("{} ({})", n.name, n.remedy))
-                .collect::<Vec<_>>()
-                .join("; ")
-        )
-    });
+    let stop = summary.stop.clone();
     Ok(Fit {
         scene: setup.scene.name.clone(),
         law: match start.ageing {
@@ -656,29 +871,25 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
             AgeingValue::Mu2(m) if m != 0.0 || requested.contains(&Name::Mu2) => "ln2",
             AgeingValue::Mu2(_) => "rice-ruina",
         },
-        parameters,
-        correlation,
-        chi2,
-        dof,
-        chi2_per_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
-        datasets,
-        not_determined,
+        summary,
         closed_form,
         band,
         onset_type,
-        params: params_json(&fitted_params),
-        units: UnitsRecord::of(&Units {
-            d0: values.d0_um * 1e-6,
-            ..setup.scene.units
-        }),
-        iterations: minimum.iterations,
-        complete: stop.is_none(),
-        stop,
-        files: Vec::new(),
-        fitted_toml,
-        data: data.clone(),
-        values,
-        start,
+        outcome: Outcome {
+            params: params_json(&fitted_params),
+            units: UnitsRecord::of(&Units {
+                d0: values.d0_um * 1e-6,
+                ..setup.scene.units
+            }),
+            iterations: minimum.iterations,
+            complete: stop.is_none(),
+            stop,
+            files: Vec::new(),
+            fitted_toml,
+            data: data.clone(),
+            values,
+            start,
+        },
         rig,
         series: series.into_iter().map(|s| s.map(|(m, _)| m)).collect(),
     })
@@ -748,16 +959,16 @@ fn series_models(
 
 /// Minimises with the errors of datasets without a sigma column estimated
 /// from their residuals, until the estimates settle.
-fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
-    let mut x = problem.unknowns_of(&problem.base);
+fn fit_with_estimated_errors<P: DataFit + Problem>(problem: &mut P) -> Result<Minimum, Error> {
+    let mut x = problem.start();
     let total: usize = problem
-        .data
+        .data()
         .iter()
         .map(|d| d.rows() * d.measured.len())
         .sum();
-    let p = problem.free.len();
+    let p = problem.unknowns();
     let estimated = problem
-        .data
+        .data()
         .iter()
         .any(|d| d.measured.iter().any(|q| q.sigma.is_none()));
     if estimated && total <= p {
@@ -770,15 +981,14 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
     for _ in 0..SIGMA_ROUNDS {
         let minimum = minimize(problem, &x).map_err(failed)?;
         x = minimum.x.clone();
-        let values = problem.values(&x);
         let mut moved = 0.0f64;
-        let mut scales = problem.scale.clone();
-        for (k, (d, scales)) in problem.data.iter().zip(scales.iter_mut()).enumerate() {
+        let mut scales = problem.scale().to_vec();
+        for (k, (d, scales)) in problem.data().iter().zip(scales.iter_mut()).enumerate() {
             for (q, scale) in d.measured.iter().zip(scales.iter_mut()) {
                 if q.sigma.is_some() {
                     continue;
                 }
-                let rss = residual_sum_of_squares(problem, k, &values, q);
+                let rss = residual_sum_of_squares(problem, k, &x, q);
                 let n = q.values.len() as f64;
                 let new = (rss / (n * (1.0 - p as f64 / total as f64)))
                     .sqrt()
@@ -787,7 +997,7 @@ fn fit_with_estimated_errors(problem: &mut Joint) -> Result<Minimum, Error> {
                 *scale = new;
             }
         }
-        problem.scale = scales;
+        problem.set_scale(scales);
         if moved < 1e-9 {
             return Ok(minimum);
         }
@@ -816,10 +1026,10 @@ fn predict<T: Scalar>(rig: &Rig, p: &Values<T>, column: &str, v_um_s: f64) -> T 
     }
 }
 
-/// `sum (model - data)^2` of the quantity `q` of dataset `i`, unweighted
-/// (infinite where the model is undefined).
-fn residual_sum_of_squares(problem: &Joint, i: usize, values: &Values<f64>, q: &Measured) -> f64 {
-    problem.model(i, q, values).map_or(f64::INFINITY, |model| {
+/// `sum (model - data)^2` of the quantity `q` of dataset `i` at the
+/// unknowns `x`, unweighted (infinite where the model is undefined).
+fn residual_sum_of_squares<P: DataFit>(problem: &P, i: usize, x: &[f64], q: &Measured) -> f64 {
+    problem.model_at(i, q, x).map_or(f64::INFINITY, |model| {
         model
             .iter()
             .zip(&q.values)
@@ -828,12 +1038,13 @@ fn residual_sum_of_squares(problem: &Joint, i: usize, values: &Values<f64>, q: &
     })
 }
 
-/// Per dataset and quantity: the RMS residual and how its error was had.
-fn dataset_fits(problem: &Joint, values: &Values<f64>) -> Vec<DatasetFit> {
+/// Per dataset and quantity at the unknowns `x`: the RMS residual and how
+/// its error was had.
+pub(crate) fn dataset_fits<P: DataFit>(problem: &P, x: &[f64]) -> Vec<DatasetFit> {
     let mut out = Vec::new();
-    for (k, (d, scales)) in problem.data.iter().zip(&problem.scale).enumerate() {
+    for (k, (d, scales)) in problem.data().iter().zip(problem.scale()).enumerate() {
         for (q, scale) in d.measured.iter().zip(scales) {
-            let rss = residual_sum_of_squares(problem, k, values, q);
+            let rss = residual_sum_of_squares(problem, k, x, q);
             out.push(DatasetFit {
                 kind: d.kind,
                 file: d.file.display().to_string(),

@@ -4,25 +4,84 @@
 
 use super::lines::{render, LineFigure, Series};
 use super::PlotError;
+use crate::adhesive::fit::AdhesiveFit;
 use crate::file_names::with_suffix;
-use crate::fit::model::Values;
+use crate::fit::data::Dataset;
 use crate::jobs::fit::Fit;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 
-/// Writes `<stem>-fit-<kind>-<quantity>` (data and models) and
-/// `...-residuals` for every measured quantity of the fit's data.
+/// What the figures of a fit draw: its datasets, and the model of each
+/// measured quantity with the fitted values and with the scene's.
+pub trait Drawn {
+    /// The scene's name.
+    fn title(&self) -> &str;
+    fn data(&self) -> &[Dataset];
+    /// The model of the quantity `column` at `v` µm/s, with the fitted
+    /// values (`fitted`) or the scene's.
+    fn model(&self, fitted: bool, column: &str, v: f64) -> f64;
+    /// The model of the time series `i` at its rows' times (`None`: not a
+    /// time series, or it does not integrate).
+    fn series_model(&self, _i: usize, _fitted: bool) -> Option<Vec<f64>> {
+        None
+    }
+}
+
+impl Drawn for Fit {
+    fn title(&self) -> &str {
+        &self.scene
+    }
+    fn data(&self) -> &[Dataset] {
+        &self.outcome.data
+    }
+    fn model(&self, fitted: bool, column: &str, v: f64) -> f64 {
+        self.predict(self.values_of(fitted), column, v)
+    }
+    fn series_model(&self, i: usize, fitted: bool) -> Option<Vec<f64>> {
+        Fit::series_model(self, i, self.values_of(fitted))
+    }
+}
+
+impl Drawn for AdhesiveFit {
+    fn title(&self) -> &str {
+        &self.scene
+    }
+    fn data(&self) -> &[Dataset] {
+        &self.outcome.data
+    }
+    fn model(&self, fitted: bool, column: &str, v: f64) -> f64 {
+        let values = if fitted {
+            &self.outcome.values
+        } else {
+            &self.outcome.start
+        };
+        values.predict(self.mass_kg, column, v)
+    }
+}
+
+/// The figures of a rate-and-state fit: the stability band, and
+/// [`data_figures`].
 pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-    let (title, fitted, start) = (&fit.scene, &fit.values, &fit.start);
-    let model = |p: &Values<f64>, column: &str, v: f64| fit.predict(p, column, v);
     let mut files = if fit.band.len() > 1 {
         band_figure(fit, stem)?
     } else {
         Vec::new()
     };
-    for (i, d) in fit.data.iter().enumerate() {
+    files.extend(data_figures(fit, stem)?);
+    Ok(files)
+}
+
+/// Writes `<stem>-fit-<kind>-<quantity>` (data and models) and
+/// `...-residuals` for every measured quantity of the fit's data.
+pub fn data_figures<F: Drawn>(fit: &F, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    let title = fit.title();
+    let model = |fitted: bool, column: &str, v: f64| fit.model(fitted, column, v);
+    let (fitted, start) = (true, false);
+    let mut files = Vec::new();
+    let data = fit.data();
+    for (i, d) in data.iter().enumerate() {
         // The second dataset of a kind is `<kind>2`, and so on.
-        let nth = fit.data[..i].iter().filter(|e| e.kind == d.kind).count();
+        let nth = data[..i].iter().filter(|e| e.kind == d.kind).count();
         let kind = match nth {
             0 => d.kind.name().to_string(),
             n => format!("{}{}", d.kind.name(), n + 1),
@@ -60,7 +119,7 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         for q in &d.measured {
             // A time series' model at its rows' times (nothing where it
             // does not integrate), the others on a grid of velocities.
-            let curve = |p: &Values<f64>| -> Vec<(f64, f64)> {
+            let curve = |p: bool| -> Vec<(f64, f64)> {
                 if series {
                     let values = fit.series_model(i, p).unwrap_or_default();
                     x.iter()
@@ -69,7 +128,13 @@ pub fn figures(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
                         .filter(|(t, _)| shown(*t))
                         .collect()
                 } else {
-                    grid.iter().map(|&v| (v, model(p, q.column, v))).collect()
+                    // A critical stiffness only where there is an onset
+                    // (steady friction falling with V).
+                    let stiffness = q.column.starts_with('K');
+                    grid.iter()
+                        .map(|&v| (v, model(p, q.column, v)))
+                        .filter(|(_, m)| m.is_finite() && !(stiffness && *m <= 0.0))
+                        .collect()
                 }
             };
             let points: Vec<(f64, f64)> = x
@@ -259,6 +324,7 @@ fn band_figure(fit: &Fit, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         },
     ];
     for d in fit
+        .outcome
         .data
         .iter()
         .filter(|d| d.kind == crate::fit::data::Kind::Onset)
@@ -298,6 +364,8 @@ fn label(column: &str, series: bool) -> &'static str {
         "mu" => "steady friction coefficient mu_ss",
         "K_over_W_per_m" => "critical stiffness over load (K/W)_c [1/m]",
         "slip_um" => "slip since the drive stopped [µm]",
+        "F_N" => "steady friction force F_ss [N]",
+        "K_N_per_m" => "critical stiffness K_c [N/m]",
         _ => "onset frequency f_c [Hz]",
     }
 }
