@@ -366,3 +366,65 @@ fn an_interruption_in_the_second_leg_keeps_the_first_legs_end() {
         run.stdout
     );
 }
+
+/// An adhesive scene's `cycles` (the gel) sent SIGTERM once a few cycles
+/// are on disk: exit 143, the rows kept whole and marked incomplete, the
+/// JSON partial; a rerun of the same name replaces that unfinished run's
+/// files with a note instead of refusing.
+#[test]
+fn sigterm_keeps_the_adhesive_cycles_and_a_rerun_replaces_them() {
+    let dir = out_dir("sigterm-adhesive-cycles");
+    let out = dir.to_str().unwrap();
+    let csv_path = dir.join("gel-cycles.csv");
+    let args = ["cycles", "--scene", "gel", "--out", out];
+    let run = signal_when(&args, libc::SIGTERM, |_| lines(&csv_path) >= 4);
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(143), "{err}");
+    assert!(
+        err.contains("interrupted (SIGTERM)") && err.contains("kept"),
+        "{err}"
+    );
+    assert!(whole_rows_marked_incomplete(&csv_path) >= 3, "rows kept");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("gel-cycles.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["complete"], false, "{json}");
+    assert!(json["stop"].as_str().unwrap().contains("signal"), "{json}");
+    let again = Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(["cycles", "--scene", "gel", "--out", out, "--max-steps", "3"])
+        .output()
+        .unwrap();
+    let note = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        note.contains("replacing the files of an earlier run"),
+        "{note}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An adhesive scene's `simulate` sent SIGINT part-way: exit 130, the time
+/// series up to the signal kept whole and marked incomplete, with figures.
+#[test]
+fn ctrl_c_keeps_the_adhesive_time_series() {
+    let dir = out_dir("interrupt-adhesive-simulate");
+    let out = dir.to_str().unwrap();
+    // Stick-slip of the gel for 20 000 s: many seconds of computing.
+    let args = [
+        "simulate",
+        "--scene",
+        "gel",
+        "--protocol",
+        "20:20000",
+        "--out",
+        out,
+    ];
+    let started = Instant::now();
+    let run = interrupt_when(&args, |_| started.elapsed() > Duration::from_millis(500));
+    let err = &run.stderr;
+    assert_eq!(run.code, Some(130), "{err}");
+    assert!(err.contains("interrupted (Ctrl-C)"), "{err}");
+    let csv_path = dir.join("gel-simulation.csv");
+    assert!(whole_rows_marked_incomplete(&csv_path) >= 10, "rows kept");
+    assert!(dir.join("gel-simulation-spring-force.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -373,8 +373,8 @@ pub struct AdhesiveHopf {
     /// possibly coexisting ...` (`None` without `K`).
     pub regime: Option<&'static str>,
     pub complete: bool,
-    /// Why the job ended short of the request (`null`: it delivered all;
-    /// a failure is an error instead), as every command's JSON has it.
+    /// Why the run ended short of the protocol's end (`null`: it delivered
+    /// all): a failed integration or a stop signal, the steps before kept.
     pub stop: Option<String>,
 }
 
@@ -435,8 +435,8 @@ pub struct AdhesiveBranch {
     #[serde(rename = "hopf_points_V_um_per_s")]
     pub hopf_points_um_s: Vec<f64>,
     pub complete: bool,
-    /// Why the job ended short of the request (`null`: it delivered all;
-    /// a failure is an error instead), as every command's JSON has it.
+    /// Why the run ended short of the protocol's end (`null`: it delivered
+    /// all): a failed integration or a stop signal, the steps before kept.
     pub stop: Option<String>,
 }
 
@@ -519,8 +519,8 @@ pub struct AdhesiveDiagram {
     /// (`null` without `K`): as the rate-and-state `diagram` judges it.
     pub operating_point: Option<OperatingPoint>,
     pub complete: bool,
-    /// Why the job ended short of the request (`null`: it delivered all;
-    /// a failure is an error instead), as every command's JSON has it.
+    /// Why the run ended short of the protocol's end (`null`: it delivered
+    /// all): a failed integration or a stop signal, the steps before kept.
     pub stop: Option<String>,
 }
 
@@ -635,11 +635,25 @@ pub struct AdhesiveCycles {
     pub simulated: Option<SettledCycle>,
     pub complete: bool,
     pub stop: Option<String>,
+    /// Whether a stop signal ended the branch.
+    #[serde(skip)]
+    pub interrupted: bool,
 }
 
 /// `cycles` on an adhesive scene: from the onset down to the scene's
 /// stiffness, with the limits `(max_steps, ntst_max)` of the branch.
 pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCycles, Error> {
+    cycles_watched(setup, limits, &mut |_| true)
+}
+
+/// [`cycles`] with `watch` shown each cycle as it is computed; returning
+/// `false` stops the branch there (a stop signal: no simulation follows,
+/// and the result is partial).
+pub fn cycles_watched(
+    setup: AdhesiveSetup,
+    limits: (usize, usize),
+    watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
+) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
     let kind = setup.model_kind;
     let OnsetOutcome::Found(onset) = with_model!(kind, b => find_onset(b, &p))? else {
@@ -658,15 +672,20 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
     } else {
         0.5 * onset.kappa_c
     };
-    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits))?;
+    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits, watch))?;
     let mut q = p;
     q.kappa = target;
-    let simulated = with_model!(kind, b => settled(b, &q, 30))?;
+    let simulated = if run.interrupted {
+        None
+    } else {
+        with_model!(kind, b => settled(b, &q, 30))?
+    };
     Ok(AdhesiveCycles {
         setup,
         onset,
         complete: run.stop.is_none(),
         stop: run.stop,
+        interrupted: run.interrupted,
         cycles: run.cycles,
         at_scene: run.at_scene,
         simulated,
@@ -689,10 +708,13 @@ fn settled<B: block::AdhesiveModel>(
         p,
         &x,
         &[Segment { nu: p.nu, duration }],
-        1e-8,
-        1_000_000,
-    )?;
-    Ok(run.settled(0))
+        (1e-8, 1_000_000),
+        &|| false,
+    );
+    match run.stop {
+        Some(why) => Err(NumericalError::Analysis(why).into()),
+        None => Ok(run.settled(0)),
+    }
 }
 
 /// One segment of a protocol: its velocity `nu` and duration (in
@@ -732,8 +754,8 @@ pub struct AdhesiveSimulation {
     #[serde(skip)]
     pub run: Run,
     pub complete: bool,
-    /// Why the job ended short of the request (`null`: it delivered all;
-    /// a failure is an error instead), as every command's JSON has it.
+    /// Why the run ended short of the protocol's end (`null`: it delivered
+    /// all): a failed integration or a stop signal, the steps before kept.
     pub stop: Option<String>,
 }
 
@@ -745,6 +767,19 @@ pub fn simulate(
     perturb: f64,
     rtol: f64,
     max_steps: usize,
+) -> Result<AdhesiveSimulation, Error> {
+    simulate_watched(setup, protocol, (perturb, rtol, max_steps), &|| false)
+}
+
+/// [`simulate`] asking `stop` after every step whether to end there (a stop
+/// signal); the steps taken are kept either way, and a run that ended
+/// early (stopped, or its integration failed) is partial (`complete`
+/// false, `stop` says why).
+pub fn simulate_watched(
+    setup: AdhesiveSetup,
+    protocol: Option<Vec<(f64, f64)>>,
+    (perturb, rtol, max_steps): (f64, f64, usize),
+    stop: &dyn Fn() -> bool,
 ) -> Result<AdhesiveSimulation, Error> {
     let p = setup.params;
     let u = setup.units;
@@ -790,7 +825,14 @@ pub fn simulate(
         )
         .into());
     }
-    let run = with_model!(kind, b => integrate(b, &p, &x, &protocol, rtol, max_steps))?;
+    let run = with_model!(kind, b => integrate(b, &p, &x, &protocol, (rtol, max_steps), stop));
+    if run.t.is_empty() {
+        return Err(NumericalError::Analysis(
+            run.stop
+                .unwrap_or_else(|| "the integration took no step".to_string()),
+        )
+        .into());
+    }
     let segment_of = |t: f64| {
         let mut end = 0.0;
         protocol
@@ -806,7 +848,12 @@ pub fn simulate(
         let i = segment_of(*t);
         peak[i] = peak[i].max(*s);
     }
-    let settled = run.settled(protocol.len() - 1);
+    // The last segment's settled cycle only when the run reached its end.
+    let settled = run
+        .stop
+        .is_none()
+        .then(|| run.settled(protocol.len() - 1))
+        .flatten();
     Ok(AdhesiveSimulation {
         protocol_record: protocol
             .iter()
@@ -833,8 +880,8 @@ pub fn simulate(
         settled,
         setup,
         protocol,
+        complete: run.stop.is_none(),
+        stop: run.stop.clone(),
         run,
-        complete: true,
-        stop: None,
     })
 }

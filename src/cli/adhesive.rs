@@ -4,7 +4,8 @@
 //! rate-and-state analyses that have no meaning for it are refused, naming
 //! the option.
 
-use super::files::{write, OutputArgs};
+use super::files::{create_file, write, LineFile, OutputArgs, INCOMPLETE};
+use super::interrupt;
 use super::SceneArgs;
 pub use crate::adhesive::jobs::Judged;
 use crate::adhesive::jobs::{
@@ -16,6 +17,7 @@ use crate::file_names::with_suffix;
 use crate::model::ModelKind;
 use crate::plot::lines::{render, vertical_marker, LineFigure, Series};
 use plotters::style::RGBColor;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The adhesive scene named by `args`, with its model decision, or `None`
@@ -192,13 +194,25 @@ fn stem(
     figures: &[&str],
 ) -> Result<PathBuf, Error> {
     output.create_dir()?;
-    let outputs: Vec<String> = std::iter::once(format!("-{command}.json"))
+    // The record an earlier run is judged by comes first (files.rs,
+    // `unfinished`): the CSV where the command writes one (it ends with
+    // `# incomplete` when that run did not finish), else the JSON.
+    let record = if WRITES_CSV.contains(&command) {
+        [format!("-{command}.csv"), format!("-{command}.json")]
+    } else {
+        [format!("-{command}.json"), format!("-{command}.csv")]
+    };
+    let outputs: Vec<String> = record
+        .into_iter()
         .chain(figures.iter().map(|f| format!("-{command}-{f}.png")))
         .collect();
     let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
     let stem = output.stem(&setup.scene, args, false, &outputs)?;
     Ok(with_suffix(&stem, &format!("-{command}")))
 }
+
+/// The adhesive commands that write a CSV as they compute.
+const WRITES_CSV: [&str; 2] = ["cycles", "simulation"];
 
 fn line(points: Vec<(f64, f64)>, label: &str, color: RGBColor, dashed: bool) -> Series {
     Series {
@@ -406,7 +420,25 @@ pub fn cycles(
     as_json: bool,
 ) -> Result<(), Error> {
     let stem = stem(output, args, &setup, "cycles", &["period", "orbits"])?;
-    let r = jobs::cycles(setup, limits)?;
+    // The table as the branch computes it: a stop signal (or a failure)
+    // keeps every row written and ends the file with `# incomplete`.
+    let csv_path = with_suffix(&stem, ".csv");
+    let mut csv = create_file(&csv_path)?;
+    let units = setup.units;
+    writeln!(csv, "{CYCLES_HEADER}")?;
+    interrupt::catch_interrupts();
+    let mut written = Ok(());
+    let r = jobs::cycles_watched(setup, limits, &mut |c| {
+        if written.is_ok() {
+            written = cycles_row(&mut csv, &units, c);
+        }
+        written.is_ok() && !interrupt::interrupted()
+    })?;
+    written?;
+    if let Some(why) = &r.stop {
+        writeln!(csv, "{INCOMPLETE} {why}")?;
+    }
+    csv.finish()?;
     if !as_json {
         print_cycles(&r);
     }
@@ -469,15 +501,58 @@ pub fn cycles(
             })
             .collect(),
     };
-    let mut files = render(&period, &with_suffix(&stem, "-period")).map_err(plot_error)?;
-    files.extend(render(&orbits, &with_suffix(&stem, "-orbits")).map_err(plot_error)?);
+    let mut files = vec![csv_path];
+    if !r.cycles.is_empty() {
+        files.extend(render(&period, &with_suffix(&stem, "-period")).map_err(plot_error)?);
+        files.extend(render(&orbits, &with_suffix(&stem, "-orbits")).map_err(plot_error)?);
+    }
     finish(&stem, json(&r)?, files, as_json)?;
     match &r.stop {
         None => Ok(()),
+        Some(_) if r.interrupted => Err(interrupt::stopped(format!(
+            "after {} cycles, down to K = {:.6e} N/m",
+            r.cycles.len(),
+            r.cycles
+                .last()
+                .map_or(f64::NAN, |c| u.stiffness_n_m(c.kappa))
+        ))),
         Some(why) => Err(Error::Partial(format!(
             "the cycle branch did not reach the scene's stiffness: {why}"
         ))),
     }
+}
+
+/// The columns of the adhesive `cycles` CSV: physical units, then the
+/// dimensionless values (docs/model.md, "Soft adhesive contacts").
+const CYCLES_HEADER: &str = "K_N_per_m,period_s,force_drop_N,s_min_N,s_max_N,v_min_um_per_s,\
+v_max_um_per_s,n_min,n_max,stable,kappa,period,delta_s,u_min,u_max";
+
+/// One cycle's row of the `cycles` CSV.
+fn cycles_row(
+    csv: &mut LineFile,
+    u: &crate::adhesive::scene::AdhesiveUnits,
+    c: &crate::adhesive::analysis::cycles::AdhesiveCycle,
+) -> std::io::Result<()> {
+    writeln!(
+        csv,
+        "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e}",
+        u.stiffness_n_m(c.kappa),
+        u.time_s(c.period),
+        u.force_n(c.s_max - c.s_min),
+        u.force_n(c.s_min),
+        u.force_n(c.s_max),
+        u.velocity_um_s(c.u_min),
+        u.velocity_um_s(c.u_max),
+        c.n_min,
+        c.n_max,
+        c.stable,
+        c.kappa,
+        c.period,
+        c.s_max - c.s_min,
+        c.u_min,
+        c.u_max
+    )?;
+    csv.flush()
 }
 
 fn print_cycles(r: &AdhesiveCycles) {
@@ -541,8 +616,33 @@ pub fn simulate(
         "simulation",
         &["spring-force", "velocity", "bonds"],
     )?;
-    let r = jobs::simulate(setup, protocol, perturb, rtol, max_steps)?;
+    interrupt::catch_interrupts();
+    let r = jobs::simulate_watched(
+        setup,
+        protocol,
+        (perturb, rtol, max_steps),
+        &interrupt::interrupted,
+    )?;
     let u = r.setup.units;
+    // The time series, every accepted step; a run that ended early ends
+    // the file with `# incomplete`.
+    let csv_path = with_suffix(&stem, ".csv");
+    let mut csv = create_file(&csv_path)?;
+    writeln!(csv, "t_s,spring_force_N,v_um_per_s,n,t,s,u")?;
+    for (((t, s), v), n) in r.run.t.iter().zip(&r.run.s).zip(&r.run.u).zip(&r.run.n) {
+        writeln!(
+            csv,
+            "{:e},{:e},{:e},{:e},{t:e},{s:e},{v:e}",
+            u.time_s(*t),
+            u.force_n(*s),
+            u.velocity_um_s(*v),
+            n
+        )?;
+    }
+    if let Some(why) = &r.stop {
+        writeln!(csv, "{INCOMPLETE} {why}")?;
+    }
+    csv.finish()?;
     if !as_json {
         print_simulation(&r);
     }
@@ -591,10 +691,21 @@ pub fn simulate(
         log_y: false,
         series: series(r.run.n.clone(), "n(t)"),
     };
-    let mut files = render(&force, &with_suffix(&stem, "-spring-force")).map_err(plot_error)?;
+    let mut files = vec![csv_path];
+    files.extend(render(&force, &with_suffix(&stem, "-spring-force")).map_err(plot_error)?);
     files.extend(render(&velocity, &with_suffix(&stem, "-velocity")).map_err(plot_error)?);
     files.extend(render(&bonds, &with_suffix(&stem, "-bonds")).map_err(plot_error)?);
-    finish(&stem, json(&r)?, files, as_json)
+    finish(&stem, json(&r)?, files, as_json)?;
+    match &r.stop {
+        None => Ok(()),
+        Some(_) if r.run.interrupted => Err(interrupt::stopped(format!(
+            "at t = {:.6e} s",
+            r.run.t.last().map_or(0.0, |t| u.time_s(*t))
+        ))),
+        Some(why) => Err(Error::Partial(format!(
+            "the simulation did not reach the protocol's end: {why}"
+        ))),
+    }
 }
 
 fn print_simulation(r: &AdhesiveSimulation) {

@@ -41,6 +41,8 @@ pub struct CycleRun {
     /// The engine's words on how the branch ended; `None` when it reached
     /// the scene's stiffness.
     pub stop: Option<String>,
+    /// Whether the watcher stopped the branch (a stop signal).
+    pub interrupted: bool,
 }
 
 fn record<B: AdhesiveModel>(model: B, p: &AdhesiveParams, point: &CyclePoint) -> AdhesiveCycle {
@@ -71,12 +73,15 @@ fn record<B: AdhesiveModel>(model: B, p: &AdhesiveParams, point: &CyclePoint) ->
 
 /// Continues the cycles from `onset` in `kappa` down to `kappa_to` in at
 /// most `max_steps` steps, the mesh refined up to `ntst_max` intervals.
+/// `watch` sees each cycle as it is computed (for incremental output) and
+/// stops the branch by returning `false` (a stop signal).
 pub fn trace<B: AdhesiveModel>(
     model: B,
     p: &AdhesiveParams,
     onset: &AdhesiveOnset,
     kappa_to: f64,
     (max_steps, ntst_max): (usize, usize),
+    watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
 ) -> Result<CycleRun, NumericalError> {
     let mut q = *p;
     q.kappa = onset.kappa_c;
@@ -103,13 +108,20 @@ pub fn trace<B: AdhesiveModel>(
     )?;
     let (mut cycles, mut at_scene) = (Vec::new(), None);
     let mut failure = None;
+    let mut interrupted = false;
     for point in branch.by_ref() {
         match point {
             Ok(point) => {
                 if let Some(user) = point.user_points().next() {
                     at_scene = Some(record(model, p, user));
                 }
-                cycles.push(record(model, p, &point));
+                let cycle = record(model, p, &point);
+                let go_on = watch(&cycle);
+                cycles.push(cycle);
+                if !go_on {
+                    interrupted = true;
+                    break;
+                }
             }
             Err(e) => {
                 failure = Some(e.to_string());
@@ -119,6 +131,9 @@ pub fn trace<B: AdhesiveModel>(
     }
     let stop = match (&at_scene, failure) {
         (Some(_), _) => None,
+        (None, _) if interrupted => {
+            Some(format!("stopped by a signal after {} cycles", cycles.len()))
+        }
         (None, Some(e)) => Some(e),
         (None, None) => Some(
             branch
@@ -130,5 +145,6 @@ pub fn trace<B: AdhesiveModel>(
         cycles,
         at_scene,
         stop,
+        interrupted,
     })
 }

@@ -6,8 +6,8 @@
 
 use crate::adhesive::block::AdhesiveModel;
 use crate::adhesive::params::AdhesiveParams;
-use crate::error::NumericalError;
 use continuation::integrate::{EventDirection, EventFunction, Outcome, Output, Radau5, Settings};
+use std::ops::ControlFlow;
 
 /// One stretch of the protocol, dimensionless: pulling velocity `nu`
 /// (0 stops the drive) for `duration` (units `tau_out`).
@@ -28,6 +28,11 @@ pub struct Run {
     /// of its segment.
     pub maxima: Vec<(f64, f64, usize)>,
     pub minima: Vec<(f64, f64, usize)>,
+    /// Why the run ended before the protocol's end (the integration failed,
+    /// or `stop` asked it to); `None` when it ran to the end.
+    pub stop: Option<String>,
+    /// Whether `stop` ended it (a stop signal).
+    pub interrupted: bool,
 }
 
 /// The settled stick-slip of the last segment: the last full cycle between
@@ -44,15 +49,18 @@ pub struct SettledCycle {
 }
 
 /// Integrates `model` from `x0` (its state) through `protocol` at relative tolerance `rtol`,
-/// with at most `max_steps` steps in all.
+/// with at most `max_steps` steps in all. `stop` is asked after every step
+/// and ends the run there when it says so (a stop signal); a failed
+/// integration ends it too. Either way the steps taken are kept and
+/// [`Run::stop`] says why.
 pub fn simulate<B: AdhesiveModel>(
     model: B,
     p: &AdhesiveParams,
     x0: &[f64],
     protocol: &[Segment],
-    rtol: f64,
-    max_steps: usize,
-) -> Result<Run, NumericalError> {
+    (rtol, max_steps): (f64, usize),
+    stop: &dyn Fn() -> bool,
+) -> Run {
     let mut run = Run::default();
     let (mut t0, mut x) = (0.0, x0.to_vec());
     for (index, seg) in protocol.iter().enumerate() {
@@ -69,7 +77,13 @@ pub fn simulate<B: AdhesiveModel>(
         let mut radau = Radau5::new(&model, &q.to_vec(), settings)
             .with_event(EventFunction::new(v).direction(EventDirection::Rising));
         radau.add_event(EventFunction::new(v).direction(EventDirection::Falling));
-        let sol = radau.solve(t0, &x, t0 + seg.duration, Output::Steps);
+        let sol = radau.solve_with(t0, &x, t0 + seg.duration, Output::Steps, |_| {
+            if stop() {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
         for (t, xs) in sol.t.iter().zip(&sol.x).skip(usize::from(index > 0)) {
             run.t.push(*t);
             run.s.push(xs[0]);
@@ -84,19 +98,32 @@ pub fn simulate<B: AdhesiveModel>(
             };
             list.push((c.t, c.x[0], index));
         }
-        if let Outcome::Failed(e) = sol.outcome {
-            return Err(NumericalError::Analysis(format!(
-                "the integration stopped at t = {:.6e} tau_out in segment {} (V = {:e} V_s): {e}; \
-                 try a larger --max-steps or a looser --rtol",
-                sol.t_final,
-                index + 1,
-                seg.nu
-            )));
+        match sol.outcome {
+            Outcome::Failed(e) => {
+                run.stop = Some(format!(
+                    "the integration stopped at t = {:.6e} tau_out in segment {} (V = {:e} V_s): \
+                     {e}; try a larger --max-steps or a looser --rtol",
+                    sol.t_final,
+                    index + 1,
+                    seg.nu
+                ));
+                return run;
+            }
+            Outcome::ObserverStop => {
+                run.stop = Some(format!(
+                    "stopped by a signal at t = {:.6e} tau_out in segment {}",
+                    sol.t_final,
+                    index + 1
+                ));
+                run.interrupted = true;
+                return run;
+            }
+            _ => {}
         }
         t0 = sol.t_final;
         x = sol.x_final;
     }
-    Ok(run)
+    run
 }
 
 impl Run {
