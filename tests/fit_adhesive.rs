@@ -228,8 +228,14 @@ fn the_viscous_force_is_held_without_the_viscous_regime() {
 #[test]
 fn bad_data_name_file_row_and_column() {
     let dir = temp_dir("adh-bad");
-    let cases: [(&str, &str, &[&str]); 5] = [
+    let cases: [(&str, &str, &[&str]); 6] = [
         ("V_um_s\n1\n2\n", "steady", &["row 1", "a column F_N"]),
+        // A sign-flipped force (a stranger's row was fitted as data).
+        (
+            "V_um_s,F_N\n1,0.05\n2,-0.04\n",
+            "steady",
+            &["row 3, column 2 (F_N)", "> 0 N"],
+        ),
         (
             "V_um_s,F_N\n1,0.05\n-2,0.04\n",
             "steady",

@@ -746,6 +746,8 @@ pub struct AdhesiveSimulation {
     pub peak_force_n: Vec<f64>,
     #[serde(rename = "steady_force_N")]
     pub steady_force_n: Vec<f64>,
+    /// What the last segment settled on.
+    pub regime: SettledRegime,
     /// The settled stick-slip of the last segment, if any.
     pub settled: Option<SettledCycle>,
     pub settled_period_s: Option<f64>,
@@ -757,6 +759,29 @@ pub struct AdhesiveSimulation {
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
     pub stop: Option<String>,
+}
+
+/// What the last segment of a simulation settled on (JSON `regime`, in
+/// the words of the rate-and-state `simulate`'s `regime.kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SettledRegime {
+    /// Stick-slip: a cycle between force maxima whose drop stands above
+    /// the integration's error.
+    Periodic,
+    /// Steady sliding: over the segment's second half the spring force
+    /// varies by no more than the integration's error.
+    Steady,
+    /// Neither can be told (too few oscillations, a run that ended early,
+    /// or a stop of the drive).
+    Undetermined,
+}
+
+/// The size of the integration's error in the spring force: `1e3 rtol
+/// max|s|` (the relative tolerance of each step, with room for its
+/// accumulation over the steps).
+fn force_noise_floor(run: &Run, rtol: f64) -> f64 {
+    1e3 * rtol * run.s.iter().fold(0.0f64, |a, s| a.max(s.abs()))
 }
 
 /// `simulate` on an adhesive scene under `protocol` (`(V [um/s], T [s])`;
@@ -848,12 +873,26 @@ pub fn simulate_watched(
         let i = segment_of(*t);
         peak[i] = peak[i].max(*s);
     }
-    // The last segment's settled cycle only when the run reached its end.
+    // The last segment's settled cycle only when the run reached its end,
+    // and only when its force drop stands above the integration's error:
+    // at steady sliding the force's extremes are rounding, and a "cycle"
+    // between them is no stick-slip.
+    let last = protocol.len() - 1;
+    let floor = force_noise_floor(&run, rtol);
     let settled = run
         .stop
         .is_none()
-        .then(|| run.settled(protocol.len() - 1))
-        .flatten();
+        .then(|| run.settled(last))
+        .flatten()
+        .filter(|c| c.force_drop > floor);
+    let regime = match (&run.stop, settled) {
+        (Some(_), _) => SettledRegime::Undetermined,
+        (None, Some(_)) => SettledRegime::Periodic,
+        (None, None) if protocol[last].nu > 0.0 && run.force_range(last, 0.5) <= floor => {
+            SettledRegime::Steady
+        }
+        (None, None) => SettledRegime::Undetermined,
+    };
     Ok(AdhesiveSimulation {
         protocol_record: protocol
             .iter()
@@ -875,6 +914,7 @@ pub fn simulate_watched(
                 }
             })
             .collect(),
+        regime,
         settled_period_s: settled.map(|c| u.time_s(c.period)),
         settled_force_drop_n: settled.map(|c| u.force_n(c.force_drop)),
         settled,

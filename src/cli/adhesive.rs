@@ -728,6 +728,13 @@ fn print_simulation(r: &AdhesiveSimulation) {
              (period changed by {:.1e} over the cycle before)",
             c.period_change
         ),
-        _ => println!("no settled stick-slip in the last segment (fewer than three force maxima)"),
+        _ if r.regime == jobs::SettledRegime::Steady => println!(
+            "steady sliding in the last segment: over its second half the spring force varies \
+             by less than the integration's error"
+        ),
+        _ => println!(
+            "no settled regime in the last segment (fewer than three force maxima above the \
+             integration's error, and the force still varies)"
+        ),
     }
 }

@@ -275,7 +275,13 @@ impl Dataset {
                 })?;
                 let first = columns[c].is_empty();
                 let (ok, expected) = match (*name, kind) {
-                    ("mu" | "slip_um" | "F_N", _) => (x.is_finite(), "a finite number"),
+                    ("mu" | "slip_um", _) => (x.is_finite(), "a finite number"),
+                    // The force that resists steady sliding: positive
+                    // (a sign-flipped row would be fitted as data).
+                    ("F_N", _) => (
+                        x.is_finite() && x > 0.0,
+                        "a finite friction force > 0 N (the force resisting sliding)",
+                    ),
                     ("t_s", Kind::Relaxation) => (
                         x.is_finite() && x >= 0.0,
                         "a finite time >= 0 (the drive stops at t = 0)",

@@ -33,6 +33,8 @@ pub struct Run {
     pub stop: Option<String>,
     /// Whether `stop` ended it (a stop signal).
     pub interrupted: bool,
+    /// The index in `t` of each segment's first step.
+    pub segment_starts: Vec<usize>,
 }
 
 /// The settled stick-slip of the last segment: the last full cycle between
@@ -77,6 +79,7 @@ pub fn simulate<B: AdhesiveModel>(
         let mut radau = Radau5::new(&model, &q.to_vec(), settings)
             .with_event(EventFunction::new(v).direction(EventDirection::Rising));
         radau.add_event(EventFunction::new(v).direction(EventDirection::Falling));
+        run.segment_starts.push(run.t.len());
         let sol = radau.solve_with(t0, &x, t0 + seg.duration, Output::Steps, |_| {
             if stop() {
                 ControlFlow::Break(())
@@ -127,6 +130,41 @@ pub fn simulate<B: AdhesiveModel>(
 }
 
 impl Run {
+    /// The range `max s - min s` of the spring force over the last
+    /// `fraction` of segment `segment`'s time (0 when it has no step).
+    pub fn force_range(&self, segment: usize, fraction: f64) -> f64 {
+        let mut bounds = self.segment_times(segment);
+        let Some((t0, t1)) = bounds.take() else {
+            return 0.0;
+        };
+        let from = t1 - fraction * (t1 - t0);
+        let (lo, hi) = self
+            .t
+            .iter()
+            .zip(&self.s)
+            .filter(|(t, _)| **t >= from && **t <= t1)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, s)| {
+                (lo.min(*s), hi.max(*s))
+            });
+        if lo <= hi {
+            hi - lo
+        } else {
+            0.0
+        }
+    }
+
+    /// The first and last step times of segment `segment`.
+    fn segment_times(&self, segment: usize) -> Option<(f64, f64)> {
+        let starts = self.segment_starts.get(segment)?;
+        let end = self
+            .segment_starts
+            .get(segment + 1)
+            .copied()
+            .unwrap_or(self.t.len());
+        let range = &self.t[*starts..end];
+        Some((*range.first()?, *range.last()?))
+    }
+
     /// The last full cycle of segment `segment`, `None` with fewer than
     /// three force maxima there (no settled stick-slip to read).
     pub fn settled(&self, segment: usize) -> Option<SettledCycle> {
