@@ -552,60 +552,52 @@ impl SmallLu {
 
     /// `g <- A^{-1} g`; `false` when `A` is singular.
     fn solve_mut(&self, g: &mut DVector<f64>) -> bool {
-        fn fixed<const D: usize>(
-            lu: &FullPivLU<f64, Const<D>, Const<D>>,
-            g: &mut DVector<f64>,
-        ) -> bool
-        where
-            Const<D>: nalgebra::DimMin<Const<D>, Output = Const<D>>,
-        {
-            let mut b = SVector::<f64, D>::from_column_slice(g.as_slice());
-            let ok = lu.solve_mut(&mut b);
-            g.copy_from_slice(b.as_slice());
-            ok
-        }
-        match self {
-            SmallLu::L3(lu) => fixed(lu, g),
-            SmallLu::L4(lu) => fixed(lu, g),
-            SmallLu::L5(lu) => fixed(lu, g),
-            SmallLu::L6(lu) => fixed(lu, g),
-            SmallLu::Dynamic(lu) => lu.solve_mut(g),
-        }
+        self.solve_either(g, false)
     }
-}
 
-impl SmallLu {
     /// `g <- A^{-T} g` from the same factors; `false` when `A` is singular.
-    /// With `P A Q = L U` (nalgebra's `FullPivLU`: `A^{-1} = Q U^{-1} L^{-1}
-    /// P`), `A^{-T} = P^T L^{-T} U^{-T} Q^T`.
     fn solve_transpose_mut(&self, g: &mut DVector<f64>) -> bool {
+        self.solve_either(g, true)
+    }
+
+    /// `g <- A^{-1} g`, or `A^{-T} g` with `transpose`. With `P A Q = L U`
+    /// (nalgebra's `FullPivLU`: `A^{-1} = Q U^{-1} L^{-1} P`),
+    /// `A^{-T} = P^T L^{-T} U^{-T} Q^T`.
+    fn solve_either(&self, g: &mut DVector<f64>, transpose: bool) -> bool {
         fn fixed<const D: usize>(
             lu: &FullPivLU<f64, Const<D>, Const<D>>,
             g: &mut DVector<f64>,
+            transpose: bool,
         ) -> bool
         where
             Const<D>: nalgebra::DimMin<Const<D>, Output = Const<D>>,
         {
             let mut b = SVector::<f64, D>::from_column_slice(g.as_slice());
-            lu.q().permute_rows(&mut b);
-            let ok = lu.u().tr_solve_upper_triangular_mut(&mut b)
-                && lu.l().tr_solve_lower_triangular_mut(&mut b);
-            lu.p().inv_permute_rows(&mut b);
+            let ok = if transpose {
+                lu.q().permute_rows(&mut b);
+                let ok = lu.u().tr_solve_upper_triangular_mut(&mut b)
+                    && lu.l().tr_solve_lower_triangular_mut(&mut b);
+                lu.p().inv_permute_rows(&mut b);
+                ok
+            } else {
+                lu.solve_mut(&mut b)
+            };
             g.copy_from_slice(b.as_slice());
             ok
         }
         match self {
-            SmallLu::L3(lu) => fixed(lu, g),
-            SmallLu::L4(lu) => fixed(lu, g),
-            SmallLu::L5(lu) => fixed(lu, g),
-            SmallLu::L6(lu) => fixed(lu, g),
-            SmallLu::Dynamic(lu) => {
+            SmallLu::L3(lu) => fixed(lu, g, transpose),
+            SmallLu::L4(lu) => fixed(lu, g, transpose),
+            SmallLu::L5(lu) => fixed(lu, g, transpose),
+            SmallLu::L6(lu) => fixed(lu, g, transpose),
+            SmallLu::Dynamic(lu) if transpose => {
                 lu.q().permute_rows(g);
                 let ok = lu.u().tr_solve_upper_triangular_mut(g)
                     && lu.l().tr_solve_lower_triangular_mut(g);
                 lu.p().inv_permute_rows(g);
                 ok
             }
+            SmallLu::Dynamic(lu) => lu.solve_mut(g),
         }
     }
 }
