@@ -204,13 +204,35 @@ fn legend(fig: &StabilityFigure) -> Vec<(String, Swatch)> {
             out.push((
                 name.clone(),
                 Swatch::Line {
-                    color: STRENGTHENING,
+                    color: vline_color(fig, name),
                     dashed: true,
                 },
             ));
         }
     }
     out
+}
+
+/// Colours of the vertical lines, one per distinct label in the order
+/// they first appear (the rate-and-state diagram's `κ_c → 0` ends share
+/// the first; an adhesive diagram's friction maximum, minimum and inertia
+/// threshold get one each).
+const VLINE_COLORS: [RGBColor; 3] = [
+    STRENGTHENING,
+    RGBColor(110, 110, 110),
+    RGBColor(140, 70, 170),
+];
+
+/// The colour of the vertical lines labelled `name` in `fig`.
+fn vline_color(fig: &StabilityFigure, name: &str) -> RGBColor {
+    let mut labels: Vec<&str> = Vec::new();
+    for (label, _) in &fig.vlines {
+        if !labels.contains(&label.as_str()) {
+            labels.push(label);
+        }
+    }
+    let index = labels.iter().position(|l| *l == name).unwrap_or(0);
+    VLINE_COLORS[index % VLINE_COLORS.len()]
 }
 
 /// The relative width `K_fold / K_c - 1` of each hysteretic region along
@@ -547,13 +569,13 @@ fn draw<DB: DrawingBackend>(
                 + PathElement::new(corners, BLACK.stroke_width(1))])
             .map_err(e)?;
     }
-    for (_, x) in &fig.vlines {
+    for (name, x) in &fig.vlines {
         chart
             .draw_series(DashedLineSeries::new(
                 vec![(*x, y0), (*x, y1)],
                 8,
                 6,
-                STRENGTHENING.stroke_width(2),
+                vline_color(fig, name).stroke_width(2),
             ))
             .map_err(e)?;
     }
