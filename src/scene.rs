@@ -17,13 +17,13 @@ use toml::{Table, Value};
 /// Physical units of a scene: converts dimensionless numbers back to SI for reports.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Units {
-    /// Memory length `D0` [m].
+    /// Memory length `D0` \[m\].
     pub d0: f64,
     /// Reference velocity `V0` [m/s].
     pub v0: f64,
-    /// Block mass `M` [kg].
+    /// Block mass `M` \[kg\].
     pub mass: f64,
-    /// Normal load `W` [N].
+    /// Normal load `W` \[N\].
     pub load: f64,
     /// Gravity `g` [m/s^2].
     pub g: f64,

@@ -161,7 +161,7 @@ impl<T: Scalar> Values<T> {
         }
     }
 
-    /// Steady friction [N] at `V` µm/s.
+    /// Steady friction \[N\] at `V` µm/s.
     pub fn steady_force_n(&self, mass_kg: f64, v_um_s: f64) -> T {
         block::steady_force(self.v_s_um_s.recip() * v_um_s, &self.law(mass_kg)) * self.f_a
     }

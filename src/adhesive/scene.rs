@@ -7,11 +7,11 @@
 //! f_v = F_v / F_a,   m = M V_s / (F_a tau_out)
 //! ```
 //!
-//! `F_a` [N] is the pinning force scale `N0 k_B T / b` (seed eq. D1),
+//! `F_a` \[N\] is the pinning force scale `N0 k_B T / b` (seed eq. D1),
 //! `V_s` [µm/s] Schallamach's velocity `k_B T / (kappa b tau_out)` (eq. D7),
-//! `tau_out` and `tau_on` [s] the desorption and readsorption times, `F_v`
-//! [N] and `alpha` the junction's viscous force `F_v (v / V_s)^(1 - alpha)`
-//! (seed §III.D.2), `M` [kg], `K` [N/m], `V` [µm/s] as for the other laws.
+//! `tau_out` and `tau_on` \[s\] the desorption and readsorption times, `F_v`
+//! \[N\] and `alpha` the junction's viscous force `F_v (v / V_s)^(1 - alpha)`
+//! (seed §III.D.2), `M` \[kg\], `K` [N/m], `V` [µm/s] as for the other laws.
 
 use super::params::AdhesiveParams;
 use crate::error::{closest, InputError};
@@ -30,16 +30,16 @@ const BUILTINS: [(&str, &str); 1] = [("gel", include_str!("../../examples/scenes
 /// Physical units of an adhesive scene, to report in the experimenter's units.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct AdhesiveUnits {
-    /// Pinning force scale `F_a` [N].
+    /// Pinning force scale `F_a` \[N\].
     #[serde(rename = "F_a_N")]
     pub f_a: f64,
     /// Schallamach's velocity `V_s` [m/s] (JSON: in µm/s).
     #[serde(rename = "V_s_um_per_s", serialize_with = "micrometres")]
     pub v_s: f64,
-    /// Desorption time `tau_out` [s], the unit of time.
+    /// Desorption time `tau_out` \[s\], the unit of time.
     #[serde(rename = "tau_out_s")]
     pub tau_out: f64,
-    /// Block mass `M` [kg].
+    /// Block mass `M` \[kg\].
     #[serde(rename = "M_kg")]
     pub mass: f64,
 }

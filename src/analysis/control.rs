@@ -36,11 +36,11 @@ pub enum Control {
     K,
     /// The driving velocity `V` [µm/s].
     V,
-    /// The block mass `M` [kg].
+    /// The block mass `M` \[kg\].
     M,
-    /// The normal load `W` [N].
+    /// The normal load `W` \[N\].
     W,
-    /// The ageing cutoff `tau` [s].
+    /// The ageing cutoff `tau` \[s\].
     Tau,
     /// The radiation damping `eta` [s/m] (`eta_d = eta V0`).
     Eta,

@@ -133,7 +133,7 @@ pub struct Dataset {
     pub file: PathBuf,
     /// Driving velocities [µm/s], one per row.
     pub v_um_s: Vec<f64>,
-    /// Times [s], one per row (time series; empty otherwise).
+    /// Times \[s\], one per row (time series; empty otherwise).
     pub t_s: Vec<f64>,
     /// The measured quantities: `mu` (steady); `K_over_W_per_m` and, when
     /// given, `frequency_hz` (onset).

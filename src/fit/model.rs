@@ -202,7 +202,7 @@ impl Rig {
         self.onset(p, v_um_s).0 / (p.d0_um * 1e-6)
     }
 
-    /// The onset frequency `f_c` [Hz] at `V` µm/s (eq. C13); NaN where
+    /// The onset frequency `f_c` \[Hz\] at `V` µm/s (eq. C13); NaN where
     /// steady friction is not velocity weakening (no onset).
     pub fn frequency_hz<T: Scalar>(&self, p: &Values<T>, v_um_s: f64) -> T {
         let nu = v_um_s / self.v0_um_s;

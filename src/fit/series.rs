@@ -3,7 +3,7 @@
 //! sensitivities to the law's parameters.
 //!
 //! In the log variables of [`LogBlock`] (state `X = (s, ln v, ln theta)`,
-//! quasi-statically `(s, ln theta)`) and in physical time `t` [s], with the
+//! quasi-statically `(s, ln theta)`) and in physical time `t` \[s\], with the
 //! rate `c = V0 / D0`:
 //!
 //! ```text
@@ -93,7 +93,7 @@ pub struct Protocol {
     pub steady_um_s: f64,
     /// `(start [s], V [µm/s])`, starts increasing.
     pub stretches: Vec<(f64, f64)>,
-    /// The output times [s], increasing, none before the first stretch.
+    /// The output times \[s\], increasing, none before the first stretch.
     pub times: Vec<f64>,
 }
 
@@ -131,7 +131,7 @@ impl Protocol {
     }
 
     /// The stretches as `simulate`'s segments: `nu = V / V0` for durations
-    /// in `time_unit_s = D0 / V0` [s].
+    /// in `time_unit_s = D0 / V0` \[s\].
     pub fn segments(&self, time_unit_s: f64, v0_um_s: f64) -> Vec<Segment> {
         self.spans()
             .map(|(t0, t1, v)| Segment {
@@ -161,7 +161,7 @@ impl Protocol {
 pub enum Observable {
     /// `mu = s`, the spring force over the load.
     Friction,
-    /// The slip since `t = 0` [µm].
+    /// The slip since `t = 0` \[µm\].
     Slip,
 }
 
@@ -216,7 +216,7 @@ impl SeriesModel {
 
     /// Integrates the protocol with the sensitivities at the values `v`
     /// (module docs) at the tolerance [`RTOL`]; the error names the time
-    /// [s] where the integration failed.
+    /// \[s\] where the integration failed.
     pub fn solve(&self, v: &Values<f64>) -> Result<Solved, String> {
         self.solve_at(v, RTOL)
     }

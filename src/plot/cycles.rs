@@ -279,7 +279,7 @@ pub fn fold_figure(
 }
 
 /// The figures of a cycle branch in a control parameter (`cycles --param
-/// P`): the force drop per slip [N] and the period [s] against the control
+/// P`): the force drop per slip \[N\] and the period \[s\] against the control
 /// in its unit, `points` its value and the cycle along the branch (the
 /// cycles at requested values left out: they repeat the branch); stable
 /// cycles solid blue, unstable dashed red, undecidable dashed grey; the

@@ -43,17 +43,17 @@ pub struct BranchRow {
     /// Driving velocity `V = nu V0` [µm/s] (in steady sliding, also the slip velocity).
     #[serde(rename = "V_um_per_s")]
     pub v_um_per_s: f64,
-    /// Age `theta D0/V0` [s].
+    /// Age `theta D0/V0` \[s\].
     pub theta_s: f64,
     /// `K/M` [1/s²]; `None` for a massless block.
     #[serde(rename = "K_over_M_per_s2")]
     pub k_over_m_per_s2: Option<f64>,
-    /// Frequency at a Hopf point, `omega V0 / (2 pi D0)` [Hz].
+    /// Frequency at a Hopf point, `omega V0 / (2 pi D0)` \[Hz\].
     pub frequency_hz: Option<f64>,
     /// Spring stiffness `K = kappa W / D0` [N/m].
     #[serde(rename = "K_N_per_m")]
     pub k_n_per_m: f64,
-    /// Spring force in steady sliding, `s W` [N].
+    /// Spring force in steady sliding, `s W` \[N\].
     #[serde(rename = "spring_force_N")]
     pub spring_force_n: f64,
     /// The point's number in the run, from 0 in the order written (what

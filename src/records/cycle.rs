@@ -101,7 +101,7 @@ pub struct Cycle {
     pub inertial_imbalance: f64,
     #[serde(rename = "K_over_W_per_m")]
     pub k_over_w_per_m: f64,
-    /// Period [s].
+    /// Period \[s\].
     pub period_s: f64,
     /// Slowest and fastest slip velocity [µm/s].
     pub v_min_um_per_s: f64,
@@ -114,7 +114,7 @@ pub struct Cycle {
     /// Spring stiffness `K = kappa W / D0` [N/m] (the scene's `W`, `D0`).
     #[serde(rename = "K_N_per_m")]
     pub k_n_per_m: f64,
-    /// Peak-to-peak spring force, the force drop of a slip, `Delta_s W` [N].
+    /// Peak-to-peak spring force, the force drop of a slip, `Delta_s W` \[N\].
     #[serde(rename = "delta_s_N")]
     pub delta_s_n: f64,
     /// `cycles --param`: the dimensionless parameter continued, in a column
@@ -435,7 +435,7 @@ pub struct OperatingCycle {
     /// start of a branch from a simulated orbit at K); `null` without one.
     pub method: Option<&'static str>,
     pub cycle: Option<Cycle>,
-    /// The slip per event, `V T` [µm] (the block slides as far as the
+    /// The slip per event, `V T` \[µm\] (the block slides as far as the
     /// drive moves in a period).
     pub slip_um: Option<f64>,
     /// The simulated orbit the cycle was corrected from (`simulation`).
@@ -451,9 +451,9 @@ pub struct OperatingCycle {
 pub struct SimulatedOrbit {
     pub model: ModelKind,
     pub oscillations: usize,
-    /// Simulated time until it settled [s].
+    /// Simulated time until it settled \[s\].
     pub time_s: f64,
-    /// Its period from the return map [s].
+    /// Its period from the return map \[s\].
     pub period_s: f64,
 }
 

@@ -178,9 +178,9 @@ pub struct FoldPoint {
     /// The fold in physical units, with the frequency of its cycle.
     #[serde(flatten)]
     pub physical: PhysicalPoint,
-    /// Period of the cycle at the fold [s].
+    /// Period of the cycle at the fold \[s\].
     pub period_s: f64,
-    /// Its peak-to-peak spring force, `Delta_s W` [N].
+    /// Its peak-to-peak spring force, `Delta_s W` \[N\].
     #[serde(rename = "delta_s_N")]
     pub delta_s_n: f64,
     /// Spring stiffness `K = kappa W / D0` [N/m].

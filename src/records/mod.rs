@@ -31,7 +31,7 @@ pub struct PhysicalPoint {
     /// `K/M` [1/s²]; `None` for a massless block.
     #[serde(rename = "K_over_M_per_s2")]
     pub k_over_m_per_s2: Option<f64>,
-    /// Frequency `omega V0 / (2 pi D0)` [Hz].
+    /// Frequency `omega V0 / (2 pi D0)` \[Hz\].
     pub frequency_hz: f64,
 }
 

@@ -20,15 +20,15 @@ pub struct SimulationRow {
     pub slip: f64,
     pub log10_v: f64,
     pub model: ModelKind,
-    /// Spring force `K (V t - x) = s W` [N].
+    /// Spring force `K (V t - x) = s W` \[N\].
     #[serde(rename = "spring_force_N")]
     pub spring_force_n: f64,
     /// Slip velocity `v V0` [µm/s] (written from its logarithm below the
     /// floating-point range, as `v`).
     pub v_um_per_s: SlipVelocity,
-    /// Age `theta D0/V0` [s].
+    /// Age `theta D0/V0` \[s\].
     pub theta_s: f64,
-    /// Slip since the start, `slip D0` [µm].
+    /// Slip since the start, `slip D0` \[µm\].
     pub slip_um: f64,
 }
 
