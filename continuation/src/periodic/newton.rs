@@ -207,11 +207,11 @@ struct BorderedCollocation<'c, 'a, S: VectorField> {
     /// linearized and reduced in its storage.
     spare: Option<BorderedPoint>,
     /// How the iterates are linearized.
-    mode: Linearize,
+    mode: Linearize<'c>,
 }
 
 /// How [`BorderedCollocation`] linearizes its iterates.
-enum Linearize {
+enum Linearize<'c> {
     /// At every iterate: Newton's method.
     Every,
     /// At the first iterate only: chord iterations, every step with that
@@ -220,7 +220,7 @@ enum Linearize {
     First,
     /// Newton's method until its steps fall fast, then chord iterations
     /// while they keep falling ([`correct_along`]).
-    UntilFast(Cell<Hybrid>),
+    UntilFast(&'c Cell<Hybrid>),
 }
 
 /// The state of [`Linearize::UntilFast`].
@@ -230,9 +230,10 @@ struct Hybrid {
     steps: [f64; 2],
     /// Whether the last step was a chord step.
     chord: bool,
-    /// Newton iterations (linearizations) and chord steps taken.
+    /// Newton iterations (linearizations) taken, and whether any chord
+    /// step was.
     newton: usize,
-    chords: usize,
+    chorded: bool,
     /// A chord step that did not fall fast enough: it was not taken, and
     /// the iterate is linearized again.
     refused: bool,
@@ -268,6 +269,23 @@ impl Linearized for BorderedPoint {
     }
 }
 
+impl<'c, 'a, S: VectorField> BorderedCollocation<'c, 'a, S> {
+    fn new(
+        coll: &'c Collocation<'a, S>,
+        row: &'c [f64],
+        anchor: &'c [f64],
+        mode: Linearize<'c>,
+    ) -> Self {
+        BorderedCollocation {
+            coll,
+            row,
+            anchor,
+            spare: None,
+            mode,
+        }
+    }
+}
+
 impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
     type Point = BorderedPoint;
 
@@ -286,7 +304,7 @@ impl<S: VectorField> NewtonProblem for BorderedCollocation<'_, '_, S> {
                 h.chord = fast && !h.refused && point.jacobian.is_reduced();
                 h.refused = false;
                 if h.chord {
-                    h.chords += 1;
+                    h.chorded = true;
                 } else {
                     h.newton += 1;
                 }
@@ -386,14 +404,11 @@ pub fn correct_bordered<S: VectorField>(
     row: &[f64],
     anchor: &[f64],
 ) -> Result<(NewtonReport, BorderedPoint), ContinuationError> {
-    let mut problem = BorderedCollocation {
-        coll,
-        row,
-        anchor,
-        spare: None,
-        mode: Linearize::Every,
-    };
-    newton::iterate(&mut problem, z, settings)
+    newton::iterate(
+        &mut BorderedCollocation::new(coll, row, anchor, Linearize::Every),
+        z,
+        settings,
+    )
 }
 
 /// [`newton_bordered`] by chord iterations (the simplified Newton method;
@@ -416,13 +431,7 @@ pub fn chord_bordered<S: VectorField>(
     row: &[f64],
     anchor: &[f64],
 ) -> Result<NewtonReport, ContinuationError> {
-    let mut problem = BorderedCollocation {
-        coll,
-        row,
-        anchor,
-        spare: None,
-        mode: Linearize::First,
-    };
+    let mut problem = BorderedCollocation::new(coll, row, anchor, Linearize::First);
     newton::iterate(&mut problem, z, settings).map(|(report, _)| report)
 }
 
@@ -494,23 +503,16 @@ pub fn correct_along<S: VectorField>(
     let pred: Vec<f64> = z0.iter().zip(t).map(|(z, t)| z + sigma * t).collect();
     let mut z = pred.clone();
     let row = w.row(t);
-    let mut problem = BorderedCollocation {
-        coll,
-        row: &row,
-        anchor: &pred,
-        spare: storage.map(|jacobian| BorderedPoint {
-            jacobian,
-            rhs: Vec::new(),
-        }),
-        mode: Linearize::UntilFast(Cell::new(Hybrid {
-            steps: [f64::INFINITY; 2],
-            ..Hybrid::default()
-        })),
-    };
+    let state = Cell::new(Hybrid {
+        steps: [f64::INFINITY; 2],
+        ..Hybrid::default()
+    });
+    let mut problem = BorderedCollocation::new(coll, &row, &pred, Linearize::UntilFast(&state));
+    problem.spare = storage.map(|jacobian| BorderedPoint {
+        jacobian,
+        rhs: Vec::new(),
+    });
     let (mut rep, mut point) = newton::iterate(&mut problem, &mut z, settings)?;
-    let Linearize::UntilFast(state) = &problem.mode else {
-        unreachable!("the mode set above")
-    };
     let h = state.get();
     if h.chord {
         // The tangent and the multipliers need the Jacobian at the solution.
@@ -521,6 +523,6 @@ pub fn correct_along<S: VectorField>(
     // more iteration it would have needed there (the steps then grow and
     // shrink as with Newton's method alone; counted one by one, they held
     // the steps small, and stiff branches ended earlier).
-    rep.iterations = h.newton - 1 + usize::from(h.chords > 0);
+    rep.iterations = h.newton - 1 + usize::from(h.chorded);
     Ok((z, rep, point))
 }

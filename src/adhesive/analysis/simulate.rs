@@ -133,8 +133,7 @@ impl Run {
     /// The range `max s - min s` of the spring force over the last
     /// `fraction` of segment `segment`'s time (0 when it has no step).
     pub fn force_range(&self, segment: usize, fraction: f64) -> f64 {
-        let mut bounds = self.segment_times(segment);
-        let Some((t0, t1)) = bounds.take() else {
+        let Some((t0, t1)) = self.segment_times(segment) else {
             return 0.0;
         };
         let from = t1 - fraction * (t1 - t0);
