@@ -87,6 +87,12 @@ impl<T: Scalar> FrictionLaw<T> {
         self.mu0 + self.rate_coefficient(ln_v, theta.ln()) * ln_v + self.ageing_term(theta)
     }
 
+    /// `mu` at `(e^ln_v, e^ln_theta)` from the logarithms: also where `v`
+    /// is below the range of `f64` (a deep stick).
+    pub fn mu_of_logs(&self, ln_v: T, ln_theta: T) -> T {
+        self.mu0 + self.rate_coefficient(ln_v, ln_theta) * ln_v + self.ageing_term(ln_theta.exp())
+    }
+
     /// `A + mu_vv x + mu_vphi ln_theta` (`A` for the cutoff form): with
     /// `x = ln v` the coefficient of `ln v` in `mu`; with `x = 2 ln v` the
     /// slope `mu_v = d mu / d ln v`; with `x = 2 ln v0 + d` the secant slope

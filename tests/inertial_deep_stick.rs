@@ -1,10 +1,17 @@
 //! The inertial block with a small direct effect (docs/hard-cases.md, "An
 //! inertial stick phase slower than f64 can relax"): `cycles --model inertial
 //! --set A=1e-4 --set B=0.011 --set m=1e-6` through the job the command runs
-//! ([`stickslip::jobs::cycles`]), its deepest cycle checked against an
-//! independent integration of the same scene at the same stiffness
-//! ([`stickslip::jobs::simulate`], Radau IIA).
+//! ([`stickslip::jobs::cycles`]): collocation to where the stick falls
+//! below what it resolves, the return map of the joined inertial and
+//! quasi-static flow from there to the end of the range. The deepest
+//! collocated cycle is checked against an independent integration of the
+//! same scene at the same stiffness ([`stickslip::jobs::simulate`], Radau
+//! IIA) and against the return map's cycle there; the return map's cycles
+//! do not depend on where the flow switches models.
 
+use stickslip::analysis::cycles::CycleMethod;
+use stickslip::analysis::joined_flow::JoinedFlow;
+use stickslip::analysis::return_map::{fixed_point, section_guess, RTOL};
 use stickslip::analysis::simulate::RegimeReached;
 use stickslip::jobs::cycles::{self, CyclesRequest, Quiet};
 use stickslip::jobs::simulate::{self, SimulateRequest};
@@ -24,39 +31,66 @@ fn spec(extra: &[String]) -> SceneSpec {
     }
 }
 
-/// What stands (issue 22, item 7, third case): with the force balance
-/// collocated in its implicit form `m v d(ln v)/dt = s - mu` and Newton's
-/// rises of `ln v` taken as steps in `v`, the branch goes on past
-/// `v_min = 6e-42` (where rounding amplified by `A/(m v)` ended it) and past
-/// `1e-50`; it still ends where the block's stop into the stick (52 decades
-/// of `v` in a time no mesh resolves) leaves `ln v` ill-determined, as a
-/// partial result (exit status 4) that says so and keeps the cycles. The
-/// deepest cycle is the stick-slip cycle an integration at its stiffness
-/// settles on: the same period and force drop.
+/// Issue 22, item 7, third case: the branch goes past the stick velocity
+/// collocation resolves (`v_min` near 1e-52, where the block's stop into
+/// the stick is a drop of 52 decades in a time below the rounding of `t`) by
+/// the return map, to the end of the requested range (`kappa_fraction`
+/// 0.5 of `kappa_c`), sticks deeper than 1e-500 `V0`, exit status 0. The
+/// deepest collocated cycle is the cycle an integration at its stiffness
+/// settles on (period and force drop to 1e-6), and the return map's cycle
+/// at that stiffness is the collocated one (to 1e-9).
 #[test]
-fn the_deepest_inertial_stick_goes_past_f64_rates_and_matches_a_simulation() {
+fn the_deep_stick_branch_reaches_the_end_of_its_range_by_the_return_map() {
     let mut result = cycles::Plan::new(&spec(&[]), CyclesRequest::default())
         .expect("the plan")
         .run(&mut Quiet);
-    let deepest = result
+    assert!(result.complete, "stop: {}", result.stop);
+    result.status().expect("the whole branch");
+    let (collocated, mapped): (Vec<_>, Vec<_>) = result
         .records
         .iter()
-        .min_by(|a, b| a.v_min.total_cmp(&b.v_min))
-        .expect("cycles")
-        .clone();
+        .partition(|r| matches!(r.method, CycleMethod::Collocation { .. }));
     assert!(
-        deepest.v_min < 1e-50,
-        "deepest stick v_min = {:e} after {} cycles",
-        deepest.v_min,
-        result.records.len()
+        mapped.len() > 20,
+        "{} cycles of the return map",
+        mapped.len()
     );
-    assert!(!result.complete);
-    let failure = result.status().expect_err("a partial branch");
-    assert_eq!(failure.exit_code(), 4, "{failure}");
-    let text = failure.to_string();
-    for words in ["comes to rest", "ill-determined", "--model quasi-static"] {
-        assert!(text.contains(words), "{words}: {text}");
+    let last = mapped.last().unwrap();
+    let kappa_c = result.kappa_c.expect("from the Hopf point");
+    assert!(
+        (last.kappa - 0.5 * kappa_c).abs() <= 1e-12 * kappa_c,
+        "ends at kappa = {:e}, kappa_c = {kappa_c:e}",
+        last.kappa
+    );
+    assert!(last.ln_v_min / std::f64::consts::LN_10 < -500.0);
+    for r in &mapped {
+        assert!(r.stability.is_stable() && r.error_estimate.unwrap() < 1e-8);
     }
+    let deepest = (*collocated
+        .iter()
+        .min_by(|a, b| a.ln_v_min.total_cmp(&b.ln_v_min))
+        .expect("collocated cycles"))
+    .clone();
+    assert!(deepest.v_min < 1e-50, "v_min = {:e}", deepest.v_min);
+
+    // The return map at the deepest collocated cycle's stiffness.
+    let params = spec(&[format!("kappa={:e}", deepest.kappa)])
+        .setup(|p| *p)
+        .expect("the scene")
+        .params;
+    let fp = fixed_point(
+        &JoinedFlow::new(&params, RTOL),
+        section_guess(&deepest, params.nu).expect("crosses v = nu"),
+        100.0 * deepest.period,
+    )
+    .expect("the fixed point");
+    let delta_s = fp.x[0] - fp.passage.s_min;
+    eprintln!(
+        "kappa = {:e}: return map period {} Delta_s {delta_s}, collocation {} {}",
+        deepest.kappa, fp.passage.period, deepest.period, deepest.delta_s
+    );
+    assert!((fp.passage.period / deepest.period - 1.0).abs() < 1e-9);
+    assert!((delta_s / deepest.delta_s - 1.0).abs() < 1e-9);
 
     // An integration started far from steady sliding (which is stable at
     // this stiffness, above kappa_c) settles on the cycle.
@@ -94,6 +128,35 @@ fn the_deepest_inertial_stick_goes_past_f64_rates_and_matches_a_simulation() {
         "Delta_s {delta_s} vs the branch's {}",
         deepest.delta_s
     );
+}
+
+/// The return map's cycles do not depend on where the joined flow hands
+/// the stick to the quasi-static model: with `v_b` a million times lower
+/// (deeper into the stick, where inertia matters still less), the cycle at
+/// the end of the range keeps its period and fixed point to 1e-9.
+#[test]
+fn the_return_maps_cycle_does_not_depend_on_the_switching_velocity() {
+    let params = spec(&["kappa=0.006".into()])
+        .setup(|p| *p)
+        .expect("the scene")
+        .params;
+    let flow = JoinedFlow::new(&params, RTOL);
+    let mut deeper = flow.clone();
+    deeper.ln_v_b -= 6.0 * std::f64::consts::LN_10;
+    // A start on the section from a passage of the flow itself.
+    let start = flow.passage([0.5, 3.0], 1e4, false).expect("a passage").end;
+    let a = fixed_point(&flow, start, 1e4).expect("the cycle");
+    let b = fixed_point(&deeper, start, 1e4).expect("the cycle, switched deeper");
+    eprintln!(
+        "period {} vs {}, x {:?} vs {:?}, sticks {} {}",
+        a.passage.period, b.passage.period, a.x, b.x, a.passage.sticks, b.passage.sticks
+    );
+    assert_eq!((a.passage.sticks, b.passage.sticks), (1, 1));
+    assert!((a.passage.period / b.passage.period - 1.0).abs() < 1e-9);
+    for k in 0..2 {
+        assert!((a.x[k] - b.x[k]).abs() < 1e-9 * a.x[k].abs().max(1.0));
+    }
+    assert!(a.passage.chi_at_reentry < 1e-15 && b.passage.chi_at_reentry < 1e-21);
 }
 
 /// An observer of the simulation that watches nothing.

@@ -639,7 +639,12 @@ fn cycles<'py>(
     d.set_item("json", to_json(&result)?)?;
     let orbits = PyList::empty(py);
     for r in &result.records {
-        let flat: Vec<f64> = r.samples.iter().flatten().copied().collect();
+        // (t/T, s, v, theta) from the record's logarithms.
+        let flat: Vec<f64> = r
+            .samples
+            .iter()
+            .flat_map(|&[tau, s, ln_v, phi]| [tau, s, ln_v.exp(), phi.exp()])
+            .collect();
         let a = Array2::from_shape_vec((r.samples.len(), 4), flat)
             .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         orbits.append(a.into_pyarray(py))?;

@@ -8,9 +8,11 @@ use crate::analysis::hopf::{
 };
 use crate::analysis::model_choice::DEFAULT_INERTIA_THRESHOLD;
 use crate::analysis::orbit_inertia::{inertial_guess, inertial_imbalance, InertiaWatch};
+use crate::analysis::return_map;
 use crate::analysis::sampled_cycle::sampled_cycle;
 use crate::analysis::settle::SettledOrbit;
 use crate::error::NumericalError;
+use crate::friction::FrictionLaw;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
@@ -63,6 +65,9 @@ pub struct CycleRecord {
     /// Slowest and fastest slip velocity on the cycle (units of `V0`).
     pub v_min: f64,
     pub v_max: f64,
+    /// `ln v_min`: also where `v_min` is below the range of `f64` (deep
+    /// sticks of the return map, [`CycleMethod::ReturnMap`]).
+    pub ln_v_min: f64,
     /// Floquet multipliers the pencil determined, by decreasing modulus
     /// (fewer than the dimension when it left some undetermined).
     pub multipliers: Vec<Complex64>,
@@ -80,8 +85,8 @@ pub struct CycleRecord {
     pub error_estimate: Option<f64>,
     /// Stable, unstable, or undecidable within the multipliers' error.
     pub stability: Stability,
-    /// Mesh intervals used.
-    pub ntst: usize,
+    /// How the cycle was computed.
+    pub method: CycleMethod,
     /// The model the cycle was computed with.
     pub model: ModelKind,
     /// The inertia `m` it was computed with (0 for the quasi-static model).
@@ -93,7 +98,8 @@ pub struct CycleRecord {
     /// How much inertia matters on this orbit: `chi = max m |dv/dt| / A`
     /// with the scene's `m` ([`super::orbit_inertia`]).
     pub inertial_imbalance: f64,
-    /// The orbit sampled over one period: `(t / T, s, v, theta)`.
+    /// The orbit sampled over one period: `(t / T, s, ln v, ln theta)` (in
+    /// logarithms: a deep stick's `v` may lie below the range of `f64`).
     pub samples: Vec<[f64; 4]>,
     /// A fold of cycles (LPC) located between the previous cycle and this one.
     pub lpc: Option<Box<CycleRecord>>,
@@ -118,9 +124,35 @@ pub struct CycleRecord {
     pub log: LogBlock,
 }
 
+/// How a cycle was computed (JSON `method`: `collocation`, `return_map`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleMethod {
+    /// Collocation on `ntst` mesh intervals, Floquet multipliers from the
+    /// monodromy pencil.
+    Collocation { ntst: usize },
+    /// A fixed point of the return map of the joined inertial and
+    /// quasi-static flow ([`super::return_map`]), where the stick lies
+    /// below the resolution of `f64`: multipliers from the map's Jacobian.
+    ReturnMap,
+}
+
+impl CycleMethod {
+    /// `collocation` or `return_map`.
+    pub fn name(self) -> &'static str {
+        match self {
+            CycleMethod::Collocation { .. } => "collocation",
+            CycleMethod::ReturnMap => "return_map",
+        }
+    }
+}
+
 /// Why a cycle's trivial-multiplier error is not reported.
 pub const TRIVIAL_UNAVAILABLE: &str = "the Floquet pencil is singular to rounding \
      (perturbations grow beyond 1/eps along the cycle) and does not determine the trivial multiplier";
+
+/// Why a cycle of the return map has no trivial-multiplier error.
+pub const TRIVIAL_REMOVED: &str = "the return map's section removes the trivial multiplier \
+     (it is 1 exactly): the other multipliers are the eigenvalues of the map's Jacobian";
 
 /// Why a cycle's discretization error estimate is not reported.
 pub const ESTIMATE_UNAVAILABLE: &str =
@@ -129,11 +161,17 @@ pub const ESTIMATE_UNAVAILABLE: &str =
 impl CycleRecord {
     /// Why the stability is not decided, or `None` when it is.
     pub fn stability_reason(&self) -> Option<String> {
+        let source = match self.method {
+            CycleMethod::Collocation { .. } => "10 |mu_trivial - 1|, see trivial_multiplier_error",
+            CycleMethod::ReturnMap => {
+                "the change of the return map's eigenvalues between difference steps h and 2 h"
+            }
+        };
         match self.stability {
             Stability::Stable | Stability::Unstable => None,
             Stability::Undecidable { modulus, error } => Some(format!(
                 "a nontrivial Floquet multiplier of modulus {modulus:.10} lies within its error \
-                 estimate {error:.1e} of the unit circle (10 |mu_trivial - 1|, see trivial_multiplier_error)"
+                 estimate {error:.1e} of the unit circle ({source})"
             )),
             Stability::Undetermined { missing } => Some(format!(
                 "{missing} nontrivial Floquet multiplier(s) undetermined: {TRIVIAL_UNAVAILABLE}"
@@ -166,6 +204,14 @@ impl CycleRecord {
             pd: self.pd.as_deref().map(|r| Box::new(strip(r))),
             ns: self.ns.as_deref().map(|r| Box::new(strip(r))),
             ..self.clone()
+        }
+    }
+
+    /// Mesh intervals of a collocated cycle.
+    pub fn ntst(&self) -> Option<usize> {
+        match self.method {
+            CycleMethod::Collocation { ntst } => Some(ntst),
+            CycleMethod::ReturnMap => None,
         }
     }
 
@@ -514,15 +560,11 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         .samples(4)
         .iter()
         .map(|(tau, x)| {
-            let [s, v, theta] = log.to_model(x, &c.p);
-            [*tau, s, v, theta]
+            let phi = log.origin[2] + x[log.dim() - 1];
+            [*tau, log.spring_force(x), log.ln_velocity(x, &c.p), phi]
         })
         .collect();
-    let law = friction_from(log.cutoff, &c.p);
-    let friction_min = samples
-        .iter()
-        .map(|&[_, _, v, theta]| law.mu(v, theta))
-        .fold(f64::INFINITY, f64::min);
+    let friction_min = friction_min(&friction_from(log.cutoff, &c.p), &samples);
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],
         params: c.p.clone(),
@@ -532,12 +574,15 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         s_max,
         v_min,
         v_max,
+        ln_v_min,
         multipliers: pt.multipliers.clone(),
         trivial: pt.trivial,
         trivial_error: Some(pt.trivial_error).filter(|e| e.is_finite()),
         error_estimate: Some(pt.error_estimate).filter(|e| e.is_finite()),
         stability: pt.stability,
-        ntst: c.mesh.ntst(),
+        method: CycleMethod::Collocation {
+            ntst: c.mesh.ntst(),
+        },
         model: log.kind,
         m: c.p[Param::M as usize],
         friction_min,
@@ -564,6 +609,15 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         orbit: Some(c.clone()),
         log: *log,
     }
+}
+
+/// The least friction coefficient over `samples` (`(t / T, s, ln v, ln
+/// theta)`) under `law`.
+pub fn friction_min(law: &FrictionLaw<f64>, samples: &[[f64; 4]]) -> f64 {
+    samples
+        .iter()
+        .map(|&[_, _, ln_v, phi]| law.mu_of_logs(ln_v, phi))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Traces the cycles born at the Hopf point of `params` (in `kappa`), handing
@@ -1121,7 +1175,7 @@ fn follow_switching(
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<Stop, crate::error::Error> {
     let (cycle, dp_ds, previous) =
-        match follow::<FollowEnd>(log, branch, leg, skip, param, watch, sink)? {
+        match follow::<FollowEnd>(log, branch, leg, skip, param, req, watch, sink)? {
             FollowEnd::End(end) => return Ok(end),
             FollowEnd::Switch {
                 cycle,
@@ -1180,7 +1234,7 @@ fn follow_switching(
         delivered += 1;
         sink(r)
     };
-    match follow::<Stop>(&inertial, (None, branch), leg, 0, param, &watch, &mut counted) {
+    match follow::<Stop>(&inertial, (None, branch), leg, 0, param, req, &watch, &mut counted) {
         Ok(end) => Ok(end),
         Err(crate::error::Error::Numerical(e)) if delivered == 0 => Err(NumericalError::Analysis(format!(
             "the branch switched to the inertial model at kappa = {:.6e} (inertia would shift ln v \
@@ -1200,16 +1254,21 @@ fn follow_switching(
 /// below [`SHRUNK`] of the largest `Delta_s` on the leg is reported as what
 /// it is: the branch reached steady sliding at a Hopf point, where the
 /// collocation system is singular (zero amplitude).
+#[allow(clippy::too_many_arguments)]
 fn follow<E: LegEnd>(
     log: &LogBlock,
     (first, mut branch): Started<'_>,
     leg: Leg,
     skip: usize,
     param: Param,
+    req: &CycleRequest,
     watch: &InertiaWatch,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<E, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
+    // The last two cycles handed out (without their orbits): where the
+    // return map takes over ([`return_map::continue_branch`]).
+    let (mut last_two, mut delivered): ([Option<CycleRecord>; 2], usize) = ([None, None], 0);
     // The last three cycles' (parameter, Delta_s).
     let mut recent: Vec<(f64, f64)> = Vec::with_capacity(3);
     let (mut slowest, mut fastest) = (f64::INFINITY, f64::INFINITY);
@@ -1235,15 +1294,29 @@ fn follow<E: LegEnd>(
                 return Ok(E::stopped(Stop::HopfPoint { param: p_h }));
             }
         }
+        let deep_stop = log.kind == ModelKind::Inertial
+            && watch.m > 0.0
+            && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64;
+        if let (Err(_), [Some(before), Some(rec)]) = (&pt, &last_two) {
+            if deep_stop && param == Param::Kappa && rec.kappa != before.kappa {
+                return return_map::continue_branch(
+                    log,
+                    rec,
+                    rec.kappa - before.kappa,
+                    req,
+                    req.max_steps.saturating_sub(delivered),
+                    leg,
+                    sink,
+                )
+                .map(E::stopped);
+            }
+        }
         let pt = pt.map_err(|e| match (last, e) {
             (
                 Some((kappa, _)),
                 e @ (continuation::ContinuationError::Newton { .. }
                 | continuation::ContinuationError::StepTooSmall { .. }),
-            ) if log.kind == ModelKind::Inertial
-                && watch.m > 0.0
-                && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64 =>
-            {
+            ) if deep_stop => {
                 // The engine's advice (a smaller step, more intervals) is
                 // what the branch already did; what failed, in numbers.
                 let failed = match &e {
@@ -1284,6 +1357,8 @@ fn follow<E: LegEnd>(
         recent.push((rec.params[param as usize], rec.delta_s));
         (slowest, fastest) = (rec.v_min, rec.v_max);
         sink(&rec)?;
+        delivered += 1;
+        last_two = [last_two[1].take(), Some(rec.without_orbit())];
         if let Some(end) = E::handover(watch, log.kind, &rec, &pt, &mut previous) {
             return Ok(end);
         }

@@ -141,6 +141,21 @@ fn or_na(value: Option<f64>, why: &str) -> String {
     value.map_or_else(|| format!("n/a ({why})"), |v| format!("{v:.1e}"))
 }
 
+/// `NTST 320` for a collocated cycle, `return map` for one of the return map.
+fn method_text(cycle: &Cycle) -> String {
+    cycle
+        .ntst
+        .map_or_else(|| "return map".to_string(), |n| format!("NTST {n}"))
+}
+
+/// Why a cycle's trivial-multiplier error is not given, in the text.
+fn no_trivial_error(cycle: &Cycle) -> &'static str {
+    match cycle.ntst {
+        Some(_) => "Floquet pencil singular to rounding",
+        None => "removed by the section",
+    }
+}
+
 /// Reads `--search LO:HI`.
 pub fn search_range(args: &CyclesArgs) -> Result<Option<(f64, f64)>, InputError> {
     let Some(text) = &args.search else {
@@ -449,15 +464,12 @@ fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
         return;
     }
     println!(
-        "{}  {}  |mu_1 - 1| {}  err {}  NTST {}  #{}",
+        "{}  {}  |mu_1 - 1| {}  err {}  {}  #{}",
         cycle_text(units, cycle),
         cycle.stable.word(),
-        or_na(
-            cycle.trivial_multiplier_error,
-            "Floquet pencil singular to rounding"
-        ),
+        or_na(cycle.trivial_multiplier_error, no_trivial_error(cycle)),
         or_na(cycle.error_estimate, "no solution on half the mesh"),
-        cycle.ntst,
+        method_text(cycle),
         cycle.label
     );
     for s in found {
@@ -474,20 +486,32 @@ fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
 /// in N (physical units), `Delta_s` (a friction coefficient either way) and
 /// the range of the slip velocity.
 fn cycle_text(units: TextUnits, c: &Cycle) -> String {
+    // Below the range of f64 (a deep stick of the return map): its log10.
+    let slowest = |v: f64, log10_v0: f64| {
+        if v >= 1e-300 {
+            format!("{v:.3e}")
+        } else {
+            format!("10^{:.1}", c.log10_v_min + log10_v0)
+        }
+    };
     match units {
         TextUnits::Physical => format!(
-            "K/W {:.8e} 1/m  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {:.3e} .. \
+            "K/W {:.8e} 1/m  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {} .. \
              {:.3e} µm/s",
             c.k_over_w_per_m,
             c.period_s,
             c.delta_s_n,
             c.delta_s,
-            c.v_min_um_per_s,
+            slowest(c.v_min_um_per_s, (c.v_max_um_per_s / c.v_max).log10()),
             c.v_max_um_per_s
         ),
         TextUnits::Dimensionless => format!(
-            "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",
-            c.kappa, c.period, c.delta_s, c.v_min, c.v_max
+            "kappa {:.8e}  period {:.6e}  Delta_s {:.6e}  v {} .. {:.3e}",
+            c.kappa,
+            c.period,
+            c.delta_s,
+            slowest(c.v_min, 0.0),
+            c.v_max
         ),
     }
 }
@@ -526,10 +550,10 @@ fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
                 ),
             };
             lines.push(format!(
-                "  the cycle at the scene's K, {how}:\n    {at}  {}  err {}  NTST {}  #{}",
+                "  the cycle at the scene's K, {how}:\n    {at}  {}  err {}  {}  #{}",
                 c.stable.word(),
                 or_na(c.error_estimate, "no solution on half the mesh"),
-                c.ntst,
+                method_text(c),
                 c.label
             ));
             if let Some(why) = &op.fallback_reason {

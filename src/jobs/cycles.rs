@@ -19,6 +19,7 @@ use crate::analysis::hopf::{Criticality, HopfPoint};
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves, LpcStop};
 use crate::analysis::operating_point::{judge, FoldAt, Regime, StabilityAt};
 use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::analysis::return_map;
 use crate::error::{Error, InputError};
 use crate::model::ModelKind;
 use crate::params::Param;
@@ -338,6 +339,7 @@ impl Plan {
             observer.operating_point(op);
         }
         let mut switch: Option<ModelSwitch> = None;
+        let mut method_switch: Option<MethodSwitch> = None;
         let mut records: Vec<CycleRecord> = Vec::new();
         let mut cycles: Vec<Cycle> = Vec::new();
         let mut specials: Vec<CycleSpecialPoint> = Vec::new();
@@ -360,10 +362,11 @@ impl Plan {
                 return Err(e);
             }
             observer.progress(&format!(
-                "{} cycles, kappa = {:.6e}, NTST {}",
+                "{} cycles, kappa = {:.6e}, {}",
                 records.len() + 1,
                 c.kappa,
-                c.ntst
+                c.ntst()
+                    .map_or_else(|| "return map".to_string(), |n| format!("NTST {n}"))
             ));
             if let Some(sw) = ModelSwitch::between(records.last(), c, threshold, || {
                 let u = &setup.scene.units;
@@ -375,6 +378,10 @@ impl Plan {
             }) {
                 observer.note(Note::Switch(sw.reason.clone()));
                 switch = Some(sw);
+            }
+            if let Some(sw) = MethodSwitch::between(records.last(), c) {
+                observer.note(Note::Switch(sw.reason.clone()));
+                method_switch = Some(sw);
             }
             if let Some(op) = operating
                 .as_mut()
@@ -505,6 +512,7 @@ impl Plan {
             stop,
             leg_stops,
             model_switch: switch,
+            method_switch,
             requested_points: requested,
             lpc_curve: folds.points,
             lpc_stops: folds.stops,
@@ -658,6 +666,9 @@ pub struct Cycles {
     pub stop: String,
     pub leg_stops: Vec<LegStop>,
     pub model_switch: Option<ModelSwitch>,
+    /// Where the branch went on by the return map.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub method_switch: Option<MethodSwitch>,
     pub requested_points: Vec<Requested>,
     pub lpc_curve: Vec<FoldPoint>,
     pub lpc_stops: Vec<LpcStop>,
@@ -876,6 +887,32 @@ pub struct ModelSwitch {
     pub to: &'static str,
     /// In words.
     pub reason: String,
+}
+
+/// Where a branch went on from collocation to the return map (JSON
+/// `method_switch`).
+#[derive(Clone, Debug, Serialize)]
+pub struct MethodSwitch {
+    /// The stiffness of the first cycle of the return map.
+    pub kappa: f64,
+    pub from: &'static str,
+    pub to: &'static str,
+    /// In words.
+    pub reason: String,
+}
+
+impl MethodSwitch {
+    /// The switch between `prev`, the cycle before `c` on its leg, and
+    /// `c`, where the method changed; `None` where it did not.
+    pub fn between(prev: Option<&CycleRecord>, c: &CycleRecord) -> Option<Self> {
+        let prev = prev.filter(|p| p.method.name() != c.method.name() && p.leg == c.leg)?;
+        Some(MethodSwitch {
+            kappa: c.kappa,
+            from: prev.method.name(),
+            to: c.method.name(),
+            reason: return_map::handover_reason(&c.log, prev, c),
+        })
+    }
 }
 
 impl ModelSwitch {

@@ -51,7 +51,7 @@ fn hopf_reference(setup: &Setup, folds: &[FoldPoint]) -> Option<Series> {
     })
 }
 
-/// Maps a cycle's sample `(t/T, s, v, theta)` to a plotted point.
+/// Maps a cycle's sample `(t/T, s, ln v, ln theta)` to a plotted point.
 type SamplePoint<'a> = dyn Fn(&CycleRecord, &[f64; 4]) -> (f64, f64) + 'a;
 
 /// Draws the branch `records` of scene `setup`: amplitude and period
@@ -202,7 +202,7 @@ pub fn branch_figures(
         picks
     };
     let bar = Colorbar::over("K/W [1/m]", picks.iter().map(|c| u.k_over_w(c.kappa)));
-    // One curve per picked cycle, mapping each sample (t/T, s, v, theta) to
+    // One curve per picked cycle, mapping each sample (t/T, s, ln v, ln theta) to
     // a point, coloured by its stiffness; unstable cycles dashed (not those
     // whose stability the multipliers cannot decide).
     let per_cycle = |point: &SamplePoint| -> Vec<Series> {
@@ -217,13 +217,29 @@ pub fn branch_figures(
             })
             .collect()
     };
+    // Sticks below 1e-300 µm/s (the return map's, down to 1e-800 and
+    // beyond): log10 v on a linear axis, as `simulate` draws them.
+    let log10_v0 = u.velocity_um_s(1.0).log10();
+    let beyond = picks
+        .iter()
+        .any(|c| c.ln_v_min / std::f64::consts::LN_10 + log10_v0 < -300.0);
     let orbit = LineFigure {
         title: format!("Cycles in the (K(Vt - x), v) plane, {}", setup.label),
         x_label: "spring force K(Vt - x) [N]".into(),
-        y_label: "slip velocity v [µm/s]".into(),
+        y_label: if beyond {
+            "log10 of the slip velocity v [µm/s] (below 1e-300 µm/s)".into()
+        } else {
+            "slip velocity v [µm/s]".into()
+        },
         log_x: false,
-        log_y: true,
-        series: per_cycle(&|_, p| (p[1] * u.load, u.velocity_um_s(p[2]))),
+        log_y: !beyond,
+        series: per_cycle(&|_, p| {
+            let log10_v = p[2] / std::f64::consts::LN_10 + log10_v0;
+            (
+                p[1] * u.load,
+                if beyond { log10_v } else { 10f64.powf(log10_v) },
+            )
+        }),
     };
     let series = LineFigure {
         title: format!("Spring force over one period, {}", setup.label),

@@ -4,8 +4,8 @@
 
 use super::branch::ParamValue;
 use crate::analysis::cycles::{
-    CycleBifurcation, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
-    ESTIMATE_UNAVAILABLE, TRIVIAL_UNAVAILABLE,
+    CycleBifurcation, CycleMethod, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
+    ESTIMATE_UNAVAILABLE, TRIVIAL_REMOVED, TRIVIAL_UNAVAILABLE,
 };
 use crate::analysis::operating_point::Regime;
 use crate::analysis::settle::SettledOrbit;
@@ -64,9 +64,9 @@ impl Serialize for Verdict {
 
 /// `value`, or where it is unavailable `null` in JSON and `n/a` in the CSV
 /// (the JSON gives the reason beside it).
-fn or_na<S: Serializer>(value: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+fn or_na<S: Serializer, T: Serialize>(value: &Option<T>, s: S) -> Result<S::Ok, S::Error> {
     match value {
-        Some(v) => s.serialize_f64(*v),
+        Some(v) => v.serialize(s),
         None => s.serialize_unit_struct("n/a"),
     }
 }
@@ -92,8 +92,9 @@ pub struct Cycle {
     /// Estimated discretization error (relative).
     #[serde(serialize_with = "or_na")]
     pub error_estimate: Option<f64>,
-    /// Mesh intervals.
-    pub ntst: usize,
+    /// Mesh intervals (`n/a` for a cycle of the return map).
+    #[serde(serialize_with = "or_na")]
+    pub ntst: Option<usize>,
     /// Whether the cycle is at a requested stiffness (`--at-kappa`).
     pub user_point: bool,
     pub model: ModelKind,
@@ -106,6 +107,9 @@ pub struct Cycle {
     /// Slowest and fastest slip velocity [µm/s].
     pub v_min_um_per_s: f64,
     pub v_max_um_per_s: f64,
+    /// `log10` of the slowest slip velocity (units of `V0`): also where
+    /// `v_min` is below the range of `f64` (written 0 there).
+    pub log10_v_min: f64,
     /// The inertia `m` the cycle was computed with (0: quasi-static).
     pub m: f64,
     /// The least friction coefficient on the orbit; negative: outside the
@@ -136,6 +140,8 @@ pub struct Cycle {
     pub multipliers: Vec<[f64; 2]>,
     /// Index of the trivial multiplier among them (JSON only).
     pub trivial_multiplier_index: Option<usize>,
+    /// How the cycle was computed: `collocation` or `return_map` (JSON only).
+    pub method: &'static str,
     /// Why `trivial_multiplier_error` is unavailable (JSON only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trivial_multiplier_error_reason: Option<&'static str>,
@@ -152,6 +158,7 @@ impl CsvRecord for Cycle {
     const JSON_ONLY: &'static [&'static str] = &[
         "multipliers",
         "trivial_multiplier_index",
+        "method",
         "trivial_multiplier_error_reason",
         "error_estimate_reason",
         "stability_reason",
@@ -172,7 +179,7 @@ impl Cycle {
             stable: Verdict::of(c.stability),
             trivial_multiplier_error: c.trivial_error,
             error_estimate: c.error_estimate,
-            ntst: c.ntst,
+            ntst: c.ntst(),
             user_point: c.user_point,
             model: c.model,
             inertial_imbalance: c.inertial_imbalance,
@@ -182,6 +189,7 @@ impl Cycle {
             period_s: c.period * u.d0 / u.v0,
             v_min_um_per_s: u.velocity_um_s(c.v_min),
             v_max_um_per_s: u.velocity_um_s(c.v_max),
+            log10_v_min: c.ln_v_min / std::f64::consts::LN_10,
             k_n_per_m: u.stiffness(c.kappa),
             delta_s_n: c.delta_s * u.load,
             continued: None,
@@ -189,10 +197,11 @@ impl Cycle {
             label: 0,
             multipliers: c.multipliers.iter().map(|z| [z.re, z.im]).collect(),
             trivial_multiplier_index: c.trivial,
-            trivial_multiplier_error_reason: c
-                .trivial_error
-                .is_none()
-                .then_some(TRIVIAL_UNAVAILABLE),
+            method: c.method.name(),
+            trivial_multiplier_error_reason: c.trivial_error.is_none().then_some(match c.method {
+                CycleMethod::Collocation { .. } => TRIVIAL_UNAVAILABLE,
+                CycleMethod::ReturnMap => TRIVIAL_REMOVED,
+            }),
             error_estimate_reason: c.error_estimate.is_none().then_some(ESTIMATE_UNAVAILABLE),
             stability_reason: c.stability_reason(),
         }

@@ -1,0 +1,478 @@
+//! Stick-slip cycles as fixed points of the return map of the joined flow
+//! ([`super::joined_flow`]): where the inertial block's stick lies below the
+//! resolution of `f64` and collocation cannot resolve where it comes to rest.
+//!
+//! The return map `P` takes `(s, ln theta)` on the section `v = nu`
+//! (rising) to the next crossing. A cycle is a root of `F(x) = P(x) - x`,
+//! found by Newton's method with the Jacobian of `P` by central differences
+//! (steps `h_j = 1e-5 max(1, |x_j|)`: the integration's rounding `rtol`
+//! over `h` against the truncation `h^2 |P'''|`); the chord Jacobian is
+//! kept while each step is at most a tenth of the one before. The eigenvalues of `P'` at the
+//! root are the cycle's nontrivial Floquet multipliers (the trivial one,
+//! along the flow, the section removes); their error is taken as the
+//! change of the eigenvalues between difference steps `h` and `2 h`, and
+//! stability is decided only beyond it.
+
+use super::cycles::{friction_min, CycleMethod, CycleRecord, CycleRequest, Leg};
+use super::joined_flow::{JoinedFlow, Passage, PassageError};
+use crate::error::{Error, NumericalError};
+use crate::log_model::LogBlock;
+use crate::params::{Param, Params};
+use continuation::periodic::Stability;
+use continuation::{Complex64, Stop};
+
+/// Relative tolerance of the integration of a period.
+pub const RTOL: f64 = 1e-12;
+
+/// The coarser tolerance of the error estimate, as a multiple of [`RTOL`].
+const COARSER: f64 = 10.0;
+
+/// Newton iterations before a fixed point is given up.
+const MAX_ITERATIONS: usize = 12;
+
+/// Relative difference step of the Jacobian.
+const H: f64 = 1e-6;
+
+/// A cycle: a fixed point of the return map.
+#[derive(Clone, Debug)]
+pub struct FixedPoint {
+    /// `(s, ln theta)` on the section.
+    pub x: [f64; 2],
+    /// The passage from it, sampled.
+    pub passage: Passage,
+    /// The Jacobian of the return map there.
+    pub jacobian: [[f64; 2]; 2],
+    /// Its eigenvalues by decreasing modulus: the nontrivial multipliers.
+    pub multipliers: [Complex64; 2],
+    /// Their error (the change between difference steps `h` and `2 h`).
+    pub multiplier_error: f64,
+    /// Newton iterations taken.
+    pub iterations: usize,
+}
+
+/// Why no fixed point was found.
+#[derive(Clone, Debug)]
+pub enum FixedPointError {
+    /// A passage could not be integrated.
+    Passage(PassageError),
+    /// Newton's method did not converge (last step size, relative).
+    NoConvergence { step: f64, iterations: usize },
+    /// `P' - I` is singular: a multiplier at 1 (a fold of cycles).
+    Singular,
+}
+
+impl std::fmt::Display for FixedPointError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FixedPointError::Passage(e) => write!(f, "{e}"),
+            FixedPointError::NoConvergence { step, iterations } => write!(
+                f,
+                "Newton's method on the return map did not converge ({iterations} iterations, \
+                 last step {step:.1e} relative)"
+            ),
+            FixedPointError::Singular => write!(
+                f,
+                "the return map's Jacobian has an eigenvalue at 1 (a fold of cycles)"
+            ),
+        }
+    }
+}
+
+impl From<PassageError> for FixedPointError {
+    fn from(e: PassageError) -> Self {
+        FixedPointError::Passage(e)
+    }
+}
+
+fn step_sizes(x: [f64; 2], scale: f64) -> [f64; 2] {
+    [
+        scale * H * x[0].abs().max(1.0),
+        scale * H * x[1].abs().max(1.0),
+    ]
+}
+
+/// The Jacobian of the return map at `x` by central differences with
+/// `scale` times the default steps.
+fn jacobian(
+    flow: &JoinedFlow,
+    x: [f64; 2],
+    t_max: f64,
+    scale: f64,
+) -> Result<[[f64; 2]; 2], PassageError> {
+    let h = step_sizes(x, scale);
+    let mut j = [[0.0; 2]; 2];
+    for k in 0..2 {
+        let (mut up, mut down) = (x, x);
+        up[k] += h[k];
+        down[k] -= h[k];
+        let (pu, pd) = (
+            flow.passage(up, t_max, false)?.end,
+            flow.passage(down, t_max, false)?.end,
+        );
+        for i in 0..2 {
+            j[i][k] = (pu[i] - pd[i]) / (2.0 * h[k]);
+        }
+    }
+    Ok(j)
+}
+
+/// Eigenvalues of a 2 x 2 matrix, by decreasing modulus.
+fn eigenvalues(j: [[f64; 2]; 2]) -> [Complex64; 2] {
+    let tr = j[0][0] + j[1][1];
+    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+    let disc = Complex64::new(tr * tr / 4.0 - det, 0.0).sqrt();
+    let half = Complex64::new(tr / 2.0, 0.0);
+    // The larger root directly, the smaller from the product (no
+    // cancellation).
+    let big = if tr >= 0.0 { half + disc } else { half - disc };
+    let small = if big.norm() > 0.0 {
+        Complex64::new(det, 0.0) / big
+    } else {
+        Complex64::new(0.0, 0.0)
+    };
+    [big, small]
+}
+
+/// The fixed point of the return map of `flow` near `guess`, with each
+/// passage bounded by `t_max`.
+pub fn fixed_point(
+    flow: &JoinedFlow,
+    guess: [f64; 2],
+    t_max: f64,
+) -> Result<FixedPoint, FixedPointError> {
+    let mut x = guess;
+    let mut chord = jacobian(flow, x, t_max, 1.0)?;
+    let mut last_step = f64::INFINITY;
+    for iteration in 1..=MAX_ITERATIONS {
+        let px = flow.passage(x, t_max, false)?.end;
+        let f = [px[0] - x[0], px[1] - x[1]];
+        // (P' - I) dx = -f
+        let a = [
+            [chord[0][0] - 1.0, chord[0][1]],
+            [chord[1][0], chord[1][1] - 1.0],
+        ];
+        let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+        if det == 0.0 || !det.is_finite() {
+            return Err(FixedPointError::Singular);
+        }
+        let dx = [
+            -(f[0] * a[1][1] - f[1] * a[0][1]) / det,
+            -(a[0][0] * f[1] - a[1][0] * f[0]) / det,
+        ];
+        x = [x[0] + dx[0], x[1] + dx[1]];
+        let step = (dx[0].abs() / x[0].abs().max(1.0)).max(dx[1].abs() / x[1].abs().max(1.0));
+        if step <= 1e-11 {
+            let passage = flow.passage(x, t_max, true)?;
+            let jac = jacobian(flow, x, t_max, 1.0)?;
+            let coarse = eigenvalues(jacobian(flow, x, t_max, 2.0)?);
+            let multipliers = eigenvalues(jac);
+            let multiplier_error = multipliers
+                .iter()
+                .zip(&coarse)
+                .map(|(a, b)| (a - b).norm())
+                .fold(0.0f64, f64::max);
+            return Ok(FixedPoint {
+                x,
+                passage,
+                jacobian: jac,
+                multipliers,
+                multiplier_error,
+                iterations: iteration,
+            });
+        }
+        if step > 0.1 * last_step {
+            chord = jacobian(flow, x, t_max, 1.0)?;
+        }
+        last_step = step;
+    }
+    Err(FixedPointError::NoConvergence {
+        step: last_step,
+        iterations: MAX_ITERATIONS,
+    })
+}
+
+/// Why the cycle `c` of the return map follows the collocated cycle
+/// `prev` on its branch (the text of `cycles` and its JSON `method_switch`).
+pub fn handover_reason(log: &LogBlock, prev: &CycleRecord, c: &CycleRecord) -> String {
+    let flow = JoinedFlow::new(&params_of(log, &c.params), RTOL);
+    format!(
+        "from kappa = {:.10e} on, the cycles are fixed points of the return map: collocation \
+         could not resolve the block coming to rest from its slip onto a stick velocity of \
+         v = 10^{:.1} V0 (kappa = {:.10e}); the stick is integrated quasi-statically below \
+         v_b = 10^{:.1} V0, where inertia shifts ln v by less than rounding, the slip with \
+         inertia (the return map reproduced the last collocated cycle: their periods agree \
+         to 1e-6, or the branch would have stopped there)",
+        c.kappa,
+        prev.ln_v_min / std::f64::consts::LN_10,
+        prev.kappa,
+        flow.ln_v_b / std::f64::consts::LN_10
+    )
+}
+
+/// `(s, ln theta)` where the sampled orbit of `rec` crosses `v = nu`
+/// upward (linear in `ln v` between samples): a guess of the fixed point.
+pub fn section_guess(rec: &CycleRecord, nu: f64) -> Option<[f64; 2]> {
+    let ln_nu = nu.ln();
+    let n = rec.samples.len();
+    (0..n).find_map(|i| {
+        let [_, s0, w0, phi0] = rec.samples[i];
+        let [_, s1, w1, phi1] = rec.samples[(i + 1) % n];
+        (w0 < ln_nu && w1 >= ln_nu).then(|| {
+            let f = (ln_nu - w0) / (w1 - w0);
+            [s0 + f * (s1 - s0), phi0 + f * (phi1 - phi0)]
+        })
+    })
+}
+
+/// The parameters of a cycle of `log` with parameter vector `p`.
+fn params_of(log: &LogBlock, p: &[f64]) -> Params {
+    // Every value is read from `p`; only the form is `log`'s.
+    let form = Params {
+        kappa: 0.0,
+        nu: 1.0,
+        m: 0.0,
+        a: 0.0,
+        b: 0.0,
+        mu0: 0.0,
+        mu2: 0.0,
+        theta_c: log.cutoff.then_some(1.0),
+        state_law: log.state_law,
+        mu_vv: 0.0,
+        mu_vphi: 0.0,
+        eta_d: 0.0,
+    };
+    form.with_vec(p)
+}
+
+/// Stable, unstable, or undecidable: the largest multiplier's modulus
+/// against 1, beyond `error`.
+fn stability(multipliers: &[Complex64; 2], error: f64) -> Stability {
+    let modulus = multipliers[0].norm();
+    if modulus < 1.0 - error {
+        Stability::Stable
+    } else if modulus > 1.0 + error {
+        Stability::Unstable
+    } else {
+        Stability::Undecidable { modulus, error }
+    }
+}
+
+/// The record of the cycle `fp` of `flow` at `params` (variables `log`,
+/// leg `leg`): extremes of `s` at the section and at the event where `v`
+/// falls through `nu`, of `v` over the accepted steps, and the error
+/// estimate from a passage at a [`COARSER`] tolerance, carried to the fixed
+/// point through `(I - P')^-1`.
+fn record(
+    params: &Params,
+    fp: &FixedPoint,
+    t_max: f64,
+    log: &LogBlock,
+    leg: Leg,
+) -> Result<CycleRecord, PassageError> {
+    let pas = &fp.passage;
+    let (s_max, s_min) = (fp.x[0], pas.s_min);
+    let delta_s = s_max - s_min;
+    let coarse = JoinedFlow::new(params, RTOL * COARSER).passage(fp.x, t_max, false)?;
+    let d = [coarse.end[0] - pas.end[0], coarse.end[1] - pas.end[1]];
+    let j = fp.jacobian;
+    let a = [[1.0 - j[0][0], -j[0][1]], [-j[1][0], 1.0 - j[1][1]]];
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    let shift_s = ((d[0] * a[1][1] - d[1] * a[0][1]) / det).abs();
+    let error_estimate = ((coarse.period - pas.period).abs() / pas.period)
+        .max((coarse.s_min - pas.s_min).abs() / delta_s)
+        .max(shift_s / delta_s);
+    let (mut ln_v_min, mut ln_v_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &[_, _, ln_v, _] in &pas.samples {
+        ln_v_min = ln_v_min.min(ln_v);
+        ln_v_max = ln_v_max.max(ln_v);
+    }
+    let samples: Vec<[f64; 4]> = pas
+        .samples
+        .iter()
+        .map(|&[t, s, ln_v, phi]| [t / pas.period, s, ln_v, phi])
+        .collect();
+    let mut multipliers = vec![
+        Complex64::new(1.0, 0.0),
+        fp.multipliers[0],
+        fp.multipliers[1],
+    ];
+    multipliers.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
+    let trivial = multipliers
+        .iter()
+        .position(|z| *z == Complex64::new(1.0, 0.0));
+    Ok(CycleRecord {
+        kappa: params.kappa,
+        params: params.to_vec(),
+        period: pas.period,
+        delta_s,
+        s_min,
+        s_max,
+        v_min: ln_v_min.exp(),
+        v_max: ln_v_max.exp(),
+        ln_v_min,
+        multipliers,
+        trivial,
+        trivial_error: None,
+        error_estimate: Some(error_estimate),
+        stability: stability(&fp.multipliers, fp.multiplier_error),
+        method: CycleMethod::ReturnMap,
+        model: log.kind,
+        m: params.m,
+        friction_min: friction_min(&params.friction(), &samples),
+        inertial_imbalance: pas.chi,
+        samples,
+        lpc: None,
+        pd: None,
+        ns: None,
+        user: Vec::new(),
+        user_point: false,
+        leg,
+        orbit: None,
+        log: *log,
+    })
+}
+
+/// Continues a cycle branch in `kappa` by the return map from its last
+/// collocated cycle `last` (in the variables of `log`), where collocation
+/// could not resolve the block coming to rest: in the direction and with
+/// the first step `step` (the branch's last step in `kappa`), to the bound
+/// of `req` on that side, landing on it and on each stiffness `req` asks
+/// for on the way, for at most `max_cycles` cycles; each cycle goes to
+/// `sink`. The first fixed point is taken at `last`'s own stiffness and
+/// must reproduce its period (to 1e-6): the two methods meet there.
+///
+/// Steps in `kappa` grow by half after a fixed point found within three
+/// Newton iterations, and halve on a failure. The leg ends, with what it
+/// delivered, where the leading multiplier reaches the unit circle (a
+/// bifurcation of cycles, which it does not follow) or steps fall below
+/// `1e-10 kappa`.
+#[allow(clippy::too_many_arguments)]
+pub fn continue_branch(
+    log: &LogBlock,
+    last: &CycleRecord,
+    step: f64,
+    req: &CycleRequest,
+    max_cycles: usize,
+    leg: Leg,
+    sink: &mut impl FnMut(&CycleRecord) -> Result<(), Error>,
+) -> Result<Stop, Error> {
+    let base = params_of(log, &last.params);
+    let t_max = 100.0 * last.period;
+    let failed = |kappa: f64, why: String| -> Error {
+        NumericalError::Analysis(format!(
+            "the return map (the stick integrated quasi-statically below v_b, where inertia \
+             is below rounding) continued the branch from kappa = {:.10e} and failed at kappa \
+             = {kappa:.10e}: {why}",
+            last.kappa
+        ))
+        .into()
+    };
+    let guess = section_guess(last, base.nu).ok_or_else(|| {
+        failed(
+            last.kappa,
+            "the last collocated orbit does not cross v = nu upward".into(),
+        )
+    })?;
+    let first = fixed_point(&JoinedFlow::new(&base, RTOL), guess, t_max)
+        .map_err(|e| failed(last.kappa, e.to_string()))?;
+    let agreement = (first.passage.period - last.period).abs() / last.period;
+    if agreement > 1e-6 {
+        return Err(failed(
+            last.kappa,
+            format!(
+                "its cycle at the last collocated stiffness has the period {:.10e}, the \
+                 collocated one {:.10e} ({agreement:.1e} apart): the two methods do not meet",
+                first.passage.period, last.period
+            ),
+        ));
+    }
+    let bound = if step < 0.0 {
+        req.kappa_min
+    } else {
+        req.kappa_max
+    };
+    let ahead =
+        |k: f64| (k - last.kappa) * step.signum() > 0.0 && (bound - k) * step.signum() >= 0.0;
+    let mut targets: Vec<f64> = req.at_kappa.iter().copied().filter(|&k| ahead(k)).collect();
+    targets.sort_by(|a, b| (a * step.signum()).total_cmp(&(b * step.signum())));
+    targets.dedup();
+    let mut points = vec![(last.kappa, first.x)];
+    let mut last_stability = last.stability;
+    let mut h = step;
+    let mut delivered = 0;
+    loop {
+        let &(kappa, x) = points.last().expect("starts with a point");
+        if kappa == bound {
+            return Ok(Stop::Bound {
+                index: Param::Kappa as usize,
+                value: kappa,
+                bound,
+            });
+        }
+        if delivered == max_cycles {
+            return Ok(Stop::MaxSteps { steps: max_cycles });
+        }
+        let mut next = kappa + h;
+        let mut user = false;
+        if let Some(&t) = targets.first() {
+            if (next - t) * step.signum() >= 0.0 {
+                (next, user) = (t, true);
+            }
+        }
+        if (next - bound) * step.signum() > 0.0 {
+            (next, user) = (bound, false);
+        }
+        let guess = match points.len() {
+            1 => x,
+            n => {
+                let (k0, x0) = points[n - 2];
+                let f = (next - kappa) / (kappa - k0);
+                [x[0] + f * (x[0] - x0[0]), x[1] + f * (x[1] - x0[1])]
+            }
+        };
+        let params = Params {
+            kappa: next,
+            ..base
+        };
+        let attempt = fixed_point(&JoinedFlow::new(&params, RTOL), guess, t_max).and_then(|fp| {
+            record(&params, &fp, t_max, log, leg)
+                .map(|r| (fp, r))
+                .map_err(FixedPointError::Passage)
+        });
+        match attempt {
+            Ok((fp, mut rec)) => {
+                let stability = rec.stability;
+                let crossed = (last_stability.is_stable() && stability.is_unstable())
+                    || (last_stability.is_unstable() && stability.is_stable());
+                if crossed {
+                    return Err(failed(
+                        next,
+                        format!(
+                            "the leading multiplier crossed the unit circle since kappa = \
+                             {kappa:.10e} (now {:.6} at {:.6} degrees): a bifurcation of cycles, \
+                             which the return map's continuation does not follow",
+                            fp.multipliers[0].norm(),
+                            fp.multipliers[0].arg().to_degrees()
+                        ),
+                    ));
+                }
+                last_stability = stability;
+                if user {
+                    targets.remove(0);
+                    rec.user_point = true;
+                } else if fp.iterations <= 3 {
+                    h *= 1.5;
+                }
+                sink(&rec)?;
+                delivered += 1;
+                points.push((next, fp.x));
+            }
+            Err(e) => {
+                h /= 2.0;
+                if h.abs() < 1e-10 * kappa.abs() {
+                    return Err(failed(next, e.to_string()));
+                }
+            }
+        }
+    }
+}
