@@ -14,7 +14,9 @@ use stickslip::params::Params;
 pub fn assert_reproduced_by_integration(kind: ModelKind, p: &Params, r: &CycleRecord, label: &str) {
     let mut at = *p;
     at.kappa = r.kappa;
-    let start = [r.samples[0][1], r.samples[0][2], r.samples[0][3]];
+    // The samples hold (t/T, s, ln v, ln theta).
+    let [_, s, ln_v, phi] = r.samples[0];
+    let start = [s, ln_v.exp(), phi.exp()];
     let (period, delta_s) =
         cycle_by_integration(kind, &at, start, 2.0 * r.period, 8.0 * r.period, 4, 1e-12).unwrap();
     assert!(
