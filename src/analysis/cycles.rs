@@ -862,13 +862,31 @@ pub fn trace_cycles_through(
         .into_iter()
         .enumerate()
     {
-        let outcome = first_cycle(through, param, sign, ntst, req)
-            .map_err(Into::into)
-            .and_then(|(first, branch, used)| {
+        let outcome = match (first_cycle(through, param, sign, ntst, req), through) {
+            (Ok((first, branch, used)), _) => {
                 ntst = used;
                 let started = (Some(first), branch);
                 follow_switching(log, started, leg, i, param, req, watch, &mut sink)
-            });
+            }
+            // An inertial orbit collocation cannot correct (a slip of
+            // microseconds in a period of days): by the return map.
+            (Err(e), Through::Simulated { params, orbit, .. })
+                if log.kind == ModelKind::Inertial && param == Param::Kappa =>
+            {
+                return_map::branch_through_orbit(
+                    log,
+                    params,
+                    orbit,
+                    sign,
+                    &e.to_string(),
+                    req,
+                    leg,
+                    i == 0,
+                    &mut sink,
+                )
+            }
+            (Err(e), _) => Err(e.into()),
+        };
         match outcome {
             // A signal ends this leg and the ones not run; the legs before
             // keep how they ended.
@@ -1031,8 +1049,15 @@ pub fn cycle_through_orbit(
 ) -> Result<CycleRecord, NumericalError> {
     let log = LogBlock::centered(kind, params);
     let ntst = req.ntst.max(SAMPLED_NTST);
-    let (first, _, _) = sampled_branch(&log, params, orbit, Param::Kappa, 1.0, ntst, req)?;
-    Ok(record(&log, &first, Leg::AtStiffness, watch))
+    match sampled_branch(&log, params, orbit, Param::Kappa, 1.0, ntst, req) {
+        Ok((first, _, _)) => Ok(record(&log, &first, Leg::AtStiffness, watch)),
+        // An inertial orbit collocation cannot correct: by the return map.
+        Err(e) if kind == ModelKind::Inertial => {
+            return_map::cycle_through_orbit(&log, params, orbit, Leg::AtStiffness)
+                .map_err(|m| NumericalError::Analysis(format!("{e}; by the return map: {m}")))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// Relative amplitude of the first cycle off the Hopf point
@@ -1297,20 +1322,14 @@ fn follow<E: LegEnd>(
         let deep_stop = log.kind == ModelKind::Inertial
             && watch.m > 0.0
             && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64;
-        if let (Err(_), [Some(before), Some(rec)]) = (&pt, &last_two) {
-            if deep_stop && param == Param::Kappa && rec.kappa != before.kappa {
-                return return_map::continue_branch(
-                    log,
-                    rec,
-                    rec.kappa - before.kappa,
-                    req,
-                    req.max_steps.saturating_sub(delivered),
-                    leg,
-                    sink,
-                )
-                .map(E::stopped);
+        let hand_over = match (&pt, &last_two) {
+            (Err(_), [Some(before), Some(rec)])
+                if deep_stop && param == Param::Kappa && rec.kappa != before.kappa =>
+            {
+                Some((rec, rec.kappa - before.kappa))
             }
-        }
+            _ => None,
+        };
         let pt = pt.map_err(|e| match (last, e) {
             (
                 Some((kappa, _)),
@@ -1347,7 +1366,26 @@ fn follow<E: LegEnd>(
                 ))
             }
             (_, e) => NumericalError::from(e),
-        })?;
+        });
+        let pt = match (pt, hand_over) {
+            (Ok(pt), _) => pt,
+            // Where collocation no longer resolves the stop, the return map
+            // goes on from its last cycle.
+            (Err(e), Some((rec, step))) => {
+                return return_map::continue_branch(
+                    log,
+                    rec,
+                    step,
+                    &e.to_string(),
+                    req,
+                    req.max_steps.saturating_sub(delivered),
+                    leg,
+                    sink,
+                )
+                .map(E::stopped)
+            }
+            (Err(e), None) => return Err(e.into()),
+        };
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);
         last = Some((rec.kappa, rec.delta_s));

@@ -5,9 +5,11 @@
 //! The return map `P` takes `(s, ln theta)` on the section `v = nu`
 //! (rising) to the next crossing. A cycle is a root of `F(x) = P(x) - x`,
 //! found by Newton's method with the Jacobian of `P` by central differences
-//! (steps `h_j = 1e-5 max(1, |x_j|)`: the integration's rounding `rtol`
+//! (steps `h_j = 1e-6 max(1, |x_j|)`: the integration's rounding `rtol`
 //! over `h` against the truncation `h^2 |P'''|`); the chord Jacobian is
-//! kept while each step is at most a tenth of the one before. The eigenvalues of `P'` at the
+//! kept while each step is at most a tenth of the one before, and Newton
+//! stops at `1e-11` relative or where its steps stall below `1e-7` (the
+//! rounding floor of the integration). The eigenvalues of `P'` at the
 //! root are the cycle's nontrivial Floquet multipliers (the trivial one,
 //! along the flow, the section removes); their error is taken as the
 //! change of the eigenvalues between difference steps `h` and `2 h`, and
@@ -15,6 +17,7 @@
 
 use super::cycles::{friction_min, CycleMethod, CycleRecord, CycleRequest, Leg};
 use super::joined_flow::{JoinedFlow, Passage, PassageError};
+use super::settle::SettledOrbit;
 use crate::error::{Error, NumericalError};
 use crate::log_model::LogBlock;
 use crate::params::{Param, Params};
@@ -59,6 +62,8 @@ pub enum FixedPointError {
     NoConvergence { step: f64, iterations: usize },
     /// `P' - I` is singular: a multiplier at 1 (a fold of cycles).
     Singular,
+    /// The leading multiplier jumped between neighbouring stiffnesses.
+    Jump { from: f64, to: f64 },
 }
 
 impl std::fmt::Display for FixedPointError {
@@ -73,6 +78,12 @@ impl std::fmt::Display for FixedPointError {
             FixedPointError::Singular => write!(
                 f,
                 "the return map's Jacobian has an eigenvalue at 1 (a fold of cycles)"
+            ),
+            FixedPointError::Jump { from, to } => write!(
+                f,
+                "the leading multiplier jumps from {from:.4} to {to:.4} between neighbouring \
+                 stiffnesses however short the step: the return map's fixed points are not \
+                 resolved here"
             ),
         }
     }
@@ -161,7 +172,11 @@ pub fn fixed_point(
         ];
         x = [x[0] + dx[0], x[1] + dx[1]];
         let step = (dx[0].abs() / x[0].abs().max(1.0)).max(dx[1].abs() / x[1].abs().max(1.0));
-        if step <= 1e-11 {
+        // Converged, or stalled at the rounding floor of the integration
+        // (a step no longer halving below 1e-7: long periods whose slip
+        // lasts a microsecond time the slip to relative 1e-9 at best); the
+        // error estimate of the cycle says how far that floor is.
+        if step <= 1e-11 || (step > 0.5 * last_step && last_step <= 1e-7) {
             let passage = flow.passage(x, t_max, true)?;
             let jac = jacobian(flow, x, t_max, 1.0)?;
             let coarse = eigenvalues(jacobian(flow, x, t_max, 2.0)?);
@@ -334,35 +349,28 @@ fn record(
 
 /// Continues a cycle branch in `kappa` by the return map from its last
 /// collocated cycle `last` (in the variables of `log`), where collocation
-/// could not resolve the block coming to rest: in the direction and with
-/// the first step `step` (the branch's last step in `kappa`), to the bound
-/// of `req` on that side, landing on it and on each stiffness `req` asks
-/// for on the way, for at most `max_cycles` cycles; each cycle goes to
-/// `sink`. The first fixed point is taken at `last`'s own stiffness and
-/// must reproduce its period (to 1e-6): the two methods meet there.
-///
-/// Steps in `kappa` grow by half after a fixed point found within three
-/// Newton iterations, and halve on a failure. The leg ends, with what it
-/// delivered, where the leading multiplier reaches the unit circle (a
-/// bifurcation of cycles, which it does not follow) or steps fall below
-/// `1e-10 kappa`.
+/// could not resolve the block coming to rest (`why`, collocation's own
+/// failure): in the direction and with the first step `step` (the branch's
+/// last step in `kappa`), for at most `max_cycles` cycles ([`follow`]).
+/// The first fixed point is taken at `last`'s own stiffness and must
+/// reproduce its period (to 1e-6): the two methods meet there.
 #[allow(clippy::too_many_arguments)]
 pub fn continue_branch(
     log: &LogBlock,
     last: &CycleRecord,
     step: f64,
+    why: &str,
     req: &CycleRequest,
     max_cycles: usize,
     leg: Leg,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), Error>,
 ) -> Result<Stop, Error> {
     let base = params_of(log, &last.params);
-    let t_max = 100.0 * last.period;
-    let failed = |kappa: f64, why: String| -> Error {
+    let failed = |kappa: f64, e: String| -> Error {
         NumericalError::Analysis(format!(
-            "the return map (the stick integrated quasi-statically below v_b, where inertia \
-             is below rounding) continued the branch from kappa = {:.10e} and failed at kappa \
-             = {kappa:.10e}: {why}",
+            "{why}; the return map (the stick integrated quasi-statically below v_b, where \
+             inertia is below rounding) took over at kappa = {:.10e} and failed at kappa = \
+             {kappa:.10e}: {e}",
             last.kappa
         ))
         .into()
@@ -373,7 +381,7 @@ pub fn continue_branch(
             "the last collocated orbit does not cross v = nu upward".into(),
         )
     })?;
-    let first = fixed_point(&JoinedFlow::new(&base, RTOL), guess, t_max)
+    let first = fixed_point(&JoinedFlow::new(&base, RTOL), guess, 100.0 * last.period)
         .map_err(|e| failed(last.kappa, e.to_string()))?;
     let agreement = (first.passage.period - last.period).abs() / last.period;
     if agreement > 1e-6 {
@@ -386,18 +394,132 @@ pub fn continue_branch(
             ),
         ));
     }
+    let start = Start {
+        base,
+        fp: first,
+        stability: last.stability,
+    };
+    follow(log, start, step, req, max_cycles, leg, sink, &failed)
+}
+
+/// The cycle of the return map at `params` from the simulated orbit
+/// `orbit` (its section state, `v = nu` rising, in the variables of
+/// [`LogBlock::new`]), as the record of a cycle of `leg` in the variables
+/// of `log`: where collocation cannot resolve the orbit in normalized time
+/// (a slip of microseconds in a period of days).
+pub fn cycle_through_orbit(
+    log: &LogBlock,
+    params: &Params,
+    orbit: &SettledOrbit,
+    leg: Leg,
+) -> Result<CycleRecord, FixedPointError> {
+    let t_max = 100.0 * orbit.period;
+    let guess = [orbit.section[0], orbit.section[2]];
+    let fp = fixed_point(&JoinedFlow::new(params, RTOL), guess, t_max)?;
+    record(params, &fp, t_max, log, leg).map_err(FixedPointError::Passage)
+}
+
+/// The branch through the simulated orbit `orbit` of `params` by the return
+/// map, in `kappa` toward the side of `sign`, where collocation could not
+/// correct the orbit (`why`): its cycle at `params.kappa` (handed to `sink`
+/// when `hand_first`, the first leg), then [`follow`] with a first step of
+/// `1e-3 kappa`.
+#[allow(clippy::too_many_arguments)]
+pub fn branch_through_orbit(
+    log: &LogBlock,
+    params: &Params,
+    orbit: &SettledOrbit,
+    sign: f64,
+    why: &str,
+    req: &CycleRequest,
+    leg: Leg,
+    hand_first: bool,
+    sink: &mut impl FnMut(&CycleRecord) -> Result<(), Error>,
+) -> Result<Stop, Error> {
+    let failed = |kappa: f64, e: String| -> Error {
+        NumericalError::Analysis(format!(
+            "{why}; the return map (slips with inertia, sticks below v_b quasi-statically) \
+             from the simulated orbit at kappa = {:.10e} failed at kappa = {kappa:.10e}: {e}",
+            params.kappa
+        ))
+        .into()
+    };
+    let t_max = 100.0 * orbit.period;
+    let guess = [orbit.section[0], orbit.section[2]];
+    let fp = fixed_point(&JoinedFlow::new(params, RTOL), guess, t_max)
+        .map_err(|e| failed(params.kappa, e.to_string()))?;
+    let first =
+        record(params, &fp, t_max, log, leg).map_err(|e| failed(params.kappa, e.to_string()))?;
+    if hand_first {
+        sink(&first)?;
+    }
+    let start = Start {
+        base: *params,
+        fp,
+        stability: first.stability,
+    };
+    let step = sign * 1e-3 * params.kappa;
+    follow(log, start, step, req, req.max_steps, leg, sink, &failed)
+}
+
+/// Where a leg of the return map starts: a fixed point at `base.kappa`,
+/// its stability.
+struct Start {
+    base: Params,
+    fp: FixedPoint,
+    stability: Stability,
+}
+
+/// Continues the cycles of the return map from `start` in `kappa`, in the
+/// direction and with the first step `step`, to the bound of `req` on that
+/// side, landing on it and on each stiffness `req` asks for on the way, for
+/// at most `max_cycles` cycles, each handed to `sink`; `failed` words a
+/// failure at a stiffness.
+///
+/// Steps in `kappa` grow by half after a fixed point found within three
+/// Newton iterations, and halve on a failure; the next fixed point is
+/// predicted linearly from the last two. The leg ends, with what it
+/// delivered, where the leading multiplier crosses the unit circle (a
+/// bifurcation of cycles, which it does not follow) or steps fall below
+/// `1e-10 kappa`.
+#[allow(clippy::too_many_arguments)]
+fn follow(
+    log: &LogBlock,
+    start: Start,
+    step: f64,
+    req: &CycleRequest,
+    max_cycles: usize,
+    leg: Leg,
+    sink: &mut impl FnMut(&CycleRecord) -> Result<(), Error>,
+    failed: &dyn Fn(f64, String) -> Error,
+) -> Result<Stop, Error> {
+    let Start {
+        base,
+        fp: first,
+        stability: mut last_stability,
+    } = start;
+    let kappa0 = base.kappa;
     let bound = if step < 0.0 {
         req.kappa_min
     } else {
         req.kappa_max
     };
-    let ahead =
-        |k: f64| (k - last.kappa) * step.signum() > 0.0 && (bound - k) * step.signum() >= 0.0;
+    let ahead = |k: f64| (k - kappa0) * step.signum() > 0.0 && (bound - k) * step.signum() >= 0.0;
+    // Started at or past the bound on this side (a simulated orbit outside
+    // the range): the leg is its start.
+    if (bound - kappa0) * step.signum() <= 0.0 {
+        return Ok(Stop::Bound {
+            index: Param::Kappa as usize,
+            value: kappa0,
+            bound,
+        });
+    }
     let mut targets: Vec<f64> = req.at_kappa.iter().copied().filter(|&k| ahead(k)).collect();
     targets.sort_by(|a, b| (a * step.signum()).total_cmp(&(b * step.signum())));
     targets.dedup();
-    let mut points = vec![(last.kappa, first.x)];
-    let mut last_stability = last.stability;
+    let mut t_max = 100.0 * first.passage.period;
+    let mut last_modulus = first.multipliers[0].norm();
+    let mut points = vec![(kappa0, first.x)];
     let mut h = step;
     let mut delivered = 0;
     loop {
@@ -439,6 +561,19 @@ pub fn continue_branch(
                 .map(|r| (fp, r))
                 .map_err(FixedPointError::Passage)
         });
+        // A leading multiplier that moves by more than 0.5 in one step is
+        // not a crossing resolved by the step: the step is taken shorter.
+        let attempt = attempt.and_then(|(fp, rec)| {
+            let moved = (fp.multipliers[0].norm() - last_modulus).abs();
+            if moved > 0.5 {
+                Err(FixedPointError::Jump {
+                    from: last_modulus,
+                    to: fp.multipliers[0].norm(),
+                })
+            } else {
+                Ok((fp, rec))
+            }
+        });
         match attempt {
             Ok((fp, mut rec)) => {
                 let stability = rec.stability;
@@ -457,6 +592,7 @@ pub fn continue_branch(
                     ));
                 }
                 last_stability = stability;
+                last_modulus = fp.multipliers[0].norm();
                 if user {
                     targets.remove(0);
                     rec.user_point = true;
@@ -465,6 +601,7 @@ pub fn continue_branch(
                 }
                 sink(&rec)?;
                 delivered += 1;
+                t_max = 100.0 * fp.passage.period;
                 points.push((next, fp.x));
             }
             Err(e) => {

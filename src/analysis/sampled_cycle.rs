@@ -71,16 +71,21 @@ pub fn sampled_cycle(
     Ok(Cycle { u, n, ..second })
 }
 
-/// Mesh points at equal shares of the accepted steps `t` (from 0 to `period`).
+/// Mesh points at equal shares of the accepted steps `t` (from 0 to `period`),
+/// each above the one before: steps shorter than the rounding of `t / period`
+/// (a slip of microseconds in a period of days) share one point, so that no
+/// interval has length zero (at most `ntst` intervals).
 fn step_mesh(t: &[f64], period: f64, ntst: usize) -> Mesh {
     let n = t.len() - 1;
-    let mut points: Vec<f64> = (0..ntst)
-        .map(|j| {
-            let at = j as f64 * n as f64 / ntst as f64;
-            let (i, frac) = (at.floor() as usize, at.fract());
-            (t[i] + frac * (t[(i + 1).min(n)] - t[i])) / period
-        })
-        .collect();
+    let mut points: Vec<f64> = Vec::with_capacity(ntst + 1);
+    for j in 0..ntst {
+        let at = j as f64 * n as f64 / ntst as f64;
+        let (i, frac) = (at.floor() as usize, at.fract());
+        let tau = (t[i] + frac * (t[(i + 1).min(n)] - t[i])) / period;
+        if points.last().is_none_or(|&last| tau > last) && tau < 1.0 {
+            points.push(tau);
+        }
+    }
     points.push(1.0);
     Mesh::new(points, DEGREE)
 }
