@@ -159,6 +159,66 @@ fn the_return_maps_cycle_does_not_depend_on_the_switching_velocity() {
     assert!(a.passage.chi_at_reentry < 1e-15 && b.passage.chi_at_reentry < 1e-21);
 }
 
+/// `simulate` on the same scene at `kappa = 0.008`, where the stick falls to
+/// 1e-410 `V0`: the run goes through its sticks by the joined flow (each
+/// below `v_b` integrated quasi-statically, rows marked so) to the end of
+/// its protocol, and reports the regime it reaches, the return map's cycle.
+/// The run's own trajectory (Radau IIA at rtol 1e-10, the stops located as
+/// events) repeats with that period: the last two crossings of `v = nu`
+/// upward, interpolated in `log10 v` between the accepted steps, lie one
+/// period apart to 1e-6.
+#[test]
+fn simulate_goes_through_sticks_below_f64_and_agrees_with_the_return_map() {
+    // 60 s at 1 µm/s: about nine periods.
+    let protocol = vec![(1.0, 60.0)];
+    let mut watch = Crossings::default();
+    let sim = simulate::Plan::new(
+        &spec(&["kappa=0.008".into()]),
+        SimulateRequest {
+            protocol: Some(protocol),
+            rtol: 1e-10,
+            ..SimulateRequest::default()
+        },
+    )
+    .expect("the simulation plan")
+    .run(&mut watch);
+    let end = sim.end.as_ref().expect("the run reaches its end");
+    assert!(end.sticks.count >= 8, "{} sticks", end.sticks.count);
+    assert!(watch.quasi_static > 0 && watch.deepest < -400.0);
+    let Some(RegimeReached::Periodic { period, .. }) = sim.regime else {
+        panic!("no stick-slip regime: {:?}", sim.regime);
+    };
+    let n = watch.rising.len();
+    assert!(n >= 4, "{n} crossings");
+    let run_period = watch.rising[n - 1] - watch.rising[n - 2];
+    eprintln!("regime period {period}, the run's last {run_period}");
+    assert!((run_period / period - 1.0).abs() < 1e-6);
+}
+
+/// Crossings of `v = nu = 1` upward in a run, interpolated in `log10 v`;
+/// rows of the quasi-static sticks; the lowest `log10 v`.
+#[derive(Default)]
+struct Crossings {
+    last: Option<(f64, f64)>,
+    rising: Vec<f64>,
+    quasi_static: usize,
+    deepest: f64,
+}
+
+impl simulate::Observer for Crossings {
+    fn sample(&mut self, p: &stickslip::analysis::simulate::Sample) -> std::io::Result<()> {
+        if let Some((t0, l0)) = self.last {
+            if l0 < 0.0 && p.log10_v >= 0.0 {
+                self.rising.push(t0 + (p.t - t0) * (-l0) / (p.log10_v - l0));
+            }
+        }
+        self.last = Some((p.t, p.log10_v));
+        self.quasi_static += usize::from(p.model == ModelKind::QuasiStatic);
+        self.deepest = self.deepest.min(p.log10_v);
+        Ok(())
+    }
+}
+
 /// An observer of the simulation that watches nothing.
 struct NoWatch;
 

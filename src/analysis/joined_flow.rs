@@ -84,6 +84,15 @@ pub struct Passage {
     pub chi_at_reentry: f64,
 }
 
+/// A state of the joined flow.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum State {
+    /// Inertial: `(s, ln v, ln theta)`.
+    Slipping([f64; 3]),
+    /// In a stick below `v_b`: `(s, ln theta)`.
+    Stuck([f64; 2]),
+}
+
 /// Why a passage could not be integrated.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PassageError {
@@ -109,18 +118,24 @@ impl std::fmt::Display for PassageError {
     }
 }
 
+/// `ln v_b`, below which the inertial block of `params` sticks on its
+/// quasi-static manifold to rounding (module docs): `v_b = 1e-3 eps mu_v^2
+/// / (m (kappa nu + |B|))`, with `mu_v` at steady sliding.
+pub fn stick_threshold(params: &Params) -> f64 {
+    let mu_v = params.mu_v();
+    let rate = params.kappa * params.nu + params.b.abs();
+    (1e-3 * f64::EPSILON * mu_v * mu_v / (params.m * rate)).ln()
+}
+
 impl JoinedFlow {
     /// The flow of `params`, integrated at relative tolerance `rtol`.
     pub fn new(params: &Params, rtol: f64) -> Self {
-        let mu_v = params.mu_v();
-        let rate = params.kappa * params.nu + params.b.abs();
-        let v_b = 1e-3 * f64::EPSILON * mu_v * mu_v / (params.m * rate);
         JoinedFlow {
             slip: LogBlock::new(ModelKind::Inertial, params),
             stick: LogBlock::new(ModelKind::QuasiStatic, params),
             p: params.to_vec(),
             m: params.m,
-            ln_v_b: v_b.ln(),
+            ln_v_b: stick_threshold(params),
             ln_nu: params.nu.ln(),
             settings: Settings {
                 rtol,
@@ -139,12 +154,26 @@ impl JoinedFlow {
     /// From `(s, ln theta)` on the section to the next crossing, within
     /// the time `t_max`; with the accepted steps when `sample`.
     pub fn passage(&self, x0: [f64; 2], t_max: f64, sample: bool) -> Result<Passage, PassageError> {
+        self.run(State::Slipping(self.on_section(x0)), t_max, sample)
+    }
+
+    /// From any state of the joined flow to the first crossing of the
+    /// section within `t_max`: its `(s, ln theta)` there.
+    pub fn to_section(&self, start: State, t_max: f64) -> Result<[f64; 2], PassageError> {
+        self.run(start, t_max, false).map(|p| p.end)
+    }
+
+    /// From `start` to the first crossing of the section (not counting one
+    /// at the start itself).
+    fn run(&self, start: State, t_max: f64, sample: bool) -> Result<Passage, PassageError> {
         let output = if sample { Output::Steps } else { Output::Final };
-        let mut x = self.on_section(x0).to_vec();
+        let (mut x, mut slipping) = match start {
+            State::Slipping(x) => (x.to_vec(), true),
+            State::Stuck(x) => (x.to_vec(), false),
+        };
         let (mut t, mut samples, mut sticks) = (0.0f64, Vec::new(), 0);
         let (mut chi_at_reentry, mut chi, mut s_min) = (0.0f64, 0.0f64, f64::INFINITY);
         for segment in 0..MAX_SEGMENTS {
-            let slipping = segment % 2 == 0;
             let sol = if slipping {
                 let ln_nu = self.ln_nu;
                 let ln_v_b = self.ln_v_b;
@@ -230,6 +259,7 @@ impl JoinedFlow {
                     x = vec![y[0], self.ln_v_b, y[1]];
                 }
             }
+            slipping = !slipping;
         }
         Err(PassageError::NoReturn {
             t,

@@ -16,8 +16,10 @@
 //! stability is decided only beyond it.
 
 use super::cycles::{friction_min, CycleMethod, CycleRecord, CycleRequest, Leg};
-use super::joined_flow::{JoinedFlow, Passage, PassageError};
+use super::joined_flow::{JoinedFlow, Passage, PassageError, State};
 use super::settle::SettledOrbit;
+use super::settle::{SettleError, SettleSettings};
+use super::simulate::{RegimeReached, Unsettled};
 use crate::error::{Error, NumericalError};
 use crate::log_model::LogBlock;
 use crate::params::{Param, Params};
@@ -612,4 +614,58 @@ fn follow(
             }
         }
     }
+}
+
+/// The regime the joined flow of `params` reaches from `start` (an
+/// inertial run whose sticks fell below `v_b`, where [`super::settle`]'s
+/// inertial integration cannot follow): the run continued by passages from
+/// section to section until two successive crossings agree to
+/// `settings.tol` (relative, at most `settings.max_periods` passages of at
+/// most `settings.max_time` each), then the cycle there located exactly
+/// ([`fixed_point`]), its period and `Delta_s` those of the fixed point.
+pub fn regime(params: &Params, start: State, settings: &SettleSettings) -> RegimeReached {
+    let flow = JoinedFlow::new(params, RTOL);
+    let failed = |time: f64, e: &dyn std::fmt::Display| {
+        RegimeReached::Unsettled(Unsettled::Settle(SettleError::Integration {
+            kappa: params.kappa,
+            time,
+            cause: format!("continuing by the joined flow: {e}"),
+        }))
+    };
+    let mut x = match flow.to_section(start, settings.max_time) {
+        Ok(x) => x,
+        Err(e) => return failed(0.0, &e),
+    };
+    let (mut time, mut difference, mut extents) = (0.0, f64::INFINITY, (0.0, 0.0));
+    for periods in 1..=settings.max_periods {
+        let p = match flow.passage(x, settings.max_time, false) {
+            Ok(p) => p,
+            Err(e) => return failed(time, &e),
+        };
+        time += p.period;
+        let extent = x[0] - p.s_min;
+        extents = (if periods == 1 { extent } else { extents.0 }, extent);
+        difference = ((p.end[0] - x[0]).abs() / extent.max(f64::MIN_POSITIVE))
+            .max((p.end[1] - x[1]).abs() / (1.0 + x[1].abs()));
+        x = p.end;
+        if difference <= settings.tol {
+            return match fixed_point(&flow, x, 100.0 * p.period) {
+                Ok(fp) => RegimeReached::Periodic {
+                    period: fp.passage.period,
+                    delta_s: fp.x[0] - fp.passage.s_min,
+                    slip: params.nu * fp.passage.period,
+                    on_cycle: [fp.x[0], params.nu, fp.x[1].exp()],
+                },
+                Err(e) => failed(time, &e),
+            };
+        }
+    }
+    RegimeReached::Unsettled(Unsettled::Settle(SettleError::NotSettled {
+        kappa: params.kappa,
+        time,
+        periods: settings.max_periods,
+        difference,
+        extent_first: extents.0,
+        extent_last: extents.1,
+    }))
 }

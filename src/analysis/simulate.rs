@@ -6,6 +6,7 @@
 //! produces it (so a caller can write rows as they come, show progress and
 //! stop early); [`simulate`] collects them into a [`Trajectory`].
 
+use crate::analysis::joined_flow::stick_threshold;
 use crate::analysis::orbit_inertia::{inertial_state, state_imbalance, InertiaWatch};
 use crate::analysis::settle::{settle, SettleError, SettleSettings, SettledOrbit};
 use crate::error::NumericalError;
@@ -113,6 +114,22 @@ pub struct RunEnd {
     pub stopped: bool,
     /// Where the run changed to the inertial model, if it did.
     pub switch: Option<SimulationSwitch>,
+    /// The sticks below `v_b` integrated quasi-statically.
+    pub sticks: DeepSticks,
+}
+
+/// The sticks of an inertial run below the velocity `v_b` where inertia
+/// shifts `ln v` by less than rounding, integrated quasi-statically from
+/// where the block came to rest to where its velocity rose through `v_b`
+/// again ([`super::joined_flow`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DeepSticks {
+    /// How many.
+    pub count: usize,
+    /// `ln v_b` of the last one, if any.
+    pub ln_v_b: Option<f64>,
+    /// `Some(ln v_b)` while the run is in one.
+    below: Option<f64>,
 }
 
 /// Integrates from the state `(s, v, theta)` through the protocol, recording
@@ -221,6 +238,7 @@ pub fn simulate_watched(
         return out.finish(t0, t_end, true);
     }
     let mut switch = None;
+    let mut sticks = DeepSticks::default();
     for seg in protocol {
         let t1 = t0 + seg.duration;
         let drive = Drive {
@@ -244,27 +262,48 @@ pub fn simulate_watched(
             p.nu = seg.nu;
             let pv = p.to_vec();
             let log = out.log;
-            let watching = watch.filter(|w| w.switch && log.kind == ModelKind::QuasiStatic);
+            let watching = watch.filter(|w| {
+                w.switch && log.kind == ModelKind::QuasiStatic && sticks.below.is_none()
+            });
             let mut hand_over = None;
-            let sol = Radau5::new(&log, &pv, settings.clone()).solve_with(
-                local,
-                &x,
-                seg.duration,
-                Output::Final,
-                |step| {
-                    let flow = out.step(step, &pv, drive, &mut sink);
-                    if let Some(w) = watching.filter(|_| flow.is_continue()) {
-                        let chi = state_imbalance(&log, step.x, &pv, w.m);
-                        if chi > w.threshold {
-                            hand_over = Some((step.t, chi, inertial_state(&log, step.x, &pv)));
-                            return ControlFlow::Break(());
-                        }
+            let mut solver = Radau5::new(&log, &pv, settings.clone());
+            // The inertial block comes to rest below v_b, or leaves such a
+            // stick: the joined flow ([`super::joined_flow`]).
+            let ln_v_b = (params.m > 0.0
+                && (log.kind == ModelKind::Inertial || sticks.below.is_some()))
+            .then(|| {
+                let mut at = p;
+                at.nu = seg.nu.max(params.nu);
+                stick_threshold(&at)
+            });
+            if let Some(ln_v_b) = ln_v_b {
+                let (log, p) = (log, pv.clone());
+                let (event, direction) = if log.kind == ModelKind::Inertial {
+                    (
+                        EventFunction::new(move |_, y: &[f64]| y[1] - ln_v_b),
+                        EventDirection::Falling,
+                    )
+                } else {
+                    (
+                        EventFunction::new(move |_, y: &[f64]| log.ln_velocity(y, &p) - ln_v_b),
+                        EventDirection::Rising,
+                    )
+                };
+                solver.add_event(event.direction(direction).terminal(true));
+            }
+            let sol = solver.solve_with(local, &x, seg.duration, Output::Final, |step| {
+                let flow = out.step(step, &pv, drive, &mut sink);
+                if let Some(w) = watching.filter(|_| flow.is_continue()) {
+                    let chi = state_imbalance(&log, step.x, &pv, w.m);
+                    if chi > w.threshold {
+                        hand_over = Some((step.t, chi, inertial_state(&log, step.x, &pv)));
+                        return ControlFlow::Break(());
                     }
-                    flow
-                },
-            );
-            match (hand_over, watching) {
-                (Some((t, chi, state)), Some(w)) => {
+                }
+                flow
+            });
+            match (hand_over, watching, &sol.outcome, ln_v_b) {
+                (Some((t, chi, state)), Some(w), _, _) => {
                     params.m = w.m;
                     out.log = LogBlock::new(ModelKind::Inertial, &params);
                     x = state.to_vec();
@@ -274,6 +313,23 @@ pub fn simulate_watched(
                         chi,
                     });
                 }
+                (_, _, Outcome::TerminalEvent { .. }, Some(ln_v_b)) => {
+                    let y = &sol.x_final;
+                    local = sol.t_final;
+                    if log.kind == ModelKind::Inertial {
+                        // At rest below v_b: the stick, from the same (s, theta).
+                        out.log = LogBlock::new(ModelKind::QuasiStatic, &params);
+                        x = vec![y[0], y[2]];
+                        sticks.count += 1;
+                        sticks.below = Some(ln_v_b);
+                    } else {
+                        // Leaves the stick at v_b: inertially from the manifold.
+                        out.log = LogBlock::new(ModelKind::Inertial, &params);
+                        x = vec![y[0], ln_v_b, y[1]];
+                        sticks.below = None;
+                    }
+                    sticks.ln_v_b = Some(ln_v_b);
+                }
                 _ => break (sol, log, pv),
             }
         };
@@ -282,9 +338,11 @@ pub fn simulate_watched(
         }
         match sol.outcome {
             Outcome::ObserverStop => {
-                return out
-                    .finish(t0 + sol.t_final, t_end, true)
-                    .map(|e| RunEnd { switch, ..e })
+                return out.finish(t0 + sol.t_final, t_end, true).map(|e| RunEnd {
+                    switch,
+                    sticks,
+                    ..e
+                })
             }
             Outcome::Failed(e) => {
                 // Failing at once from the initial state: say where it was.
@@ -316,7 +374,11 @@ pub fn simulate_watched(
         t0 = t1;
         x = sol.x_final;
     }
-    out.finish(t0, t_end, false).map(|e| RunEnd { switch, ..e })
+    out.finish(t0, t_end, false).map(|e| RunEnd {
+        switch,
+        sticks,
+        ..e
+    })
 }
 
 /// An integrator failure in this program's terms: where it stopped (time
@@ -504,6 +566,7 @@ impl Emitter<'_> {
                 t_end,
                 stopped,
                 switch: None,
+                sticks: DeepSticks::default(),
             }),
         }
     }

@@ -249,6 +249,9 @@ fn print_text(sim: &Simulation, units: TextUnits, files: &[PathBuf]) {
             sim.threshold
         );
     }
+    if let Some(line) = sim.sticks_text() {
+        println!("{line}");
+    }
     println!(
         "{} steps over {}{}",
         sim.steps,

@@ -8,8 +8,10 @@
 
 use super::{SceneSpec, Setup};
 use crate::analysis::decimate::{Envelope, ENVELOPE_MIN_CAP};
+use crate::analysis::joined_flow::State;
 use crate::analysis::model_choice::{choose_model, params_for, ModelChoice};
 use crate::analysis::orbit_inertia::InertiaWatch;
+use crate::analysis::return_map;
 use crate::analysis::settle::settle;
 use crate::analysis::settle::SettleError;
 use crate::analysis::simulate::Unsettled;
@@ -316,6 +318,21 @@ impl Plan {
         let stride = envelope.stride();
         let regime = match (&end, last, protocol.last()) {
             (Ok(e), Some(_), Some(seg)) if !e.stopped && seg.nu == 0.0 => Some(RegimeReached::Held),
+            // Sticks below v_b: the run continued by the joined flow.
+            (Ok(e), Some(at), Some(seg)) if !e.stopped && e.sticks.count > 0 => {
+                let mut params = params_for(ModelKind::Inertial, &setup.scene_params);
+                params.nu = seg.nu;
+                let (ln_v, phi) = (at.log10_v * std::f64::consts::LN_10, at.theta.ln());
+                let state = match at.model {
+                    ModelKind::QuasiStatic => State::Stuck([at.s, phi]),
+                    ModelKind::Inertial => State::Slipping([at.s, ln_v, phi]),
+                };
+                Some(return_map::regime(
+                    &params,
+                    state,
+                    &regime_settings(&params),
+                ))
+            }
             (Ok(e), Some(at), Some(seg)) if !e.stopped => Some(regime_with_inertia_judged(
                 at,
                 seg.nu,
@@ -571,6 +588,21 @@ impl Simulation {
         }
     }
 
+    /// The sticks below `v_b` the run integrated quasi-statically, in
+    /// words (text; JSON `quasi_static_sticks`), if there were any.
+    pub fn sticks_text(&self) -> Option<String> {
+        let sticks = self.end.as_ref().ok()?.sticks;
+        let ln_v_b = sticks.ln_v_b.filter(|_| sticks.count > 0)?;
+        Some(format!(
+            "{} stick(s) below v_b = 10^{:.1} V0 integrated quasi-statically (rows with model \
+             quasi-static): there inertia shifts ln v by less than rounding, and the block's \
+             stop onto its stick velocity, dozens of decades lower, is faster than the rounding \
+             of t (docs/cycles.md, \"Sticks below the resolution of f64\")",
+            sticks.count,
+            ln_v_b / std::f64::consts::LN_10
+        ))
+    }
+
     /// The run's JSON (`simulate --json`, Python's `to_dict()`): the
     /// scene, model and parameters, the protocol, steps and times in
     /// seconds, the switch to the inertial model, the regime reached with
@@ -627,6 +659,12 @@ impl Simulation {
                 "inertia_threshold": self.threshold,
             })),
             "regime": regime,
+            "quasi_static_sticks": self.end.as_ref().ok().map(|e| e.sticks).filter(|s| s.count > 0).map(|s| json!({
+                "count": s.count,
+                "v_b": s.ln_v_b.map(f64::exp),
+                "log10_v_b": s.ln_v_b.map(|l| l / std::f64::consts::LN_10),
+                "reason": self.sticks_text(),
+            })),
             "complete": stop.is_none(),
             "stop": stop,
         })
