@@ -410,6 +410,8 @@ fn csv_columns_carry_units() {
         "theta",
         "slip",
         "log10_v",
+        // log10 of the slowest slip velocity in units of V0 (cycles).
+        "log10_v_min",
         "model",
         "kappa",
         "nu",

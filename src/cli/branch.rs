@@ -20,7 +20,7 @@ pub struct BranchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// The continuation parameter: kappa or nu, or a control parameter in
-    /// its unit, K [N/m], V [um/s], M \[kg\], tau \[s\], eta [s/m], or m, A, B, mu2,
+    /// its unit, K (N/m), V (um/s), M (kg), tau (s), eta (s/m), or m, A, B, mu2,
     /// theta_c, mu_vv, mu_vphi, eta_d (the rows are in the dimensionless parameter it moves: K in
     /// kappa, V in nu, M in m, or in kappa when W = M g). With --from
     /// FILE.json --index N: default the file's.

@@ -107,9 +107,6 @@ pub struct Cycle {
     /// Slowest and fastest slip velocity [µm/s].
     pub v_min_um_per_s: f64,
     pub v_max_um_per_s: f64,
-    /// `log10` of the slowest slip velocity (units of `V0`): also where
-    /// `v_min` is below the range of `f64` (written 0 there).
-    pub log10_v_min: f64,
     /// The inertia `m` the cycle was computed with (0: quasi-static).
     pub m: f64,
     /// The least friction coefficient on the orbit; negative: outside the
@@ -136,6 +133,9 @@ pub struct Cycle {
     /// run writes has its own, the operating point's, the branch's, the
     /// requested ones' and the bifurcations', in the order written.
     pub label: usize,
+    /// `log10` of the slowest slip velocity (units of `V0`): also where
+    /// `v_min` is below the range of `f64` (written 0 there).
+    pub log10_v_min: f64,
     /// `[re, im]` of each Floquet multiplier, by decreasing modulus (JSON only).
     pub multipliers: Vec<[f64; 2]>,
     /// Index of the trivial multiplier among them (JSON only).
