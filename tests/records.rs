@@ -96,6 +96,7 @@ fn cycles_csv_json_and_text_agree() {
     let details = [
         "multipliers",
         "trivial_multiplier_index",
+        "method",
         "trivial_multiplier_error_reason",
         "error_estimate_reason",
         "stability_reason",
