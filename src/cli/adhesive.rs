@@ -145,8 +145,8 @@ fn print_text_hopf(r: &AdhesiveHopf) {
             r.steady_slope.unwrap_or(f64::NAN)
         ),
     }
-    if let Some(regime) = r.regime {
-        println!("the scene's K: {regime}");
+    if let Some(op) = &r.operating_point {
+        println!("{}", op.line());
     }
 }
 
@@ -516,6 +516,7 @@ pub fn cycles(
                 .last()
                 .map_or(f64::NAN, |c| u.stiffness_n_m(c.kappa))
         ))),
+        Some(why) if r.onset.is_none() => Err(Error::Partial(format!("no cycle branch: {why}"))),
         Some(why) => Err(Error::Partial(format!(
             "the cycle branch did not reach the scene's stiffness: {why}"
         ))),
@@ -558,17 +559,33 @@ fn cycles_row(
 fn print_cycles(r: &AdhesiveCycles) {
     print_setup(&r.setup);
     let u = r.setup.units;
-    let o = &r.onset;
-    println!(
-        "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
-        u.stiffness_n_m(o.kappa_c),
-        o.kappa_c,
-        o.onset.name()
-    );
-    println!(
-        "  {:>12} {:>12} {:>12} {:>13} {:>9}",
-        "K [N/m]", "period [s]", "drop [N]", "v_max [µm/s]", "stable"
-    );
+    match (&r.onset, &r.reason) {
+        (Some(o), _) => println!(
+            "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+            u.stiffness_n_m(o.kappa_c),
+            o.kappa_c,
+            o.onset.name()
+        ),
+        (None, Some(reason)) => println!("no cycles: {reason}"),
+        (None, None) => {}
+    }
+    for c in r.folds.iter().map(|f| &f.cycle) {
+        println!(
+            "fold of cycles (lpc) at K = {:.6e} N/m (kappa = {:.6e}): period {:.6e} s, force \
+             drop {:.6e} N; the subcritical onset's cycles coexist with stable steady sliding \
+             between K_c and this stiffness",
+            u.stiffness_n_m(c.kappa),
+            c.kappa,
+            u.time_s(c.period),
+            u.force_n(c.s_max - c.s_min)
+        );
+    }
+    if !r.cycles.is_empty() {
+        println!(
+            "  {:>12} {:>12} {:>12} {:>13} {:>9}",
+            "K [N/m]", "period [s]", "drop [N]", "v_max [µm/s]", "stable"
+        );
+    }
     for c in &r.cycles {
         println!(
             "  {:>12.5e} {:>12.5e} {:>12.5e} {:>13.5e} {:>9}",
@@ -597,6 +614,9 @@ fn print_cycles(r: &AdhesiveCycles) {
             u.time_s(c.period),
             u.force_n(c.force_drop)
         );
+    }
+    if let Some(op) = &r.operating_point {
+        println!("{}", op.line());
     }
 }
 
