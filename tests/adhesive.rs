@@ -717,7 +717,7 @@ fn no_spring_is_no_operating_point() {
         v["regime"]
             .as_str()
             .unwrap()
-            .starts_with("undecided (K = 0"),
+            .starts_with("undecided: K = 0"),
         "{}",
         v["regime"]
     );
@@ -923,13 +923,16 @@ fn diagram_judges_the_operating_point() {
 }
 
 /// `hopf` above a subcritical onset (the gel at 0.7 µm/s, below its Bautin
-/// point) does not promise steady sliding alone: cycles may coexist.
+/// point) does not promise steady sliding alone: cycles may coexist (as
+/// `diagram` says; `cycles` locates their fold).
 #[test]
 fn hopf_above_a_subcritical_onset_says_cycles_may_coexist() {
     let v = common::hopf_json(&["--scene", "gel", "--set", "V=0.7", "--set", "K=1e6"]);
     assert_eq!(v["critical"]["onset"], "subcritical", "{v}");
     let regime = v["regime"].as_str().unwrap();
-    assert!(regime.contains("possibly coexisting"), "{regime}");
+    assert!(regime.starts_with("undecided"), "{regime}");
+    assert!(regime.contains("subcritical onset"), "{regime}");
+    assert!(regime.contains("coexist"), "{regime}");
     let v = common::hopf_json(&["--scene", "gel", "--set", "K=1e6"]);
     assert_eq!(v["critical"]["onset"], "supercritical");
     assert_eq!(v["regime"], "steady sliding");

@@ -6,7 +6,7 @@
 use super::analysis::cycles::{self, AdhesiveCycle, CycleFold};
 use super::analysis::onset::{find_onset, AdhesiveOnset, OnsetOutcome};
 use super::analysis::simulate::{simulate as integrate, Run, Segment, SettledCycle};
-use super::analysis::steady::{self, DiagramPoint, NuHopf, SteadyPoint};
+use super::analysis::steady::{self, Bautin, DiagramPoint, NuHopf, SteadyPoint};
 use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
@@ -500,12 +500,26 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
     })
 }
 
+/// A Bautin point of the diagram with its physical values beside.
+#[derive(Clone, Debug, Serialize)]
+pub struct BautinRecord {
+    #[serde(flatten)]
+    pub point: Bautin,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+}
+
 /// The result of `diagram`: the critical stiffness across `V_range`.
 #[derive(Clone, Debug, Serialize)]
 pub struct AdhesiveDiagram {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
     pub points: Vec<OnsetRecord>,
+    /// Where the onset type changes between grid points (Bautin points),
+    /// located by bisection.
+    pub bautin_points: Vec<BautinRecord>,
     /// The steady branch at the scene's velocities (for the friction figure).
     pub steady: Vec<SteadyRecord>,
     /// The scene's own K and V against the diagram, and the verdict
@@ -646,9 +660,22 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
     }
     let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
     let u = setup.units;
+    let mut bautin_points = Vec::new();
+    for w in points.windows(2) {
+        if w[0].onset.is_some() && w[1].onset.is_some() && w[0].onset != w[1].onset {
+            let located =
+                with_model!(setup.model_kind, b => steady::bautin(b, &p, (&w[0], &w[1])))?;
+            bautin_points.extend(located.map(|point| BautinRecord {
+                v_um_per_s: u.velocity_um_s(point.nu),
+                k_n_per_m: u.stiffness_n_m(point.kappa_c),
+                point,
+            }));
+        }
+    }
     let operating_point = verdict(&setup)?.operating_point;
     Ok(AdhesiveDiagram {
         operating_point,
+        bautin_points,
         points: points
             .into_iter()
             .map(|point| OnsetRecord {

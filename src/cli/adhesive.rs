@@ -259,11 +259,22 @@ fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::Stabil
     use crate::plot::stability::{segments, OperatingMarker, StabilityFigure};
     let s = &r.setup;
     let u = &s.units;
-    let curve: Vec<(f64, f64, crate::analysis::hopf::Criticality)> = r
-        .points
-        .iter()
-        .filter_map(|p| Some((p.v_um_per_s, p.k_n_per_m?, p.point.onset?)))
-        .collect();
+    let (lo, hi) = s.scene_full.nu_range;
+    let x_range = (u.velocity_um_s(lo), u.velocity_um_s(hi));
+    // The curve with each located Bautin point closing the stretch of the
+    // type below it, so that the next stretch starts there.
+    let mut curve: Vec<(f64, f64, crate::analysis::hopf::Criticality)> = Vec::new();
+    for p in &r.points {
+        let (Some(k), Some(onset)) = (p.k_n_per_m, p.point.onset) else {
+            continue;
+        };
+        if let Some(b) = r.bautin_points.iter().find(|b| {
+            curve.last().is_some_and(|l| l.0 < b.v_um_per_s) && b.v_um_per_s < p.v_um_per_s
+        }) {
+            curve.push((b.v_um_per_s, b.k_n_per_m, b.point.below));
+        }
+        curve.push((p.v_um_per_s, k, onset));
+    }
     let reference = r
         .points
         .iter()
@@ -275,29 +286,33 @@ fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::Stabil
             (k > 0.0).then(|| (p.v_um_per_s, u.stiffness_n_m(k)))
         })
         .collect();
-    let markers = curve
-        .windows(2)
-        .filter(|w| w[0].2 != w[1].2)
-        .map(|w| {
+    let markers = r
+        .bautin_points
+        .iter()
+        .map(|b| {
             (
-                "Bautin (l1 = 0), between grid points".to_string(),
-                (w[0].0 * w[1].0).sqrt(),
-                (w[0].1 * w[1].1).sqrt(),
+                format!(
+                    "Bautin (l1 = 0): {} below, {} above",
+                    b.point.below.name(),
+                    b.point.above.name()
+                ),
+                b.v_um_per_s,
+                b.k_n_per_m,
             )
         })
         .collect();
-    let mut vlines: Vec<(String, f64)> =
-        [(s.v_max_um_s, "maximum V_max"), (s.v_c_um_s, "minimum V_c")]
-            .into_iter()
-            .filter_map(|(v, what)| Some((format!("K_c → 0: friction {what}"), v?)))
-            .collect();
-    if let Some(v) = s.inertia_crossing_um_s {
-        vlines.push((
-            format!("chi = {:.0e} (inertia threshold)", s.inertia_threshold),
-            v,
-        ));
-    }
-    let (lo, hi) = s.scene_full.nu_range;
+    // The vertical lines that fall inside the figure's velocity range.
+    let vlines: Vec<(String, f64)> = [(s.v_max_um_s, "maximum V_max"), (s.v_c_um_s, "minimum V_c")]
+        .into_iter()
+        .filter_map(|(v, what)| Some((format!("K_c → 0: friction {what}"), v?)))
+        .chain(s.inertia_crossing_um_s.map(|v| {
+            (
+                format!("chi = {:.0e} (inertia threshold)", s.inertia_threshold),
+                v,
+            )
+        }))
+        .filter(|(_, v)| x_range.0 <= *v && *v <= x_range.1)
+        .collect();
     StabilityFigure {
         title: format!(
             "Stability diagram, {} (adhesive, {} model)",
@@ -328,7 +343,7 @@ fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::Stabil
         lpc: Vec::new(),
         bistable: Vec::new(),
         unknown: Vec::new(),
-        x_range: (u.velocity_um_s(lo), u.velocity_um_s(hi)),
+        x_range,
         notes: Vec::new(),
         stable_above: true,
     }
@@ -377,6 +392,17 @@ pub fn diagram(
         }
     }
     if !as_json {
+        for b in &r.bautin_points {
+            println!(
+                "Bautin point (l1 = 0): V = {:.6e} µm/s (nu = {:.6e}), K_c = {:.6e} N/m: {} \
+                 below, {} above",
+                b.v_um_per_s,
+                b.point.nu,
+                b.k_n_per_m,
+                b.point.below.name(),
+                b.point.above.name()
+            );
+        }
         if let Some(op) = &r.operating_point {
             println!("{}", op.line());
         }
@@ -405,8 +431,25 @@ pub fn diagram(
         log_y: false,
         series,
     };
-    let mut files = crate::plot::stability::render(&stability, &with_suffix(&stem, "-stability"))
-        .map_err(plot_error)?;
+    // No empty frame: without an onset anywhere in the range there is no
+    // K_c to draw, and the text says so instead.
+    let mut files = if stability.segments.is_empty() {
+        let (lo, hi) = stability.x_range;
+        let note = format!(
+            "no stability figure: steady sliding is stable at every stiffness across V_range \
+             [{lo:.4e}, {hi:.4e}] µm/s (steady friction nowhere falls with V there), so there is \
+             no K_c to draw; the steady friction figure shows why"
+        );
+        if as_json {
+            eprintln!("note: {note}");
+        } else {
+            println!("{note}");
+        }
+        Vec::new()
+    } else {
+        crate::plot::stability::render(&stability, &with_suffix(&stem, "-stability"))
+            .map_err(plot_error)?
+    };
     files.extend(render(&steady, &with_suffix(&stem, "-steady-friction")).map_err(plot_error)?);
     finish(&stem, json(&r)?, files, as_json)
 }

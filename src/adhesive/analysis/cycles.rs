@@ -101,12 +101,17 @@ pub const STALLED: f64 = 1e-5;
 
 /// Why the branch ends at `next` after `last`: its stiffness stalled
 /// ([`STALLED`]) while the least slip velocity fell by more than the
-/// factor [`GRAZING`]: the orbit grazes `v = 0`, and below this stiffness
-/// the block would stop and be pushed back, outside the model. `None`
-/// while the branch moves.
+/// factor [`GRAZING`] on an orbit where the spring pushes the block back
+/// (`s_min < 0`, which the quasi-static block never has): the orbit grazes
+/// `v = 0` (there `du/dt = 0` needs `s = F(n, 0) = 0`, and `s` rises
+/// through 0 since `u < nu`), and below this stiffness the block would
+/// stop and be pushed back, outside the model. A branch that stalls in the
+/// stiffness alone is no graze: near a supercritical onset, or where the
+/// branch stands nearly upright, the amplitude grows at nearly fixed
+/// `kappa`. `None` while the branch moves.
 fn grazing(last: &AdhesiveCycle, next: &AdhesiveCycle) -> Option<String> {
     let stalled = (next.kappa - last.kappa).abs() <= STALLED * last.kappa;
-    (stalled && next.u_min < GRAZING * last.u_min).then(|| {
+    (stalled && next.u_min < GRAZING * last.u_min && next.s_min < 0.0).then(|| {
         format!(
             "the cycle grazes v = 0 at kappa = {:.10e}: the branch stalls in the stiffness \
              while the least slip velocity falls ({:.3e} to {:.3e} V_s; the spring force \
