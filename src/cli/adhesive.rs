@@ -41,11 +41,7 @@ pub fn adhesive_setup(
         .into()
     };
     if let Some((option, _)) = unused.iter().find(|(_, given)| *given) {
-        return Err(refuse(
-            option,
-            "the adhesive block runs with its scene's values (see docs/model.md, \"Soft \
-             adhesive contacts\")",
-        ));
+        return Err(refuse(option, why_unused(option)));
     }
     let scene = scene::load_with(args.scene_name(), &args.set)?;
     for w in &scene.warnings {
@@ -57,6 +53,27 @@ pub fn adhesive_setup(
         judged,
         args.model.map(ModelKind::from),
     )?))
+}
+
+/// Why an option of the rate-and-state commands has no meaning on an
+/// adhesive scene.
+fn why_unused(option: &str) -> &'static str {
+    match option {
+        "--units" => {
+            "the adhesive text gives every value in the experimenter's units (N, N/m, µm/s, s) \
+             with the dimensionless one beside it, and the JSON carries both: there is no \
+             separate dimensionless text; drop --units"
+        }
+        "--max-steps" => {
+            "the adhesive branch and diagram sample a grid of 20 velocities per decade over \
+             V_range (steady sliding is explicit, eq. D2, and K_c is located at each velocity), \
+             with no continuation steps to limit; narrow V_range instead"
+        }
+        _ => {
+            "the adhesive block runs with its scene's values (see docs/model.md, \"Soft \
+             adhesive contacts\")"
+        }
+    }
 }
 
 fn json<T: serde::Serialize>(value: &T) -> Result<String, Error> {
@@ -150,11 +167,35 @@ fn print_text_hopf(r: &AdhesiveHopf) {
     }
 }
 
-/// `branch` on an adhesive scene.
-pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
+/// `branch` on an adhesive scene: text, `--json`, or `--csv` (a `# scene`
+/// comment line, then a row per velocity in physical units and
+/// dimensionless; the Hopf points as `# hopf` comment lines).
+pub fn branch(setup: AdhesiveSetup, as_json: bool, as_csv: bool) -> Result<(), Error> {
     let r = jobs::branch(setup)?;
     if as_json {
         println!("{}", json(&r)?);
+        return Ok(());
+    }
+    if as_csv {
+        println!("# scene {} (law = adhesive, {} model)", r.setup.scene, r.setup.model);
+        println!("V_um_per_s,steady_force_N,n,re_lambda,stable,nu,s,slope");
+        for p in &r.points {
+            let pt = &p.point;
+            println!(
+                "{:e},{:e},{:e},{:e},{},{:e},{:e},{:e}",
+                p.v_um_per_s,
+                p.steady_force_n,
+                pt.n,
+                pt.eigenvalues[0][0],
+                pt.stable,
+                pt.nu,
+                pt.s,
+                pt.slope
+            );
+        }
+        for (h, v) in r.hopf_points.iter().zip(&r.hopf_points_um_s) {
+            println!("# hopf V_um_per_s={v:e} nu={:e} omega={:e}", h.nu, h.omega);
+        }
         return Ok(());
     }
     print_setup(&r.setup);
@@ -493,6 +534,21 @@ pub fn cycles(
                 .map(|c| (u.stiffness_n_m(c.kappa), f(c)))
                 .collect()
         };
+    let mut series = vec![
+        line(by_k(&|c| u.time_s(c.period)), "period [s]", BLUE, false),
+        line(
+            by_k(&|c| 1e3 * u.force_n(c.s_max - c.s_min)),
+            "force drop [mN]",
+            RED,
+            true,
+        ),
+    ];
+    for f in &r.folds {
+        let k = u.stiffness_n_m(f.cycle.kappa);
+        let label = format!("fold of cycles (lpc), K = {k:.4e} N/m");
+        let marker = vertical_marker(&series, k, &label, GREY);
+        series.push(marker);
+    }
     let period = LineFigure {
         title: format!(
             "Stick-slip cycles, {}: period and force drop",
@@ -502,15 +558,7 @@ pub fn cycles(
         y_label: "period [s]; force drop [N] x 1000".into(),
         log_x: true,
         log_y: true,
-        series: vec![
-            line(by_k(&|c| u.time_s(c.period)), "period [s]", BLUE, false),
-            line(
-                by_k(&|c| 1e3 * u.force_n(c.s_max - c.s_min)),
-                "force drop [mN]",
-                RED,
-                true,
-            ),
-        ],
+        series,
     };
     let picks: Vec<&crate::adhesive::analysis::cycles::AdhesiveCycle> = {
         let n = r.cycles.len();

@@ -74,11 +74,13 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         ),
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
+        ("--max-steps", args.max_steps != 2000),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::OverRange)?
     {
-        return super::adhesive::branch(setup, args.json);
+        return super::adhesive::branch(setup, args.json, args.csv);
     }
     let param = args
         .param

@@ -189,6 +189,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ("--search", args.search.is_some()),
         ("--from", args.from.is_some()),
         ("--collocation", args.collocation.is_some()),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::AtVelocity)?

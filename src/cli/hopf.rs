@@ -68,6 +68,7 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
         ("--param", args.param.is_some()),
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::AtVelocity)?

@@ -99,7 +99,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         Some(list) => super::adhesive::Judged::AtPulling(list.iter().map(|s| s.0).collect()),
         None => super::adhesive::Judged::AtVelocity,
     };
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &[], judged)? {
+    let unused = [("--units", args.units != TextUnits::Physical)];
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused, judged)? {
         let numbers = (args.perturb, args.rtol, args.max_steps);
         return super::adhesive::simulate(
             setup,

@@ -88,6 +88,8 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
     let unused = [
         ("--x/--y", args.axes.parse()?.is_some()),
         ("--nu-range", args.nu_range.is_some()),
+        ("--max-steps", args.max_steps != DEFAULT_CURVE_STEPS),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::OverRange)?
