@@ -335,3 +335,36 @@ fn the_model_is_the_scripts_and_the_engines() {
     let model = values.critical_stiffness_n_m(mass, 50.0);
     assert!((model / located - 1.0).abs() < 1e-9, "{model} vs {located}");
 }
+
+/// `fit --name X` names the fitted scene as it names the run's other
+/// files: `<out>/X-fitted.toml` with `name = "X"`, which the next command
+/// reads back (its `scene` is X); no `fitted.toml` beside it.
+#[test]
+fn fit_name_names_the_fitted_scene() {
+    let dir = temp_dir("adh-fit-name");
+    let mut args = vec![
+        "fit",
+        "--scene",
+        "gel",
+        "--name",
+        "lab 7",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    for d in EXACT {
+        args.extend(["--data", d]);
+    }
+    let (status, _, err) = stickslip(&args);
+    assert_eq!(status, 0, "{err}");
+    assert!(!dir.join("fitted.toml").exists());
+    let fitted = dir.join("lab 7-fitted.toml");
+    let text = std::fs::read_to_string(&fitted).unwrap();
+    assert_eq!(
+        text.lines().filter(|l| l.starts_with("name = ")).count(),
+        1,
+        "{text}"
+    );
+    let hopf = common::hopf_json(&["--scene", fitted.to_str().unwrap()]);
+    assert_eq!(hopf["scene"], "lab 7", "{hopf}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

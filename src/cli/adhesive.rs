@@ -177,7 +177,10 @@ pub fn branch(setup: AdhesiveSetup, as_json: bool, as_csv: bool) -> Result<(), E
         return Ok(());
     }
     if as_csv {
-        println!("# scene {} (law = adhesive, {} model)", r.setup.scene, r.setup.model);
+        println!(
+            "# scene {} (law = adhesive, {} model)",
+            r.setup.scene, r.setup.model
+        );
         println!("V_um_per_s,steady_force_N,n,re_lambda,stable,nu,s,slope");
         for p in &r.points {
             let pt = &p.point;
