@@ -57,6 +57,9 @@ pub struct AdhesiveSetup {
     pub model_reason: String,
     #[serde(skip)]
     pub model_kind: ModelKind,
+    /// Whether `--model` forced it.
+    #[serde(skip)]
+    pub forced: bool,
     /// `chi = m lambda_n / F_u` at steady sliding at the scene's velocity
     /// ([`block::inertia_ratio`]).
     pub inertia_ratio: f64,
@@ -328,6 +331,7 @@ impl AdhesiveSetup {
             model: kind.name(),
             model_reason: reason,
             model_kind: kind,
+            forced: forced.is_some(),
             inertia_ratio: chi,
             inertia_threshold,
             inertia_ratio_max: chi_max,
@@ -711,6 +715,11 @@ pub struct AdhesiveCycles {
     pub operating_point: Option<OperatingPoint>,
     /// Why there is no branch (`null` with one).
     pub reason: Option<String>,
+    /// On the quasi-static orbit at the branch's end, the largest shift of
+    /// `ln v` the dropped inertia force makes (`null` where not judged: a
+    /// block inertial at `V`, forced, or without mass); at or above the
+    /// inertia threshold the branch runs inertial (`model_reason`).
+    pub orbit_inertia_ratio: Option<f64>,
     pub cycles: Vec<AdhesiveCycle>,
     /// The cycle at the scene's stiffness by collocation.
     pub at_scene: Option<AdhesiveCycle>,
@@ -735,30 +744,38 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
 /// `false` stops the branch there (a stop signal: no simulation follows,
 /// and the result is partial).
 pub fn cycles_watched(
-    setup: AdhesiveSetup,
+    mut setup: AdhesiveSetup,
     limits: (usize, usize),
     watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
 ) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
-    let kind = setup.model_kind;
-    let Verdict {
-        outcome,
-        operating_point: judged,
-    } = verdict(&setup)?;
-    let mut operating_point = judged;
-    let onset = match outcome {
-        OnsetOutcome::Found(onset) => onset,
+    let mut judged = verdict(&setup)?;
+    let kappa_c = match &judged.outcome {
+        OnsetOutcome::Found(onset) => onset.kappa_c,
         OnsetOutcome::StableForAllStiffness { steady_slope } => {
-            return without_onset(setup, operating_point, steady_slope)
+            let slope = *steady_slope;
+            return without_onset(setup, judged.operating_point, slope);
         }
     };
-    // Down to the scene's stiffness where it has one below the onset (a
-    // spring, K > 0), else to half the critical stiffness.
-    let target = if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < onset.kappa_c {
-        p.kappa
-    } else {
-        0.5 * onset.kappa_c
+    let end = target_stiffness(&setup, kappa_c);
+    let orbit_inertia = judge_on_orbit(&mut setup, end);
+    if setup.model_kind == ModelKind::Inertial && orbit_inertia.is_some() {
+        judged = verdict(&setup)?;
+    }
+    let Verdict {
+        outcome: OnsetOutcome::Found(onset),
+        mut operating_point,
+    } = judged
+    else {
+        return Err(NumericalError::Analysis(
+            "the inertial block has no onset where the quasi-static one has (the factor 1 + chi \
+             keeps kappa_c's sign): rerun with --model quasi-static"
+                .into(),
+        )
+        .into());
     };
+    let kind = setup.model_kind;
+    let target = target_stiffness(&setup, onset.kappa_c);
     let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits, watch))?;
     let mut q = p;
     q.kappa = target;
@@ -769,7 +786,13 @@ pub fn cycles_watched(
         let start = x[x.len() - 1] * 0.99;
         match with_model!(kind, b => settle(b, &q, start, 30)) {
             (SettledRegime::Periodic, cycle, _) => cycle,
-            (_, _, Some(why)) => return Err(NumericalError::Analysis(why).into()),
+            (
+                _,
+                _,
+                Run {
+                    stop: Some(why), ..
+                },
+            ) => return Err(NumericalError::Analysis(why).into()),
             _ => None,
         }
     };
@@ -792,6 +815,7 @@ pub fn cycles_watched(
         onset: Some(onset),
         operating_point,
         reason: None,
+        orbit_inertia_ratio: orbit_inertia,
         complete: run.stop.is_none(),
         stop: run.stop,
         interrupted: run.interrupted,
@@ -826,7 +850,8 @@ fn without_onset(
     );
     let (simulated, reason, complete) = match operating_point.as_mut() {
         Some(op) if p.kappa > 0.0 => {
-            let (regime, cycle, stop) = with_model!(setup.model_kind, b => settle(b, &p, 1.0, 30));
+            let (regime, cycle, run) = with_model!(setup.model_kind, b => settle(b, &p, 1.0, 30));
+            let stop = run.stop;
             let at = format!(
                 "a simulation at K = {:.6e} N/m from a stick (n = 1) over 30 loading times",
                 u.stiffness_n_m(p.kappa)
@@ -885,6 +910,7 @@ fn without_onset(
         status: "stable_for_all_stiffness",
         onset: None,
         operating_point,
+        orbit_inertia_ratio: None,
         stop: (!complete).then(|| reason.clone()),
         reason: Some(reason),
         complete,
@@ -899,14 +925,14 @@ fn without_onset(
 
 /// The block at `p` simulated over `loadings` loading times `F_ss / (kappa
 /// nu)` from steady sliding with the bond fraction set to `bonds`: what it
-/// settled on ([`settled_regime`]), its settled cycle, and why the run
-/// ended early (`None` when it ran to the end).
+/// settled on ([`settled_regime`]), its settled cycle, and the run (its
+/// `stop` says why it ended early).
 fn settle<B: block::AdhesiveModel>(
     model: B,
     p: &AdhesiveParams,
     bonds: f64,
     loadings: usize,
-) -> (SettledRegime, Option<SettledCycle>, Option<String>) {
+) -> (SettledRegime, Option<SettledCycle>, Run) {
     let mut x = model.steady(p);
     let last = x.len() - 1;
     x[last] = bonds;
@@ -915,7 +941,100 @@ fn settle<B: block::AdhesiveModel>(
     let rtol = 1e-8;
     let run = integrate(model, p, &x, &protocol, (rtol, 1_000_000), &|| false);
     let (regime, cycle) = settled_regime(&run, &protocol, rtol);
-    (regime, cycle, run.stop)
+    (regime, cycle, run)
+}
+
+/// The largest [`block::state_imbalance`] over the quasi-static `run` at
+/// `p` through `protocol`, each step at its segment's pulling velocity.
+fn run_imbalance(p: &AdhesiveParams, run: &Run, protocol: &[Segment]) -> f64 {
+    let mut chi = 0.0f64;
+    for (k, segment) in protocol.iter().enumerate() {
+        let from = run.segment_starts.get(k).copied().unwrap_or(run.t.len());
+        let to = run
+            .segment_starts
+            .get(k + 1)
+            .copied()
+            .unwrap_or(run.t.len());
+        let mut q = *p;
+        q.nu = segment.nu;
+        for i in from..to.max(from) {
+            chi = chi.max(block::state_imbalance(&q, run.u[i], run.n[i]));
+        }
+    }
+    chi
+}
+
+/// The largest [`block::state_imbalance`] over the second half of the
+/// quasi-static `run` at `p` (its settled orbit).
+fn orbit_imbalance(p: &AdhesiveParams, run: &Run) -> f64 {
+    let half = run.t.len() / 2;
+    run.u[half..]
+        .iter()
+        .zip(&run.n[half..])
+        .map(|(u, n)| block::state_imbalance(p, *u, *n))
+        .fold(0.0, f64::max)
+}
+
+/// The stiffness the branch is traced down to: the scene's, where it has
+/// a spring below the onset `kappa_c`, else half of `kappa_c`.
+fn target_stiffness(setup: &AdhesiveSetup, kappa_c: f64) -> f64 {
+    let p = setup.params;
+    if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < kappa_c {
+        p.kappa
+    } else {
+        0.5 * kappa_c
+    }
+}
+
+/// The model judged on the orbit too, as the rate-and-state `cycles`
+/// judges its orbits ([`crate::analysis::orbit_inertia`]): a quasi-static
+/// block (chosen by `chi` at `V`, with a mass, not forced) is simulated at
+/// the branch's end, the stiffness `kappa`, where its cycle is largest,
+/// and judged there ([`decide_on_orbit`]). Returns the largest shift of
+/// `ln u` on that orbit (`None` where not judged).
+fn judge_on_orbit(setup: &mut AdhesiveSetup, kappa: f64) -> Option<f64> {
+    let p = setup.params;
+    if !orbit_judged(setup) {
+        return None;
+    }
+    let mut q = p;
+    q.kappa = kappa;
+    let start = block::steady_bonds(q.nu, q.r) * 0.99;
+    let (_, _, run) = settle(block::AdhesiveBlock, &q, start, 30);
+    let chi = orbit_imbalance(&q, &run);
+    let at = format!("at K = {:.6e} N/m", setup.units.stiffness_n_m(kappa));
+    decide_on_orbit(setup, chi, &at);
+    Some(chi)
+}
+
+/// Whether the setup's model is judged on an orbit: quasi-static by `chi`
+/// at the velocities judged, with a mass, not forced by `--model`.
+fn orbit_judged(setup: &AdhesiveSetup) -> bool {
+    setup.model_kind == ModelKind::QuasiStatic && !setup.forced && setup.params.m > 0.0
+}
+
+/// Turns the setup inertial where the dropped inertia force shifts `ln u`
+/// on the quasi-static orbit `at` by `chi` ([`block::state_imbalance`]),
+/// at least the inertia threshold, saying why; notes the check where it
+/// is below.
+fn decide_on_orbit(setup: &mut AdhesiveSetup, chi: f64, at: &str) {
+    let threshold = setup.inertia_threshold;
+    if chi >= threshold {
+        setup.model_kind = ModelKind::Inertial;
+        setup.model = ModelKind::Inertial.name();
+        setup.model_reason = format!(
+            "inertial: on the quasi-static orbit {at} the dropped inertia force shifts ln v by up \
+             to m |du/dt| / (u F_u) = {chi:.3e}, not below the inertia threshold {threshold:e}, \
+             so the block keeps its inertia (at V alone: {})",
+            setup.model_reason
+        );
+    } else {
+        setup.model_reason = format!(
+            "{} (on the quasi-static orbit {at} the dropped inertia force shifts ln v by at most \
+             {chi:.3e}, below the threshold too)",
+            setup.model_reason
+        );
+    }
 }
 
 /// One segment of a protocol: its velocity `nu` and duration (in
@@ -954,6 +1073,11 @@ pub struct AdhesiveSimulation {
     pub settled_period_s: Option<f64>,
     #[serde(rename = "settled_force_drop_N")]
     pub settled_force_drop_n: Option<f64>,
+    /// The largest shift of `ln v` the dropped inertia force makes on the
+    /// quasi-static run (`null` where not judged: inertial at the pulling
+    /// velocities, forced, or without mass); at or above the inertia
+    /// threshold the run is made again with the block's inertia.
+    pub orbit_inertia_ratio: Option<f64>,
     #[serde(skip)]
     pub run: Run,
     pub complete: bool,
@@ -1080,7 +1204,28 @@ pub fn simulate_watched(
         )
         .into());
     }
-    let run = with_model!(kind, b => integrate(b, &p, &x, &protocol, (rtol, max_steps), stop));
+    let mut run = with_model!(kind, b => integrate(b, &p, &x, &protocol, (rtol, max_steps), stop));
+    // The model judged on the whole run too ([`decide_on_orbit`]): a
+    // quasi-static run the dropped inertia would change is run again with it.
+    let mut setup = setup;
+    let orbit_inertia = (orbit_judged(&setup) && !run.interrupted).then(|| {
+        let chi = run_imbalance(&p, &run, &protocol);
+        decide_on_orbit(&mut setup, chi, "of this run");
+        chi
+    });
+    if setup.model_kind != kind {
+        let mut x = block::AdhesiveModel::steady(&block::InertialAdhesiveBlock, &start);
+        let last = x.len() - 1;
+        x[last] *= 1.0 + perturb;
+        run = integrate(
+            block::InertialAdhesiveBlock,
+            &p,
+            &x,
+            &protocol,
+            (rtol, max_steps),
+            stop,
+        );
+    }
     if run.t.is_empty() {
         return Err(NumericalError::Analysis(
             run.stop
@@ -1131,6 +1276,7 @@ pub fn simulate_watched(
         settled,
         setup,
         protocol,
+        orbit_inertia_ratio: orbit_inertia,
         complete: run.stop.is_none(),
         stop: run.stop.clone(),
         run,

@@ -110,7 +110,8 @@ pub struct SceneArgs {
     pub model: Option<ModelArg>,
     /// Inertia is dropped (quasi-static model) when m nu^2 / mu_v is below this (adhesive
     /// scenes: chi = m lambda_n / F_u, at V, at a protocol's pulling velocities, or at every
-    /// velocity of V_range for branch and diagram).
+    /// velocity of V_range for branch and diagram; cycles also on the quasi-static orbit,
+    /// m |du/dt| / (u F_u)).
     #[arg(long, default_value_t = DEFAULT_INERTIA_THRESHOLD)]
     pub inertia_threshold: f64,
 }

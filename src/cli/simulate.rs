@@ -28,10 +28,11 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Driving protocol as V1:T1,V2:T2,... (velocity in um/s, duration in s); V = 0 stops the drive.
-    /// Default: the scene's velocity for 40 D0/V.
+    /// Default: the scene's velocity for 40 D0/V (adhesive scenes: for 30 loading times F_ss/(K V)).
     #[arg(long, value_name = "V:T,...", allow_hyphen_values = true)]
     pub protocol: Option<String>,
-    /// Relative perturbation of the initial age away from steady sliding.
+    /// Relative perturbation of the initial age away from steady sliding (adhesive scenes: of the
+    /// bond fraction n, kept in (0, 1]).
     #[arg(long, default_value_t = 1e-2)]
     pub perturb: f64,
     /// Integrator relative tolerance.
