@@ -346,3 +346,141 @@ fn cycles_judge_the_model_on_the_orbit() {
     assert!(forced["orbit_inertia_ratio"].is_null());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The gel scene's file text with `V_range` replaced.
+fn gel_with_range(lo: f64, hi: f64) -> String {
+    format!(
+        "law = \"adhesive\"
+name = \"gelr\"
+F_a = 0.05
+V_s = 0.025
+tau_out = 1.0
+tau_on = 0.1
+F_v = 5e-4
+alpha = 0.6
+M = 1e-3
+K = 200.0
+V = 20.0
+V_range = [{lo}, {hi}]
+"
+    )
+}
+
+/// The stability figure: the subcritical stretch below the gel's Bautin
+/// point ends at the located point, where `hopf` (another method: the
+/// steady branch continued in kappa) finds the onset subcritical 1 % below
+/// and supercritical 1 % above; the friction extrema's vertical lines only
+/// inside the figure's range; no figure at all without an onset in the
+/// range, the text saying why.
+#[test]
+fn the_stability_figure_draws_what_is_there() {
+    let dir = temp_dir("adhesive-stability-figure");
+    let out = dir.to_str().unwrap();
+    let (status, v, err) = json_of(&["diagram", "--scene", "gel", "--json", "--out", out]);
+    assert_eq!(status, 0, "{err}");
+    let bautin = v["bautin_points"].as_array().unwrap();
+    assert_eq!(bautin.len(), 1, "{v}");
+    let b = &bautin[0];
+    assert_eq!(b["below"], "subcritical");
+    assert_eq!(b["above"], "supercritical");
+    let v_b = field(b, "V_um_per_s");
+    assert!((0.708..0.794).contains(&v_b), "{v_b}");
+    for (factor, onset) in [(0.99, "subcritical"), (1.01, "supercritical")] {
+        let h = common::hopf_json(&[
+            "--scene",
+            "gel",
+            "--model",
+            v["model"].as_str().unwrap(),
+            "--set",
+            &format!("V={}", factor * v_b),
+        ]);
+        assert_eq!(h["critical"]["onset"], onset, "{factor}: {h}");
+    }
+    let svg = std::fs::read_to_string(dir.join("gel-diagram-stability.svg")).unwrap();
+    assert!(svg.contains("friction maximum V_max") && svg.contains("friction minimum V_c"));
+
+    let path = dir.join("gelr.toml");
+    std::fs::write(&path, gel_with_range(2.0, 50.0)).unwrap();
+    let (status, _, err) = stickslip(&["diagram", "--scene", path.to_str().unwrap(), "--out", out]);
+    assert_eq!(status, 0, "{err}");
+    let svg = std::fs::read_to_string(dir.join("gelr-diagram-stability.svg")).unwrap();
+    assert!(
+        !svg.contains("V_max") && !svg.contains("V_c"),
+        "lines outside 2..50 µm/s"
+    );
+
+    let (status, text, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "gel",
+        "--set",
+        "tau_on=20",
+        "--out",
+        out,
+        "--name",
+        "slow",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        text.contains("no stability figure: steady sliding is stable"),
+        "{text}"
+    );
+    assert!(!dir.join("slow-diagram-stability.png").exists());
+    assert!(dir.join("slow-diagram-steady-friction.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Options of the rate-and-state commands that mean nothing on an
+/// adhesive scene are refused, exit 2, naming the option and why;
+/// `branch --csv` is honoured, its rows the JSON's points.
+#[test]
+fn adhesive_options_are_honoured_or_refused_with_a_reason() {
+    for (args, option, why) in [
+        (
+            &["branch", "--param", "V", "--max-steps", "10"][..],
+            "--max-steps",
+            "no continuation steps",
+        ),
+        (
+            &["diagram", "--max-steps", "10"][..],
+            "--max-steps",
+            "no continuation steps",
+        ),
+        (
+            &["hopf", "--units", "dimensionless"][..],
+            "--units",
+            "dimensionless one beside",
+        ),
+        (
+            &["cycles", "--units", "dimensionless"][..],
+            "--units",
+            "dimensionless one beside",
+        ),
+        (
+            &["simulate", "--units", "dimensionless"][..],
+            "--units",
+            "dimensionless one beside",
+        ),
+    ] {
+        let (status, _, err) = stickslip(&[args, &["--scene", "gel"]].concat());
+        assert_eq!(status, 2, "{args:?}: {err}");
+        assert!(err.contains(option) && err.contains(why), "{args:?}: {err}");
+    }
+    let (status, csv, err) = stickslip(&["branch", "--scene", "gel", "--param", "V", "--csv"]);
+    assert_eq!(status, 0, "{err}");
+    let (status, v, err) = json_of(&["branch", "--scene", "gel", "--param", "V", "--json"]);
+    assert_eq!(status, 0, "{err}");
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('V'))
+        .map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect())
+        .collect();
+    let points = v["points"].as_array().unwrap();
+    assert_eq!(rows.len(), points.len());
+    for (row, p) in rows.iter().zip(points) {
+        assert_eq!(row[0], field(p, "V_um_per_s"));
+        assert_eq!(row[1], field(p, "steady_force_N"));
+    }
+    let hopf_lines = csv.lines().filter(|l| l.starts_with("# hopf")).count();
+    assert_eq!(hopf_lines, v["hopf_points"].as_array().unwrap().len());
+}

@@ -57,6 +57,7 @@ pub struct SimulateArgs {
     pub every: usize,
     /// Units of the text lines: physical (times in s, velocities in µm/s)
     /// or dimensionless (t in D0/V0, nu). The CSV carries both times.
+    /// Adhesive scenes: refused (their CSV carries both, t in tau_out).
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
     /// Print one JSON object instead of text: the run's facts (steps,
