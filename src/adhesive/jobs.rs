@@ -546,14 +546,6 @@ pub struct Verdict {
 }
 
 impl Verdict {
-    /// The onset, when there is one.
-    pub fn onset(&self) -> Option<&AdhesiveOnset> {
-        match &self.outcome {
-            OnsetOutcome::Found(onset) => Some(onset),
-            OnsetOutcome::StableForAllStiffness { .. } => None,
-        }
-    }
-
     /// The regime in `hopf`'s words: `stick-slip`, `steady sliding`,
     /// `bistable`, `undecided: <why>`; `None` without `K`.
     pub fn regime_words(&self) -> Option<String> {
