@@ -289,6 +289,27 @@ pub fn velocity_of(p: &AdhesiveParams, x: &[f64]) -> f64 {
     slip_velocity(x[0], x[1], p.f_v, p.alpha).unwrap_or(f64::INFINITY)
 }
 
+/// The quasi-static reduction's error at a state of the quasi-static
+/// block with slip velocity `u` and bond fraction `n`: restoring the
+/// dropped inertia force `m du/dt` shifts the balance `s = F(n, u)` by it,
+/// which the force's slope in `ln u` at fixed bonds absorbs with a change
+/// of `ln u` by
+///
+/// ```text
+/// chi = m |du/dt| / (u F_u),    F_u du/dt = kappa (nu - u) - g(1/u) dn/dt
+/// ```
+///
+/// (the balance differentiated along the flow, `g = dF/dn`, `u F_u = n (1
+/// - z g(z)) + f_v (1 - alpha) u^(1 - alpha)`); 0 at steady sliding. Its
+/// largest over an orbit is the adhesive block's counterpart of the
+/// rate-and-state `orbit_inertia::state_imbalance`.
+pub fn state_imbalance(p: &AdhesiveParams, u: f64, n: f64) -> f64 {
+    let beta = 1.0 - p.alpha;
+    let slope = n * one_minus_z_scaled_e1(u.recip()) + p.f_v * beta * (beta * u.ln()).exp();
+    let du_dt = (p.kappa * (p.nu - u) - scaled_e1(u.recip()) * bond_rate(u, n, p.r)) * u / slope;
+    p.m * du_dt.abs() / slope
+}
+
 /// The slope of the force at fixed bonds, `F_u = dF/du`, and the bonds'
 /// relaxation rate `lambda_n = 1/r + 1/T` at steady sliding at `u`.
 fn steady_slopes<D: Scalar>(u: D, law: &SteadyLaw<D>) -> (D, D) {

@@ -417,11 +417,14 @@ pub fn run(
             Some(e) if name == Name::Alpha => {
                 format!("its standard error from these data, {e:.2}, spans its whole range; ")
             }
-            Some(e) => format!(
+            Some(e) if e.exp().is_finite() => format!(
                 "these data give it only within a factor {:.3e} (standard error {e:.2} in its \
                  logarithm); ",
                 e.exp()
             ),
+            Some(e) => {
+                format!("these data do not bound it (standard error {e:.3e} in its logarithm); ")
+            }
             None if name == Name::Alpha && with.contains(&Name::Fv.key()) => {
                 "alpha shapes the viscous force F_v (V/V_s)^(1 - alpha) alone, whose size these \
                  data do not give; "

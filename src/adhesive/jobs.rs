@@ -3,14 +3,16 @@
 //! a result out whose serde form is the command's JSON, in the
 //! experimenter's units with the dimensionless values beside.
 
-use super::analysis::cycles::{self, AdhesiveCycle};
+use super::analysis::cycles::{self, AdhesiveCycle, CycleFold};
 use super::analysis::onset::{find_onset, AdhesiveOnset, OnsetOutcome};
 use super::analysis::simulate::{simulate as integrate, Run, Segment, SettledCycle};
-use super::analysis::steady::{self, DiagramPoint, NuHopf, SteadyPoint};
+use super::analysis::steady::{self, Bautin, DiagramPoint, NuHopf, SteadyPoint};
 use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
-use crate::analysis::operating_point::{judge, judge_without_onset, Regime, StabilityAt};
+use crate::analysis::operating_point::{
+    judge, judge_without_onset, FoldAt, Regime, StabilityAt, TOLERANCE,
+};
 use crate::error::{Error, InputError, NumericalError};
 use crate::jobs::diagram::OperatingPoint;
 use crate::model::ModelKind;
@@ -55,6 +57,9 @@ pub struct AdhesiveSetup {
     pub model_reason: String,
     #[serde(skip)]
     pub model_kind: ModelKind,
+    /// Whether `--model` forced it.
+    #[serde(skip)]
+    pub forced: bool,
     /// `chi = m lambda_n / F_u` at steady sliding at the scene's velocity
     /// ([`block::inertia_ratio`]).
     pub inertia_ratio: f64,
@@ -326,6 +331,7 @@ impl AdhesiveSetup {
             model: kind.name(),
             model_reason: reason,
             model_kind: kind,
+            forced: forced.is_some(),
             inertia_ratio: chi,
             inertia_threshold,
             inertia_ratio_max: chi_max,
@@ -368,10 +374,12 @@ pub struct AdhesiveHopf {
     #[serde(rename = "steady_force_N")]
     pub steady_force_n: f64,
     pub steady_bonds: f64,
-    /// The scene's stiffness against the onset: `stick-slip`, `steady
-    /// sliding`, or above a subcritical onset `steady sliding, stick-slip
-    /// possibly coexisting ...` (`None` without `K`).
-    pub regime: Option<&'static str>,
+    /// The scene's stiffness against the onset in words: `stick-slip`,
+    /// `steady sliding`, `bistable`, or `undecided: <why>` (`None` without
+    /// `K`): [`Verdict::regime_words`] of `operating_point`.
+    pub regime: Option<String>,
+    /// The same verdict as `diagram`'s and `cycles`' ([`verdict`]).
+    pub operating_point: Option<OperatingPoint>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -382,8 +390,9 @@ pub struct AdhesiveHopf {
 pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
     let p = setup.params;
     let u = setup.units;
-    let outcome = with_model!(setup.model_kind, b => find_onset(b, &p))?;
-    let (status, critical, slope) = match outcome {
+    let v = verdict(&setup)?;
+    let regime = v.regime_words();
+    let (status, critical, slope) = match v.outcome {
         OnsetOutcome::Found(onset) => (
             "onset",
             Some(Critical {
@@ -397,19 +406,6 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
             ("stable_for_all_stiffness", None, Some(steady_slope))
         }
     };
-    let regime = setup.scene_full.stiffness_given.then_some(match &critical {
-        _ if p.kappa == 0.0 => {
-            "undecided (K = 0: no spring, hence no steady sliding driven through it)"
-        }
-        Some(c) if p.kappa < c.onset.kappa_c => "stick-slip",
-        // Above a subcritical onset finite cycles may coexist (as
-        // `diagram`'s operating point says).
-        Some(c) if c.onset.onset == crate::analysis::hopf::Criticality::Subcritical => {
-            "steady sliding, stick-slip possibly coexisting (a subcritical onset: cycles persist \
-             above K_c up to their fold, which `stickslip cycles` locates)"
-        }
-        _ => "steady sliding",
-    });
     Ok(AdhesiveHopf {
         steady_force_n: u.force_n(block::steady_friction(p.nu, &p)),
         steady_bonds: block::steady_bonds(p.nu, p.r),
@@ -418,6 +414,7 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
         critical,
         steady_slope: slope,
         regime,
+        operating_point: v.operating_point,
         complete: true,
         stop: None,
     })
@@ -507,12 +504,26 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
     })
 }
 
+/// A Bautin point of the diagram with its physical values beside.
+#[derive(Clone, Debug, Serialize)]
+pub struct BautinRecord {
+    #[serde(flatten)]
+    pub point: Bautin,
+    #[serde(rename = "V_um_per_s")]
+    pub v_um_per_s: f64,
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+}
+
 /// The result of `diagram`: the critical stiffness across `V_range`.
 #[derive(Clone, Debug, Serialize)]
 pub struct AdhesiveDiagram {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
     pub points: Vec<OnsetRecord>,
+    /// Where the onset type changes between grid points (Bautin points),
+    /// located by bisection.
+    pub bautin_points: Vec<BautinRecord>,
     /// The steady branch at the scene's velocities (for the friction figure).
     pub steady: Vec<SteadyRecord>,
     /// The scene's own K and V against the diagram, and the verdict
@@ -524,34 +535,76 @@ pub struct AdhesiveDiagram {
     pub stop: Option<String>,
 }
 
-/// The scene's stiffness and velocity against its onset there (located as
-/// `hopf` locates it, in the diagram's model), judged as the rate-and-state
-/// diagram judges its operating point ([`judge`]: stick-slip below `K_c`;
-/// above it steady sliding with a supercritical onset, undecided with a
-/// subcritical one, whose fold of cycles `cycles` locates); `None` without
-/// `K`. With the quasi-static model and a mass, `K` above the quasi-static
-/// `K_c` by less than the factor `1 + chi` inertia adds is undecided.
-fn operating_point(setup: &AdhesiveSetup) -> Result<Option<OperatingPoint>, Error> {
-    if !setup.scene_full.stiffness_given {
-        return Ok(None);
+/// The onset at the scene's velocity and the scene's stiffness against it:
+/// the one verdict `hopf`, `diagram` and `cycles` give ([`verdict`]).
+#[derive(Clone, Debug)]
+pub struct Verdict {
+    /// The onset located in the setup's model ([`find_onset`]).
+    pub outcome: OnsetOutcome,
+    /// The scene's K against it; `None` without `K`.
+    pub operating_point: Option<OperatingPoint>,
+}
+
+impl Verdict {
+    /// The regime in `hopf`'s words: `stick-slip`, `steady sliding`,
+    /// `bistable`, `undecided: <why>`; `None` without `K`.
+    pub fn regime_words(&self) -> Option<String> {
+        self.operating_point.as_ref().map(|op| match op.regime {
+            Regime::StickSlip => "stick-slip".to_string(),
+            Regime::Steady => "steady sliding".to_string(),
+            Regime::Bistable => "bistable".to_string(),
+            Regime::Undecided => format!("undecided: {}", op.reason),
+        })
     }
+}
+
+/// The onset at the scene's velocity, located in the setup's model
+/// ([`find_onset`]), and the scene's stiffness against it, judged as the
+/// rate-and-state diagram judges its operating point ([`judge`]:
+/// stick-slip below `K_c`; above it steady sliding with a supercritical
+/// onset, undecided with a subcritical one, whose fold of cycles `cycles`
+/// locates; without an onset, undecided ([`judge_without_onset`]): steady
+/// sliding is linearly stable at every stiffness, and `cycles` simulates
+/// the scene from a stick to tell whether stick-slip coexists). With the
+/// quasi-static model and a mass, `K` above the quasi-static `K_c` by less
+/// than the factor `1 + chi` inertia adds is undecided. Every adhesive
+/// command takes its verdict from here.
+pub fn verdict(setup: &AdhesiveSetup) -> Result<Verdict, Error> {
+    let p = setup.params;
+    let outcome = with_model!(setup.model_kind, b => find_onset(b, &p))?;
+    let operating_point = judge_scene(setup, &outcome, None);
+    Ok(Verdict {
+        outcome,
+        operating_point,
+    })
+}
+
+/// The scene's stiffness against `outcome` ([`verdict`]), with the fold of
+/// cycles `fold` of a subcritical onset where `cycles` located one on its
+/// branch (`None`: not looked for); `None` without `K`.
+fn judge_scene(
+    setup: &AdhesiveSetup,
+    outcome: &OnsetOutcome,
+    fold: Option<FoldAt>,
+) -> Option<OperatingPoint> {
     let (p, u) = (setup.params, setup.units);
+    if !setup.scene_full.stiffness_given {
+        return None;
+    }
     let (lo, hi) = setup.scene_full.nu_range;
     let mut op = OperatingPoint::unjudged(
         (u.stiffness_n_m(p.kappa), p.kappa),
         (u.velocity_um_s(p.nu), p.nu),
         lo <= p.nu && p.nu <= hi,
     );
-    if p.kappa == 0.0 {
-        return Ok(Some(op));
-    }
-    let onset = match with_model!(setup.model_kind, b => find_onset(b, &p))? {
+    let onset = match outcome {
+        _ if p.kappa == 0.0 => return Some(op),
         OnsetOutcome::Found(onset) => onset,
         OnsetOutcome::StableForAllStiffness { .. } => {
             let (regime, reason) = judge_without_onset(p.kappa, None);
             op.regime = regime;
             op.reason = op.with_range_note(reason);
-            return Ok(Some(op));
+            return Some(op);
         }
     };
     let at = StabilityAt {
@@ -559,7 +612,7 @@ fn operating_point(setup: &AdhesiveSetup) -> Result<Option<OperatingPoint>, Erro
         criticality: onset.onset,
         tolerance: ((onset.kappa_c - onset.kappa_c_closed_form) / onset.kappa_c_closed_form).abs(),
         dropped_inertia: None,
-        fold: None,
+        fold: fold.map(Some),
     };
     let (regime, margin, reason) = judge(p.kappa, &at);
     let chi = block::inertia_ratio(&p);
@@ -580,7 +633,9 @@ fn operating_point(setup: &AdhesiveSetup) -> Result<Option<OperatingPoint>, Erro
     op.margin = Some(margin);
     op.kappa_c = Some(onset.kappa_c);
     op.k_c_n_per_m = Some(u.stiffness_n_m(onset.kappa_c));
-    Ok(Some(op))
+    op.kappa_fold = fold.map(|f| f.kappa);
+    op.kappa_fold_error = fold.map(|f| f.error);
+    Some(op)
 }
 
 /// `diagram` on an adhesive scene.
@@ -601,9 +656,22 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
     }
     let (steady, _) = with_model!(setup.model_kind, b => steady::branch(b, &p, &nus))?;
     let u = setup.units;
-    let operating_point = operating_point(&setup)?;
+    let mut bautin_points = Vec::new();
+    for w in points.windows(2) {
+        if w[0].onset.is_some() && w[1].onset.is_some() && w[0].onset != w[1].onset {
+            let located =
+                with_model!(setup.model_kind, b => steady::bautin(b, &p, (&w[0], &w[1])))?;
+            bautin_points.extend(located.map(|point| BautinRecord {
+                v_um_per_s: u.velocity_um_s(point.nu),
+                k_n_per_m: u.stiffness_n_m(point.kappa_c),
+                point,
+            }));
+        }
+    }
+    let operating_point = verdict(&setup)?.operating_point;
     Ok(AdhesiveDiagram {
         operating_point,
+        bautin_points,
         points: points
             .into_iter()
             .map(|point| OnsetRecord {
@@ -627,10 +695,28 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
 pub struct AdhesiveCycles {
     #[serde(flatten)]
     pub setup: AdhesiveSetup,
-    pub onset: AdhesiveOnset,
+    /// `cycles` (a branch from the onset) or `stable_for_all_stiffness`
+    /// (no onset at this velocity, hence no branch: `reason` says what
+    /// the simulation from a stick found).
+    pub status: &'static str,
+    /// The onset the branch starts from (`null` without one).
+    pub onset: Option<AdhesiveOnset>,
+    /// The scene's K against the onset, as `hopf` and `diagram` judge it
+    /// ([`verdict`]); without an onset, what the simulation from a stick
+    /// settled on decides it.
+    pub operating_point: Option<OperatingPoint>,
+    /// Why there is no branch (`null` with one).
+    pub reason: Option<String>,
+    /// On the quasi-static orbit at the branch's end, the largest shift of
+    /// `ln v` the dropped inertia force makes (`null` where not judged: a
+    /// block inertial at `V`, forced, or without mass); at or above the
+    /// inertia threshold the branch runs inertial (`model_reason`).
+    pub orbit_inertia_ratio: Option<f64>,
     pub cycles: Vec<AdhesiveCycle>,
     /// The cycle at the scene's stiffness by collocation.
     pub at_scene: Option<AdhesiveCycle>,
+    /// The folds of cycles on the branch (`lpc`).
+    pub folds: Vec<CycleFold>,
     /// The same by simulation (settled stick-slip): the second method.
     pub simulated: Option<SettledCycle>,
     pub complete: bool,
@@ -650,70 +736,296 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
 /// `false` stops the branch there (a stop signal: no simulation follows,
 /// and the result is partial).
 pub fn cycles_watched(
-    setup: AdhesiveSetup,
+    mut setup: AdhesiveSetup,
     limits: (usize, usize),
     watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
 ) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
-    let kind = setup.model_kind;
-    let OnsetOutcome::Found(onset) = with_model!(kind, b => find_onset(b, &p))? else {
-        return Err(NumericalError::Analysis(format!(
-            "steady friction rises with the velocity at V = {:.6e} um/s: steady sliding is \
-             stable at every stiffness and there are no stick-slip cycles (stick-slip lies \
-             between V_max and V_c)",
-            setup.units.velocity_um_s(p.nu)
-        ))
+    let mut judged = verdict(&setup)?;
+    let kappa_c = match &judged.outcome {
+        OnsetOutcome::Found(onset) => onset.kappa_c,
+        OnsetOutcome::StableForAllStiffness { steady_slope } => {
+            let slope = *steady_slope;
+            return without_onset(setup, judged.operating_point, slope);
+        }
+    };
+    let end = target_stiffness(&setup, kappa_c);
+    let orbit_inertia = judge_on_orbit(&mut setup, end);
+    if setup.model_kind == ModelKind::Inertial && orbit_inertia.is_some() {
+        judged = verdict(&setup)?;
+    }
+    let Verdict {
+        outcome: OnsetOutcome::Found(onset),
+        mut operating_point,
+    } = judged
+    else {
+        return Err(NumericalError::Analysis(
+            "the inertial block has no onset where the quasi-static one has (the factor 1 + chi \
+             keeps kappa_c's sign): rerun with --model quasi-static"
+                .into(),
+        )
         .into());
     };
-    // Down to the scene's stiffness where it has one below the onset (a
-    // spring, K > 0), else to half the critical stiffness.
-    let target = if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < onset.kappa_c {
-        p.kappa
-    } else {
-        0.5 * onset.kappa_c
-    };
+    let kind = setup.model_kind;
+    let target = target_stiffness(&setup, onset.kappa_c);
     let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits, watch))?;
     let mut q = p;
     q.kappa = target;
     let simulated = if run.interrupted {
         None
     } else {
-        with_model!(kind, b => settled(b, &q, 30))?
+        let x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &q));
+        let start = x[x.len() - 1] * 0.99;
+        match with_model!(kind, b => settle(b, &q, start, 30)) {
+            (SettledRegime::Periodic, cycle, _) => cycle,
+            (
+                _,
+                _,
+                Run {
+                    stop: Some(why), ..
+                },
+            ) => return Err(NumericalError::Analysis(why).into()),
+            _ => None,
+        }
     };
+    // A subcritical onset's branch turns at a fold of cycles above K_c:
+    // the scene's K is judged against the largest one (the upper edge of
+    // the hysteretic band), as the rate-and-state diagram judges it.
+    let fold = run
+        .folds
+        .iter()
+        .map(|f| FoldAt {
+            kappa: f.cycle.kappa,
+            error: f.error_estimate.max(TOLERANCE) * f.cycle.kappa,
+        })
+        .max_by(|a, b| a.kappa.total_cmp(&b.kappa));
+    if fold.is_some() {
+        operating_point = judge_scene(&setup, &OnsetOutcome::Found(onset.clone()), fold);
+    }
     Ok(AdhesiveCycles {
-        setup,
-        onset,
+        status: "cycles",
+        onset: Some(onset),
+        operating_point,
+        reason: None,
+        orbit_inertia_ratio: orbit_inertia,
         complete: run.stop.is_none(),
         stop: run.stop,
         interrupted: run.interrupted,
         cycles: run.cycles,
         at_scene: run.at_scene,
+        folds: run.folds,
         simulated,
+        setup,
     })
 }
 
-/// The settled stick-slip of the block at `p` by simulation: `periods`
-/// loading times `F_ss / (kappa nu)` from steady sliding perturbed.
-fn settled<B: block::AdhesiveModel>(
+/// `cycles` where steady sliding is stable at every stiffness (steady
+/// friction rises with the velocity, `dF_ss/du = steady_slope >= 0`): no
+/// Hopf point, hence no branch. The scene is simulated at its stiffness
+/// from a stick (every chain bonded, `n = 1`: the largest static force
+/// the law allows) to tell whether stick-slip coexists with steady
+/// sliding: a run that settles on steady sliding is the answer (no
+/// stick-slip at this velocity); one that settles on stick-slip finds a
+/// coexisting cycle this family does not continue (partial); an
+/// undetermined one leaves the question open (partial).
+fn without_onset(
+    setup: AdhesiveSetup,
+    mut operating_point: Option<OperatingPoint>,
+    steady_slope: f64,
+) -> Result<AdhesiveCycles, Error> {
+    let (p, u) = (setup.params, setup.units);
+    let stable = format!(
+        "steady friction rises with the velocity at V = {:.6e} µm/s (dF_ss/du = {steady_slope:.3e} \
+         F_a / V_s): steady sliding is stable at every stiffness, no Hopf point, so no cycle \
+         branch is born here (stick-slip lies between V_max and V_c)",
+        u.velocity_um_s(p.nu)
+    );
+    let (simulated, reason, complete) = match operating_point.as_mut() {
+        Some(op) if p.kappa > 0.0 => {
+            let (regime, cycle, run) = with_model!(setup.model_kind, b => settle(b, &p, 1.0, 30));
+            let stop = run.stop;
+            let at = format!(
+                "a simulation at K = {:.6e} N/m from a stick (n = 1) over 30 loading times",
+                u.stiffness_n_m(p.kappa)
+            );
+            let (regime, words, complete) = match (regime, cycle, stop) {
+                (SettledRegime::Steady, _, _) => (
+                    Regime::Steady,
+                    format!("{at} settles on steady sliding: no stick-slip at this velocity"),
+                    true,
+                ),
+                (SettledRegime::Periodic, Some(c), _) => (
+                    Regime::Bistable,
+                    format!(
+                        "{at} settles on stick-slip (period {:.6e} s, force drop {:.6e} N) \
+                         coexisting with stable steady sliding; its branch is not traced \
+                         (no Hopf point to start it from)",
+                        u.time_s(c.period),
+                        u.force_n(c.force_drop)
+                    ),
+                    false,
+                ),
+                (_, _, Some(why)) => (
+                    Regime::Undecided,
+                    format!("{at} did not finish ({why}): whether stick-slip coexists is open"),
+                    false,
+                ),
+                _ => (
+                    Regime::Undecided,
+                    format!(
+                        "{at} settles on neither steady sliding nor stick-slip: whether \
+                         stick-slip coexists is open; try simulate --protocol with a longer run"
+                    ),
+                    false,
+                ),
+            };
+            op.regime = regime;
+            op.reason = op.with_range_note(format!(
+                "no Hopf point at this velocity: steady sliding is linearly stable at every \
+                 stiffness; {words}"
+            ));
+            (
+                cycle.filter(|_| regime == Regime::Bistable),
+                format!("{stable}; {words}"),
+                complete,
+            )
+        }
+        _ => (
+            None,
+            format!(
+                "{stable}; without a spring (K) no simulation tells whether stick-slip coexists"
+            ),
+            true,
+        ),
+    };
+    Ok(AdhesiveCycles {
+        status: "stable_for_all_stiffness",
+        onset: None,
+        operating_point,
+        orbit_inertia_ratio: None,
+        stop: (!complete).then(|| reason.clone()),
+        reason: Some(reason),
+        complete,
+        interrupted: false,
+        cycles: Vec::new(),
+        at_scene: None,
+        folds: Vec::new(),
+        simulated,
+        setup,
+    })
+}
+
+/// The block at `p` simulated over `loadings` loading times `F_ss / (kappa
+/// nu)` from steady sliding with the bond fraction set to `bonds`: what it
+/// settled on ([`settled_regime`]), its settled cycle, and the run (its
+/// `stop` says why it ended early).
+fn settle<B: block::AdhesiveModel>(
     model: B,
     p: &AdhesiveParams,
-    periods: usize,
-) -> Result<Option<SettledCycle>, Error> {
+    bonds: f64,
+    loadings: usize,
+) -> (SettledRegime, Option<SettledCycle>, Run) {
     let mut x = model.steady(p);
     let last = x.len() - 1;
-    x[last] *= 0.99;
-    let duration = periods as f64 * x[0] / (p.kappa * p.nu);
-    let run = integrate(
-        model,
-        p,
-        &x,
-        &[Segment { nu: p.nu, duration }],
-        (1e-8, 1_000_000),
-        &|| false,
-    );
-    match run.stop {
-        Some(why) => Err(NumericalError::Analysis(why).into()),
-        None => Ok(run.settled(0)),
+    x[last] = bonds;
+    let duration = loadings as f64 * x[0] / (p.kappa * p.nu);
+    let protocol = [Segment { nu: p.nu, duration }];
+    let rtol = 1e-8;
+    let run = integrate(model, p, &x, &protocol, (rtol, 1_000_000), &|| false);
+    let (regime, cycle) = settled_regime(&run, &protocol, rtol);
+    (regime, cycle, run)
+}
+
+/// The largest [`block::state_imbalance`] over the quasi-static `run` at
+/// `p` through `protocol`, each step at its segment's pulling velocity.
+fn run_imbalance(p: &AdhesiveParams, run: &Run, protocol: &[Segment]) -> f64 {
+    let mut chi = 0.0f64;
+    for (k, segment) in protocol.iter().enumerate() {
+        let from = run.segment_starts.get(k).copied().unwrap_or(run.t.len());
+        let to = run
+            .segment_starts
+            .get(k + 1)
+            .copied()
+            .unwrap_or(run.t.len());
+        let mut q = *p;
+        q.nu = segment.nu;
+        for i in from..to.max(from) {
+            chi = chi.max(block::state_imbalance(&q, run.u[i], run.n[i]));
+        }
+    }
+    chi
+}
+
+/// The largest [`block::state_imbalance`] over the second half of the
+/// quasi-static `run` at `p` (its settled orbit).
+fn orbit_imbalance(p: &AdhesiveParams, run: &Run) -> f64 {
+    let half = run.t.len() / 2;
+    run.u[half..]
+        .iter()
+        .zip(&run.n[half..])
+        .map(|(u, n)| block::state_imbalance(p, *u, *n))
+        .fold(0.0, f64::max)
+}
+
+/// The stiffness the branch is traced down to: the scene's, where it has
+/// a spring below the onset `kappa_c`, else half of `kappa_c`.
+fn target_stiffness(setup: &AdhesiveSetup, kappa_c: f64) -> f64 {
+    let p = setup.params;
+    if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < kappa_c {
+        p.kappa
+    } else {
+        0.5 * kappa_c
+    }
+}
+
+/// The model judged on the orbit too, as the rate-and-state `cycles`
+/// judges its orbits ([`crate::analysis::orbit_inertia`]): a quasi-static
+/// block (chosen by `chi` at `V`, with a mass, not forced) is simulated at
+/// the branch's end, the stiffness `kappa`, where its cycle is largest,
+/// and judged there ([`decide_on_orbit`]). Returns the largest shift of
+/// `ln u` on that orbit (`None` where not judged).
+fn judge_on_orbit(setup: &mut AdhesiveSetup, kappa: f64) -> Option<f64> {
+    let p = setup.params;
+    if !orbit_judged(setup) {
+        return None;
+    }
+    let mut q = p;
+    q.kappa = kappa;
+    let start = block::steady_bonds(q.nu, q.r) * 0.99;
+    let (_, _, run) = settle(block::AdhesiveBlock, &q, start, 30);
+    let chi = orbit_imbalance(&q, &run);
+    let at = format!("at K = {:.6e} N/m", setup.units.stiffness_n_m(kappa));
+    decide_on_orbit(setup, chi, &at);
+    Some(chi)
+}
+
+/// Whether the setup's model is judged on an orbit: quasi-static by `chi`
+/// at the velocities judged, with a mass, not forced by `--model`.
+fn orbit_judged(setup: &AdhesiveSetup) -> bool {
+    setup.model_kind == ModelKind::QuasiStatic && !setup.forced && setup.params.m > 0.0
+}
+
+/// Turns the setup inertial where the dropped inertia force shifts `ln u`
+/// on the quasi-static orbit `at` by `chi` ([`block::state_imbalance`]),
+/// at least the inertia threshold, saying why; notes the check where it
+/// is below.
+fn decide_on_orbit(setup: &mut AdhesiveSetup, chi: f64, at: &str) {
+    let threshold = setup.inertia_threshold;
+    if chi >= threshold {
+        setup.model_kind = ModelKind::Inertial;
+        setup.model = ModelKind::Inertial.name();
+        setup.model_reason = format!(
+            "inertial: on the quasi-static orbit {at} the dropped inertia force shifts ln v by up \
+             to m |du/dt| / (u F_u) = {chi:.3e}, not below the inertia threshold {threshold:e}, \
+             so the block keeps its inertia (at V alone: {})",
+            setup.model_reason
+        );
+    } else {
+        setup.model_reason = format!(
+            "{} (on the quasi-static orbit {at} the dropped inertia force shifts ln v by at most \
+             {chi:.3e}, below the threshold too)",
+            setup.model_reason
+        );
     }
 }
 
@@ -753,6 +1065,11 @@ pub struct AdhesiveSimulation {
     pub settled_period_s: Option<f64>,
     #[serde(rename = "settled_force_drop_N")]
     pub settled_force_drop_n: Option<f64>,
+    /// The largest shift of `ln v` the dropped inertia force makes on the
+    /// quasi-static run (`null` where not judged: inertial at the pulling
+    /// velocities, forced, or without mass); at or above the inertia
+    /// threshold the run is made again with the block's inertia.
+    pub orbit_inertia_ratio: Option<f64>,
     #[serde(skip)]
     pub run: Run,
     pub complete: bool,
@@ -782,6 +1099,35 @@ pub enum SettledRegime {
 /// accumulation over the steps).
 fn force_noise_floor(run: &Run, rtol: f64) -> f64 {
     1e3 * rtol * run.s.iter().fold(0.0f64, |a, s| a.max(s.abs()))
+}
+
+/// What the last segment of `run` (integrated at `rtol` through
+/// `protocol`) settled on, and its settled cycle: the cycle only when the
+/// run reached its end, and only when its force drop stands above the
+/// integration's error (at steady sliding the force's extremes are
+/// rounding, and a "cycle" between them is no stick-slip).
+fn settled_regime(
+    run: &Run,
+    protocol: &[Segment],
+    rtol: f64,
+) -> (SettledRegime, Option<SettledCycle>) {
+    let last = protocol.len() - 1;
+    let floor = force_noise_floor(run, rtol);
+    let settled = run
+        .stop
+        .is_none()
+        .then(|| run.settled(last))
+        .flatten()
+        .filter(|c| c.force_drop > floor);
+    let regime = match (&run.stop, settled) {
+        (Some(_), _) => SettledRegime::Undetermined,
+        (None, Some(_)) => SettledRegime::Periodic,
+        (None, None) if protocol[last].nu > 0.0 && run.force_range(last, 0.5) <= floor => {
+            SettledRegime::Steady
+        }
+        (None, None) => SettledRegime::Undetermined,
+    };
+    (regime, settled)
 }
 
 /// `simulate` on an adhesive scene under `protocol` (`(V [um/s], T [s])`;
@@ -850,7 +1196,28 @@ pub fn simulate_watched(
         )
         .into());
     }
-    let run = with_model!(kind, b => integrate(b, &p, &x, &protocol, (rtol, max_steps), stop));
+    let mut run = with_model!(kind, b => integrate(b, &p, &x, &protocol, (rtol, max_steps), stop));
+    // The model judged on the whole run too ([`decide_on_orbit`]): a
+    // quasi-static run the dropped inertia would change is run again with it.
+    let mut setup = setup;
+    let orbit_inertia = (orbit_judged(&setup) && !run.interrupted).then(|| {
+        let chi = run_imbalance(&p, &run, &protocol);
+        decide_on_orbit(&mut setup, chi, "of this run");
+        chi
+    });
+    if setup.model_kind != kind {
+        let mut x = block::AdhesiveModel::steady(&block::InertialAdhesiveBlock, &start);
+        let last = x.len() - 1;
+        x[last] *= 1.0 + perturb;
+        run = integrate(
+            block::InertialAdhesiveBlock,
+            &p,
+            &x,
+            &protocol,
+            (rtol, max_steps),
+            stop,
+        );
+    }
     if run.t.is_empty() {
         return Err(NumericalError::Analysis(
             run.stop
@@ -873,26 +1240,7 @@ pub fn simulate_watched(
         let i = segment_of(*t);
         peak[i] = peak[i].max(*s);
     }
-    // The last segment's settled cycle only when the run reached its end,
-    // and only when its force drop stands above the integration's error:
-    // at steady sliding the force's extremes are rounding, and a "cycle"
-    // between them is no stick-slip.
-    let last = protocol.len() - 1;
-    let floor = force_noise_floor(&run, rtol);
-    let settled = run
-        .stop
-        .is_none()
-        .then(|| run.settled(last))
-        .flatten()
-        .filter(|c| c.force_drop > floor);
-    let regime = match (&run.stop, settled) {
-        (Some(_), _) => SettledRegime::Undetermined,
-        (None, Some(_)) => SettledRegime::Periodic,
-        (None, None) if protocol[last].nu > 0.0 && run.force_range(last, 0.5) <= floor => {
-            SettledRegime::Steady
-        }
-        (None, None) => SettledRegime::Undetermined,
-    };
+    let (regime, settled) = settled_regime(&run, &protocol, rtol);
     Ok(AdhesiveSimulation {
         protocol_record: protocol
             .iter()
@@ -920,6 +1268,7 @@ pub fn simulate_watched(
         settled,
         setup,
         protocol,
+        orbit_inertia_ratio: orbit_inertia,
         complete: run.stop.is_none(),
         stop: run.stop.clone(),
         run,

@@ -41,11 +41,7 @@ pub fn adhesive_setup(
         .into()
     };
     if let Some((option, _)) = unused.iter().find(|(_, given)| *given) {
-        return Err(refuse(
-            option,
-            "the adhesive block runs with its scene's values (see docs/model.md, \"Soft \
-             adhesive contacts\")",
-        ));
+        return Err(refuse(option, why_unused(option)));
     }
     let scene = scene::load_with(args.scene_name(), &args.set)?;
     for w in &scene.warnings {
@@ -57,6 +53,27 @@ pub fn adhesive_setup(
         judged,
         args.model.map(ModelKind::from),
     )?))
+}
+
+/// Why an option of the rate-and-state commands has no meaning on an
+/// adhesive scene.
+fn why_unused(option: &str) -> &'static str {
+    match option {
+        "--units" => {
+            "the adhesive text gives every value in the experimenter's units (N, N/m, µm/s, s) \
+             with the dimensionless one beside it, and the JSON carries both: there is no \
+             separate dimensionless text; drop --units"
+        }
+        "--max-steps" => {
+            "the adhesive branch and diagram sample a grid of 20 velocities per decade over \
+             V_range (steady sliding is explicit, eq. D2, and K_c is located at each velocity), \
+             with no continuation steps to limit; narrow V_range instead"
+        }
+        _ => {
+            "the adhesive block runs with its scene's values (see docs/model.md, \"Soft \
+             adhesive contacts\")"
+        }
+    }
 }
 
 fn json<T: serde::Serialize>(value: &T) -> Result<String, Error> {
@@ -145,16 +162,43 @@ fn print_text_hopf(r: &AdhesiveHopf) {
             r.steady_slope.unwrap_or(f64::NAN)
         ),
     }
-    if let Some(regime) = r.regime {
-        println!("the scene's K: {regime}");
+    if let Some(op) = &r.operating_point {
+        println!("{}", op.line());
     }
 }
 
-/// `branch` on an adhesive scene.
-pub fn branch(setup: AdhesiveSetup, as_json: bool) -> Result<(), Error> {
+/// `branch` on an adhesive scene: text, `--json`, or `--csv` (a `# scene`
+/// comment line, then a row per velocity in physical units and
+/// dimensionless; the Hopf points as `# hopf` comment lines).
+pub fn branch(setup: AdhesiveSetup, as_json: bool, as_csv: bool) -> Result<(), Error> {
     let r = jobs::branch(setup)?;
     if as_json {
         println!("{}", json(&r)?);
+        return Ok(());
+    }
+    if as_csv {
+        println!(
+            "# scene {} (law = adhesive, {} model)",
+            r.setup.scene, r.setup.model
+        );
+        println!("V_um_per_s,steady_force_N,n,re_lambda,stable,nu,s,slope");
+        for p in &r.points {
+            let pt = &p.point;
+            println!(
+                "{:e},{:e},{:e},{:e},{},{:e},{:e},{:e}",
+                p.v_um_per_s,
+                p.steady_force_n,
+                pt.n,
+                pt.eigenvalues[0][0],
+                pt.stable,
+                pt.nu,
+                pt.s,
+                pt.slope
+            );
+        }
+        for (h, v) in r.hopf_points.iter().zip(&r.hopf_points_um_s) {
+            println!("# hopf V_um_per_s={v:e} nu={:e} omega={:e}", h.nu, h.omega);
+        }
         return Ok(());
     }
     print_setup(&r.setup);
@@ -259,11 +303,22 @@ fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::Stabil
     use crate::plot::stability::{segments, OperatingMarker, StabilityFigure};
     let s = &r.setup;
     let u = &s.units;
-    let curve: Vec<(f64, f64, crate::analysis::hopf::Criticality)> = r
-        .points
-        .iter()
-        .filter_map(|p| Some((p.v_um_per_s, p.k_n_per_m?, p.point.onset?)))
-        .collect();
+    let (lo, hi) = s.scene_full.nu_range;
+    let x_range = (u.velocity_um_s(lo), u.velocity_um_s(hi));
+    // The curve with each located Bautin point closing the stretch of the
+    // type below it, so that the next stretch starts there.
+    let mut curve: Vec<(f64, f64, crate::analysis::hopf::Criticality)> = Vec::new();
+    for p in &r.points {
+        let (Some(k), Some(onset)) = (p.k_n_per_m, p.point.onset) else {
+            continue;
+        };
+        if let Some(b) = r.bautin_points.iter().find(|b| {
+            curve.last().is_some_and(|l| l.0 < b.v_um_per_s) && b.v_um_per_s < p.v_um_per_s
+        }) {
+            curve.push((b.v_um_per_s, b.k_n_per_m, b.point.below));
+        }
+        curve.push((p.v_um_per_s, k, onset));
+    }
     let reference = r
         .points
         .iter()
@@ -275,29 +330,33 @@ fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::Stabil
             (k > 0.0).then(|| (p.v_um_per_s, u.stiffness_n_m(k)))
         })
         .collect();
-    let markers = curve
-        .windows(2)
-        .filter(|w| w[0].2 != w[1].2)
-        .map(|w| {
+    let markers = r
+        .bautin_points
+        .iter()
+        .map(|b| {
             (
-                "Bautin (l1 = 0), between grid points".to_string(),
-                (w[0].0 * w[1].0).sqrt(),
-                (w[0].1 * w[1].1).sqrt(),
+                format!(
+                    "Bautin (l1 = 0): {} below, {} above",
+                    b.point.below.name(),
+                    b.point.above.name()
+                ),
+                b.v_um_per_s,
+                b.k_n_per_m,
             )
         })
         .collect();
-    let mut vlines: Vec<(String, f64)> =
-        [(s.v_max_um_s, "maximum V_max"), (s.v_c_um_s, "minimum V_c")]
-            .into_iter()
-            .filter_map(|(v, what)| Some((format!("K_c → 0: friction {what}"), v?)))
-            .collect();
-    if let Some(v) = s.inertia_crossing_um_s {
-        vlines.push((
-            format!("chi = {:.0e} (inertia threshold)", s.inertia_threshold),
-            v,
-        ));
-    }
-    let (lo, hi) = s.scene_full.nu_range;
+    // The vertical lines that fall inside the figure's velocity range.
+    let vlines: Vec<(String, f64)> = [(s.v_max_um_s, "maximum V_max"), (s.v_c_um_s, "minimum V_c")]
+        .into_iter()
+        .filter_map(|(v, what)| Some((format!("K_c → 0: friction {what}"), v?)))
+        .chain(s.inertia_crossing_um_s.map(|v| {
+            (
+                format!("chi = {:.0e} (inertia threshold)", s.inertia_threshold),
+                v,
+            )
+        }))
+        .filter(|(_, v)| x_range.0 <= *v && *v <= x_range.1)
+        .collect();
     StabilityFigure {
         title: format!(
             "Stability diagram, {} (adhesive, {} model)",
@@ -328,7 +387,7 @@ fn stability_figure(r: &jobs::AdhesiveDiagram) -> crate::plot::stability::Stabil
         lpc: Vec::new(),
         bistable: Vec::new(),
         unknown: Vec::new(),
-        x_range: (u.velocity_um_s(lo), u.velocity_um_s(hi)),
+        x_range,
         notes: Vec::new(),
         stable_above: true,
     }
@@ -377,6 +436,17 @@ pub fn diagram(
         }
     }
     if !as_json {
+        for b in &r.bautin_points {
+            println!(
+                "Bautin point (l1 = 0): V = {:.6e} µm/s (nu = {:.6e}), K_c = {:.6e} N/m: {} \
+                 below, {} above",
+                b.v_um_per_s,
+                b.point.nu,
+                b.k_n_per_m,
+                b.point.below.name(),
+                b.point.above.name()
+            );
+        }
         if let Some(op) = &r.operating_point {
             println!("{}", op.line());
         }
@@ -405,8 +475,25 @@ pub fn diagram(
         log_y: false,
         series,
     };
-    let mut files = crate::plot::stability::render(&stability, &with_suffix(&stem, "-stability"))
-        .map_err(plot_error)?;
+    // No empty frame: without an onset anywhere in the range there is no
+    // K_c to draw, and the text says so instead.
+    let mut files = if stability.segments.is_empty() {
+        let (lo, hi) = stability.x_range;
+        let note = format!(
+            "no stability figure: steady sliding is stable at every stiffness across V_range \
+             [{lo:.4e}, {hi:.4e}] µm/s (steady friction nowhere falls with V there), so there is \
+             no K_c to draw; the steady friction figure shows why"
+        );
+        if as_json {
+            eprintln!("note: {note}");
+        } else {
+            println!("{note}");
+        }
+        Vec::new()
+    } else {
+        crate::plot::stability::render(&stability, &with_suffix(&stem, "-stability"))
+            .map_err(plot_error)?
+    };
     files.extend(render(&steady, &with_suffix(&stem, "-steady-friction")).map_err(plot_error)?);
     finish(&stem, json(&r)?, files, as_json)
 }
@@ -450,6 +537,21 @@ pub fn cycles(
                 .map(|c| (u.stiffness_n_m(c.kappa), f(c)))
                 .collect()
         };
+    let mut series = vec![
+        line(by_k(&|c| u.time_s(c.period)), "period [s]", BLUE, false),
+        line(
+            by_k(&|c| 1e3 * u.force_n(c.s_max - c.s_min)),
+            "force drop [mN]",
+            RED,
+            true,
+        ),
+    ];
+    for f in &r.folds {
+        let k = u.stiffness_n_m(f.cycle.kappa);
+        let label = format!("fold of cycles (lpc), K = {k:.4e} N/m");
+        let marker = vertical_marker(&series, k, &label, GREY);
+        series.push(marker);
+    }
     let period = LineFigure {
         title: format!(
             "Stick-slip cycles, {}: period and force drop",
@@ -459,15 +561,7 @@ pub fn cycles(
         y_label: "period [s]; force drop [N] x 1000".into(),
         log_x: true,
         log_y: true,
-        series: vec![
-            line(by_k(&|c| u.time_s(c.period)), "period [s]", BLUE, false),
-            line(
-                by_k(&|c| 1e3 * u.force_n(c.s_max - c.s_min)),
-                "force drop [mN]",
-                RED,
-                true,
-            ),
-        ],
+        series,
     };
     let picks: Vec<&crate::adhesive::analysis::cycles::AdhesiveCycle> = {
         let n = r.cycles.len();
@@ -516,6 +610,7 @@ pub fn cycles(
                 .last()
                 .map_or(f64::NAN, |c| u.stiffness_n_m(c.kappa))
         ))),
+        Some(why) if r.onset.is_none() => Err(Error::Partial(format!("no cycle branch: {why}"))),
         Some(why) => Err(Error::Partial(format!(
             "the cycle branch did not reach the scene's stiffness: {why}"
         ))),
@@ -558,17 +653,33 @@ fn cycles_row(
 fn print_cycles(r: &AdhesiveCycles) {
     print_setup(&r.setup);
     let u = r.setup.units;
-    let o = &r.onset;
-    println!(
-        "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
-        u.stiffness_n_m(o.kappa_c),
-        o.kappa_c,
-        o.onset.name()
-    );
-    println!(
-        "  {:>12} {:>12} {:>12} {:>13} {:>9}",
-        "K [N/m]", "period [s]", "drop [N]", "v_max [µm/s]", "stable"
-    );
+    match (&r.onset, &r.reason) {
+        (Some(o), _) => println!(
+            "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+            u.stiffness_n_m(o.kappa_c),
+            o.kappa_c,
+            o.onset.name()
+        ),
+        (None, Some(reason)) => println!("no cycles: {reason}"),
+        (None, None) => {}
+    }
+    for c in r.folds.iter().map(|f| &f.cycle) {
+        println!(
+            "fold of cycles (lpc) at K = {:.6e} N/m (kappa = {:.6e}): period {:.6e} s, force \
+             drop {:.6e} N; the subcritical onset's cycles coexist with stable steady sliding \
+             between K_c and this stiffness",
+            u.stiffness_n_m(c.kappa),
+            c.kappa,
+            u.time_s(c.period),
+            u.force_n(c.s_max - c.s_min)
+        );
+    }
+    if !r.cycles.is_empty() {
+        println!(
+            "  {:>12} {:>12} {:>12} {:>13} {:>9}",
+            "K [N/m]", "period [s]", "drop [N]", "v_max [µm/s]", "stable"
+        );
+    }
     for c in &r.cycles {
         println!(
             "  {:>12.5e} {:>12.5e} {:>12.5e} {:>13.5e} {:>9}",
@@ -597,6 +708,9 @@ fn print_cycles(r: &AdhesiveCycles) {
             u.time_s(c.period),
             u.force_n(c.force_drop)
         );
+    }
+    if let Some(op) = &r.operating_point {
+        println!("{}", op.line());
     }
 }
 

@@ -23,7 +23,8 @@ pub struct BranchArgs {
     /// its unit, K (N/m), V (um/s), M (kg), tau (s), eta (s/m), or m, A, B, mu2,
     /// theta_c, mu_vv, mu_vphi, eta_d (the rows are in the dimensionless parameter it moves: K in
     /// kappa, V in nu, M in m, or in kappa when W = M g). With --from
-    /// FILE.json --index N: default the file's.
+    /// FILE.json --index N: default the file's. Adhesive scenes: V (or nu) only, over the
+    /// scene's V_range.
     #[arg(long, value_name = "P", required_unless_present = "index")]
     pub param: Option<String>,
     #[arg(allow_hyphen_values = true)]
@@ -44,12 +45,14 @@ pub struct BranchArgs {
     pub to: Option<f64>,
     /// Largest number of continuation steps. A branch that ends before
     /// `--to` (this limit, or a turn) keeps its rows and exits with status 4
-    /// (partial).
+    /// (partial). Adhesive scenes: refused (their branch samples a grid in V).
     #[arg(long, default_value_t = 2000)]
     pub max_steps: usize,
     /// Comma-separated values instead of an aligned table: a `# scene`
     /// comment line, then the parameter, the state, the eigenvalues, the
-    /// bifurcation, and the point in physical units.
+    /// bifurcation, and the point in physical units. Adhesive scenes: V in um/s, the steady
+    /// force in N, n, the leading eigenvalue's real part, stable, then nu, s, dF_ss/du; the
+    /// Hopf points as `# hopf` lines.
     #[arg(long, conflicts_with = "json")]
     pub csv: bool,
     /// Print one JSON object instead of text: the points (the CSV's rows)
@@ -59,7 +62,7 @@ pub struct BranchArgs {
     /// Units of the text: physical (K/W in 1/m, V in µm/s, theta in s,
     /// eigenvalues in 1/s, frequencies in Hz) or dimensionless (kappa or nu,
     /// v/V0, theta and eigenvalues in D0/V0 and V0/D0, omega). The CSV and
-    /// the JSON carry both.
+    /// the JSON carry both. Adhesive scenes: refused (their text gives both).
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
 }
@@ -74,11 +77,13 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
         ),
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
+        ("--max-steps", args.max_steps != 2000),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::OverRange)?
     {
-        return super::adhesive::branch(setup, args.json);
+        return super::adhesive::branch(setup, args.json, args.csv);
     }
     let param = args
         .param

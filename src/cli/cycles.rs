@@ -115,7 +115,8 @@ pub struct CyclesArgs {
     pub json: bool,
     /// Units of the text lines: physical (K/W in 1/m, period in s, slip
     /// velocity in µm/s) or dimensionless (kappa, period in D0/V0, v/V0).
-    /// The CSV and the JSON carry both.
+    /// The CSV and the JSON carry both. Adhesive scenes: refused (their text
+    /// gives N/m, s, µm/s with the dimensionless values in the JSON).
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
 }
@@ -204,6 +205,7 @@ pub fn run(args: &CyclesArgs) -> Result<(), Error> {
         ("--search", args.search.is_some()),
         ("--from", args.from.is_some()),
         ("--collocation", args.collocation.is_some()),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::AtVelocity)?

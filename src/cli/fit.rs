@@ -69,7 +69,12 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
         false,
         OUTPUTS,
     )?;
-    let toml_path = args.output.out.join("fitted.toml");
+    // `--name X` names the fitted scene too: `<out>/X-fitted.toml`, its
+    // `name = "X"` (the files of later runs on it start with X).
+    let toml_path = args.output.out.join(match &args.output.name {
+        Some(name) => format!("{name}-fitted.toml"),
+        None => "fitted.toml".to_string(),
+    });
     if toml_path.exists() && !args.output.force {
         return Err(Error::Output(std::io::Error::other(format!(
             "{} exists (an earlier fit): --force replaces it, --out DIR writes elsewhere",
@@ -87,6 +92,7 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
             args.free.as_deref(),
         )?;
         let figures = crate::plot::fit::data_figures(&result, &stem).map_err(plot_error)?;
+        rename(&mut result.outcome, args.output.name.as_deref());
         write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
         emit(&result, &stem, args.json, print_adhesive)?;
         for w in &result.warnings {
@@ -101,6 +107,7 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
         };
         let mut result = fit(&spec, &request)?;
         let figures = crate::plot::fit::figures(&result, &stem).map_err(plot_error)?;
+        rename(&mut result.outcome, args.output.name.as_deref());
         write_fitted(&mut result.outcome, figures, &toml_path, &stem)?;
         emit(&result, &stem, args.json, print_text)?;
         result.summary.stop
@@ -118,6 +125,29 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
 
 fn plot_error(e: crate::plot::PlotError) -> Error {
     Error::Output(std::io::Error::other(e.to_string()))
+}
+
+/// Gives the fitted scene the run's `--name`: its top-level `name = ...`
+/// line (the first, written by the fit) replaced; unchanged without one.
+fn rename<V, U>(outcome: &mut Outcome<V, U>, name: Option<&str>) {
+    let Some(name) = name else {
+        return;
+    };
+    let quoted = toml::Value::String(name.to_string()).to_string();
+    outcome.fitted_toml = outcome
+        .fitted_toml
+        .lines()
+        .scan(false, |done, line| {
+            Some(if !*done && line.starts_with("name = ") {
+                *done = true;
+                format!("name = {quoted}")
+            } else {
+                line.to_string()
+            })
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n";
 }
 
 /// Writes the fitted scene to `toml_path`, and lists the files of the fit

@@ -22,7 +22,8 @@ pub struct HopfArgs {
     pub json: bool,
     /// Units of the text: physical (K/W in 1/m, the frequency shift in
     /// Hz m) or dimensionless (kappa, omega in V0/D0). The table of the
-    /// onset gives both, and so does the JSON.
+    /// onset gives both, and so does the JSON. Adhesive scenes: refused
+    /// (their text gives both).
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
     /// The control parameter of the onset, with everything else at the
@@ -68,6 +69,7 @@ pub fn run(args: &HopfArgs) -> Result<(), Error> {
         ("--param", args.param.is_some()),
         ("--from", args.from.is_some()),
         ("--to", args.to.is_some()),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::AtVelocity)?

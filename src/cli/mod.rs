@@ -99,7 +99,9 @@ pub struct SceneArgs {
     /// g (m/s^2), eta (s/m) (radiation damping, eta_d = eta V0), V_range=LO:HI (um/s) (e.g.
     /// K=2e5 gives kappa = K D0/W with the scene's D0 and W; W=600 changes kappa and m). One
     /// quantity both ways (K and kappa, M and m, V and nu, tau and theta_c, eta and eta_d) is refused. theta_c or tau selects the cutoff ageing form,
-    /// mu2, mu_vv or mu_vphi the logarithmic form.
+    /// mu2, mu_vv or mu_vphi the logarithmic form. On an adhesive scene (law = "adhesive") the
+    /// keys are its own, in their units: F_a \[N\], V_s [um/s], tau_out \[s\], tau_on \[s\], F_v \[N\],
+    /// alpha, M \[kg\], K [N/m], V [um/s].
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v (adhesive
@@ -108,7 +110,8 @@ pub struct SceneArgs {
     pub model: Option<ModelArg>,
     /// Inertia is dropped (quasi-static model) when m nu^2 / mu_v is below this (adhesive
     /// scenes: chi = m lambda_n / F_u, at V, at a protocol's pulling velocities, or at every
-    /// velocity of V_range for branch and diagram).
+    /// velocity of V_range for branch and diagram; cycles also on the quasi-static orbit,
+    /// m |du/dt| / (u F_u)).
     #[arg(long, default_value_t = DEFAULT_INERTIA_THRESHOLD)]
     pub inertia_threshold: f64,
 }

@@ -28,10 +28,11 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Driving protocol as V1:T1,V2:T2,... (velocity in um/s, duration in s); V = 0 stops the drive.
-    /// Default: the scene's velocity for 40 D0/V.
+    /// Default: the scene's velocity for 40 D0/V (adhesive scenes: for 30 loading times F_ss/(K V)).
     #[arg(long, value_name = "V:T,...", allow_hyphen_values = true)]
     pub protocol: Option<String>,
-    /// Relative perturbation of the initial age away from steady sliding.
+    /// Relative perturbation of the initial age away from steady sliding (adhesive scenes: of the
+    /// bond fraction n, kept in (0, 1]).
     #[arg(long, default_value_t = 1e-2)]
     pub perturb: f64,
     /// Integrator relative tolerance.
@@ -56,6 +57,7 @@ pub struct SimulateArgs {
     pub every: usize,
     /// Units of the text lines: physical (times in s, velocities in µm/s)
     /// or dimensionless (t in D0/V0, nu). The CSV carries both times.
+    /// Adhesive scenes: refused (their CSV carries both, t in tau_out).
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
     /// Print one JSON object instead of text: the run's facts (steps,
@@ -99,7 +101,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         Some(list) => super::adhesive::Judged::AtPulling(list.iter().map(|s| s.0).collect()),
         None => super::adhesive::Judged::AtVelocity,
     };
-    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &[], judged)? {
+    let unused = [("--units", args.units != TextUnits::Physical)];
+    if let Some(setup) = super::adhesive::adhesive_setup(&args.scene, &unused, judged)? {
         let numbers = (args.perturb, args.rtol, args.max_steps);
         return super::adhesive::simulate(
             setup,

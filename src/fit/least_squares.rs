@@ -63,8 +63,11 @@ pub enum LeastSquaresError {
 /// Iterations allowed.
 const MAX_ITERATIONS: usize = 500;
 
-/// Minimises `|r(x)|^2` from `x0`.
-pub fn minimize<P: Problem>(p: &P, x0: &[f64]) -> Result<Minimum, LeastSquaresError> {
+/// Minimises `|r(x)|^2` from `x0`: the minimum with `true`, or, where the
+/// iterations end without converging, the last iterate with `false` (the
+/// caller can ask there what the data leave undetermined: a flat valley
+/// the iterations creep along).
+pub fn minimize<P: Problem>(p: &P, x0: &[f64]) -> Result<(Minimum, bool), LeastSquaresError> {
     let (mut r, mut j) = jacobian(p, x0).ok_or(LeastSquaresError::UndefinedStart)?;
     let mut x = x0.to_vec();
     let mut cost = r.norm_squared();
@@ -113,31 +116,45 @@ pub fn minimize<P: Problem>(p: &P, x0: &[f64]) -> Result<Minimum, LeastSquaresEr
                 lambda *= (1.0f64 / 3.0).max(1.0 - (2.0 * rho - 1.0).powi(3));
                 grow = 2.0;
                 if small_step || flat {
-                    return Ok(Minimum {
-                        x,
-                        residuals: r,
-                        jacobian: j,
-                        iterations: iteration + 1,
-                    });
+                    return Ok((
+                        Minimum {
+                            x,
+                            residuals: r,
+                            jacobian: j,
+                            iterations: iteration + 1,
+                        },
+                        true,
+                    ));
                 }
             }
             _ => {
                 // At the minimum to rounding: no step decreases the cost.
                 let gradient_small = g.amax() <= 1e-12 * (1.0 + cost.sqrt()) * j.amax().max(1.0);
                 if gradient_small || lambda > 1e16 {
-                    return Ok(Minimum {
-                        x,
-                        residuals: r,
-                        jacobian: j,
-                        iterations: iteration + 1,
-                    });
+                    return Ok((
+                        Minimum {
+                            x,
+                            residuals: r,
+                            jacobian: j,
+                            iterations: iteration + 1,
+                        },
+                        true,
+                    ));
                 }
                 lambda *= grow;
                 grow *= 2.0;
             }
         }
     }
-    Err(LeastSquaresError::NoConvergence(MAX_ITERATIONS))
+    Ok((
+        Minimum {
+            x,
+            residuals: r,
+            jacobian: j,
+            iterations: MAX_ITERATIONS,
+        },
+        false,
+    ))
 }
 
 /// The singular values of `J` with its columns scaled to unit length, in
@@ -198,7 +215,8 @@ mod tests {
     fn finds_an_exponential_from_far() {
         let t: Vec<f64> = (0..20).map(|i| i as f64 * 0.1).collect();
         let y = t.iter().map(|t| 2.5 * (-1.3 * t).exp()).collect();
-        let m = minimize(&Exponential { t, y }, &[1.0, 0.5]).unwrap();
+        let (m, converged) = minimize(&Exponential { t, y }, &[1.0, 0.5]).unwrap();
+        assert!(converged);
         assert!(
             (m.x[0] - 2.5).abs() < 1e-12 && (m.x[1] + 1.3).abs() < 1e-12,
             "{:?}",

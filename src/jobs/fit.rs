@@ -541,7 +541,8 @@ pub(crate) trait DataFit {
 }
 
 /// The datasets of a fit and, per dataset and quantity, the error per row
-/// where the file gives none (estimated from the residuals; 1 at first).
+/// where the file gives none (estimated from the residuals; 1 until the
+/// fit sets its first estimate, `fit_with_estimated_errors`).
 pub(crate) struct Rows<'a> {
     pub data: &'a [Dataset],
     pub scale: Vec<Vec<f64>>,
@@ -605,7 +606,10 @@ pub(crate) fn fit_determined<P: DataFit + Problem>(
             ))
             .into());
         }
-        let minimum = fit_with_estimated_errors(problem)?;
+        // Where the iterations creep along a valley to their limit, the
+        // last iterate tells which parameters the data leave free: they are
+        // held as at a minimum, and the fit tried again without them.
+        let (minimum, converged) = fit_with_estimated_errors(problem)?;
         let (s, v) = scaled_svd(&minimum.jacobian);
         let weakest = s.len() - 1;
         let keys = problem.free_keys();
@@ -619,7 +623,10 @@ pub(crate) fn fit_determined<P: DataFit + Problem>(
                 .unwrap_or(0);
             // (A NaN error, from a singular covariance, is over.)
             if over(k) <= 1.0 {
-                return Ok((minimum, not_determined));
+                return match converged {
+                    true => Ok((minimum, not_determined)),
+                    false => Err(failed(LeastSquaresError::NoConvergence(minimum.iterations))),
+                };
             }
             let with: Vec<&'static str> = (0..keys.len())
                 .filter(|&j| (c[(k, j)] / (c[(k, k)] * c[(j, j)]).sqrt()).abs() > 0.9)
@@ -959,7 +966,9 @@ fn series_models(
 
 /// Minimises with the errors of datasets without a sigma column estimated
 /// from their residuals, until the estimates settle.
-fn fit_with_estimated_errors<P: DataFit + Problem>(problem: &mut P) -> Result<Minimum, Error> {
+fn fit_with_estimated_errors<P: DataFit + Problem>(
+    problem: &mut P,
+) -> Result<(Minimum, bool), Error> {
     let mut x = problem.start();
     let total: usize = problem
         .data()
@@ -978,8 +987,34 @@ fn fit_with_estimated_errors<P: DataFit + Problem>(problem: &mut P) -> Result<Mi
         ))
         .into());
     }
+    // The first errors: each estimated quantity's RMS residual at the
+    // start (its own magnitude where the start fits it exactly or not at
+    // all), not 1 in its unit. Datasets in different units (a force in N
+    // against a stiffness in N/m) then start on an equal footing, and the
+    // first minimisation is not one dataset's alone (an onset in N/m
+    // weighted 1e7 times a friction in N left five parameters to eight
+    // stiffnesses, and that minimisation did not converge even from the
+    // true values).
+    let mut scales = problem.scale().to_vec();
+    for (k, (d, scales)) in problem.data().iter().zip(scales.iter_mut()).enumerate() {
+        for (q, scale) in d.measured.iter().zip(scales.iter_mut()) {
+            if q.sigma.is_none() {
+                let n = q.values.len() as f64;
+                let at_start = (residual_sum_of_squares(problem, k, &x, q) / n).sqrt();
+                let magnitude = (q.values.iter().map(|y| y * y).sum::<f64>() / n).sqrt();
+                *scale = [at_start, magnitude, 1.0]
+                    .into_iter()
+                    .find(|s| s.is_finite() && *s > 0.0)
+                    .unwrap_or(1.0);
+            }
+        }
+    }
+    problem.set_scale(scales);
     for _ in 0..SIGMA_ROUNDS {
-        let minimum = minimize(problem, &x).map_err(failed)?;
+        let (minimum, converged) = minimize(problem, &x).map_err(failed)?;
+        if !converged {
+            return Ok((minimum, false));
+        }
         x = minimum.x.clone();
         let mut moved = 0.0f64;
         let mut scales = problem.scale().to_vec();
@@ -999,7 +1034,7 @@ fn fit_with_estimated_errors<P: DataFit + Problem>(problem: &mut P) -> Result<Mi
         }
         problem.set_scale(scales);
         if moved < 1e-9 {
-            return Ok(minimum);
+            return Ok((minimum, true));
         }
     }
     minimize(problem, &x).map_err(failed)

@@ -1,14 +1,20 @@
 //! Stick-slip cycles of the adhesive block: the branch born at the onset,
 //! continued in the stiffness by collocation (the engine's cycle branch,
 //! Floquet multipliers for stability), down to the scene's stiffness,
-//! where the cycle is located exactly (a user point).
+//! where the cycle is located exactly (a user point), with the folds of
+//! cycles the engine locates on the way (a subcritical onset's branch
+//! turns at one). The branch ends where the cycle grazes `v = 0`
+//! ([`GRAZING`]): the law's friction vanishes with the slip velocity
+//! (`F_a n g(z) ~ F_a n v / V_s`, eq. D8), nothing holds a block that
+//! stops while the spring pushes it back, and the forward-sliding model
+//! does not describe what follows.
 
 use super::onset::AdhesiveOnset;
 use crate::adhesive::block::AdhesiveModel;
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
 use crate::error::NumericalError;
 use continuation::periodic::CollocationPoints;
-use continuation::periodic::{CycleBranch, CyclePoint, CycleSettings};
+use continuation::periodic::{CycleBranch, CycleEvent, CyclePoint, CycleSettings};
 
 /// One cycle, dimensionless.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -32,12 +38,24 @@ pub struct AdhesiveCycle {
     pub orbit: Vec<[f64; 4]>,
 }
 
+/// A fold of cycles (limit point, `lpc`) located on the branch: the
+/// stiffness where the branch turns.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct CycleFold {
+    #[serde(flatten)]
+    pub cycle: AdhesiveCycle,
+    /// The orbit's estimated discretization error (relative).
+    pub error_estimate: f64,
+}
+
 /// The branch traced and how it ended.
 #[derive(Clone, Debug)]
 pub struct CycleRun {
     pub cycles: Vec<AdhesiveCycle>,
     /// The cycle at the scene's stiffness, when the branch reached it.
     pub at_scene: Option<AdhesiveCycle>,
+    /// The folds of cycles located on the branch (limit points, `lpc`).
+    pub folds: Vec<CycleFold>,
     /// The engine's words on how the branch ended; `None` when it reached
     /// the scene's stiffness.
     pub stop: Option<String>,
@@ -69,6 +87,40 @@ fn record<B: AdhesiveModel>(model: B, p: &AdhesiveParams, point: &CyclePoint) ->
         stable: point.stability.is_stable(),
         orbit,
     }
+}
+
+/// How far the least slip velocity of a cycle must fall from one cycle to
+/// the next, while the stiffness stays put to [`STALLED`], for the branch
+/// to be read as grazing `v = 0`.
+pub const GRAZING: f64 = 0.5;
+
+/// The relative change of the stiffness between cycles below which the
+/// branch no longer moves in `kappa` (a row of the table would repeat
+/// the one before to its printed six digits).
+pub const STALLED: f64 = 1e-5;
+
+/// Why the branch ends at `next` after `last`: its stiffness stalled
+/// ([`STALLED`]) while the least slip velocity fell by more than the
+/// factor [`GRAZING`] on an orbit where the spring pushes the block back
+/// (`s_min < 0`, which the quasi-static block never has): the orbit grazes
+/// `v = 0` (there `du/dt = 0` needs `s = F(n, 0) = 0`, and `s` rises
+/// through 0 since `u < nu`), and below this stiffness the block would
+/// stop and be pushed back, outside the model. A branch that stalls in the
+/// stiffness alone is no graze: near a supercritical onset, or where the
+/// branch stands nearly upright, the amplitude grows at nearly fixed
+/// `kappa`. `None` while the branch moves.
+fn grazing(last: &AdhesiveCycle, next: &AdhesiveCycle) -> Option<String> {
+    let stalled = (next.kappa - last.kappa).abs() <= STALLED * last.kappa;
+    (stalled && next.u_min < GRAZING * last.u_min && next.s_min < 0.0).then(|| {
+        format!(
+            "the cycle grazes v = 0 at kappa = {:.10e}: the branch stalls in the stiffness \
+             while the least slip velocity falls ({:.3e} to {:.3e} V_s; the spring force \
+             down to {:.3e} F_a); below this stiffness the block stops and the spring pushes \
+             it back, which the model (forward sliding, friction vanishing as v -> 0, eq. D8) \
+             does not describe",
+            next.kappa, last.u_min, next.u_min, next.s_min
+        )
+    })
 }
 
 /// Continues the cycles from `onset` in `kappa` down to `kappa_to` in at
@@ -106,16 +158,26 @@ pub fn trace<B: AdhesiveModel>(
         k,
         settings,
     )?;
-    let (mut cycles, mut at_scene) = (Vec::new(), None);
+    let (mut cycles, mut at_scene, mut folds) = (Vec::new(), None, Vec::new());
     let mut failure = None;
     let mut interrupted = false;
     for point in branch.by_ref() {
         match point {
             Ok(point) => {
+                let cycle = record(model, p, &point);
+                if let Some(why) = cycles.last().and_then(|last| grazing(last, &cycle)) {
+                    failure = Some(why);
+                    break;
+                }
                 if let Some(user) = point.user_points().next() {
                     at_scene = Some(record(model, p, user));
                 }
-                let cycle = record(model, p, &point);
+                if let Some(fold) = point.event(CycleEvent::Fold) {
+                    folds.push(CycleFold {
+                        cycle: record(model, p, fold),
+                        error_estimate: fold.error_estimate,
+                    });
+                }
                 let go_on = watch(&cycle);
                 cycles.push(cycle);
                 if !go_on {
@@ -144,6 +206,7 @@ pub fn trace<B: AdhesiveModel>(
     Ok(CycleRun {
         cycles,
         at_scene,
+        folds,
         stop,
         interrupted,
     })

@@ -173,3 +173,58 @@ pub fn diagram<B: AdhesiveModel>(
         })
         .collect()
 }
+
+/// A change of the onset type between two velocities of the diagram's grid
+/// (a Bautin point, `l1 = 0`), located by bisection in `ln nu`.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct Bautin {
+    /// The last velocity bisected, and its critical stiffness.
+    pub nu: f64,
+    pub kappa_c: f64,
+    /// The bracket left: the onset type is `below`'s at `nu_low` and
+    /// `above`'s at `nu_high`.
+    pub nu_low: f64,
+    pub nu_high: f64,
+    pub below: Criticality,
+    pub above: Criticality,
+}
+
+/// Locates the change of the onset type between the diagram points `a` and
+/// `b` (their onsets of different types) by bisection in `ln nu`, down to
+/// a bracket of relative width `1e-9` or to a midpoint whose type is
+/// degenerate (`l1 = 0` within its error: the Bautin point to rounding).
+pub fn bautin<B: AdhesiveModel>(
+    model: B,
+    p: &AdhesiveParams,
+    (a, b): (&DiagramPoint, &DiagramPoint),
+) -> Result<Option<Bautin>, NumericalError> {
+    let (Some(below), Some(above), Some(mut kappa_c)) = (a.onset, b.onset, a.kappa_c) else {
+        return Ok(None);
+    };
+    let (mut lo, mut hi, mut nu) = (a.nu, b.nu, a.nu);
+    while hi / lo > 1.0 + 1e-9 {
+        nu = (lo * hi).sqrt();
+        let Some(mid) = diagram(model, p, &[nu], f64::INFINITY)?.pop() else {
+            break;
+        };
+        let (Some(onset), Some(k)) = (mid.onset, mid.kappa_c) else {
+            break;
+        };
+        kappa_c = k;
+        if onset == below {
+            lo = nu;
+        } else if onset == above {
+            hi = nu;
+        } else {
+            break;
+        }
+    }
+    Ok(Some(Bautin {
+        nu,
+        kappa_c,
+        nu_low: lo,
+        nu_high: hi,
+        below,
+        above,
+    }))
+}

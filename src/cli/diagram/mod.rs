@@ -33,7 +33,8 @@ pub struct DiagramArgs {
     #[command(flatten)]
     pub output: OutputArgs,
     /// Units of the stiffnesses in the text: physical (K/W in 1/m) or
-    /// dimensionless (kappa). The CSV and the JSON carry both.
+    /// dimensionless (kappa). The CSV and the JSON carry both. Adhesive
+    /// scenes: refused (their text gives K_c in N/m; the JSON both).
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
     /// Print one JSON object (an array for several scenes) instead of text.
@@ -41,7 +42,8 @@ pub struct DiagramArgs {
     pub json: bool,
     /// Most continuation steps along the Hopf curve in each direction. The
     /// default covers the built-in scenes' ranges; a curve cut short by it
-    /// is kept and the command exits with status 4 (partial).
+    /// is kept and the command exits with status 4 (partial). Adhesive scenes: refused (their
+    /// diagram samples a grid in V).
     #[arg(long, default_value_t = DEFAULT_CURVE_STEPS)]
     pub max_steps: usize,
     /// `--x P --y Q`: the diagram in a pair of control parameters.
@@ -88,6 +90,8 @@ pub fn run_with<F: Wrap>(args: &DiagramArgs, fields: &F) -> Result<(), Error> {
     let unused = [
         ("--x/--y", args.axes.parse()?.is_some()),
         ("--nu-range", args.nu_range.is_some()),
+        ("--max-steps", args.max_steps != DEFAULT_CURVE_STEPS),
+        ("--units", args.units != TextUnits::Physical),
     ];
     if let Some(setup) =
         super::adhesive::adhesive_setup(&args.scene, &unused, super::adhesive::Judged::OverRange)?
