@@ -223,3 +223,67 @@ impl simulate::Observer for Crossings {
 struct NoWatch;
 
 impl simulate::Observer for NoWatch {}
+
+/// The cycle at a scene's own stiffness where the stick falls below f64
+/// (`kappa = 0.008`, sticks near 1e-410 `V0`): the stuck start settles by
+/// the joined flow, and the cycle, which collocation cannot correct, is
+/// the return map's; its period is that of an independent `simulate` run
+/// (the time between the run's last crossings of `v = nu`) to 1e-6.
+#[test]
+fn the_cycle_at_the_scenes_stiffness_below_f64_is_the_return_maps() {
+    let result = cycles::Plan::new(&spec(&["kappa=0.008".into()]), CyclesRequest::default())
+        .expect("the plan")
+        .run(&mut Quiet);
+    let op = result.operating_point.as_ref().expect("the scene gives K");
+    let cycle = op.cycle.as_ref().expect("the cycle at the scene's K");
+    assert_eq!((cycle.method, cycle.ntst), ("return_map", None));
+    assert!(
+        cycle.log10_v_min < -400.0,
+        "log10 v_min {}",
+        cycle.log10_v_min
+    );
+    let run_period = simulated_period(&["kappa=0.008".into()], 0.01, 60.0);
+    eprintln!("operating cycle {} vs the run's {run_period}", cycle.period);
+    assert!((run_period / cycle.period - 1.0).abs() < 1e-6);
+}
+
+/// At a stiffness between the onset and the fold of cycles (bistable,
+/// `kappa = 0.0111`) the cycle at the scene's K is the stable one, which
+/// a run started far from steady sliding settles on (not the unstable
+/// cycle bounding the basin of steady sliding, met first on the branch).
+#[test]
+fn a_bistable_scenes_cycle_is_the_stable_one_a_run_settles_on() {
+    let result = cycles::Plan::new(&spec(&["kappa=0.0111".into()]), CyclesRequest::default())
+        .expect("the plan")
+        .run(&mut Quiet);
+    let op = result.operating_point.as_ref().expect("the scene gives K");
+    let cycle = op.cycle.as_ref().expect("the cycle at the scene's K");
+    let run_period = simulated_period(&["kappa=0.0111".into()], 0.5, 120.0);
+    eprintln!(
+        "operating cycle {} ({:?}) vs the run's {run_period}",
+        cycle.period, cycle.stable
+    );
+    assert!((run_period / cycle.period - 1.0).abs() < 1e-6);
+}
+
+/// The period (units `D0/V0`) a `simulate` run of `duration` seconds at
+/// 1 µm/s from steady sliding with the age perturbed by `perturb` ends on:
+/// the time between its last two crossings of `v = nu` upward.
+fn simulated_period(set: &[String], perturb: f64, duration: f64) -> f64 {
+    let mut watch = Crossings::default();
+    let sim = simulate::Plan::new(
+        &spec(set),
+        SimulateRequest {
+            protocol: Some(vec![(1.0, duration)]),
+            perturb,
+            rtol: 1e-10,
+            ..SimulateRequest::default()
+        },
+    )
+    .expect("the simulation plan")
+    .run(&mut watch);
+    assert!(sim.end.is_ok(), "the run: {:?}", sim.end.err());
+    let n = watch.rising.len();
+    assert!(n >= 3, "{n} crossings");
+    watch.rising[n - 1] - watch.rising[n - 2]
+}

@@ -1322,20 +1322,12 @@ fn follow<E: LegEnd>(
         let deep_stop = log.kind == ModelKind::Inertial
             && watch.m > 0.0
             && watch.a / (watch.m * slowest) > STIFF_BEYOND_F64;
-        let hand_over = match (&pt, &last_two) {
-            (Err(_), [Some(before), Some(rec)])
-                if deep_stop && param == Param::Kappa && rec.kappa != before.kappa =>
-            {
-                Some((rec, rec.kappa - before.kappa))
-            }
-            _ => None,
-        };
-        let pt = pt.map_err(|e| match (last, e) {
-            (
-                Some((kappa, _)),
+        let pt = match pt {
+            Ok(pt) => pt,
+            Err(
                 e @ (continuation::ContinuationError::Newton { .. }
                 | continuation::ContinuationError::StepTooSmall { .. }),
-            ) if deep_stop => {
+            ) => {
                 // The engine's advice (a smaller step, more intervals) is
                 // what the branch already did; what failed, in numbers.
                 let failed = match &e {
@@ -1348,43 +1340,61 @@ fn follow<E: LegEnd>(
                         ..
                     } => format!(
                         "Newton did not converge correcting a cycle ({iterations} iterations, \
-                         residual {residual:.1e})"
+                         residual {})",
+                        if residual.is_finite() {
+                            format!("{residual:.1e}")
+                        } else {
+                            "beyond the floating-point range".to_string()
+                        }
                     ),
                     other => other.to_string(),
                 };
-                NumericalError::Analysis(format!(
-                    "{failed}: near kappa = {kappa:.6e} the block comes to rest from v_max = \
-                     {fastest:.3e} V0 onto its stick velocity v = {slowest:.3e} V0, {:.0} \
-                     decades, in a time no mesh resolves (the inertial model's velocity relaxes \
-                     there at the rate A/(m v) = {:.3e} V0/D0): ln v at the mesh points of that \
-                     stop is left ill-determined by the collocation equations, Newton's \
-                     corrections there no longer converge, and the inertial branch ends here. \
-                     The quasi-static model has no such stop (--model quasi-static; each \
-                     cycle's chi then says where the inertia it drops would matter)",
-                    (fastest / slowest).log10(),
-                    watch.a / (watch.m * slowest)
-                ))
+                let kappa = last.map_or(f64::NAN, |(k, _)| k);
+                let why = if deep_stop {
+                    format!(
+                        "{failed}: near kappa = {kappa:.6e} the block comes to rest from v_max = \
+                         {fastest:.3e} V0 onto its stick velocity v = {slowest:.3e} V0, {:.0} \
+                         decades, in a time no mesh resolves (the inertial model's velocity \
+                         relaxes there at the rate A/(m v) = {:.3e} V0/D0): ln v at the mesh \
+                         points of that stop is left ill-determined by the collocation equations",
+                        (fastest / slowest).log10(),
+                        watch.a / (watch.m * slowest)
+                    )
+                } else {
+                    format!("collocation failed after kappa = {kappa:.6e}: {failed}")
+                };
+                // An inertial branch in kappa goes on by the return map
+                // from its last cycle: where collocation no longer resolves
+                // the stop into the stick, or fails otherwise.
+                match &last_two {
+                    [Some(before), Some(rec)]
+                        if log.kind == ModelKind::Inertial
+                            && param == Param::Kappa
+                            && rec.kappa != before.kappa =>
+                    {
+                        return return_map::continue_branch(
+                            log,
+                            rec,
+                            rec.kappa - before.kappa,
+                            &why,
+                            req,
+                            req.max_steps.saturating_sub(delivered),
+                            leg,
+                            sink,
+                        )
+                        .map(E::stopped);
+                    }
+                    _ if deep_stop && last.is_some() => {
+                        return Err(NumericalError::Analysis(format!(
+                            "{why}; Newton's corrections there no longer converge, and the \
+                             inertial branch ends here"
+                        ))
+                        .into())
+                    }
+                    _ => return Err(NumericalError::from(e).into()),
+                }
             }
-            (_, e) => NumericalError::from(e),
-        });
-        let pt = match (pt, hand_over) {
-            (Ok(pt), _) => pt,
-            // Where collocation no longer resolves the stop, the return map
-            // goes on from its last cycle.
-            (Err(e), Some((rec, step))) => {
-                return return_map::continue_branch(
-                    log,
-                    rec,
-                    step,
-                    &e.to_string(),
-                    req,
-                    req.max_steps.saturating_sub(delivered),
-                    leg,
-                    sink,
-                )
-                .map(E::stopped)
-            }
-            (Err(e), None) => return Err(e.into()),
+            Err(e) => return Err(NumericalError::from(e).into()),
         };
         let rec = record(log, &pt, leg, watch);
         largest = largest.max(rec.delta_s);

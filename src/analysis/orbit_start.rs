@@ -18,8 +18,10 @@
 //! ([`settled_with_inertia_judged`]: a quasi-static orbit on which inertia
 //! matters is settled again with the scene's inertia).
 
+use super::joined_flow::State;
 use super::model_choice::params_for;
 use super::orbit_inertia::InertiaWatch;
+use super::return_map;
 use super::settle::{settle, stuck_start, SettleError, SettleSettings, SettledOrbit};
 use super::simulate::{settled_with_inertia_judged, JudgedOrbit};
 use crate::model::ModelKind;
@@ -81,16 +83,27 @@ pub fn settled_at(
     };
     let p = params_of(kind);
     let settings = SettleSettings::for_params(&p);
-    settle(kind, &p, stuck_start(&p), &settings).and_then(|orbit| {
-        settled_with_inertia_judged(
-            kind,
-            params_of,
-            orbit,
-            watch,
-            settings.rtol,
-            SettleSettings::for_params,
-        )
-    })
+    let start = stuck_start(&p);
+    settle(kind, &p, start, &settings)
+        .or_else(|e| match e {
+            // An inertial stop the integration cannot follow: the joined
+            // flow, its sticks below v_b quasi-static.
+            SettleError::Integration { .. } if kind == ModelKind::Inertial && p.m > 0.0 => {
+                let state = State::Slipping([start[0], start[1].ln(), start[2].ln()]);
+                return_map::settle(&p, state, &settings).map_err(|_| e)
+            }
+            e => Err(e),
+        })
+        .and_then(|orbit| {
+            settled_with_inertia_judged(
+                kind,
+                params_of,
+                orbit,
+                watch,
+                settings.rtol,
+                SettleSettings::for_params,
+            )
+        })
 }
 
 /// Simulates at each of [`candidate_stiffnesses`] until one settles on a

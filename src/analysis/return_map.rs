@@ -609,39 +609,51 @@ fn follow(
             Err(e) => {
                 h /= 2.0;
                 if h.abs() < 1e-10 * kappa.abs() {
-                    return Err(failed(next, e.to_string()));
+                    // Next to a fold of cycles the map's fixed point is
+                    // singular in kappa, and the branch turns back.
+                    let why = if last_modulus > 0.9 {
+                        format!(
+                            "the cycles fold back there: the leading multiplier reached \
+                             {last_modulus:.4} on the way, and continuation in kappa cannot \
+                             pass a fold ({e})"
+                        )
+                    } else {
+                        e.to_string()
+                    };
+                    return Err(failed(next, why));
                 }
             }
         }
     }
 }
 
-/// The regime the joined flow of `params` reaches from `start` (an
-/// inertial run whose sticks fell below `v_b`, where [`super::settle`]'s
-/// inertial integration cannot follow): the run continued by passages from
+/// The joined flow of `params` from `start` continued by passages from
 /// section to section until two successive crossings agree to
-/// `settings.tol` (relative, at most `settings.max_periods` passages of at
-/// most `settings.max_time` each), then the cycle there located exactly
-/// ([`fixed_point`]), its period and `Delta_s` those of the fixed point.
-pub fn regime(params: &Params, start: State, settings: &SettleSettings) -> RegimeReached {
+/// `settings.tol` (relative: `s` to the orbit's extent, `ln theta` to `1 +
+/// |ln theta|`; at most `settings.max_periods` passages of at most
+/// `settings.max_time` each): [`super::settle::settle`] for an inertial
+/// block whose sticks fall below `v_b`, where the inertial integration
+/// cannot follow the stop. The section state is in the variables of
+/// [`LogBlock::new`] (`v = nu`).
+pub fn settle(
+    params: &Params,
+    start: State,
+    settings: &SettleSettings,
+) -> Result<SettledOrbit, SettleError> {
     let flow = JoinedFlow::new(params, RTOL);
-    let failed = |time: f64, e: &dyn std::fmt::Display| {
-        RegimeReached::Unsettled(Unsettled::Settle(SettleError::Integration {
-            kappa: params.kappa,
-            time,
-            cause: format!("continuing by the joined flow: {e}"),
-        }))
+    let failed = |time: f64, e: &dyn std::fmt::Display| SettleError::Integration {
+        kappa: params.kappa,
+        time,
+        cause: format!("continuing by the joined flow: {e}"),
     };
-    let mut x = match flow.to_section(start, settings.max_time) {
-        Ok(x) => x,
-        Err(e) => return failed(0.0, &e),
-    };
+    let mut x = flow
+        .to_section(start, settings.max_time)
+        .map_err(|e| failed(0.0, &e))?;
     let (mut time, mut difference, mut extents) = (0.0, f64::INFINITY, (0.0, 0.0));
     for periods in 1..=settings.max_periods {
-        let p = match flow.passage(x, settings.max_time, false) {
-            Ok(p) => p,
-            Err(e) => return failed(time, &e),
-        };
+        let p = flow
+            .passage(x, settings.max_time, false)
+            .map_err(|e| failed(time, &e))?;
         time += p.period;
         let extent = x[0] - p.s_min;
         extents = (if periods == 1 { extent } else { extents.0 }, extent);
@@ -649,23 +661,46 @@ pub fn regime(params: &Params, start: State, settings: &SettleSettings) -> Regim
             .max((p.end[1] - x[1]).abs() / (1.0 + x[1].abs()));
         x = p.end;
         if difference <= settings.tol {
-            return match fixed_point(&flow, x, 100.0 * p.period) {
-                Ok(fp) => RegimeReached::Periodic {
-                    period: fp.passage.period,
-                    delta_s: fp.x[0] - fp.passage.s_min,
-                    slip: params.nu * fp.passage.period,
-                    on_cycle: [fp.x[0], params.nu, fp.x[1].exp()],
-                },
-                Err(e) => failed(time, &e),
-            };
+            return Ok(SettledOrbit {
+                section: flow.on_section(x).to_vec(),
+                period: p.period,
+                periods,
+                time,
+                difference,
+            });
         }
     }
-    RegimeReached::Unsettled(Unsettled::Settle(SettleError::NotSettled {
+    Err(SettleError::NotSettled {
         kappa: params.kappa,
         time,
         periods: settings.max_periods,
         difference,
         extent_first: extents.0,
         extent_last: extents.1,
-    }))
+    })
+}
+
+/// The regime the joined flow of `params` reaches from `start` (an
+/// inertial run whose sticks fell below `v_b`): [`settle`], then the cycle
+/// there located exactly ([`fixed_point`]), its period and `Delta_s` those
+/// of the fixed point.
+pub fn regime(params: &Params, start: State, settings: &SettleSettings) -> RegimeReached {
+    let orbit = match settle(params, start, settings) {
+        Ok(orbit) => orbit,
+        Err(e) => return RegimeReached::Unsettled(Unsettled::Settle(e)),
+    };
+    let x = [orbit.section[0], orbit.section[2]];
+    match fixed_point(&JoinedFlow::new(params, RTOL), x, 100.0 * orbit.period) {
+        Ok(fp) => RegimeReached::Periodic {
+            period: fp.passage.period,
+            delta_s: fp.x[0] - fp.passage.s_min,
+            slip: params.nu * fp.passage.period,
+            on_cycle: [fp.x[0], params.nu, fp.x[1].exp()],
+        },
+        Err(e) => RegimeReached::Unsettled(Unsettled::Settle(SettleError::Integration {
+            kappa: params.kappa,
+            time: orbit.time,
+            cause: format!("locating the settled cycle by the return map: {e}"),
+        })),
+    }
 }

@@ -487,15 +487,18 @@ fn print_cycle(units: TextUnits, cycle: &Cycle, found: &[CycleSpecialPoint]) {
 /// A cycle in the text units `units`: stiffness, period, the force drop
 /// in N (physical units), `Delta_s` (a friction coefficient either way) and
 /// the range of the slip velocity.
+/// The slowest slip velocity `v` of `c` (in a unit `10^log10_v0 V0`), or
+/// below the range of `f64` (a deep stick of the return map) its power of ten.
+fn slowest(c: &Cycle, v: f64, log10_v0: f64) -> String {
+    if v >= 1e-300 {
+        format!("{v:.3e}")
+    } else {
+        format!("10^{:.1}", c.log10_v_min + log10_v0)
+    }
+}
+
 fn cycle_text(units: TextUnits, c: &Cycle) -> String {
-    // Below the range of f64 (a deep stick of the return map): its log10.
-    let slowest = |v: f64, log10_v0: f64| {
-        if v >= 1e-300 {
-            format!("{v:.3e}")
-        } else {
-            format!("10^{:.1}", c.log10_v_min + log10_v0)
-        }
-    };
+    let slowest = |v: f64, log10_v0: f64| slowest(c, v, log10_v0);
     match units {
         TextUnits::Physical => format!(
             "K/W {:.8e} 1/m  period {:.6e} s  force drop {:.6e} N  Delta_s {:.6e}  v {} .. \
@@ -532,9 +535,13 @@ fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
     )];
     let how = match (op.method, &op.simulation) {
         (Some("simulation"), Some(s)) => format!(
-            "simulated in the {} model (settled after {} oscillations), corrected by collocation",
+            "simulated in the {} model (settled after {} oscillations), {}",
             s.model.name(),
-            s.oscillations
+            s.oscillations,
+            match op.cycle.as_ref().and_then(|c| c.ntst) {
+                Some(_) => "corrected by collocation",
+                None => "located by the return map",
+            }
         ),
         (Some("continuation"), _) => "reached along the branch from the Hopf point".to_string(),
         _ => "the start of the branch".to_string(),
@@ -543,12 +550,18 @@ fn operating_text(units: TextUnits, op: &OperatingCycle) -> Vec<String> {
         (Some(c), Some(slip)) => {
             let at = match units {
                 TextUnits::Physical => format!(
-                    "period {:.6e} s  force drop {:.6e} N  slip per event {slip:.6e} µm  v {:.3e} .. {:.3e} µm/s",
-                    c.period_s, c.delta_s_n, c.v_min_um_per_s, c.v_max_um_per_s
+                    "period {:.6e} s  force drop {:.6e} N  slip per event {slip:.6e} µm  v {} .. {:.3e} µm/s",
+                    c.period_s,
+                    c.delta_s_n,
+                    slowest(c, c.v_min_um_per_s, (c.v_max_um_per_s / c.v_max).log10()),
+                    c.v_max_um_per_s
                 ),
                 TextUnits::Dimensionless => format!(
-                    "period {:.6e}  Delta_s {:.6e}  v {:.3e} .. {:.3e}",
-                    c.period, c.delta_s, c.v_min, c.v_max
+                    "period {:.6e}  Delta_s {:.6e}  v {} .. {:.3e}",
+                    c.period,
+                    c.delta_s,
+                    slowest(c, c.v_min, 0.0),
+                    c.v_max
                 ),
             };
             lines.push(format!(

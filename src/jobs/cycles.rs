@@ -562,10 +562,18 @@ fn operating_cycle(
     };
     along.cover_requested();
     let mut found: Option<CycleRecord> = None;
+    // Where the branch passes the scene's K more than once (bistable: an
+    // unstable cycle bounding the basin of steady sliding, and a stable
+    // one), the stable cycle is the one the rig runs on.
     let end = trace_cycles_from(setup.choice.kind, &setup.params, h, &along, watch, |c| {
-        found = found
-            .take()
-            .or_else(|| c.user.iter().find(|u| u.kappa == kappa).cloned());
+        let here = c.user.iter().find(|u| u.kappa == kappa);
+        found = match (found.take(), here) {
+            (Some(f), Some(u)) if !f.stability.is_stable() && u.stability.is_stable() => {
+                Some(u.clone())
+            }
+            (Some(f), _) => Some(f),
+            (None, u) => u.cloned(),
+        };
         Ok(())
     });
     match found {

@@ -164,6 +164,23 @@ impl Restart {
             _ => return Err(self.no_orbits("orbits_file")),
         };
         let entry = self.entry(&json, written)?;
+        if entry.get("method").and_then(Value::as_str) == Some("return_map") {
+            let k = entry
+                .get("kappa")
+                .and_then(Value::as_f64)
+                .unwrap_or(f64::NAN);
+            return Err(self.error(
+                "method",
+                format!(
+                    "return_map: the cycle labelled {} is a fixed point of the return map (its \
+                     stick lies below the resolution of f64, docs/cycles.md), which keeps no \
+                     collocation orbit to restart from; restart from a cycle with method \
+                     collocation, or give its stiffness on the same scene (`hopf --set \
+                     kappa={k:e}`, `cycles --at-kappa {k:e}`)",
+                    self.index,
+                ),
+            ));
+        }
         let orbit = self.find_orbit(orbits)?;
         // The orbits file belongs to this JSON: the same period, bit for bit.
         if entry.get("period").and_then(Value::as_f64) != Some(orbit.period) {
