@@ -760,9 +760,14 @@ fn diagram_is_finite_or_a_typed_error() {
 
 #[test]
 fn cycles_are_finite_or_a_typed_error() {
+    // 2026-11-27: one case (m = 1.2e-12, A = 0.019, B = 0.049, mu2 = 0.05,
+    // kappa = 5.2, inertial) went from "no cycles" (every stuck-start
+    // simulation failed at the stop into the stick) to a cycle found by the
+    // joined flow whose stability rounding then cannot decide (partial):
+    // one fewer delivered, one more answered.
     let floor = Floor {
-        delivered: 58,
-        answered: 59,
+        delivered: 57,
+        answered: 60,
         known: 2,
     };
     run("cycles", 64, 1usize..=8, floor, cycles);
