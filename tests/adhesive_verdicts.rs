@@ -484,3 +484,66 @@ fn adhesive_options_are_honoured_or_refused_with_a_reason() {
     let hopf_lines = csv.lines().filter(|l| l.starts_with("# hopf")).count();
     assert_eq!(hopf_lines, v["hopf_points"].as_array().unwrap().len());
 }
+
+/// A PVA scene without a spring (`K` is optional): `diagram` draws its
+/// stability diagram, exit 0, and the critical stiffnesses are those of the
+/// same scene with a spring (they do not depend on the scene's `K`);
+/// before, the stability change of steady sliding at zero stiffness (a zero
+/// eigenvalue where the friction slope changes sign) was located as a Hopf
+/// point and the command failed (exit 3, singular Jacobian).
+#[test]
+fn a_scene_without_a_spring_has_its_stability_diagram() {
+    let dir = temp_dir("adhesive-no-spring");
+    let scene = |k: &str| {
+        let path = dir.join(format!("pva{k}.toml"));
+        let text = format!(
+            "law = \"adhesive\"\nname = \"pva{k}\"\nF_a = 0.02\nV_s = 0.05\ntau_out = 2.0\n\
+             tau_on = 0.2\nF_v = 2e-4\nalpha = 0.5\nM = 2e-3\nV = 10.0\n\
+             V_range = [0.1, 1000.0]\n{k}"
+        );
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    let run = |path: &str| {
+        let (code, v, err) = json_of(&[
+            "diagram", "--scene", path, "--out", out, "--force", "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        v
+    };
+    let (without, with) = (run(&scene("")), run(&scene("K = 500.0")));
+    let k_c = |v: &serde_json::Value| -> Vec<Option<f64>> {
+        v["points"]
+            .as_array()
+            .expect("points")
+            .iter()
+            .map(|p| p["K_N_per_m"].as_f64())
+            .collect()
+    };
+    let (a, b) = (k_c(&without), k_c(&with));
+    assert!(a.iter().filter(|k| k.is_some()).count() > 10, "{a:?}");
+    assert_eq!(a, b);
+}
+
+/// The 10 kg gel: its branch ends where the cycle grazes `v = 0`, and the
+/// simulation at the branch's end (the second method) does not finish; the
+/// answer keeps the branch, partial (exit 4, `complete: false`, the JSON
+/// printed), instead of a numerical failure that dropped it (exit 3).
+#[test]
+fn a_heavy_gels_branch_is_kept_when_the_second_method_fails() {
+    let dir = temp_dir("adhesive-heavy-gel");
+    let out = dir.to_str().unwrap();
+    let (code, v, err) = json_of(&[
+        "cycles", "--scene", "gel", "--set", "M=10", "--out", out, "--force", "--json",
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert_eq!(v["complete"], false);
+    assert!(v["cycles"].as_array().is_some_and(|c| c.len() > 10));
+    let stop = v["stop"].as_str().unwrap_or_default();
+    assert!(
+        stop.contains("grazes v = 0") && stop.contains("second method"),
+        "{stop}"
+    );
+}

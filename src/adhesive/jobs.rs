@@ -771,21 +771,28 @@ pub fn cycles_watched(
     let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits, watch))?;
     let mut q = p;
     q.kappa = target;
-    let simulated = if run.interrupted {
-        None
+    // The second method: a simulation at the target stiffness. Its
+    // failure leaves the branch computed, the answer partial.
+    let (simulated, simulation_failed) = if run.interrupted {
+        (None, None)
     } else {
         let x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &q));
         let start = x[x.len() - 1] * 0.99;
         match with_model!(kind, b => settle(b, &q, start, 30)) {
-            (SettledRegime::Periodic, cycle, _) => cycle,
+            (SettledRegime::Periodic, cycle, _) => (cycle, None),
             (
                 _,
                 _,
                 Run {
                     stop: Some(why), ..
                 },
-            ) => return Err(NumericalError::Analysis(why).into()),
-            _ => None,
+            ) => (
+                None,
+                Some(format!(
+                    "the simulation at the branch's end (the second method) did not finish: {why}"
+                )),
+            ),
+            _ => (None, None),
         }
     };
     // A subcritical onset's branch turns at a fold of cycles above K_c:
@@ -808,8 +815,11 @@ pub fn cycles_watched(
         operating_point,
         reason: None,
         orbit_inertia_ratio: orbit_inertia,
-        complete: run.stop.is_none(),
-        stop: run.stop,
+        complete: run.stop.is_none() && simulation_failed.is_none(),
+        stop: match (run.stop, simulation_failed) {
+            (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+            (a, b) => a.or(b),
+        },
         interrupted: run.interrupted,
         cycles: run.cycles,
         at_scene: run.at_scene,

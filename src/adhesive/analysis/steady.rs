@@ -69,7 +69,13 @@ pub fn branch<B: AdhesiveModel>(
             eigenvalues: ev.iter().map(|e| [e.re, e.im]).collect(),
             stable: count_unstable(&ev) == 0,
         };
-        if let Some(prev) = points.last().filter(|prev| prev.stable != point.stable) {
+        // Without a spring (a scene with no K) steady sliding changes
+        // stability where the friction slope changes sign: a zero
+        // eigenvalue, no Hopf point to locate.
+        if let Some(prev) = points
+            .last()
+            .filter(|prev| prev.stable != point.stable && q.kappa > 0.0)
+        {
             let mut mid = q;
             mid.nu = (prev.nu * nu).sqrt();
             let (_, omega) = block::critical_stiffness_of(&mid, B::KIND);
