@@ -1326,7 +1326,8 @@ fn follow<E: LegEnd>(
             Ok(pt) => pt,
             Err(
                 e @ (continuation::ContinuationError::Newton { .. }
-                | continuation::ContinuationError::StepTooSmall { .. }),
+                | continuation::ContinuationError::StepTooSmall { .. }
+                | continuation::ContinuationError::FloquetIllConditioned { .. }),
             ) => {
                 // The engine's advice (a smaller step, more intervals) is
                 // what the branch already did; what failed, in numbers.
@@ -1365,7 +1366,9 @@ fn follow<E: LegEnd>(
                 };
                 // An inertial branch in kappa goes on by the return map
                 // from its last cycle: where collocation no longer resolves
-                // the stop into the stick, or fails otherwise.
+                // the stop into the stick, fails otherwise, or its
+                // multipliers are swamped by rounding (the map's Jacobian
+                // decides stability).
                 match &last_two {
                     [Some(before), Some(rec)]
                         if log.kind == ModelKind::Inertial

@@ -8,7 +8,7 @@
 //! (steps `h_j = 1e-6 max(1, |x_j|)`: the integration's rounding `rtol`
 //! over `h` against the truncation `h^2 |P'''|`); the chord Jacobian is
 //! kept while each step is at most a tenth of the one before, and Newton
-//! stops at `1e-11` relative or where its steps stall below `1e-7` (the
+//! stops at `1e-11` relative or where its steps stall below `1e-6` (the
 //! rounding floor of the integration). The eigenvalues of `P'` at the
 //! root are the cycle's nontrivial Floquet multipliers (the trivial one,
 //! along the flow, the section removes); their error is taken as the
@@ -53,6 +53,9 @@ pub struct FixedPoint {
     pub multiplier_error: f64,
     /// Newton iterations taken.
     pub iterations: usize,
+    /// The last Newton step, relative: how well the fixed point is known
+    /// (at most `1e-6`, where the steps stall at the integration's floor).
+    pub last_step: f64,
 }
 
 /// Why no fixed point was found.
@@ -66,6 +69,9 @@ pub enum FixedPointError {
     Singular,
     /// The leading multiplier jumped between neighbouring stiffnesses.
     Jump { from: f64, to: f64 },
+    /// Newton's method reached steady sliding (the orbit never slows
+    /// through `v = nu`), not a cycle.
+    SteadySliding,
 }
 
 impl std::fmt::Display for FixedPointError {
@@ -80,6 +86,11 @@ impl std::fmt::Display for FixedPointError {
             FixedPointError::Singular => write!(
                 f,
                 "the return map's Jacobian has an eigenvalue at 1 (a fold of cycles)"
+            ),
+            FixedPointError::SteadySliding => write!(
+                f,
+                "Newton's method on the return map reached steady sliding, not a cycle (the \
+                 cycles shrink onto it, or end here)"
             ),
             FixedPointError::Jump { from, to } => write!(
                 f,
@@ -175,11 +186,16 @@ pub fn fixed_point(
         x = [x[0] + dx[0], x[1] + dx[1]];
         let step = (dx[0].abs() / x[0].abs().max(1.0)).max(dx[1].abs() / x[1].abs().max(1.0));
         // Converged, or stalled at the rounding floor of the integration
-        // (a step no longer halving below 1e-7: long periods whose slip
+        // (a step no longer halving below 1e-6: long periods whose slip
         // lasts a microsecond time the slip to relative 1e-9 at best); the
-        // error estimate of the cycle says how far that floor is.
-        if step <= 1e-11 || (step > 0.5 * last_step && last_step <= 1e-7) {
+        // error estimate of the cycle includes that last step.
+        if step <= 1e-11 || (step > 0.5 * last_step && last_step <= 1e-6) {
             let passage = flow.passage(x, t_max, true)?;
+            // A cycle slows through v = nu once a period; a "fixed point"
+            // that never does is steady sliding on the section.
+            if !passage.s_min.is_finite() {
+                return Err(FixedPointError::SteadySliding);
+            }
             let jac = jacobian(flow, x, t_max, 1.0)?;
             let coarse = eigenvalues(jacobian(flow, x, t_max, 2.0)?);
             let multipliers = eigenvalues(jac);
@@ -195,6 +211,7 @@ pub fn fixed_point(
                 multipliers,
                 multiplier_error,
                 iterations: iteration,
+                last_step: step,
             });
         }
         if step > 0.1 * last_step {
@@ -295,9 +312,11 @@ fn record(
     let a = [[1.0 - j[0][0], -j[0][1]], [-j[1][0], 1.0 - j[1][1]]];
     let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
     let shift_s = ((d[0] * a[1][1] - d[1] * a[0][1]) / det).abs();
+    // With the fixed point's own uncertainty: the last Newton step.
     let error_estimate = ((coarse.period - pas.period).abs() / pas.period)
         .max((coarse.s_min - pas.s_min).abs() / delta_s)
-        .max(shift_s / delta_s);
+        .max(shift_s / delta_s)
+        .max(fp.last_step * fp.x[0].abs().max(1.0) / delta_s);
     let (mut ln_v_min, mut ln_v_max) = (f64::INFINITY, f64::NEG_INFINITY);
     for &[_, _, ln_v, _] in &pas.samples {
         ln_v_min = ln_v_min.min(ln_v);

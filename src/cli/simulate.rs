@@ -194,8 +194,13 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         }
         Some(Shortfall::Interrupted { at }) => Err(interrupt::stopped(at)),
     };
-    // A failed integration answers with its own error.
-    sim.end.and(outcome)
+    // A failed integration that kept rows is a partial answer (a run that
+    // kept results never exits 3); one that failed at its start is the
+    // failure.
+    match sim.end {
+        Err(e) if sim.steps > 1 => Err(Error::Partial(e.to_string())),
+        end => end.and(outcome),
+    }
 }
 
 /// Ticks of the progress bar over the protocol.
