@@ -51,6 +51,22 @@ pub struct Minimum {
     pub iterations: usize,
 }
 
+/// The last iterate `x` after `iteration + 1` iterations (the minimum, or
+/// where the iteration limit left it).
+fn last_iterate(
+    x: Vec<f64>,
+    residuals: DVector<f64>,
+    jacobian: DMatrix<f64>,
+    iteration: usize,
+) -> Minimum {
+    Minimum {
+        x,
+        residuals,
+        jacobian,
+        iterations: iteration + 1,
+    }
+}
+
 /// Why the minimisation failed.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum LeastSquaresError {
@@ -116,45 +132,21 @@ pub fn minimize<P: Problem>(p: &P, x0: &[f64]) -> Result<(Minimum, bool), LeastS
                 lambda *= (1.0f64 / 3.0).max(1.0 - (2.0 * rho - 1.0).powi(3));
                 grow = 2.0;
                 if small_step || flat {
-                    return Ok((
-                        Minimum {
-                            x,
-                            residuals: r,
-                            jacobian: j,
-                            iterations: iteration + 1,
-                        },
-                        true,
-                    ));
+                    return Ok((last_iterate(x, r, j, iteration), true));
                 }
             }
             _ => {
                 // At the minimum to rounding: no step decreases the cost.
                 let gradient_small = g.amax() <= 1e-12 * (1.0 + cost.sqrt()) * j.amax().max(1.0);
                 if gradient_small || lambda > 1e16 {
-                    return Ok((
-                        Minimum {
-                            x,
-                            residuals: r,
-                            jacobian: j,
-                            iterations: iteration + 1,
-                        },
-                        true,
-                    ));
+                    return Ok((last_iterate(x, r, j, iteration), true));
                 }
                 lambda *= grow;
                 grow *= 2.0;
             }
         }
     }
-    Ok((
-        Minimum {
-            x,
-            residuals: r,
-            jacobian: j,
-            iterations: MAX_ITERATIONS,
-        },
-        false,
-    ))
+    Ok((last_iterate(x, r, j, MAX_ITERATIONS - 1), false))
 }
 
 /// The singular values of `J` with its columns scaled to unit length, in
