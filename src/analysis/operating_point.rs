@@ -215,7 +215,8 @@ pub fn judge(kappa: f64, onset: &StabilityAt) -> (Regime, f64, String) {
                 Regime::Undecided,
                 "K > K_c with a subcritical onset: steady sliding is stable, but stick-slip \
                  cycles coexist with it (bistable) up to the stiffness of the fold of cycles, \
-                 which is not located here; `stickslip cycles` locates it"
+                 which this judgement does not know (the cycle branch of `stickslip cycles` \
+                 locates it)"
                     .to_string(),
             ),
             (Criticality::Subcritical, Some(None)) => (
@@ -276,8 +277,8 @@ pub fn judge_without_onset(kappa: f64, fold: Option<FoldAt>) -> (Regime, String)
             Regime::Undecided,
             format!(
                 "{STABLE}, but finite-amplitude stick-slip may coexist with it (no fold of \
-                 cycles is known at this velocity); `stickslip cycles` looks for it by \
-                 simulation"
+                 cycles is known at this velocity; the simulations from a stick of \
+                 `stickslip cycles` look for it)"
             ),
         ),
         Some(fold) if (kappa - fold.kappa).abs() <= fold.error => (
