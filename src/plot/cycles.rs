@@ -190,16 +190,17 @@ pub fn branch_figures(
             },
         ),
     ];
+    // Every `step`-th cycle, the last one (the end of the branch) and the
+    // cycles asked for (`--at-kappa`), in their order along the branch.
     let picks: Vec<&CycleRecord> = {
         let step = records.len().div_ceil(FAMILY_SIZE).max(1);
-        let mut picks: Vec<&CycleRecord> = records.iter().step_by(step).copied().collect();
-        // The last cycle (the end of the branch) is always shown.
-        if let Some(&last) = records.last() {
-            if !picks.last().is_some_and(|p| std::ptr::eq(*p, last)) {
-                picks.push(last);
-            }
-        }
-        picks
+        let last = records.len().saturating_sub(1);
+        records
+            .iter()
+            .enumerate()
+            .filter(|(i, c)| i % step == 0 || *i == last || c.user_point)
+            .map(|(_, c)| *c)
+            .collect()
     };
     let bar = Colorbar::over("K/W [1/m]", picks.iter().map(|c| u.k_over_w(c.kappa)));
     // One curve per picked cycle, mapping each sample (t/T, s, ln v, ln theta) to
