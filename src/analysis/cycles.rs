@@ -1291,9 +1291,10 @@ fn follow<E: LegEnd>(
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), crate::error::Error>,
 ) -> Result<E, crate::error::Error> {
     let (mut largest, mut last) = (0.0f64, None);
-    // The last two cycles handed out (without their orbits): where the
-    // return map takes over ([`return_map::continue_branch`]).
-    let (mut last_two, mut delivered): ([Option<CycleRecord>; 2], usize) = ([None, None], 0);
+    // The last cycle handed out and the stiffness of the one before: where
+    // the return map takes over ([`return_map::continue_branch`]).
+    let (mut last_rec, mut kappa_before, mut delivered): (Option<CycleRecord>, Option<f64>, usize) =
+        (None, None, 0);
     // The last three cycles' (parameter, Delta_s).
     let mut recent: Vec<(f64, f64)> = Vec::with_capacity(3);
     let (mut slowest, mut fastest) = (f64::INFINITY, f64::INFINITY);
@@ -1369,16 +1370,16 @@ fn follow<E: LegEnd>(
                 // the stop into the stick, fails otherwise, or its
                 // multipliers are swamped by rounding (the map's Jacobian
                 // decides stability).
-                match &last_two {
-                    [Some(before), Some(rec)]
+                match (&last_rec, kappa_before) {
+                    (Some(rec), Some(before))
                         if log.kind == ModelKind::Inertial
                             && param == Param::Kappa
-                            && rec.kappa != before.kappa =>
+                            && rec.kappa != before =>
                     {
                         return return_map::continue_branch(
                             log,
                             rec,
-                            rec.kappa - before.kappa,
+                            rec.kappa - before,
                             &why,
                             req,
                             req.max_steps.saturating_sub(delivered),
@@ -1409,10 +1410,11 @@ fn follow<E: LegEnd>(
         (slowest, fastest) = (rec.v_min, rec.v_max);
         sink(&rec)?;
         delivered += 1;
-        last_two = [last_two[1].take(), Some(rec.without_orbit())];
         if let Some(end) = E::handover(watch, log.kind, &rec, &pt, &mut previous) {
             return Ok(end);
         }
+        kappa_before = last_rec.as_ref().map(|r| r.kappa);
+        last_rec = Some(rec);
         previous = Some(Box::new(pt.cycle));
     }
     // An iterator that ended without an error has a reason (the driver

@@ -16,7 +16,7 @@
 //! stability is decided only beyond it.
 
 use super::cycles::{friction_min, CycleMethod, CycleRecord, CycleRequest, Leg};
-use super::joined_flow::{JoinedFlow, Passage, PassageError, State};
+use super::joined_flow::{stick_threshold, JoinedFlow, Passage, PassageError, State};
 use super::settle::SettledOrbit;
 use super::settle::{SettleError, SettleSettings};
 use super::simulate::{RegimeReached, Unsettled};
@@ -228,7 +228,7 @@ pub fn fixed_point(
 /// Why the cycle `c` of the return map follows the collocated cycle
 /// `prev` on its branch (the text of `cycles` and its JSON `method_switch`).
 pub fn handover_reason(log: &LogBlock, prev: &CycleRecord, c: &CycleRecord) -> String {
-    let flow = JoinedFlow::new(&params_of(log, &c.params), RTOL);
+    let ln_v_b = stick_threshold(&params_of(log, &c.params));
     format!(
         "from kappa = {:.10e} on, the cycles are fixed points of the return map: collocation \
          could not resolve the block coming to rest from its slip onto a stick velocity of \
@@ -239,7 +239,7 @@ pub fn handover_reason(log: &LogBlock, prev: &CycleRecord, c: &CycleRecord) -> S
         c.kappa,
         prev.ln_v_min / std::f64::consts::LN_10,
         prev.kappa,
-        flow.ln_v_b / std::f64::consts::LN_10
+        ln_v_b / std::f64::consts::LN_10
     )
 }
 
@@ -434,10 +434,22 @@ pub fn cycle_through_orbit(
     orbit: &SettledOrbit,
     leg: Leg,
 ) -> Result<CycleRecord, FixedPointError> {
+    orbit_cycle(log, params, orbit, leg).map(|(_, rec)| rec)
+}
+
+/// The fixed point through the simulated orbit `orbit` and its record
+/// ([`cycle_through_orbit`]).
+fn orbit_cycle(
+    log: &LogBlock,
+    params: &Params,
+    orbit: &SettledOrbit,
+    leg: Leg,
+) -> Result<(FixedPoint, CycleRecord), FixedPointError> {
     let t_max = 100.0 * orbit.period;
     let guess = [orbit.section[0], orbit.section[2]];
     let fp = fixed_point(&JoinedFlow::new(params, RTOL), guess, t_max)?;
-    record(params, &fp, t_max, log, leg).map_err(FixedPointError::Passage)
+    let rec = record(params, &fp, t_max, log, leg).map_err(FixedPointError::Passage)?;
+    Ok((fp, rec))
 }
 
 /// The branch through the simulated orbit `orbit` of `params` by the return
@@ -465,12 +477,8 @@ pub fn branch_through_orbit(
         ))
         .into()
     };
-    let t_max = 100.0 * orbit.period;
-    let guess = [orbit.section[0], orbit.section[2]];
-    let fp = fixed_point(&JoinedFlow::new(params, RTOL), guess, t_max)
-        .map_err(|e| failed(params.kappa, e.to_string()))?;
-    let first =
-        record(params, &fp, t_max, log, leg).map_err(|e| failed(params.kappa, e.to_string()))?;
+    let (fp, first) =
+        orbit_cycle(log, params, orbit, leg).map_err(|e| failed(params.kappa, e.to_string()))?;
     if hand_first {
         sink(&first)?;
     }

@@ -117,20 +117,7 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
     // cycles at r^2 = 1/2, beta = -1/4; nontrivial multiplier
     // exp(2 r^2 (1 - 2 r^2) T) (unstable below the fold's radius).
     let sys = Bautin { w: 1.5 };
-    let settings = CycleSettings {
-        mesh: Discretization {
-            ntst: 20,
-            ..Default::default()
-        },
-        p_min: -1.0,
-        p_max: 0.5,
-        step: StepControl {
-            ds: 1e-2,
-            ..CycleSettings::default().step
-        },
-        max_steps: 120,
-        ..Default::default()
-    };
+    let settings = bautin_settings(120);
     let branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0, 1.0], 0, settings).unwrap();
     let period = 2.0 * std::f64::consts::PI / 1.5;
     let mut lpcs = Vec::new();
@@ -354,20 +341,7 @@ impl VectorField for Bautin {
 fn fold_of_cycles_by_two_routes_and_its_curve_in_two_parameters() {
     let sys = Bautin { w: 1.5 };
     let alpha = 1.2;
-    let settings = CycleSettings {
-        mesh: Discretization {
-            ntst: 20,
-            ..Default::default()
-        },
-        p_min: -1.0,
-        p_max: 0.5,
-        step: StepControl {
-            ds: 1e-2,
-            ..CycleSettings::default().step
-        },
-        max_steps: 200,
-        ..Default::default()
-    };
+    let settings = bautin_settings(200);
     let branch =
         CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0, alpha], 0, settings).unwrap();
     // Route 1: the sign change of dp/ds on the branch; route 2: Newton on the
@@ -849,4 +823,23 @@ fn a_newton_iteration_on_the_collocation_system_allocates_nothing() {
         "iterations 3 to 6 allocated {} times",
         long as isize - short as isize
     );
+}
+
+/// Cycle branches of the Bautin normal form: 20 intervals, `p` in
+/// `[-1, 0.5]`, first step `1e-2`, at most `max_steps` steps.
+fn bautin_settings(max_steps: usize) -> CycleSettings {
+    CycleSettings {
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
+        p_min: -1.0,
+        p_max: 0.5,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
+        max_steps,
+        ..Default::default()
+    }
 }
