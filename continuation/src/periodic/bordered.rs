@@ -413,6 +413,12 @@ impl CyclicReduction {
         self.scratch = scratch;
     }
 
+    /// `R E` for the linearization's own border columns `E = (dF/dT,
+    /// dF/dp_k)` (`N x 2`), transformed in the sweeps that formed `R`.
+    pub fn border(&self) -> &DMatrix<f64> {
+        &self.border
+    }
+
     /// The last relation `a y_0 + b y_N = 0` (`y_N = y_0` for the orbit): the
     /// Floquet pencil `a y = mu (-b) y`.
     pub fn pencil(&self) -> (&DMatrix<f64>, &DMatrix<f64>) {
@@ -444,7 +450,7 @@ impl CyclicReduction {
     }
 
     /// `x <- R x` on the collocation rows.
-    fn apply_r(&self, x: &mut [f64]) {
+    pub fn apply_r(&self, x: &mut [f64]) {
         let mn = self.mn();
         for (i, iv) in self.intervals.iter().enumerate() {
             let rows = &mut x[i * mn..(i + 1) * mn];
@@ -610,31 +616,6 @@ fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
 }
 
 impl<'a> Bordered<'a> {
-    /// The system `[C E; D G]` with `C` reduced in `reduction`, `columns`
-    /// `= E` (`N x k`) and `rows` `= [D G]` (`k x (N + k)`).
-    pub fn new(
-        reduction: &'a CyclicReduction,
-        mut columns: DMatrix<f64>,
-        mut rows: DMatrix<f64>,
-    ) -> Result<Self, ContinuationError> {
-        let nn = reduction.intervals.len() * reduction.mn();
-        if columns.nrows() != nn {
-            return Err(ContinuationError::Sparse(format!(
-                "{} border rows for {nn} collocation rows",
-                columns.nrows()
-            )));
-        }
-        for c in 0..columns.ncols() {
-            reduction.apply_r(&mut columns.as_mut_slice()[c * nn..(c + 1) * nn]);
-        }
-        Self::reduced(
-            reduction,
-            Cow::Owned(columns),
-            &mut rows,
-            BorderedStore::default(),
-        )
-    }
-
     /// The system whose border columns are those of the linearization
     /// `reduction` was factored from (`dF/dT`, `dF/dp_k`), already
     /// transformed by `R` in its sweeps; `rows` `= [D G]` (`2 x (N + 2)`),
@@ -646,6 +627,19 @@ impl<'a> Bordered<'a> {
         store: BorderedStore,
     ) -> Result<Self, ContinuationError> {
         Self::reduced(reduction, Cow::Borrowed(&reduction.border), rows, store)
+    }
+
+    /// The system `[C E; D G]` with `R E` given (`columns`, `N x k`: the
+    /// reduction's own [`CyclicReduction::border`] columns, or columns
+    /// transformed by [`CyclicReduction::apply_r`]) and `rows` `= [D G]`
+    /// (`k x (N + k)`), overwritten; in `store`'s storage.
+    pub fn transformed(
+        reduction: &'a CyclicReduction,
+        columns: &'a DMatrix<f64>,
+        rows: &mut DMatrix<f64>,
+        store: BorderedStore,
+    ) -> Result<Self, ContinuationError> {
+        Self::reduced(reduction, Cow::Borrowed(columns), rows, store)
     }
 
     /// The system [`Bordered::on_border`] last reduced into `store` on
@@ -1053,6 +1047,26 @@ mod tests {
     }
 
     #[test]
+    fn the_reductions_own_border_is_r_applied_to_the_border_columns() {
+        let mut seed = 5;
+        for (n, m, ntst) in SHAPES {
+            let (lin, _, _, _) = random_system(&mut seed, (n, m, ntst, 2));
+            let reduction = CyclicReduction::new(&lin, n);
+            let mut columns = lin.border_columns();
+            let nn = columns.nrows();
+            for column in columns.as_mut_slice().chunks_exact_mut(nn) {
+                reduction.apply_r(column);
+            }
+            let scale = columns.amax();
+            let difference = (&columns - reduction.border()).amax();
+            assert!(
+                difference <= 1e-14 * scale,
+                "n {n} m {m} ntst {ntst}: {difference:e} of {scale:e}"
+            );
+        }
+    }
+
+    #[test]
     fn bordered_solves_with_the_matrix_and_its_transpose() {
         let mut seed = 11;
         for (n, m, ntst) in SHAPES {
@@ -1064,7 +1078,18 @@ mod tests {
                 let reference = full.clone().full_piv_lu().solve(&b).unwrap();
                 let adjoint = full.transpose().full_piv_lu().solve(&b).unwrap();
                 let reduction = CyclicReduction::new(&lin, n);
-                let mut sys = Bordered::new(&reduction, columns, dense).unwrap();
+                let (mut columns, mut dense) = (columns, dense);
+                let nn = columns.nrows();
+                for column in columns.as_mut_slice().chunks_exact_mut(nn) {
+                    reduction.apply_r(column);
+                }
+                let mut sys = Bordered::transformed(
+                    &reduction,
+                    &columns,
+                    &mut dense,
+                    BorderedStore::default(),
+                )
+                .unwrap();
                 for (x, reference) in [
                     (sys.solve(&rhs).unwrap(), reference),
                     (sys.solve_transpose(&rhs).unwrap(), adjoint),

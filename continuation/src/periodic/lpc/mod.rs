@@ -24,8 +24,8 @@ mod gradient;
 
 pub use curve::{FoldsOfCycles, LpcCurve, LpcCurveSettings};
 
-use super::bordered::{Bordered, CyclicReduction};
-use super::collocation::Collocation;
+use super::bordered::{Bordered, BorderedStore, CyclicReduction};
+use super::collocation::{Collocation, Linearization};
 use super::cycle::Cycle;
 use crate::error::{ContinuationError, NewtonFailure};
 use crate::newton::{
@@ -34,6 +34,7 @@ use crate::newton::{
 use crate::system::VectorField;
 use gradient::adjoint_gradient;
 use nalgebra::DMatrix;
+use std::cell::Cell;
 
 /// The minimally augmented system on one mesh, with its bordering vectors.
 struct Augmented<'a, S: VectorField> {
@@ -42,29 +43,66 @@ struct Augmented<'a, S: VectorField> {
     k2: Option<usize>,
     b: Vec<f64>,
     c: Vec<f64>,
-    /// The storage of a reduction no longer used, for the next evaluation.
-    spare: Option<CyclicReduction>,
+    /// The system of the test function, `[A b; c^T 0]`, in storage kept
+    /// between evaluations.
+    test: TestSystem,
+    /// An evaluation no longer used, whose storage (linearization,
+    /// reduction, border columns and rows) the next one reuses.
+    spare: Option<Evaluation>,
+}
+
+/// Storage of the test function's system: its border columns transformed
+/// by the reduction (`dF/dT`, `b`), its dense rows, and the bordered
+/// system's.
+#[derive(Default)]
+struct TestSystem {
+    columns: DMatrix<f64>,
+    rows: DMatrix<f64>,
+    store: BorderedStore,
 }
 
 /// `F` and `g` at a point, their Jacobian (the collocation rows reduced,
 /// border columns and dense rows) and the null vectors.
 struct Evaluation {
+    /// The collocation system linearized at the point.
+    lin: Linearization,
     residual: Vec<f64>,
     reduction: CyclicReduction,
-    /// The Jacobian's border columns on the collocation rows: `dF/dT`,
-    /// `dF/dp1` and, for curves, `dF/dp2`.
+    /// The Jacobian's border columns on the collocation rows, transformed
+    /// by the reduction: `dF/dT`, `dF/dp1` (the reduction's own) and, for
+    /// curves, `dF/dp2`.
     columns: DMatrix<f64>,
     /// Its dense rows: the phase condition, `dg`, and for curves a last row
     /// left to the linear equation that closes the system.
     rows: DMatrix<f64>,
     v: Vec<f64>,
     psi: Vec<f64>,
+    /// Storage of [`Evaluation::solve`]: the dense rows being reduced and
+    /// the bordered system's.
+    solves: Cell<Option<(DMatrix<f64>, BorderedStore)>>,
 }
 
 impl Evaluation {
-    /// Solves `J x = rhs` with the Jacobian of `(F, g)` and the last dense row.
+    /// Solves `J x = rhs` with the Jacobian of `(F, g)` and the last dense
+    /// row, on the reduction of the collocation rows, in storage kept
+    /// between solves.
     fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, ContinuationError> {
-        Bordered::new(&self.reduction, self.columns.clone(), self.rows.clone())?.solve(rhs)
+        let (mut rows, store) = self.solves.take().unwrap_or_default();
+        shaped(&mut rows, self.rows.shape());
+        rows.copy_from(&self.rows);
+        let mut system = Bordered::transformed(&self.reduction, &self.columns, &mut rows, store)?;
+        let mut x = Vec::new();
+        let solved = system.solve_into(rhs, &mut x);
+        self.solves.set(Some((rows, system.into_store())));
+        solved.map(|()| x)
+    }
+}
+
+/// `target` holds a matrix of shape `shape` (its entries arbitrary),
+/// reusing its storage.
+fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
+    if target.shape() != (rows, cols) {
+        *target = DMatrix::zeros(rows, cols);
     }
 }
 
@@ -98,6 +136,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             k2,
             b,
             c: vec![1.0; nn + 1],
+            test: TestSystem::default(),
             spare: None,
         };
         for _ in 0..2 {
@@ -110,7 +149,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
 
     /// Keeps the storage of an evaluation done with.
     fn recycle(&mut self, e: Evaluation) {
-        self.spare = Some(e.reduction);
+        self.spare = Some(e);
     }
 
     fn nn(&self) -> usize {
@@ -140,34 +179,69 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             self.coll.p[k] = y[nn + 2];
         }
         let z = &y[..nn + 2];
-        let lin = self.coll.linearize(z);
-        let reduction = match self.spare.take() {
-            Some(mut reduction) => {
-                reduction.factor(&lin);
-                reduction
+        let mut e = match self.spare.take() {
+            Some(mut e) => {
+                self.coll.linearize_into(z, &mut e.lin);
+                e.reduction.factor(&e.lin);
+                e
             }
-            None => CyclicReduction::new(&lin, n),
+            None => {
+                let lin = self.coll.linearize(z);
+                let reduction = CyclicReduction::new(&lin, n);
+                Evaluation {
+                    lin,
+                    residual: Vec::new(),
+                    reduction,
+                    columns: DMatrix::zeros(0, 0),
+                    rows: DMatrix::zeros(0, 0),
+                    v: Vec::new(),
+                    psi: Vec::new(),
+                    solves: Cell::new(None),
+                }
+            }
         };
-        let border = lin.border_columns();
-        let mut columns = DMatrix::zeros(nn, 2);
-        columns.column_mut(0).copy_from(&border.column(0));
-        columns.column_mut(1).copy_from_slice(&self.b[..nn]);
-        let mut rows = DMatrix::zeros(2, nn + 2);
-        rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
+        let reduction = &e.reduction;
+        // The test function's system `[A b; c^T 0]`: border columns `dF/dT`
+        // (the reduction's own) and `b`'s collocation rows; dense rows the
+        // phase condition (`b`'s last entry, the phase row's, in `g`'s
+        // column) and `c^T`.
+        let TestSystem {
+            columns,
+            rows,
+            store,
+        } = &mut self.test;
+        shaped(columns, (nn, 2));
+        columns
+            .column_mut(0)
+            .copy_from(&reduction.border().column(0));
+        let b_column = &mut columns.as_mut_slice()[nn..2 * nn];
+        b_column.copy_from_slice(&self.b[..nn]);
+        reduction.apply_r(b_column);
+        shaped(rows, (2, nn + 2));
+        rows.fill(0.0);
+        rows.view_mut((0, 0), (1, nn)).copy_from_slice(&e.lin.phase);
         rows[(0, nn + 1)] = self.b[nn];
         rows.view_mut((1, 0), (1, nn + 1)).copy_from_slice(&self.c);
-        let mut bordered = Bordered::new(&reduction, columns, rows)?;
-        let mut e = vec![0.0; nn + 2];
-        e[nn + 1] = 1.0;
-        let vg = bordered.solve(&e)?;
-        let psi = bordered.solve_transpose(&e)?;
-        let (v, psi) = (vg[..nn + 1].to_vec(), psi[..nn + 1].to_vec());
-        let (grad, fp2) = adjoint_gradient(&self.coll, z, &v, &psi, self.k2);
+        let mut bordered = Bordered::transformed(reduction, columns, rows, std::mem::take(store))?;
+        let mut unit = vec![0.0; nn + 2];
+        unit[nn + 1] = 1.0;
+        let solved = bordered
+            .solve(&unit)
+            .and_then(|vg| Ok((vg, bordered.solve_transpose(&unit)?)));
+        *store = bordered.into_store();
+        let (vg, psi) = solved?;
+        e.v.clear();
+        e.v.extend_from_slice(&vg[..nn + 1]);
+        e.psi.clear();
+        e.psi.extend_from_slice(&psi[..nn + 1]);
+        let (grad, fp2) = adjoint_gradient(&self.coll, z, &e.v, &e.psi, self.k2);
         let k = grad.len() - nn;
-        let mut columns = DMatrix::zeros(nn, k);
-        columns.columns_mut(0, 2).copy_from(&border);
+        shaped(&mut e.columns, (nn, k));
+        e.columns.columns_mut(0, 2).copy_from(reduction.border());
         if self.k2.is_some() {
-            columns.column_mut(2).copy_from_slice(&fp2[..nn]);
+            let column = &mut e.columns.as_mut_slice()[2 * nn..3 * nn];
+            column.copy_from_slice(&fp2[..nn]);
+            reduction.apply_r(column);
         }
         // g's row: dg = -grad(phi), scaled to unit size (the scale of g is
         // arbitrary, set by the bordering vectors).
@@ -175,22 +249,20 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             .iter()
             .fold(0.0f64, |a, v| a.max(v.abs()))
             .max(f64::MIN_POSITIVE);
-        let mut rows = DMatrix::zeros(k, nn + k);
-        rows.view_mut((0, 0), (1, nn)).copy_from_slice(&lin.phase);
-        rows.row_mut(1)
+        shaped(&mut e.rows, (k, nn + k));
+        e.rows.fill(0.0);
+        e.rows
+            .view_mut((0, 0), (1, nn))
+            .copy_from_slice(&e.lin.phase);
+        e.rows
+            .row_mut(1)
             .iter_mut()
             .zip(&grad)
             .for_each(|(r, g)| *r = -g / scale);
-        let mut residual = lin.residual;
-        residual.push(vg[nn + 1] / scale);
-        Ok(Evaluation {
-            residual,
-            reduction,
-            columns,
-            rows,
-            v,
-            psi,
-        })
+        e.residual.clear();
+        e.residual.extend_from_slice(&e.lin.residual);
+        e.residual.push(vg[nn + 1] / scale);
+        Ok(e)
     }
 
     /// The orbit of unknowns `y`.
