@@ -77,6 +77,12 @@ struct Evaluation {
     rows: DMatrix<f64>,
     v: Vec<f64>,
     psi: Vec<f64>,
+    /// The gradient of `phi = psi^T A v` (`-dg` up to its scale), `dF/dp2`
+    /// on the collocation rows (curves), and the scale `g`'s row is divided
+    /// by: kept for a chord step ([`Augmented::evaluate`]).
+    gradient: Vec<f64>,
+    fp2: Vec<f64>,
+    scale: f64,
     /// Storage of [`Evaluation::solve`]: the dense rows being reduced and
     /// the bordered system's.
     solves: Cell<Option<(DMatrix<f64>, BorderedStore)>>,
@@ -140,7 +146,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             spare: None,
         };
         for _ in 0..2 {
-            let e = aug.evaluate(&y)?;
+            let e = aug.evaluate(&y, false)?;
             aug.update_borders(&e);
             aug.recycle(e);
         }
@@ -171,8 +177,12 @@ impl<'a, S: VectorField> Augmented<'a, S> {
     /// `(v, g)` and `(psi, gamma)` solve the bordered system and its transpose
     /// on one structured factorization (`b` a border column, `c^T` a dense
     /// row, next to `dF/dT` and the phase condition); the Newton matrix
-    /// shares its reduction of the collocation rows.
-    fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
+    /// shares its reduction of the collocation rows. With `chord`, the
+    /// Jacobian's row of `g` and column of `p2` (second derivatives of the
+    /// field, a third of the work) are those of the last evaluation, the
+    /// rest is evaluated here: a chord step in those two, for Newton's
+    /// method in its quadratic phase.
+    fn evaluate(&mut self, y: &[f64], chord: bool) -> Result<Evaluation, ContinuationError> {
         let n = self.coll.sys.dim();
         let nn = self.nn();
         if let Some(k) = self.k2 {
@@ -196,6 +206,9 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                     rows: DMatrix::zeros(0, 0),
                     v: Vec::new(),
                     psi: Vec::new(),
+                    gradient: Vec::new(),
+                    fp2: Vec::new(),
+                    scale: 0.0,
                     solves: Cell::new(None),
                 }
             }
@@ -234,21 +247,25 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         e.v.extend_from_slice(&vg[..nn + 1]);
         e.psi.clear();
         e.psi.extend_from_slice(&psi[..nn + 1]);
-        let (grad, fp2) = adjoint_gradient(&self.coll, z, &e.v, &e.psi, self.k2);
-        let k = grad.len() - nn;
+        let k = 2 + usize::from(self.k2.is_some());
+        if !(chord && e.gradient.len() == nn + k) {
+            (e.gradient, e.fp2) = adjoint_gradient(&self.coll, z, &e.v, &e.psi, self.k2);
+            // g's row: dg = -grad(phi), scaled to unit size (the scale of g
+            // is arbitrary, set by the bordering vectors).
+            e.scale = e
+                .gradient
+                .iter()
+                .fold(0.0f64, |a, v| a.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+        }
+        let (grad, scale) = (&e.gradient, e.scale);
         shaped(&mut e.columns, (nn, k));
         e.columns.columns_mut(0, 2).copy_from(reduction.border());
         if self.k2.is_some() {
             let column = &mut e.columns.as_mut_slice()[2 * nn..3 * nn];
-            column.copy_from_slice(&fp2[..nn]);
+            column.copy_from_slice(&e.fp2[..nn]);
             reduction.apply_r(column);
         }
-        // g's row: dg = -grad(phi), scaled to unit size (the scale of g is
-        // arbitrary, set by the bordering vectors).
-        let scale = grad
-            .iter()
-            .fold(0.0f64, |a, v| a.max(v.abs()))
-            .max(f64::MIN_POSITIVE);
         shaped(&mut e.rows, (k, nn + k));
         e.rows.fill(0.0);
         e.rows
@@ -257,7 +274,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         e.rows
             .row_mut(1)
             .iter_mut()
-            .zip(&grad)
+            .zip(grad)
             .for_each(|(r, g)| *r = -g / scale);
         e.residual.clear();
         e.residual.extend_from_slice(&e.lin.residual);
@@ -298,6 +315,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             aug: self,
             extra,
             stall,
+            steps: Cell::new([f64::INFINITY; 2]),
         };
         newton::iterate(&mut system, y, settings)
     }
@@ -323,13 +341,24 @@ struct FoldSystem<'s, 'a, S: VectorField> {
     aug: &'s mut Augmented<'a, S>,
     extra: Option<(&'s [f64], &'s [f64])>,
     stall: Stall,
+    /// Max norms of the last two Newton steps, the latest first.
+    steps: Cell<[f64; 2]>,
 }
+
+/// A Newton step at most this fraction of the one before it (Newton's
+/// method in its quadratic phase) lets the next iteration keep the
+/// second-derivative parts of the Jacobian ([`Augmented::evaluate`]);
+/// while the steps keep falling that fast, the next one does too.
+const CHORD_START: f64 = 0.1;
 
 impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
     type Point = Evaluation;
 
     fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
-        let mut e = self.aug.evaluate(y)?;
+        let [last, before] = self.steps.get();
+        let mut e = self
+            .aug
+            .evaluate(y, before.is_finite() && last <= CHORD_START * before)?;
         if let Some((row, anchor)) = self.extra {
             let r: f64 = (0..y.len()).map(|i| row[i] * (y[i] - anchor[i])).sum();
             e.residual.push(r);
@@ -341,6 +370,12 @@ impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
 
     fn newton_step(&mut self, e: &Evaluation) -> Result<Vec<f64>, ContinuationError> {
         e.solve(&e.residual)
+    }
+
+    fn update(&self, y: &mut [f64], dy: &[f64]) {
+        y.iter_mut().zip(dy).for_each(|(yi, d)| *yi -= d);
+        let [last, _] = self.steps.get();
+        self.steps.set([max_norm(dy), last]);
     }
 
     fn recycle(&mut self, e: Evaluation) {
