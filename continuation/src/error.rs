@@ -149,6 +149,29 @@ pub enum ContinuationError {
         param_name: String,
         param: f64,
     },
+    #[error(
+        "the Hopf point beside the Bautin point at {param_name} = {bautin:.10e} is not \
+         subcritical (l1 = {l1:.3e}, rounding bound {bound:.1e}): its cycles do not fold back; \
+         start from a Hopf point on the Bautin point's other side"
+    )]
+    NotSubcritical {
+        param_name: String,
+        bautin: f64,
+        l1: f64,
+        bound: f64,
+    },
+    #[error(
+        "the cycles born beside the Bautin point at {param_name} = {bautin:.10e} did not fold \
+         back before their branch ended{}",
+        stop.map_or(String::new(), |s| format!(" ({s})"))
+    )]
+    NoFoldOfCycles {
+        param_name: String,
+        bautin: f64,
+        /// How the branch of cycles ended (set by the driver whenever its
+        /// iteration ended without an error).
+        stop: Option<crate::driver::Stop>,
+    },
     #[error("{kind} location failed between {param_name} = {from:.10e} and {to:.10e}: {cause}")]
     Location {
         kind: &'static str,

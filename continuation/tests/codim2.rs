@@ -113,3 +113,117 @@ fn fold_curve_of_the_cusp() {
     }
     assert!((points.last().unwrap().p[1] - 0.3).abs() < 1e-14);
 }
+
+/// Branch switching from a Bautin point to its curve of folds of cycles.
+/// In polar coordinates the system of [`BautinNormalForm`] is
+/// `rho' = rho (beta1 + beta2 rho^2 - rho^4)` with `beta1 = p0 - p1^2`,
+/// `beta2 = p1 - 0.3`, `theta' = w`: its cycles fold where
+/// `beta2 - 2 rho^2 = 0`, i.e. on `p0 = p1^2 - (p1 - 0.3)^2 / 4` (`p1 > 0.3`),
+/// with amplitude `rho^2 = (p1 - 0.3) / 2` and period `2 pi / w`.
+#[test]
+fn curve_of_folds_of_cycles_from_the_bautin_point() {
+    use continuation::periodic::{CycleSettings, LpcCurve, LpcCurveSettings};
+    let w = 1.3;
+    let sys = BautinNormalForm { w };
+    let settings = CurveSettings {
+        bounds: [(-10.0, 10.0), (-1.0, 0.6)],
+        control: continuation::CurveControl {
+            step: continuation::StepControl {
+                ds: 0.05,
+                ds_max: 0.05,
+                ..CurveSettings::default().control.step
+            },
+            ..CurveSettings::default().control
+        },
+        ..Default::default()
+    };
+    let curve = HopfCurve::new(&sys, &[0.0, 0.0], w, &[0.25, -0.5], [0, 1], settings).unwrap();
+    let points: Vec<_> = curve.map(Result::unwrap).collect();
+    let at = points.iter().position(|p| !p.events.is_empty()).unwrap();
+    let bautin = &points[at].events[0].point;
+    // The first point past the Bautin point, on its subcritical side
+    // (l1 > 0), is where the folded cycles are born.
+    let beside = &points[at];
+    assert!(beside.l1 > 0.0 && beside.p[1] > 0.3);
+    let cycles = CycleSettings {
+        p_min: -10.0,
+        p_max: 10.0,
+        ..Default::default()
+    };
+    let lpc = LpcCurveSettings {
+        p2_min: 0.0,
+        p2_max: 0.9,
+        ..Default::default()
+    };
+    let folds = LpcCurve::from_bautin(&sys, bautin, beside, (0, 1), 1.0, cycles, lpc).unwrap();
+    let mut n = 0;
+    let mut last_p1 = 0.0;
+    for fold in folds {
+        let c = fold.unwrap().cycle;
+        let (p0, p1) = (c.p[0], c.p[1]);
+        let exact = p1 * p1 - (p1 - 0.3) * (p1 - 0.3) / 4.0;
+        assert!(
+            (p0 - exact).abs() < 1e-12,
+            "p0 = {p0} against {exact} at p1 = {p1}"
+        );
+        let period = 2.0 * std::f64::consts::PI / w;
+        assert!(
+            (c.period / period - 1.0).abs() < 1e-12,
+            "period {}",
+            c.period
+        );
+        let (lo, hi) = c.range(&sys, 0);
+        let rho = ((p1 - 0.3) / 2.0).sqrt();
+        assert!(
+            (0.5 * (hi - lo) / rho - 1.0).abs() < 1e-9,
+            "amplitude at p1 = {p1}"
+        );
+        n += 1;
+        last_p1 = p1;
+    }
+    assert!(n > 5, "{n} folds");
+    assert!(
+        (last_p1 - 0.9).abs() < 1e-12,
+        "the curve ends at p1 = {last_p1}"
+    );
+}
+
+/// From the supercritical side of a Bautin point there is no fold to start
+/// from: the typed error says so.
+#[test]
+fn no_curve_of_folds_from_the_supercritical_side() {
+    use continuation::periodic::{CycleSettings, LpcCurve, LpcCurveSettings};
+    use continuation::ContinuationError;
+    let sys = BautinNormalForm { w: 1.0 };
+    let curve = HopfCurve::new(
+        &sys,
+        &[0.0, 0.0],
+        1.0,
+        &[0.25, -0.5],
+        [0, 1],
+        CurveSettings {
+            bounds: [(-10.0, 10.0), (-1.0, 0.6)],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let points: Vec<_> = curve.map(Result::unwrap).collect();
+    let at = points.iter().position(|p| !p.events.is_empty()).unwrap();
+    let bautin = &points[at].events[0].point;
+    let before = &points[at - 1];
+    assert!(before.l1 < 0.0);
+    let result = LpcCurve::from_bautin(
+        &sys,
+        bautin,
+        before,
+        (0, 1),
+        1.0,
+        CycleSettings::default(),
+        LpcCurveSettings::default(),
+    );
+    assert!(
+        matches!(result, Err(ContinuationError::NotSubcritical { .. })),
+        "{:?}",
+        result.err()
+    );
+}

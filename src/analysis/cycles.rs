@@ -16,6 +16,7 @@ use crate::friction::FrictionLaw;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{friction_from, Param, Params};
+use continuation::normal_form::HopfNormalForm;
 use continuation::periodic::CollocationPoints;
 use continuation::periodic::Cycle;
 pub use continuation::periodic::Stability;
@@ -723,9 +724,7 @@ pub fn branch_at_hopf_in<'a, S: VectorField>(
     param: Param,
     settings: CycleSettings,
 ) -> Result<CycleBranch<'a, S>, NumericalError> {
-    let (x0, p) = hopf_start(log, params, h);
-    let kappa_error = location_error(log.kind, params, h.kappa_c);
-    let (nf, _) = resolved_normal_form(field, &x0, &p, h.omega_c, kappa_error)?;
+    let (x0, p, nf) = hopf_with_normal_form(field, log, params, h)?;
     Ok(CycleBranch::from_hopf_normal_form(
         field,
         &x0,
@@ -734,6 +733,21 @@ pub fn branch_at_hopf_in<'a, S: VectorField>(
         &nf,
         settings,
     )?)
+}
+
+/// The Hopf point `h` of `params` in the variables of `log` (state and
+/// parameter vector) and its normal form in the arithmetic `hopf` uses
+/// ([`resolved_normal_form`]).
+pub fn hopf_with_normal_form<S: VectorField>(
+    field: &S,
+    log: &LogBlock,
+    params: &Params,
+    h: &HopfPoint,
+) -> Result<(Vec<f64>, Vec<f64>, HopfNormalForm), NumericalError> {
+    let (x0, p) = hopf_start(log, params, h);
+    let kappa_error = location_error(log.kind, params, h.kappa_c);
+    let (nf, _) = resolved_normal_form(field, &x0, &p, h.omega_c, kappa_error)?;
+    Ok((x0, p, nf))
 }
 
 /// Mesh intervals of the first cycle sampled from a simulation: stick-slip

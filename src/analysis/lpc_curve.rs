@@ -7,14 +7,14 @@
 //! Appendix C). Past the friction minimum steady sliding is stable for every
 //! stiffness, and stick-slip below `kappa_LPC` is hysteretic alone.
 
-use crate::analysis::cycles::branch_at_hopf;
+use crate::analysis::cycles::hopf_with_normal_form;
 use crate::analysis::hopf::{find_hopf_with, HopfOutcome};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
 use crate::params::{Param, Params};
 use continuation::periodic::Cycle;
-use continuation::periodic::{CycleEvent, CycleSettings, Discretization, FloquetPolicy};
+use continuation::periodic::{fold_beside_bautin, CycleSettings, Discretization, FloquetPolicy};
 use continuation::periodic::{LpcCurve, LpcCurveSettings};
 use continuation::ContinuationError;
 use continuation::StepControl;
@@ -124,12 +124,14 @@ fn record<S: VectorField>(log: &S, c: &Cycle) -> LpcCurvePoint {
 }
 
 /// The fold of the cycles born at the subcritical Hopf point of `params`
-/// (continued up in `kappa` until they turn back), the models built through
-/// `fields`.
+/// beside the Bautin point at `bautin_nu` (continued up in `kappa` until
+/// they turn back: the engine's [`fold_beside_bautin`]), the models built
+/// through `fields`; the normal form in the arithmetic `hopf` uses.
 fn first_fold<F: Wrap>(
     fields: &F,
     log: &LogBlock,
     params: &Params,
+    bautin_nu: f64,
 ) -> Result<Cycle, NumericalError> {
     let locator = ContinuationSettings::default().locator;
     let HopfOutcome::Found(h) = find_hopf_with(fields, log.kind, params, &locator)? else {
@@ -163,17 +165,15 @@ fn first_fold<F: Wrap>(
         ..Default::default()
     };
     let field = fields.field(*log);
-    let branch = branch_at_hopf(&field, log, params, &h, settings)?;
-    for pt in branch {
-        let pt = pt.map_err(NumericalError::from)?;
-        if let Some(lpc) = pt.event(CycleEvent::Fold) {
-            return Ok(lpc.cycle.clone());
-        }
-    }
-    Err(NumericalError::Analysis(format!(
-        "the cycles of the subcritical Hopf point at nu = {:.6e} did not fold back within 50 kappa_c",
-        params.nu
-    )))
+    let (x0, p, nf) = hopf_with_normal_form(&field, log, params, &h)?;
+    Ok(fold_beside_bautin(
+        &field,
+        (Param::Nu as usize, bautin_nu),
+        (&x0, &p),
+        &nf,
+        Param::Kappa as usize,
+        settings,
+    )?)
 }
 
 /// Where a curve of folds of cycles starts: a Bautin point of the Hopf
@@ -211,7 +211,7 @@ pub fn lpc_curves<F: Wrap>(
         }
         let mut at = *params;
         at.nu = start.hopf_nu;
-        let fold = match first_fold(fields, &log, &at) {
+        let fold = match first_fold(fields, &log, &at, start.bautin_nu) {
             Ok(f) => f,
             Err(e) => {
                 out.stops.push(LpcStop {

@@ -17,7 +17,7 @@ pub use branch::{
     WhenUndecidable,
 };
 pub use cycle::Cycle;
-pub use lpc::{locate_lpc, FoldsOfCycles, LpcCurve, LpcCurveSettings};
+pub use lpc::{fold_beside_bautin, locate_lpc, FoldsOfCycles, LpcCurve, LpcCurveSettings};
 pub use mesh::{CollocationPoints, Mesh, Tableau};
 
 #[cfg(test)]

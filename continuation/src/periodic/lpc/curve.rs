@@ -3,11 +3,13 @@
 //! the [`Driver`] ([`LpcCurve`]).
 
 use super::{Augmented, Evaluation, LpcPoint};
+use crate::codim2::HopfCurvePoint;
 use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
+use crate::normal_form::{hopf_normal_form, HopfNormalForm};
 use crate::periodic::adapt::equidistribute;
-use crate::periodic::branch::{CycleEvent, CyclePoint};
+use crate::periodic::branch::{CycleBranch, CycleEvent, CyclePoint, CycleSettings};
 use crate::periodic::newton::unit_row;
 use crate::periodic::CollocationPoints;
 use crate::periodic::Cycle;
@@ -156,6 +158,76 @@ impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
         (event.kind == CycleEvent::Fold)
             .then(|| Self::new(sys, &event.point.cycle, (k1, k2), direction, settings))
     }
+}
+
+impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
+    /// Branch switching from a Bautin point: the curve of folds of cycles
+    /// born at `bautin` (a point of a Hopf curve in `(k1, k2)` where `l1`
+    /// vanishes), traced toward increasing `p2` when `direction > 0`. Its
+    /// first fold is the one of the cycles born at `beside`, a subcritical
+    /// point of the same Hopf curve near the Bautin point
+    /// ([`fold_beside_bautin`]; at the Bautin point itself the folded cycles
+    /// are vanishingly small). The normal form at `beside` is computed in
+    /// `f64`; [`fold_beside_bautin`] takes one computed otherwise.
+    pub fn from_bautin(
+        sys: &'a S,
+        bautin: &HopfCurvePoint,
+        beside: &HopfCurvePoint,
+        (k1, k2): (usize, usize),
+        direction: f64,
+        cycles: CycleSettings,
+        settings: LpcCurveSettings,
+    ) -> Result<Self, ContinuationError> {
+        let nf = hopf_normal_form(sys, &beside.x, &beside.p, beside.omega)?;
+        let fold = fold_beside_bautin(
+            sys,
+            (k2, bautin.p[k2]),
+            (&beside.x, &beside.p),
+            &nf,
+            k1,
+            cycles,
+        )?;
+        Self::new(sys, &fold, (k1, k2), direction, settings)
+    }
+}
+
+/// The fold of cycles next to a Bautin point (where the second parameter
+/// `k2` has the value `bautin`): the cycles born at the subcritical Hopf point `(x, p)`
+/// beside it (normal form `nf`, with `l1 > 0` beyond its rounding bound) are
+/// continued in `k1` with `cycles`' settings until they turn back (Kuznetsov
+/// 1998, §8.3: near a Bautin point with `l2 < 0` the subcritical cycles
+/// fold once, at an amplitude that vanishes at the Bautin point). The
+/// orbit at the located fold is returned, the start of the curve of folds
+/// ([`LpcCurve::new`]). Errors: [`ContinuationError::NotSubcritical`],
+/// [`ContinuationError::NoFoldOfCycles`] with how the branch ended, or the
+/// branch's own failure.
+pub fn fold_beside_bautin<S: VectorField>(
+    sys: &S,
+    (k2, bautin): (usize, f64),
+    (x, p): (&[f64], &[f64]),
+    nf: &HopfNormalForm,
+    k1: usize,
+    cycles: CycleSettings,
+) -> Result<Cycle, ContinuationError> {
+    if nf.l1 <= nf.l1_error_bound {
+        return Err(ContinuationError::NotSubcritical {
+            param_name: sys.param_name(k2),
+            bautin,
+            l1: nf.l1,
+            bound: nf.l1_error_bound,
+        });
+    }
+    let mut branch = CycleBranch::from_hopf_normal_form(sys, x, p, k1, nf, cycles)?;
+    for point in branch.by_ref() {
+        if let Some(fold) = point?.event(CycleEvent::Fold) {
+            return Ok(fold.cycle.clone());
+        }
+    }
+    Err(ContinuationError::NoFoldOfCycles {
+        param_name: sys.param_name(k2),
+        bautin,
+        stop: branch.stop(),
+    })
 }
 
 impl<'a, S: VectorField> FoldsOfCycles<'a, S> {

@@ -22,7 +22,7 @@
 mod curve;
 mod gradient;
 
-pub use curve::{FoldsOfCycles, LpcCurve, LpcCurveSettings};
+pub use curve::{fold_beside_bautin, FoldsOfCycles, LpcCurve, LpcCurveSettings};
 
 use super::bordered::{Bordered, BorderedStore, CyclicReduction};
 use super::collocation::{Collocation, Linearization};
