@@ -13,7 +13,7 @@ pub mod ticks;
 
 pub use ticks::Axis;
 
-use image::codecs::png::PngEncoder;
+use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ColorType, ImageEncoder};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
@@ -66,7 +66,7 @@ pub fn render_both(
     png(BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area())
         .map_err(|e| err(&png_path, e))?;
     let mut encoded = Vec::new();
-    PngEncoder::new(&mut encoded)
+    PngEncoder::new_with_quality(&mut encoded, CompressionType::Fast, FilterType::Paeth)
         .write_image(&rgb, width, height, ColorType::Rgb8)
         .map_err(|e| err(&png_path, e.to_string()))?;
     crate::cli::files::write_whole(&png_path, encoded)
