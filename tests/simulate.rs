@@ -452,3 +452,42 @@ fn a_run_shorter_than_its_regimes_period_says_how_long_to_run() {
     assert!(text.contains("period 4.42129"), "{text}");
     assert!(!text.contains("of its periods"), "{text}");
 }
+
+/// A run with `--protocol` starts from steady sliding at the protocol's
+/// first velocity and never pulls at the scene's own V: the model is chosen
+/// at the protocol's fastest velocity, and the run does not depend on the
+/// scene's V (session-18 stranger: `--set nu=10 --protocol 1:400` said the
+/// protocol's fastest velocity was 10 um/s and ran the inertial model).
+#[test]
+fn a_protocol_run_does_not_depend_on_the_scenes_own_velocity() {
+    let run = |extra: &[&str]| {
+        let dir = common::temp_dir(&format!("protocol_top_{}", extra.len()));
+        let mut args = vec!["simulate", "--json", "--set", "kappa=0.01"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--protocol", "1:400", "--name", "run", "--out"]);
+        args.push(dir.to_str().unwrap());
+        let (code, out, err) = common::stickslip(&args);
+        assert_eq!(code, 0, "{err}");
+        let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let csv = std::fs::read_to_string(dir.join("run-simulation.csv")).unwrap();
+        (json, csv)
+    };
+    let (scene_v, csv_scene_v) = run(&[]);
+    let (fast_v, csv_fast_v) = run(&["--set", "nu=10"]);
+    let reason = fast_v["model_reason"].as_str().unwrap();
+    assert!(
+        reason.contains("fastest pulling velocity, 1.0000e0 µm/s"),
+        "{reason}"
+    );
+    assert_eq!(scene_v["model"], fast_v["model"]);
+    assert!(scene_v["regime"]["period_s"].is_f64());
+    assert_eq!(scene_v["regime"], fast_v["regime"]);
+    // Every row of the run, but for the file's header naming the scene.
+    let rows = |csv: &str| -> Vec<String> {
+        csv.lines()
+            .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+            .map(str::to_owned)
+            .collect()
+    };
+    assert_eq!(rows(&csv_scene_v), rows(&csv_fast_v));
+}

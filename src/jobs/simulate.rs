@@ -216,11 +216,10 @@ impl Plan {
                 duration: 40.0 / setup.params.nu,
             }],
         };
-        // The model for the fastest pulling velocity of the protocol.
-        let top = protocol
-            .iter()
-            .map(|seg| seg.nu)
-            .fold(setup.scene_params.nu, f64::max);
+        // The model for the fastest pulling velocity of the protocol (the
+        // run starts from steady sliding at its first velocity: the scene's
+        // own V is not pulled at when a protocol is given).
+        let top = protocol.iter().map(|seg| seg.nu).fold(0.0, f64::max);
         let chosen_at = spec.model.is_none().then_some(top);
         setup.choice = choice_at(spec, &setup, top);
         setup.params = params_for(setup.choice.kind, &setup.scene_params);
