@@ -387,8 +387,11 @@ fn trace_through<S: VectorField>(
                     nu: None,
                     kappa: None,
                     message: format!(
-                        "the fold-of-cycles curve did not start toward {} nu: {cause}",
-                        if direction < 0.0 { "smaller" } else { "larger" }
+                        "the fold-of-cycles curve did not start toward {} nu: {}",
+                        if direction < 0.0 { "smaller" } else { "larger" },
+                        // The engine's advice (where to start) is not the
+                        // user's to take: the start is the located fold.
+                        cause.without_hint()
                     ),
                 })
             }
@@ -423,7 +426,7 @@ fn trace_through<S: VectorField>(
                     ),
                     // In the engine's words: the field names nu.
                     cause => (
-                        cause.to_string(),
+                        cause.without_hint().to_string(),
                         if shrinking {
                             format!(
                                 "the folded cycles shrink there (Delta_s = {:.3e}, down from \

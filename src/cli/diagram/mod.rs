@@ -450,7 +450,13 @@ fn print_text(r: &Diagram, units: TextUnits) {
         .curve
         .iter()
         .any(|p| p.criticality == Criticality::Subcritical);
-    if subcritical && records.folds.is_empty() {
+    // With a Bautin point in the range, the stops above say why its curve
+    // of folds is missing.
+    let bautin = records
+        .special
+        .iter()
+        .any(|s| s.kind == SpecialKind::Bautin);
+    if subcritical && records.folds.is_empty() && !bautin {
         println!(
             "  the onset is subcritical (hysteretic) but no Bautin point lies in the range, and the \
              curves of folds of cycles bounding the hysteretic region are traced from Bautin \
