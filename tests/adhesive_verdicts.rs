@@ -301,6 +301,89 @@ fn a_subcritical_onsets_fold_of_cycles_is_reported() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The gel at 0.7 µm/s with K = 40000 N/m lies in the bistable band
+/// (K_c = 39208 N/m < K < the fold of cycles, 40726 N/m): the cycle
+/// `cycles` reports at the scene's K is at that K (kappa = K V_s tau_out /
+/// F_a = 0.02 exactly), the stable one of the two the branch passes there,
+/// and it is the stick-slip `simulate` settles on from a stick (a second
+/// method: Radau IIA in time, started with every chain bonded), period and
+/// force drop to 1e-6; a small perturbation of steady sliding decays
+/// (steady sliding stable too: bistable). Above the fold (41000 N/m) there
+/// is no cycle at K, and `cycles` says why, exit 0; the simulation from a
+/// stick settles on steady sliding there. Before, `at_scene` was the cycle
+/// at the branch's end, 0.5 K_c.
+#[test]
+fn the_cycle_at_a_bistable_scenes_k_is_the_stable_one_at_that_k() {
+    let dir = temp_dir("adhesive-bistable-at-k");
+    let out = dir.to_str().unwrap();
+    let run = |cmd: &str, k: &str, extra: &[&str]| {
+        let set_k = format!("K={k}");
+        let (status, v, err) = json_of(
+            &[
+                &[
+                    cmd, "--scene", "gel", "--set", "V=0.7", "--set", &set_k, "--json", "--out",
+                    out, "--force",
+                ][..],
+                extra,
+            ]
+            .concat(),
+        );
+        assert_eq!(status, 0, "{cmd} {k}: {err}");
+        v
+    };
+    let v = run("cycles", "40000", &[]);
+    assert_eq!(v["operating_point"]["regime"], "bistable", "{v}");
+    let at = &v["at_scene"];
+    assert!(rel(field(at, "kappa"), 0.02) < 1e-9, "{at}");
+    assert_eq!(at["stable"], true, "{at}");
+    assert!(v["at_scene_reason"].is_null());
+    let units = &v["units"];
+    let period_s = field(at, "period") * field(units, "tau_out_s");
+    let drop_n = (field(at, "s_max") - field(at, "s_min")) * field(units, "F_a_N");
+    // Every chain bonded: n_ss (1 + perturb) = 1 with n_ss = 0.5080681.
+    let h = common::hopf_json(&["--scene", "gel", "--set", "V=0.7"]);
+    let stick = format!("{}", 1.0 / field(&h, "steady_bonds") - 1.0);
+    let s = run(
+        "simulate",
+        "40000",
+        &["--perturb", &stick, "--protocol", "0.7:200"],
+    );
+    assert_eq!(s["regime"], "periodic", "{s}");
+    assert!(
+        rel(period_s, field(&s, "settled_period_s")) < 1e-6,
+        "{period_s} {s}"
+    );
+    assert!(
+        rel(drop_n, field(&s, "settled_force_drop_N")) < 1e-6,
+        "{drop_n} {s}"
+    );
+    let s = run(
+        "simulate",
+        "40000",
+        &["--perturb", "0.01", "--protocol", "0.7:3000"],
+    );
+    assert_eq!(
+        s["regime"], "steady",
+        "steady sliding is stable at K too: {s}"
+    );
+
+    let v = run("cycles", "41000", &[]);
+    assert_eq!(v["operating_point"]["regime"], "steady", "{v}");
+    assert!(v["at_scene"].is_null(), "{v}");
+    let why = v["at_scene_reason"].as_str().unwrap_or_default();
+    assert!(
+        why.contains("fold of cycles") && why.contains("4.100000e4 N/m"),
+        "{why}"
+    );
+    let s = run(
+        "simulate",
+        "41000",
+        &["--perturb", &stick, "--protocol", "0.7:3000"],
+    );
+    assert_eq!(s["regime"], "steady", "{s}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `cycles` judges the model on the orbit too, as the rate-and-state
 /// cycles do: the gel's 1 g block is quasi-static by `chi` at 20 µm/s
 /// (4.4e-4), but on its quasi-static orbit at 200 N/m the dropped inertia

@@ -10,6 +10,7 @@ use super::analysis::steady::{self, Bautin, DiagramPoint, NuHopf, SteadyPoint};
 use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
+use crate::analysis::hopf::Criticality;
 use crate::analysis::operating_point::{
     judge, judge_without_onset, FoldAt, Regime, StabilityAt, TOLERANCE,
 };
@@ -123,7 +124,6 @@ fn crossing(p: &AdhesiveParams, threshold: f64, a: f64, b: f64) -> f64 {
 /// where either model's onsets could not be computed (the decision then
 /// rests on `chi`).
 pub fn onset_type_changes(p: &AdhesiveParams, nus: &[f64]) -> Option<Vec<Option<bool>>> {
-    use crate::analysis::hopf::Criticality;
     let quasi = steady::diagram(block::AdhesiveBlock, p, nus, f64::INFINITY).ok()?;
     let inertial = steady::diagram(block::InertialAdhesiveBlock, p, nus, f64::INFINITY).ok()?;
     Some(
@@ -713,8 +713,14 @@ pub struct AdhesiveCycles {
     /// inertia threshold the branch runs inertial (`model_reason`).
     pub orbit_inertia_ratio: Option<f64>,
     pub cycles: Vec<AdhesiveCycle>,
-    /// The cycle at the scene's stiffness by collocation.
+    /// The cycle at the scene's stiffness by collocation (without `K`: at
+    /// the branch's end); where the branch passes that stiffness twice
+    /// (bistable, between `K_c` and the fold of cycles) the stable one.
     pub at_scene: Option<AdhesiveCycle>,
+    /// Why there is no cycle at the scene's `K` (`null` with one, or
+    /// without `K`): steady sliding alone there (above a supercritical
+    /// `K_c` or above the fold of cycles), or the branch did not reach it.
+    pub at_scene_reason: Option<String>,
     /// The folds of cycles on the branch (`lpc`).
     pub folds: Vec<CycleFold>,
     /// The same by simulation (settled stick-slip): the second method.
@@ -768,33 +774,57 @@ pub fn cycles_watched(
     };
     let kind = setup.model_kind;
     let target = target_stiffness(&setup, onset.kappa_c);
-    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits, watch))?;
-    let mut q = p;
-    q.kappa = target;
-    // The second method: a simulation at the target stiffness. Its
-    // failure leaves the branch computed, the answer partial.
-    let (simulated, simulation_failed) = if run.interrupted {
-        (None, None)
-    } else {
-        let x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &q));
-        let start = x[x.len() - 1] * 0.99;
-        match with_model!(kind, b => settle(b, &q, start, 30)) {
-            (SettledRegime::Periodic, cycle, _) => (cycle, None),
-            (
-                _,
-                _,
-                Run {
-                    stop: Some(why), ..
-                },
-            ) => (
-                None,
-                Some(format!(
-                    "the simulation at the branch's end (the second method) did not finish: {why}"
-                )),
-            ),
-            _ => (None, None),
-        }
+    // The scene's own K, where it has one: below K_c it is the branch's
+    // end; above it the branch of a subcritical onset may pass it (rising
+    // to the fold of cycles, then back down), and the cycle there is
+    // located on the way. Above a supercritical onset's K_c there is
+    // steady sliding only: no cycle is looked for.
+    let scene_k = (setup.scene_full.stiffness_given && p.kappa > 0.0).then_some(p.kappa);
+    let above = scene_k.filter(|k| *k >= onset.kappa_c);
+    let wanted = match above {
+        Some(_) => onset.onset == Criticality::Subcritical,
+        None => true,
     };
+    let at = match (above, wanted) {
+        (Some(k), true) => k,
+        _ => target,
+    };
+    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, (target, at), limits, watch))?;
+    let at_scene = run.at_scene.clone().filter(|_| wanted);
+    let mut q = p;
+    q.kappa = at_scene.as_ref().map_or(target, |c| c.kappa);
+    // The second method: a simulation at the stiffness of the cycle
+    // reported (below K_c from steady sliding, which is unstable there;
+    // above it from a stick, every chain bonded, as a rig started from
+    // rest). Its failure leaves the branch computed, the answer partial.
+    let (simulated, simulation_failed) =
+        if run.interrupted || (above.is_some() && at_scene.is_none()) {
+            (None, None)
+        } else {
+            let x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &q));
+            let start = if q.kappa >= onset.kappa_c {
+                1.0
+            } else {
+                x[x.len() - 1] * 0.99
+            };
+            match with_model!(kind, b => settle(b, &q, start, 30)) {
+                (SettledRegime::Periodic, cycle, _) => (cycle, None),
+                (
+                    _,
+                    _,
+                    Run {
+                        stop: Some(why), ..
+                    },
+                ) => (
+                    None,
+                    Some(format!(
+                    "the simulation at K = {:.6e} N/m (the second method) did not finish: {why}",
+                    setup.units.stiffness_n_m(q.kappa)
+                )),
+                ),
+                _ => (None, None),
+            }
+        };
     // A subcritical onset's branch turns at a fold of cycles above K_c:
     // the scene's K is judged against the largest one (the upper edge of
     // the hysteretic band), as the rate-and-state diagram judges it.
@@ -809,20 +839,72 @@ pub fn cycles_watched(
     if fold.is_some() {
         operating_point = judge_scene(&setup, &OnsetOutcome::Found(onset.clone()), fold);
     }
+    // Where the scene's K has no cycle, why; a K in the bistable band the
+    // branch did not pass again leaves the answer partial.
+    let u = setup.units;
+    let regime = operating_point.as_ref().map(|op| op.regime);
+    let (at_scene_reason, missing) = match (scene_k, &at_scene) {
+        (Some(k), None) => {
+            let at = format!("no cycle at the scene's K = {:.6e} N/m", u.stiffness_n_m(k));
+            if !wanted {
+                (
+                    Some(format!(
+                        "{at}: K is above K_c = {:.6e} N/m of a supercritical onset, where \
+                         steady sliding is stable and no cycle coexists near the onset",
+                        u.stiffness_n_m(onset.kappa_c)
+                    )),
+                    false,
+                )
+            } else if regime == Some(Regime::Steady) {
+                let fold = fold.map_or(String::new(), |f| {
+                    format!(
+                        " (the fold of cycles at K = {:.6e} N/m)",
+                        u.stiffness_n_m(f.kappa)
+                    )
+                });
+                (
+                    Some(format!(
+                        "{at}: K is above the largest stiffness the branch's cycles reach{fold}, \
+                         so steady sliding is the only regime there"
+                    )),
+                    false,
+                )
+            } else {
+                let why = run.stop.clone().unwrap_or_else(|| {
+                    "the branch reached its end without passing this stiffness again".to_string()
+                });
+                (
+                    Some(format!(
+                        "{at}: the branch from the onset did not pass it on its way down ({why})"
+                    )),
+                    true,
+                )
+            }
+        }
+        _ => (None, false),
+    };
+    let stop = [
+        run.stop.clone(),
+        simulation_failed,
+        at_scene_reason
+            .clone()
+            .filter(|_| missing && run.stop.is_none()),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>();
     Ok(AdhesiveCycles {
         status: "cycles",
         onset: Some(onset),
         operating_point,
         reason: None,
         orbit_inertia_ratio: orbit_inertia,
-        complete: run.stop.is_none() && simulation_failed.is_none(),
-        stop: match (run.stop, simulation_failed) {
-            (Some(a), Some(b)) => Some(format!("{a}; {b}")),
-            (a, b) => a.or(b),
-        },
+        complete: stop.is_empty(),
+        stop: (!stop.is_empty()).then(|| stop.join("; ")),
         interrupted: run.interrupted,
         cycles: run.cycles,
-        at_scene: run.at_scene,
+        at_scene,
+        at_scene_reason,
         folds: run.folds,
         simulated,
         setup,
@@ -919,6 +1001,7 @@ fn without_onset(
         interrupted: false,
         cycles: Vec::new(),
         at_scene: None,
+        at_scene_reason: None,
         folds: Vec::new(),
         simulated,
         setup,

@@ -611,9 +611,7 @@ pub fn cycles(
                 .map_or(f64::NAN, |c| u.stiffness_n_m(c.kappa))
         ))),
         Some(why) if r.onset.is_none() => Err(Error::Partial(format!("no cycle branch: {why}"))),
-        Some(why) => Err(Error::Partial(format!(
-            "the cycle branch did not reach the scene's stiffness: {why}"
-        ))),
+        Some(why) => Err(Error::Partial(format!("the cycles are incomplete: {why}"))),
     }
 }
 
@@ -691,16 +689,27 @@ fn print_cycles(r: &AdhesiveCycles) {
         );
     }
     if let Some(c) = &r.at_scene {
+        let which = match r.operating_point.as_ref().filter(|op| op.kappa > 0.0) {
+            Some(op) if op.regime == crate::analysis::operating_point::Regime::Bistable => {
+                "the scene's K; the stable one of the two the branch passes there"
+            }
+            Some(_) => "the scene's K",
+            None => "the branch's end, 0.5 K_c: the scene gives no K",
+        };
         println!(
-            "the cycle at K = {:.6e} N/m (collocation): period {:.6e} s, force drop {:.6e} N \
-             (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} µm/s",
+            "the cycle at K = {:.6e} N/m ({which}; collocation): period {:.6e} s, force drop \
+             {:.6e} N (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} µm/s, {}",
             u.stiffness_n_m(c.kappa),
             u.time_s(c.period),
             u.force_n(c.s_max - c.s_min),
             u.force_n(c.s_min),
             u.force_n(c.s_max),
-            u.velocity_um_s(c.u_max)
+            u.velocity_um_s(c.u_max),
+            if c.stable { "stable" } else { "unstable" }
         );
+    }
+    if let Some(why) = &r.at_scene_reason {
+        println!("{why}");
     }
     if let Some(c) = &r.simulated {
         println!(
