@@ -101,7 +101,8 @@ pub struct SceneArgs {
     /// quantity both ways (K and kappa, M and m, V and nu, tau and theta_c, eta and eta_d) is refused. theta_c or tau selects the cutoff ageing form,
     /// mu2, mu_vv or mu_vphi the logarithmic form. On an adhesive scene (law = "adhesive") the
     /// keys are its own, in their units: F_a \[N\], V_s [um/s], tau_out \[s\], tau_on \[s\], F_v \[N\],
-    /// alpha, M \[kg\], K [N/m], V [um/s].
+    /// alpha, M \[kg\], K [N/m], V [um/s], V_range=LO:HI [um/s]; a key of the other law is
+    /// refused as such.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v (adhesive
