@@ -630,3 +630,109 @@ fn a_heavy_gels_branch_is_kept_when_the_second_method_fails() {
         "{stop}"
     );
 }
+
+/// One model decision for `hopf`, `diagram` and `cycles`, judged on the
+/// scene's orbit: the gel's 1 g block is quasi-static by `chi` at 20 µm/s
+/// (4.4e-4) but not on its orbit at 200 N/m, so all three locate K_c with
+/// its inertia, the mpmath value kappa_c (1 + chi) of
+/// docs/reference/adhesive_gel.py (73814.22 N/m; the quasi-static
+/// 73781.87 N/m was `hopf`'s alone before), and label it with its model.
+/// Where a diagram's V_range needs inertia that the scene at its V does
+/// not (a 0.1 mg block swept to 1e5 µm/s), the diagram's curve is inertial
+/// and its operating point keeps the scene's quasi-static K_c, the one
+/// `hopf` and `cycles` give, each value labelled with its model.
+#[test]
+fn hopf_diagram_and_cycles_give_one_k_c_labelled_with_its_model() {
+    let dir = temp_dir("adhesive-one-k-c");
+    let out = dir.to_str().unwrap();
+    let reference = |key: &str| -> f64 {
+        include_str!("../docs/reference/adhesive_gel_out.txt")
+            .lines()
+            .skip_while(|l| *l != "[gel]")
+            .find_map(|l| l.strip_prefix(&format!("{key} ")))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{key} in the reference"))
+    };
+    let runs = |set: &[&str]| -> Vec<(String, serde_json::Value)> {
+        ["hopf", "diagram", "cycles"]
+            .into_iter()
+            .map(|cmd| {
+                let mut args = vec![cmd, "--scene", "gel", "--json"];
+                args.extend_from_slice(set);
+                if cmd != "hopf" {
+                    args.extend_from_slice(&["--out", out, "--force"]);
+                }
+                let (status, v, err) = json_of(&args);
+                assert_eq!(status, 0, "{cmd} {set:?}: {err}");
+                (cmd.to_string(), v)
+            })
+            .collect()
+    };
+    let k_c = |v: &serde_json::Value| field(&v["operating_point"], "K_c_N_per_m");
+
+    let gel = runs(&[]);
+    let expected = reference("K_c_inertial_N_m");
+    for (cmd, v) in &gel {
+        assert_eq!(v["model"], "inertial", "{cmd}: {}", v["model_reason"]);
+        assert!(v.get("scene_model").is_none(), "{cmd}");
+        assert_eq!(v["operating_point"]["model"], "inertial", "{cmd}");
+        assert_eq!(k_c(v), k_c(&gel[0].1), "{cmd}");
+        assert!(
+            rel(k_c(v), expected) < 1e-9,
+            "{cmd}: {} vs {expected}",
+            k_c(v)
+        );
+        let chi = field(v, "orbit_inertia_ratio");
+        assert!((chi - 1.4577).abs() < 1e-3, "{cmd}: {chi}");
+    }
+    assert_eq!(field(&gel[0].1["critical"], "K_N_per_m"), k_c(&gel[0].1));
+    assert!(rel(field(&gel[2].1["onset"], "kappa_c") * 2e6, expected) < 1e-9);
+    let (status, text, err) = stickslip(&["hopf", "--scene", "gel"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        text.contains("onset (inertial model): K_c = 7.381422e4 N/m"),
+        "{text}"
+    );
+    assert!(
+        text.contains("K_c = 73814 N/m (kappa_c = 3.690711e-2, inertial model)"),
+        "{text}"
+    );
+
+    let light = runs(&["--set", "M=1e-7", "--set", "V_range=0.1:1e5"]);
+    let quasi = reference("K_c_N_m");
+    for (cmd, v) in &light {
+        assert_eq!(v["operating_point"]["model"], "quasi-static", "{cmd}");
+        assert_eq!(k_c(v), k_c(&light[0].1), "{cmd}");
+        assert!(rel(k_c(v), quasi) < 1e-9, "{cmd}: {} vs {quasi}", k_c(v));
+    }
+    let d = &light[1].1;
+    assert_eq!(d["model"], "inertial", "{}", d["model_reason"]);
+    assert_eq!(d["scene_model"], "quasi-static");
+    // The diagram's curve at V: the inertial kappa_c (1 + chi), chi of the
+    // 0.1 mg block a ten-thousandth of the gram's.
+    let chi = reference("chi") * 1e-4;
+    let curve = field(d, "curve_K_c_at_V_N_per_m");
+    assert!(rel(curve, quasi * (1.0 + chi)) < 1e-9, "{curve}");
+    let (status, text, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "gel",
+        "--set",
+        "M=1e-7",
+        "--set",
+        "V_range=0.1:1e5",
+        "--out",
+        out,
+        "--force",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        text.contains("(kappa_c = 3.689094e-2, quasi-static model)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("the diagram's curve (inertial model over V_range) gives K_c"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -61,6 +61,26 @@ pub struct AdhesiveSetup {
     /// Whether `--model` forced it.
     #[serde(skip)]
     pub forced: bool,
+    /// The scene's own model, where the command's differs from it (`branch`
+    /// and `diagram`, inertial over `V_range` where `chi` crosses the
+    /// threshold there, while the scene at its `V` and on its orbit is
+    /// quasi-static): the model of the onset at `V` and of the operating
+    /// point, the one `hopf` and `cycles` use. `null` where the same.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_model: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_model_reason: Option<String>,
+    /// The model of the scene at its own `V` and orbit (`model_kind` but
+    /// where `scene_model` differs).
+    #[serde(skip)]
+    pub scene_model_kind: ModelKind,
+    /// On the quasi-static orbit of the scene's cycles (at its `K` below
+    /// `K_c`, else at half `K_c`, where `cycles` ends its branch), the
+    /// largest shift of `ln v` the dropped inertia force makes; `None`
+    /// where not judged (inertial by `chi` at `V`, forced, no mass, no
+    /// onset, or a `simulate`, which judges its own run).
+    #[serde(skip)]
+    pub orbit_inertia: Option<f64>,
     /// `chi = m lambda_n / F_u` at steady sliding at the scene's velocity
     /// ([`block::inertia_ratio`]).
     pub inertia_ratio: f64,
@@ -147,12 +167,189 @@ pub fn onset_types_differ(p: &AdhesiveParams, nus: &[f64]) -> Option<(usize, usi
     Some((changed, of))
 }
 
+/// The model by the largest inertia ratio `chi` among the velocities
+/// `nus` (the scene's `V`, or a protocol's), and why.
+fn by_chi_at(
+    p: &AdhesiveParams,
+    u: &AdhesiveUnits,
+    nus: &[f64],
+    threshold: f64,
+) -> (ModelKind, String) {
+    let mut q = *p;
+    for &nu in nus {
+        let mut r = *p;
+        r.nu = nu;
+        let c = block::inertia_ratio(&r);
+        if c.is_nan() || c > block::inertia_ratio(&q) {
+            q = r;
+        }
+    }
+    let chi = block::inertia_ratio(&q);
+    let at_v = u.velocity_um_s(q.nu);
+    let mass = u.mass;
+    let needed = block::model_for(&q, threshold);
+    let reason = match needed {
+        ModelKind::QuasiStatic => format!(
+            "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is below the inertia \
+             threshold {threshold:e}: the block's inertia (M = {mass:e} kg) raises kappa_c by \
+             the factor 1 + chi only, and the block without it is regular everywhere (at fixed \
+             bond fraction the force rises with the slip velocity)"
+        ),
+        ModelKind::Inertial => format!(
+            "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is not below the inertia \
+             threshold {threshold:e}: the block's inertia (M = {mass:e} kg) matters (it raises \
+             kappa_c by the factor 1 + chi), m u dw/dt = s - F(n, u)"
+        ),
+    };
+    (needed, reason)
+}
+
+/// The model by `chi` over the scene's `V_range` (`branch`, `diagram`):
+/// inertial where it is not below the threshold anywhere there; with the
+/// largest `chi` and where it crosses the threshold (`nu`).
+fn by_chi_over_range(
+    scene: &AdhesiveScene,
+    threshold: f64,
+) -> (ModelKind, String, f64, Option<f64>) {
+    let (p, u, mass) = (scene.params, scene.units, scene.units.mass);
+    let (lo, hi) = scene.nu_range;
+    let nus = steady::grid(lo, hi, PER_DECADE);
+    let chis: Vec<f64> = nus
+        .iter()
+        .map(|&nu| {
+            let mut q = p;
+            q.nu = nu;
+            block::inertia_ratio(&q)
+        })
+        .collect();
+    let needs = |c: f64| !(p.m == 0.0 || c < threshold);
+    let (i_max, c_max) = chis
+        .iter()
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |a, (i, c)| {
+            if c.is_nan() || *c > a.1 {
+                (i, *c)
+            } else {
+                a
+            }
+        });
+    let cross = (1..nus.len())
+        .find(|&i| needs(chis[i]) != needs(chis[i - 1]))
+        .map(|i| crossing(&p, threshold, nus[i - 1], nus[i]));
+    let range = format!(
+        "V_range [{:.4e}, {:.4e}] µm/s",
+        u.velocity_um_s(lo),
+        u.velocity_um_s(hi)
+    );
+    let largest = format!(
+        "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} µm/s",
+        u.velocity_um_s(nus[i_max])
+    );
+    let needed = if chis.iter().any(|c| needs(*c)) {
+        ModelKind::Inertial
+    } else {
+        ModelKind::QuasiStatic
+    };
+    let reason = match (needed, cross) {
+        (ModelKind::QuasiStatic, _) => format!(
+            "chi stays below the inertia threshold {threshold:e} over {range} ({largest}): the \
+             block's inertia (M = {mass:e} kg) is negligible at every velocity swept"
+        ),
+        (ModelKind::Inertial, Some(c)) => format!(
+            "chi crosses the inertia threshold {threshold:e} at V = {:.6e} µm/s within {range} \
+             ({largest}): the block's inertia (M = {mass:e} kg) matters there, so the inertial \
+             model over the whole range (each point says where the quasi-static one would do)",
+            u.velocity_um_s(c)
+        ),
+        (ModelKind::Inertial, None) => format!(
+            "chi is not below the inertia threshold {threshold:e} over all of {range} \
+             ({largest}): the block's inertia (M = {mass:e} kg) matters"
+        ),
+    };
+    (needed, reason, c_max, cross)
+}
+
+/// As for the rate-and-state block (`inertia_decides`): where dropping
+/// the inertia changes the onset type at a velocity of `nus` (the
+/// quasi-static onset degenerate, or of the other sign), that inertia,
+/// however small, decides it. `(kind, reason)` unchanged elsewhere.
+fn by_onset_type(
+    p: &AdhesiveParams,
+    nus: &[f64],
+    (kind, reason): (ModelKind, String),
+) -> (ModelKind, String) {
+    if kind != ModelKind::QuasiStatic || p.m <= 0.0 {
+        return (kind, reason);
+    }
+    match onset_types_differ(p, nus) {
+        Some((changed, of)) if changed > 0 => (
+            ModelKind::Inertial,
+            format!(
+                "inertial: the quasi-static onset type is not the inertial one at {changed} of \
+                 the {of} velocities judged (degenerate, l1 = 0 to rounding, or of the other \
+                 sign), so the block's small inertia decides the onset type ({reason})"
+            ),
+        ),
+        _ => (kind, reason),
+    }
+}
+
+/// The model judged on the whole orbit, as the rate-and-state `cycles`
+/// judges its orbits ([`crate::analysis::orbit_inertia`]): a block
+/// quasi-static by `chi` at `V` (with a mass) is simulated where `cycles`
+/// ends its branch ([`target_stiffness`]: the scene's `K` below the
+/// quasi-static `K_c`, else half `K_c`), where its cycle is largest, and
+/// turns inertial where the dropped inertia force shifts `ln v` there by
+/// at least the threshold ([`decide_on_orbit`]). Every command but
+/// `simulate` (which judges its own run) takes this one decision, so that
+/// `hopf`, `diagram` and `cycles` give one `K_c`. Returns the model, why,
+/// and the largest shift (`None` where not judged: inertial already, no
+/// mass, or no onset at `V`, hence no cycle).
+fn by_orbit(
+    scene: &AdhesiveScene,
+    threshold: f64,
+    (kind, reason): (ModelKind, String),
+) -> Result<(ModelKind, String, Option<f64>), Error> {
+    let p = scene.params;
+    if kind != ModelKind::QuasiStatic || p.m <= 0.0 {
+        return Ok((kind, reason, None));
+    }
+    let OnsetOutcome::Found(onset) = find_onset(block::AdhesiveBlock, &p)? else {
+        return Ok((kind, reason, None));
+    };
+    let mut q = p;
+    q.kappa = target_stiffness(scene, onset.kappa_c);
+    let start = block::steady_bonds(q.nu, q.r) * 0.99;
+    let (_, _, run) = settle(block::AdhesiveBlock, &q, start, 30);
+    let chi = orbit_imbalance(&q, &run);
+    let at = format!(
+        "at K = {:.6e} N/m{}",
+        scene.units.stiffness_n_m(q.kappa),
+        if q.kappa == p.kappa {
+            " (the scene's)"
+        } else {
+            " (half the quasi-static K_c, where cycles ends its branch)"
+        }
+    );
+    let (kind, reason) = decide_on_orbit((kind, reason), chi, threshold, &at);
+    Ok((kind, reason, Some(chi)))
+}
+
 impl AdhesiveSetup {
     /// The scene's model decision and steady friction's extrema: `forced`
-    /// when given (`--model`), else quasi-static where the inertia ratio
-    /// `chi` is at most `inertia_threshold` where `judged` (at `V`, or at
-    /// every velocity of the grid `branch` and `diagram` sweep), inertial
-    /// where it exceeds it anywhere there ([`block::model_for`]).
+    /// when given (`--model`), else the scene's own decision, one for
+    /// `hopf`, `cycles`, `branch` and `diagram`: quasi-static where the
+    /// inertia ratio `chi` at `V` is below `inertia_threshold`
+    /// ([`block::model_for`]), the onset type at `V` does not change
+    /// without inertia ([`by_onset_type`]) and the dropped inertia force
+    /// does not shift the scene's quasi-static orbit by the threshold
+    /// ([`by_orbit`]), else inertial. `branch` and `diagram`
+    /// ([`Judged::OverRange`]) also judge `chi` and the onset type at every
+    /// velocity of the swept `V_range`, and run inertial where any needs
+    /// it, keeping the scene's own model for its onset at `V` and its
+    /// operating point (`scene_model` where the two differ). `simulate`
+    /// ([`Judged::AtPulling`]) judges `chi` at every pulling velocity and
+    /// its own run (`simulate_watched`).
     pub fn new(
         scene: AdhesiveScene,
         inertia_threshold: f64,
@@ -169,113 +366,6 @@ impl AdhesiveSetup {
         }
         let p = scene.params;
         let u = scene.units;
-        let chi = block::inertia_ratio(&p);
-        let mass = u.mass;
-        let (needed, reason, chi_max, cross) = match judged {
-            Judged::AtVelocity | Judged::AtPulling(_) => {
-                // The velocity of the largest chi among those judged.
-                let pulled: Vec<f64> = match &judged {
-                    Judged::AtPulling(list) => list
-                        .iter()
-                        .filter(|v| **v > 0.0)
-                        .map(|v| u.nu_of_velocity_um_s(*v))
-                        .collect(),
-                    _ => Vec::new(),
-                };
-                let mut q = p;
-                for nu in pulled {
-                    let mut r = p;
-                    r.nu = nu;
-                    let c = block::inertia_ratio(&r);
-                    if c.is_nan() || c > block::inertia_ratio(&q) {
-                        q = r;
-                    }
-                }
-                let chi = block::inertia_ratio(&q);
-                let at_v = u.velocity_um_s(q.nu);
-                let needed = block::model_for(&q, inertia_threshold);
-                let reason = match needed {
-                    ModelKind::QuasiStatic => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is below the \
-                         inertia threshold {inertia_threshold:e}: the block's inertia (M = \
-                         {mass:e} kg) raises kappa_c by the factor 1 + chi only, and the block \
-                         without it is regular everywhere (at fixed bond fraction the force \
-                         rises with the slip velocity)"
-                    ),
-                    ModelKind::Inertial => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is not below \
-                         the inertia threshold {inertia_threshold:e}: the block's inertia (M = \
-                         {mass:e} kg) matters (it raises kappa_c by the factor 1 + chi), m u \
-                         dw/dt = s - F(n, u)"
-                    ),
-                };
-                (needed, reason, None, None)
-            }
-            Judged::OverRange => {
-                let (lo, hi) = scene.nu_range;
-                let nus = steady::grid(lo, hi, PER_DECADE);
-                let chis: Vec<f64> = nus
-                    .iter()
-                    .map(|&nu| {
-                        let mut q = p;
-                        q.nu = nu;
-                        block::inertia_ratio(&q)
-                    })
-                    .collect();
-                let needs = |c: f64| !(p.m == 0.0 || c < inertia_threshold);
-                let (i_max, c_max) =
-                    chis.iter()
-                        .enumerate()
-                        .fold((0, f64::NEG_INFINITY), |a, (i, c)| {
-                            if c.is_nan() || *c > a.1 {
-                                (i, *c)
-                            } else {
-                                a
-                            }
-                        });
-                let cross = (1..nus.len())
-                    .find(|&i| needs(chis[i]) != needs(chis[i - 1]))
-                    .map(|i| crossing(&p, inertia_threshold, nus[i - 1], nus[i]));
-                let range = format!(
-                    "V_range [{:.4e}, {:.4e}] µm/s",
-                    u.velocity_um_s(lo),
-                    u.velocity_um_s(hi)
-                );
-                let largest = format!(
-                    "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} µm/s",
-                    u.velocity_um_s(nus[i_max])
-                );
-                let needed = if chis.iter().any(|c| needs(*c)) {
-                    ModelKind::Inertial
-                } else {
-                    ModelKind::QuasiStatic
-                };
-                let reason = match (needed, cross) {
-                    (ModelKind::QuasiStatic, _) => format!(
-                        "chi stays below the inertia threshold {inertia_threshold:e} over \
-                         {range} ({largest}): the block's inertia (M = {mass:e} kg) is \
-                         negligible at every velocity swept"
-                    ),
-                    (ModelKind::Inertial, Some(c)) => format!(
-                        "chi crosses the inertia threshold {inertia_threshold:e} at V = \
-                         {:.6e} um/s within {range} ({largest}): the block's inertia (M = \
-                         {mass:e} kg) matters there, so the inertial model over the whole \
-                         range (each point says where the quasi-static one would do)",
-                        u.velocity_um_s(c)
-                    ),
-                    (ModelKind::Inertial, None) => format!(
-                        "chi is not below the inertia threshold {inertia_threshold:e} over all of \
-                         {range} ({largest}): the block's inertia (M = {mass:e} kg) matters"
-                    ),
-                };
-                (
-                    needed,
-                    reason,
-                    Some(c_max),
-                    cross.map(|c| u.velocity_um_s(c)),
-                )
-            }
-        };
         if forced == Some(ModelKind::Inertial) && p.m == 0.0 {
             return Err(InputError::Conflict(format!(
                 "{}: --model inertial needs the block's mass; the scene gives M = 0 (or none): \
@@ -284,47 +374,59 @@ impl AdhesiveSetup {
             ))
             .into());
         }
-        // As for the rate-and-state block (`inertia_decides`): where
-        // dropping the inertia changes the onset type at a velocity judged
-        // (the quasi-static onset degenerate, or of the other sign), that
-        // inertia, however small, decides it.
-        let (needed, reason) = match (forced, needed) {
-            (None, ModelKind::QuasiStatic) if p.m > 0.0 => {
-                let nus: Vec<f64> = match &judged {
-                    Judged::AtVelocity => vec![p.nu],
-                    Judged::AtPulling(list) => list
-                        .iter()
-                        .filter(|v| **v > 0.0)
-                        .map(|v| u.nu_of_velocity_um_s(*v))
-                        .collect(),
-                    Judged::OverRange => {
-                        steady::grid(scene.nu_range.0, scene.nu_range.1, PER_DECADE)
-                    }
-                };
-                match onset_types_differ(&p, &nus) {
-                    Some((changed, of)) if changed > 0 => (
-                        ModelKind::Inertial,
-                        format!(
-                            "inertial: the quasi-static onset type is not the inertial one at \
-                             {changed} of the {of} velocities judged (degenerate, l1 = 0 to \
-                             rounding, or of the other sign), so the block's small inertia \
-                             decides the onset type ({reason})"
-                        ),
-                    ),
-                    _ => (needed, reason),
-                }
-            }
-            _ => (needed, reason),
+        let chi = block::inertia_ratio(&p);
+        let threshold = inertia_threshold;
+        // The velocities whose chi and onset type decide: the scene's, or a
+        // protocol's pulling velocities.
+        let pulled: Vec<f64> = match &judged {
+            Judged::AtPulling(list) => list
+                .iter()
+                .filter(|v| **v > 0.0)
+                .map(|v| u.nu_of_velocity_um_s(*v))
+                .collect(),
+            _ => vec![p.nu],
         };
-        let kind = forced.unwrap_or(needed);
-        let reason = match forced {
-            Some(f) => format!("forced by --model {} ({reason})", f.name()),
-            None => reason,
+        let (mut chi_max, mut cross) = (None, None);
+        let (scene_kind, scene_reason, orbit_inertia, kind, reason) = match forced {
+            Some(f) => {
+                let (_, why) = by_chi_at(&p, &u, &pulled, threshold);
+                let reason = format!("forced by --model {} ({why})", f.name());
+                (f, reason.clone(), None, f, reason)
+            }
+            None => {
+                let at_v = by_onset_type(&p, &pulled, by_chi_at(&p, &u, &pulled, threshold));
+                let (scene_kind, scene_reason, orbit) = match judged {
+                    Judged::AtPulling(_) => (at_v.0, at_v.1, None),
+                    _ => by_orbit(&scene, threshold, at_v)?,
+                };
+                let (kind, reason) = match judged {
+                    Judged::OverRange => {
+                        let (k, why, c_max, c) = by_chi_over_range(&scene, threshold);
+                        chi_max = Some(c_max);
+                        cross = c.map(|c| u.velocity_um_s(c));
+                        let (lo, hi) = scene.nu_range;
+                        let grid = steady::grid(lo, hi, PER_DECADE);
+                        match (by_onset_type(&p, &grid, (k, why)), scene_kind) {
+                            ((ModelKind::QuasiStatic, why), ModelKind::Inertial) => (
+                                ModelKind::Inertial,
+                                format!(
+                                    "inertial, the scene's own model ({scene_reason}); over \
+                                     V_range alone: {why}"
+                                ),
+                            ),
+                            (range, _) => range,
+                        }
+                    }
+                    _ => (scene_kind, scene_reason.clone()),
+                };
+                (scene_kind, scene_reason, orbit, kind, reason)
+            }
         };
         let extrema = block::steady_extrema(&p, EXTREMA_RANGE.0, EXTREMA_RANGE.1);
         let v_max = extrema.iter().find(|e| e.1).map(|e| e.0);
         let v_c = v_max.and_then(|m| extrema.iter().find(|e| !e.1 && e.0 > m).map(|e| e.0));
         let force = |nu: f64| u.force_n(block::steady_friction(nu, &p));
+        let differs = scene_kind != kind;
         Ok(AdhesiveSetup {
             scene: scene.name.clone(),
             law: super::scene::LAW,
@@ -332,6 +434,10 @@ impl AdhesiveSetup {
             model_reason: reason,
             model_kind: kind,
             forced: forced.is_some(),
+            scene_model: differs.then(|| scene_kind.name()),
+            scene_model_reason: differs.then_some(scene_reason),
+            scene_model_kind: scene_kind,
+            orbit_inertia,
             inertia_ratio: chi,
             inertia_threshold,
             inertia_ratio_max: chi_max,
@@ -380,6 +486,10 @@ pub struct AdhesiveHopf {
     pub regime: Option<String>,
     /// The same verdict as `diagram`'s and `cycles`' ([`verdict`]).
     pub operating_point: Option<OperatingPoint>,
+    /// On the quasi-static orbit of the scene's cycles, the largest shift
+    /// of `ln v` the dropped inertia force makes (`null` where not judged),
+    /// as in `cycles` ([`AdhesiveSetup::new`]: one decision).
+    pub orbit_inertia_ratio: Option<f64>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -389,6 +499,7 @@ pub struct AdhesiveHopf {
 /// `hopf` on an adhesive scene.
 pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
     let p = setup.params;
+    let setup_orbit = setup.orbit_inertia;
     let u = setup.units;
     let v = verdict(&setup)?;
     let regime = v.regime_words();
@@ -415,6 +526,7 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
         steady_slope: slope,
         regime,
         operating_point: v.operating_point,
+        orbit_inertia_ratio: setup_orbit,
         complete: true,
         stop: None,
     })
@@ -431,6 +543,8 @@ pub struct AdhesiveBranch {
     pub hopf_points: Vec<NuHopf>,
     #[serde(rename = "hopf_points_V_um_per_s")]
     pub hopf_points_um_s: Vec<f64>,
+    /// As `hopf`'s ([`AdhesiveHopf::orbit_inertia_ratio`]).
+    pub orbit_inertia_ratio: Option<f64>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -497,6 +611,7 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
             .map(|h| setup.units.velocity_um_s(h.nu))
             .collect(),
         points: steady_records(points, &setup.units),
+        orbit_inertia_ratio: setup.orbit_inertia,
         setup,
         hopf_points,
         complete: true,
@@ -527,8 +642,17 @@ pub struct AdhesiveDiagram {
     /// The steady branch at the scene's velocities (for the friction figure).
     pub steady: Vec<SteadyRecord>,
     /// The scene's own K and V against the diagram, and the verdict
-    /// (`null` without `K`): as the rate-and-state `diagram` judges it.
+    /// (`null` without `K`): as the rate-and-state `diagram` judges it, in
+    /// the scene's own model (`hopf`'s and `cycles`').
     pub operating_point: Option<OperatingPoint>,
+    /// Where the diagram's model (over `V_range`) is not the scene's own
+    /// (`scene_model`): `K_c` at the scene's `V` in the diagram's model,
+    /// N/m, beside the operating point's in the scene's (`null` where the
+    /// two models are one).
+    #[serde(rename = "curve_K_c_at_V_N_per_m")]
+    pub curve_k_c_at_v_n_per_m: Option<f64>,
+    /// As `hopf`'s ([`AdhesiveHopf::orbit_inertia_ratio`]).
+    pub orbit_inertia_ratio: Option<f64>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -571,7 +695,7 @@ impl Verdict {
 /// command takes its verdict from here.
 pub fn verdict(setup: &AdhesiveSetup) -> Result<Verdict, Error> {
     let p = setup.params;
-    let outcome = with_model!(setup.model_kind, b => find_onset(b, &p))?;
+    let outcome = with_model!(setup.scene_model_kind, b => find_onset(b, &p))?;
     let operating_point = judge_scene(setup, &outcome, None);
     Ok(Verdict {
         outcome,
@@ -616,7 +740,7 @@ fn judge_scene(
     };
     let (regime, margin, reason) = judge(p.kappa, &at);
     let chi = block::inertia_ratio(&p);
-    let dropped = setup.model_kind == ModelKind::QuasiStatic && p.m > 0.0;
+    let dropped = setup.scene_model_kind == ModelKind::QuasiStatic && p.m > 0.0;
     let (regime, reason) = if dropped && margin > 0.0 && margin <= chi + at.tolerance {
         (
             Regime::Undecided,
@@ -633,6 +757,7 @@ fn judge_scene(
     op.margin = Some(margin);
     op.kappa_c = Some(onset.kappa_c);
     op.k_c_n_per_m = Some(u.stiffness_n_m(onset.kappa_c));
+    op.model = Some(setup.scene_model_kind.name());
     op.kappa_fold = fold.map(|f| f.kappa);
     op.kappa_fold_error = fold.map(|f| f.error);
     Some(op)
@@ -669,8 +794,17 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
         }
     }
     let operating_point = verdict(&setup)?.operating_point;
+    let curve_k_c = match setup.scene_model {
+        Some(_) => match with_model!(setup.model_kind, b => find_onset(b, &p))? {
+            OnsetOutcome::Found(onset) => Some(u.stiffness_n_m(onset.kappa_c)),
+            OnsetOutcome::StableForAllStiffness { .. } => None,
+        },
+        None => None,
+    };
     Ok(AdhesiveDiagram {
         operating_point,
+        curve_k_c_at_v_n_per_m: curve_k_c,
+        orbit_inertia_ratio: setup.orbit_inertia,
         bautin_points,
         points: points
             .into_iter()
@@ -742,24 +876,16 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
 /// `false` stops the branch there (a stop signal: no simulation follows,
 /// and the result is partial).
 pub fn cycles_watched(
-    mut setup: AdhesiveSetup,
+    setup: AdhesiveSetup,
     limits: (usize, usize),
     watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
 ) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
-    let mut judged = verdict(&setup)?;
-    let kappa_c = match &judged.outcome {
-        OnsetOutcome::Found(onset) => onset.kappa_c,
-        OnsetOutcome::StableForAllStiffness { steady_slope } => {
-            let slope = *steady_slope;
-            return without_onset(setup, judged.operating_point, slope);
-        }
-    };
-    let end = target_stiffness(&setup, kappa_c);
-    let orbit_inertia = judge_on_orbit(&mut setup, end);
-    if setup.model_kind == ModelKind::Inertial && orbit_inertia.is_some() {
-        judged = verdict(&setup)?;
+    let judged = verdict(&setup)?;
+    if let OnsetOutcome::StableForAllStiffness { steady_slope } = judged.outcome {
+        return without_onset(setup, judged.operating_point, steady_slope);
     }
+    let orbit_inertia = setup.orbit_inertia;
     let Verdict {
         outcome: OnsetOutcome::Found(onset),
         mut operating_point,
@@ -773,7 +899,7 @@ pub fn cycles_watched(
         .into());
     };
     let kind = setup.model_kind;
-    let target = target_stiffness(&setup, onset.kappa_c);
+    let target = target_stiffness(&setup.scene_full, onset.kappa_c);
     // The scene's own K, where it has one: below K_c it is the branch's
     // end; above it the branch of a subcritical onset may pass it (rising
     // to the fold of cycles, then back down), and the cycle there is
@@ -1062,63 +1188,42 @@ fn orbit_imbalance(p: &AdhesiveParams, run: &Run) -> f64 {
 
 /// The stiffness the branch is traced down to: the scene's, where it has
 /// a spring below the onset `kappa_c`, else half of `kappa_c`.
-fn target_stiffness(setup: &AdhesiveSetup, kappa_c: f64) -> f64 {
-    let p = setup.params;
-    if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < kappa_c {
+fn target_stiffness(scene: &AdhesiveScene, kappa_c: f64) -> f64 {
+    let p = scene.params;
+    if scene.stiffness_given && p.kappa > 0.0 && p.kappa < kappa_c {
         p.kappa
     } else {
         0.5 * kappa_c
     }
 }
 
-/// The model judged on the orbit too, as the rate-and-state `cycles`
-/// judges its orbits ([`crate::analysis::orbit_inertia`]): a quasi-static
-/// block (chosen by `chi` at `V`, with a mass, not forced) is simulated at
-/// the branch's end, the stiffness `kappa`, where its cycle is largest,
-/// and judged there ([`decide_on_orbit`]). Returns the largest shift of
-/// `ln u` on that orbit (`None` where not judged).
-fn judge_on_orbit(setup: &mut AdhesiveSetup, kappa: f64) -> Option<f64> {
-    let p = setup.params;
-    if !orbit_judged(setup) {
-        return None;
-    }
-    let mut q = p;
-    q.kappa = kappa;
-    let start = block::steady_bonds(q.nu, q.r) * 0.99;
-    let (_, _, run) = settle(block::AdhesiveBlock, &q, start, 30);
-    let chi = orbit_imbalance(&q, &run);
-    let at = format!("at K = {:.6e} N/m", setup.units.stiffness_n_m(kappa));
-    decide_on_orbit(setup, chi, &at);
-    Some(chi)
-}
-
-/// Whether the setup's model is judged on an orbit: quasi-static by `chi`
-/// at the velocities judged, with a mass, not forced by `--model`.
-fn orbit_judged(setup: &AdhesiveSetup) -> bool {
-    setup.model_kind == ModelKind::QuasiStatic && !setup.forced && setup.params.m > 0.0
-}
-
-/// Turns the setup inertial where the dropped inertia force shifts `ln u`
-/// on the quasi-static orbit `at` by `chi` ([`block::state_imbalance`]),
-/// at least the inertia threshold, saying why; notes the check where it
-/// is below.
-fn decide_on_orbit(setup: &mut AdhesiveSetup, chi: f64, at: &str) {
-    let threshold = setup.inertia_threshold;
+/// `(kind, reason)` turned inertial where the dropped inertia force shifts
+/// `ln u` on the quasi-static orbit `at` by `chi`
+/// ([`block::state_imbalance`]), at least the inertia `threshold`, saying
+/// why; the check noted where it is below.
+fn decide_on_orbit(
+    (kind, reason): (ModelKind, String),
+    chi: f64,
+    threshold: f64,
+    at: &str,
+) -> (ModelKind, String) {
     if chi >= threshold {
-        setup.model_kind = ModelKind::Inertial;
-        setup.model = ModelKind::Inertial.name();
-        setup.model_reason = format!(
-            "inertial: on the quasi-static orbit {at} the dropped inertia force shifts ln v by up \
-             to m |du/dt| / (u F_u) = {chi:.3e}, not below the inertia threshold {threshold:e}, \
-             so the block keeps its inertia (at V alone: {})",
-            setup.model_reason
-        );
+        (
+            ModelKind::Inertial,
+            format!(
+                "inertial: on the quasi-static orbit {at} the dropped inertia force shifts ln v \
+                 by up to m |du/dt| / (u F_u) = {chi:.3e}, not below the inertia threshold \
+                 {threshold:e}, so the block keeps its inertia (at V alone: {reason})"
+            ),
+        )
     } else {
-        setup.model_reason = format!(
-            "{} (on the quasi-static orbit {at} the dropped inertia force shifts ln v by at most \
-             {chi:.3e}, below the threshold too)",
-            setup.model_reason
-        );
+        (
+            kind,
+            format!(
+                "{reason}; on the quasi-static orbit {at} the dropped inertia force shifts ln v \
+                 by at most {chi:.3e}, below the threshold too"
+            ),
+        )
     }
 }
 
@@ -1293,9 +1398,16 @@ pub fn simulate_watched(
     // The model judged on the whole run too ([`decide_on_orbit`]): a
     // quasi-static run the dropped inertia would change is run again with it.
     let mut setup = setup;
-    let orbit_inertia = (orbit_judged(&setup) && !run.interrupted).then(|| {
+    let judged = kind == ModelKind::QuasiStatic && !setup.forced && p.m > 0.0;
+    let orbit_inertia = (judged && !run.interrupted).then(|| {
         let chi = run_imbalance(&p, &run, &protocol);
-        decide_on_orbit(&mut setup, chi, "of this run");
+        let reason = std::mem::take(&mut setup.model_reason);
+        let threshold = setup.inertia_threshold;
+        let (kind, reason) = decide_on_orbit((kind, reason), chi, threshold, "of this run");
+        setup.model_kind = kind;
+        setup.model = kind.name();
+        setup.scene_model_kind = kind;
+        setup.model_reason = reason;
         chi
     });
     if setup.model_kind != kind {

@@ -93,6 +93,12 @@ fn print_setup(s: &AdhesiveSetup) {
         s.scene, s.model, s.inertia_ratio
     );
     println!("  model: {} ({})", s.model, s.model_reason);
+    if let (Some(m), Some(why)) = (s.scene_model, &s.scene_model_reason) {
+        println!(
+            "  the scene's own model, of its onset at V and its operating point (as hopf and \
+             cycles): {m} ({why})"
+        );
+    }
     println!(
         "  F_a = {:.6e} N, V_s = {:.6e} µm/s, tau_out = {:.6e} s, tau_on / tau_out = r = {:.6e}, \
          F_v / F_a = f_v = {:.6e}, alpha = {}",
@@ -145,9 +151,14 @@ fn print_text_hopf(r: &AdhesiveHopf) {
         Some(c) => {
             let o = &c.onset;
             println!(
-                "onset: K_c = {:.6e} N/m (kappa_c = {:.10e}; closed form {:.10e}), frequency \
-                 {:.6e} Hz (omega_c = {:.6e} / tau_out)",
-                c.k_c_n_m, o.kappa_c, o.kappa_c_closed_form, c.frequency_hz, o.omega_c
+                "onset ({} model): K_c = {:.6e} N/m (kappa_c = {:.10e}; closed form {:.10e}), \
+                 frequency {:.6e} Hz (omega_c = {:.6e} / tau_out)",
+                r.setup.scene_model_kind.name(),
+                c.k_c_n_m,
+                o.kappa_c,
+                o.kappa_c_closed_form,
+                c.frequency_hz,
+                o.omega_c
             );
             println!(
                 "onset type: {} (l1 = {:.6e} +- {:.1e})",
@@ -450,6 +461,15 @@ pub fn diagram(
         if let Some(op) = &r.operating_point {
             println!("{}", op.line());
         }
+        if let Some(k) = r.curve_k_c_at_v_n_per_m {
+            println!(
+                "  the diagram's curve ({} model over V_range) gives K_c = {} N/m at the scene's \
+                 V; the operating point's K_c above is the scene's own ({} model)",
+                s.model,
+                crate::records::significant(k),
+                s.scene_model_kind.name()
+            );
+        }
     }
     let stability = stability_figure(&r);
     let friction: Vec<(f64, f64)> = r
@@ -653,7 +673,8 @@ fn print_cycles(r: &AdhesiveCycles) {
     let u = r.setup.units;
     match (&r.onset, &r.reason) {
         (Some(o), _) => println!(
-            "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+            "onset ({} model): K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+            r.setup.scene_model_kind.name(),
             u.stiffness_n_m(o.kappa_c),
             o.kappa_c,
             o.onset.name()
