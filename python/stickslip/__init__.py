@@ -1429,7 +1429,7 @@ class Fit(_Drawn):
 
     def __init__(self, data: dict, fitted_toml: str):
         self._data = data
-        #: The fitted scene as the text of a scene file (`fitted.toml`).
+        #: The fitted scene as the text of a scene file (`<run>-fitted.toml`).
         self.fitted_toml = fitted_toml
 
     @property
