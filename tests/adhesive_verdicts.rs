@@ -736,3 +736,85 @@ fn hopf_diagram_and_cycles_give_one_k_c_labelled_with_its_model() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Without junction viscosity (F_v = 0) steady friction has a maximum and
+/// no minimum above it; with slow readsorption (tau_on = 20 s) neither.
+/// `hopf`, `diagram` and `cycles` say only what exists: no `V_c`, no
+/// "between V_max and V_c" (which they printed for both before). The
+/// extrema against the closed form D2 by central differences: its slope
+/// changes sign once, near the V_max printed, for F_v = 0, never for
+/// tau_on = 20 s, over 1e-3 to 1e6 µm/s.
+#[test]
+fn the_text_names_only_the_extrema_that_exist() {
+    let dir = temp_dir("adhesive-extrema-text");
+    let out = dir.to_str().unwrap();
+    // nu = V / V_s from 1e-3 to 1e6 µm/s, 40 points per decade.
+    let nus: Vec<f64> = (0..=360)
+        .map(|i| 10f64.powf(-3.0 + i as f64 / 40.0) / 0.025)
+        .collect();
+    let slope = |nu: f64, r: f64, f_v: f64| {
+        let p = AdhesiveParams {
+            nu,
+            kappa: 1e-4,
+            r,
+            f_v,
+            alpha: 0.6,
+            m: 0.0,
+        };
+        let h = 1e-5;
+        steady_friction(nu * (1.0 + h), &p) - steady_friction(nu * (1.0 - h), &p)
+    };
+    let sign_changes = |r: f64, f_v: f64| -> Vec<f64> {
+        nus.windows(2)
+            .filter(|w| (slope(w[0], r, f_v) > 0.0) != (slope(w[1], r, f_v) > 0.0))
+            .map(|w| (w[0] * w[1]).sqrt() * 0.025)
+            .collect()
+    };
+    for (set, changes) in [
+        ("F_v=0", sign_changes(0.1, 0.0)),
+        ("tau_on=20", sign_changes(20.0, 0.01)),
+    ] {
+        let run = |cmd: &str, json: bool| {
+            let mut args = vec![cmd, "--scene", "gel", "--set", set, "--set", "V=0.2"];
+            if cmd != "hopf" {
+                args.extend(["--out", out, "--force"]);
+            }
+            if json {
+                args.push("--json");
+            }
+            let (status, text, err) = stickslip(&args);
+            assert_eq!(status, 0, "{cmd} {set}: {err}");
+            text
+        };
+        let v: serde_json::Value = serde_json::from_str(&run("hopf", true)).unwrap();
+        assert!(v["V_c_um_per_s"].is_null(), "{set}: {v}");
+        match set {
+            "F_v=0" => {
+                assert_eq!(changes.len(), 1, "{changes:?}");
+                let v_max = field(&v, "V_max_um_per_s");
+                // Within the grid's spacing, 10^(1/40).
+                assert!(rel(v_max, changes[0]) < 0.03, "{v_max} vs {changes:?}");
+            }
+            _ => {
+                assert!(changes.is_empty(), "{changes:?}");
+                assert!(v["V_max_um_per_s"].is_null(), "{v}");
+            }
+        }
+        for cmd in ["hopf", "diagram", "cycles"] {
+            let text = run(cmd, false);
+            assert!(!text.contains("V_c"), "{cmd} {set}: {text}");
+            assert!(!text.contains("between V_max"), "{cmd} {set}: {text}");
+            let says = match set {
+                "F_v=0" => "steady friction falls with V at every velocity above V_max = ",
+                _ => "steady friction rises with V at every velocity up to",
+            };
+            assert!(text.contains(says), "{cmd} {set}: {text}");
+            if set == "F_v=0" {
+                assert!(text.contains("(F_v = 0: no junction viscosity raises it again)"));
+            } else {
+                assert!(!text.contains("V_max"), "{cmd} {set}: {text}");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

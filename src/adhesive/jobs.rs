@@ -336,6 +336,36 @@ fn by_orbit(
 }
 
 impl AdhesiveSetup {
+    /// Where steady friction falls with the velocity, the only velocities
+    /// where steady sliding can lose stability (`kappa_c > 0`), from the
+    /// extrema that exist: between `V_max` and `V_c`; above `V_max` where
+    /// friction has no minimum above it (no viscous force, `F_v = 0`, to
+    /// raise it again); nowhere without a maximum.
+    pub fn weakening(&self) -> String {
+        let top = self.units.velocity_um_s(EXTREMA_RANGE.1);
+        match (self.v_max_um_s, self.v_c_um_s) {
+            (Some(a), Some(b)) => format!(
+                "steady friction falls with V only between V_max = {a:.6e} µm/s and V_c = \
+                 {b:.6e} µm/s: only there can steady sliding lose stability (a Hopf point)"
+            ),
+            (Some(a), None) => format!(
+                "steady friction falls with V at every velocity above V_max = {a:.6e} µm/s: it \
+                 has no minimum up to {top:.1e} µm/s{}, so steady sliding can lose stability (a \
+                 Hopf point) at any velocity above V_max",
+                if self.params.f_v == 0.0 {
+                    " (F_v = 0: no junction viscosity raises it again)"
+                } else {
+                    ""
+                }
+            ),
+            (None, _) => format!(
+                "steady friction rises with V at every velocity up to {top:.1e} µm/s (no \
+                 maximum): steady sliding is linearly stable at every stiffness and velocity (no \
+                 Hopf point)"
+            ),
+        }
+    }
+
     /// The scene's model decision and steady friction's extrema: `forced`
     /// when given (`--model`), else the scene's own decision, one for
     /// `hopf`, `cycles`, `branch` and `diagram`: quasi-static where the
@@ -1055,8 +1085,9 @@ fn without_onset(
     let stable = format!(
         "steady friction rises with the velocity at V = {:.6e} µm/s (dF_ss/du = {steady_slope:.3e} \
          F_a / V_s): steady sliding is stable at every stiffness, no Hopf point, so no cycle \
-         branch is born here (stick-slip lies between V_max and V_c)",
-        u.velocity_um_s(p.nu)
+         branch is born here; {}",
+        u.velocity_um_s(p.nu),
+        setup.weakening()
     );
     let (simulated, reason, complete) = match operating_point.as_mut() {
         Some(op) if p.kappa > 0.0 => {

@@ -116,18 +116,13 @@ fn print_setup(s: &AdhesiveSetup) {
         u.stiffness_n_m(p.kappa),
         p.kappa
     );
-    match (s.v_max_um_s, s.force_at_v_max_n) {
-        (Some(v), Some(f)) => {
-            println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} µm/s")
-        }
-        _ => println!("  steady friction: no maximum (no velocity-weakening branch)"),
+    if let (Some(v), Some(f)) = (s.v_max_um_s, s.force_at_v_max_n) {
+        println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} µm/s");
     }
-    match (s.v_c_um_s, s.force_at_v_c_n) {
-        (Some(v), Some(f)) => println!(
-            "  steady friction: minimum {f:.6e} N at V_c = {v:.6e} µm/s (stick-slip ends above it)"
-        ),
-        _ => println!("  steady friction: no minimum above V_max"),
+    if let (Some(v), Some(f)) = (s.v_c_um_s, s.force_at_v_c_n) {
+        println!("  steady friction: minimum {f:.6e} N at V_c = {v:.6e} µm/s");
     }
+    println!("  {}", s.weakening());
 }
 
 /// `hopf` on an adhesive scene.
@@ -682,11 +677,21 @@ fn print_cycles(r: &AdhesiveCycles) {
         (None, Some(reason)) => println!("no cycles: {reason}"),
         (None, None) => {}
     }
+    let kappa_c = r.onset.as_ref().map_or(f64::NAN, |o| o.kappa_c);
     for c in r.folds.iter().map(|f| &f.cycle) {
+        // Above K_c the cycles up to the fold coexist with stable steady
+        // sliding; below it the branch turns back toward larger K, two
+        // cycles on either side of the turn, with steady sliding unstable.
+        let meaning = if c.kappa > kappa_c {
+            "the cycles coexist with stable steady sliding between K_c and this stiffness"
+        } else {
+            "below K_c, the branch turns back toward larger K here: two of its cycles coexist \
+             just above this stiffness (the table's stable column tells them apart), with \
+             steady sliding unstable"
+        };
         println!(
             "fold of cycles (lpc) at K = {:.6e} N/m (kappa = {:.6e}): period {:.6e} s, force \
-             drop {:.6e} N; the subcritical onset's cycles coexist with stable steady sliding \
-             between K_c and this stiffness",
+             drop {:.6e} N; {meaning}",
             u.stiffness_n_m(c.kappa),
             c.kappa,
             u.time_s(c.period),
