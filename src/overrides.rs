@@ -54,14 +54,14 @@ pub const PHYSICAL: [PhysicalKey; 10] = [
     key("W", "N", "N", "> 0", None, "normal load"),
     key(
         "V",
-        "um/s",
+        "µm/s",
         "um_per_s",
         "> 0",
         Some(Param::Nu),
         "driving velocity",
     ),
-    key("V0", "um/s", "um_per_s", "> 0", None, "reference velocity"),
-    key("D0", "um", "um", "> 0", None, "memory length"),
+    key("V0", "µm/s", "um_per_s", "> 0", None, "reference velocity"),
+    key("D0", "µm", "um", "> 0", None, "memory length"),
     key("tau", "s", "s", "> 0", Some(Param::ThetaC), "ageing cutoff"),
     key("g", "m/s^2", "m_per_s2", "> 0", None, "gravity"),
     key(
@@ -74,7 +74,7 @@ pub const PHYSICAL: [PhysicalKey; 10] = [
     ),
     key(
         "V_range",
-        "um/s",
+        "µm/s",
         "um_per_s",
         "> 0",
         None,
@@ -295,7 +295,7 @@ fn quantity_definition(p: &str) -> &'static str {
     match p {
         "kappa" => "kappa = K D0 / W, K in N/m",
         "m" => "m = M V0^2 / (W D0), M in kg",
-        "nu" => "nu = V / V0, V in um/s",
+        "nu" => "nu = V / V0, V in µm/s",
         "theta_c" => "theta_c = tau V0 / D0, tau in s",
         "eta_d" => "eta_d = eta V0, eta in s/m, V0 in m/s",
         _ => "",

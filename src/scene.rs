@@ -96,7 +96,7 @@ impl Scene {
         let mut out = Vec::new();
         if !(lo..=hi).contains(&d0_um) {
             out.push(format!(
-                "D0 = {d0_um:e} um is outside the usual {lo:e} to {hi:e} um (D0 is in micrometres, not metres)"
+                "D0 = {d0_um:e} µm is outside the usual {lo:e} to {hi:e} µm (D0 is in micrometres, not metres)"
             ));
         }
         out
@@ -415,7 +415,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         })?,
     };
     let d0 = read(&t, "D0", "> 0", "micrometres")?.unwrap_or(1.0);
-    let v0 = read(&t, "V0", "> 0", "um/s")?.unwrap_or(1.0);
+    let v0 = read(&t, "V0", "> 0", "µm/s")?.unwrap_or(1.0);
     let mass = read(&t, "M", ">= 0", "kg")?.unwrap_or(1.0);
     let g = read(&t, "g", "> 0", "m/s^2")?.unwrap_or(9.81);
     let given_load = read(&t, "W", "> 0", "newtons")?;
@@ -431,7 +431,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
     let k = read(&t, "K", ">= 0", "N/m")?;
     // Radiation damping eta = G / (2 c_s sigma), s/m (docs/model.md).
     let eta = read(&t, "eta", ">= 0", "s/m")?.unwrap_or(0.0);
-    let v = read(&t, "V", "> 0", "um/s")?.unwrap_or(v0);
+    let v = read(&t, "V", "> 0", "µm/s")?.unwrap_or(v0);
     let (lo, hi) = t.get("V_range").map_or(Ok((0.1 * v, 100.0 * v)), v_range)?;
 
     let units = Units {
@@ -531,17 +531,17 @@ pub(crate) fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
         return Err(malformed(
             "V_range",
             value,
-            "[lo, hi] in um/s with 0 < lo < hi",
+            "[lo, hi] in µm/s with 0 < lo < hi",
         ));
     };
-    let lo = number("V_range[0]", lo, "um/s")?;
-    let hi = number("V_range[1]", hi, "um/s")?;
-    require(lo > 0.0, "V_range[0]", lo, "> 0 (um/s)")?;
+    let lo = number("V_range[0]", lo, "µm/s")?;
+    let hi = number("V_range[1]", hi, "µm/s")?;
+    require(lo > 0.0, "V_range[0]", lo, "> 0 (µm/s)")?;
     require(
         hi > lo,
         "V_range[1]",
         hi,
-        &format!("> V_range[0] = {lo} (um/s)"),
+        &format!("> V_range[0] = {lo} (µm/s)"),
     )?;
     Ok((lo, hi))
 }

@@ -818,3 +818,57 @@ fn the_text_names_only_the_extrema_that_exist() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The region labels ("steady sliding stable", "unstable: stick-slip") of
+/// the stability figure are drawn where the Hopf curve spans less than a
+/// label's width and vertical lines (V_max, the inertia threshold, V_c)
+/// cut every place over it: a PDMS elastomer whose curve spans 35-250
+/// µm/s of a 1-10^4 µm/s range, the inertia threshold crossing at 98 µm/s
+/// in its middle. Before, both labels were left out there (the gel's
+/// figure had them).
+#[test]
+fn the_stability_figure_labels_its_regions_over_a_narrow_curve() {
+    let dir = temp_dir("adhesive-region-labels");
+    let out = dir.to_str().unwrap();
+    let pdms = dir.join("pdms.toml");
+    std::fs::write(
+        &pdms,
+        "law = \"adhesive\"\nname = \"pdms\"\nF_a = 0.1\nV_s = 0.5\ntau_out = 0.5\n\
+         tau_on = 0.02\nF_v = 1e-3\nalpha = 0.3\nM = 5e-3\nK = 500.0\nV = 50.0\n\
+         V_range = [1.0, 10000.0]\n",
+    )
+    .unwrap();
+    let pva = dir.join("pva.toml");
+    std::fs::write(&pva, PVA_HEAVY).unwrap();
+    for (scene, name) in [
+        (pdms.to_str().unwrap(), "pdms"),
+        (pva.to_str().unwrap(), "pva"),
+        ("gel", "gel"),
+    ] {
+        let (status, v, err) = json_of(&["diagram", "--scene", scene, "--out", out, "--json"]);
+        assert_eq!(status, 0, "{name}: {err}");
+        if name == "pdms" {
+            // The curve's span against the range: under a quarter of it.
+            let vs: Vec<f64> = v["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|p| p["K_N_per_m"].is_number())
+                .map(|p| field(p, "V_um_per_s"))
+                .collect();
+            let span = (vs[vs.len() - 1] / vs[0]).log10() / 4.0;
+            assert!(span < 0.25, "{span}");
+            let crossing = field(&v, "inertia_crossing_um_per_s");
+            assert!(
+                vs[0] < crossing && crossing < vs[vs.len() - 1],
+                "{crossing}"
+            );
+        }
+        let svg =
+            std::fs::read_to_string(dir.join(format!("{name}-diagram-stability.svg"))).unwrap();
+        for label in ["steady sliding stable", "unstable: stick-slip"] {
+            assert!(svg.contains(label), "{name}: no '{label}'");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -118,6 +118,15 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
     }
 }
 
+/// A unit of the JSON (`um/s`, `um`) as the text writes it (`µm/s`, `µm`).
+fn text_unit(unit: &str) -> &str {
+    match unit {
+        "um/s" => "µm/s",
+        "um" => "µm",
+        u => u,
+    }
+}
+
 fn plot_error(e: crate::plot::PlotError) -> Error {
     Error::Output(std::io::Error::other(e.to_string()))
 }
@@ -224,7 +233,7 @@ fn print_text(fit: &Fit) {
             c.from, c.b_minus_a, c.mu0
         );
         if let Some(d0) = c.d0_um {
-            line += &format!(", D0 = {d0:.4} um");
+            line += &format!(", D0 = {d0:.4} µm");
         }
         if let Some(a) = c.a {
             line += &format!(", A = {a:.4e}");
@@ -309,7 +318,9 @@ fn print_parameters(summary: &Summary) {
         };
         println!(
             "{name:<w$} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
-            e.value, e.unit, e.start
+            e.value,
+            text_unit(e.unit),
+            e.start
         );
     }
     for n in not_determined {
