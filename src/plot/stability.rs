@@ -961,8 +961,9 @@ mod tests {
 
     /// A region label stands only where a curve crosses its whole width:
     /// beside a curve that starts at x = 0.6 (no onset at smaller x, one
-    /// regime at every value there) the labels sit over x >= 0.6; over a
-    /// curve too narrow for them they are left out.
+    /// regime at every value there) the labels sit over x >= 0.6. Over a
+    /// curve too narrow for them, or where a vertical line cuts every such
+    /// place, they are centred over the curve, on a white box (`true`).
     #[test]
     fn region_labels_stand_only_over_the_curve() {
         let curve: Vec<(f64, f64)> = (0..=40)
@@ -970,14 +971,34 @@ mod tests {
             .collect();
         let size = (0.2, 0.06);
         for above in [true, false] {
-            let (cx, cy) =
-                place_region_label(std::slice::from_ref(&curve), size, &[0.5, 0.3, 0.15], above)
-                    .unwrap();
+            let ((cx, cy), boxed) = place_region_label(
+                std::slice::from_ref(&curve),
+                0,
+                size,
+                &[0.5, 0.3, 0.15],
+                above,
+            )
+            .unwrap();
             assert!(cx - size.0 / 2.0 >= 0.6 && cx + size.0 / 2.0 <= 1.0, "{cx}");
             assert!(if above { cy > 0.5 } else { cy < 0.5 }, "{cy}");
+            assert!(!boxed);
         }
         let narrow = vec![vec![(0.45, 0.5), (0.55, 0.5)]];
-        assert_eq!(place_region_label(&narrow, size, &[0.5], true), None);
+        let ((cx, cy), boxed) = place_region_label(&narrow, 0, size, &[0.5], true).unwrap();
+        assert!(
+            (0.45..=0.55).contains(&cx) && cy > 0.5 && boxed,
+            "{cx} {cy}"
+        );
+        // The curve wide enough, but vertical lines at x = 0.7 and 0.85 in
+        // the way of every place over it: centred over the curve, across
+        // a line.
+        let cut = vec![
+            curve.clone(),
+            vec![(0.7, -1.0), (0.7, 2.0)],
+            vec![(0.85, -1.0), (0.85, 2.0)],
+        ];
+        let ((cx, cy), boxed) = place_region_label(&cut, 2, size, &[0.8], true).unwrap();
+        assert!((0.6..=1.0).contains(&cx) && cy > 0.5 && boxed, "{cx} {cy}");
     }
 
     /// The magnifying panel appears exactly when the band is a few pixels
