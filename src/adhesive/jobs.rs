@@ -19,10 +19,12 @@ use crate::jobs::diagram::OperatingPoint;
 use crate::model::ModelKind;
 use serde::Serialize;
 
-/// Where a command judges the inertia ratio: at the scene's velocity
-/// (`hopf`, `cycles`), at every pulling velocity of a protocol
-/// (`simulate`, um/s; the scene's velocity without one), or at every
-/// velocity of the swept `V_range` (`branch`, `diagram`).
+/// Where a command judges the inertia ratio: at the scene's velocity and
+/// on its orbit (`hopf`, `cycles`: the scene's own decision,
+/// [`AdhesiveSetup::new`]), at every pulling velocity of a protocol
+/// (`simulate`, µm/s; the scene's velocity without one; its run judged
+/// after), or, besides the scene's own decision, at every velocity of the
+/// swept `V_range` (`branch`, `diagram`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Judged {
     AtVelocity,
@@ -416,10 +418,20 @@ impl AdhesiveSetup {
                 .collect(),
             _ => vec![p.nu],
         };
-        let (mut chi_max, mut cross) = (None, None);
+        // Over the swept range (`branch`, `diagram`): reported, forced or not.
+        let over_range =
+            (judged == Judged::OverRange).then(|| by_chi_over_range(&scene, threshold));
+        let chi_max = over_range.as_ref().map(|r| r.2);
+        let cross = over_range
+            .as_ref()
+            .and_then(|r| r.3)
+            .map(|c| u.velocity_um_s(c));
         let (scene_kind, scene_reason, orbit_inertia, kind, reason) = match forced {
             Some(f) => {
-                let (_, why) = by_chi_at(&p, &u, &pulled, threshold);
+                let why = match &over_range {
+                    Some((_, why, _, _)) => why.clone(),
+                    None => by_chi_at(&p, &u, &pulled, threshold).1,
+                };
                 let reason = format!("forced by --model {} ({why})", f.name());
                 (f, reason.clone(), None, f, reason)
             }
@@ -429,11 +441,8 @@ impl AdhesiveSetup {
                     Judged::AtPulling(_) => (at_v.0, at_v.1, None),
                     _ => by_orbit(&scene, threshold, at_v)?,
                 };
-                let (kind, reason) = match judged {
-                    Judged::OverRange => {
-                        let (k, why, c_max, c) = by_chi_over_range(&scene, threshold);
-                        chi_max = Some(c_max);
-                        cross = c.map(|c| u.velocity_um_s(c));
+                let (kind, reason) = match over_range {
+                    Some((k, why, _, _)) => {
                         let (lo, hi) = scene.nu_range;
                         let grid = steady::grid(lo, hi, PER_DECADE);
                         match (by_onset_type(&p, &grid, (k, why)), scene_kind) {
@@ -447,7 +456,7 @@ impl AdhesiveSetup {
                             (range, _) => range,
                         }
                     }
-                    _ => (scene_kind, scene_reason.clone()),
+                    None => (scene_kind, scene_reason.clone()),
                 };
                 (scene_kind, scene_reason, orbit, kind, reason)
             }
