@@ -26,6 +26,22 @@ pub enum InputError {
         value: String,
         expected: String,
     },
+    /// A key of the other family of friction laws (`law`): `A` on an
+    /// adhesive scene, `F_a` on a rate-and-state one. `field` names where
+    /// it was given (`--set A`, `key A` of a scene file), `keys` which list
+    /// `allowed` is (`keys`, `--set keys`).
+    #[error(
+        "{field}: `{name}` is {family} key; this scene's law is `{law}`, whose {keys} are \
+         {allowed}"
+    )]
+    OtherLaw {
+        field: String,
+        name: String,
+        family: &'static str,
+        law: &'static str,
+        keys: &'static str,
+        allowed: String,
+    },
     #[error("{0}")]
     Conflict(String),
     #[error("cannot read scene file {path}: {reason}")]
@@ -71,6 +87,21 @@ impl InputError {
                 field: named(field),
                 value,
                 expected,
+            },
+            InputError::OtherLaw {
+                field,
+                name,
+                family,
+                law,
+                keys,
+                allowed,
+            } if !field.starts_with("--set") => InputError::OtherLaw {
+                field: named(field),
+                name,
+                family,
+                law,
+                keys,
+                allowed,
             },
             other => other,
         }

@@ -54,14 +54,14 @@ pub const PHYSICAL: [PhysicalKey; 10] = [
     key("W", "N", "N", "> 0", None, "normal load"),
     key(
         "V",
-        "um/s",
+        "µm/s",
         "um_per_s",
         "> 0",
         Some(Param::Nu),
         "driving velocity",
     ),
-    key("V0", "um/s", "um_per_s", "> 0", None, "reference velocity"),
-    key("D0", "um", "um", "> 0", None, "memory length"),
+    key("V0", "µm/s", "um_per_s", "> 0", None, "reference velocity"),
+    key("D0", "µm", "um", "> 0", None, "memory length"),
     key("tau", "s", "s", "> 0", Some(Param::ThetaC), "ageing cutoff"),
     key("g", "m/s^2", "m_per_s2", "> 0", None, "gravity"),
     key(
@@ -74,7 +74,7 @@ pub const PHYSICAL: [PhysicalKey; 10] = [
     ),
     key(
         "V_range",
-        "um/s",
+        "µm/s",
         "um_per_s",
         "> 0",
         None,
@@ -295,11 +295,54 @@ fn quantity_definition(p: &str) -> &'static str {
     match p {
         "kappa" => "kappa = K D0 / W, K in N/m",
         "m" => "m = M V0^2 / (W D0), M in kg",
-        "nu" => "nu = V / V0, V in um/s",
+        "nu" => "nu = V / V0, V in µm/s",
         "theta_c" => "theta_c = tau V0 / D0, tau in s",
         "eta_d" => "eta_d = eta V0, eta in s/m, V0 in m/s",
         _ => "",
     }
+}
+
+/// The refusal of `--set NAME` for the scene keys that are no quantity
+/// (`name`, `description`, `law`), on a scene of either law.
+pub fn not_a_quantity(name: &str) -> Option<InputError> {
+    match name {
+        "name" | "description" => Some(InputError::Conflict(format!(
+            "--set {name}: the scene's {name} is not a quantity; --name NAME names the output \
+             files"
+        ))),
+        "law" => Some(InputError::Conflict(
+            "--set law: the friction law is the scene's own (its key law), not a quantity; \
+             --scene names a scene of the other law (the built-in gel is adhesive, pmma \
+             rate-and-state)"
+                .into(),
+        )),
+        _ => None,
+    }
+}
+
+/// `--set V_range=LO:HI`, the velocities explored in µm/s: both numbers
+/// finite, `0 < LO < HI`, the messages naming `--set V_range` (the same
+/// for the scenes of either law).
+pub fn v_range(value: &str) -> Result<(f64, f64), InputError> {
+    let k = &PHYSICAL[PHYSICAL.len() - 1];
+    debug_assert_eq!(k.name, "V_range");
+    let Some((lo, hi)) = value.split_once(':') else {
+        return Err(InputError::Malformed {
+            field: "--set V_range".into(),
+            value: value.to_string(),
+            expected: format!("LO:HI in {} with 0 < LO < HI", k.unit),
+        });
+    };
+    let lo = physical_number(k, lo, "--set V_range (LO)")?;
+    let hi = physical_number(k, hi, "--set V_range (HI)")?;
+    if hi <= lo {
+        return Err(InputError::out_of_range(
+            "--set V_range (HI)",
+            hi,
+            &format!("> LO = {lo} ({})", k.unit),
+        ));
+    }
+    Ok((lo, hi))
 }
 
 /// One override `name=value`.
@@ -322,11 +365,16 @@ fn parse_one(name: &str, value: &str) -> Result<Override, InputError> {
             });
     }
     let Some(k) = PhysicalKey::find(name) else {
-        if matches!(name, "name" | "description") {
-            return Err(InputError::Conflict(format!(
-                "--set {name}: the scene's {name} is not a quantity; --name NAME names the \
-                 output files"
-            )));
+        if let Some(e) = not_a_quantity(name) {
+            return Err(e);
+        }
+        if let Some(e) = crate::scene::other_law_key(
+            name,
+            &format!("--set {name}"),
+            crate::scene::Law::RateAndState,
+            ("--set keys", &accepted_names()),
+        ) {
+            return Err(e);
         }
         let all = Param::ALL
             .iter()
@@ -340,49 +388,38 @@ fn parse_one(name: &str, value: &str) -> Result<Override, InputError> {
             allowed: accepted_names(),
         });
     };
-    let field = format!("--set {}", k.name);
-    let number = |text: &str, field: &str, unit: &str| -> Result<f64, InputError> {
-        let x: f64 = text.trim().parse().map_err(|_| InputError::Malformed {
-            field: field.to_string(),
-            value: text.to_string(),
-            expected: format!("a number in {unit}"),
-        })?;
-        let ok = x.is_finite()
-            && match k.bound {
-                "> 0" => x > 0.0,
-                _ => x >= 0.0,
-            };
-        ok.then_some(x).ok_or_else(|| {
-            InputError::out_of_range(
-                field,
-                x,
-                &format!("a finite number {} ({unit}, {})", k.bound, k.meaning),
-            )
-        })
-    };
     if k.name == "V_range" {
-        let Some((lo, hi)) = value.split_once(':') else {
-            return Err(InputError::Malformed {
-                field,
-                value: value.to_string(),
-                expected: "LO:HI in um/s with 0 < LO < HI".into(),
-            });
-        };
-        let lo = number(lo, "--set V_range (LO)", k.unit)?;
-        let hi = number(hi, "--set V_range (HI)", k.unit)?;
-        if hi <= lo {
-            return Err(InputError::out_of_range(
-                "--set V_range (HI)",
-                hi,
-                &format!("> LO = {lo} (um/s)"),
-            ));
-        }
+        let (lo, hi) = v_range(value)?;
         return Ok(Override::Physical(k, PhysicalValue::Range(lo, hi)));
     }
+    let field = format!("--set {}", k.name);
     Ok(Override::Physical(
         k,
-        PhysicalValue::Number(number(value, &field, k.unit)?),
+        PhysicalValue::Number(physical_number(k, value, &field)?),
     ))
+}
+
+/// A number of the physical key `k` given as `field`: finite and within
+/// the key's bound.
+fn physical_number(k: &PhysicalKey, text: &str, field: &str) -> Result<f64, InputError> {
+    let unit = k.unit;
+    let x: f64 = text.trim().parse().map_err(|_| InputError::Malformed {
+        field: field.to_string(),
+        value: text.to_string(),
+        expected: format!("a number in {unit}"),
+    })?;
+    let ok = x.is_finite()
+        && match k.bound {
+            "> 0" => x > 0.0,
+            _ => x >= 0.0,
+        };
+    ok.then_some(x).ok_or_else(|| {
+        InputError::out_of_range(
+            field,
+            x,
+            &format!("a finite number {} ({unit}, {})", k.bound, k.meaning),
+        )
+    })
 }
 
 /// The overrides `NAME=VALUE` of `set` sorted by name, the last of a

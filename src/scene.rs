@@ -96,7 +96,7 @@ impl Scene {
         let mut out = Vec::new();
         if !(lo..=hi).contains(&d0_um) {
             out.push(format!(
-                "D0 = {d0_um:e} um is outside the usual {lo:e} to {hi:e} um (D0 is in micrometres, not metres)"
+                "D0 = {d0_um:e} µm is outside the usual {lo:e} to {hi:e} µm (D0 is in micrometres, not metres)"
             ));
         }
         out
@@ -147,6 +147,72 @@ pub enum Law {
 
 /// The value of `law` for the rate-and-state block.
 pub const RATE_AND_STATE: &str = "rate-and-state";
+
+/// The names only rate-and-state scenes have: their scene keys and the
+/// dimensionless parameters `--set` takes (docs/model.md).
+const RATE_AND_STATE_ONLY: &str =
+    "A B mu0 mu2 mu_vv mu_vphi tau eta state_law D0 V0 W g theta_c eta_d";
+
+/// The names only adhesive scenes have: their scene keys and the
+/// dimensionless parameters they are made into (docs/model.md, "Soft
+/// adhesive contacts").
+const ADHESIVE_ONLY: &str = "F_a V_s tau_out tau_on F_v alpha r f_v";
+
+impl Law {
+    /// The value of the scene key `law`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Law::RateAndState => RATE_AND_STATE,
+            Law::Adhesive => crate::adhesive::scene::LAW,
+        }
+    }
+
+    /// The other family.
+    fn other(self) -> Law {
+        match self {
+            Law::RateAndState => Law::Adhesive,
+            Law::Adhesive => Law::RateAndState,
+        }
+    }
+
+    /// The names (scene keys, dimensionless parameters) of this family
+    /// that the other does not have.
+    fn own_names(self) -> &'static str {
+        match self {
+            Law::RateAndState => RATE_AND_STATE_ONLY,
+            Law::Adhesive => ADHESIVE_ONLY,
+        }
+    }
+}
+
+/// The refusal of `name`, given as `field` (`--set A`, `key A`) to a scene
+/// of the law `this`, where it is a key of the other family of laws: says
+/// so, and lists `allowed`, this scene's `keys` (`keys`, `--set keys`).
+/// `None` where `name` is no key of the other family either (then the
+/// closest of this family's keys is suggested, as for any unknown name).
+pub fn other_law_key(
+    name: &str,
+    field: &str,
+    this: Law,
+    (keys, allowed): (&'static str, &str),
+) -> Option<InputError> {
+    let other = this.other();
+    other
+        .own_names()
+        .split(' ')
+        .any(|k| k == name)
+        .then(|| InputError::OtherLaw {
+            field: field.to_string(),
+            name: name.to_string(),
+            family: match other {
+                Law::RateAndState => "a rate-and-state",
+                Law::Adhesive => "an adhesive",
+            },
+            law: this.name(),
+            keys,
+            allowed: allowed.to_string(),
+        })
+}
 
 /// The law of a parsed scene table (`law`, default rate-and-state).
 fn law_in(t: &Table) -> Result<Law, InputError> {
@@ -298,6 +364,15 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         return Err(adhesive_here(origin));
     }
     if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
+        let allowed = KEYS.replace(' ', ", ");
+        if let Some(e) = other_law_key(
+            key,
+            &format!("key {key}"),
+            Law::RateAndState,
+            ("keys", &allowed),
+        ) {
+            return Err(e);
+        }
         return Err(InputError::UnknownName {
             what: "scene key",
             name: key.clone(),
@@ -340,7 +415,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
         })?,
     };
     let d0 = read(&t, "D0", "> 0", "micrometres")?.unwrap_or(1.0);
-    let v0 = read(&t, "V0", "> 0", "um/s")?.unwrap_or(1.0);
+    let v0 = read(&t, "V0", "> 0", "µm/s")?.unwrap_or(1.0);
     let mass = read(&t, "M", ">= 0", "kg")?.unwrap_or(1.0);
     let g = read(&t, "g", "> 0", "m/s^2")?.unwrap_or(9.81);
     let given_load = read(&t, "W", "> 0", "newtons")?;
@@ -356,7 +431,7 @@ fn from_table(t: Table, origin: &str) -> Result<Scene, InputError> {
     let k = read(&t, "K", ">= 0", "N/m")?;
     // Radiation damping eta = G / (2 c_s sigma), s/m (docs/model.md).
     let eta = read(&t, "eta", ">= 0", "s/m")?.unwrap_or(0.0);
-    let v = read(&t, "V", "> 0", "um/s")?.unwrap_or(v0);
+    let v = read(&t, "V", "> 0", "µm/s")?.unwrap_or(v0);
     let (lo, hi) = t.get("V_range").map_or(Ok((0.1 * v, 100.0 * v)), v_range)?;
 
     let units = Units {
@@ -456,17 +531,17 @@ pub(crate) fn v_range(value: &Value) -> Result<(f64, f64), InputError> {
         return Err(malformed(
             "V_range",
             value,
-            "[lo, hi] in um/s with 0 < lo < hi",
+            "[lo, hi] in µm/s with 0 < lo < hi",
         ));
     };
-    let lo = number("V_range[0]", lo, "um/s")?;
-    let hi = number("V_range[1]", hi, "um/s")?;
-    require(lo > 0.0, "V_range[0]", lo, "> 0 (um/s)")?;
+    let lo = number("V_range[0]", lo, "µm/s")?;
+    let hi = number("V_range[1]", hi, "µm/s")?;
+    require(lo > 0.0, "V_range[0]", lo, "> 0 (µm/s)")?;
     require(
         hi > lo,
         "V_range[1]",
         hi,
-        &format!("> V_range[0] = {lo} (um/s)"),
+        &format!("> V_range[0] = {lo} (µm/s)"),
     )?;
     Ok((lo, hi))
 }

@@ -301,6 +301,89 @@ fn a_subcritical_onsets_fold_of_cycles_is_reported() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The gel at 0.7 µm/s with K = 40000 N/m lies in the bistable band
+/// (K_c = 39208 N/m < K < the fold of cycles, 40726 N/m): the cycle
+/// `cycles` reports at the scene's K is at that K (kappa = K V_s tau_out /
+/// F_a = 0.02 exactly), the stable one of the two the branch passes there,
+/// and it is the stick-slip `simulate` settles on from a stick (a second
+/// method: Radau IIA in time, started with every chain bonded), period and
+/// force drop to 1e-6; a small perturbation of steady sliding decays
+/// (steady sliding stable too: bistable). Above the fold (41000 N/m) there
+/// is no cycle at K, and `cycles` says why, exit 0; the simulation from a
+/// stick settles on steady sliding there. Before, `at_scene` was the cycle
+/// at the branch's end, 0.5 K_c.
+#[test]
+fn the_cycle_at_a_bistable_scenes_k_is_the_stable_one_at_that_k() {
+    let dir = temp_dir("adhesive-bistable-at-k");
+    let out = dir.to_str().unwrap();
+    let run = |cmd: &str, k: &str, extra: &[&str]| {
+        let set_k = format!("K={k}");
+        let (status, v, err) = json_of(
+            &[
+                &[
+                    cmd, "--scene", "gel", "--set", "V=0.7", "--set", &set_k, "--json", "--out",
+                    out, "--force",
+                ][..],
+                extra,
+            ]
+            .concat(),
+        );
+        assert_eq!(status, 0, "{cmd} {k}: {err}");
+        v
+    };
+    let v = run("cycles", "40000", &[]);
+    assert_eq!(v["operating_point"]["regime"], "bistable", "{v}");
+    let at = &v["at_scene"];
+    assert!(rel(field(at, "kappa"), 0.02) < 1e-9, "{at}");
+    assert_eq!(at["stable"], true, "{at}");
+    assert!(v["at_scene_reason"].is_null());
+    let units = &v["units"];
+    let period_s = field(at, "period") * field(units, "tau_out_s");
+    let drop_n = (field(at, "s_max") - field(at, "s_min")) * field(units, "F_a_N");
+    // Every chain bonded: n_ss (1 + perturb) = 1 with n_ss = 0.5080681.
+    let h = common::hopf_json(&["--scene", "gel", "--set", "V=0.7"]);
+    let stick = format!("{}", 1.0 / field(&h, "steady_bonds") - 1.0);
+    let s = run(
+        "simulate",
+        "40000",
+        &["--perturb", &stick, "--protocol", "0.7:200"],
+    );
+    assert_eq!(s["regime"], "periodic", "{s}");
+    assert!(
+        rel(period_s, field(&s, "settled_period_s")) < 1e-6,
+        "{period_s} {s}"
+    );
+    assert!(
+        rel(drop_n, field(&s, "settled_force_drop_N")) < 1e-6,
+        "{drop_n} {s}"
+    );
+    let s = run(
+        "simulate",
+        "40000",
+        &["--perturb", "0.01", "--protocol", "0.7:3000"],
+    );
+    assert_eq!(
+        s["regime"], "steady",
+        "steady sliding is stable at K too: {s}"
+    );
+
+    let v = run("cycles", "41000", &[]);
+    assert_eq!(v["operating_point"]["regime"], "steady", "{v}");
+    assert!(v["at_scene"].is_null(), "{v}");
+    let why = v["at_scene_reason"].as_str().unwrap_or_default();
+    assert!(
+        why.contains("fold of cycles") && why.contains("4.100000e4 N/m"),
+        "{why}"
+    );
+    let s = run(
+        "simulate",
+        "41000",
+        &["--perturb", &stick, "--protocol", "0.7:3000"],
+    );
+    assert_eq!(s["regime"], "steady", "{s}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `cycles` judges the model on the orbit too, as the rate-and-state
 /// cycles do: the gel's 1 g block is quasi-static by `chi` at 20 µm/s
 /// (4.4e-4), but on its quasi-static orbit at 200 N/m the dropped inertia
@@ -546,4 +629,246 @@ fn a_heavy_gels_branch_is_kept_when_the_second_method_fails() {
         stop.contains("grazes v = 0") && stop.contains("second method"),
         "{stop}"
     );
+}
+
+/// One model decision for `hopf`, `diagram` and `cycles`, judged on the
+/// scene's orbit: the gel's 1 g block is quasi-static by `chi` at 20 µm/s
+/// (4.4e-4) but not on its orbit at 200 N/m, so all three locate K_c with
+/// its inertia, the mpmath value kappa_c (1 + chi) of
+/// docs/reference/adhesive_gel.py (73814.22 N/m; the quasi-static
+/// 73781.87 N/m was `hopf`'s alone before), and label it with its model.
+/// Where a diagram's V_range needs inertia that the scene at its V does
+/// not (a 0.1 mg block swept to 1e5 µm/s), the diagram's curve is inertial
+/// and its operating point keeps the scene's quasi-static K_c, the one
+/// `hopf` and `cycles` give, each value labelled with its model.
+#[test]
+fn hopf_diagram_and_cycles_give_one_k_c_labelled_with_its_model() {
+    let dir = temp_dir("adhesive-one-k-c");
+    let out = dir.to_str().unwrap();
+    let reference = |key: &str| -> f64 {
+        include_str!("../docs/reference/adhesive_gel_out.txt")
+            .lines()
+            .skip_while(|l| *l != "[gel]")
+            .find_map(|l| l.strip_prefix(&format!("{key} ")))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{key} in the reference"))
+    };
+    let runs = |set: &[&str]| -> Vec<(String, serde_json::Value)> {
+        ["hopf", "diagram", "cycles"]
+            .into_iter()
+            .map(|cmd| {
+                let mut args = vec![cmd, "--scene", "gel", "--json"];
+                args.extend_from_slice(set);
+                if cmd != "hopf" {
+                    args.extend_from_slice(&["--out", out, "--force"]);
+                }
+                let (status, v, err) = json_of(&args);
+                assert_eq!(status, 0, "{cmd} {set:?}: {err}");
+                (cmd.to_string(), v)
+            })
+            .collect()
+    };
+    let k_c = |v: &serde_json::Value| field(&v["operating_point"], "K_c_N_per_m");
+
+    let gel = runs(&[]);
+    let expected = reference("K_c_inertial_N_m");
+    for (cmd, v) in &gel {
+        assert_eq!(v["model"], "inertial", "{cmd}: {}", v["model_reason"]);
+        assert!(v.get("scene_model").is_none(), "{cmd}");
+        assert_eq!(v["operating_point"]["model"], "inertial", "{cmd}");
+        assert_eq!(k_c(v), k_c(&gel[0].1), "{cmd}");
+        assert!(
+            rel(k_c(v), expected) < 1e-9,
+            "{cmd}: {} vs {expected}",
+            k_c(v)
+        );
+        let chi = field(v, "orbit_inertia_ratio");
+        assert!((chi - 1.4577).abs() < 1e-3, "{cmd}: {chi}");
+    }
+    assert_eq!(field(&gel[0].1["critical"], "K_N_per_m"), k_c(&gel[0].1));
+    assert!(rel(field(&gel[2].1["onset"], "kappa_c") * 2e6, expected) < 1e-9);
+    let (status, text, err) = stickslip(&["hopf", "--scene", "gel"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        text.contains("onset (inertial model): K_c = 7.381422e4 N/m"),
+        "{text}"
+    );
+    assert!(
+        text.contains("K_c = 73814 N/m (kappa_c = 3.690711e-2, inertial model)"),
+        "{text}"
+    );
+
+    let light = runs(&["--set", "M=1e-7", "--set", "V_range=0.1:1e5"]);
+    let quasi = reference("K_c_N_m");
+    for (cmd, v) in &light {
+        assert_eq!(v["operating_point"]["model"], "quasi-static", "{cmd}");
+        assert_eq!(k_c(v), k_c(&light[0].1), "{cmd}");
+        assert!(rel(k_c(v), quasi) < 1e-9, "{cmd}: {} vs {quasi}", k_c(v));
+    }
+    let d = &light[1].1;
+    assert_eq!(d["model"], "inertial", "{}", d["model_reason"]);
+    assert_eq!(d["scene_model"], "quasi-static");
+    // The diagram's curve at V: the inertial kappa_c (1 + chi), chi of the
+    // 0.1 mg block a ten-thousandth of the gram's.
+    let chi = reference("chi") * 1e-4;
+    let curve = field(d, "curve_K_c_at_V_N_per_m");
+    assert!(rel(curve, quasi * (1.0 + chi)) < 1e-9, "{curve}");
+    let (status, text, err) = stickslip(&[
+        "diagram",
+        "--scene",
+        "gel",
+        "--set",
+        "M=1e-7",
+        "--set",
+        "V_range=0.1:1e5",
+        "--out",
+        out,
+        "--force",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        text.contains("(kappa_c = 3.689094e-2, quasi-static model)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("the diagram's curve (inertial model over V_range) gives K_c"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Without junction viscosity (F_v = 0) steady friction has a maximum and
+/// no minimum above it; with slow readsorption (tau_on = 20 s) neither.
+/// `hopf`, `diagram` and `cycles` say only what exists: no `V_c`, no
+/// "between V_max and V_c" (which they printed for both before). The
+/// extrema against the closed form D2 by central differences: its slope
+/// changes sign once, near the V_max printed, for F_v = 0, never for
+/// tau_on = 20 s, over 1e-3 to 1e6 µm/s.
+#[test]
+fn the_text_names_only_the_extrema_that_exist() {
+    let dir = temp_dir("adhesive-extrema-text");
+    let out = dir.to_str().unwrap();
+    // nu = V / V_s from 1e-3 to 1e6 µm/s, 40 points per decade.
+    let nus: Vec<f64> = (0..=360)
+        .map(|i| 10f64.powf(-3.0 + i as f64 / 40.0) / 0.025)
+        .collect();
+    let slope = |nu: f64, r: f64, f_v: f64| {
+        let p = AdhesiveParams {
+            nu,
+            kappa: 1e-4,
+            r,
+            f_v,
+            alpha: 0.6,
+            m: 0.0,
+        };
+        let h = 1e-5;
+        steady_friction(nu * (1.0 + h), &p) - steady_friction(nu * (1.0 - h), &p)
+    };
+    let sign_changes = |r: f64, f_v: f64| -> Vec<f64> {
+        nus.windows(2)
+            .filter(|w| (slope(w[0], r, f_v) > 0.0) != (slope(w[1], r, f_v) > 0.0))
+            .map(|w| (w[0] * w[1]).sqrt() * 0.025)
+            .collect()
+    };
+    for (set, changes) in [
+        ("F_v=0", sign_changes(0.1, 0.0)),
+        ("tau_on=20", sign_changes(20.0, 0.01)),
+    ] {
+        let run = |cmd: &str, json: bool| {
+            let mut args = vec![cmd, "--scene", "gel", "--set", set, "--set", "V=0.2"];
+            if cmd != "hopf" {
+                args.extend(["--out", out, "--force"]);
+            }
+            if json {
+                args.push("--json");
+            }
+            let (status, text, err) = stickslip(&args);
+            assert_eq!(status, 0, "{cmd} {set}: {err}");
+            text
+        };
+        let v: serde_json::Value = serde_json::from_str(&run("hopf", true)).unwrap();
+        assert!(v["V_c_um_per_s"].is_null(), "{set}: {v}");
+        match set {
+            "F_v=0" => {
+                assert_eq!(changes.len(), 1, "{changes:?}");
+                let v_max = field(&v, "V_max_um_per_s");
+                // Within the grid's spacing, 10^(1/40).
+                assert!(rel(v_max, changes[0]) < 0.03, "{v_max} vs {changes:?}");
+            }
+            _ => {
+                assert!(changes.is_empty(), "{changes:?}");
+                assert!(v["V_max_um_per_s"].is_null(), "{v}");
+            }
+        }
+        for cmd in ["hopf", "diagram", "cycles"] {
+            let text = run(cmd, false);
+            assert!(!text.contains("V_c"), "{cmd} {set}: {text}");
+            assert!(!text.contains("between V_max"), "{cmd} {set}: {text}");
+            let says = match set {
+                "F_v=0" => "steady friction falls with V at every velocity above V_max = ",
+                _ => "steady friction rises with V at every velocity up to",
+            };
+            assert!(text.contains(says), "{cmd} {set}: {text}");
+            if set == "F_v=0" {
+                assert!(text.contains("(F_v = 0: no junction viscosity raises it again)"));
+            } else {
+                assert!(!text.contains("V_max"), "{cmd} {set}: {text}");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The region labels ("steady sliding stable", "unstable: stick-slip") of
+/// the stability figure are drawn where the Hopf curve spans less than a
+/// label's width and vertical lines (V_max, the inertia threshold, V_c)
+/// cut every place over it: a PDMS elastomer whose curve spans 35-250
+/// µm/s of a 1-10^4 µm/s range, the inertia threshold crossing at 98 µm/s
+/// in its middle. Before, both labels were left out there (the gel's
+/// figure had them).
+#[test]
+fn the_stability_figure_labels_its_regions_over_a_narrow_curve() {
+    let dir = temp_dir("adhesive-region-labels");
+    let out = dir.to_str().unwrap();
+    let pdms = dir.join("pdms.toml");
+    std::fs::write(
+        &pdms,
+        "law = \"adhesive\"\nname = \"pdms\"\nF_a = 0.1\nV_s = 0.5\ntau_out = 0.5\n\
+         tau_on = 0.02\nF_v = 1e-3\nalpha = 0.3\nM = 5e-3\nK = 500.0\nV = 50.0\n\
+         V_range = [1.0, 10000.0]\n",
+    )
+    .unwrap();
+    let pva = dir.join("pva.toml");
+    std::fs::write(&pva, PVA_HEAVY).unwrap();
+    for (scene, name) in [
+        (pdms.to_str().unwrap(), "pdms"),
+        (pva.to_str().unwrap(), "pva"),
+        ("gel", "gel"),
+    ] {
+        let (status, v, err) = json_of(&["diagram", "--scene", scene, "--out", out, "--json"]);
+        assert_eq!(status, 0, "{name}: {err}");
+        if name == "pdms" {
+            // The curve's span against the range: under a quarter of it.
+            let vs: Vec<f64> = v["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|p| p["K_N_per_m"].is_number())
+                .map(|p| field(p, "V_um_per_s"))
+                .collect();
+            let span = (vs[vs.len() - 1] / vs[0]).log10() / 4.0;
+            assert!(span < 0.25, "{span}");
+            let crossing = field(&v, "inertia_crossing_um_per_s");
+            assert!(
+                vs[0] < crossing && crossing < vs[vs.len() - 1],
+                "{crossing}"
+            );
+        }
+        let svg =
+            std::fs::read_to_string(dir.join(format!("{name}-diagram-stability.svg"))).unwrap();
+        for label in ["steady sliding stable", "unstable: stick-slip"] {
+            assert!(svg.contains(label), "{name}: no '{label}'");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

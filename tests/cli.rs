@@ -512,7 +512,7 @@ fn implausible_memory_length_is_warned_about() {
     .unwrap();
     let (code, _, err) = stickslip(&["hopf", "--scene", scene.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("warning: scene metres: D0 = 5e-6 um"), "{err}");
+    assert!(err.contains("warning: scene metres: D0 = 5e-6 µm"), "{err}");
     let (_, _, err) = stickslip(&["hopf"]);
     assert!(!err.contains("warning"), "{err}");
 }

@@ -264,3 +264,86 @@ fn what_steady_data_cannot_determine_is_named_not_invented() {
     .to_string();
     assert!(e.contains("tau") && e.contains("mu2"), "{e}");
 }
+
+/// `fit` treats the files of an earlier run as every command does
+/// (README: a run never replaces an earlier finished run's files unless
+/// given `--force`): its fitted scene is a file of the run,
+/// `<out>/<run>-fitted.toml`, so fits of two scenes in one folder keep both
+/// (before, both wrote `fitted.toml` and the second failed, exit 1, which
+/// the README gives to write errors); the same fit again is refused
+/// before computing, exit 2, naming the file, in the words `diagram` uses;
+/// `--force` replaces it; the files of a fit that did not finish (no JSON)
+/// are replaced with a note.
+#[test]
+fn a_second_fit_in_a_folder_is_treated_as_every_commands_rerun() {
+    let dir = common::temp_dir("fit-rerun");
+    let out = dir.to_str().unwrap();
+    let pmma = [
+        "fit",
+        "--data",
+        "steady=examples/data/pmma-steady.csv",
+        "--data",
+        "onset=examples/data/pmma-onset.csv",
+        "--out",
+        out,
+    ];
+    let gel = [
+        "fit",
+        "--scene",
+        "gel",
+        "--data",
+        "steady=examples/data/gel-steady.csv",
+        "--data",
+        "onset=examples/data/gel-onset.csv",
+        "--out",
+        out,
+    ];
+    let (code, _, err) = common::stickslip(&pmma);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = common::stickslip(&gel);
+    assert_eq!(code, 0, "the second scene's fit beside the first: {err}");
+    let (pmma_toml, gel_toml) = (dir.join("pmma-fitted.toml"), dir.join("gel-fitted.toml"));
+    for (path, law) in [(&pmma_toml, None), (&gel_toml, Some("adhesive"))] {
+        let text = std::fs::read_to_string(path).unwrap();
+        let table: toml::Table = text.parse().unwrap();
+        assert_eq!(table.get("law").and_then(|l| l.as_str()), law, "{text}");
+        let hopf =
+            common::hopf_json(&["--scene", path.to_str().unwrap(), "--model", "quasi-static"]);
+        assert_eq!(hopf["complete"], true, "{hopf}");
+    }
+    assert!(!dir.join("fitted.toml").exists());
+
+    // The same fit again: refused as `diagram` refuses its rerun.
+    let (code, _, err) = common::stickslip(&pmma);
+    assert_eq!(code, 2, "{err}");
+    let (diagram_code, _, diagram_err) = common::stickslip(&["diagram", "--out", out]);
+    assert_eq!(diagram_code, 0, "{diagram_err}");
+    let (diagram_code, _, diagram_err) = common::stickslip(&["diagram", "--out", out]);
+    assert_eq!(code, diagram_code);
+    let refusal = |e: &str, file: &str| {
+        e.contains(&format!(
+            "{}/{file} exists (an earlier run of the same name)",
+            out
+        )) && e.contains("--force replaces its files, --name NAME writes under another name")
+    };
+    assert!(refusal(&err, "pmma-fit.json"), "{err}");
+    assert!(refusal(&diagram_err, "pmma-diagram.json"), "{diagram_err}");
+
+    // --force replaces it.
+    std::fs::write(&pmma_toml, "stale").unwrap();
+    let (code, _, err) = common::stickslip(&[&pmma[..], &["--force"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert_ne!(std::fs::read_to_string(&pmma_toml).unwrap(), "stale");
+
+    // A fit that did not finish (its JSON missing) is replaced, with a note.
+    std::fs::remove_file(dir.join("gel-fit.json")).unwrap();
+    std::fs::write(&gel_toml, "stale").unwrap();
+    let (code, _, err) = common::stickslip(&gel);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("note: replacing the files of an earlier run"),
+        "{err}"
+    );
+    assert_ne!(std::fs::read_to_string(&gel_toml).unwrap(), "stale");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -55,6 +55,21 @@ const EXACT: [&str; 2] = [
     "onset=tests/data/gel-onset-exact.csv",
 ];
 
+/// The fitted scene a fit wrote (`<out>/<run>-fitted.toml`, the run named
+/// by the scene and its overrides), from its JSON's `files`, in `dir`.
+fn fitted_path(v: &Value, dir: &std::path::Path) -> std::path::PathBuf {
+    let path = v["files"]
+        .as_array()
+        .and_then(|f| {
+            f.iter()
+                .filter_map(Value::as_str)
+                .find(|f| f.ends_with("-fitted.toml"))
+        })
+        .unwrap_or_else(|| panic!("no fitted scene in {}", v["files"]));
+    assert!(path.starts_with(dir.to_str().unwrap()), "{path}");
+    std::path::PathBuf::from(path)
+}
+
 /// `fit --json --scene gel` with `set` and `data` into a fresh folder: the
 /// exit status, the JSON and the folder.
 fn fit(name: &str, set: &[&str], data: &[&str]) -> (i32, Value, std::path::PathBuf) {
@@ -146,7 +161,7 @@ fn the_example_recovers_the_gel_within_three_standard_errors() {
     assert_eq!(v["datasets"][1]["quantity"], "K_N_per_m");
     assert_eq!(v["datasets"][1]["sigma"], "given");
     // The fitted scene runs hopf and diagram.
-    let fitted = dir.join("fitted.toml");
+    let fitted = fitted_path(&v, &dir);
     let hopf = common::hopf_json(&["--scene", fitted.to_str().unwrap()]);
     assert_eq!(hopf["scene"], "gel-fitted", "{hopf}");
     let (status, _, err) = stickslip(&[
@@ -180,11 +195,16 @@ fn noise_free_data_give_the_gel_to_1e_8() {
         assert!(rms < 1e-12 * scale, "{d}");
     }
     // The fitted scene's hopf locates the onset the script computes at V =
-    // 20 µm/s (with the block's inertia: the scene's 1 g is inertial there
-    // by the commands' rule only above 30 µm/s, so hopf runs
-    // quasi-static: the script's quasi-static value).
-    let fitted = dir.join("fitted.toml");
-    let hopf = common::hopf_json(&["--scene", fitted.to_str().unwrap()]);
+    // 20 µm/s without inertia (the script's quasi-static value; the
+    // scene's 1 g makes hopf inertial by its orbit, so the model is
+    // given).
+    let fitted = fitted_path(&v, &dir);
+    let hopf = common::hopf_json(&[
+        "--scene",
+        fitted.to_str().unwrap(),
+        "--model",
+        "quasi-static",
+    ]);
     let k_c = hopf["critical"]["K_N_per_m"].as_f64().unwrap();
     let expected = script_value("K_c(20 um/s) quasi-static");
     assert!((k_c / expected - 1.0).abs() < 1e-7, "{k_c} vs {expected}");
@@ -217,7 +237,7 @@ fn the_viscous_force_is_held_without_the_viscous_regime() {
         assert_eq!(e["status"], "fitted");
         assert!(e["std_error"].as_f64().unwrap() < 0.2 * e["value"].as_f64().unwrap());
     }
-    let toml = std::fs::read_to_string(dir.join("fitted.toml")).unwrap();
+    let toml = std::fs::read_to_string(fitted_path(&v, &dir)).unwrap();
     assert!(toml.starts_with("# not determined by the data"), "{toml}");
     // The same data with all the viscous-regime rows do determine them
     // (the example): not a rule on velocities.
@@ -338,7 +358,7 @@ fn the_model_is_the_scripts_and_the_engines() {
 
 /// `fit --name X` names the fitted scene as it names the run's other
 /// files: `<out>/X-fitted.toml` with `name = "X"`, which the next command
-/// reads back (its `scene` is X); no `fitted.toml` beside it.
+/// reads back (its `scene` is X); no `gel-fitted.toml` beside it.
 #[test]
 fn fit_name_names_the_fitted_scene() {
     let dir = temp_dir("adh-fit-name");
@@ -356,8 +376,8 @@ fn fit_name_names_the_fitted_scene() {
     }
     let (status, _, err) = stickslip(&args);
     assert_eq!(status, 0, "{err}");
-    assert!(!dir.join("fitted.toml").exists());
-    let fitted = dir.join("lab 7-fitted.toml");
+    assert!(!dir.join("gel-fitted.toml").exists());
+    let fitted = dir.join("lab_7-fitted.toml");
     let text = std::fs::read_to_string(&fitted).unwrap();
     assert_eq!(
         text.lines().filter(|l| l.starts_with("name = ")).count(),

@@ -730,7 +730,7 @@ fn the_example_time_series_from_the_command_line() {
             );
         }
     }
-    let fitted = std::fs::read_to_string(out.join("fitted.toml")).unwrap();
+    let fitted = std::fs::read_to_string(out.join("pmma-machine-fitted.toml")).unwrap();
     assert!(fitted.contains("K = 1000000"), "{fitted}");
     let (code, _, err) = common::stickslip(&[
         "fit",

@@ -275,7 +275,7 @@ fn a_velocity_not_delivered_says_why_and_the_cycles_span() {
     assert!(stop.contains(span), "{stop}");
     assert!(rel(after(stop, span), lo) < 1e-6, "{stop}");
     assert!(rel(after(stop, " .. "), hi) < 1e-6, "{stop}");
-    assert!(stop.ends_with(" um/s"), "{stop}");
+    assert!(stop.ends_with(" µm/s"), "{stop}");
     // The text and the CSV say it too.
     let (code, text, _) = args(false);
     assert_eq!(code, 4);
@@ -284,7 +284,7 @@ fn a_velocity_not_delivered_says_why_and_the_cycles_span() {
         "{text}"
     );
     let csv = std::fs::read_to_string(out.join("granite-cycles-in-V.csv")).unwrap();
-    assert!(csv.contains("# requested V = 2.000000000000000e2 um/s not delivered: above V_c = "));
+    assert!(csv.contains("# requested V = 2.000000000000000e2 µm/s not delivered: above V_c = "));
 }
 
 /// A restart in V says where it came from: `start` stays `"restart"` and
@@ -436,7 +436,7 @@ fn no_onset_at_any_value_is_said_with_the_closed_form() {
     let (code, err) = hopf(&["--param", "V", "--set", "mu2=0", "--set", "K=5e5"]);
     assert_eq!(code, 3, "{err}");
     assert!(
-        err.contains("search another range with --from and --to (um/s)"),
+        err.contains("search another range with --from and --to (µm/s)"),
         "{err}"
     );
     let (code, out, err) = stickslip(&[

@@ -205,7 +205,7 @@ fn bad_overrides_are_refused_naming_the_field() {
             vec![
                 "unknown parameter 'Kappa'",
                 "kappa, nu, m, A, B, mu0, mu2, theta_c",
-                "K [N/m], M [kg], W [N], V [um/s], V0 [um/s], D0 [um], tau [s], g [m/s^2]",
+                "K [N/m], M [kg], W [N], V [µm/s], V0 [µm/s], D0 [µm], tau [s], g [m/s^2]",
             ],
         ),
         (
@@ -592,5 +592,111 @@ fn hopf_places_the_operating_point() {
     assert_eq!(h["operating_point"]["regime"], "stick-slip");
     // No K: no operating point.
     assert!(hopf(&[])["operating_point"].is_null());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One spelling of the micrometre in every human-readable output: `µm/s`
+/// and `µm` in texts, messages, help, CSV comment lines and figures (as the
+/// README and docs write them), never `um/s` or `um`; the CSV column names
+/// and JSON field names keep their ASCII `um_per_s`.
+#[test]
+fn the_micrometre_is_spelt_one_way_in_human_readable_outputs() {
+    let dir = common::temp_dir("micrometre");
+    let out = dir.to_str().unwrap();
+    let runs: Vec<Vec<&str>> = vec![
+        vec!["hopf"],
+        vec!["hopf", "--set", "K=4e5", "--param", "V", "--to", "1000"],
+        vec!["hopf", "--scene", "gel"],
+        vec![
+            "branch",
+            "--param",
+            "nu",
+            "--set",
+            "kappa=0.0105",
+            "--units",
+            "physical",
+        ],
+        vec!["branch", "--scene", "gel", "--param", "V"],
+        vec!["diagram", "--out", out],
+        vec!["diagram", "--scene", "gel", "--out", out],
+        vec![
+            "cycles",
+            "--set",
+            "K=4e5",
+            "--param",
+            "V",
+            "--to",
+            "300",
+            "--search",
+            "1:1000",
+            "--max-steps",
+            "15",
+            "--out",
+            out,
+        ],
+        vec![
+            "simulate",
+            "--set",
+            "kappa=0.009",
+            "--protocol",
+            "1:30",
+            "--out",
+            out,
+        ],
+        vec!["simulate", "--scene", "gel", "--out", out],
+        vec![
+            "fit",
+            "--data",
+            "steady=examples/data/pmma-steady.csv",
+            "--data",
+            "onset=examples/data/pmma-onset.csv",
+            "--out",
+            out,
+        ],
+        vec![
+            "fit",
+            "--scene",
+            "gel",
+            "--data",
+            "steady=examples/data/gel-steady.csv",
+            "--out",
+            out,
+        ],
+        vec!["hopf", "--set", "V_range=3"],
+        vec!["hopf", "--set", "D0=abc"],
+        vec!["hopf", "--scene", "gel", "--set", "V=abc"],
+        vec!["simulate", "--protocol", "x", "--out", out],
+        vec!["cycles", "--param", "V", "--out", out],
+        vec!["hopf", "--param", "V", "--from", "1e-6", "--to", "1e-5"],
+        vec!["hopf", "--help"],
+        vec!["cycles", "--help"],
+        vec!["simulate", "--help"],
+        vec!["branch", "--help"],
+    ];
+    let ascii = |text: &str| {
+        text.split(|c: char| !(c.is_alphanumeric() || c == '/' || c == '_'))
+            .any(|w| w == "um/s" || w == "um")
+    };
+    let mut micro = 0;
+    for args in &runs {
+        let (_, stdout, stderr) = common::stickslip(args);
+        for text in [&stdout, &stderr] {
+            assert!(!ascii(text), "{args:?}: {text}");
+            micro += text.matches('µ').count();
+        }
+    }
+    assert!(micro > 50, "{micro}");
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.to_str().unwrap().to_string();
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        if name.ends_with(".svg") {
+            assert!(!ascii(&text), "{name}");
+        } else if name.ends_with(".csv") {
+            for line in text.lines().filter(|l| l.starts_with('#')) {
+                assert!(!ascii(line), "{name}: {line}");
+            }
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

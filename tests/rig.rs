@@ -107,7 +107,7 @@ fn onset_velocity_at_the_rigs_stiffness() {
     let (code, _, err) = stickslip(&["hopf", "--scene", path, "--param", "V"]);
     assert_eq!(code, 3, "{err}");
     assert!(
-        err.contains("no stick-slip onset in V from 1.000000e-1 to 1.000000e2 um/s")
+        err.contains("no stick-slip onset in V from 1.000000e-1 to 1.000000e2 µm/s")
             && err.contains("unstable (stick-slip) along the whole range")
             && err.contains("--from and --to"),
         "{err}"
@@ -487,7 +487,7 @@ fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
     ]);
     assert_eq!(code, 3, "{err}");
     assert!(
-        err.contains("search another range with --search LO:HI (um/s)"),
+        err.contains("search another range with --search LO:HI (µm/s)"),
         "{err}"
     );
     let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
@@ -645,7 +645,7 @@ fn control_parameters_refused_by_name() {
         ),
         (
             vec!["cycles", "--param", "V"],
-            "cycles --param V needs --to VALUE (in um/s)",
+            "cycles --param V needs --to VALUE (in µm/s)",
         ),
         (
             vec!["cycles", "--param", "V", "--to", "10", "--at", "K=2e5"],

@@ -15,6 +15,14 @@ z = 1/u, g(z) = e^z E1(z), T(u) = z g(z) (eq. D7), n_ss = T / (T + r)
   of the 2x2 Jacobian of the field (s, n) built by mp.diff, with u slaved
   by findroot: at kappa_c they are +-i Omega_c.
 
+- With the block's inertia (mass M, m = M V_s / (F_a tau_out)):
+  chi = m lambda_n / F_u, kappa_c_inertial = kappa_c (1 + chi) and
+  Omega_c_inertial^2 = kappa_c_inertial lambda_n / (F_u + m lambda_n)
+  (docs/model.md, "Linear stability"), checked here against the
+  eigenvalues of the 3x3 Jacobian of the field (s, u, n), m du/dt =
+  s - F(n, u), built by mp.diff: at kappa_c_inertial two are
+  +-i Omega_c_inertial.
+
 Run: python3 adhesive_gel.py > adhesive_gel_out.txt
 """
 import mpmath as mp
@@ -42,7 +50,7 @@ def Fss(u, r, fv, alpha):
     return force(u, nss(u, r), fv, alpha)
 
 
-def case(name, r, fv, alpha, nu, Vs_um_s, Fa, tau_out, guesses):
+def case(name, r, fv, alpha, nu, Vs_um_s, Fa, tau_out, guesses, M):
     dF = lambda u: mp.diff(lambda x: Fss(x, r, fv, alpha), u)
     u_max = mp.findroot(dF, guesses[0])
     u_min = mp.findroot(dF, guesses[1])
@@ -65,22 +73,49 @@ def case(name, r, fv, alpha, nu, Vs_um_s, Fa, tau_out, guesses):
     ev = mp.eig(J)[0]
     assert all(abs(mp.re(e)) < mp.mpf(10) ** -20 * abs(e) for e in ev), ev
     assert abs(abs(mp.im(ev[0])) / omega_c - 1) < mp.mpf(10) ** -20
+    # With inertia: the 3x3 Jacobian of (s, u, n) at steady sliding.
+    m = M * Vs_um_s * 1e-6 / (Fa * tau_out)
+    chi = m * lam / F_u
+    kappa_in = kappa_c * (1 + chi)
+    omega_in = mp.sqrt(kappa_in * lam / (F_u + m * lam))
+
+    def inertial(x):
+        s, u, n = x
+        return [kappa_in * (nu - u), (s - force(u, n, fv, alpha)) / m,
+                (1 - n) / r - n / T(u)]
+
+    x0 = [s0, nu, n0]
+    Ji = mp.matrix(3, 3)
+    for j in range(3):
+        for i in range(3):
+            def fi(a, i=i, j=j):
+                y = list(x0)
+                y[j] = a
+                return inertial(y)[i]
+            Ji[i, j] = mp.diff(fi, x0[j])
+    evi = mp.eig(Ji)[0]
+    hopf = [e for e in evi if abs(mp.re(e)) < mp.mpf(10) ** -15 * abs(e)]
+    assert len(hopf) == 2, evi
+    assert abs(abs(mp.im(hopf[0])) / omega_in - 1) < mp.mpf(10) ** -15, (hopf, omega_in)
     print(f"[{name}]")
     for k, v in [("V_max_um_s", u_max * Vs_um_s), ("V_c_um_s", u_min * Vs_um_s),
                  ("F_max_N", Fss(u_max, r, fv, alpha) * Fa),
                  ("F_min_N", Fss(u_min, r, fv, alpha) * Fa),
                  ("kappa_c", kappa_c), ("omega_c", omega_c),
                  ("K_c_N_m", kappa_c * Fa / (Vs_um_s * 1e-6 * tau_out)),
-                 ("steady_force_N", s0 * Fa), ("steady_bonds", n0)]:
+                 ("steady_force_N", s0 * Fa), ("steady_bonds", n0),
+                 ("chi", chi), ("kappa_c_inertial", kappa_in),
+                 ("omega_c_inertial", omega_in),
+                 ("K_c_inertial_N_m", kappa_in * Fa / (Vs_um_s * 1e-6 * tau_out))]:
         print(k, mp.nstr(v, 25))
 
 
 # examples/scenes/gel.toml: F_a = 0.05 N, V_s = 0.025 um/s, tau_out = 1 s,
-# tau_on = 0.1 s, F_v = 5e-4 N, alpha = 0.6, V = 20 um/s.
+# tau_on = 0.1 s, F_v = 5e-4 N, alpha = 0.6, V = 20 um/s, M = 1 g.
 case("gel", mp.mpf("0.1"), mp.mpf("0.01"), mp.mpf("0.6"), mp.mpf(800),
-     mp.mpf("0.025"), mp.mpf("0.05"), mp.mpf(1), (26, 3800))
+     mp.mpf("0.025"), mp.mpf("0.05"), mp.mpf(1), (26, 3800), mp.mpf("1e-3"))
 # tests/adhesive.rs's scene written from scratch: a Newtonian junction,
 # F_a = 0.2 N, V_s = 0.1 um/s, tau_out = 2 s, tau_on = 0.6 s,
-# F_v = 2e-5 N, alpha = 0, V = 5 um/s.
+# F_v = 2e-5 N, alpha = 0, V = 5 um/s, M = 2 g.
 case("newtonian", mp.mpf("0.3"), mp.mpf("1e-4"), mp.mpf(0), mp.mpf(50),
-     mp.mpf("0.1"), mp.mpf("0.2"), mp.mpf(2), (12, 950))
+     mp.mpf("0.1"), mp.mpf("0.2"), mp.mpf(2), (12, 950), mp.mpf("2e-3"))

@@ -167,6 +167,7 @@ fn field_of(e: &InputError) -> Option<String> {
             Some(field.clone())
         }
         InputError::UnknownName { what, .. } => Some(what.to_string()),
+        InputError::OtherLaw { field, .. } => Some(field.clone()),
         InputError::File { path, .. } => Some(path.clone()),
         InputError::Restart { field, .. } => Some(field.clone()),
         InputError::Conflict(_) => None,
@@ -309,6 +310,22 @@ fn scene_toml(scene: SceneArg) -> PyResult<(String, Vec<String>)> {
         (None, Some(t)) => t.clone(),
         (None, None) => return Err(PyRuntimeError::new_err("a scene needs a name or a text")),
     };
+    let mut t: toml::Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| PyRuntimeError::new_err(e.to_string()))?;
+    // An adhesive scene's overrides are all its own keys, in their units.
+    if t.get("law").and_then(|l| l.as_str()) == Some(stickslip::adhesive::scene::LAW) {
+        if scene.set.is_empty() {
+            return Ok((text, Vec::new()));
+        }
+        stickslip::adhesive::scene::insert_overrides(&mut t, &scene.set)
+            .map_err(|e| e.into_py())?;
+        if !t.contains_key("name") {
+            t.insert("name".into(), toml::Value::String(scene.stem.clone()));
+        }
+        let text = toml::to_string(&t).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        return Ok((text, Vec::new()));
+    }
     let overrides = stickslip::overrides::Overrides::parse(&scene.set).map_err(|e| e.into_py())?;
     let physical = overrides.physical();
     let dimensionless: Vec<String> = scene
@@ -323,9 +340,6 @@ fn scene_toml(scene: SceneArg) -> PyResult<(String, Vec<String>)> {
     if physical.is_empty() {
         return Ok((text, dimensionless));
     }
-    let mut t: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| PyRuntimeError::new_err(e.to_string()))?;
     if !t.contains_key("name") {
         t.insert("name".into(), toml::Value::String(scene.stem.clone()));
     }

@@ -113,8 +113,8 @@ class Scene:
     description, A, B, mu0, mu2, mu_vv, mu_vphi (the coefficients of
     (ln v)^2 and (ln theta)(ln v), docs/model.md), tau [s], eta [s/m]
     (radiation damping, docs/model.md), state_law
-    ("ageing" or "slip"), D0 [um], V0 [um/s], M [kg], W [N], g [m/s^2],
-    K [N/m], V [um/s], V_range [um/s, a pair]); change it with
+    ("ageing" or "slip"), D0 [µm], V0 [µm/s], M [kg], W [N], g [m/s^2],
+    K [N/m], V [µm/s], V_range [µm/s, a pair]); change it with
     `scene.with_(K=2e5, nu=3)` (the names `--set` takes). Scenes are
     immutable, compare equal when made the same way, and pickle.
     """
@@ -190,8 +190,8 @@ class Scene:
 
     def with_(self, **overrides: Any) -> "Scene":
         """This scene with overrides, named as `--set` takes them: the scene
-        keys in their units (K [N/m], M [kg], W [N], V [um/s], tau [s], D0
-        [um], V0 [um/s], g [m/s^2], eta [s/m], V_range=(LO, HI) [um/s], state_law=
+        keys in their units (K [N/m], M [kg], W [N], V [µm/s], tau [s], D0
+        [µm], V0 [µm/s], g [m/s^2], eta [s/m], V_range=(LO, HI) [µm/s], state_law=
         "ageing" or "slip") or the dimensionless parameters (kappa, nu, m,
         A, B, mu0, mu2, theta_c, mu_vv, mu_vphi, eta_d).
         A name given again replaces its earlier value."""
@@ -247,7 +247,7 @@ class Scene:
 
     @property
     def units(self) -> dict[str, Any]:
-        """The scales: D0 [um], V0 [um/s], M [kg], W [N], V_range [um/s]."""
+        """The scales: D0 [µm], V0 [µm/s], M [kg], W [N], V_range [µm/s]."""
         return {
             k: self._info[k]
             for k in ("D0_um", "V0_um_per_s", "M_kg", "W_N", "V_range_um_per_s")
@@ -728,7 +728,7 @@ def hopf(
 
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
     param: the control parameter of the onset, everything else at the
-        scene's values: K [N/m] (the default), V [um/s], M [kg], W [N],
+        scene's values: K [N/m] (the default), V [µm/s], M [kg], W [N],
         tau [s], eta [s/m], or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi.
     from_, to: the range searched, in the unit of `param` (not for the
         stiffness; default: the scene's V_range for V and nu, 1e-3 to 1e3
@@ -832,7 +832,7 @@ def cycles(
     collocation: "gauss" or "radau" instead of the model's choice.
     param, to: `param="K"` (or "kappa") with `to` ends the branch at that
         stiffness in its unit, in place of `kappa_fraction`; another
-        control parameter (V [um/s], M [kg], W [N], tau [s], eta [s/m], nu, m, A, B,
+        control parameter (V [µm/s], M [kg], W [N], tau [s], eta [s/m], nu, m, A, B,
         mu2, theta_c, mu_vv, mu_vphi) continues the cycles in it from its Hopf point up to
         `to` in its unit (`stickslip cycles --param V --to 300`); `at` then
         names it ({"V": [100, 200]}); the cycles carry the control's column
@@ -1228,7 +1228,7 @@ def branch(
 
     scene: a `Scene`, a built-in name or a scene file (default: pmma).
     param: kappa (the default) or nu, or a control parameter in its unit:
-        K [N/m], V [um/s], M [kg], tau [s], eta [s/m], or m, A, B, mu2, theta_c,
+        K [N/m], V [µm/s], M [kg], tau [s], eta [s/m], or m, A, B, mu2, theta_c,
         mu_vv, mu_vphi (the rows are in the dimensionless parameter it moves).
     from_, to: the range, in the unit of `param` (default: kappa, K — from
         a stable stiffness to 1e-3 of it; nu, V — the scene's velocity
@@ -1344,7 +1344,7 @@ def _protocol(protocol: Any) -> list[tuple[float, float]] | None:
             out.append((float(v), float(t)))
         except (TypeError, ValueError):
             raise InputError(
-                f"protocol item {item!r}: expected (V [um/s], duration [s]), "
+                f"protocol item {item!r}: expected (V [µm/s], duration [s]), "
                 "e.g. [(1, 100), (10, 20), (0, 300)]",
                 "protocol",
             ) from None
@@ -1369,7 +1369,7 @@ def simulate(
 
     scene: a `Scene`, a built-in name or a scene file (default: pmma); it
         needs a stiffness (K, or kappa with `with_`).
-    protocol: [(V [um/s], duration [s]), ...]; V = 0 stops the drive (or
+    protocol: [(V [µm/s], duration [s]), ...]; V = 0 stops the drive (or
         the command line's "1:100,10:20"). Default: the scene's velocity
         for 40 D0/V.
     perturb: relative perturbation of the initial age.
@@ -1429,7 +1429,7 @@ class Fit(_Drawn):
 
     def __init__(self, data: dict, fitted_toml: str):
         self._data = data
-        #: The fitted scene as the text of a scene file (`fitted.toml`).
+        #: The fitted scene as the text of a scene file (`<run>-fitted.toml`).
         self.fitted_toml = fitted_toml
 
     @property

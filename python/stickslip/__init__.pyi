@@ -21,8 +21,8 @@ StateLaw = Literal["ageing", "slip"]
 class Scene:
     # The scene file's keys (docs/model.md): the friction law's A, B, mu0,
     # mu2, mu_vv, mu_vphi (dimensionless), tau [s], eta [s/m] (radiation
-    # damping), state_law; D0 [um],
-    # V0 [um/s], M [kg], W [N], g [m/s^2], K [N/m], V [um/s], V_range [um/s].
+    # damping), state_law; D0 [µm],
+    # V0 [µm/s], M [kg], W [N], g [m/s^2], K [N/m], V [µm/s], V_range [µm/s].
     def __init__(
         self,
         *,

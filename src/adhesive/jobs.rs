@@ -10,6 +10,7 @@ use super::analysis::steady::{self, Bautin, DiagramPoint, NuHopf, SteadyPoint};
 use super::block;
 use super::params::AdhesiveParams;
 use super::scene::{AdhesiveScene, AdhesiveUnits};
+use crate::analysis::hopf::Criticality;
 use crate::analysis::operating_point::{
     judge, judge_without_onset, FoldAt, Regime, StabilityAt, TOLERANCE,
 };
@@ -18,10 +19,12 @@ use crate::jobs::diagram::OperatingPoint;
 use crate::model::ModelKind;
 use serde::Serialize;
 
-/// Where a command judges the inertia ratio: at the scene's velocity
-/// (`hopf`, `cycles`), at every pulling velocity of a protocol
-/// (`simulate`, um/s; the scene's velocity without one), or at every
-/// velocity of the swept `V_range` (`branch`, `diagram`).
+/// Where a command judges the inertia ratio: at the scene's velocity and
+/// on its orbit (`hopf`, `cycles`: the scene's own decision,
+/// [`AdhesiveSetup::new`]), at every pulling velocity of a protocol
+/// (`simulate`, µm/s; the scene's velocity without one; its run judged
+/// after), or, besides the scene's own decision, at every velocity of the
+/// swept `V_range` (`branch`, `diagram`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Judged {
     AtVelocity,
@@ -60,6 +63,26 @@ pub struct AdhesiveSetup {
     /// Whether `--model` forced it.
     #[serde(skip)]
     pub forced: bool,
+    /// The scene's own model, where the command's differs from it (`branch`
+    /// and `diagram`, inertial over `V_range` where `chi` crosses the
+    /// threshold there, while the scene at its `V` and on its orbit is
+    /// quasi-static): the model of the onset at `V` and of the operating
+    /// point, the one `hopf` and `cycles` use. `null` where the same.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_model: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_model_reason: Option<String>,
+    /// The model of the scene at its own `V` and orbit (`model_kind` but
+    /// where `scene_model` differs).
+    #[serde(skip)]
+    pub scene_model_kind: ModelKind,
+    /// On the quasi-static orbit of the scene's cycles (at its `K` below
+    /// `K_c`, else at half `K_c`, where `cycles` ends its branch), the
+    /// largest shift of `ln v` the dropped inertia force makes; `None`
+    /// where not judged (inertial by `chi` at `V`, forced, no mass, no
+    /// onset, or a `simulate`, which judges its own run).
+    #[serde(skip)]
+    pub orbit_inertia: Option<f64>,
     /// `chi = m lambda_n / F_u` at steady sliding at the scene's velocity
     /// ([`block::inertia_ratio`]).
     pub inertia_ratio: f64,
@@ -123,7 +146,6 @@ fn crossing(p: &AdhesiveParams, threshold: f64, a: f64, b: f64) -> f64 {
 /// where either model's onsets could not be computed (the decision then
 /// rests on `chi`).
 pub fn onset_type_changes(p: &AdhesiveParams, nus: &[f64]) -> Option<Vec<Option<bool>>> {
-    use crate::analysis::hopf::Criticality;
     let quasi = steady::diagram(block::AdhesiveBlock, p, nus, f64::INFINITY).ok()?;
     let inertial = steady::diagram(block::InertialAdhesiveBlock, p, nus, f64::INFINITY).ok()?;
     Some(
@@ -147,12 +169,219 @@ pub fn onset_types_differ(p: &AdhesiveParams, nus: &[f64]) -> Option<(usize, usi
     Some((changed, of))
 }
 
+/// The model by the largest inertia ratio `chi` among the velocities
+/// `nus` (the scene's `V`, or a protocol's), and why.
+fn by_chi_at(
+    p: &AdhesiveParams,
+    u: &AdhesiveUnits,
+    nus: &[f64],
+    threshold: f64,
+) -> (ModelKind, String) {
+    let mut q = *p;
+    for &nu in nus {
+        let mut r = *p;
+        r.nu = nu;
+        let c = block::inertia_ratio(&r);
+        if c.is_nan() || c > block::inertia_ratio(&q) {
+            q = r;
+        }
+    }
+    let chi = block::inertia_ratio(&q);
+    let at_v = u.velocity_um_s(q.nu);
+    let mass = u.mass;
+    let needed = block::model_for(&q, threshold);
+    let reason = match needed {
+        ModelKind::QuasiStatic => format!(
+            "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is below the inertia \
+             threshold {threshold:e}: the block's inertia (M = {mass:e} kg) raises kappa_c by \
+             the factor 1 + chi only, and the block without it is regular everywhere (at fixed \
+             bond fraction the force rises with the slip velocity)"
+        ),
+        ModelKind::Inertial => format!(
+            "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is not below the inertia \
+             threshold {threshold:e}: the block's inertia (M = {mass:e} kg) matters (it raises \
+             kappa_c by the factor 1 + chi), m u dw/dt = s - F(n, u)"
+        ),
+    };
+    (needed, reason)
+}
+
+/// The model by `chi` over the scene's `V_range` (`branch`, `diagram`):
+/// inertial where it is not below the threshold anywhere there; with the
+/// largest `chi` and where it crosses the threshold (`nu`).
+fn by_chi_over_range(
+    scene: &AdhesiveScene,
+    threshold: f64,
+) -> (ModelKind, String, f64, Option<f64>) {
+    let (p, u, mass) = (scene.params, scene.units, scene.units.mass);
+    let (lo, hi) = scene.nu_range;
+    let nus = steady::grid(lo, hi, PER_DECADE);
+    let chis: Vec<f64> = nus
+        .iter()
+        .map(|&nu| {
+            let mut q = p;
+            q.nu = nu;
+            block::inertia_ratio(&q)
+        })
+        .collect();
+    let needs = |c: f64| !(p.m == 0.0 || c < threshold);
+    let (i_max, c_max) = chis
+        .iter()
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |a, (i, c)| {
+            if c.is_nan() || *c > a.1 {
+                (i, *c)
+            } else {
+                a
+            }
+        });
+    let cross = (1..nus.len())
+        .find(|&i| needs(chis[i]) != needs(chis[i - 1]))
+        .map(|i| crossing(&p, threshold, nus[i - 1], nus[i]));
+    let range = format!(
+        "V_range [{:.4e}, {:.4e}] µm/s",
+        u.velocity_um_s(lo),
+        u.velocity_um_s(hi)
+    );
+    let largest = format!(
+        "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} µm/s",
+        u.velocity_um_s(nus[i_max])
+    );
+    let needed = if chis.iter().any(|c| needs(*c)) {
+        ModelKind::Inertial
+    } else {
+        ModelKind::QuasiStatic
+    };
+    let reason = match (needed, cross) {
+        (ModelKind::QuasiStatic, _) => format!(
+            "chi stays below the inertia threshold {threshold:e} over {range} ({largest}): the \
+             block's inertia (M = {mass:e} kg) is negligible at every velocity swept"
+        ),
+        (ModelKind::Inertial, Some(c)) => format!(
+            "chi crosses the inertia threshold {threshold:e} at V = {:.6e} µm/s within {range} \
+             ({largest}): the block's inertia (M = {mass:e} kg) matters there, so the inertial \
+             model over the whole range (each point says where the quasi-static one would do)",
+            u.velocity_um_s(c)
+        ),
+        (ModelKind::Inertial, None) => format!(
+            "chi is not below the inertia threshold {threshold:e} over all of {range} \
+             ({largest}): the block's inertia (M = {mass:e} kg) matters"
+        ),
+    };
+    (needed, reason, c_max, cross)
+}
+
+/// As for the rate-and-state block (`inertia_decides`): where dropping
+/// the inertia changes the onset type at a velocity of `nus` (the
+/// quasi-static onset degenerate, or of the other sign), that inertia,
+/// however small, decides it. `(kind, reason)` unchanged elsewhere.
+fn by_onset_type(
+    p: &AdhesiveParams,
+    nus: &[f64],
+    (kind, reason): (ModelKind, String),
+) -> (ModelKind, String) {
+    if kind != ModelKind::QuasiStatic || p.m <= 0.0 {
+        return (kind, reason);
+    }
+    match onset_types_differ(p, nus) {
+        Some((changed, of)) if changed > 0 => (
+            ModelKind::Inertial,
+            format!(
+                "inertial: the quasi-static onset type is not the inertial one at {changed} of \
+                 the {of} velocities judged (degenerate, l1 = 0 to rounding, or of the other \
+                 sign), so the block's small inertia decides the onset type ({reason})"
+            ),
+        ),
+        _ => (kind, reason),
+    }
+}
+
+/// The model judged on the whole orbit, as the rate-and-state `cycles`
+/// judges its orbits ([`crate::analysis::orbit_inertia`]): a block
+/// quasi-static by `chi` at `V` (with a mass) is simulated where `cycles`
+/// ends its branch ([`target_stiffness`]: the scene's `K` below the
+/// quasi-static `K_c`, else half `K_c`), where its cycle is largest, and
+/// turns inertial where the dropped inertia force shifts `ln v` there by
+/// at least the threshold ([`decide_on_orbit`]). Every command but
+/// `simulate` (which judges its own run) takes this one decision, so that
+/// `hopf`, `diagram` and `cycles` give one `K_c`. Returns the model, why,
+/// and the largest shift (`None` where not judged: inertial already, no
+/// mass, or no onset at `V`, hence no cycle).
+fn by_orbit(
+    scene: &AdhesiveScene,
+    threshold: f64,
+    (kind, reason): (ModelKind, String),
+) -> Result<(ModelKind, String, Option<f64>), Error> {
+    let p = scene.params;
+    if kind != ModelKind::QuasiStatic || p.m <= 0.0 {
+        return Ok((kind, reason, None));
+    }
+    let OnsetOutcome::Found(onset) = find_onset(block::AdhesiveBlock, &p)? else {
+        return Ok((kind, reason, None));
+    };
+    let mut q = p;
+    q.kappa = target_stiffness(scene, onset.kappa_c);
+    let start = block::steady_bonds(q.nu, q.r) * 0.99;
+    let (_, _, run) = settle(block::AdhesiveBlock, &q, start, 30);
+    let chi = orbit_imbalance(&q, &run);
+    let at = format!(
+        "at K = {:.6e} N/m{}",
+        scene.units.stiffness_n_m(q.kappa),
+        if q.kappa == p.kappa {
+            " (the scene's)"
+        } else {
+            " (half the quasi-static K_c, where cycles ends its branch)"
+        }
+    );
+    let (kind, reason) = decide_on_orbit((kind, reason), chi, threshold, &at);
+    Ok((kind, reason, Some(chi)))
+}
+
 impl AdhesiveSetup {
+    /// Where steady friction falls with the velocity, the only velocities
+    /// where steady sliding can lose stability (`kappa_c > 0`), from the
+    /// extrema that exist: between `V_max` and `V_c`; above `V_max` where
+    /// friction has no minimum above it (no viscous force, `F_v = 0`, to
+    /// raise it again); nowhere without a maximum.
+    pub fn weakening(&self) -> String {
+        let top = self.units.velocity_um_s(EXTREMA_RANGE.1);
+        match (self.v_max_um_s, self.v_c_um_s) {
+            (Some(a), Some(b)) => format!(
+                "steady friction falls with V only between V_max = {a:.6e} µm/s and V_c = \
+                 {b:.6e} µm/s: only there can steady sliding lose stability (a Hopf point)"
+            ),
+            (Some(a), None) => format!(
+                "steady friction falls with V at every velocity above V_max = {a:.6e} µm/s: it \
+                 has no minimum up to {top:.1e} µm/s{}, so steady sliding can lose stability (a \
+                 Hopf point) at any velocity above V_max",
+                if self.params.f_v == 0.0 {
+                    " (F_v = 0: no junction viscosity raises it again)"
+                } else {
+                    ""
+                }
+            ),
+            (None, _) => format!(
+                "steady friction rises with V at every velocity up to {top:.1e} µm/s (no \
+                 maximum): steady sliding is linearly stable at every stiffness and velocity (no \
+                 Hopf point)"
+            ),
+        }
+    }
+
     /// The scene's model decision and steady friction's extrema: `forced`
-    /// when given (`--model`), else quasi-static where the inertia ratio
-    /// `chi` is at most `inertia_threshold` where `judged` (at `V`, or at
-    /// every velocity of the grid `branch` and `diagram` sweep), inertial
-    /// where it exceeds it anywhere there ([`block::model_for`]).
+    /// when given (`--model`), else the scene's own decision, one for
+    /// `hopf`, `cycles`, `branch` and `diagram`: quasi-static where the
+    /// inertia ratio `chi` at `V` is below `inertia_threshold`
+    /// ([`block::model_for`]), the onset type at `V` does not change
+    /// without inertia ([`by_onset_type`]) and the dropped inertia force
+    /// does not shift the scene's quasi-static orbit by the threshold
+    /// ([`by_orbit`]), else inertial. `branch` and `diagram`
+    /// ([`Judged::OverRange`]) also judge `chi` and the onset type at every
+    /// velocity of the swept `V_range`, and run inertial where any needs
+    /// it, keeping the scene's own model for its onset at `V` and its
+    /// operating point (`scene_model` where the two differ). `simulate`
+    /// ([`Judged::AtPulling`]) judges `chi` at every pulling velocity and
+    /// its own run (`simulate_watched`).
     pub fn new(
         scene: AdhesiveScene,
         inertia_threshold: f64,
@@ -169,113 +398,6 @@ impl AdhesiveSetup {
         }
         let p = scene.params;
         let u = scene.units;
-        let chi = block::inertia_ratio(&p);
-        let mass = u.mass;
-        let (needed, reason, chi_max, cross) = match judged {
-            Judged::AtVelocity | Judged::AtPulling(_) => {
-                // The velocity of the largest chi among those judged.
-                let pulled: Vec<f64> = match &judged {
-                    Judged::AtPulling(list) => list
-                        .iter()
-                        .filter(|v| **v > 0.0)
-                        .map(|v| u.nu_of_velocity_um_s(*v))
-                        .collect(),
-                    _ => Vec::new(),
-                };
-                let mut q = p;
-                for nu in pulled {
-                    let mut r = p;
-                    r.nu = nu;
-                    let c = block::inertia_ratio(&r);
-                    if c.is_nan() || c > block::inertia_ratio(&q) {
-                        q = r;
-                    }
-                }
-                let chi = block::inertia_ratio(&q);
-                let at_v = u.velocity_um_s(q.nu);
-                let needed = block::model_for(&q, inertia_threshold);
-                let reason = match needed {
-                    ModelKind::QuasiStatic => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is below the \
-                         inertia threshold {inertia_threshold:e}: the block's inertia (M = \
-                         {mass:e} kg) raises kappa_c by the factor 1 + chi only, and the block \
-                         without it is regular everywhere (at fixed bond fraction the force \
-                         rises with the slip velocity)"
-                    ),
-                    ModelKind::Inertial => format!(
-                        "chi = m lambda_n / F_u = {chi:.3e} at V = {at_v:.6e} µm/s is not below \
-                         the inertia threshold {inertia_threshold:e}: the block's inertia (M = \
-                         {mass:e} kg) matters (it raises kappa_c by the factor 1 + chi), m u \
-                         dw/dt = s - F(n, u)"
-                    ),
-                };
-                (needed, reason, None, None)
-            }
-            Judged::OverRange => {
-                let (lo, hi) = scene.nu_range;
-                let nus = steady::grid(lo, hi, PER_DECADE);
-                let chis: Vec<f64> = nus
-                    .iter()
-                    .map(|&nu| {
-                        let mut q = p;
-                        q.nu = nu;
-                        block::inertia_ratio(&q)
-                    })
-                    .collect();
-                let needs = |c: f64| !(p.m == 0.0 || c < inertia_threshold);
-                let (i_max, c_max) =
-                    chis.iter()
-                        .enumerate()
-                        .fold((0, f64::NEG_INFINITY), |a, (i, c)| {
-                            if c.is_nan() || *c > a.1 {
-                                (i, *c)
-                            } else {
-                                a
-                            }
-                        });
-                let cross = (1..nus.len())
-                    .find(|&i| needs(chis[i]) != needs(chis[i - 1]))
-                    .map(|i| crossing(&p, inertia_threshold, nus[i - 1], nus[i]));
-                let range = format!(
-                    "V_range [{:.4e}, {:.4e}] µm/s",
-                    u.velocity_um_s(lo),
-                    u.velocity_um_s(hi)
-                );
-                let largest = format!(
-                    "largest chi = m lambda_n / F_u = {c_max:.3e} at V = {:.4e} µm/s",
-                    u.velocity_um_s(nus[i_max])
-                );
-                let needed = if chis.iter().any(|c| needs(*c)) {
-                    ModelKind::Inertial
-                } else {
-                    ModelKind::QuasiStatic
-                };
-                let reason = match (needed, cross) {
-                    (ModelKind::QuasiStatic, _) => format!(
-                        "chi stays below the inertia threshold {inertia_threshold:e} over \
-                         {range} ({largest}): the block's inertia (M = {mass:e} kg) is \
-                         negligible at every velocity swept"
-                    ),
-                    (ModelKind::Inertial, Some(c)) => format!(
-                        "chi crosses the inertia threshold {inertia_threshold:e} at V = \
-                         {:.6e} um/s within {range} ({largest}): the block's inertia (M = \
-                         {mass:e} kg) matters there, so the inertial model over the whole \
-                         range (each point says where the quasi-static one would do)",
-                        u.velocity_um_s(c)
-                    ),
-                    (ModelKind::Inertial, None) => format!(
-                        "chi is not below the inertia threshold {inertia_threshold:e} over all of \
-                         {range} ({largest}): the block's inertia (M = {mass:e} kg) matters"
-                    ),
-                };
-                (
-                    needed,
-                    reason,
-                    Some(c_max),
-                    cross.map(|c| u.velocity_um_s(c)),
-                )
-            }
-        };
         if forced == Some(ModelKind::Inertial) && p.m == 0.0 {
             return Err(InputError::Conflict(format!(
                 "{}: --model inertial needs the block's mass; the scene gives M = 0 (or none): \
@@ -284,47 +406,66 @@ impl AdhesiveSetup {
             ))
             .into());
         }
-        // As for the rate-and-state block (`inertia_decides`): where
-        // dropping the inertia changes the onset type at a velocity judged
-        // (the quasi-static onset degenerate, or of the other sign), that
-        // inertia, however small, decides it.
-        let (needed, reason) = match (forced, needed) {
-            (None, ModelKind::QuasiStatic) if p.m > 0.0 => {
-                let nus: Vec<f64> = match &judged {
-                    Judged::AtVelocity => vec![p.nu],
-                    Judged::AtPulling(list) => list
-                        .iter()
-                        .filter(|v| **v > 0.0)
-                        .map(|v| u.nu_of_velocity_um_s(*v))
-                        .collect(),
-                    Judged::OverRange => {
-                        steady::grid(scene.nu_range.0, scene.nu_range.1, PER_DECADE)
-                    }
-                };
-                match onset_types_differ(&p, &nus) {
-                    Some((changed, of)) if changed > 0 => (
-                        ModelKind::Inertial,
-                        format!(
-                            "inertial: the quasi-static onset type is not the inertial one at \
-                             {changed} of the {of} velocities judged (degenerate, l1 = 0 to \
-                             rounding, or of the other sign), so the block's small inertia \
-                             decides the onset type ({reason})"
-                        ),
-                    ),
-                    _ => (needed, reason),
-                }
-            }
-            _ => (needed, reason),
+        let chi = block::inertia_ratio(&p);
+        let threshold = inertia_threshold;
+        // The velocities whose chi and onset type decide: the scene's, or a
+        // protocol's pulling velocities.
+        let pulled: Vec<f64> = match &judged {
+            Judged::AtPulling(list) => list
+                .iter()
+                .filter(|v| **v > 0.0)
+                .map(|v| u.nu_of_velocity_um_s(*v))
+                .collect(),
+            _ => vec![p.nu],
         };
-        let kind = forced.unwrap_or(needed);
-        let reason = match forced {
-            Some(f) => format!("forced by --model {} ({reason})", f.name()),
-            None => reason,
+        // Over the swept range (`branch`, `diagram`): reported, forced or not.
+        let over_range =
+            (judged == Judged::OverRange).then(|| by_chi_over_range(&scene, threshold));
+        let chi_max = over_range.as_ref().map(|r| r.2);
+        let cross = over_range
+            .as_ref()
+            .and_then(|r| r.3)
+            .map(|c| u.velocity_um_s(c));
+        let (scene_kind, scene_reason, orbit_inertia, kind, reason) = match forced {
+            Some(f) => {
+                let why = match &over_range {
+                    Some((_, why, _, _)) => why.clone(),
+                    None => by_chi_at(&p, &u, &pulled, threshold).1,
+                };
+                let reason = format!("forced by --model {} ({why})", f.name());
+                (f, reason.clone(), None, f, reason)
+            }
+            None => {
+                let at_v = by_onset_type(&p, &pulled, by_chi_at(&p, &u, &pulled, threshold));
+                let (scene_kind, scene_reason, orbit) = match judged {
+                    Judged::AtPulling(_) => (at_v.0, at_v.1, None),
+                    _ => by_orbit(&scene, threshold, at_v)?,
+                };
+                let (kind, reason) = match over_range {
+                    Some((k, why, _, _)) => {
+                        let (lo, hi) = scene.nu_range;
+                        let grid = steady::grid(lo, hi, PER_DECADE);
+                        match (by_onset_type(&p, &grid, (k, why)), scene_kind) {
+                            ((ModelKind::QuasiStatic, why), ModelKind::Inertial) => (
+                                ModelKind::Inertial,
+                                format!(
+                                    "inertial, the scene's own model ({scene_reason}); over \
+                                     V_range alone: {why}"
+                                ),
+                            ),
+                            (range, _) => range,
+                        }
+                    }
+                    None => (scene_kind, scene_reason.clone()),
+                };
+                (scene_kind, scene_reason, orbit, kind, reason)
+            }
         };
         let extrema = block::steady_extrema(&p, EXTREMA_RANGE.0, EXTREMA_RANGE.1);
         let v_max = extrema.iter().find(|e| e.1).map(|e| e.0);
         let v_c = v_max.and_then(|m| extrema.iter().find(|e| !e.1 && e.0 > m).map(|e| e.0));
         let force = |nu: f64| u.force_n(block::steady_friction(nu, &p));
+        let differs = scene_kind != kind;
         Ok(AdhesiveSetup {
             scene: scene.name.clone(),
             law: super::scene::LAW,
@@ -332,6 +473,10 @@ impl AdhesiveSetup {
             model_reason: reason,
             model_kind: kind,
             forced: forced.is_some(),
+            scene_model: differs.then(|| scene_kind.name()),
+            scene_model_reason: differs.then_some(scene_reason),
+            scene_model_kind: scene_kind,
+            orbit_inertia,
             inertia_ratio: chi,
             inertia_threshold,
             inertia_ratio_max: chi_max,
@@ -380,6 +525,10 @@ pub struct AdhesiveHopf {
     pub regime: Option<String>,
     /// The same verdict as `diagram`'s and `cycles`' ([`verdict`]).
     pub operating_point: Option<OperatingPoint>,
+    /// On the quasi-static orbit of the scene's cycles, the largest shift
+    /// of `ln v` the dropped inertia force makes (`null` where not judged),
+    /// as in `cycles` ([`AdhesiveSetup::new`]: one decision).
+    pub orbit_inertia_ratio: Option<f64>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -389,6 +538,7 @@ pub struct AdhesiveHopf {
 /// `hopf` on an adhesive scene.
 pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
     let p = setup.params;
+    let setup_orbit = setup.orbit_inertia;
     let u = setup.units;
     let v = verdict(&setup)?;
     let regime = v.regime_words();
@@ -415,6 +565,7 @@ pub fn hopf(setup: AdhesiveSetup) -> Result<AdhesiveHopf, Error> {
         steady_slope: slope,
         regime,
         operating_point: v.operating_point,
+        orbit_inertia_ratio: setup_orbit,
         complete: true,
         stop: None,
     })
@@ -431,6 +582,8 @@ pub struct AdhesiveBranch {
     pub hopf_points: Vec<NuHopf>,
     #[serde(rename = "hopf_points_V_um_per_s")]
     pub hopf_points_um_s: Vec<f64>,
+    /// As `hopf`'s ([`AdhesiveHopf::orbit_inertia_ratio`]).
+    pub orbit_inertia_ratio: Option<f64>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -497,6 +650,7 @@ pub fn branch(setup: AdhesiveSetup) -> Result<AdhesiveBranch, Error> {
             .map(|h| setup.units.velocity_um_s(h.nu))
             .collect(),
         points: steady_records(points, &setup.units),
+        orbit_inertia_ratio: setup.orbit_inertia,
         setup,
         hopf_points,
         complete: true,
@@ -527,8 +681,17 @@ pub struct AdhesiveDiagram {
     /// The steady branch at the scene's velocities (for the friction figure).
     pub steady: Vec<SteadyRecord>,
     /// The scene's own K and V against the diagram, and the verdict
-    /// (`null` without `K`): as the rate-and-state `diagram` judges it.
+    /// (`null` without `K`): as the rate-and-state `diagram` judges it, in
+    /// the scene's own model (`hopf`'s and `cycles`').
     pub operating_point: Option<OperatingPoint>,
+    /// Where the diagram's model (over `V_range`) is not the scene's own
+    /// (`scene_model`): `K_c` at the scene's `V` in the diagram's model,
+    /// N/m, beside the operating point's in the scene's (`null` where the
+    /// two models are one).
+    #[serde(rename = "curve_K_c_at_V_N_per_m")]
+    pub curve_k_c_at_v_n_per_m: Option<f64>,
+    /// As `hopf`'s ([`AdhesiveHopf::orbit_inertia_ratio`]).
+    pub orbit_inertia_ratio: Option<f64>,
     pub complete: bool,
     /// Why the run ended short of the protocol's end (`null`: it delivered
     /// all): a failed integration or a stop signal, the steps before kept.
@@ -571,7 +734,7 @@ impl Verdict {
 /// command takes its verdict from here.
 pub fn verdict(setup: &AdhesiveSetup) -> Result<Verdict, Error> {
     let p = setup.params;
-    let outcome = with_model!(setup.model_kind, b => find_onset(b, &p))?;
+    let outcome = with_model!(setup.scene_model_kind, b => find_onset(b, &p))?;
     let operating_point = judge_scene(setup, &outcome, None);
     Ok(Verdict {
         outcome,
@@ -616,7 +779,7 @@ fn judge_scene(
     };
     let (regime, margin, reason) = judge(p.kappa, &at);
     let chi = block::inertia_ratio(&p);
-    let dropped = setup.model_kind == ModelKind::QuasiStatic && p.m > 0.0;
+    let dropped = setup.scene_model_kind == ModelKind::QuasiStatic && p.m > 0.0;
     let (regime, reason) = if dropped && margin > 0.0 && margin <= chi + at.tolerance {
         (
             Regime::Undecided,
@@ -633,6 +796,7 @@ fn judge_scene(
     op.margin = Some(margin);
     op.kappa_c = Some(onset.kappa_c);
     op.k_c_n_per_m = Some(u.stiffness_n_m(onset.kappa_c));
+    op.model = Some(setup.scene_model_kind.name());
     op.kappa_fold = fold.map(|f| f.kappa);
     op.kappa_fold_error = fold.map(|f| f.error);
     Some(op)
@@ -669,8 +833,17 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
         }
     }
     let operating_point = verdict(&setup)?.operating_point;
+    let curve_k_c = match setup.scene_model {
+        Some(_) => match with_model!(setup.model_kind, b => find_onset(b, &p))? {
+            OnsetOutcome::Found(onset) => Some(u.stiffness_n_m(onset.kappa_c)),
+            OnsetOutcome::StableForAllStiffness { .. } => None,
+        },
+        None => None,
+    };
     Ok(AdhesiveDiagram {
         operating_point,
+        curve_k_c_at_v_n_per_m: curve_k_c,
+        orbit_inertia_ratio: setup.orbit_inertia,
         bautin_points,
         points: points
             .into_iter()
@@ -713,8 +886,14 @@ pub struct AdhesiveCycles {
     /// inertia threshold the branch runs inertial (`model_reason`).
     pub orbit_inertia_ratio: Option<f64>,
     pub cycles: Vec<AdhesiveCycle>,
-    /// The cycle at the scene's stiffness by collocation.
+    /// The cycle at the scene's stiffness by collocation (without `K`: at
+    /// the branch's end); where the branch passes that stiffness twice
+    /// (bistable, between `K_c` and the fold of cycles) the stable one.
     pub at_scene: Option<AdhesiveCycle>,
+    /// Why there is no cycle at the scene's `K` (`null` with one, or
+    /// without `K`): steady sliding alone there (above a supercritical
+    /// `K_c` or above the fold of cycles), or the branch did not reach it.
+    pub at_scene_reason: Option<String>,
     /// The folds of cycles on the branch (`lpc`).
     pub folds: Vec<CycleFold>,
     /// The same by simulation (settled stick-slip): the second method.
@@ -736,24 +915,16 @@ pub fn cycles(setup: AdhesiveSetup, limits: (usize, usize)) -> Result<AdhesiveCy
 /// `false` stops the branch there (a stop signal: no simulation follows,
 /// and the result is partial).
 pub fn cycles_watched(
-    mut setup: AdhesiveSetup,
+    setup: AdhesiveSetup,
     limits: (usize, usize),
     watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
 ) -> Result<AdhesiveCycles, Error> {
     let p = setup.params;
-    let mut judged = verdict(&setup)?;
-    let kappa_c = match &judged.outcome {
-        OnsetOutcome::Found(onset) => onset.kappa_c,
-        OnsetOutcome::StableForAllStiffness { steady_slope } => {
-            let slope = *steady_slope;
-            return without_onset(setup, judged.operating_point, slope);
-        }
-    };
-    let end = target_stiffness(&setup, kappa_c);
-    let orbit_inertia = judge_on_orbit(&mut setup, end);
-    if setup.model_kind == ModelKind::Inertial && orbit_inertia.is_some() {
-        judged = verdict(&setup)?;
+    let judged = verdict(&setup)?;
+    if let OnsetOutcome::StableForAllStiffness { steady_slope } = judged.outcome {
+        return without_onset(setup, judged.operating_point, steady_slope);
     }
+    let orbit_inertia = setup.orbit_inertia;
     let Verdict {
         outcome: OnsetOutcome::Found(onset),
         mut operating_point,
@@ -767,34 +938,58 @@ pub fn cycles_watched(
         .into());
     };
     let kind = setup.model_kind;
-    let target = target_stiffness(&setup, onset.kappa_c);
-    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, target, limits, watch))?;
-    let mut q = p;
-    q.kappa = target;
-    // The second method: a simulation at the target stiffness. Its
-    // failure leaves the branch computed, the answer partial.
-    let (simulated, simulation_failed) = if run.interrupted {
-        (None, None)
-    } else {
-        let x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &q));
-        let start = x[x.len() - 1] * 0.99;
-        match with_model!(kind, b => settle(b, &q, start, 30)) {
-            (SettledRegime::Periodic, cycle, _) => (cycle, None),
-            (
-                _,
-                _,
-                Run {
-                    stop: Some(why), ..
-                },
-            ) => (
-                None,
-                Some(format!(
-                    "the simulation at the branch's end (the second method) did not finish: {why}"
-                )),
-            ),
-            _ => (None, None),
-        }
+    let target = target_stiffness(&setup.scene_full, onset.kappa_c);
+    // The scene's own K, where it has one: below K_c it is the branch's
+    // end; above it the branch of a subcritical onset may pass it (rising
+    // to the fold of cycles, then back down), and the cycle there is
+    // located on the way. Above a supercritical onset's K_c there is
+    // steady sliding only: no cycle is looked for.
+    let scene_k = (setup.scene_full.stiffness_given && p.kappa > 0.0).then_some(p.kappa);
+    let above = scene_k.filter(|k| *k >= onset.kappa_c);
+    let wanted = match above {
+        Some(_) => onset.onset == Criticality::Subcritical,
+        None => true,
     };
+    let at = match (above, wanted) {
+        (Some(k), true) => k,
+        _ => target,
+    };
+    let run = with_model!(kind, b => cycles::trace(b, &p, &onset, (target, at), limits, watch))?;
+    let at_scene = run.at_scene.clone().filter(|_| wanted);
+    let mut q = p;
+    q.kappa = at_scene.as_ref().map_or(target, |c| c.kappa);
+    // The second method: a simulation at the stiffness of the cycle
+    // reported (below K_c from steady sliding, which is unstable there;
+    // above it from a stick, every chain bonded, as a rig started from
+    // rest). Its failure leaves the branch computed, the answer partial.
+    let (simulated, simulation_failed) =
+        if run.interrupted || (above.is_some() && at_scene.is_none()) {
+            (None, None)
+        } else {
+            let x = with_model!(kind, b => block::AdhesiveModel::steady(&b, &q));
+            let start = if q.kappa >= onset.kappa_c {
+                1.0
+            } else {
+                x[x.len() - 1] * 0.99
+            };
+            match with_model!(kind, b => settle(b, &q, start, 30)) {
+                (SettledRegime::Periodic, cycle, _) => (cycle, None),
+                (
+                    _,
+                    _,
+                    Run {
+                        stop: Some(why), ..
+                    },
+                ) => (
+                    None,
+                    Some(format!(
+                    "the simulation at K = {:.6e} N/m (the second method) did not finish: {why}",
+                    setup.units.stiffness_n_m(q.kappa)
+                )),
+                ),
+                _ => (None, None),
+            }
+        };
     // A subcritical onset's branch turns at a fold of cycles above K_c:
     // the scene's K is judged against the largest one (the upper edge of
     // the hysteretic band), as the rate-and-state diagram judges it.
@@ -809,20 +1004,72 @@ pub fn cycles_watched(
     if fold.is_some() {
         operating_point = judge_scene(&setup, &OnsetOutcome::Found(onset.clone()), fold);
     }
+    // Where the scene's K has no cycle, why; a K in the bistable band the
+    // branch did not pass again leaves the answer partial.
+    let u = setup.units;
+    let regime = operating_point.as_ref().map(|op| op.regime);
+    let (at_scene_reason, missing) = match (scene_k, &at_scene) {
+        (Some(k), None) => {
+            let at = format!("no cycle at the scene's K = {:.6e} N/m", u.stiffness_n_m(k));
+            if !wanted {
+                (
+                    Some(format!(
+                        "{at}: K is above K_c = {:.6e} N/m of a supercritical onset, where \
+                         steady sliding is stable and no cycle coexists near the onset",
+                        u.stiffness_n_m(onset.kappa_c)
+                    )),
+                    false,
+                )
+            } else if regime == Some(Regime::Steady) {
+                let fold = fold.map_or(String::new(), |f| {
+                    format!(
+                        " (the fold of cycles at K = {:.6e} N/m)",
+                        u.stiffness_n_m(f.kappa)
+                    )
+                });
+                (
+                    Some(format!(
+                        "{at}: K is above the largest stiffness the branch's cycles reach{fold}, \
+                         so steady sliding is the only regime there"
+                    )),
+                    false,
+                )
+            } else {
+                let why = run.stop.clone().unwrap_or_else(|| {
+                    "the branch reached its end without passing this stiffness again".to_string()
+                });
+                (
+                    Some(format!(
+                        "{at}: the branch from the onset did not pass it on its way down ({why})"
+                    )),
+                    true,
+                )
+            }
+        }
+        _ => (None, false),
+    };
+    let stop = [
+        run.stop.clone(),
+        simulation_failed,
+        at_scene_reason
+            .clone()
+            .filter(|_| missing && run.stop.is_none()),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>();
     Ok(AdhesiveCycles {
         status: "cycles",
         onset: Some(onset),
         operating_point,
         reason: None,
         orbit_inertia_ratio: orbit_inertia,
-        complete: run.stop.is_none() && simulation_failed.is_none(),
-        stop: match (run.stop, simulation_failed) {
-            (Some(a), Some(b)) => Some(format!("{a}; {b}")),
-            (a, b) => a.or(b),
-        },
+        complete: stop.is_empty(),
+        stop: (!stop.is_empty()).then(|| stop.join("; ")),
         interrupted: run.interrupted,
         cycles: run.cycles,
-        at_scene: run.at_scene,
+        at_scene,
+        at_scene_reason,
         folds: run.folds,
         simulated,
         setup,
@@ -847,8 +1094,9 @@ fn without_onset(
     let stable = format!(
         "steady friction rises with the velocity at V = {:.6e} µm/s (dF_ss/du = {steady_slope:.3e} \
          F_a / V_s): steady sliding is stable at every stiffness, no Hopf point, so no cycle \
-         branch is born here (stick-slip lies between V_max and V_c)",
-        u.velocity_um_s(p.nu)
+         branch is born here; {}",
+        u.velocity_um_s(p.nu),
+        setup.weakening()
     );
     let (simulated, reason, complete) = match operating_point.as_mut() {
         Some(op) if p.kappa > 0.0 => {
@@ -919,6 +1167,7 @@ fn without_onset(
         interrupted: false,
         cycles: Vec::new(),
         at_scene: None,
+        at_scene_reason: None,
         folds: Vec::new(),
         simulated,
         setup,
@@ -979,63 +1228,42 @@ fn orbit_imbalance(p: &AdhesiveParams, run: &Run) -> f64 {
 
 /// The stiffness the branch is traced down to: the scene's, where it has
 /// a spring below the onset `kappa_c`, else half of `kappa_c`.
-fn target_stiffness(setup: &AdhesiveSetup, kappa_c: f64) -> f64 {
-    let p = setup.params;
-    if setup.scene_full.stiffness_given && p.kappa > 0.0 && p.kappa < kappa_c {
+fn target_stiffness(scene: &AdhesiveScene, kappa_c: f64) -> f64 {
+    let p = scene.params;
+    if scene.stiffness_given && p.kappa > 0.0 && p.kappa < kappa_c {
         p.kappa
     } else {
         0.5 * kappa_c
     }
 }
 
-/// The model judged on the orbit too, as the rate-and-state `cycles`
-/// judges its orbits ([`crate::analysis::orbit_inertia`]): a quasi-static
-/// block (chosen by `chi` at `V`, with a mass, not forced) is simulated at
-/// the branch's end, the stiffness `kappa`, where its cycle is largest,
-/// and judged there ([`decide_on_orbit`]). Returns the largest shift of
-/// `ln u` on that orbit (`None` where not judged).
-fn judge_on_orbit(setup: &mut AdhesiveSetup, kappa: f64) -> Option<f64> {
-    let p = setup.params;
-    if !orbit_judged(setup) {
-        return None;
-    }
-    let mut q = p;
-    q.kappa = kappa;
-    let start = block::steady_bonds(q.nu, q.r) * 0.99;
-    let (_, _, run) = settle(block::AdhesiveBlock, &q, start, 30);
-    let chi = orbit_imbalance(&q, &run);
-    let at = format!("at K = {:.6e} N/m", setup.units.stiffness_n_m(kappa));
-    decide_on_orbit(setup, chi, &at);
-    Some(chi)
-}
-
-/// Whether the setup's model is judged on an orbit: quasi-static by `chi`
-/// at the velocities judged, with a mass, not forced by `--model`.
-fn orbit_judged(setup: &AdhesiveSetup) -> bool {
-    setup.model_kind == ModelKind::QuasiStatic && !setup.forced && setup.params.m > 0.0
-}
-
-/// Turns the setup inertial where the dropped inertia force shifts `ln u`
-/// on the quasi-static orbit `at` by `chi` ([`block::state_imbalance`]),
-/// at least the inertia threshold, saying why; notes the check where it
-/// is below.
-fn decide_on_orbit(setup: &mut AdhesiveSetup, chi: f64, at: &str) {
-    let threshold = setup.inertia_threshold;
+/// `(kind, reason)` turned inertial where the dropped inertia force shifts
+/// `ln u` on the quasi-static orbit `at` by `chi`
+/// ([`block::state_imbalance`]), at least the inertia `threshold`, saying
+/// why; the check noted where it is below.
+fn decide_on_orbit(
+    (kind, reason): (ModelKind, String),
+    chi: f64,
+    threshold: f64,
+    at: &str,
+) -> (ModelKind, String) {
     if chi >= threshold {
-        setup.model_kind = ModelKind::Inertial;
-        setup.model = ModelKind::Inertial.name();
-        setup.model_reason = format!(
-            "inertial: on the quasi-static orbit {at} the dropped inertia force shifts ln v by up \
-             to m |du/dt| / (u F_u) = {chi:.3e}, not below the inertia threshold {threshold:e}, \
-             so the block keeps its inertia (at V alone: {})",
-            setup.model_reason
-        );
+        (
+            ModelKind::Inertial,
+            format!(
+                "inertial: on the quasi-static orbit {at} the dropped inertia force shifts ln v \
+                 by up to m |du/dt| / (u F_u) = {chi:.3e}, not below the inertia threshold \
+                 {threshold:e}, so the block keeps its inertia (at V alone: {reason})"
+            ),
+        )
     } else {
-        setup.model_reason = format!(
-            "{} (on the quasi-static orbit {at} the dropped inertia force shifts ln v by at most \
-             {chi:.3e}, below the threshold too)",
-            setup.model_reason
-        );
+        (
+            kind,
+            format!(
+                "{reason}; on the quasi-static orbit {at} the dropped inertia force shifts ln v \
+                 by at most {chi:.3e}, below the threshold too"
+            ),
+        )
     }
 }
 
@@ -1210,9 +1438,16 @@ pub fn simulate_watched(
     // The model judged on the whole run too ([`decide_on_orbit`]): a
     // quasi-static run the dropped inertia would change is run again with it.
     let mut setup = setup;
-    let orbit_inertia = (orbit_judged(&setup) && !run.interrupted).then(|| {
+    let judged = kind == ModelKind::QuasiStatic && !setup.forced && p.m > 0.0;
+    let orbit_inertia = (judged && !run.interrupted).then(|| {
         let chi = run_imbalance(&p, &run, &protocol);
-        decide_on_orbit(&mut setup, chi, "of this run");
+        let reason = std::mem::take(&mut setup.model_reason);
+        let threshold = setup.inertia_threshold;
+        let (kind, reason) = decide_on_orbit((kind, reason), chi, threshold, "of this run");
+        setup.model_kind = kind;
+        setup.model = kind.name();
+        setup.scene_model_kind = kind;
+        setup.model_reason = reason;
         chi
     });
     if setup.model_kind != kind {

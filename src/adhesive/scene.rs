@@ -15,7 +15,7 @@
 
 use super::params::AdhesiveParams;
 use crate::error::{closest, InputError};
-use crate::scene::{file_error, read, require, string, v_range};
+use crate::scene::{file_error, other_law_key, read, require, string, v_range, Law};
 use toml::Table;
 
 /// The value of the scene key `law` that selects this family.
@@ -125,12 +125,9 @@ pub fn load(name_or_path: &str) -> Result<AdhesiveScene, InputError> {
 }
 
 /// The keys `--set` may give on an adhesive scene: its numbers, in the
-/// scene file's units.
-const SETTABLE: &str = "F_a V_s tau_out tau_on F_v alpha M K V";
-
-/// The keys of a rate-and-state scene and its dimensionless parameters,
-/// which an adhesive scene does not have.
-const RATE_AND_STATE_KEYS: &str = "A B mu0 mu2 D0 V0 W tau g eta theta_c mu_vv mu_vphi eta_d";
+/// scene file's units, and `V_range` as `LO:HI` in µm/s (every key of its
+/// scene files but `law`, `name` and `description`).
+const SETTABLE: &str = "F_a V_s tau_out tau_on F_v alpha M K V V_range";
 
 /// The adhesive block's dimensionless parameters and the scene key each
 /// is made from (`nu = V / V_s`, `kappa = K V_s tau_out / F_a`, `r = tau_on
@@ -144,8 +141,9 @@ const DIMENSIONLESS: [(&str, &str); 5] = [
 ];
 
 /// [`load`] with the overrides `set` (`KEY=VALUE`, a key of [`SETTABLE`]
-/// in the scene file's unit) put in place of the file's values before the
-/// scene is read: checked as the file's own values are.
+/// in the scene file's unit, `V_range=LO:HI`) put in place of the file's
+/// values before the scene is read: checked as the file's own values are,
+/// a refused value named as given (`--set K`).
 pub fn load_with(name_or_path: &str, set: &[String]) -> Result<AdhesiveScene, InputError> {
     let (text, in_file) = match builtin_text(name_or_path) {
         Some(text) => (text.to_string(), false),
@@ -155,62 +153,116 @@ pub fn load_with(name_or_path: &str, set: &[String]) -> Result<AdhesiveScene, In
         ),
     };
     let mut t: Table = text.parse().map_err(|e| file_error(name_or_path, e))?;
+    let given = insert_overrides(&mut t, set)?;
+    from_table(&t, name_or_path).map_err(|e| match as_set(e, &given) {
+        Ok(e) => e,
+        Err(e) if in_file => e.in_file(name_or_path),
+        Err(e) => e,
+    })
+}
+
+/// Puts the overrides `set` (`KEY=VALUE`, [`load_with`]) in the scene
+/// table `t` as the scene file would hold them; returns the keys set.
+pub fn insert_overrides<'a>(t: &mut Table, set: &'a [String]) -> Result<Vec<&'a str>, InputError> {
+    let mut given = Vec::new();
     for item in set {
         let (key, value) = parse_override(item)?;
-        t.insert(key.to_string(), toml::Value::Float(value));
+        t.insert(key.to_string(), value);
+        given.push(key);
     }
-    let scene = from_table(&t, name_or_path);
-    if in_file {
-        scene.map_err(|e| e.in_file(name_or_path))
-    } else {
-        scene
+    Ok(given)
+}
+
+/// The error `e` of a value given by `--set` (a key of `given`) named as
+/// given (`--set K`, `--set V_range`); `Err(e)` unchanged for any other.
+fn as_set(e: InputError, given: &[&str]) -> Result<InputError, InputError> {
+    let set_key = |field: &str| {
+        given
+            .iter()
+            .find(|k| field == **k || field.starts_with(&format!("{k}[")))
+            .map(|k| format!("--set {k}"))
+    };
+    match e {
+        InputError::OutOfRange {
+            field,
+            value,
+            expected,
+        } => match set_key(&field) {
+            Some(field) => Ok(InputError::OutOfRange {
+                field,
+                value,
+                expected,
+            }),
+            None => Err(InputError::OutOfRange {
+                field,
+                value,
+                expected,
+            }),
+        },
+        other => Err(other),
     }
 }
 
-/// One `--set KEY=VALUE` of an adhesive scene.
-fn parse_override(item: &str) -> Result<(&str, f64), InputError> {
+/// The unit of a number of an adhesive scene ("" for `alpha`).
+fn unit_of(key: &str) -> &'static str {
+    match key {
+        "F_a" | "F_v" => "N",
+        "V_s" | "V" | "V_range" => "µm/s",
+        "tau_out" | "tau_on" => "s",
+        "M" => "kg",
+        "K" => "N/m",
+        _ => "",
+    }
+}
+
+/// One `--set KEY=VALUE` of an adhesive scene: its key and the value as the
+/// scene file holds it.
+fn parse_override(item: &str) -> Result<(&str, toml::Value), InputError> {
+    let allowed = SETTABLE.replace(' ', ", ");
     let malformed = || InputError::Malformed {
         field: "--set".into(),
         value: item.to_string(),
-        expected: format!(
-            "KEY=VALUE with KEY one of the adhesive scene's numbers ({})",
-            SETTABLE.replace(' ', ", ")
-        ),
+        expected: format!("KEY=VALUE with KEY one of the adhesive scene's keys ({allowed})"),
     };
     let (key, value) = item.split_once('=').ok_or_else(malformed)?;
-    let key = key.trim();
+    let (key, value) = (key.trim(), value.trim());
+    if key == "V_range" {
+        let (lo, hi) = crate::overrides::v_range(value)?;
+        let range = vec![toml::Value::Float(lo), toml::Value::Float(hi)];
+        return Ok((key, toml::Value::Array(range)));
+    }
     if !SETTABLE.split(' ').any(|k| k == key) {
+        if let Some(e) = crate::overrides::not_a_quantity(key) {
+            return Err(e);
+        }
+        // A key of the rate-and-state law says so, with this law's keys.
+        let field = format!("--set {key}");
+        if let Some(e) = other_law_key(key, &field, Law::Adhesive, ("--set keys", &allowed)) {
+            return Err(e);
+        }
         // A dimensionless parameter (docs/model.md) names the scene key it
         // comes from; anything else the closest key, if one is close.
         let from = DIMENSIONLESS
             .iter()
             .find(|(d, _)| *d == key)
             .map(|(_, k)| k.to_string());
-        // A rate-and-state key has no counterpart to suggest.
-        let rate_and_state = RATE_AND_STATE_KEYS.split(' ').any(|k| k == key);
         return Err(InputError::UnknownName {
-            what: if rate_and_state {
-                "--set key of an adhesive scene (this is a rate-and-state key; an adhesive \
-                 scene has its own law)"
-            } else {
-                "--set key of an adhesive scene (its numbers in the scene file's units; the \
-                 dimensionless nu, kappa, r, f_v, m follow from them)"
-            },
+            what: "--set key of an adhesive scene (its numbers in the scene file's units; the \
+                   dimensionless nu, kappa, r, f_v, m follow from them)",
             name: key.to_string(),
-            suggestion: from.or_else(|| {
-                (!rate_and_state)
-                    .then(|| closest(key, SETTABLE.split(' ')))
-                    .flatten()
-            }),
-            allowed: SETTABLE.replace(' ', ", "),
+            suggestion: from.or_else(|| closest(key, SETTABLE.split(' '))),
+            allowed,
         });
     }
-    let value: f64 = value.trim().parse().map_err(|_| InputError::Malformed {
+    let number: f64 = value.parse().map_err(|_| InputError::Malformed {
         field: format!("--set {key}"),
         value: value.to_string(),
-        expected: "a number".into(),
+        expected: match unit_of(key) {
+            "" => "a number (dimensionless)".to_string(),
+            unit => format!("a number in {unit}"),
+        },
     })?;
-    Ok((key, value))
+    Ok((key, toml::Value::Float(number)))
 }
 
 /// Parses an adhesive scene; `origin` names it in errors and gives the
@@ -223,6 +275,11 @@ pub fn from_toml_str(text: &str, origin: &str) -> Result<AdhesiveScene, InputErr
 /// An adhesive scene from its TOML table.
 fn from_table(t: &Table, origin: &str) -> Result<AdhesiveScene, InputError> {
     if let Some(key) = t.keys().find(|k| !KEYS.split(' ').any(|known| known == *k)) {
+        let allowed = KEYS.replace(' ', ", ");
+        let field = format!("key {key}");
+        if let Some(e) = other_law_key(key, &field, Law::Adhesive, ("keys", &allowed)) {
+            return Err(e);
+        }
         return Err(InputError::UnknownName {
             what: "key of an adhesive scene",
             name: key.clone(),

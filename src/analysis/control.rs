@@ -47,7 +47,7 @@ pub enum Control {
 }
 
 /// The names [`Control::parse`] takes, with their units (for messages).
-pub const CONTROL_NAMES: &str = "K [N/m], V [um/s], M [kg], W [N], tau [s], eta [s/m] \
+pub const CONTROL_NAMES: &str = "K [N/m], V [µm/s], M [kg], W [N], tau [s], eta [s/m] \
                                  (physical); kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, \
                                  eta_d (dimensionless)";
 
@@ -188,10 +188,10 @@ impl Control {
         )))
     }
 
-    /// The unit in messages: `um/s`, `kg`, ..., or `dimensionless`.
+    /// The unit in messages: `µm/s`, `kg`, ..., or `dimensionless`.
     pub fn unit_in_words(self) -> &'static str {
-        match self.unit() {
-            "1" => "dimensionless",
+        match self.text_unit() {
+            "" => "dimensionless",
             u => u,
         }
     }
@@ -727,7 +727,7 @@ pub fn onset_excluded(p: &Params, units: &Units, control: Control) -> Option<Exc
         _ => return None,
     };
     let slopes = format!(
-        "mu_phi - mu_v = {weakening:.6e} at V = {:.6e} um/s",
+        "mu_phi - mu_v = {weakening:.6e} at V = {:.6e} µm/s",
         units.velocity_um_s(p.nu)
     );
     if weakening <= 0.0 {

@@ -93,6 +93,12 @@ fn print_setup(s: &AdhesiveSetup) {
         s.scene, s.model, s.inertia_ratio
     );
     println!("  model: {} ({})", s.model, s.model_reason);
+    if let (Some(m), Some(why)) = (s.scene_model, &s.scene_model_reason) {
+        println!(
+            "  the scene's own model, of its onset at V and its operating point (as hopf and \
+             cycles): {m} ({why})"
+        );
+    }
     println!(
         "  F_a = {:.6e} N, V_s = {:.6e} µm/s, tau_out = {:.6e} s, tau_on / tau_out = r = {:.6e}, \
          F_v / F_a = f_v = {:.6e}, alpha = {}",
@@ -110,18 +116,13 @@ fn print_setup(s: &AdhesiveSetup) {
         u.stiffness_n_m(p.kappa),
         p.kappa
     );
-    match (s.v_max_um_s, s.force_at_v_max_n) {
-        (Some(v), Some(f)) => {
-            println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} µm/s")
-        }
-        _ => println!("  steady friction: no maximum (no velocity-weakening branch)"),
+    if let (Some(v), Some(f)) = (s.v_max_um_s, s.force_at_v_max_n) {
+        println!("  steady friction: maximum {f:.6e} N at V_max = {v:.6e} µm/s");
     }
-    match (s.v_c_um_s, s.force_at_v_c_n) {
-        (Some(v), Some(f)) => println!(
-            "  steady friction: minimum {f:.6e} N at V_c = {v:.6e} µm/s (stick-slip ends above it)"
-        ),
-        _ => println!("  steady friction: no minimum above V_max"),
+    if let (Some(v), Some(f)) = (s.v_c_um_s, s.force_at_v_c_n) {
+        println!("  steady friction: minimum {f:.6e} N at V_c = {v:.6e} µm/s");
     }
+    println!("  {}", s.weakening());
 }
 
 /// `hopf` on an adhesive scene.
@@ -145,9 +146,14 @@ fn print_text_hopf(r: &AdhesiveHopf) {
         Some(c) => {
             let o = &c.onset;
             println!(
-                "onset: K_c = {:.6e} N/m (kappa_c = {:.10e}; closed form {:.10e}), frequency \
-                 {:.6e} Hz (omega_c = {:.6e} / tau_out)",
-                c.k_c_n_m, o.kappa_c, o.kappa_c_closed_form, c.frequency_hz, o.omega_c
+                "onset ({} model): K_c = {:.6e} N/m (kappa_c = {:.10e}; closed form {:.10e}), \
+                 frequency {:.6e} Hz (omega_c = {:.6e} / tau_out)",
+                r.setup.scene_model_kind.name(),
+                c.k_c_n_m,
+                o.kappa_c,
+                o.kappa_c_closed_form,
+                c.frequency_hz,
+                o.omega_c
             );
             println!(
                 "onset type: {} (l1 = {:.6e} +- {:.1e})",
@@ -450,6 +456,15 @@ pub fn diagram(
         if let Some(op) = &r.operating_point {
             println!("{}", op.line());
         }
+        if let Some(k) = r.curve_k_c_at_v_n_per_m {
+            println!(
+                "  the diagram's curve ({} model over V_range) gives K_c = {} N/m at the scene's \
+                 V; the operating point's K_c above is the scene's own ({} model)",
+                s.model,
+                crate::records::significant(k),
+                s.scene_model_kind.name()
+            );
+        }
     }
     let stability = stability_figure(&r);
     let friction: Vec<(f64, f64)> = r
@@ -611,9 +626,7 @@ pub fn cycles(
                 .map_or(f64::NAN, |c| u.stiffness_n_m(c.kappa))
         ))),
         Some(why) if r.onset.is_none() => Err(Error::Partial(format!("no cycle branch: {why}"))),
-        Some(why) => Err(Error::Partial(format!(
-            "the cycle branch did not reach the scene's stiffness: {why}"
-        ))),
+        Some(why) => Err(Error::Partial(format!("the cycles are incomplete: {why}"))),
     }
 }
 
@@ -655,7 +668,8 @@ fn print_cycles(r: &AdhesiveCycles) {
     let u = r.setup.units;
     match (&r.onset, &r.reason) {
         (Some(o), _) => println!(
-            "onset: K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+            "onset ({} model): K_c = {:.6e} N/m (kappa_c = {:.6e}), {}",
+            r.setup.scene_model_kind.name(),
             u.stiffness_n_m(o.kappa_c),
             o.kappa_c,
             o.onset.name()
@@ -663,11 +677,21 @@ fn print_cycles(r: &AdhesiveCycles) {
         (None, Some(reason)) => println!("no cycles: {reason}"),
         (None, None) => {}
     }
+    let kappa_c = r.onset.as_ref().map_or(f64::NAN, |o| o.kappa_c);
     for c in r.folds.iter().map(|f| &f.cycle) {
+        // Above K_c the cycles up to the fold coexist with stable steady
+        // sliding; below it the branch turns back toward larger K, two
+        // cycles on either side of the turn, with steady sliding unstable.
+        let meaning = if c.kappa > kappa_c {
+            "the cycles coexist with stable steady sliding between K_c and this stiffness"
+        } else {
+            "below K_c, the branch turns back toward larger K here: two of its cycles coexist \
+             just above this stiffness (the table's stable column tells them apart), with \
+             steady sliding unstable"
+        };
         println!(
             "fold of cycles (lpc) at K = {:.6e} N/m (kappa = {:.6e}): period {:.6e} s, force \
-             drop {:.6e} N; the subcritical onset's cycles coexist with stable steady sliding \
-             between K_c and this stiffness",
+             drop {:.6e} N; {meaning}",
             u.stiffness_n_m(c.kappa),
             c.kappa,
             u.time_s(c.period),
@@ -691,16 +715,27 @@ fn print_cycles(r: &AdhesiveCycles) {
         );
     }
     if let Some(c) = &r.at_scene {
+        let which = match r.operating_point.as_ref().filter(|op| op.kappa > 0.0) {
+            Some(op) if op.regime == crate::analysis::operating_point::Regime::Bistable => {
+                "the scene's K; the stable one of the two the branch passes there"
+            }
+            Some(_) => "the scene's K",
+            None => "the branch's end, 0.5 K_c: the scene gives no K",
+        };
         println!(
-            "the cycle at K = {:.6e} N/m (collocation): period {:.6e} s, force drop {:.6e} N \
-             (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} µm/s",
+            "the cycle at K = {:.6e} N/m ({which}; collocation): period {:.6e} s, force drop \
+             {:.6e} N (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} µm/s, {}",
             u.stiffness_n_m(c.kappa),
             u.time_s(c.period),
             u.force_n(c.s_max - c.s_min),
             u.force_n(c.s_min),
             u.force_n(c.s_max),
-            u.velocity_um_s(c.u_max)
+            u.velocity_um_s(c.u_max),
+            if c.stable { "stable" } else { "unstable" }
         );
+    }
+    if let Some(why) = &r.at_scene_reason {
+        println!("{why}");
     }
     if let Some(c) = &r.simulated {
         println!(

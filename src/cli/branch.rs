@@ -20,7 +20,7 @@ pub struct BranchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// The continuation parameter: kappa or nu, or a control parameter in
-    /// its unit, K (N/m), V (um/s), M (kg), tau (s), eta (s/m), or m, A, B, mu2,
+    /// its unit, K (N/m), V (µm/s), M (kg), tau (s), eta (s/m), or m, A, B, mu2,
     /// theta_c, mu_vv, mu_vphi, eta_d (the rows are in the dimensionless parameter it moves: K in
     /// kappa, V in nu, M in m, or in kappa when W = M g). With --from
     /// FILE.json --index N: default the file's. Adhesive scenes: V (or nu) only, over the
@@ -50,7 +50,7 @@ pub struct BranchArgs {
     pub max_steps: usize,
     /// Comma-separated values instead of an aligned table: a `# scene`
     /// comment line, then the parameter, the state, the eigenvalues, the
-    /// bifurcation, and the point in physical units. Adhesive scenes: V in um/s, the steady
+    /// bifurcation, and the point in physical units. Adhesive scenes: V in µm/s, the steady
     /// force in N, n, the leading eigenvalue's real part, stable, then nu, s, dF_ss/du; the
     /// Hopf points as `# hopf` lines.
     #[arg(long, conflicts_with = "json")]
@@ -163,7 +163,7 @@ pub fn run(args: &BranchArgs) -> Result<(), Error> {
                 "--param {}: {} from {from:.6e} to {to:.6e} {} (the rows are in {column})",
                 plan.control.name(),
                 plan.control.name(),
-                plan.control.unit(),
+                plan.control.unit_in_words(),
             )?;
         }
     }

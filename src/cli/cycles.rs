@@ -77,7 +77,7 @@ pub struct CyclesArgs {
     /// requested point carries the value as asked.
     #[arg(long, value_name = "NAME=V1,V2,...")]
     pub at: Vec<String>,
-    /// The parameter the cycles are continued in: K (N/m), V (um/s), M (kg),
+    /// The parameter the cycles are continued in: K (N/m), V (µm/s), M (kg),
     /// tau (s), eta (s/m), or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, eta_d (default: the
     /// stiffness, as without it). Other than K or kappa it needs --to;
     /// the branch starts at the Hopf point in that parameter (hopf --param)

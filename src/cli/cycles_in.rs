@@ -51,7 +51,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         return Err(InputError::Conflict(format!(
             "cycles --param {} needs --to VALUE (in {}): where the branch ends",
             control.name(),
-            control.unit()
+            control.unit_in_words()
         ))
         .into());
     };
@@ -115,7 +115,7 @@ pub fn run(args: &CyclesArgs, control: Control) -> Result<(), Error> {
         "# scene {}; cycles in {} [{}]; model at the start {} (column model: each row's)\n{}",
         setup.scene.name,
         control.name(),
-        control.unit(),
+        control.unit_in_words(),
         setup.choice.reason,
         header_of(&plan.header_record())?
     )?;

@@ -1,5 +1,6 @@
 //! `stickslip fit`: the friction law's parameters from laboratory data,
-//! with errors; the fitted scene as `fitted.toml`, a figure per dataset.
+//! with errors; the fitted scene as `<run>-fitted.toml`, a figure per
+//! dataset.
 
 use super::files::{write_whole, OutputArgs};
 use super::SceneArgs;
@@ -42,7 +43,7 @@ pub struct FitArgs {
 }
 
 /// The files of a fit, after the run's stem.
-const OUTPUTS: &[&str] = &["-fit.json"];
+const OUTPUTS: &[&str] = &["-fit.json", "-fitted.toml"];
 
 /// Runs the command.
 pub fn run(args: &FitArgs) -> Result<(), Error> {
@@ -69,18 +70,12 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
         false,
         OUTPUTS,
     )?;
-    // `--name X` names the fitted scene too: `<out>/X-fitted.toml`, its
-    // `name = "X"` (the files of later runs on it start with X).
-    let toml_path = args.output.out.join(match &args.output.name {
-        Some(name) => format!("{name}-fitted.toml"),
-        None => "fitted.toml".to_string(),
-    });
-    if toml_path.exists() && !args.output.force {
-        return Err(Error::Output(std::io::Error::other(format!(
-            "{} exists (an earlier fit): --force replaces it, --out DIR writes elsewhere",
-            toml_path.display()
-        ))));
-    }
+    // The fitted scene is a file of the run as its JSON is,
+    // `<out>/<run>-fitted.toml` (`<out>/X-fitted.toml` with `--name X`,
+    // its `name = "X"`: the files of later runs on it start with X), and an
+    // earlier run's is refused or replaced as every command's files are
+    // ([`OutputArgs::stem`]).
+    let toml_path = with_suffix(&stem, "-fitted.toml");
     // A fit takes a fraction of a second: Ctrl-C (or SIGTERM) lets it
     // write its files whole, then the run ends as interrupted.
     super::interrupt::catch_interrupts();
@@ -120,6 +115,15 @@ pub fn run(args: &FitArgs) -> Result<(), Error> {
     match stop {
         None => Ok(()),
         Some(why) => Err(Error::Partial(why)),
+    }
+}
+
+/// A unit of the JSON (`um/s`, `um`) as the text writes it (`µm/s`, `µm`).
+fn text_unit(unit: &str) -> &str {
+    match unit {
+        "um/s" => "µm/s",
+        "um" => "µm",
+        u => u,
     }
 }
 
@@ -229,7 +233,7 @@ fn print_text(fit: &Fit) {
             c.from, c.b_minus_a, c.mu0
         );
         if let Some(d0) = c.d0_um {
-            line += &format!(", D0 = {d0:.4} um");
+            line += &format!(", D0 = {d0:.4} µm");
         }
         if let Some(a) = c.a {
             line += &format!(", A = {a:.4e}");
@@ -314,7 +318,9 @@ fn print_parameters(summary: &Summary) {
         };
         println!(
             "{name:<w$} {:>14.6e} {error:>12} {:>6}  {status:<15} {:>14.6e}",
-            e.value, e.unit, e.start
+            e.value,
+            text_unit(e.unit),
+            e.start
         );
     }
     for n in not_determined {

@@ -27,7 +27,7 @@ pub struct HopfArgs {
     #[arg(long, value_enum, default_value_t = TextUnits::Physical)]
     pub units: TextUnits,
     /// The control parameter of the onset, with everything else at the
-    /// scene's values: K (N/m) (default), V (um/s), M (kg), W (N), tau (s), eta (s/m),
+    /// scene's values: K (N/m) (default), V (µm/s), M (kg), W (N), tau (s), eta (s/m),
     /// or kappa, nu, m, A, B, mu2, theta_c, mu_vv, mu_vphi, eta_d. JSON: `critical`.
     #[arg(long, value_name = "P")]
     pub param: Option<String>,

@@ -95,13 +95,14 @@ pub struct SceneArgs {
     pub scene: Option<String>,
     /// Override a parameter, repeatable. Dimensionless (docs/model.md): kappa, nu, m, A, B,
     /// mu0, mu2, theta_c, mu_vv, mu_vphi, eta_d. Or a scene key in its physical unit, applied before the scene is made
-    /// dimensionless: K (N/m), M (kg), W (N), V (um/s), V0 (um/s), D0 (um), tau (s),
-    /// g (m/s^2), eta (s/m) (radiation damping, eta_d = eta V0), V_range=LO:HI (um/s) (e.g.
+    /// dimensionless: K (N/m), M (kg), W (N), V (µm/s), V0 (µm/s), D0 (µm), tau (s),
+    /// g (m/s^2), eta (s/m) (radiation damping, eta_d = eta V0), V_range=LO:HI (µm/s) (e.g.
     /// K=2e5 gives kappa = K D0/W with the scene's D0 and W; W=600 changes kappa and m). One
     /// quantity both ways (K and kappa, M and m, V and nu, tau and theta_c, eta and eta_d) is refused. theta_c or tau selects the cutoff ageing form,
     /// mu2, mu_vv or mu_vphi the logarithmic form. On an adhesive scene (law = "adhesive") the
-    /// keys are its own, in their units: F_a \[N\], V_s [um/s], tau_out \[s\], tau_on \[s\], F_v \[N\],
-    /// alpha, M \[kg\], K [N/m], V [um/s].
+    /// keys are its own, in their units: F_a \[N\], V_s [µm/s], tau_out \[s\], tau_on \[s\], F_v \[N\],
+    /// alpha, M \[kg\], K [N/m], V [µm/s], V_range=LO:HI [µm/s]; a key of the other law is
+    /// refused as such.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Force the model instead of choosing from the inertia ratio m nu^2 / mu_v (adhesive

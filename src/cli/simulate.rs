@@ -27,7 +27,7 @@ use std::time::{Duration, Instant};
 pub struct SimulateArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Driving protocol as V1:T1,V2:T2,... (velocity in um/s, duration in s); V = 0 stops the drive.
+    /// Driving protocol as V1:T1,V2:T2,... (velocity in µm/s, duration in s); V = 0 stops the drive.
     /// Default: the scene's velocity for 40 D0/V (adhesive scenes: for 30 loading times F_ss/(K V)).
     #[arg(long, value_name = "V:T,...", allow_hyphen_values = true)]
     pub protocol: Option<String>,
@@ -74,7 +74,7 @@ pub(super) fn parse_protocol(text: &str) -> Result<Vec<(f64, f64)>, InputError> 
             let bad = || InputError::Malformed {
                 field: "--protocol".into(),
                 value: item.into(),
-                expected: "V:T with V >= 0 in um/s and T > 0 in s, e.g. 1:100,10:20,0:300".into(),
+                expected: "V:T with V >= 0 in µm/s and T > 0 in s, e.g. 1:100,10:20,0:300".into(),
             };
             let (v, t) = item.split_once(':').ok_or_else(bad)?;
             let (v, t): (f64, f64) = (

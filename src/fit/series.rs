@@ -301,7 +301,7 @@ impl SeriesModel {
             );
             if let Outcome::Failed(e) = &sol.outcome {
                 return Err(format!(
-                    "the integration at V = {v_um_s} um/s from t = {t0} s failed ({}, in the \
+                    "the integration at V = {v_um_s} µm/s from t = {t0} s failed ({}, in the \
                      integrator's time from there, in s)",
                     integration_stop(e)
                 ));

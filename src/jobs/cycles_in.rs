@@ -65,7 +65,7 @@ pub fn asked_values(
             control.name(),
             control.name(),
             control.name(),
-            control.unit()
+            control.unit_in_words()
         )));
     }
     let mut out = Vec::new();
@@ -76,14 +76,14 @@ pub fn asked_values(
                 "--at {item}: the branch is in {} (--param); give --at {}=V1,V2,... (in {})",
                 control.name(),
                 control.name(),
-                control.unit()
+                control.unit_in_words()
             )));
         }
         for v in values.split(',') {
             out.push(v.trim().parse::<f64>().map_err(|_| InputError::Malformed {
                 field: format!("--at {}", control.name()),
                 value: v.to_string(),
-                expected: format!("a number in {}", control.unit()),
+                expected: format!("a number in {}", control.unit_in_words()),
             })?);
         }
     }
@@ -342,7 +342,7 @@ impl Plan {
                     request.to,
                     c.criticality.name(),
                     name = control.name(),
-                    unit = control.unit(),
+                    unit = control.text_unit(),
                 ));
             }
         }
@@ -415,16 +415,13 @@ impl Axis {
         self.at(c.params[self.param as usize])
     }
 
-    /// The control as messages word it (`V`, `value of V`, `um/s`; no
+    /// The control as messages word it (`V`, `value of V`, `µm/s`; no
     /// unit when dimensionless).
     pub fn quantity(&self) -> Quantity<'static> {
         Quantity {
             name: self.control.name(),
             noun: format!("value of {}", self.control.name()).into(),
-            unit: match self.control.unit() {
-                "1" => "",
-                unit => unit,
-            },
+            unit: self.control.text_unit(),
         }
     }
 
@@ -472,7 +469,7 @@ impl Axis {
     }
 
     /// `value` of the control with `decimals`, and its unit
-    /// ([`quantity`](Self::quantity)): `1.5e2 um/s`.
+    /// ([`quantity`](Self::quantity)): `1.5e2 µm/s`.
     pub fn in_unit(&self, value: f64, decimals: usize) -> String {
         self.quantity().with_unit(format!("{value:.decimals$e}"))
     }

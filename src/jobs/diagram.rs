@@ -173,6 +173,10 @@ pub struct OperatingPoint {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[serde(rename = "K_c_N_per_m")]
     pub k_c_n_per_m: Option<f64>,
+    /// The model `K_c` is located in (adhesive scenes, whose commands
+    /// name it beside every `K_c`); absent for rate-and-state scenes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<&'static str>,
     /// The fold of cycles at the scene's velocity, where a traced curve spans
     /// it, and the bound on the error of reading it off that curve.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -238,6 +242,7 @@ impl OperatingPoint {
             margin: None,
             kappa_c: None,
             k_c_n_per_m: None,
+            model: None,
             kappa_fold: None,
             kappa_fold_error: None,
             in_range,
@@ -262,7 +267,11 @@ impl OperatingPoint {
     pub fn line(&self) -> String {
         let at = match (self.kappa_c, self.k_c_n_per_m) {
             (Some(kc), Some(k)) => {
-                format!(", where K_c = {} N/m (kappa_c = {kc:.6e})", significant(k))
+                let model = self.model.map_or(String::new(), |m| format!(", {m} model"));
+                format!(
+                    ", where K_c = {} N/m (kappa_c = {kc:.6e}{model})",
+                    significant(k)
+                )
             }
             _ => String::new(),
         };

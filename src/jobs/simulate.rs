@@ -201,7 +201,7 @@ impl Plan {
                             field: "--protocol".into(),
                             value: format!("{v}:{t}"),
                             expected:
-                                "V:T with V >= 0 in um/s and T > 0 in s, e.g. 1:100,10:20,0:300"
+                                "V:T with V >= 0 in µm/s and T > 0 in s, e.g. 1:100,10:20,0:300"
                                     .into(),
                         });
                     }

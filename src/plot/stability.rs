@@ -420,16 +420,22 @@ fn place_label(
 /// A region label ("steady sliding stable", "unstable: stick-slip"): only
 /// over velocities where a curve crosses its whole width, since elsewhere
 /// the side of the curve says nothing (no onset there: one regime at every
-/// value); the preferred `centres` first, then any; `None` where no curve
-/// is wide enough (the label is left out). Without curves, at the edge.
+/// value); the preferred `centres` first, then any. Where no curve is that
+/// wide, or the vertical lines (the last `vlines` of `curves`) cut every
+/// such place (a Hopf curve spanning a narrow range of velocities, with a
+/// line in it), the label centred over a curve's span instead (it may
+/// overhang the curve's ends), drawn over the vertical lines on a white
+/// box: the second element `true`. `None` where no place fits (the label
+/// is left out). Without curves, at the edge.
 fn place_region_label(
     curves: &[Vec<(f64, f64)>],
+    vlines: usize,
     size: (f64, f64),
     centres: &[f64],
     above: bool,
-) -> Option<(f64, f64)> {
+) -> Option<((f64, f64), bool)> {
     if curves.is_empty() {
-        return Some(place_label(curves, size, centres, above));
+        return Some((place_label(curves, size, centres, above), false));
     }
     let spans: Vec<(f64, f64)> = curves
         .iter()
@@ -446,7 +452,23 @@ fn place_region_label(
         .copied()
         .chain((1..20).map(|i| i as f64 / 20.0))
         .collect();
-    place_label_where(curves, size, &scan, above, covered)
+    if let Some(spot) = place_label_where(curves, size, &scan, above, covered) {
+        return Some((spot, false));
+    }
+    // The curves that bound regions, without the vertical lines.
+    let bounding = &curves[..curves.len() - vlines.min(curves.len())];
+    let centred = |xs: (f64, f64)| {
+        let mid = 0.5 * (xs.0 + xs.1);
+        spans[..bounding.len()]
+            .iter()
+            .any(|&(a, b)| a <= mid && mid <= b)
+    };
+    let fine: Vec<f64> = centres
+        .iter()
+        .copied()
+        .chain((1..100).map(|i| i as f64 / 100.0))
+        .collect();
+    place_label_where(bounding, size, &fine, above, centred).map(|spot| (spot, true))
 }
 
 /// [`place_label`] over the centres whose label span `xs` satisfies `allowed`.
@@ -584,25 +606,49 @@ fn draw<DB: DrawingBackend>(
     let curves = curves_in_unit(fig, (x0, x1), (y0, y1));
     let text = TextStyle::from((FONT, 20).into_font()).color(&RGBColor(60, 60, 60));
     let centred = text.pos(Pos::new(HPos::Center, VPos::Center));
+    // A label placed across vertical lines stands on a white box.
+    let backing = |spot: (f64, f64), size: (f64, f64)| {
+        // The text's own width (about 10 of the 11 pixels a character
+        // `label_size` reserves) and 4 pixels either side.
+        let (hw, hh) = (0.45 * size.0 + 4.0 / plot_px.0, 0.5 * size.1);
+        Rectangle::new(
+            [
+                at((spot.0 - hw, spot.1 - hh)),
+                at((spot.0 + hw, spot.1 + hh)),
+            ],
+            WHITE.filled(),
+        )
+    };
+    let vlines = fig.vlines.len();
     let stable = "steady sliding stable";
-    if let Some(spot) = place_region_label(
+    let size = label_size(stable, plot_px);
+    if let Some((spot, boxed)) = place_region_label(
         &curves,
-        label_size(stable, plot_px),
+        vlines,
+        size,
         &[0.5, 0.3, 0.7, 0.2, 0.8, 0.15, 0.85],
         fig.stable_above,
     ) {
+        if boxed {
+            chart.draw_series([backing(spot, size)]).map_err(e)?;
+        }
         chart
             .draw_series([Text::new(stable, at(spot), centred.clone())])
             .map_err(e)?;
     }
     if !fig.segments.is_empty() {
         let unstable = "unstable: stick-slip";
-        if let Some(spot) = place_region_label(
+        let size = label_size(unstable, plot_px);
+        if let Some((spot, boxed)) = place_region_label(
             &curves,
-            label_size(unstable, plot_px),
+            vlines,
+            size,
             &[0.15, 0.3, 0.5, 0.7, 0.85],
             !fig.stable_above,
         ) {
+            if boxed {
+                chart.draw_series([backing(spot, size)]).map_err(e)?;
+            }
             chart
                 .draw_series([Text::new(unstable, at(spot), centred)])
                 .map_err(e)?;
@@ -915,8 +961,9 @@ mod tests {
 
     /// A region label stands only where a curve crosses its whole width:
     /// beside a curve that starts at x = 0.6 (no onset at smaller x, one
-    /// regime at every value there) the labels sit over x >= 0.6; over a
-    /// curve too narrow for them they are left out.
+    /// regime at every value there) the labels sit over x >= 0.6. Over a
+    /// curve too narrow for them, or where a vertical line cuts every such
+    /// place, they are centred over the curve, on a white box (`true`).
     #[test]
     fn region_labels_stand_only_over_the_curve() {
         let curve: Vec<(f64, f64)> = (0..=40)
@@ -924,14 +971,34 @@ mod tests {
             .collect();
         let size = (0.2, 0.06);
         for above in [true, false] {
-            let (cx, cy) =
-                place_region_label(std::slice::from_ref(&curve), size, &[0.5, 0.3, 0.15], above)
-                    .unwrap();
+            let ((cx, cy), boxed) = place_region_label(
+                std::slice::from_ref(&curve),
+                0,
+                size,
+                &[0.5, 0.3, 0.15],
+                above,
+            )
+            .unwrap();
             assert!(cx - size.0 / 2.0 >= 0.6 && cx + size.0 / 2.0 <= 1.0, "{cx}");
             assert!(if above { cy > 0.5 } else { cy < 0.5 }, "{cy}");
+            assert!(!boxed);
         }
         let narrow = vec![vec![(0.45, 0.5), (0.55, 0.5)]];
-        assert_eq!(place_region_label(&narrow, size, &[0.5], true), None);
+        let ((cx, cy), boxed) = place_region_label(&narrow, 0, size, &[0.5], true).unwrap();
+        assert!(
+            (0.45..=0.55).contains(&cx) && cy > 0.5 && boxed,
+            "{cx} {cy}"
+        );
+        // The curve wide enough, but vertical lines at x = 0.7 and 0.85 in
+        // the way of every place over it: centred over the curve, across
+        // a line.
+        let cut = vec![
+            curve.clone(),
+            vec![(0.7, -1.0), (0.7, 2.0)],
+            vec![(0.85, -1.0), (0.85, 2.0)],
+        ];
+        let ((cx, cy), boxed) = place_region_label(&cut, 2, size, &[0.8], true).unwrap();
+        assert!((0.6..=1.0).contains(&cx) && cy > 0.5 && boxed, "{cx} {cy}");
     }
 
     /// The magnifying panel appears exactly when the band is a few pixels

@@ -52,12 +52,17 @@ pub struct CycleFold {
 #[derive(Clone, Debug)]
 pub struct CycleRun {
     pub cycles: Vec<AdhesiveCycle>,
-    /// The cycle at the scene's stiffness, when the branch reached it.
+    /// The cycle at the stiffness asked for ([`trace`]'s `at`), when the
+    /// branch passed it: where it passes it more than once (a subcritical
+    /// onset's branch, K between `K_c` and the fold of cycles), the stable
+    /// one, the cycle the rig runs on.
     pub at_scene: Option<AdhesiveCycle>,
+    /// Whether the branch reached its end stiffness `kappa_to`.
+    pub reached_end: bool,
     /// The folds of cycles located on the branch (limit points, `lpc`).
     pub folds: Vec<CycleFold>,
     /// The engine's words on how the branch ended; `None` when it reached
-    /// the scene's stiffness.
+    /// its end stiffness.
     pub stop: Option<String>,
     /// Whether the watcher stopped the branch (a stop signal).
     pub interrupted: bool,
@@ -124,23 +129,29 @@ fn grazing(last: &AdhesiveCycle, next: &AdhesiveCycle) -> Option<String> {
 }
 
 /// Continues the cycles from `onset` in `kappa` down to `kappa_to` in at
-/// most `max_steps` steps, the mesh refined up to `ntst_max` intervals.
-/// `watch` sees each cycle as it is computed (for incremental output) and
-/// stops the branch by returning `false` (a stop signal).
+/// most `max_steps` steps, the mesh refined up to `ntst_max` intervals,
+/// locating the cycle at the stiffness `at` on the way (a user point; the
+/// stable one where the branch passes `at` more than once). `watch` sees
+/// each cycle as it is computed (for incremental output) and stops the
+/// branch by returning `false` (a stop signal).
 pub fn trace<B: AdhesiveModel>(
     model: B,
     p: &AdhesiveParams,
     onset: &AdhesiveOnset,
-    kappa_to: f64,
+    (kappa_to, at): (f64, f64),
     (max_steps, ntst_max): (usize, usize),
     watch: &mut dyn FnMut(&AdhesiveCycle) -> bool,
 ) -> Result<CycleRun, NumericalError> {
     let mut q = *p;
     q.kappa = onset.kappa_c;
+    let mut user_points = vec![kappa_to];
+    if at != kappa_to {
+        user_points.push(at);
+    }
     let settings = CycleSettings {
         max_steps,
         p_min: kappa_to,
-        user_points: vec![kappa_to],
+        user_points,
         param_floor: kappa_to.min(onset.kappa_c) * 1e-3,
         mesh: continuation::periodic::Discretization {
             points: CollocationPoints::Radau,
@@ -158,7 +169,8 @@ pub fn trace<B: AdhesiveModel>(
         k,
         settings,
     )?;
-    let (mut cycles, mut at_scene, mut folds) = (Vec::new(), None, Vec::new());
+    let (mut cycles, mut at_scene, mut folds) = (Vec::new(), None::<AdhesiveCycle>, Vec::new());
+    let mut reached_end = false;
     let mut failure = None;
     let mut interrupted = false;
     for point in branch.by_ref() {
@@ -169,8 +181,19 @@ pub fn trace<B: AdhesiveModel>(
                     failure = Some(why);
                     break;
                 }
-                if let Some(user) = point.user_points().next() {
-                    at_scene = Some(record(model, p, user));
+                for user in point.user_points() {
+                    let kappa = user.cycle.p[k];
+                    // Each user point is the stiffness nearer to it.
+                    if (kappa - at).abs() <= (kappa - kappa_to).abs() {
+                        let here = record(model, p, user);
+                        // A later pass replaces an unstable cycle only.
+                        if at_scene.as_ref().is_none_or(|c| !c.stable && here.stable) {
+                            at_scene = Some(here);
+                        }
+                    }
+                    if (kappa - kappa_to).abs() <= (kappa - at).abs() {
+                        reached_end = true;
+                    }
                 }
                 if let Some(fold) = point.event(CycleEvent::Fold) {
                     folds.push(CycleFold {
@@ -191,13 +214,11 @@ pub fn trace<B: AdhesiveModel>(
             }
         }
     }
-    let stop = match (&at_scene, failure) {
-        (Some(_), _) => None,
-        (None, _) if interrupted => {
-            Some(format!("stopped by a signal after {} cycles", cycles.len()))
-        }
-        (None, Some(e)) => Some(e),
-        (None, None) => Some(
+    let stop = match failure {
+        _ if reached_end => None,
+        _ if interrupted => Some(format!("stopped by a signal after {} cycles", cycles.len())),
+        Some(e) => Some(e),
+        None => Some(
             branch
                 .stop()
                 .map_or("the branch ended".to_string(), |s| s.to_string()),
@@ -206,6 +227,7 @@ pub fn trace<B: AdhesiveModel>(
     Ok(CycleRun {
         cycles,
         at_scene,
+        reached_end,
         folds,
         stop,
         interrupted,
