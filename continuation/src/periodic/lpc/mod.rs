@@ -315,7 +315,12 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             aug: self,
             extra,
             stall,
-            steps: Cell::new([f64::INFINITY; 2]),
+            chord: Cell::new(Chord {
+                steps: [f64::INFINITY; 2],
+                evaluated: false,
+                stepped: false,
+                off: false,
+            }),
         };
         newton::iterate(&mut system, y, settings)
     }
@@ -341,24 +346,38 @@ struct FoldSystem<'s, 'a, S: VectorField> {
     aug: &'s mut Augmented<'a, S>,
     extra: Option<(&'s [f64], &'s [f64])>,
     stall: Stall,
-    /// Max norms of the last two Newton steps, the latest first.
-    steps: Cell<[f64; 2]>,
+    chord: Cell<Chord>,
+}
+
+/// When [`FoldSystem`] takes chord steps.
+#[derive(Clone, Copy, Debug)]
+struct Chord {
+    /// Max norms of the last two steps, the latest first.
+    steps: [f64; 2],
+    /// Whether the current iterate was evaluated for a chord step.
+    evaluated: bool,
+    /// Whether the step that led to it was one.
+    stepped: bool,
+    /// A chord step did not fall fast: Newton's method to the end.
+    off: bool,
 }
 
 /// A Newton step at most this fraction of the one before it (Newton's
 /// method in its quadratic phase) lets the next iteration keep the
 /// second-derivative parts of the Jacobian ([`Augmented::evaluate`]);
-/// while the steps keep falling that fast, the next one does too.
+/// while the steps keep falling that fast, the next one does too. The first
+/// chord step that does not ends them for the rest of the solve.
 const CHORD_START: f64 = 0.1;
 
 impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
     type Point = Evaluation;
 
     fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
-        let [last, before] = self.steps.get();
-        let mut e = self
-            .aug
-            .evaluate(y, before.is_finite() && last <= CHORD_START * before)?;
+        let mut c = self.chord.get();
+        let [last, before] = c.steps;
+        c.evaluated = !c.off && before.is_finite() && last <= CHORD_START * before;
+        self.chord.set(c);
+        let mut e = self.aug.evaluate(y, c.evaluated)?;
         if let Some((row, anchor)) = self.extra {
             let r: f64 = (0..y.len()).map(|i| row[i] * (y[i] - anchor[i])).sum();
             e.residual.push(r);
@@ -369,21 +388,37 @@ impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
     }
 
     fn newton_step(&mut self, e: &Evaluation) -> Result<Vec<f64>, ContinuationError> {
+        let mut c = self.chord.get();
+        c.stepped = c.evaluated;
+        self.chord.set(c);
         e.solve(&e.residual)
     }
 
     fn update(&self, y: &mut [f64], dy: &[f64]) {
         y.iter_mut().zip(dy).for_each(|(yi, d)| *yi -= d);
-        let [last, _] = self.steps.get();
-        self.steps.set([max_norm(dy), last]);
+        let mut c = self.chord.get();
+        let step = max_norm(dy);
+        // A chord step that did not fall as fast as the Newton step before
+        // it: the Jacobian's kept parts no longer do.
+        let fell_fast = step <= CHORD_START * c.steps[0];
+        c.off |= c.stepped && !fell_fast;
+        c.steps = [step, c.steps[0]];
+        self.chord.set(c);
     }
 
     fn recycle(&mut self, e: Evaluation) {
         self.aug.recycle(e);
     }
 
+    /// A chord step that fell by less than half is no sign of the rounding
+    /// floor (chord steps converge linearly): the next iteration is
+    /// Newton's, whose steps judge it.
     fn stall(&self) -> Stall {
-        self.stall
+        if self.chord.get().stepped {
+            Stall::Iterate
+        } else {
+            self.stall
+        }
     }
 
     /// A failed evaluation or solve is returned as it is at the start; once
