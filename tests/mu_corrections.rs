@@ -546,3 +546,68 @@ fn a_stick_phase_below_the_laws_range_is_named() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A cycle's orbit spans decades of `v` the scene's velocity does not: with
+/// `mu_vv < 0` its fast slips reach the side where the direct effect
+/// `A + 2 mu_vv ln v + mu_vphi ln theta` is negative, outside the law's
+/// domain. `cycles` reports the least direct effect of each orbit and warns
+/// with the cycles concerned (a stranger's serpentinite scene, 2026-11-27:
+/// slips to 0.47 m/s at a slope of -0.009, with no word). Near the onset the
+/// orbit is small and its least direct effect is the steady one,
+/// `A + (2 mu_vv - mu_vphi) ln nu` (docs/model.md); without the
+/// corrections it is `A` itself.
+#[test]
+fn cycles_that_leave_the_laws_domain_are_named() {
+    let dir = temp_dir("outside_domain");
+    let scene = dir.join("serp.toml");
+    std::fs::write(
+        &scene,
+        "A = 0.008\nB = 0.012\nmu0 = 0.6\nmu_vv = -5e-4\nmu_vphi = 3e-4\nD0 = 20.0\n\
+         V0 = 1.0\nM = 2.0\nW = 5000.0\nK = 1.5e6\nV = 5.0\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, v, err) = json_of(&[
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--json",
+        "--max-steps",
+        "60",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(code == 0 || code == 4, "{err}");
+    let cycles = v["cycles"].as_array().unwrap();
+    let first = cycles[0]["direct_effect_min"].as_f64().unwrap();
+    let steady = 0.008 + (2.0 * -5e-4 - 3e-4) * 5f64.ln();
+    assert!((first / steady - 1.0).abs() < 5e-3, "{first} vs {steady}");
+    let least = cycles
+        .iter()
+        .map(|c| c["direct_effect_min"].as_f64().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!(least < 0.0, "{least}");
+    let o = &v["outside_domain"];
+    assert_eq!(o["direct_effect_min"].as_f64().unwrap(), least);
+    let bad = cycles
+        .iter()
+        .filter(|c| c["direct_effect_min"].as_f64().unwrap() <= 0.0)
+        .count();
+    assert_eq!(o["cycles"].as_u64().unwrap() as usize, bad);
+    assert!(err.contains("leaves its domain"), "{err}");
+    // The plain law: the direct effect is A on every orbit, no warning.
+    let (code, v, err) = json_of(&[
+        "cycles",
+        "--json",
+        "--max-steps",
+        "20",
+        "--out",
+        dir.join("plain").to_str().unwrap(),
+    ]);
+    assert!(code == 0 || code == 4, "{err}");
+    let a = v["params"]["A"].as_f64().unwrap();
+    for c in v["cycles"].as_array().unwrap() {
+        assert_eq!(c["direct_effect_min"].as_f64().unwrap(), a);
+    }
+    assert!(v.get("outside_domain").is_none());
+}

@@ -96,6 +96,11 @@ pub struct CycleRecord {
     /// samples); below zero the friction law has left its physical range
     /// (e.g. `mu2 < 0` at long ages), as has a spring force `s_min < 0`.
     pub friction_min: f64,
+    /// The least direct effect `d mu / d ln v = A + 2 mu_vv ln v + mu_vphi
+    /// ln theta` on the orbit (over its samples, [`direct_effect_min`]):
+    /// where it is not positive, the corrections have taken the law out of
+    /// its domain (docs/model.md).
+    pub direct_effect_min: f64,
     /// How much inertia matters on this orbit: `chi = max m |dv/dt| / A`
     /// with the scene's `m` ([`super::orbit_inertia`]).
     pub inertial_imbalance: f64,
@@ -565,7 +570,9 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
             [*tau, log.spring_force(x), log.ln_velocity(x, &c.p), phi]
         })
         .collect();
-    let friction_min = friction_min(&friction_from(log.cutoff, &c.p), &samples);
+    let law = friction_from(log.cutoff, &c.p);
+    let friction_min = friction_min(&law, &samples);
+    let direct_effect_min = direct_effect_min(&law, &samples);
     CycleRecord {
         kappa: c.p[Param::Kappa as usize],
         params: c.p.clone(),
@@ -587,6 +594,7 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
         model: log.kind,
         m: c.p[Param::M as usize],
         friction_min,
+        direct_effect_min,
         inertial_imbalance: inertial_imbalance(log, c, watch.m),
         samples,
         lpc: pt
@@ -618,6 +626,19 @@ pub fn friction_min(law: &FrictionLaw<f64>, samples: &[[f64; 4]]) -> f64 {
     samples
         .iter()
         .map(|&[_, _, ln_v, phi]| law.mu_of_logs(ln_v, phi))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The least direct effect `d mu / d ln v = A + 2 mu_vv ln v + mu_vphi ln
+/// theta` (docs/model.md, "The other corrections") over an orbit's
+/// `samples` `(t / T, s, ln v, ln theta)`; `A` itself without the
+/// corrections. Where it is not positive, friction no longer rises with the
+/// slip velocity at fixed state: the expansion in `ln v` has left its
+/// domain, and the quasi-static block has no velocity for a given force.
+pub fn direct_effect_min(law: &FrictionLaw<f64>, samples: &[[f64; 4]]) -> f64 {
+    samples
+        .iter()
+        .map(|&[_, _, ln_v, ln_theta]| law.rate_coefficient(2.0 * ln_v, ln_theta))
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -15,7 +15,7 @@
 //! change of the eigenvalues between difference steps `h` and `2 h`, and
 //! stability is decided only beyond it.
 
-use super::cycles::{friction_min, CycleMethod, CycleRecord, CycleRequest, Leg};
+use super::cycles::{direct_effect_min, friction_min, CycleMethod, CycleRecord, CycleRequest, Leg};
 use super::joined_flow::{stick_threshold, JoinedFlow, Passage, PassageError, State};
 use super::settle::SettledOrbit;
 use super::settle::{SettleError, SettleSettings};
@@ -355,6 +355,7 @@ fn record(
         model: log.kind,
         m: params.m,
         friction_min: friction_min(&params.friction(), &samples),
+        direct_effect_min: direct_effect_min(&params.friction(), &samples),
         inertial_imbalance: pas.chi,
         samples,
         lpc: None,

@@ -424,6 +424,10 @@ impl Plan {
         if let Some(n) = &negative_friction {
             observer.note(Note::Warning(n.reason.clone()));
         }
+        let outside_domain = OutsideDomain::of(&records);
+        if let Some(o) = &outside_domain {
+            observer.note(Note::Warning(o.reason.clone()));
+        }
         let leg_stops: Vec<LegStop> = outcomes
             .iter()
             .map(|(leg, outcome)| LegStop::new(*leg, outcome, request.max_steps))
@@ -522,6 +526,7 @@ impl Plan {
             orbits_file: None,
             reason: start.reason().map(str::to_string),
             negative_friction,
+            outside_domain,
             records,
             failure,
             setup,
@@ -698,6 +703,10 @@ pub struct Cycles {
     pub reason: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub negative_friction: Option<NegativeFriction>,
+    /// Cycles whose orbit leaves the friction law's domain (a direct
+    /// effect that is not positive), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub outside_domain: Option<OutsideDomain>,
     /// The cycles as computed (orbits for the figures).
     #[serde(skip)]
     pub records: Vec<CycleRecord>,
@@ -804,6 +813,53 @@ impl NegativeFriction {
                  makes mu fall without bound at long ages), so these cycles are the model's, not \
                  a real interface's",
                 bad.len()
+            ),
+        })
+    }
+}
+
+/// Cycles on whose orbit the direct effect `d mu / d ln v = A + 2 mu_vv ln
+/// v + mu_vphi ln theta` is not positive: the `(ln v)^2` and
+/// `(ln v)(ln theta)` corrections have taken the law out of the domain
+/// docs/model.md requires of it (friction rising with the slip velocity at
+/// fixed state), which the scene's own velocity satisfies but an orbit over
+/// decades of `v` need not; reported, not hidden.
+#[derive(Clone, Debug, Serialize)]
+pub struct OutsideDomain {
+    pub cycles: usize,
+    pub of: usize,
+    pub kappa_range: [f64; 2],
+    pub direct_effect_min: f64,
+    pub reason: String,
+}
+
+impl OutsideDomain {
+    /// `None` when the direct effect stays positive on every cycle.
+    fn of(records: &[CycleRecord]) -> Option<Self> {
+        let bad: Vec<&CycleRecord> = records
+            .iter()
+            .filter(|c| c.direct_effect_min <= 0.0)
+            .collect();
+        if bad.is_empty() {
+            return None;
+        }
+        let least =
+            |g: fn(&CycleRecord) -> f64| bad.iter().map(|c| g(c)).fold(f64::INFINITY, f64::min);
+        let (kappa_lo, kappa_hi) = (least(|c| c.kappa), -least(|c| -c.kappa));
+        let direct_effect_min = least(|c| c.direct_effect_min);
+        Some(OutsideDomain {
+            cycles: bad.len(),
+            of: records.len(),
+            kappa_range: [kappa_lo, kappa_hi],
+            direct_effect_min,
+            reason: format!(
+                "the friction law leaves its domain on {} of {} cycles (kappa = {kappa_lo:.6e} .. \
+                 {kappa_hi:.6e}): the direct effect d mu / d ln v = A + 2 mu_vv ln v + mu_vphi \
+                 ln theta falls to {direct_effect_min:.4e} on their orbits, where friction no \
+                 longer rises with the slip velocity; these cycles are those of the \
+                 extrapolated law, not of the corrections' range of validity (docs/model.md)",
+                bad.len(),
+                records.len()
             ),
         })
     }

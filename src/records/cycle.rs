@@ -151,6 +151,9 @@ pub struct Cycle {
     /// Why the stability is undecidable (JSON only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stability_reason: Option<String>,
+    /// The least direct effect `d mu / d ln v` on the orbit (JSON only);
+    /// not positive: the law outside its domain.
+    pub direct_effect_min: f64,
 }
 
 impl CsvRecord for Cycle {
@@ -162,6 +165,7 @@ impl CsvRecord for Cycle {
         "trivial_multiplier_error_reason",
         "error_estimate_reason",
         "stability_reason",
+        "direct_effect_min",
     ];
 }
 
@@ -204,6 +208,7 @@ impl Cycle {
             }),
             error_estimate_reason: c.error_estimate.is_none().then_some(ESTIMATE_UNAVAILABLE),
             stability_reason: c.stability_reason(),
+            direct_effect_min: c.direct_effect_min,
         }
     }
 }
