@@ -1034,3 +1034,33 @@ fn simulate_tells_steady_sliding_from_stick_slip() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The adhesive `cycles --json` speaks the experimenter's units beside the
+/// dimensionless values, as its CSV does (a stranger, 2026-11-27: the JSON
+/// held `period: 75.76` in units of `tau_out` only). The built-in gel:
+/// `F_a = 0.05 N`, `V_s = 0.025 µm/s`, `tau_out = 1 s`, so
+/// `K = kappa F_a / (V_s tau_out) = 2e6 kappa N/m`.
+#[test]
+fn adhesive_cycles_json_carries_the_physical_units() {
+    let dir = temp_dir("adhesive_cycle_units");
+    let out = dir.to_str().unwrap();
+    let (code, v, err) = json_of(&["cycles", "--scene", "gel", "--json", "--out", out]);
+    assert_eq!(code, 0, "{err}");
+    let (f_a, v_s_um, tau_out) = (0.05, 0.025, 1.0);
+    let mut all: Vec<&serde_json::Value> = v["cycles"].as_array().unwrap().iter().collect();
+    all.push(&v["at_scene"]);
+    for c in all {
+        let f = |k: &str| c[k].as_f64().unwrap_or_else(|| panic!("{k} in {c}"));
+        let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-14;
+        assert!(close(
+            f("K_N_per_m"),
+            f("kappa") * f_a / (v_s_um * 1e-6 * tau_out)
+        ));
+        assert!(close(f("period_s"), f("period") * tau_out));
+        assert!(close(f("force_drop_N"), (f("s_max") - f("s_min")) * f_a));
+        assert!(close(f("s_min_N"), f("s_min") * f_a));
+        assert!(close(f("v_max_um_per_s"), f("u_max") * v_s_um));
+    }
+    // The scene's own K = 200 N/m.
+    assert!((v["at_scene"]["K_N_per_m"].as_f64().unwrap() / 200.0 - 1.0).abs() < 1e-12);
+}

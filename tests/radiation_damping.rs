@@ -622,3 +622,26 @@ fn hopf_reports_the_damped_slope() {
         "{out}"
     );
 }
+
+/// Damping leaves steady friction unchanged: `hopf`'s text gives its slope
+/// `d mu_ss / d ln V = A - B` at `nu = 1` (where the ln² term's share
+/// vanishes) and says which part of `mu_v` is the damping's (a stranger,
+/// 2026-11-27: the slope of the spring force was printed under the name of
+/// steady friction's).
+#[test]
+fn hopf_names_the_steady_slope_and_the_dampings_share_of_mu_v() {
+    let (code, text, err) = stickslip(&[
+        "hopf", "--set", "eta=1e4", "--set", "A=0.01", "--set", "B=0.015",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("steady sliding at"))
+        .unwrap();
+    assert!(line.contains("d mu_ss/d ln V = -5.000000e-3"), "{line}");
+    assert!(line.contains("the direct effect 1.000000e-2"), "{line}");
+    assert!(
+        line.contains("with the damping d (mu_ss + eta_d nu)/d ln V"),
+        "{line}"
+    );
+}

@@ -1067,10 +1067,17 @@ pub fn cycles_watched(
         complete: stop.is_empty(),
         stop: (!stop.is_empty()).then(|| stop.join("; ")),
         interrupted: run.interrupted,
-        cycles: run.cycles,
-        at_scene,
+        cycles: run.cycles.into_iter().map(|c| c.in_units(&u)).collect(),
+        at_scene: at_scene.map(|c| c.in_units(&u)),
         at_scene_reason,
-        folds: run.folds,
+        folds: run
+            .folds
+            .into_iter()
+            .map(|f| CycleFold {
+                cycle: f.cycle.in_units(&u),
+                ..f
+            })
+            .collect(),
         simulated,
         setup,
     })

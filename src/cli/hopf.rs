@@ -152,12 +152,31 @@ fn print_text(setup: &Setup, report: &HopfReport, units: TextUnits) {
         ),
     };
     println!("parameters (dimensionless, docs/model.md; {listed}");
+    // With radiation damping `mu_v` is the resisting force's slope: the
+    // friction's direct effect plus `eta_d nu` (docs/model.md), which leaves
+    // steady friction `mu_ss` itself unchanged.
+    let damping = p.eta_d * p.nu;
+    let slope = report.mu_v - damping - report.mu_phi;
+    let (mu_v, damped) = if damping > 0.0 {
+        (
+            format!(
+                "{:.6e} (the direct effect {:.6e} plus the damping eta_d nu = {damping:.6e})",
+                report.mu_v,
+                report.mu_v - damping
+            ),
+            format!(
+                ", with the damping d (mu_ss + eta_d nu)/d ln V = {:.6e}",
+                report.mu_v - report.mu_phi
+            ),
+        )
+    } else {
+        (format!("{:.6e}", report.mu_v), String::new())
+    };
     println!(
-        "steady sliding at V = {:.4e} µm/s: mu_v = {:.6e}, mu_phi = {:.6e}, d mu_ss/d ln V = {:.6e}",
+        "steady sliding at V = {:.4e} µm/s: mu_v = {mu_v}, mu_phi = {:.6e}, d mu_ss/d ln V = \
+         {slope:.6e}{damped}",
         setup.scene.units.velocity_um_s(p.nu),
-        report.mu_v,
         report.mu_phi,
-        report.mu_v - report.mu_phi
     );
     match &report.outcome {
         HopfStatus::Hopf(o) => {

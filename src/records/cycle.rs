@@ -151,8 +151,8 @@ pub struct Cycle {
     /// Why the stability is undecidable (JSON only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stability_reason: Option<String>,
-    /// The least direct effect `d mu / d ln v` on the orbit (JSON only);
-    /// not positive: the law outside its domain.
+    /// The least direct effect `d mu / d ln v` on the orbit (the last CSV
+    /// column); not positive: the law outside its domain.
     pub direct_effect_min: f64,
 }
 
@@ -165,7 +165,6 @@ impl CsvRecord for Cycle {
         "trivial_multiplier_error_reason",
         "error_estimate_reason",
         "stability_reason",
-        "direct_effect_min",
     ];
 }
 

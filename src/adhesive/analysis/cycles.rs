@@ -12,6 +12,7 @@
 use super::onset::AdhesiveOnset;
 use crate::adhesive::block::AdhesiveModel;
 use crate::adhesive::params::{AdhesiveParam, AdhesiveParams};
+use crate::adhesive::scene::AdhesiveUnits;
 use crate::error::NumericalError;
 use continuation::periodic::CollocationPoints;
 use continuation::periodic::{CycleBranch, CycleEvent, CyclePoint, CycleSettings};
@@ -36,6 +37,53 @@ pub struct AdhesiveCycle {
     /// The orbit `(t / period, s, u, n)` sampled.
     #[serde(skip)]
     pub orbit: Vec<[f64; 4]>,
+    /// The same cycle in the scene's units, beside the dimensionless
+    /// values: set by the job that knows the units
+    /// ([`AdhesiveCycle::in_units`]).
+    #[serde(flatten)]
+    pub units: Option<CycleInUnits>,
+}
+
+/// An adhesive cycle in the experimenter's units (the columns of the
+/// `cycles` CSV and fields of its JSON).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct CycleInUnits {
+    #[serde(rename = "K_N_per_m")]
+    pub k_n_per_m: f64,
+    pub period_s: f64,
+    /// The force drop of a slip, `s_max - s_min` in N.
+    #[serde(rename = "force_drop_N")]
+    pub force_drop_n: f64,
+    #[serde(rename = "s_min_N")]
+    pub s_min_n: f64,
+    #[serde(rename = "s_max_N")]
+    pub s_max_n: f64,
+    pub v_min_um_per_s: f64,
+    pub v_max_um_per_s: f64,
+}
+
+impl CycleInUnits {
+    /// The cycle `c` in the units `u`.
+    pub fn of(c: &AdhesiveCycle, u: &AdhesiveUnits) -> Self {
+        CycleInUnits {
+            k_n_per_m: u.stiffness_n_m(c.kappa),
+            period_s: u.time_s(c.period),
+            force_drop_n: u.force_n(c.s_max - c.s_min),
+            s_min_n: u.force_n(c.s_min),
+            s_max_n: u.force_n(c.s_max),
+            v_min_um_per_s: u.velocity_um_s(c.u_min),
+            v_max_um_per_s: u.velocity_um_s(c.u_max),
+        }
+    }
+}
+
+impl AdhesiveCycle {
+    /// The cycle with its values in the units `u` beside the
+    /// dimensionless ones.
+    pub fn in_units(mut self, u: &AdhesiveUnits) -> Self {
+        self.units = Some(CycleInUnits::of(&self, u));
+        self
+    }
 }
 
 /// A fold of cycles (limit point, `lpc`) located on the branch: the
@@ -91,6 +139,7 @@ fn record<B: AdhesiveModel>(model: B, p: &AdhesiveParams, point: &CyclePoint) ->
         n_max,
         stable: point.stability.is_stable(),
         orbit,
+        units: None,
     }
 }
 
