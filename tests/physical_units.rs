@@ -429,6 +429,7 @@ fn csv_columns_carry_units() {
         "inertial_imbalance",
         "m",
         "friction_min",
+        "direct_effect_min",
         "omega",
         "l1",
         "criticality",

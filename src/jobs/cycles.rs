@@ -773,6 +773,37 @@ pub fn branch_status(
     }
 }
 
+/// The cycles of a branch a check picks out (a warning's subject), with
+/// their stiffness range.
+struct Flagged<'a> {
+    cycles: Vec<&'a CycleRecord>,
+    kappa_range: [f64; 2],
+}
+
+impl<'a> Flagged<'a> {
+    /// The cycles of `records` for which `bad` holds; `None` for none.
+    fn among(records: &'a [CycleRecord], bad: impl Fn(&CycleRecord) -> bool) -> Option<Self> {
+        let cycles: Vec<&CycleRecord> = records.iter().filter(|c| bad(c)).collect();
+        if cycles.is_empty() {
+            return None;
+        }
+        let mut flagged = Flagged {
+            cycles,
+            kappa_range: [0.0; 2],
+        };
+        flagged.kappa_range = [flagged.least(|c| c.kappa), -flagged.least(|c| -c.kappa)];
+        Some(flagged)
+    }
+
+    /// The least of `g` over the cycles.
+    fn least(&self, g: fn(&CycleRecord) -> f64) -> f64 {
+        self.cycles
+            .iter()
+            .map(|c| g(c))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
 /// Cycles on which the friction coefficient, or the spring force that
 /// balances it, falls below zero: the friction law outside its physical
 /// range (a block pulled forward by friction), reported, not hidden.
@@ -789,21 +820,13 @@ pub struct NegativeFriction {
 impl NegativeFriction {
     /// `None` when friction and spring force stay non-negative on every cycle.
     fn of(records: &[CycleRecord]) -> Option<Self> {
-        let bad: Vec<&CycleRecord> = records
-            .iter()
-            .filter(|c| c.friction_min < 0.0 || c.s_min < 0.0)
-            .collect();
-        if bad.is_empty() {
-            return None;
-        }
-        let least =
-            |g: fn(&CycleRecord) -> f64| bad.iter().map(|c| g(c)).fold(f64::INFINITY, f64::min);
-        let (kappa_lo, kappa_hi) = (least(|c| c.kappa), -least(|c| -c.kappa));
-        let (friction_min, s_min) = (least(|c| c.friction_min), least(|c| c.s_min));
+        let bad = Flagged::among(records, |c| c.friction_min < 0.0 || c.s_min < 0.0)?;
+        let [kappa_lo, kappa_hi] = bad.kappa_range;
+        let (friction_min, s_min) = (bad.least(|c| c.friction_min), bad.least(|c| c.s_min));
         Some(NegativeFriction {
-            cycles: bad.len(),
+            cycles: bad.cycles.len(),
             of: records.len(),
-            kappa_range: [kappa_lo, kappa_hi],
+            kappa_range: bad.kappa_range,
             friction_min,
             s_min,
             reason: format!(
@@ -812,7 +835,7 @@ impl NegativeFriction {
                  {s_min:.4e}; the friction law is outside its physical range there (e.g. mu2 < 0 \
                  makes mu fall without bound at long ages), so these cycles are the model's, not \
                  a real interface's",
-                bad.len()
+                bad.cycles.len()
             ),
         })
     }
@@ -836,21 +859,13 @@ pub struct OutsideDomain {
 impl OutsideDomain {
     /// `None` when the direct effect stays positive on every cycle.
     fn of(records: &[CycleRecord]) -> Option<Self> {
-        let bad: Vec<&CycleRecord> = records
-            .iter()
-            .filter(|c| c.direct_effect_min <= 0.0)
-            .collect();
-        if bad.is_empty() {
-            return None;
-        }
-        let least =
-            |g: fn(&CycleRecord) -> f64| bad.iter().map(|c| g(c)).fold(f64::INFINITY, f64::min);
-        let (kappa_lo, kappa_hi) = (least(|c| c.kappa), -least(|c| -c.kappa));
-        let direct_effect_min = least(|c| c.direct_effect_min);
+        let bad = Flagged::among(records, |c| c.direct_effect_min <= 0.0)?;
+        let [kappa_lo, kappa_hi] = bad.kappa_range;
+        let direct_effect_min = bad.least(|c| c.direct_effect_min);
         Some(OutsideDomain {
-            cycles: bad.len(),
+            cycles: bad.cycles.len(),
             of: records.len(),
-            kappa_range: [kappa_lo, kappa_hi],
+            kappa_range: bad.kappa_range,
             direct_effect_min,
             reason: format!(
                 "the friction law leaves its domain on {} of {} cycles (kappa = {kappa_lo:.6e} .. \
@@ -858,7 +873,7 @@ impl OutsideDomain {
                  ln theta falls to {direct_effect_min:.4e} on their orbits, where friction no \
                  longer rises with the slip velocity; these cycles are those of the \
                  extrapolated law, not of the corrections' range of validity (docs/model.md)",
-                bad.len(),
+                bad.cycles.len(),
                 records.len()
             ),
         })
