@@ -150,23 +150,29 @@ pub enum ContinuationError {
         param: f64,
     },
     #[error(
-        "the Hopf point beside the Bautin point at {param_name} = {bautin:.10e} is not \
-         subcritical (l1 = {l1:.3e}, rounding bound {bound:.1e}): its cycles do not fold back; \
-         start from a Hopf point on the Bautin point's other side"
+        "the Hopf point at {param_name} = {at:.10e} beside the Bautin point at {bautin:.10e} \
+         is not subcritical beyond rounding (l1 = {l1:.3e}, rounding bound {bound:.1e}): its \
+         cycles do not fold back; the folds of a Bautin point with l2 < 0 lie where l1 > 0, so \
+         start from a Hopf point on that side, farther from the Bautin point where l1 is within \
+         its bound"
     )]
     NotSubcritical {
         param_name: String,
+        /// The second parameter at the Hopf point beside, and at the Bautin point.
+        at: f64,
         bautin: f64,
         l1: f64,
         bound: f64,
     },
     #[error(
-        "the cycles born beside the Bautin point at {param_name} = {bautin:.10e} did not fold \
-         back before their branch ended{}",
+        "the cycles born at the Hopf point at {param_name} = {at:.10e} beside the Bautin point \
+         at {bautin:.10e} did not fold back before their branch ended{}",
         stop.map_or(String::new(), |s| format!(" ({s})"))
     )]
     NoFoldOfCycles {
         param_name: String,
+        /// The second parameter at the Hopf point beside, and at the Bautin point.
+        at: f64,
         bautin: f64,
         /// How the branch of cycles ended (set by the driver whenever its
         /// iteration ended without an error).

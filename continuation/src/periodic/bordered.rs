@@ -609,7 +609,7 @@ impl SmallLu {
 }
 
 /// `target` holds a matrix of shape `shape` (its entries arbitrary), reusing its storage.
-fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
+pub(super) fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
     if target.shape() != (rows, cols) {
         *target = DMatrix::zeros(rows, cols);
     }

@@ -167,8 +167,11 @@ impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
     /// first fold is the one of the cycles born at `beside`, a subcritical
     /// point of the same Hopf curve near the Bautin point
     /// ([`fold_beside_bautin`]; at the Bautin point itself the folded cycles
-    /// are vanishingly small). The normal form at `beside` is computed in
-    /// `f64`; [`fold_beside_bautin`] takes one computed otherwise.
+    /// are vanishingly small). For a Bautin point with `l2 < 0`, whose
+    /// folds lie on the side where `l1 > 0` (with `l2 > 0` they lie on the
+    /// supercritical side, which this constructor does not take). The
+    /// normal form at `beside` is computed in `f64`;
+    /// [`fold_beside_bautin`] takes one computed otherwise.
     pub fn from_bautin(
         sys: &'a S,
         bautin: &HopfCurvePoint,
@@ -209,9 +212,12 @@ pub fn fold_beside_bautin<S: VectorField>(
     k1: usize,
     cycles: CycleSettings,
 ) -> Result<Cycle, ContinuationError> {
-    if nf.l1 <= nf.l1_error_bound {
+    let subcritical = nf.l1 > nf.l1_error_bound;
+    // Also a NaN is refused.
+    if !subcritical {
         return Err(ContinuationError::NotSubcritical {
             param_name: sys.param_name(k2),
+            at: p[k2],
             bautin,
             l1: nf.l1,
             bound: nf.l1_error_bound,
@@ -225,6 +231,7 @@ pub fn fold_beside_bautin<S: VectorField>(
     }
     Err(ContinuationError::NoFoldOfCycles {
         param_name: sys.param_name(k2),
+        at: p[k2],
         bautin,
         stop: branch.stop(),
     })

@@ -24,7 +24,7 @@ mod gradient;
 
 pub use curve::{fold_beside_bautin, FoldsOfCycles, LpcCurve, LpcCurveSettings};
 
-use super::bordered::{Bordered, BorderedStore, CyclicReduction};
+use super::bordered::{shaped, Bordered, BorderedStore, CyclicReduction};
 use super::collocation::{Collocation, Linearization};
 use super::cycle::Cycle;
 use crate::error::{ContinuationError, NewtonFailure};
@@ -77,12 +77,6 @@ struct Evaluation {
     rows: DMatrix<f64>,
     v: Vec<f64>,
     psi: Vec<f64>,
-    /// The gradient of `phi = psi^T A v` (`-dg` up to its scale), `dF/dp2`
-    /// on the collocation rows (curves), and the scale `g`'s row is divided
-    /// by: kept for a chord step ([`Augmented::evaluate`]).
-    gradient: Vec<f64>,
-    fp2: Vec<f64>,
-    scale: f64,
     /// Storage of [`Evaluation::solve`]: the dense rows being reduced and
     /// the bordered system's.
     solves: Cell<Option<(DMatrix<f64>, BorderedStore)>>,
@@ -101,14 +95,6 @@ impl Evaluation {
         let solved = system.solve_into(rhs, &mut x);
         self.solves.set(Some((rows, system.into_store())));
         solved.map(|()| x)
-    }
-}
-
-/// `target` holds a matrix of shape `shape` (its entries arbitrary),
-/// reusing its storage.
-fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
-    if target.shape() != (rows, cols) {
-        *target = DMatrix::zeros(rows, cols);
     }
 }
 
@@ -146,7 +132,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             spare: None,
         };
         for _ in 0..2 {
-            let e = aug.evaluate(&y, false)?;
+            let e = aug.evaluate(&y)?;
             aug.update_borders(&e);
             aug.recycle(e);
         }
@@ -177,12 +163,8 @@ impl<'a, S: VectorField> Augmented<'a, S> {
     /// `(v, g)` and `(psi, gamma)` solve the bordered system and its transpose
     /// on one structured factorization (`b` a border column, `c^T` a dense
     /// row, next to `dF/dT` and the phase condition); the Newton matrix
-    /// shares its reduction of the collocation rows. With `chord`, the
-    /// Jacobian's row of `g` and column of `p2` (second derivatives of the
-    /// field, a third of the work) are those of the last evaluation, the
-    /// rest is evaluated here: a chord step in those two, for Newton's
-    /// method in its quadratic phase.
-    fn evaluate(&mut self, y: &[f64], chord: bool) -> Result<Evaluation, ContinuationError> {
+    /// shares its reduction of the collocation rows.
+    fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
         let n = self.coll.sys.dim();
         let nn = self.nn();
         if let Some(k) = self.k2 {
@@ -206,9 +188,6 @@ impl<'a, S: VectorField> Augmented<'a, S> {
                     rows: DMatrix::zeros(0, 0),
                     v: Vec::new(),
                     psi: Vec::new(),
-                    gradient: Vec::new(),
-                    fp2: Vec::new(),
-                    scale: 0.0,
                     solves: Cell::new(None),
                 }
             }
@@ -247,25 +226,21 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         e.v.extend_from_slice(&vg[..nn + 1]);
         e.psi.clear();
         e.psi.extend_from_slice(&psi[..nn + 1]);
-        let k = 2 + usize::from(self.k2.is_some());
-        if !(chord && e.gradient.len() == nn + k) {
-            (e.gradient, e.fp2) = adjoint_gradient(&self.coll, z, &e.v, &e.psi, self.k2);
-            // g's row: dg = -grad(phi), scaled to unit size (the scale of g
-            // is arbitrary, set by the bordering vectors).
-            e.scale = e
-                .gradient
-                .iter()
-                .fold(0.0f64, |a, v| a.max(v.abs()))
-                .max(f64::MIN_POSITIVE);
-        }
-        let (grad, scale) = (&e.gradient, e.scale);
+        let (grad, fp2) = adjoint_gradient(&self.coll, z, &e.v, &e.psi, self.k2);
+        let k = grad.len() - nn;
         shaped(&mut e.columns, (nn, k));
         e.columns.columns_mut(0, 2).copy_from(reduction.border());
         if self.k2.is_some() {
             let column = &mut e.columns.as_mut_slice()[2 * nn..3 * nn];
-            column.copy_from_slice(&e.fp2[..nn]);
+            column.copy_from_slice(&fp2[..nn]);
             reduction.apply_r(column);
         }
+        // g's row: dg = -grad(phi), scaled to unit size (the scale of g is
+        // arbitrary, set by the bordering vectors).
+        let scale = grad
+            .iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
         shaped(&mut e.rows, (k, nn + k));
         e.rows.fill(0.0);
         e.rows
@@ -274,7 +249,7 @@ impl<'a, S: VectorField> Augmented<'a, S> {
         e.rows
             .row_mut(1)
             .iter_mut()
-            .zip(grad)
+            .zip(&grad)
             .for_each(|(r, g)| *r = -g / scale);
         e.residual.clear();
         e.residual.extend_from_slice(&e.lin.residual);
@@ -315,12 +290,6 @@ impl<'a, S: VectorField> Augmented<'a, S> {
             aug: self,
             extra,
             stall,
-            chord: Cell::new(Chord {
-                steps: [f64::INFINITY; 2],
-                evaluated: false,
-                stepped: false,
-                off: false,
-            }),
         };
         newton::iterate(&mut system, y, settings)
     }
@@ -346,38 +315,13 @@ struct FoldSystem<'s, 'a, S: VectorField> {
     aug: &'s mut Augmented<'a, S>,
     extra: Option<(&'s [f64], &'s [f64])>,
     stall: Stall,
-    chord: Cell<Chord>,
 }
-
-/// When [`FoldSystem`] takes chord steps.
-#[derive(Clone, Copy, Debug)]
-struct Chord {
-    /// Max norms of the last two steps, the latest first.
-    steps: [f64; 2],
-    /// Whether the current iterate was evaluated for a chord step.
-    evaluated: bool,
-    /// Whether the step that led to it was one.
-    stepped: bool,
-    /// A chord step did not fall fast: Newton's method to the end.
-    off: bool,
-}
-
-/// A Newton step at most this fraction of the one before it (Newton's
-/// method in its quadratic phase) lets the next iteration keep the
-/// second-derivative parts of the Jacobian ([`Augmented::evaluate`]);
-/// while the steps keep falling that fast, the next one does too. The first
-/// chord step that does not ends them for the rest of the solve.
-const CHORD_START: f64 = 0.1;
 
 impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
     type Point = Evaluation;
 
     fn evaluate(&mut self, y: &[f64]) -> Result<Evaluation, ContinuationError> {
-        let mut c = self.chord.get();
-        let [last, before] = c.steps;
-        c.evaluated = !c.off && before.is_finite() && last <= CHORD_START * before;
-        self.chord.set(c);
-        let mut e = self.aug.evaluate(y, c.evaluated)?;
+        let mut e = self.aug.evaluate(y)?;
         if let Some((row, anchor)) = self.extra {
             let r: f64 = (0..y.len()).map(|i| row[i] * (y[i] - anchor[i])).sum();
             e.residual.push(r);
@@ -388,37 +332,15 @@ impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
     }
 
     fn newton_step(&mut self, e: &Evaluation) -> Result<Vec<f64>, ContinuationError> {
-        let mut c = self.chord.get();
-        c.stepped = c.evaluated;
-        self.chord.set(c);
         e.solve(&e.residual)
-    }
-
-    fn update(&self, y: &mut [f64], dy: &[f64]) {
-        y.iter_mut().zip(dy).for_each(|(yi, d)| *yi -= d);
-        let mut c = self.chord.get();
-        let step = max_norm(dy);
-        // A chord step that did not fall as fast as the Newton step before
-        // it: the Jacobian's kept parts no longer do.
-        let fell_fast = step <= CHORD_START * c.steps[0];
-        c.off |= c.stepped && !fell_fast;
-        c.steps = [step, c.steps[0]];
-        self.chord.set(c);
     }
 
     fn recycle(&mut self, e: Evaluation) {
         self.aug.recycle(e);
     }
 
-    /// A chord step that fell by less than half is no sign of the rounding
-    /// floor (chord steps converge linearly): the next iteration is
-    /// Newton's, whose steps judge it.
     fn stall(&self) -> Stall {
-        if self.chord.get().stepped {
-            Stall::Iterate
-        } else {
-            self.stall
-        }
+        self.stall
     }
 
     /// A failed evaluation or solve is returned as it is at the start; once
