@@ -451,11 +451,17 @@ fn print_text(r: &Diagram, units: TextUnits) {
         .iter()
         .any(|p| p.criticality == Criticality::Subcritical);
     // With a Bautin point in the range, the stops above say why its curve
-    // of folds is missing.
+    // of folds is missing, if one was started.
     let bautin = records
         .special
         .iter()
         .any(|s| s.kind == SpecialKind::Bautin);
+    if subcritical && records.folds.is_empty() && bautin && d.lpc.stops.is_empty() {
+        println!(
+            "  no curve of folds of cycles was started from the Bautin points: no subcritical \
+             point of the Hopf curve lies far enough from them (2 % in V) to start from"
+        );
+    }
     if subcritical && records.folds.is_empty() && !bautin {
         println!(
             "  the onset is subcritical (hysteretic) but no Bautin point lies in the range, and the \
