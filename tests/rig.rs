@@ -544,11 +544,11 @@ fn cycle_branch_in_velocity_and_the_cycle_at_the_rigs_velocity() {
     assert!(rel(at[0]["V_um_per_s"].as_f64().unwrap(), V) < 1e-12);
     // The CSV has the same cycles, the control after the existing columns,
     // then the cycle's label (what `cycles --from FILE --index N` names),
-    // then the columns added since (log10_v_min).
+    // then the columns added since (log10_v_min, direct_effect_min).
     let csv = std::fs::read_to_string(dir.join("rig-cycles-in-V.csv")).unwrap();
     let header = csv.lines().nth(1).unwrap();
     assert!(
-        header.ends_with("K_N_per_m,delta_s_N,nu,V_um_per_s,label,log10_v_min"),
+        header.ends_with("K_N_per_m,delta_s_N,nu,V_um_per_s,label,log10_v_min,direct_effect_min"),
         "{header}"
     );
     assert_eq!(csv.lines().count(), 2 + cycles.len());
