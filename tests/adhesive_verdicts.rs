@@ -872,3 +872,22 @@ fn the_stability_figure_labels_its_regions_over_a_narrow_curve() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Only `diagram` draws a range the scene's velocity may lie outside: the
+/// note that the operating point is "not drawn" belongs to it, not to
+/// `hopf` or `cycles` (a stranger, 2026-11-27).
+#[test]
+fn the_not_drawn_note_is_the_diagrams_alone() {
+    let dir = temp_dir("not_drawn_note");
+    let out = dir.to_str().unwrap();
+    let (code, text, err) = stickslip(&["hopf", "--scene", "gel", "--set", "V=2000"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!text.contains("not drawn"), "{text}");
+    let (code, text, err) =
+        stickslip(&["diagram", "--scene", "gel", "--set", "V=2000", "--out", out]);
+    assert!(code == 0 || code == 4, "{err}");
+    assert!(
+        text.contains("the scene's velocity lies outside the diagram's range: not drawn"),
+        "{text}"
+    );
+}

@@ -645,3 +645,31 @@ fn hopf_names_the_steady_slope_and_the_dampings_share_of_mu_v() {
         "{line}"
     );
 }
+
+/// Without an onset `cycles` simulates the scene from a stick; its verdict
+/// on the rig then says what those simulations found, instead of advising
+/// the simulations it has just run (a stranger, 2026-11-27).
+#[test]
+fn cycles_without_an_onset_reports_its_own_search() {
+    let dir = temp_dir("no_onset_search");
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--set",
+        "eta=1e4",
+        "--set",
+        "A=0.01",
+        "--set",
+        "B=0.015",
+        "--set",
+        "kappa=0.001",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(code == 0 || code == 4, "{err}");
+    let all = format!("{text}{err}");
+    assert!(
+        all.contains("the simulations from a stick found no cycle"),
+        "{all}"
+    );
+    assert!(!all.contains("look for it"), "{all}");
+}

@@ -766,7 +766,7 @@ fn judge_scene(
         OnsetOutcome::StableForAllStiffness { .. } => {
             let (regime, reason) = judge_without_onset(p.kappa, None);
             op.regime = regime;
-            op.reason = op.with_range_note(reason);
+            op.reason = reason;
             return Some(op);
         }
     };
@@ -792,7 +792,7 @@ fn judge_scene(
         (regime, reason)
     };
     op.regime = regime;
-    op.reason = op.with_range_note(reason);
+    op.reason = reason;
     op.margin = Some(margin);
     op.kappa_c = Some(onset.kappa_c);
     op.k_c_n_per_m = Some(u.stiffness_n_m(onset.kappa_c));
@@ -832,7 +832,11 @@ pub fn diagram(setup: AdhesiveSetup) -> Result<AdhesiveDiagram, Error> {
             }));
         }
     }
-    let operating_point = verdict(&setup)?.operating_point;
+    // Only the diagram has a range the scene's velocity may lie outside.
+    let operating_point = verdict(&setup)?.operating_point.map(|mut op| {
+        op.reason = op.with_range_note(op.reason.clone());
+        op
+    });
     let curve_k_c = match setup.scene_model {
         Some(_) => match with_model!(setup.model_kind, b => find_onset(b, &p))? {
             OnsetOutcome::Found(onset) => Some(u.stiffness_n_m(onset.kappa_c)),
@@ -1145,10 +1149,10 @@ fn without_onset(
                 ),
             };
             op.regime = regime;
-            op.reason = op.with_range_note(format!(
+            op.reason = format!(
                 "no Hopf point at this velocity: steady sliding is linearly stable at every \
                  stiffness; {words}"
-            ));
+            );
             (
                 cycle.filter(|_| regime == Regime::Bistable),
                 format!("{stable}; {words}"),

@@ -264,14 +264,27 @@ pub fn judge(kappa: f64, onset: &StabilityAt) -> (Regime, f64, String) {
     (regime, margin, reason)
 }
 
+/// Steady sliding without a Hopf point, in words.
+const STABLE: &str = "no Hopf point at this velocity: steady sliding is linearly stable at every \
+                      stiffness";
+
+/// [`judge_without_onset`]'s words (no fold known) once `cycles` has
+/// simulated the scene from a stick and found no cycle (`why`): still
+/// undecided, since a simulation that settles on steady sliding proves no
+/// cycle absent.
+pub fn without_onset_after_search(why: &str) -> String {
+    format!(
+        "{STABLE}, but finite-amplitude stick-slip may coexist with it: no fold of cycles is \
+         known at this velocity, and the simulations from a stick found no cycle ({why})"
+    )
+}
+
 /// The regime at stiffness `kappa` where steady sliding has no Hopf point
 /// at the rig's velocity (linearly stable at every stiffness): stick-slip
 /// may still coexist with it below a fold of cycles that a traced curve of
 /// folds reaches at this velocity (past the friction minimum of the cutoff
 /// law, Brockley's hysteresis without an onset).
 pub fn judge_without_onset(kappa: f64, fold: Option<FoldAt>) -> (Regime, String) {
-    const STABLE: &str = "no Hopf point at this velocity: steady sliding is linearly stable at \
-                          every stiffness";
     match fold {
         None => (
             Regime::Undecided,

@@ -17,7 +17,9 @@ use crate::analysis::cycles::{
 };
 use crate::analysis::hopf::{Criticality, HopfPoint};
 use crate::analysis::lpc_curve::{lpc_curve_through, LpcCurves, LpcStop};
-use crate::analysis::operating_point::{judge, FoldAt, Regime, StabilityAt};
+use crate::analysis::operating_point::{
+    judge, without_onset_after_search, FoldAt, Regime, StabilityAt,
+};
 use crate::analysis::orbit_inertia::InertiaWatch;
 use crate::analysis::return_map;
 use crate::error::{Error, InputError};
@@ -218,10 +220,17 @@ impl Plan {
             spec.inertia_threshold,
             spec.model.is_none(),
         );
-        let operating = setup
+        let mut operating = setup
             .stiffness_given()
             .then(|| OperatingPoint::new(&setup, &onset, setup.scene_params.kappa));
         let start = Start::choose(&setup, onset, request.from_simulation, &watch)?;
+        // Without an onset the simulations from a stick have looked for a
+        // coexisting cycle: the verdict says what they found.
+        if let (Some(op), Some(why)) = (operating.as_mut(), start.reason()) {
+            if op.regime == Regime::Undecided && op.margin.is_none() && op.kappa > 0.0 {
+                op.reason = without_onset_after_search(why);
+            }
+        }
         let points = request
             .collocation
             .unwrap_or(collocation_for(start.first_model(setup.choice.kind)));
