@@ -7,6 +7,7 @@
 use super::files::{create_file, write, LineFile, OutputArgs, INCOMPLETE};
 use super::interrupt;
 use super::SceneArgs;
+use crate::adhesive::analysis::cycles::CycleInUnits;
 pub use crate::adhesive::jobs::Judged;
 use crate::adhesive::jobs::{
     self, AdhesiveCycles, AdhesiveHopf, AdhesiveSetup, AdhesiveSimulation,
@@ -641,7 +642,7 @@ fn cycles_row(
     u: &crate::adhesive::scene::AdhesiveUnits,
     c: &crate::adhesive::analysis::cycles::AdhesiveCycle,
 ) -> std::io::Result<()> {
-    let p = crate::adhesive::analysis::cycles::CycleInUnits::of(c, u);
+    let p = CycleInUnits::of(c, u);
     writeln!(
         csv,
         "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e}",
@@ -690,13 +691,11 @@ fn print_cycles(r: &AdhesiveCycles) {
              just above this stiffness (the table's stable column tells them apart), with \
              steady sliding unstable"
         };
+        let p = CycleInUnits::of(c, &u);
         println!(
             "fold of cycles (lpc) at K = {:.6e} N/m (kappa = {:.6e}): period {:.6e} s, force \
              drop {:.6e} N; {meaning}",
-            u.stiffness_n_m(c.kappa),
-            c.kappa,
-            u.time_s(c.period),
-            u.force_n(c.s_max - c.s_min)
+            p.k_n_per_m, c.kappa, p.period_s, p.force_drop_n
         );
     }
     if !r.cycles.is_empty() {
@@ -706,13 +705,10 @@ fn print_cycles(r: &AdhesiveCycles) {
         );
     }
     for c in &r.cycles {
+        let p = CycleInUnits::of(c, &u);
         println!(
             "  {:>12.5e} {:>12.5e} {:>12.5e} {:>13.5e} {:>9}",
-            u.stiffness_n_m(c.kappa),
-            u.time_s(c.period),
-            u.force_n(c.s_max - c.s_min),
-            u.velocity_um_s(c.u_max),
-            c.stable
+            p.k_n_per_m, p.period_s, p.force_drop_n, p.v_max_um_per_s, c.stable
         );
     }
     if let Some(c) = &r.at_scene {
@@ -723,15 +719,16 @@ fn print_cycles(r: &AdhesiveCycles) {
             Some(_) => "the scene's K",
             None => "the branch's end, 0.5 K_c: the scene gives no K",
         };
+        let p = CycleInUnits::of(c, &u);
         println!(
             "the cycle at K = {:.6e} N/m ({which}; collocation): period {:.6e} s, force drop \
              {:.6e} N (from {:.6e} to {:.6e} N), slip velocity up to {:.4e} µm/s, {}",
-            u.stiffness_n_m(c.kappa),
-            u.time_s(c.period),
-            u.force_n(c.s_max - c.s_min),
-            u.force_n(c.s_min),
-            u.force_n(c.s_max),
-            u.velocity_um_s(c.u_max),
+            p.k_n_per_m,
+            p.period_s,
+            p.force_drop_n,
+            p.s_min_n,
+            p.s_max_n,
+            p.v_max_um_per_s,
             if c.stable { "stable" } else { "unstable" }
         );
     }

@@ -461,8 +461,7 @@ fn print_text(r: &Diagram, units: TextUnits) {
             "  no curve of folds of cycles was started from the Bautin points: no subcritical \
              point of the Hopf curve lies far enough from them (2 % in V) to start from"
         );
-    }
-    if subcritical && records.folds.is_empty() && !bautin {
+    } else if subcritical && records.folds.is_empty() && !bautin {
         println!(
             "  the onset is subcritical (hysteretic) but no Bautin point lies in the range, and the \
              curves of folds of cycles bounding the hysteretic region are traced from Bautin \
