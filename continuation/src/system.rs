@@ -201,6 +201,7 @@ fn first_order_in<S: VectorField + ?Sized, const N: usize>(
 /// Jacobians `drho`, `dg` (`n x (n + 1)`, the last column along `p_k`), from
 /// one evaluation in dual numbers of `n + 1` directions (one evaluation per
 /// direction for systems of more than 7 states).
+#[inline(always)]
 pub fn implicit_first_order<S: VectorField + ?Sized>(
     sys: &S,
     x: &[f64],
@@ -224,6 +225,7 @@ pub type ImplicitFirstOrder<'o> = (
 );
 
 /// [`implicit_first_order`] with `N >= n + 1` directions.
+#[inline(always)]
 fn implicit_first_order_in<S: VectorField + ?Sized, const N: usize>(
     sys: &S,
     x: &[f64],

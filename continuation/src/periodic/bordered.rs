@@ -34,8 +34,8 @@
 use super::collocation::Linearization;
 use crate::error::ContinuationError;
 use nalgebra::{
-    Const, DMatrix, DVector, DVectorView, DVectorViewMut, Dyn, FullPivLU, SMatrix, SVector, U3, U4,
-    U5, U6,
+    Const, DMatrix, DMatrixView, DMatrixViewMut, DVector, DVectorView, DVectorViewMut, Dyn,
+    FullPivLU, SMatrix, SVector, U3, U4, U5, U6,
 };
 use smallvec::SmallVec;
 use std::borrow::Cow;
@@ -61,16 +61,29 @@ impl Householder {
         }
     }
 
-    /// Factors the block held in `self.v` (overwritten by the reflectors)
-    /// and applies `Q^T` to the columns of `trailing` (column-major, as many
-    /// rows as the block), each reflector as soon as it is formed.
-    fn factor_applying(&mut self, trailing: &mut [f64]) {
+    /// Factors the block held in the first `c` columns of `sweep` (`c` the
+    /// columns of `self.v`, which receives the reflectors) and applies `Q^T`
+    /// to the trailing columns beside it, each reflector as soon as it is
+    /// formed.
+    ///
+    /// The sweep runs on rows ([`Sweep`]): a reflector's dot products with
+    /// the columns on its right are summed side by side, one lane a column,
+    /// each in row order from `-0.0` — the sums of a reflection column by
+    /// column, to the bit, in vector instructions across the columns. The
+    /// lanes start at the group of [`LANES`] holding column `j + 1`; the
+    /// columns before it in that group (already factored) are transformed
+    /// too and never read again.
+    #[inline(always)]
+    fn factor(&mut self, sweep: &mut Sweep) {
         let (rows, cols) = self.v.shape();
+        let width = sweep.width;
+        let Sweep { w, v, .. } = sweep;
         self.r.fill(0.0);
-        let data = self.v.as_mut_slice();
         for j in 0..cols {
-            let (left, right) = data.split_at_mut((j + 1) * rows);
-            let v = &mut left[j * rows + j..];
+            let v = &mut v[..rows - j];
+            for (k, vk) in v.iter_mut().enumerate() {
+                *vk = w[(j + k) * width + j];
+            }
             let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
             // v = x - alpha e_1 with alpha of the sign opposite to x_1: no cancellation.
             let alpha = if v[0] >= 0.0 { -norm } else { norm };
@@ -80,11 +93,26 @@ impl Householder {
                 v.iter_mut().for_each(|a| *a /= size);
             }
             self.r[(j, j)] = alpha;
-            reflect_columns(v, right, rows, j);
-            for c in j + 1..cols {
-                self.r[(j, c)] = right[(c - j - 1) * rows + j];
+            self.v.as_mut_slice()[j * rows + j..(j + 1) * rows].copy_from_slice(v);
+            // x <- x - 2 (v . x) v for every column x right of column j, up
+            // to GROUPS groups of lanes at a time.
+            let mut first = (j + 1) / LANES * LANES;
+            while first < width {
+                let groups = ((width - first) / LANES).min(GROUPS);
+                let rows = &mut w[j * width + first..];
+                match groups {
+                    1 => reflect_groups::<1>(rows, width, v),
+                    2 => reflect_groups::<2>(rows, width, v),
+                    3 => reflect_groups::<3>(rows, width, v),
+                    4 => reflect_groups::<4>(rows, width, v),
+                    5 => reflect_groups::<5>(rows, width, v),
+                    _ => reflect_groups::<GROUPS>(rows, width, v),
+                }
+                first += groups * LANES;
             }
-            reflect_columns(v, trailing, rows, j);
+            for c in j + 1..cols {
+                self.r[(j, c)] = w[j * width + c];
+            }
         }
     }
 
@@ -137,59 +165,93 @@ fn reflect_one(v: &[f64], x: &mut [f64]) {
     }
 }
 
-/// Four columns reflected by `v` in one pass (rows `j..` of each); each dot
-/// product summed in row order from `-0.0`, so the result is the same as
-/// column by column.
-#[inline(always)]
-fn reflect_four(v: &[f64], quad: &mut [f64], rows: usize, j: usize) {
-    let len = v.len();
-    let (c0, rest) = quad.split_at_mut(rows);
-    let (c1, rest) = rest.split_at_mut(rows);
-    let (c2, c3) = rest.split_at_mut(rows);
-    let (c0, c1) = (&mut c0[j..][..len], &mut c1[j..][..len]);
-    let (c2, c3) = (&mut c2[j..][..len], &mut c3[j..][..len]);
-    let mut dot = [-0.0f64; 4];
-    for r in 0..len {
-        dot[0] += v[r] * c0[r];
-        dot[1] += v[r] * c1[r];
-        dot[2] += v[r] * c2[r];
-        dot[3] += v[r] * c3[r];
-    }
-    let f = dot.map(|d| 2.0 * d);
-    for r in 0..len {
-        c0[r] -= f[0] * v[r];
-        c1[r] -= f[1] * v[r];
-        c2[r] -= f[2] * v[r];
-        c3[r] -= f[3] * v[r];
-    }
-}
+/// Columns transformed side by side by [`Householder::factor`]: four
+/// lanes of `f64`, two vector registers of the baseline x86-64 target.
+const LANES: usize = 4;
 
-/// [`reflect`] on rows `j..` of every column of `columns` (column-major,
-/// `rows` entries each; `v` has `rows - j`), four columns per pass over `v`.
-/// For `v` of 1 to 16 entries the loops are instantiated with the length
-/// known at compile time (chosen once per reflector).
-fn reflect_columns(v: &[f64], columns: &mut [f64], rows: usize, j: usize) {
-    macro_rules! fixed {
-        ($($l:literal)*) => {
-            match v.len() {
-                $($l => reflect_columns_of(<&[f64; $l]>::try_from(v).unwrap(), columns, rows, j),)*
-                _ => reflect_columns_of(v, columns, rows, j),
+/// Groups of [`LANES`] reflected in one pass over the reflector: their dot
+/// products held in twelve vector registers.
+const GROUPS: usize = 6;
+
+/// `x <- x - 2 (v . x) v` for the `G` groups of [`LANES`] columns starting
+/// `rows` (row-major, row stride `width`, `v.len()` rows): each column's dot
+/// product summed in row order from `-0.0`, then its update.
+#[inline(always)]
+fn reflect_groups<const G: usize>(rows: &mut [f64], width: usize, v: &[f64]) {
+    let mut dot = [[-0.0f64; LANES]; G];
+    for (k, &vk) in v.iter().enumerate() {
+        let (row, _) = rows[k * width..][..G * LANES].as_chunks::<LANES>();
+        for (d, x) in dot.iter_mut().zip(row) {
+            for l in 0..LANES {
+                d[l] += vk * x[l];
             }
-        };
+        }
     }
-    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+    let f = dot.map(|d| d.map(|d| 2.0 * d));
+    for (k, &vk) in v.iter().enumerate() {
+        let (row, _) = rows[k * width..][..G * LANES].as_chunks_mut::<LANES>();
+        for (x, f) in row.iter_mut().zip(&f) {
+            for l in 0..LANES {
+                x[l] -= f[l] * vk;
+            }
+        }
+    }
 }
 
-/// [`reflect_columns`] for `v` as a slice or an array of fixed length.
-#[inline(always)]
-fn reflect_columns_of<V: AsRef<[f64]> + ?Sized>(v: &V, columns: &mut [f64], rows: usize, j: usize) {
-    let v = v.as_ref();
-    let mut quads = columns.chunks_exact_mut(4 * rows);
-    for quad in &mut quads {
-        reflect_four(v, quad, rows, j);
+/// A block and its trailing columns side by side, row by row (`w`, each
+/// row padded to whole [`LANES`] with columns that stay zero), for
+/// [`Householder::factor`]; with the reflector being formed (`v`).
+#[derive(Clone, Debug, Default)]
+struct Sweep {
+    w: Vec<f64>,
+    width: usize,
+    v: Vec<f64>,
+}
+
+impl Sweep {
+    /// Makes room for `rows` rows of `columns` columns (the block's and the
+    /// trailing ones); the entries are the caller's to fill.
+    fn shape(&mut self, rows: usize, columns: usize) {
+        let width = columns.div_ceil(LANES) * LANES;
+        if self.width != width || self.w.len() != rows * width {
+            self.width = width;
+            self.w = vec![0.0; rows * width];
+            self.v = vec![0.0; rows];
+        }
     }
-    for col in quads.into_remainder().chunks_exact_mut(rows) {
-        reflect_one(v, &mut col[j..]);
+
+    /// Entry `(r, c)` set to `a`.
+    #[inline(always)]
+    fn set(&mut self, r: usize, c: usize, a: f64) {
+        self.w[r * self.width + c] = a;
+    }
+
+    /// `target` (`rows x cols`) from the entries from `(r0, c0)` on.
+    #[inline(always)]
+    fn copy_into(&self, (r0, c0): (usize, usize), mut target: DMatrixViewMut<f64>) {
+        for c in 0..target.ncols() {
+            for r in 0..target.nrows() {
+                target[(r, c)] = self.w[(r0 + r) * self.width + c0 + c];
+            }
+        }
+    }
+
+    /// The `rows x cols` entries from `(r0, c0)` on set to `a`.
+    #[inline(always)]
+    fn fill(&mut self, (r0, c0): (usize, usize), (rows, cols): (usize, usize), a: f64) {
+        for r in r0..r0 + rows {
+            self.w[r * self.width + c0..][..cols].fill(a);
+        }
+    }
+
+    /// The entries from `(r0, c0)` on set to `source`.
+    #[inline(always)]
+    fn copy_from(&mut self, (r0, c0): (usize, usize), source: DMatrixView<f64>) {
+        for c in 0..source.ncols() {
+            for r in 0..source.nrows() {
+                self.w[(r0 + r) * self.width + c0 + c] = source[(r, c)];
+            }
+        }
     }
 }
 
@@ -245,12 +307,12 @@ pub struct CyclicReduction {
     scratch: FactorScratch,
 }
 
-/// Scratch of [`CyclicReduction::factor`]: an interval's end and border
-/// columns, an elimination's, and the chains of relations.
+/// Scratch of [`CyclicReduction::factor`]: an interval's block in rows, an
+/// elimination's, and the chains of relations.
 #[derive(Clone, Debug, Default)]
 struct FactorScratch {
-    ends: DMatrix<f64>,
-    rest: DMatrix<f64>,
+    sweep: Sweep,
+    pairs: Sweep,
     chain: Vec<(usize, usize, usize)>,
     next: Vec<(usize, usize, usize)>,
 }
@@ -276,6 +338,27 @@ impl CyclicReduction {
     /// Recomputes the reduction for `lin` (same state dimension), reusing
     /// the storage when the mesh has the same shape.
     pub fn factor(&mut self, lin: &Linearization) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2, detected just above.
+            return unsafe { self.factor_avx2(lin) };
+        }
+        self.factor_here(lin);
+    }
+
+    /// [`CyclicReduction::factor`] compiled for AVX2: the four lanes of
+    /// [`Householder::factor`] in one vector register. No fused
+    /// multiply-add (Rust does not contract `a * b + c`), so the same
+    /// results to the bit.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn factor_avx2(&mut self, lin: &Linearization) {
+        self.factor_here(lin);
+    }
+
+    /// [`CyclicReduction::factor`]'s work, inlined into each of its targets.
+    #[inline(always)]
+    fn factor_here(&mut self, lin: &Linearization) {
         let n = self.n;
         let ntst = lin.blocks.count();
         let mn = lin.blocks.shape().0;
@@ -307,15 +390,13 @@ impl CyclicReduction {
             self.b = vec![DMatrix::zeros(n, n); ntst];
             self.border = DMatrix::zeros(ntst * mn, BORDER);
         }
-        // The interval's end columns, then its border columns: `Q^T` is
-        // applied to both as each reflector is formed.
+        // Each interval's block in rows: its interior columns (factored),
+        // then its end columns and its border columns (`Q^T` applied to
+        // them as each reflector is formed), every row equilibrated.
         let mut scratch = std::mem::take(&mut self.scratch);
-        if scratch.ends.shape() != (mn, 2 * n + BORDER) {
-            scratch.ends = DMatrix::zeros(mn, 2 * n + BORDER);
-            scratch.rest = DMatrix::zeros(2 * n, 2 * n + BORDER);
-        }
-        // Every column of `ends` is overwritten for each interval.
-        let ends = &mut scratch.ends;
+        let (interior, ends) = ((m - 1) * n, 2 * n + BORDER);
+        let sweep = &mut scratch.sweep;
+        sweep.shape(mn, interior + ends);
         for (i, (iv, data)) in self
             .intervals
             .iter_mut()
@@ -337,38 +418,35 @@ impl CyclicReduction {
                     1.0
                 };
             }
-            let scaled = |target: &mut [f64], c: usize| {
-                for ((t, v), s) in target.iter_mut().zip(column(c)).zip(&iv.scale) {
-                    *t = s * v;
-                }
+            // Target column of each of the block's: interior, ends, border.
+            let target = |c: usize| match c {
+                c if c < n => interior + c,
+                c if c < m * n => c - n,
+                c => interior + n + c - m * n,
             };
-            let ends_data = ends.as_mut_slice();
-            for c in 0..n {
-                scaled(&mut ends_data[c * mn..(c + 1) * mn], c);
-                scaled(&mut ends_data[(n + c) * mn..(n + c + 1) * mn], m * n + c);
+            for c in 0..(m + 1) * n + BORDER {
+                let t = target(c);
+                for (r, (v, s)) in column(c).iter().zip(&iv.scale).enumerate() {
+                    sweep.set(r, t, s * v);
+                }
             }
-            for c in 0..BORDER {
-                let target = &mut ends_data[(2 * n + c) * mn..(2 * n + c + 1) * mn];
-                scaled(target, (m + 1) * n + c);
-            }
-            let interior = iv.qr.v.as_mut_slice();
-            for c in 0..(m - 1) * n {
-                scaled(&mut interior[c * mn..(c + 1) * mn], n + c);
-            }
-            iv.qr.factor_applying(ends.as_mut_slice());
-            iv.top.copy_from(&ends.view((0, 0), ((m - 1) * n, 2 * n)));
-            self.a[i].copy_from(&ends.view(((m - 1) * n, 0), (n, n)));
-            self.b[i].copy_from(&ends.view(((m - 1) * n, n), (n, n)));
-            self.border
-                .rows_mut(i * mn, mn)
-                .copy_from(&ends.columns(2 * n, BORDER));
+            iv.qr.factor(sweep);
+            sweep.copy_into((0, interior), iv.top.view_mut((0, 0), (interior, 2 * n)));
+            sweep.copy_into((interior, interior), self.a[i].view_mut((0, 0), (n, n)));
+            sweep.copy_into((interior, interior + n), self.b[i].view_mut((0, 0), (n, n)));
+            sweep.copy_into(
+                (0, interior + 2 * n),
+                self.border.view_mut((i * mn, 0), (mn, BORDER)),
+            );
         }
-        // Orthogonal cyclic reduction: (interval holding the relation, left, right).
+        // Orthogonal cyclic reduction: (interval holding the relation, left,
+        // right); each elimination's block `[b_upper; a_lower]` in rows, then
+        // the eliminated node's neighbours and the border rows.
         let (chain, next) = (&mut scratch.chain, &mut scratch.next);
         chain.clear();
         chain.extend((0..ntst).map(|i| (i, i, (i + 1) % ntst)));
-        // The eliminated node's neighbours, then the border rows.
-        let rest = &mut scratch.rest;
+        let pairs = &mut scratch.pairs;
+        pairs.shape(2 * n, n + 2 * n + BORDER);
         let mut count = 0;
         while chain.len() > 1 {
             next.clear();
@@ -381,30 +459,25 @@ impl CyclicReduction {
                 count += 1;
                 (el.node, el.left, el.right, el.upper, el.lower) =
                     (node, left, right, upper, lower);
-                el.qr.v.rows_mut(0, n).copy_from(&self.b[upper]);
-                el.qr.v.rows_mut(n, n).copy_from(&self.a[lower]);
-                rest.fill(0.0);
-                rest.view_mut((0, 0), (n, n)).copy_from(&self.a[upper]);
-                rest.view_mut((n, n), (n, n)).copy_from(&self.b[lower]);
                 let (upper_rows, lower_rows) = (
                     (upper + 1) * mn - n..(upper + 1) * mn,
                     (lower + 1) * mn - n..(lower + 1) * mn,
                 );
-                rest.view_mut((0, 2 * n), (n, BORDER))
-                    .copy_from(&self.border.rows_range(upper_rows.clone()));
-                rest.view_mut((n, 2 * n), (n, BORDER))
-                    .copy_from(&self.border.rows_range(lower_rows.clone()));
-                el.qr.factor_applying(rest.as_mut_slice());
-                el.x.copy_from(&rest.view((0, 0), (n, n)));
-                el.z.copy_from(&rest.view((0, n), (n, n)));
-                self.a[lower].copy_from(&rest.view((n, 0), (n, n)));
-                self.b[lower].copy_from(&rest.view((n, n), (n, n)));
-                self.border
-                    .rows_range_mut(upper_rows)
-                    .copy_from(&rest.view((0, 2 * n), (n, BORDER)));
-                self.border
-                    .rows_range_mut(lower_rows)
-                    .copy_from(&rest.view((n, 2 * n), (n, BORDER)));
+                pairs.copy_from((0, 0), self.b[upper].as_view());
+                pairs.copy_from((n, 0), self.a[lower].as_view());
+                pairs.copy_from((0, n), self.a[upper].as_view());
+                pairs.fill((0, 2 * n), (n, n), 0.0);
+                pairs.fill((n, n), (n, n), 0.0);
+                pairs.copy_from((n, 2 * n), self.b[lower].as_view());
+                pairs.copy_from((0, 3 * n), self.border.rows_range(upper_rows.clone()));
+                pairs.copy_from((n, 3 * n), self.border.rows_range(lower_rows.clone()));
+                el.qr.factor(pairs);
+                pairs.copy_into((0, n), el.x.view_mut((0, 0), (n, n)));
+                pairs.copy_into((0, 2 * n), el.z.view_mut((0, 0), (n, n)));
+                pairs.copy_into((n, n), self.a[lower].view_mut((0, 0), (n, n)));
+                pairs.copy_into((n, 2 * n), self.b[lower].view_mut((0, 0), (n, n)));
+                pairs.copy_into((0, 3 * n), self.border.rows_range_mut(upper_rows));
+                pairs.copy_into((n, 3 * n), self.border.rows_range_mut(lower_rows));
                 next.push((lower, left, right));
             }
             std::mem::swap(chain, next);
