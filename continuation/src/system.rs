@@ -11,9 +11,9 @@ use num_dual::{Derivative, Dual64, DualNum, DualSVec64, HyperDual64, HyperDualSV
 use smallvec::SmallVec;
 
 /// A buffer of scalars (dual-number copies of a state or parameter vector)
-/// that lives on the stack up to 8 entries, so that the derivatives below do
-/// not allocate for small systems.
-pub(crate) type Buf<D> = SmallVec<[D; 8]>;
+/// that lives on the stack up to 16 entries, so that the derivatives below do
+/// not allocate for small systems (the driven block has 11 parameters).
+pub(crate) type Buf<D> = SmallVec<[D; 16]>;
 
 /// The scalar types a vector field is evaluated with: `f64` and the dual numbers.
 pub trait Scalar: DualNum<Primitive = f64> + Copy {}
@@ -201,7 +201,6 @@ fn first_order_in<S: VectorField + ?Sized, const N: usize>(
 /// Jacobians `drho`, `dg` (`n x (n + 1)`, the last column along `p_k`), from
 /// one evaluation in dual numbers of `n + 1` directions (one evaluation per
 /// direction for systems of more than 7 states).
-#[inline(always)]
 pub fn implicit_first_order<S: VectorField + ?Sized>(
     sys: &S,
     x: &[f64],
@@ -225,7 +224,6 @@ pub type ImplicitFirstOrder<'o> = (
 );
 
 /// [`implicit_first_order`] with `N >= n + 1` directions.
-#[inline(always)]
 fn implicit_first_order_in<S: VectorField + ?Sized, const N: usize>(
     sys: &S,
     x: &[f64],

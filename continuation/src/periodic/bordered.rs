@@ -1139,6 +1139,56 @@ mod tests {
         }
     }
 
+    /// The sweep on rows sums each column's dot product with a reflector in
+    /// row order in its own lane: the border it transforms is `apply_r`'s,
+    /// which reflects one column at a time, to the bit; and the reduction
+    /// compiled for AVX2 is the baseline one, entry by entry.
+    #[test]
+    fn the_sweep_in_lanes_is_the_column_by_column_reflection_to_the_bit() {
+        let mut seed = 11;
+        for (n, m, ntst) in SHAPES {
+            let (lin, _, _, _) = random_system(&mut seed, (n, m, ntst, 2));
+            let mut reduction = CyclicReduction::new(&lin, n);
+            let mut columns = lin.border_columns();
+            let nn = columns.nrows();
+            for column in columns.as_mut_slice().chunks_exact_mut(nn) {
+                reduction.apply_r(column);
+            }
+            assert_eq!(&columns, reduction.border(), "n {n} m {m} ntst {ntst}");
+            reduction.factor_here(&lin);
+            let baseline = reduction.clone();
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the processor has AVX2, detected just above.
+                unsafe { reduction.factor_avx2(&lin) };
+            }
+            let parts = |r: &CyclicReduction| {
+                let mut all: Vec<f64> = r.border.iter().copied().collect();
+                for iv in &r.intervals {
+                    all.extend(
+                        iv.scale
+                            .iter()
+                            .chain(&iv.qr.v)
+                            .chain(&iv.qr.r)
+                            .chain(&iv.top),
+                    );
+                }
+                for el in &r.eliminations {
+                    all.extend(el.qr.v.iter().chain(&el.qr.r).chain(&el.x).chain(&el.z));
+                }
+                for (a, b) in r.a.iter().zip(&r.b) {
+                    all.extend(a.iter().chain(b));
+                }
+                all.into_iter().map(f64::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(
+                parts(&baseline),
+                parts(&reduction),
+                "n {n} m {m} ntst {ntst}"
+            );
+        }
+    }
+
     #[test]
     fn bordered_solves_with_the_matrix_and_its_transpose() {
         let mut seed = 11;

@@ -421,40 +421,6 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         z: &[f64],
         p: &[f64],
         out: IntervalOut,
-        scratch: &mut PointScratch,
-    ) -> IntervalSums {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2, detected just above.
-            return unsafe { self.interval_avx2::<N>(i, z, p, out, scratch) };
-        }
-        self.interval_here::<N>(i, z, p, out, scratch)
-    }
-
-    /// [`Collocation::interval`] compiled for AVX2 (vector registers of four
-    /// lanes for the dual numbers and the block). No fused multiply-add
-    /// (Rust does not contract `a * b + c`), so the same results to the bit.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn interval_avx2<const N: usize>(
-        &self,
-        i: usize,
-        z: &[f64],
-        p: &[f64],
-        out: IntervalOut,
-        scratch: &mut PointScratch,
-    ) -> IntervalSums {
-        self.interval_here::<N>(i, z, p, out, scratch)
-    }
-
-    /// [`Collocation::interval`]'s work, inlined into each of its targets.
-    #[inline(always)]
-    fn interval_here<const N: usize>(
-        &self,
-        i: usize,
-        z: &[f64],
-        p: &[f64],
-        out: IntervalOut,
         (jac, drho, dg): &mut PointScratch,
     ) -> IntervalSums {
         let (block, residual, phase) = out;
