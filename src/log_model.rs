@@ -55,7 +55,7 @@ use crate::params::{friction_from, Param, Params, StateLaw, N_PARAMS};
 use continuation::{Scalar, VectorField};
 
 /// The inertial or quasi-static block in `(s, ln v, ln theta)` / `(s, ln theta)`
-/// measured from `origin`.
+/// measured from an origin ([`LogBlock::origin`]).
 #[derive(Clone, Copy, Debug)]
 pub struct LogBlock {
     pub kind: ModelKind,
@@ -64,7 +64,10 @@ pub struct LogBlock {
     /// The evolution law of `theta`.
     pub state_law: StateLaw,
     /// The point `(s_o, ln v_o, ln theta_o)` the state is measured from.
-    pub origin: [f64; 3],
+    origin: [f64; 3],
+    /// `(e^w_o, e^phi_o, e^-phi_o)` of the origin, which every evaluation
+    /// of the right-hand side uses: computed once.
+    exps: [f64; 3],
 }
 
 impl VectorField for LogBlock {
@@ -133,7 +136,7 @@ impl VectorField for LogBlock {
         let law = friction_from(self.cutoff, p);
         let (kappa, nu) = (p[Param::Kappa as usize], p[Param::Nu as usize]);
         let [_, w_o, phi_o] = self.origin;
-        let ew_o = w_o.exp();
+        let [ew_o, _, e_minus_phi_o] = self.exps;
         let (x_s, x_phi) = (x[0], x[self.dim() - 1]);
         // s - mu(v, theta) = gap0 - A_s x_w, and quasi-statically 0.
         let gap0 = self.offset(&law) - law.state_change(D::from(w_o), D::from(phi_o), x_phi) + x_s;
@@ -153,7 +156,9 @@ impl VectorField for LogBlock {
         let dv = x_w.exp_m1() * ew_o;
         rho.fill(D::from(1.0));
         g[0] = kappa * ((nu - ew_o) - dv);
-        g[self.dim() - 1] = self.state_law.log_rate((w_o, phi_o), x_w, x_phi, dv);
+        g[self.dim() - 1] =
+            self.state_law
+                .log_rate((w_o, phi_o), (ew_o, e_minus_phi_o), x_w, x_phi, dv);
         if self.kind == ModelKind::Inertial {
             // v itself from its logarithm: relatively exact also at 1e-13.
             let v = (x_w + w_o).exp();
@@ -167,12 +172,25 @@ impl LogBlock {
     /// The block of `kind` with the ageing form of `params`, in the log
     /// variables themselves (origin 0), as the simulations integrate it.
     pub fn new(kind: ModelKind, params: &Params) -> Self {
+        LogBlock::at(kind, params.theta_c.is_some(), params.state_law, [0.0; 3])
+    }
+
+    /// The block of `kind` (`cutoff` ageing form, `state_law`) measured from
+    /// `origin = (s_o, ln v_o, ln theta_o)`.
+    pub fn at(kind: ModelKind, cutoff: bool, state_law: StateLaw, origin: [f64; 3]) -> Self {
+        let [_, w_o, phi_o] = origin;
         LogBlock {
             kind,
-            cutoff: params.theta_c.is_some(),
-            state_law: params.state_law,
-            origin: [0.0; 3],
+            cutoff,
+            state_law,
+            origin,
+            exps: [w_o.exp(), phi_o.exp(), (-phi_o).exp()],
         }
+    }
+
+    /// The point `(s_o, ln v_o, ln theta_o)` the state is measured from.
+    pub fn origin(&self) -> [f64; 3] {
+        self.origin
     }
 
     /// The block measured from steady sliding of `params`,
@@ -181,10 +199,12 @@ impl LogBlock {
     pub fn centered(kind: ModelKind, params: &Params) -> Self {
         let law = friction_from(params.theta_c.is_some(), &params.to_vec());
         let ln_nu = params.nu.ln();
-        LogBlock {
-            origin: [law.steady_force(params.nu), ln_nu, -ln_nu],
-            ..LogBlock::new(kind, params)
-        }
+        LogBlock::at(
+            kind,
+            params.theta_c.is_some(),
+            params.state_law,
+            [law.steady_force(params.nu), ln_nu, -ln_nu],
+        )
     }
 
     /// `c = s_o - mu0 - (A + mu_vv w_o + mu_vphi phi_o) w_o -
@@ -192,9 +212,10 @@ impl LogBlock {
     /// the origin (zero at steady sliding, up to rounding).
     fn offset<D: Scalar>(&self, law: &FrictionLaw<D>) -> D {
         let [s_o, w_o, phi_o] = self.origin;
-        let damping = law.damping(D::from(w_o.exp()));
+        let [ew_o, ephi_o, _] = self.exps;
+        let damping = law.damping(D::from(ew_o));
         let (w_o, phi_o) = (D::from(w_o), D::from(phi_o));
-        -law.mu0 - law.rate_coefficient(w_o, phi_o) * w_o - law.ageing_term(phi_o.exp()) + s_o
+        -law.mu0 - law.rate_coefficient(w_o, phi_o) * w_o - law.ageing_term(D::from(ephi_o)) + s_o
             - damping
     }
 

@@ -180,13 +180,20 @@ impl StateLaw {
 
     /// `d phi / dt` for `phi = ln theta`, from the origin `(w_o, phi_o)` of
     /// the log variables (`w = ln v`) and the state's offsets `(x_w, x_phi)`
-    /// from it, `v = e^w_o + dv`: without cancelling large terms at a
+    /// from it, `v = e^w_o + dv` (`(ew_o, ephi_o) = (e^w_o, e^-phi_o)`,
+    /// computed once per block): without cancelling large terms at a
     /// steady origin (`e^-phi_o = e^w_o`, `w_o + phi_o = 0`):
     ///
     /// - ageing: `e^-phi - e^w = (e^-phi_o - e^w_o) + e^-phi_o expm1(-x_phi) - dv`;
     /// - slip: `-v ln(v theta) = -(e^w_o + dv) ((w_o + phi_o) + x_w + x_phi)`.
-    pub fn log_rate<D: Scalar>(self, (w_o, phi_o): (f64, f64), x_w: D, x_phi: D, dv: D) -> D {
-        let (ew_o, ephi_o) = (w_o.exp(), (-phi_o).exp());
+    pub fn log_rate<D: Scalar>(
+        self,
+        (w_o, phi_o): (f64, f64),
+        (ew_o, ephi_o): (f64, f64),
+        x_w: D,
+        x_phi: D,
+        dv: D,
+    ) -> D {
         match self {
             StateLaw::Ageing => (-x_phi).exp_m1() * ephi_o - dv + (ephi_o - ew_o),
             StateLaw::Slip => -((dv + ew_o) * (x_w + x_phi + (w_o + phi_o))),

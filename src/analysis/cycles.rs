@@ -560,13 +560,13 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
     // to the accuracy of the mesh points (`Cycle::range_of`).
     let extremes = pt.extremes(log);
     let ((x_min, x_max), (ln_v_min, ln_v_max)) = (extremes[0], extremes[1]);
-    let (s_min, s_max) = (log.origin[0] + x_min, log.origin[0] + x_max);
+    let (s_min, s_max) = (log.origin()[0] + x_min, log.origin()[0] + x_max);
     let (v_min, v_max) = (ln_v_min.exp(), ln_v_max.exp());
     let samples: Vec<[f64; 4]> = c
         .samples(4)
         .iter()
         .map(|(tau, x)| {
-            let phi = log.origin[2] + x[log.dim() - 1];
+            let phi = log.origin()[2] + x[log.dim() - 1];
             [*tau, log.spring_force(x), log.ln_velocity(x, &c.p), phi]
         })
         .collect();
@@ -1101,7 +1101,7 @@ pub fn cycle_through_orbit(
 /// the engine's default `1e-3 (1 + |x*|)` of steady sliding `x*` in the log
 /// variables themselves, whatever the origin the state is measured from.
 pub fn start_amplitude(log: &LogBlock) -> f64 {
-    1e-3 * (1.0 + log.origin.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+    1e-3 * (1.0 + log.origin().iter().fold(0.0f64, |a, v| a.max(v.abs())))
 }
 
 /// Continuation settings for `req`, starting on `ntst` intervals.
@@ -1243,10 +1243,7 @@ fn follow_switching(
                 previous,
             } => (cycle, dp_ds, previous),
         };
-    let inertial = LogBlock {
-        kind: ModelKind::Inertial,
-        ..*log
-    };
+    let inertial = LogBlock::at(ModelKind::Inertial, log.cutoff, log.state_law, log.origin());
     // From the orbit where chi first exceeds the threshold, corrected at its
     // stiffness. Where the branch is nearly vertical in the stiffness (a
     // canard-like growth of the slip: chi jumps by decades in one step),

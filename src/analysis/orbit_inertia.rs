@@ -76,7 +76,7 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
         }
     };
     let ln_v = log.ln_velocity(x, p);
-    let ln_theta = log.origin[2] + x[x.len() - 1];
+    let ln_theta = log.origin()[2] + x[x.len() - 1];
     // The slope in ln v of the force the block meets, mu + eta_d v.
     let law = friction_from(log.cutoff, p);
     let mu_v = law.rate_coefficient(2.0 * ln_v, ln_theta) + law.damping(ln_v.exp());
@@ -91,7 +91,7 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
 /// `ln v` from the quasi-static slaving (exact in the log variable, also
 /// where `v` itself underflows).
 pub fn inertial_state(quasi_static: &LogBlock, x: &[f64], p: &[f64]) -> [f64; 3] {
-    let w_o = quasi_static.origin[1];
+    let w_o = quasi_static.origin()[1];
     [x[0], quasi_static.ln_velocity(x, p) - w_o, x[1]]
 }
 

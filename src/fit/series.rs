@@ -225,12 +225,7 @@ impl SeriesModel {
     /// `1e-3 rtol`).
     pub fn solve_at(&self, v: &Values<f64>, rtol: f64) -> Result<Solved, String> {
         let q = law_vector(v);
-        let block = LogBlock {
-            kind: self.kind,
-            cutoff: self.cutoff,
-            origin: [0.0; 3],
-            state_law: self.state_law,
-        };
+        let block = LogBlock::at(self.kind, self.cutoff, self.state_law, [0.0; 3]);
         let n = block.dim();
         let nu0 = self.protocol.steady_um_s / self.rig.v0_um_s;
         // X(t0) and S(t0): steady sliding, s0 = mu_ss(nu0) by dual numbers.

@@ -109,7 +109,7 @@ impl StoredOrbit {
             model: rec.log.kind,
             cutoff: rec.log.cutoff,
             state_law: rec.log.state_law,
-            origin: rec.log.origin,
+            origin: rec.log.origin(),
             params: c.p.clone(),
             period: c.period,
             collocation: points_name(c.mesh.points).to_string(),
@@ -147,12 +147,7 @@ impl StoredOrbit {
     /// (`LogBlock`) and the cycle on its mesh. The error names the field
     /// that is out of shape (a file edited by hand).
     pub fn cycle(&self) -> Result<(LogBlock, Cycle), (&'static str, String)> {
-        let log = LogBlock {
-            kind: self.model,
-            cutoff: self.cutoff,
-            state_law: self.state_law,
-            origin: self.origin,
-        };
+        let log = LogBlock::at(self.model, self.cutoff, self.state_law, self.origin);
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         if self.dim != log.dim() {
             return Err((
