@@ -47,7 +47,8 @@ use std::ops::Range;
 /// apply `Q^T` and `Q` to other columns.
 #[derive(Clone, Debug)]
 struct Householder {
-    /// Unit reflector `v_j` in rows `j..` of column `j`.
+    /// Unit reflector `v_j` in rows `j..` of column `j` (the rows above it
+    /// are not used).
     v: DMatrix<f64>,
     /// The upper triangular factor (`c x c`).
     r: DMatrix<f64>,
@@ -199,7 +200,7 @@ fn reflect_groups<const G: usize>(rows: &mut [f64], width: usize, v: &[f64]) {
 }
 
 /// A block and its trailing columns side by side, row by row (`w`, each
-/// row padded to whole [`LANES`] with columns that stay zero), for
+/// row padded to whole [`LANES`] with columns that are never read), for
 /// [`Householder::factor`]; with the reflector being formed (`v`).
 #[derive(Clone, Debug, Default)]
 struct Sweep {
@@ -1186,6 +1187,83 @@ mod tests {
                 parts(&reduction),
                 "n {n} m {m} ntst {ntst}"
             );
+        }
+    }
+
+    /// [`Householder::factor`] against the QR reflected one column at a
+    /// time with [`reflect`] (each dot product summed in row order from
+    /// `-0.0`, the arithmetic of the sweep before it ran in lanes), to the
+    /// bit: the triangular factor, the reflectors and the trailing columns,
+    /// on blocks of 1 to 14 rows, 1 to 8 columns and 0 to 22 trailing
+    /// columns (one to four passes of up to [`GROUPS`] groups of lanes),
+    /// with the scratch holding NaN from before and entries of very
+    /// different sizes.
+    #[test]
+    fn the_sweep_in_lanes_is_the_householder_qr_column_by_column_to_the_bit() {
+        let mut seed = 13;
+        let mut sweep = Sweep::default();
+        for rows in 1..=14 {
+            for cols in 1..=rows.min(8) {
+                for trailing in [0, 1, 5, 16, 22] {
+                    let width = cols + trailing;
+                    let a: Vec<f64> = (0..rows * width)
+                        .map(|i| noise(&mut seed) * 10f64.powi((i % 7) as i32 * 3 - 9))
+                        .collect();
+                    // Column-major: column c at a[c rows..].
+                    let mut qr = Householder::zeros(rows, cols);
+                    sweep.shape(rows, width);
+                    sweep.w.fill(f64::NAN);
+                    for c in 0..width {
+                        for r in 0..rows {
+                            sweep.set(r, c, a[c * rows + r]);
+                        }
+                    }
+                    qr.factor(&mut sweep);
+                    let mut columns = a.clone();
+                    let mut r_factor = vec![0.0; cols * cols];
+                    for j in 0..cols {
+                        let (left, right) = columns.split_at_mut((j + 1) * rows);
+                        let v = &mut left[j * rows + j..];
+                        let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+                        let alpha = if v[0] >= 0.0 { -norm } else { norm };
+                        v[0] -= alpha;
+                        let size = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+                        if size > 0.0 {
+                            v.iter_mut().for_each(|a| *a /= size);
+                        }
+                        r_factor[j * cols + j] = alpha;
+                        for (c, column) in right.chunks_exact_mut(rows).enumerate() {
+                            reflect(v, &mut column[j..]);
+                            if j + 1 + c < cols {
+                                r_factor[(j + 1 + c) * cols + j] = column[j];
+                            }
+                        }
+                        let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+                        assert_eq!(
+                            bits(qr.reflector(j)),
+                            bits(v),
+                            "{rows} x {cols} + {trailing}: v_{j}"
+                        );
+                    }
+                    let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(
+                        bits(qr.r.as_slice()),
+                        bits(&r_factor),
+                        "{rows} x {cols} + {trailing}: r"
+                    );
+                    for t in 0..trailing {
+                        let expected = &columns[(cols + t) * rows..(cols + t + 1) * rows];
+                        let got: Vec<f64> = (0..rows)
+                            .map(|r| sweep.w[r * sweep.width + cols + t])
+                            .collect();
+                        assert_eq!(
+                            bits(&got),
+                            bits(expected),
+                            "{rows} x {cols} + {trailing}: column {t}"
+                        );
+                    }
+                }
+            }
         }
     }
 
