@@ -152,7 +152,7 @@ pub fn first_order_by_duals<S: VectorField + ?Sized>(
 /// `N >= n + 1` directions: `x_j` along direction `j`, `p_k` along
 /// direction `n`. The state is an array of `N` entries filled in place (no
 /// collecting into a buffer that is then moved).
-#[inline]
+#[inline(always)]
 fn seeded<const N: usize>(
     n: usize,
     x: &[f64],
