@@ -85,15 +85,7 @@ impl Householder {
             for (k, vk) in v.iter_mut().enumerate() {
                 *vk = w[(j + k) * width + j];
             }
-            let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-            // v = x - alpha e_1 with alpha of the sign opposite to x_1: no cancellation.
-            let alpha = if v[0] >= 0.0 { -norm } else { norm };
-            v[0] -= alpha;
-            let size = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-            if size > 0.0 {
-                v.iter_mut().for_each(|a| *a /= size);
-            }
-            self.r[(j, j)] = alpha;
+            self.r[(j, j)] = reflector_of(v);
             self.v.as_mut_slice()[j * rows + j..(j + 1) * rows].copy_from_slice(v);
             // x <- x - 2 (v . x) v for every column x right of column j, up
             // to GROUPS groups of lanes at a time.
@@ -135,6 +127,21 @@ impl Householder {
         let rows = self.v.nrows();
         &self.v.as_slice()[j * rows + j..(j + 1) * rows]
     }
+}
+
+/// The unit reflector `v` of the column `x` held in `v` (overwritten), with
+/// `(I - 2 v v^T) x = alpha e_1`; returns `alpha`, of the sign opposite to
+/// `x_1` (`v = x - alpha e_1` without cancellation).
+#[inline(always)]
+fn reflector_of(v: &mut [f64]) -> f64 {
+    let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+    let alpha = if v[0] >= 0.0 { -norm } else { norm };
+    v[0] -= alpha;
+    let size = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+    if size > 0.0 {
+        v.iter_mut().for_each(|a| *a /= size);
+    }
+    alpha
 }
 
 /// `x <- (I - 2 v v^T) x`.
@@ -1192,8 +1199,8 @@ mod tests {
 
     /// [`Householder::factor`] against the QR reflected one column at a
     /// time with [`reflect`] (each dot product summed in row order from
-    /// `-0.0`, the arithmetic of the sweep before it ran in lanes), to the
-    /// bit: the triangular factor, the reflectors and the trailing columns,
+    /// `-0.0`, the arithmetic of the sweep before it ran in lanes; the
+    /// reflectors formed by the same [`reflector_of`]), to the bit: the triangular factor, the reflectors and the trailing columns,
     /// on blocks of 1 to 14 rows, 1 to 8 columns and 0 to 22 trailing
     /// columns (one to four passes of up to [`GROUPS`] groups of lanes),
     /// with the scratch holding NaN from before and entries of very
@@ -1224,14 +1231,7 @@ mod tests {
                     for j in 0..cols {
                         let (left, right) = columns.split_at_mut((j + 1) * rows);
                         let v = &mut left[j * rows + j..];
-                        let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-                        let alpha = if v[0] >= 0.0 { -norm } else { norm };
-                        v[0] -= alpha;
-                        let size = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-                        if size > 0.0 {
-                            v.iter_mut().for_each(|a| *a /= size);
-                        }
-                        r_factor[j * cols + j] = alpha;
+                        r_factor[j * cols + j] = reflector_of(v);
                         for (c, column) in right.chunks_exact_mut(rows).enumerate() {
                             reflect(v, &mut column[j..]);
                             if j + 1 + c < cols {
