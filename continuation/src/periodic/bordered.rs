@@ -77,16 +77,15 @@ impl Householder {
     #[inline(always)]
     fn factor(&mut self, sweep: &mut Sweep) {
         let (rows, cols) = self.v.shape();
-        let width = sweep.width;
-        let Sweep { w, v, .. } = sweep;
+        let Sweep { w, width } = sweep;
+        let width = *width;
         self.r.fill(0.0);
         for j in 0..cols {
-            let v = &mut v[..rows - j];
+            let v = &mut self.v.as_mut_slice()[j * rows + j..(j + 1) * rows];
             for (k, vk) in v.iter_mut().enumerate() {
                 *vk = w[(j + k) * width + j];
             }
             self.r[(j, j)] = reflector_of(v);
-            self.v.as_mut_slice()[j * rows + j..(j + 1) * rows].copy_from_slice(v);
             // x <- x - 2 (v . x) v for every column x right of column j, up
             // to GROUPS groups of lanes at a time.
             let mut first = (j + 1) / LANES * LANES;
@@ -208,12 +207,11 @@ fn reflect_groups<const G: usize>(rows: &mut [f64], width: usize, v: &[f64]) {
 
 /// A block and its trailing columns side by side, row by row (`w`, each
 /// row padded to whole [`LANES`] with columns that are never read), for
-/// [`Householder::factor`]; with the reflector being formed (`v`).
+/// [`Householder::factor`].
 #[derive(Clone, Debug, Default)]
 struct Sweep {
     w: Vec<f64>,
     width: usize,
-    v: Vec<f64>,
 }
 
 impl Sweep {
@@ -224,7 +222,6 @@ impl Sweep {
         if self.width != width || self.w.len() != rows * width {
             self.width = width;
             self.w = vec![0.0; rows * width];
-            self.v = vec![0.0; rows];
         }
     }
 
@@ -1209,6 +1206,7 @@ mod tests {
     fn the_sweep_in_lanes_is_the_householder_qr_column_by_column_to_the_bit() {
         let mut seed = 13;
         let mut sweep = Sweep::default();
+        let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
         for rows in 1..=14 {
             for cols in 1..=rows.min(8) {
                 for trailing in [0, 1, 5, 16, 22] {
@@ -1238,14 +1236,12 @@ mod tests {
                                 r_factor[(j + 1 + c) * cols + j] = column[j];
                             }
                         }
-                        let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
                         assert_eq!(
                             bits(qr.reflector(j)),
                             bits(v),
                             "{rows} x {cols} + {trailing}: v_{j}"
                         );
                     }
-                    let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
                     assert_eq!(
                         bits(qr.r.as_slice()),
                         bits(&r_factor),
