@@ -177,16 +177,15 @@ fn by_chi_at(
     nus: &[f64],
     threshold: f64,
 ) -> (ModelKind, String) {
-    let mut q = *p;
+    let (mut q, mut chi) = (*p, block::inertia_ratio(p));
     for &nu in nus {
         let mut r = *p;
         r.nu = nu;
         let c = block::inertia_ratio(&r);
-        if c.is_nan() || c > block::inertia_ratio(&q) {
-            q = r;
+        if c.is_nan() || c > chi {
+            (q, chi) = (r, c);
         }
     }
-    let chi = block::inertia_ratio(&q);
     let at_v = u.velocity_um_s(q.nu);
     let mass = u.mass;
     let needed = block::model_for(&q, threshold);
