@@ -343,23 +343,26 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         let n = if N == 0 { x.len() } else { N };
         let m = self.mesh.degree;
         let node = |g: usize| &z[g * n..(g + 1) * n];
-        x.fill(0.0);
-        dx.fill(0.0);
         // Relative to the interval's first node (the basis sums to 1,
         // its derivatives to 0): the derivative is then rounded
         // relative to the change across the interval, not to the
-        // values themselves.
+        // values themselves. Each component is summed over the nodes in
+        // their order in locals and written once: the release binary built
+        // with fat LTO and one codegen unit (rustc 1.95.0) dropped the
+        // stores of the first component's derivative when the sums ran
+        // node by node in place (docs/performance.md, 2026-11-27, fifth
+        // session).
         let v0 = node(self.mesh.node(i, 0));
-        for l in 1..=m {
-            let v = node(self.mesh.node(i, l));
-            for j in 0..n {
-                let d = v[j] - v0[j];
-                x[j] += self.mesh.basis[kk][l] * d;
-                dx[j] += self.mesh.dbasis[kk][l] * d;
-            }
-        }
+        let (basis, dbasis) = (&self.mesh.basis[kk], &self.mesh.dbasis[kk]);
         for j in 0..n {
-            x[j] += v0[j];
+            let (mut xj, mut dxj) = (0.0, 0.0);
+            for l in 1..=m {
+                let d = node(self.mesh.node(i, l))[j] - v0[j];
+                xj += basis[l] * d;
+                dxj += dbasis[l] * d;
+            }
+            x[j] = xj + v0[j];
+            dx[j] = dxj;
         }
     }
 
