@@ -21,6 +21,14 @@ pub struct Cycle {
     pub n: usize,
 }
 
+/// An extreme of an observable on a [`Cycle`]: its value and the
+/// normalized time `tau` where it is reached.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Extreme {
+    pub(crate) value: f64,
+    pub(crate) tau: f64,
+}
+
 impl Cycle {
     /// Node value `g` (periodic index).
     pub fn node(&self, g: usize) -> &[f64] {
@@ -106,6 +114,17 @@ impl Cycle {
     /// end value carries the mesh point's accuracy plus a local error
     /// `O(delta^(2m+1))` (Gauss) or `O(delta^(2m))` (Radau).
     pub fn range_of<S: VectorField>(&self, sys: &S, g: impl Fn(&[f64]) -> f64) -> (f64, f64) {
+        let [lo, hi] = self.extremes_of(sys, g);
+        (lo.value, hi.value)
+    }
+
+    /// The least and the greatest value of `g(x)` over the orbit and where
+    /// they are reached, as [`Cycle::range_of`] finds them.
+    pub(crate) fn extremes_of<S: VectorField>(
+        &self,
+        sys: &S,
+        g: impl Fn(&[f64]) -> f64,
+    ) -> [Extreme; 2] {
         let per = 8;
         let ntst = self.mesh.ntst();
         let m = self.mesh.degree;
@@ -143,7 +162,7 @@ impl Cycle {
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
             // The samples next to the best one bracket the extreme; at the
             // start of an interval the bracket reaches into the one before.
-            let inside = self.extreme_in(
+            let (at, inside) = self.extreme_in(
                 &stepper,
                 |x| sign * g(x),
                 i,
@@ -153,25 +172,74 @@ impl Cycle {
                 ),
                 floor,
             );
-            let value = if s == 0 {
+            let (tau, value) = if s == 0 {
                 let before = (i + ntst - 1) % ntst;
                 let hb = self.mesh.t[before + 1] - self.mesh.t[before];
-                inside.max(self.extreme_in(
+                let (at_before, value_before) = self.extreme_in(
                     &stepper,
                     |x| sign * g(x),
                     before,
                     (hb * (per - 1) as f64 / per as f64, hb),
                     floor,
-                ))
+                );
+                let value = inside.max(value_before);
+                if value_before > inside {
+                    (self.mesh.t[before] + at_before, value)
+                } else {
+                    (self.mesh.t[i] + at, value)
+                }
             } else {
-                inside
+                (self.mesh.t[i] + at, inside)
             };
-            sign * value
+            Extreme {
+                value: sign * value,
+                tau,
+            }
         };
-        (pick(-1.0), pick(1.0))
+        [pick(-1.0), pick(1.0)]
     }
 
-    /// Largest value of `f(x(t_i + delta))` for `delta` in `lo..=hi`, `x`
+    /// The least and the greatest value of `g(x)` over the orbit, given
+    /// where the same orbit on another mesh has them (`near`, from
+    /// [`Cycle::extremes_of`]): the two orbits differ by their
+    /// discretization errors, and so do the places of their extremes. Each
+    /// is searched by Brent's method over the collocation steps within
+    /// [`NEAR`] of its interval around that place, without the polynomial's
+    /// search first; where the largest value found lies on an inner edge of
+    /// that bracket, the extreme is further away and the whole orbit is
+    /// searched ([`Cycle::extremes_of`]). The values are those of
+    /// [`Cycle::range_of`] to the rounding of the values.
+    pub(crate) fn range_near<S: VectorField>(
+        &self,
+        sys: &S,
+        g: impl Fn(&[f64]) -> f64,
+        near: [Extreme; 2],
+    ) -> (f64, f64) {
+        let [lo, hi] = near;
+        let floor = 4.0 * f64::EPSILON * (hi.value - lo.value + lo.value.abs().max(hi.value.abs()));
+        let stepper = Stepper::new(sys, self);
+        let around = |sign: f64, tau: f64| {
+            let (i, z) = self.mesh.locate(tau);
+            let h = self.mesh.t[i + 1] - self.mesh.t[i];
+            let delta = z * h;
+            let (a, b) = ((delta - NEAR * h).max(0.0), (delta + NEAR * h).min(h));
+            let (at, value) = brent_max(|d| sign * g(&stepper.state(i, d)), a, b, floor);
+            // Twice Brent's tolerance in the abscissa: an extreme at the edge.
+            let edge = 4e-10 * (b - a).max(at.abs());
+            let inner_edge = (a > 0.0 && at - a <= edge) || (b < h && b - at <= edge);
+            (!inner_edge && a < b).then_some(sign * value)
+        };
+        match (around(-1.0, lo.tau), around(1.0, hi.tau)) {
+            (Some(lo), Some(hi)) => (lo, hi),
+            (lo, hi) => {
+                let [full_lo, full_hi] = self.extremes_of(sys, &g);
+                (lo.unwrap_or(full_lo.value), hi.unwrap_or(full_hi.value))
+            }
+        }
+    }
+
+    /// Largest value of `f(x(t_i + delta))` for `delta` in `lo..=hi`, and the
+    /// `delta` where it is reached, `x`
     /// the collocation step of `stepper` from mesh point `i`
     /// ([`Cycle::step_from_node`]), by Brent's method ([`brent_max`]) to
     /// `floor`.
@@ -197,7 +265,7 @@ impl Cycle {
         i: usize,
         (lo, hi): (f64, f64),
         floor: f64,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let stepped = |delta: f64| f(&stepper.state(i, delta));
         let h = self.mesh.t[i + 1] - self.mesh.t[i];
         let mut x = vec![0.0; self.n];
@@ -220,7 +288,7 @@ impl Cycle {
             let edge = stepped(end);
             let (half, full) = (stepped(end + 0.5 * inward), stepped(end + inward));
             if edge >= half && half >= full {
-                return edge;
+                return (end, edge);
             }
         }
         let (a, b) = ((guess - r).max(lo), (guess + r).min(hi));
@@ -228,9 +296,11 @@ impl Cycle {
         // Twice Brent's tolerance in the abscissa: an extreme at the edge.
         let edge = 4e-10 * (b - a).max(at.abs());
         if (a > lo && at - a <= edge) || (b < hi && b - at <= edge) {
-            brent_max(stepped, lo, hi, floor).1.max(value)
+            let (at_whole, value_whole) = brent_max(stepped, lo, hi, floor);
+            let at = if value_whole > value { at_whole } else { at };
+            (at, value_whole.max(value))
         } else {
-            value
+            (at, value)
         }
     }
 
@@ -289,6 +359,10 @@ type StageLu = nalgebra::LU<f64, Dyn, Dyn>;
 /// The share of its bracket around the polynomial's extreme that the search
 /// for an extreme of the collocation steps starts on ([`Cycle::extreme_in`]).
 const NARROW: f64 = 1.0 / 32.0;
+
+/// The share of its mesh interval on either side of where another mesh
+/// has an extreme that [`Cycle::range_near`] searches first.
+const NEAR: f64 = 1.0 / 1024.0;
 
 /// A polynomial's extreme within this share of its bracket from an end is
 /// taken to be at that end, a mesh point ([`Cycle::extreme_in`]).
