@@ -125,40 +125,12 @@ impl Cycle {
         sys: &S,
         g: impl Fn(&[f64]) -> f64,
     ) -> [Extreme; 2] {
-        let per = 8;
+        let per = SAMPLES;
         let ntst = self.mesh.ntst();
-        let m = self.mesh.degree;
-        // The samples at the same local positions s / per of every interval.
-        let basis: Vec<_> = (0..per)
-            .map(|s| lagrange_values(m, s as f64 / per as f64))
-            .collect();
-        let mut x = vec![0.0; self.n];
-        let mut values = Vec::with_capacity(ntst * per);
-        for i in 0..ntst {
-            for b in &basis {
-                x.fill(0.0);
-                for (l, bl) in b.iter().enumerate() {
-                    for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
-                        *xj += bl * uj;
-                    }
-                }
-                values.push(g(&x));
-            }
-        }
-        // Rounding in the values: the search stops where the value still to
-        // gain is below it.
-        let (lo_v, hi_v) = values
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        let floor = 4.0 * f64::EPSILON * (hi_v - lo_v + lo_v.abs().max(hi_v.abs()));
+        let (values, floor) = self.sampled(&g);
         let stepper = Stepper::new(sys, self);
         let pick = |sign: f64| {
-            let best = (0..values.len())
-                .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
-                .unwrap_or(0);
-            let (i, s) = (best / per, best % per);
+            let (i, s) = best_sample(&values, sign);
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
             // The samples next to the best one bracket the extreme; at the
             // start of an interval the bracket reaches into the one before.
@@ -199,29 +171,73 @@ impl Cycle {
         [pick(-1.0), pick(1.0)]
     }
 
+    /// `g` at [`SAMPLES`] points of every interval (the polynomials at the
+    /// same local positions `s / SAMPLES`), interval by interval, and the
+    /// rounding in those values: a search for an extreme stops where the
+    /// value still to gain is below it.
+    fn sampled(&self, g: impl Fn(&[f64]) -> f64) -> (Vec<f64>, f64) {
+        let ntst = self.mesh.ntst();
+        let m = self.mesh.degree;
+        let basis: Vec<_> = (0..SAMPLES)
+            .map(|s| lagrange_values(m, s as f64 / SAMPLES as f64))
+            .collect();
+        let mut x = vec![0.0; self.n];
+        let mut values = Vec::with_capacity(ntst * SAMPLES);
+        for i in 0..ntst {
+            for b in &basis {
+                x.fill(0.0);
+                for (l, bl) in b.iter().enumerate() {
+                    for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
+                        *xj += bl * uj;
+                    }
+                }
+                values.push(g(&x));
+            }
+        }
+        let (lo_v, hi_v) = values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let floor = 4.0 * f64::EPSILON * (hi_v - lo_v + lo_v.abs().max(hi_v.abs()));
+        (values, floor)
+    }
+
     /// The least and the greatest value of `g(x)` over the orbit, given
     /// where the same orbit on another mesh has them (`near`, from
     /// [`Cycle::extremes_of`]): the two orbits differ by their
-    /// discretization errors, and so do the places of their extremes. Each
-    /// is searched by Brent's method over the collocation steps within
-    /// [`NEAR`] of its interval around that place, without the polynomial's
-    /// search first; where the largest value found lies on an inner edge of
-    /// that bracket, the extreme is further away and the whole orbit is
-    /// searched ([`Cycle::extremes_of`]). The values are those of
-    /// [`Cycle::range_of`] to the rounding of the values.
+    /// discretization errors, and so do the places of their extremes.
+    /// Where the whole search ([`Cycle::extremes_of`]) would bracket that
+    /// place (it lies between the samples next to the best sample of this
+    /// orbit), each extreme is searched by Brent's method over the
+    /// collocation steps within [`NEAR`] of its interval around it, without
+    /// the polynomial's search first; elsewhere (the greatest value is
+    /// another peak), or where the largest value found lies on an inner
+    /// edge of that bracket, the whole orbit is searched. The values are
+    /// those of [`Cycle::range_of`] to the rounding of the values.
     pub(crate) fn range_near<S: VectorField>(
         &self,
         sys: &S,
         g: impl Fn(&[f64]) -> f64,
         near: [Extreme; 2],
     ) -> (f64, f64) {
-        let [lo, hi] = near;
-        let floor = 4.0 * f64::EPSILON * (hi.value - lo.value + lo.value.abs().max(hi.value.abs()));
+        let (values, floor) = self.sampled(&g);
         let stepper = Stepper::new(sys, self);
         let around = |sign: f64, tau: f64| {
             let (i, z) = self.mesh.locate(tau);
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
             let delta = z * h;
+            // Only where the whole search would bracket the same place:
+            // between the samples next to the best one (and, from an
+            // interval's first sample, the last eighth of the one before).
+            let (best, s) = best_sample(&values, sign);
+            let before = (best + self.mesh.ntst() - 1) % self.mesh.ntst();
+            let at = |k: usize| k as f64 / SAMPLES as f64;
+            let bracketed = (i == best && z >= at(s.saturating_sub(1)) && z <= at(s + 1))
+                || (s == 0 && i == before && z >= at(SAMPLES - 1));
+            if !bracketed {
+                return None;
+            }
             let (a, b) = ((delta - NEAR * h).max(0.0), (delta + NEAR * h).min(h));
             let (at, value) = brent_max(|d| sign * g(&stepper.state(i, d)), a, b, floor);
             // Twice Brent's tolerance in the abscissa: an extreme at the edge.
@@ -229,7 +245,7 @@ impl Cycle {
             let inner_edge = (a > 0.0 && at - a <= edge) || (b < h && b - at <= edge);
             (!inner_edge && a < b).then_some(sign * value)
         };
-        match (around(-1.0, lo.tau), around(1.0, hi.tau)) {
+        match (around(-1.0, near[0].tau), around(1.0, near[1].tau)) {
             (Some(lo), Some(hi)) => (lo, hi),
             (lo, hi) => {
                 let [full_lo, full_hi] = self.extremes_of(sys, &g);
@@ -359,6 +375,18 @@ type StageLu = nalgebra::LU<f64, Dyn, Dyn>;
 /// The share of its bracket around the polynomial's extreme that the search
 /// for an extreme of the collocation steps starts on ([`Cycle::extreme_in`]).
 const NARROW: f64 = 1.0 / 32.0;
+
+/// Samples per interval that bracket an extreme ([`Cycle::extremes_of`]).
+const SAMPLES: usize = 8;
+
+/// The interval and the sample position of the largest of `sign * values`
+/// ([`Cycle::sampled`]'s, [`SAMPLES`] per interval).
+fn best_sample(values: &[f64], sign: f64) -> (usize, usize) {
+    let best = (0..values.len())
+        .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
+        .unwrap_or(0);
+    (best / SAMPLES, best % SAMPLES)
+}
 
 /// The share of its mesh interval on either side of where another mesh
 /// has an extreme that [`Cycle::range_near`] searches first.

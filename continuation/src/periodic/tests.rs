@@ -605,6 +605,29 @@ fn extremes_searched_near_anothers_are_the_whole_searchs() {
                 (lo.to_bits(), hi.to_bits()),
                 "{points:?}, x{j}"
             );
+            // A lower local maximum where the other orbit has its extreme
+            // is not taken for the greatest value: `x0^2 + x0 / 10` peaks
+            // at both ends of x0's range, higher at the top; the search
+            // sent to the bottom's place gives the whole search's value.
+            if j == 0 {
+                let two_peaks = |x: &[f64]| x[0] * x[0] + 0.1 * x[0];
+                let [bottom, _] = fine.extremes_of(&VanDerPol, |x: &[f64]| x[0]);
+                let (lo2, hi2) = coarse.range_of(&VanDerPol, two_peaks);
+                let lower_peak = [
+                    near[0],
+                    Extreme {
+                        tau: bottom.tau,
+                        ..near[1]
+                    },
+                ];
+                let (_, near_hi2) = coarse.range_near(&VanDerPol, two_peaks, lower_peak);
+                assert!(hi2 > lo2);
+                assert_eq!(
+                    near_hi2.to_bits(),
+                    hi2.to_bits(),
+                    "{points:?}: {near_hi2} against {hi2}"
+                );
+            }
             // Where the fine orbit has its extremes, the steps give them.
             for (sign, e) in [(-1.0, near[0]), (1.0, near[1])] {
                 let (i, z) = fine.mesh.locate(e.tau);
