@@ -360,8 +360,9 @@ impl Plan {
                 let leg: Vec<&CycleRecord> = records.iter().filter(|r| r.leg == c.leg).collect();
                 match leg.last() {
                     Some(r) => format!(
-                        "after {} cycles of this leg, the last at kappa = {:.10e}",
+                        "after {} cycle{} of this leg, the last at kappa = {:.10e}",
                         leg.len(),
+                        if leg.len() == 1 { "" } else { "s" },
                         r.kappa
                     ),
                     None => "before the leg's first cycle".to_string(),
