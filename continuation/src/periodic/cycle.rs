@@ -21,14 +21,6 @@ pub struct Cycle {
     pub n: usize,
 }
 
-/// An extreme of an observable on a [`Cycle`]: its value and the
-/// normalized time `tau` where it is reached.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Extreme {
-    pub(crate) value: f64,
-    pub(crate) tau: f64,
-}
-
 impl Cycle {
     /// Node value `g` (periodic index).
     pub fn node(&self, g: usize) -> &[f64] {
@@ -114,75 +106,15 @@ impl Cycle {
     /// end value carries the mesh point's accuracy plus a local error
     /// `O(delta^(2m+1))` (Gauss) or `O(delta^(2m))` (Radau).
     pub fn range_of<S: VectorField>(&self, sys: &S, g: impl Fn(&[f64]) -> f64) -> (f64, f64) {
-        let [lo, hi] = self.extremes_of(sys, g);
-        (lo.value, hi.value)
-    }
-
-    /// The least and the greatest value of `g(x)` over the orbit and where
-    /// they are reached, as [`Cycle::range_of`] finds them.
-    pub(crate) fn extremes_of<S: VectorField>(
-        &self,
-        sys: &S,
-        g: impl Fn(&[f64]) -> f64,
-    ) -> [Extreme; 2] {
-        let per = SAMPLES;
-        let ntst = self.mesh.ntst();
-        let (values, floor) = self.sampled(&g);
-        let stepper = Stepper::new(sys, self);
-        let pick = |sign: f64| {
-            let (i, s) = best_sample(&values, sign);
-            let h = self.mesh.t[i + 1] - self.mesh.t[i];
-            // The samples next to the best one bracket the extreme; at the
-            // start of an interval the bracket reaches into the one before.
-            let (at, inside) = self.extreme_in(
-                &stepper,
-                |x| sign * g(x),
-                i,
-                (
-                    h * s.saturating_sub(1) as f64 / per as f64,
-                    h * (s + 1) as f64 / per as f64,
-                ),
-                floor,
-            );
-            let (tau, value) = if s == 0 {
-                let before = (i + ntst - 1) % ntst;
-                let hb = self.mesh.t[before + 1] - self.mesh.t[before];
-                let (at_before, value_before) = self.extreme_in(
-                    &stepper,
-                    |x| sign * g(x),
-                    before,
-                    (hb * (per - 1) as f64 / per as f64, hb),
-                    floor,
-                );
-                let value = inside.max(value_before);
-                if value_before > inside {
-                    (self.mesh.t[before] + at_before, value)
-                } else {
-                    (self.mesh.t[i] + at, value)
-                }
-            } else {
-                (self.mesh.t[i] + at, inside)
-            };
-            Extreme {
-                value: sign * value,
-                tau,
-            }
-        };
-        [pick(-1.0), pick(1.0)]
-    }
-
-    /// `g` at [`SAMPLES`] points of every interval (the polynomials at the
-    /// same local positions `s / SAMPLES`), interval by interval, and the
-    /// rounding in those values: a search for an extreme stops where the
-    /// value still to gain is below it.
-    fn sampled(&self, g: impl Fn(&[f64]) -> f64) -> (Vec<f64>, f64) {
+        let per = 8;
         let ntst = self.mesh.ntst();
         let m = self.mesh.degree;
-        let basis: Vec<_> = (0..SAMPLES)
-            .map(|s| lagrange_values(m, s as f64 / SAMPLES as f64))
+        // The samples at the same local positions s / per of every interval.
+        let basis: Vec<_> = (0..per)
+            .map(|s| lagrange_values(m, s as f64 / per as f64))
             .collect();
         let mut x = vec![0.0; self.n];
-        let mut values = Vec::with_capacity(ntst * SAMPLES);
+        let mut values = Vec::with_capacity(ntst * per);
         for i in 0..ntst {
             for b in &basis {
                 x.fill(0.0);
@@ -194,68 +126,52 @@ impl Cycle {
                 values.push(g(&x));
             }
         }
+        // Rounding in the values: the search stops where the value still to
+        // gain is below it.
         let (lo_v, hi_v) = values
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
                 (a.min(v), b.max(v))
             });
         let floor = 4.0 * f64::EPSILON * (hi_v - lo_v + lo_v.abs().max(hi_v.abs()));
-        (values, floor)
-    }
-
-    /// The least and the greatest value of `g(x)` over the orbit, given
-    /// where the same orbit on another mesh has them (`near`, from
-    /// [`Cycle::extremes_of`]): the two orbits differ by their
-    /// discretization errors, and so do the places of their extremes.
-    /// Where the whole search ([`Cycle::extremes_of`]) would bracket that
-    /// place (it lies between the samples next to the best sample of this
-    /// orbit), each extreme is searched by Brent's method over the
-    /// collocation steps within [`NEAR`] of its interval around it, without
-    /// the polynomial's search first; elsewhere (the greatest value is
-    /// another peak), or where the largest value found lies on an inner
-    /// edge of that bracket, the whole orbit is searched. The values are
-    /// those of [`Cycle::range_of`] to the rounding of the values.
-    pub(crate) fn range_near<S: VectorField>(
-        &self,
-        sys: &S,
-        g: impl Fn(&[f64]) -> f64,
-        near: [Extreme; 2],
-    ) -> (f64, f64) {
-        let (values, floor) = self.sampled(&g);
         let stepper = Stepper::new(sys, self);
-        let around = |sign: f64, tau: f64| {
-            let (i, z) = self.mesh.locate(tau);
+        let pick = |sign: f64| {
+            let best = (0..values.len())
+                .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
+                .unwrap_or(0);
+            let (i, s) = (best / per, best % per);
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
-            let delta = z * h;
-            // Only where the whole search would bracket the same place:
-            // between the samples next to the best one (and, from an
-            // interval's first sample, the last eighth of the one before).
-            let (best, s) = best_sample(&values, sign);
-            let before = (best + self.mesh.ntst() - 1) % self.mesh.ntst();
-            let at = |k: usize| k as f64 / SAMPLES as f64;
-            let bracketed = (i == best && z >= at(s.saturating_sub(1)) && z <= at(s + 1))
-                || (s == 0 && i == before && z >= at(SAMPLES - 1));
-            if !bracketed {
-                return None;
-            }
-            let (a, b) = ((delta - NEAR * h).max(0.0), (delta + NEAR * h).min(h));
-            let (at, value) = brent_max(|d| sign * g(&stepper.state(i, d)), a, b, floor);
-            // Twice Brent's tolerance in the abscissa: an extreme at the edge.
-            let edge = 4e-10 * (b - a).max(at.abs());
-            let inner_edge = (a > 0.0 && at - a <= edge) || (b < h && b - at <= edge);
-            (!inner_edge && a < b).then_some(sign * value)
+            // The samples next to the best one bracket the extreme; at the
+            // start of an interval the bracket reaches into the one before.
+            let inside = self.extreme_in(
+                &stepper,
+                |x| sign * g(x),
+                i,
+                (
+                    h * s.saturating_sub(1) as f64 / per as f64,
+                    h * (s + 1) as f64 / per as f64,
+                ),
+                floor,
+            );
+            let value = if s == 0 {
+                let before = (i + ntst - 1) % ntst;
+                let hb = self.mesh.t[before + 1] - self.mesh.t[before];
+                inside.max(self.extreme_in(
+                    &stepper,
+                    |x| sign * g(x),
+                    before,
+                    (hb * (per - 1) as f64 / per as f64, hb),
+                    floor,
+                ))
+            } else {
+                inside
+            };
+            sign * value
         };
-        match (around(-1.0, near[0].tau), around(1.0, near[1].tau)) {
-            (Some(lo), Some(hi)) => (lo, hi),
-            (lo, hi) => {
-                let [full_lo, full_hi] = self.extremes_of(sys, &g);
-                (lo.unwrap_or(full_lo.value), hi.unwrap_or(full_hi.value))
-            }
-        }
+        (pick(-1.0), pick(1.0))
     }
 
-    /// Largest value of `f(x(t_i + delta))` for `delta` in `lo..=hi`, and the
-    /// `delta` where it is reached, `x`
+    /// Largest value of `f(x(t_i + delta))` for `delta` in `lo..=hi`, `x`
     /// the collocation step of `stepper` from mesh point `i`
     /// ([`Cycle::step_from_node`]), by Brent's method ([`brent_max`]) to
     /// `floor`.
@@ -281,7 +197,7 @@ impl Cycle {
         i: usize,
         (lo, hi): (f64, f64),
         floor: f64,
-    ) -> (f64, f64) {
+    ) -> f64 {
         let stepped = |delta: f64| f(&stepper.state(i, delta));
         let h = self.mesh.t[i + 1] - self.mesh.t[i];
         let mut x = vec![0.0; self.n];
@@ -304,7 +220,7 @@ impl Cycle {
             let edge = stepped(end);
             let (half, full) = (stepped(end + 0.5 * inward), stepped(end + inward));
             if edge >= half && half >= full {
-                return (end, edge);
+                return edge;
             }
         }
         let (a, b) = ((guess - r).max(lo), (guess + r).min(hi));
@@ -312,11 +228,9 @@ impl Cycle {
         // Twice Brent's tolerance in the abscissa: an extreme at the edge.
         let edge = 4e-10 * (b - a).max(at.abs());
         if (a > lo && at - a <= edge) || (b < hi && b - at <= edge) {
-            let (at_whole, value_whole) = brent_max(stepped, lo, hi, floor);
-            let at = if value_whole > value { at_whole } else { at };
-            (at, value_whole.max(value))
+            brent_max(stepped, lo, hi, floor).1.max(value)
         } else {
-            (at, value)
+            value
         }
     }
 
@@ -375,22 +289,6 @@ type StageLu = nalgebra::LU<f64, Dyn, Dyn>;
 /// The share of its bracket around the polynomial's extreme that the search
 /// for an extreme of the collocation steps starts on ([`Cycle::extreme_in`]).
 const NARROW: f64 = 1.0 / 32.0;
-
-/// Samples per interval that bracket an extreme ([`Cycle::extremes_of`]).
-const SAMPLES: usize = 8;
-
-/// The interval and the sample position of the largest of `sign * values`
-/// ([`Cycle::sampled`]'s, [`SAMPLES`] per interval).
-fn best_sample(values: &[f64], sign: f64) -> (usize, usize) {
-    let best = (0..values.len())
-        .max_by(|&a, &b| (sign * values[a]).total_cmp(&(sign * values[b])))
-        .unwrap_or(0);
-    (best / SAMPLES, best % SAMPLES)
-}
-
-/// The share of its mesh interval on either side of where another mesh
-/// has an extreme that [`Cycle::range_near`] searches first.
-const NEAR: f64 = 1.0 / 1024.0;
 
 /// A polynomial's extreme within this share of its bracket from an end is
 /// taken to be at that end, a mesh point ([`Cycle::extreme_in`]).

@@ -4,7 +4,6 @@
 
 use super::bordered::CyclicReduction;
 use super::collocation::Collocation;
-use super::cycle::Extreme;
 use super::floquet::pencil_multipliers;
 use super::newton::{newton_bordered, unit_row};
 use super::{
@@ -572,75 +571,6 @@ fn extremes_converge_at_the_order_of_the_mesh_points() {
             p80 > 10.0 * r80,
             "{points:?}: polynomial {p80:e}, range {r80:e}"
         );
-    }
-}
-
-#[test]
-fn extremes_searched_near_anothers_are_the_whole_searchs() {
-    // The same van der Pol cycle on 40 and on 20 intervals: the coarse
-    // orbit's extremes searched around where the fine one has them equal
-    // those of the search over the whole orbit to the rounding of the
-    // values; from a wrong place (a quarter period off) the search falls
-    // back to the whole orbit and is that search's, bit for bit.
-    for points in [CollocationPoints::Gauss, CollocationPoints::Radau] {
-        let fine = vdp_cycle(40, 4, points).cycle;
-        let coarse = vdp_cycle(20, 4, points).cycle;
-        for j in 0..2 {
-            let g = |x: &[f64]| x[j];
-            let near = fine.extremes_of(&VanDerPol, g);
-            let (lo, hi) = coarse.range_of(&VanDerPol, g);
-            let (near_lo, near_hi) = coarse.range_near(&VanDerPol, g, near);
-            let rounding = 8.0 * f64::EPSILON * (hi - lo);
-            assert!(
-                (near_lo - lo).abs() <= rounding && (near_hi - hi).abs() <= rounding,
-                "{points:?}, x{j}: ({near_lo}, {near_hi}) against ({lo}, {hi})"
-            );
-            let off = near.map(|e| Extreme {
-                tau: (e.tau + 0.25) % 1.0,
-                ..e
-            });
-            let (off_lo, off_hi) = coarse.range_near(&VanDerPol, g, off);
-            assert_eq!(
-                (off_lo.to_bits(), off_hi.to_bits()),
-                (lo.to_bits(), hi.to_bits()),
-                "{points:?}, x{j}"
-            );
-            // A lower local maximum where the other orbit has its extreme
-            // is not taken for the greatest value: `x0^2 + x0 / 10` peaks
-            // at both ends of x0's range, higher at the top; the search
-            // sent to the bottom's place gives the whole search's value.
-            if j == 0 {
-                let two_peaks = |x: &[f64]| x[0] * x[0] + 0.1 * x[0];
-                let [bottom, _] = fine.extremes_of(&VanDerPol, |x: &[f64]| x[0]);
-                let (lo2, hi2) = coarse.range_of(&VanDerPol, two_peaks);
-                let lower_peak = [
-                    near[0],
-                    Extreme {
-                        tau: bottom.tau,
-                        ..near[1]
-                    },
-                ];
-                let (_, near_hi2) = coarse.range_near(&VanDerPol, two_peaks, lower_peak);
-                assert!(hi2 > lo2);
-                assert_eq!(
-                    near_hi2.to_bits(),
-                    hi2.to_bits(),
-                    "{points:?}: {near_hi2} against {hi2}"
-                );
-            }
-            // Where the fine orbit has its extremes, the steps give them.
-            for (sign, e) in [(-1.0, near[0]), (1.0, near[1])] {
-                let (i, z) = fine.mesh.locate(e.tau);
-                let h = fine.mesh.t[i + 1] - fine.mesh.t[i];
-                let at = fine.step_from_node(&VanDerPol, i, z * h)[j];
-                assert!(
-                    sign * (e.value - at) >= 0.0 && (e.value - at).abs() <= 1e-12,
-                    "{points:?}, x{j}: {} at tau = {}, the step there {at}",
-                    e.value,
-                    e.tau
-                );
-            }
-        }
     }
 }
 

@@ -11,7 +11,7 @@ mod detect;
 mod refine;
 
 use super::adapt::equidistribute;
-use super::cycle::{Cycle, Extreme};
+use super::cycle::Cycle;
 use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
 use super::newton::{
@@ -327,10 +327,6 @@ fn collapsed<S: VectorField>(sys: &S, located: &CyclePoint, before: &Cycle) -> b
         })
 }
 
-/// The least and greatest value of every observable on an orbit, and the
-/// same with where they are reached ([`CyclePoint::extremes`]).
-type LocatedExtremes = (Vec<(f64, f64)>, Vec<[Extreme; 2]>);
-
 /// One orbit of the branch.
 #[derive(Clone, Debug)]
 pub struct CyclePoint {
@@ -344,9 +340,9 @@ pub struct CyclePoint {
     /// orbit's transient growth (not a measure of the mesh). Infinite when
     /// the pencil did not determine the trivial multiplier.
     pub trivial_error: f64,
-    /// Least and greatest value of every observable on the orbit, and
-    /// where they are reached, found once ([`CyclePoint::extremes`]).
-    extremes: OnceLock<LocatedExtremes>,
+    /// Least and greatest value of every observable on the orbit, found
+    /// once ([`CyclePoint::extremes`]).
+    extremes: OnceLock<Vec<(f64, f64)>>,
     /// Estimated discretization error of the period (relative) and of the
     /// extremes of every observable (relative to its amplitude), at the
     /// orbit's own parameter (see `refine`); while far below `mesh_tol` it is
@@ -416,24 +412,10 @@ impl CyclePoint {
     /// computed at the first call, then kept (the error estimate and the
     /// caller's record read the same values).
     pub fn extremes<S: VectorField>(&self, sys: &S) -> &[(f64, f64)] {
-        &self.located_extremes(sys).0
-    }
-
-    /// [`CyclePoint::extremes`] with where on the orbit they are reached
-    /// ([`Cycle::extremes_of`]), in the same order.
-    pub(crate) fn located_extremes<S: VectorField>(&self, sys: &S) -> &LocatedExtremes {
         self.extremes.get_or_init(|| {
-            let located: Vec<[Extreme; 2]> = (0..sys.n_observables())
-                .map(|k| {
-                    self.cycle
-                        .extremes_of(sys, |x| sys.observable(k, x, &self.cycle.p))
-                })
-                .collect();
-            let values = located
-                .iter()
-                .map(|[lo, hi]| (lo.value, hi.value))
-                .collect();
-            (values, located)
+            (0..sys.n_observables())
+                .map(|k| self.cycle.observable_range(sys, k))
+                .collect()
         })
     }
 }

@@ -39,17 +39,15 @@ const MARGIN_SHARE: f64 = 1e-7;
 
 /// Largest difference between two approximations `a` (the finer) and `b`
 /// of an orbit of `sys`: of the periods, relative, and of the least and
-/// greatest value of every observable of `sys` ([`VectorField::observable`]:
-/// on `a` by [`Cycle::extremes_of`], on `b` by [`Cycle::range_near`] around
-/// where `a` has them), relative to that observable's amplitude
+/// greatest value of every observable of `sys` ([`VectorField::observable`],
+/// by [`Cycle::observable_range`]), relative to that observable's amplitude
 /// on `a` (`max - min`) — what a user reads as the size of the orbit, not the
 /// size of the values (near a Hopf point the values sit far from zero and
 /// the amplitude is small).
 fn difference<S: VectorField>(sys: &S, a: &CyclePoint, b: &Cycle) -> f64 {
     let mut d = ((a.cycle.period - b.period) / a.cycle.period).abs();
-    for (k, &near) in a.located_extremes(sys).1.iter().enumerate() {
-        let [a_lo, a_hi] = near.map(|e| e.value);
-        let (b_lo, b_hi) = b.range_near(sys, |x| sys.observable(k, x, &b.p), near);
+    for (k, &(a_lo, a_hi)) in a.extremes(sys).iter().enumerate() {
+        let (b_lo, b_hi) = b.observable_range(sys, k);
         let amplitude = (a_hi - a_lo).max(f64::MIN_POSITIVE);
         d = d.max((a_lo - b_lo).abs().max((a_hi - b_hi).abs()) / amplitude);
     }
