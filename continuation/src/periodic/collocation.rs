@@ -347,11 +347,11 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         // its derivatives to 0): the derivative is then rounded
         // relative to the change across the interval, not to the
         // values themselves. Each component is summed over the nodes in
-        // their order in locals and written once: the release binary built
-        // with fat LTO and one codegen unit (rustc 1.95.0) dropped the
-        // stores of the first component's derivative when the sums ran
-        // node by node in place (docs/performance.md, 2026-11-27, fifth
-        // session).
+        // their order in locals and written once: with the sums run node by
+        // node in place, the release binary built with fat LTO and one
+        // codegen unit (rustc 1.95.0) was seen to return the first
+        // component's derivative as 0, the cause not established
+        // (docs/performance.md, 2026-11-27, fifth session).
         let v0 = node(self.mesh.node(i, 0));
         let (basis, dbasis) = (&self.mesh.basis[kk], &self.mesh.dbasis[kk]);
         for j in 0..n {
