@@ -89,7 +89,11 @@ pub trait Linearized {
 
 /// What a step that stops shrinking at the rounding floor means: the last
 /// step within `1e3` of the step tolerance, more than half the one before,
-/// the residual already within its bound.
+/// which itself did not fall by more than a factor `1e3` (the fast fall of
+/// Newton's quadratic phase has ended: a step back right after it, seen in
+/// the fold-of-cycles system on stiff orbits, relative steps 8e-4, 2.5e-8,
+/// 7.7e-8, is followed by convergence, not a floor), the residual already
+/// within its bound.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stall {
     /// Nothing: Newton iterates on (the step tolerance is reachable).
@@ -196,7 +200,8 @@ pub fn iterate<P: NewtonProblem>(
 ) -> Result<(NewtonReport, P::Point), ContinuationError> {
     let mut last_step = f64::INFINITY;
     // The last two steps relative to their iterates.
-    let (mut last_relative, mut previous_relative) = (f64::INFINITY, f64::INFINITY);
+    // The last three steps relative to their iterates, the latest first.
+    let mut relative = [f64::INFINITY; 3];
     let mut residual = f64::INFINITY;
     // The step, in storage kept between iterations.
     let mut dz = Vec::new();
@@ -227,10 +232,12 @@ pub fn iterate<P: NewtonProblem>(
             residual,
             step: last_step,
         };
-        if small_residual && last_relative <= tol {
+        let [last, previous, earlier] = relative;
+        if small_residual && last <= tol {
             return Ok((report, point));
         }
-        if small_residual && last_relative <= 1e3 * tol && last_relative > 0.5 * previous_relative {
+        let fell_fast = earlier.is_finite() && previous < 1e-3 * earlier;
+        if small_residual && last <= 1e3 * tol && last > 0.5 * previous && !fell_fast {
             match problem.stall() {
                 Stall::Iterate => {}
                 Stall::Converged => return Ok((report, point)),
@@ -258,8 +265,7 @@ pub fn iterate<P: NewtonProblem>(
         last_step = step;
         problem.recycle(point);
         problem.update(z, &dz);
-        previous_relative = last_relative;
-        last_relative = problem.relative_step(&dz, z);
+        relative = [problem.relative_step(&dz, z), relative[0], relative[1]];
     }
     let f = failure(
         settings.max_iter,
@@ -526,6 +532,50 @@ mod tests {
             reason(Stall::Iterate),
             (NewtonFailure::MaxIterations, settings.max_iter)
         );
+    }
+
+    /// Newton steps given in turn (a residual at its floor throughout).
+    struct Scripted(Vec<f64>);
+
+    impl NewtonProblem for Scripted {
+        type Point = Zero;
+        fn evaluate(&mut self, _z: &[f64]) -> Result<Zero, ContinuationError> {
+            Ok(Zero)
+        }
+        fn newton_step(&mut self, _point: &Zero) -> Result<Vec<f64>, ContinuationError> {
+            Ok(vec![self.0.remove(0)])
+        }
+        fn relative_step(&self, dz: &[f64], _z: &[f64]) -> f64 {
+            dz[0]
+        }
+        fn stall(&self) -> Stall {
+            Stall::Fail
+        }
+        fn error(&self, failure: Failure, _cause: Option<ContinuationError>) -> ContinuationError {
+            failure.error(String::new(), "")
+        }
+    }
+
+    /// A step back right after a fast fall is not a floor (the fold-of-cycles
+    /// system's steps on a stiff orbit); after a slow one it is.
+    #[test]
+    fn a_step_back_after_a_fast_fall_is_not_a_stall() {
+        // The fold-of-cycles corrector's tolerance: a floor within 1e-7.
+        let settings = NewtonSettings {
+            step_tol: 1e-10,
+            residual_tol: 1e-9,
+            max_iter: 8,
+        };
+        let steps = vec![8e-4, 2.5e-8, 7.7e-8, 3e-12];
+        let (report, _) = iterate(&mut Scripted(steps), &mut [1.0], &settings).unwrap();
+        assert_eq!((report.iterations, report.step), (4, 3e-12));
+        let steps = vec![1e-6, 2.5e-8, 7.7e-8, 3e-12];
+        match iterate(&mut Scripted(steps), &mut [1.0], &settings) {
+            Err(ContinuationError::Newton {
+                reason, iterations, ..
+            }) => assert_eq!((reason, iterations), (NewtonFailure::Stalled, 3)),
+            other => panic!("{:?}", other.map(|(r, _)| r)),
+        }
     }
 
     #[test]
