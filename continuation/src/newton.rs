@@ -199,7 +199,6 @@ pub fn iterate<P: NewtonProblem>(
     settings: &NewtonSettings,
 ) -> Result<(NewtonReport, P::Point), ContinuationError> {
     let mut last_step = f64::INFINITY;
-    // The last two steps relative to their iterates.
     // The last three steps relative to their iterates, the latest first.
     let mut relative = [f64::INFINITY; 3];
     let mut residual = f64::INFINITY;
@@ -236,7 +235,9 @@ pub fn iterate<P: NewtonProblem>(
         if small_residual && last <= tol {
             return Ok((report, point));
         }
-        let fell_fast = earlier.is_finite() && previous < 1e-3 * earlier;
+        // At the iteration limit a floor is read as one: no iteration is left
+        // to tell a step back from it.
+        let fell_fast = it < settings.max_iter && earlier.is_finite() && previous < 1e-3 * earlier;
         if small_residual && last <= 1e3 * tol && last > 0.5 * previous && !fell_fast {
             match problem.stall() {
                 Stall::Iterate => {}
@@ -569,13 +570,28 @@ mod tests {
         let steps = vec![8e-4, 2.5e-8, 7.7e-8, 3e-12];
         let (report, _) = iterate(&mut Scripted(steps), &mut [1.0], &settings).unwrap();
         assert_eq!((report.iterations, report.step), (4, 3e-12));
-        let steps = vec![1e-6, 2.5e-8, 7.7e-8, 3e-12];
-        match iterate(&mut Scripted(steps), &mut [1.0], &settings) {
+        let stalled = |steps: Vec<f64>, settings: &NewtonSettings| match iterate(
+            &mut Scripted(steps),
+            &mut [1.0],
+            settings,
+        ) {
             Err(ContinuationError::Newton {
                 reason, iterations, ..
-            }) => assert_eq!((reason, iterations), (NewtonFailure::Stalled, 3)),
+            }) => (reason, iterations),
             other => panic!("{:?}", other.map(|(r, _)| r)),
-        }
+        };
+        let slow_fall = vec![1e-6, 2.5e-8, 7.7e-8, 3e-12];
+        assert_eq!(stalled(slow_fall, &settings), (NewtonFailure::Stalled, 3));
+        // A floor after a fast fall: seen one iteration later.
+        let floor = vec![8e-4, 2.5e-8, 7.7e-8, 6e-8, 3e-12];
+        assert_eq!(stalled(floor, &settings), (NewtonFailure::Stalled, 4));
+        // The step back at the iteration limit: a floor, not the limit.
+        let at_limit = NewtonSettings {
+            max_iter: 3,
+            ..settings
+        };
+        let fast_fall = vec![8e-4, 2.5e-8, 7.7e-8, 3e-12];
+        assert_eq!(stalled(fast_fall, &at_limit), (NewtonFailure::Stalled, 3));
     }
 
     #[test]

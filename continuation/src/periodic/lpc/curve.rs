@@ -97,6 +97,9 @@ pub struct FoldsOfCycles<'a, S: VectorField> {
     aug: Augmented<'a, S>,
     y: Vec<f64>,
     tangent: Vec<f64>,
+    /// The fold before `y` (on `y`'s mesh): with `y` and the tangent there,
+    /// the third point of the predictor (see [`FoldStep`]).
+    previous: Option<Vec<f64>>,
     ds: f64,
     settings: LpcCurveSettings,
     /// Folds handed out (or failed).
@@ -136,6 +139,7 @@ impl<'a, S: VectorField> Driver<FoldsOfCycles<'a, S>> {
             aug,
             y,
             tangent,
+            previous: None,
             ds: settings.step.ds,
             settings,
             steps: 0,
@@ -331,18 +335,18 @@ impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
     }
 
     /// Continues from the fold `y` of the system `aug` (on another mesh),
-    /// the tangent moved onto that mesh.
+    /// the tangent moved onto that mesh, and the fold before as `y` plus
+    /// its difference from the fold left moved there (`y` may be corrected
+    /// on the new mesh, which moves it by the discretization error: the
+    /// difference keeps the predictor's quadratic from taking that up).
     fn move_to(&mut self, aug: Augmented<'a, S>, y: Vec<f64>) {
         let orbit = self.aug.cycle(&self.y);
-        let nn = orbit.u.len();
-        let mut t = Cycle {
-            u: self.tangent[..nn].to_vec(),
-            ..orbit
-        }
-        .remesh(aug.coll.mesh.clone())
-        .u;
-        t.extend_from_slice(&self.tangent[nn..]);
-        self.tangent = t;
+        self.tangent = onto_mesh(&self.tangent, &orbit, &aug);
+        self.previous = self.previous.as_deref().map(|before| {
+            let difference: Vec<f64> = before.iter().zip(&self.y).map(|(b, y)| b - y).collect();
+            let moved = onto_mesh(&difference, &orbit, &aug);
+            y.iter().zip(moved).map(|(y, d)| y + d).collect()
+        });
         self.aug = aug;
         self.y = y;
     }
@@ -362,6 +366,7 @@ impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
             aug: &mut self.aug,
             y: &mut self.y,
             tangent: &mut self.tangent,
+            previous: &mut self.previous,
             corrector: &self.settings.corrector,
             k2: self.k2,
             passed_bautin: false,
@@ -413,8 +418,52 @@ impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
         self.aug.update_borders(&e);
         self.aug.recycle(e);
         self.y = y;
+        self.previous = None;
         Some(report)
     }
+}
+
+/// The unknowns `v` of a curve of folds (orbit part on `orbit`'s mesh, then
+/// `T`, `p1`, `p2`) with the orbit part interpolated onto `aug`'s mesh.
+fn onto_mesh<S: VectorField>(v: &[f64], orbit: &Cycle, aug: &Augmented<S>) -> Vec<f64> {
+    let nn = orbit.u.len();
+    let mut moved = Cycle {
+        u: v[..nn].to_vec(),
+        ..orbit.clone()
+    }
+    .remesh(aug.coll.mesh.clone())
+    .u;
+    moved.extend_from_slice(&v[nn..]);
+    moved
+}
+
+/// The point `y0 + ds t + a ds^2` of the quadratic through `before`, `y0`
+/// and the tangent `t` at `y0`: `a = (before - y0 + h t) / h^2`, `before`
+/// taken at `s = -h`, `h = <row, y0 - before> / <row, t>` its distance
+/// along the tangent (`row` the tangent in this step's arclength weights,
+/// in which `t` need not be of unit length: the weights follow the
+/// point). The point lies on the tangent's pseudo-arclength hyperplane
+/// `<row, y - (y0 + ds t)> = 0`. `None` where `before` does not lie behind
+/// `y0`, or lies so close behind it that the step would extrapolate the
+/// quadratic over more than 4 times that distance.
+fn quadratic_start(
+    y0: &[f64],
+    t: &[f64],
+    before: &[f64],
+    row: &[f64],
+    ds: f64,
+) -> Option<Vec<f64>> {
+    let along: f64 = (0..y0.len()).map(|i| row[i] * t[i]).sum();
+    let h = (0..y0.len())
+        .map(|i| row[i] * (y0[i] - before[i]))
+        .sum::<f64>()
+        / along;
+    (h > 0.0 && ds.abs() <= 4.0 * h).then(|| {
+        let c = (ds / h).powi(2);
+        (0..y0.len())
+            .map(|i| y0[i] + ds * t[i] + c * (before[i] - y0[i] + h * t[i]))
+            .collect()
+    })
 }
 
 /// One step of an [`LpcCurve`] as a [`CurveProblem`]: the augmented system
@@ -423,6 +472,7 @@ struct FoldStep<'c, 'a, S: VectorField> {
     aug: &'c mut Augmented<'a, S>,
     y: &'c mut Vec<f64>,
     tangent: &'c mut Vec<f64>,
+    previous: &'c mut Option<Vec<f64>>,
     w: Vec<f64>,
     corrector: &'c NewtonSettings,
     k2: usize,
@@ -434,14 +484,33 @@ impl<S: VectorField> CurveProblem for FoldStep<'_, '_, S> {
     type Point = (Vec<f64>, Evaluation);
     type Tangent = Vec<f64>;
 
+    /// Newton's method from the quadratic through the fold before, this
+    /// one and its tangent (`y + s t + a s^2`, `a` from the fold before at
+    /// `s = -h`, `h` its distance along the tangent), where there is a fold
+    /// before: its error is of the third order in the step where the
+    /// tangent's is of the second. The pseudo-arclength condition is the
+    /// tangent's (`<t, y - (y0 + ds t)>_w = 0`): the fold it fixes near the
+    /// prediction does not depend on where Newton's method starts.
     fn correct(&mut self, ds: f64) -> Result<Corrected<Self::Point>, ContinuationError> {
         let d = self.y.len();
         let pred: Vec<f64> = (0..d).map(|i| self.y[i] + ds * self.tangent[i]).collect();
         let row: Vec<f64> = (0..d).map(|i| self.w[i] * self.tangent[i]).collect();
-        let mut y = pred.clone();
-        let (report, e) = self
+        let quadratic = self
+            .previous
+            .as_deref()
+            .filter(|before| before.len() == d)
+            .and_then(|before| quadratic_start(self.y, self.tangent, before, &row, ds));
+        let from_quadratic = quadratic.is_some();
+        let mut y = quadratic.unwrap_or_else(|| pred.clone());
+        let (mut report, e) = self
             .aug
             .newton(&mut y, Some((&row, &pred)), self.corrector, true)?;
+        // The step control counts the iteration the tangent's prediction
+        // would have taken more: the steps grow and shrink as they did
+        // from it, and the curve keeps its folds (counted as they come, the
+        // steps grew longer and the last fold before a Bautin point lay
+        // farther from it).
+        report.iterations += usize::from(from_quadratic);
         Ok(Corrected {
             point: (y, e),
             report,
@@ -466,7 +535,7 @@ impl<S: VectorField> CurveProblem for FoldStep<'_, '_, S> {
         self.passed_bautin = passed_bautin(&self.y[..d - 3], &y[..d - 3], n);
         self.aug.update_borders(&e);
         self.aug.recycle(e);
-        *self.y = y;
+        *self.previous = Some(std::mem::replace(self.y, y));
         *self.tangent = t;
         Ok(())
     }
@@ -599,5 +668,63 @@ impl<S: VectorField> Curve for FoldsOfCycles<'_, S> {
             Ok(None) => Ok(Advance::End(Stop::BautinPoint { param })),
             Err(e) => Err(e),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::quadratic_start;
+
+    /// On the parabola `(s, s^2)`, from its vertex (tangent `(1, 0)`) with
+    /// the point at `s = -h` behind it, the start is the parabola's point at
+    /// `s = ds`, where the tangent's prediction is `ds^2` off; a point
+    /// ahead of the vertex gives none.
+    #[test]
+    fn the_quadratic_start_lies_on_a_parabola() {
+        let (h, ds) = (0.3, 0.45);
+        let (y0, t) = ([0.0, 0.0], [1.0, 0.0]);
+        let start = quadratic_start(&y0, &t, &[-h, h * h], &t, ds).unwrap();
+        assert!((start[0] - ds).abs() < 1e-15, "{start:?}");
+        assert!((start[1] - ds * ds).abs() < 1e-15, "{start:?}");
+        assert!(quadratic_start(&y0, &t, &[h, h * h], &t, ds).is_none());
+    }
+
+    /// In uneven weights, with a tangent off the axes and not of unit
+    /// length in them, the start lies on the pseudo-arclength hyperplane,
+    /// and its distance from the curve's point there (the parabola
+    /// `y0 + s t + s^2 a` where it crosses the hyperplane) falls with the
+    /// cube of the step where the tangent's prediction falls with its
+    /// square.
+    #[test]
+    fn the_quadratic_start_is_of_the_third_order_in_any_weights() {
+        let (y0, t, a) = ([1.0, 2.0, -0.5], [0.6, -0.3, 0.9], [0.2, 0.7, -0.4]);
+        let w = [3.0, 0.25, 10.0];
+        let at = |s: f64| -> Vec<f64> { (0..3).map(|i| y0[i] + s * t[i] + s * s * a[i]).collect() };
+        let row: Vec<f64> = (0..3).map(|i| w[i] * t[i]).collect();
+        let dot = |u: &[f64], v: &[f64]| -> f64 { u.iter().zip(v).map(|(u, v)| u * v).sum() };
+        // Along the row the parabola is at `s + alpha s^2`.
+        let alpha = dot(&row, &a) / dot(&row, &t);
+        let mut errors = Vec::new();
+        for k in 0..3 {
+            let (h0, ds) = (0.2 / 2f64.powi(k), 0.3 / 2f64.powi(k));
+            let start = quadratic_start(&y0, &t, &at(-h0), &row, ds).unwrap();
+            let pred: Vec<f64> = (0..3).map(|i| y0[i] + ds * t[i]).collect();
+            let off = dot(&row, &start) - dot(&row, &pred);
+            assert!(off.abs() < 1e-14, "{off}");
+            let crossing = at(2.0 * ds / (1.0 + (1.0 + 4.0 * alpha * ds).sqrt()));
+            let distance = |y: &[f64]| -> f64 {
+                y.iter()
+                    .zip(&crossing)
+                    .map(|(y, c)| (y - c).abs())
+                    .fold(0.0, f64::max)
+            };
+            errors.push((distance(&start), distance(&pred)));
+        }
+        for pair in errors.windows(2) {
+            let (quadratic, tangent) = (pair[1].0 / pair[0].0, pair[1].1 / pair[0].1);
+            assert!(quadratic < 0.16 && tangent > 0.2, "{errors:?}");
+        }
+        // A point too close behind for this step: none.
+        assert!(quadratic_start(&y0, &t, &at(-0.05), &row, 0.3).is_none());
     }
 }

@@ -366,6 +366,9 @@ impl<S: VectorField> NewtonProblem for FoldSystem<'_, '_, S> {
 pub struct LpcPoint {
     /// The orbit at the fold (parameters included).
     pub cycle: Cycle,
+    /// Newton's work on it; on a curve of folds, a correction started on
+    /// the quadratic predictor counts one iteration more, the one the
+    /// tangent's prediction would have taken (what the step control reads).
     pub newton: NewtonReport,
 }
 
