@@ -268,6 +268,26 @@ impl Cycle {
     }
 }
 
+/// Unknowns `v` of a collocation system whose first part is node values on
+/// `from` (`n` per node), moved onto `to`: the node values by evaluating
+/// their polynomials ([`Cycle::remesh`]), the entries after them (period,
+/// parameters) as they are. For vectors of the unknowns' shape that are not
+/// orbits themselves: tangents, differences of orbits.
+pub(crate) fn unknowns_on(v: &[f64], from: &Mesh, n: usize, to: &Mesh) -> Vec<f64> {
+    let nn = from.n_nodes() * n;
+    let mut moved = Cycle {
+        mesh: from.clone(),
+        u: v[..nn].to_vec(),
+        period: 0.0,
+        p: Vec::new(),
+        n,
+    }
+    .remesh(to.clone())
+    .u;
+    moved.extend_from_slice(&v[nn..]);
+    moved
+}
+
 /// One collocation step from a mesh point of an orbit ([`Cycle::step_from_node`]).
 struct Stepper<'a, S: VectorField> {
     sys: &'a S,

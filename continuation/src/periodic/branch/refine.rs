@@ -25,6 +25,7 @@ use crate::error::ContinuationError;
 use crate::newton::{NewtonReport, NewtonSettings};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::collocation::Collocation;
+use crate::periodic::cycle::unknowns_on;
 use crate::periodic::newton::{
     chord_bordered, correct_bordered, newton_bordered, unit_row, ArcWeights, OrbitJacobian,
 };
@@ -365,18 +366,7 @@ impl<S: VectorField> Cycles<'_, S> {
         mesh: &Mesh,
         z: &[f64],
     ) -> Vec<f64> {
-        let n = self.sys.dim();
-        let nn = from.n_nodes() * n;
-        let mut t = Cycle {
-            mesh: from.clone(),
-            u: tangent[..nn].to_vec(),
-            period: 0.0,
-            p: Vec::new(),
-            n,
-        }
-        .remesh(mesh.clone())
-        .u;
-        t.extend_from_slice(&tangent[nn..]);
+        let t = unknowns_on(tangent, from, self.sys.dim(), mesh);
         let norm = ArcWeights::at(z, self.settings.param_floor)
             .dot(&t, &t)
             .sqrt();

@@ -10,6 +10,7 @@ use crate::newton::{NewtonReport, NewtonSettings};
 use crate::normal_form::{hopf_normal_form, HopfNormalForm};
 use crate::periodic::adapt::equidistribute;
 use crate::periodic::branch::{CycleBranch, CycleEvent, CyclePoint, CycleSettings};
+use crate::periodic::cycle::unknowns_on;
 use crate::periodic::newton::unit_row;
 use crate::periodic::CollocationPoints;
 use crate::periodic::Cycle;
@@ -340,11 +341,11 @@ impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
     /// on the new mesh, which moves it by the discretization error: the
     /// difference keeps the predictor's quadratic from taking that up).
     fn move_to(&mut self, aug: Augmented<'a, S>, y: Vec<f64>) {
-        let orbit = self.aug.cycle(&self.y);
-        self.tangent = onto_mesh(&self.tangent, &orbit, &aug);
+        let (from, to, n) = (&self.aug.coll.mesh, &aug.coll.mesh, self.sys.dim());
+        self.tangent = unknowns_on(&self.tangent, from, n, to);
         self.previous = self.previous.as_deref().map(|before| {
             let difference: Vec<f64> = before.iter().zip(&self.y).map(|(b, y)| b - y).collect();
-            let moved = onto_mesh(&difference, &orbit, &aug);
+            let moved = unknowns_on(&difference, from, n, to);
             y.iter().zip(moved).map(|(y, d)| y + d).collect()
         });
         self.aug = aug;
@@ -421,20 +422,6 @@ impl<'a, S: VectorField> FoldsOfCycles<'a, S> {
         self.previous = None;
         Some(report)
     }
-}
-
-/// The unknowns `v` of a curve of folds (orbit part on `orbit`'s mesh, then
-/// `T`, `p1`, `p2`) with the orbit part interpolated onto `aug`'s mesh.
-fn onto_mesh<S: VectorField>(v: &[f64], orbit: &Cycle, aug: &Augmented<S>) -> Vec<f64> {
-    let nn = orbit.u.len();
-    let mut moved = Cycle {
-        u: v[..nn].to_vec(),
-        ..orbit.clone()
-    }
-    .remesh(aug.coll.mesh.clone())
-    .u;
-    moved.extend_from_slice(&v[nn..]);
-    moved
 }
 
 /// The point `y0 + ds t + a ds^2` of the quadratic through `before`, `y0`
