@@ -34,8 +34,8 @@
 use super::collocation::Linearization;
 use crate::error::ContinuationError;
 use nalgebra::{
-    Const, DMatrix, DMatrixView, DMatrixViewMut, DVector, DVectorView, DVectorViewMut, Dyn,
-    FullPivLU, SMatrix, SVector, U3, U4, U5, U6,
+    Const, DMatrix, DMatrixView, DVector, DVectorView, DVectorViewMut, Dyn, FullPivLU, SMatrix,
+    SVector, U3, U4, U5, U6,
 };
 use smallvec::SmallVec;
 use std::borrow::Cow;
@@ -62,30 +62,31 @@ impl Householder {
         }
     }
 
-    /// Factors the block held in the first `c` columns of `sweep` (`c` the
-    /// columns of `self.v`, which receives the reflectors) and applies `Q^T`
-    /// to the trailing columns beside it, each reflector as soon as it is
-    /// formed.
+    /// Factors the `rows x cols` block held in the first `cols` columns of
+    /// the rows `w` (each `width` entries; [`Sweep`]) into the reflectors
+    /// `self.v` and the factor `self.r`, and applies `Q^T` to the trailing
+    /// columns beside it, each reflector as soon as it is formed. The sizes
+    /// are passed in: a caller that knows them at compile time gets the
+    /// loops unrolled.
     ///
-    /// The sweep runs on rows ([`Sweep`]): a reflector's dot products with
-    /// the columns on its right are summed side by side, one lane a column,
-    /// each in row order from `-0.0` — the sums of a reflection column by
-    /// column, to the bit, in vector instructions across the columns. The
-    /// lanes start at the group of [`LANES`] holding column `j + 1`; the
-    /// columns before it in that group (already factored) are transformed
-    /// too and never read again.
+    /// A reflector's dot products with the columns on its right are summed
+    /// side by side, one lane a column, each in row order from `-0.0` — the
+    /// sums of a reflection column by column, to the bit, in vector
+    /// instructions across the columns. The lanes start at the group of
+    /// [`LANES`] holding column `j + 1`; the columns before it in that group
+    /// (already factored) are transformed too and never read again.
     #[inline(always)]
-    fn factor(&mut self, sweep: &mut Sweep) {
-        let (rows, cols) = self.v.shape();
-        let Sweep { w, width } = sweep;
-        let width = *width;
-        self.r.fill(0.0);
+    fn factor(&mut self, w: &mut [f64], (rows, cols): (usize, usize), width: usize) {
+        let w = &mut w[..rows * width];
+        let r = &mut self.r.as_mut_slice()[..cols * cols];
+        r.fill(0.0);
+        let v_all = &mut self.v.as_mut_slice()[..rows * cols];
         for j in 0..cols {
-            let v = &mut self.v.as_mut_slice()[j * rows + j..(j + 1) * rows];
+            let v = &mut v_all[j * rows + j..(j + 1) * rows];
             for (k, vk) in v.iter_mut().enumerate() {
                 *vk = w[(j + k) * width + j];
             }
-            self.r[(j, j)] = reflector_of(v);
+            r[j * cols + j] = reflector_of(v);
             // x <- x - 2 (v . x) v for every column x right of column j, up
             // to GROUPS groups of lanes at a time.
             let mut first = (j + 1) / LANES * LANES;
@@ -103,7 +104,7 @@ impl Householder {
                 first += groups * LANES;
             }
             for c in j + 1..cols {
-                self.r[(j, c)] = w[j * width + c];
+                r[c * cols + j] = w[j * width + c];
             }
         }
     }
@@ -218,44 +219,52 @@ impl Sweep {
     /// Makes room for `rows` rows of `columns` columns (the block's and the
     /// trailing ones); the entries are the caller's to fill.
     fn shape(&mut self, rows: usize, columns: usize) {
-        let width = columns.div_ceil(LANES) * LANES;
+        let width = padded(columns);
         if self.width != width || self.w.len() != rows * width {
             self.width = width;
             self.w = vec![0.0; rows * width];
         }
     }
+}
 
-    /// Entry `(r, c)` set to `a`.
-    #[inline(always)]
-    fn set(&mut self, r: usize, c: usize, a: f64) {
-        self.w[r * self.width + c] = a;
-    }
+/// The width of a [`Sweep`]'s rows of `columns` columns: whole [`LANES`].
+#[inline(always)]
+fn padded(columns: usize) -> usize {
+    columns.div_ceil(LANES) * LANES
+}
 
-    /// `target` (`rows x cols`) from the entries from `(r0, c0)` on.
-    #[inline(always)]
-    fn copy_into(&self, (r0, c0): (usize, usize), mut target: DMatrixViewMut<f64>) {
-        for c in 0..target.ncols() {
-            for r in 0..target.nrows() {
-                target[(r, c)] = self.w[(r0 + r) * self.width + c0 + c];
-            }
+/// The `rows x cols` entries from `(r0, c0)` on of the rows `w` (each
+/// `width` entries) into the column-major `target`.
+#[inline(always)]
+fn rows_into(
+    w: &[f64],
+    width: usize,
+    (r0, c0): (usize, usize),
+    (rows, cols): (usize, usize),
+    target: &mut [f64],
+) {
+    let target = &mut target[..rows * cols];
+    for c in 0..cols {
+        for r in 0..rows {
+            target[c * rows + r] = w[(r0 + r) * width + c0 + c];
         }
     }
+}
 
-    /// The `rows x cols` entries from `(r0, c0)` on set to `a`.
-    #[inline(always)]
-    fn fill(&mut self, (r0, c0): (usize, usize), (rows, cols): (usize, usize), a: f64) {
-        for r in r0..r0 + rows {
-            self.w[r * self.width + c0..][..cols].fill(a);
-        }
-    }
-
-    /// The entries from `(r0, c0)` on set to `source`.
-    #[inline(always)]
-    fn copy_from(&mut self, (r0, c0): (usize, usize), source: DMatrixView<f64>) {
-        for c in 0..source.ncols() {
-            for r in 0..source.nrows() {
-                self.w[(r0 + r) * self.width + c0 + c] = source[(r, c)];
-            }
+/// The `rows x cols` entries from `(r0, c0)` on of the rows `w` (each
+/// `width` entries) from the column-major `source`.
+#[inline(always)]
+fn rows_from(
+    w: &mut [f64],
+    width: usize,
+    (r0, c0): (usize, usize),
+    (rows, cols): (usize, usize),
+    source: &[f64],
+) {
+    let source = &source[..rows * cols];
+    for c in 0..cols {
+        for r in 0..rows {
+            w[(r0 + r) * width + c0 + c] = source[c * rows + r];
         }
     }
 }
@@ -361,13 +370,25 @@ impl CyclicReduction {
         self.factor_here(lin);
     }
 
-    /// [`CyclicReduction::factor`]'s work, inlined into each of its targets.
+    /// [`CyclicReduction::factor`]'s work, inlined into each of its targets,
+    /// and there once more for each of the common shapes (`n = 2, 3`,
+    /// degree 4) with the sizes constant.
     #[inline(always)]
     fn factor_here(&mut self, lin: &Linearization) {
-        let n = self.n;
-        let ntst = lin.blocks.count();
         let mn = lin.blocks.shape().0;
-        let m = mn / n;
+        match (self.n, mn) {
+            (2, 8) => self.factor_shaped(lin, 2, 4),
+            (3, 12) => self.factor_shaped(lin, 3, 4),
+            (n, mn) => self.factor_shaped(lin, n, mn / n),
+        }
+    }
+
+    /// [`CyclicReduction::factor_here`] for state dimension `n` and degree
+    /// `m`.
+    #[inline(always)]
+    fn factor_shaped(&mut self, lin: &Linearization, n: usize, m: usize) {
+        let ntst = lin.blocks.count();
+        let mn = m * n;
         if self.m != m || self.intervals.len() != ntst {
             self.m = m;
             self.intervals = vec![
@@ -402,6 +423,10 @@ impl CyclicReduction {
         let (interior, ends) = ((m - 1) * n, 2 * n + BORDER);
         let sweep = &mut scratch.sweep;
         sweep.shape(mn, interior + ends);
+        let width = padded(interior + ends);
+        let w = &mut sweep.w[..mn * width];
+        let border_rows = ntst * mn;
+        let border = self.border.as_mut_slice();
         for (i, (iv, data)) in self
             .intervals
             .iter_mut()
@@ -409,14 +434,16 @@ impl CyclicReduction {
             .enumerate()
         {
             // Column-major: column c of the block is data[c mn..(c + 1) mn].
+            let data = &data[..((m + 1) * n + BORDER) * mn];
             let column = |c: usize| &data[c * mn..(c + 1) * mn];
-            iv.scale.fill(0.0);
+            let scale = &mut iv.scale[..mn];
+            scale.fill(0.0);
             for c in 0..(m + 1) * n {
-                for (s, v) in iv.scale.iter_mut().zip(column(c)) {
+                for (s, v) in scale.iter_mut().zip(column(c)) {
                     *s = s.max(v.abs());
                 }
             }
-            for s in iv.scale.iter_mut() {
+            for s in scale.iter_mut() {
                 *s = if *s > 0.0 && s.is_finite() {
                     1.0 / *s
                 } else {
@@ -431,18 +458,37 @@ impl CyclicReduction {
             };
             for c in 0..(m + 1) * n + BORDER {
                 let t = target(c);
-                for (r, (v, s)) in column(c).iter().zip(&iv.scale).enumerate() {
-                    sweep.set(r, t, s * v);
+                for (r, (v, s)) in column(c).iter().zip(&*scale).enumerate() {
+                    w[r * width + t] = s * v;
                 }
             }
-            iv.qr.factor(sweep);
-            sweep.copy_into((0, interior), iv.top.view_mut((0, 0), (interior, 2 * n)));
-            sweep.copy_into((interior, interior), self.a[i].view_mut((0, 0), (n, n)));
-            sweep.copy_into((interior, interior + n), self.b[i].view_mut((0, 0), (n, n)));
-            sweep.copy_into(
-                (0, interior + 2 * n),
-                self.border.view_mut((i * mn, 0), (mn, BORDER)),
+            iv.qr.factor(w, (mn, interior), width);
+            rows_into(
+                w,
+                width,
+                (0, interior),
+                (interior, 2 * n),
+                iv.top.as_mut_slice(),
             );
+            rows_into(
+                w,
+                width,
+                (interior, interior),
+                (n, n),
+                self.a[i].as_mut_slice(),
+            );
+            rows_into(
+                w,
+                width,
+                (interior, interior + n),
+                (n, n),
+                self.b[i].as_mut_slice(),
+            );
+            for c in 0..BORDER {
+                for r in 0..mn {
+                    border[c * border_rows + i * mn + r] = w[r * width + interior + 2 * n + c];
+                }
+            }
         }
         // Orthogonal cyclic reduction: (interval holding the relation, left,
         // right); each elimination's block `[b_upper; a_lower]` in rows, then
@@ -452,6 +498,8 @@ impl CyclicReduction {
         chain.extend((0..ntst).map(|i| (i, i, (i + 1) % ntst)));
         let pairs = &mut scratch.pairs;
         pairs.shape(2 * n, n + 2 * n + BORDER);
+        let width = padded(n + 2 * n + BORDER);
+        let p = &mut pairs.w[..2 * n * width];
         let mut count = 0;
         while chain.len() > 1 {
             next.clear();
@@ -464,25 +512,32 @@ impl CyclicReduction {
                 count += 1;
                 (el.node, el.left, el.right, el.upper, el.lower) =
                     (node, left, right, upper, lower);
-                let (upper_rows, lower_rows) = (
-                    (upper + 1) * mn - n..(upper + 1) * mn,
-                    (lower + 1) * mn - n..(lower + 1) * mn,
-                );
-                pairs.copy_from((0, 0), self.b[upper].as_view());
-                pairs.copy_from((n, 0), self.a[lower].as_view());
-                pairs.copy_from((0, n), self.a[upper].as_view());
-                pairs.fill((0, 2 * n), (n, n), 0.0);
-                pairs.fill((n, n), (n, n), 0.0);
-                pairs.copy_from((n, 2 * n), self.b[lower].as_view());
-                pairs.copy_from((0, 3 * n), self.border.rows_range(upper_rows.clone()));
-                pairs.copy_from((n, 3 * n), self.border.rows_range(lower_rows.clone()));
-                el.qr.factor(pairs);
-                pairs.copy_into((0, n), el.x.view_mut((0, 0), (n, n)));
-                pairs.copy_into((0, 2 * n), el.z.view_mut((0, 0), (n, n)));
-                pairs.copy_into((n, n), self.a[lower].view_mut((0, 0), (n, n)));
-                pairs.copy_into((n, 2 * n), self.b[lower].view_mut((0, 0), (n, n)));
-                pairs.copy_into((0, 3 * n), self.border.rows_range_mut(upper_rows));
-                pairs.copy_into((n, 3 * n), self.border.rows_range_mut(lower_rows));
+                let (upper_rows, lower_rows) = ((upper + 1) * mn - n, (lower + 1) * mn - n);
+                rows_from(p, width, (0, 0), (n, n), self.b[upper].as_slice());
+                rows_from(p, width, (n, 0), (n, n), self.a[lower].as_slice());
+                rows_from(p, width, (0, n), (n, n), self.a[upper].as_slice());
+                for r in 0..n {
+                    p[r * width + 2 * n..][..n].fill(0.0);
+                    p[(n + r) * width + n..][..n].fill(0.0);
+                }
+                rows_from(p, width, (n, 2 * n), (n, n), self.b[lower].as_slice());
+                for c in 0..BORDER {
+                    for r in 0..n {
+                        p[r * width + 3 * n + c] = border[c * border_rows + upper_rows + r];
+                        p[(n + r) * width + 3 * n + c] = border[c * border_rows + lower_rows + r];
+                    }
+                }
+                el.qr.factor(p, (2 * n, n), width);
+                rows_into(p, width, (0, n), (n, n), el.x.as_mut_slice());
+                rows_into(p, width, (0, 2 * n), (n, n), el.z.as_mut_slice());
+                rows_into(p, width, (n, n), (n, n), self.a[lower].as_mut_slice());
+                rows_into(p, width, (n, 2 * n), (n, n), self.b[lower].as_mut_slice());
+                for c in 0..BORDER {
+                    for r in 0..n {
+                        border[c * border_rows + upper_rows + r] = p[r * width + 3 * n + c];
+                        border[c * border_rows + lower_rows + r] = p[(n + r) * width + 3 * n + c];
+                    }
+                }
                 next.push((lower, left, right));
             }
             std::mem::swap(chain, next);
@@ -928,11 +983,10 @@ impl<'a> Bordered<'a> {
         let mut s = vec![0.0; self.dim()];
         // U^T s = P^T rhs, unknowns in the order of elimination: the columns
         // of an eliminated group hold its pivot and rows eliminated before it.
-        let push =
-            |t: &mut [f64], range: Range<usize>, m: nalgebra::DMatrixView<f64>, s: &[f64]| {
-                let mut target = DVectorViewMut::from_slice(&mut t[range.clone()], range.len());
-                target.gemv_tr(-1.0, &m, &DVectorView::from_slice(s, s.len()), 1.0);
-            };
+        let push = |t: &mut [f64], range: Range<usize>, m: DMatrixView<f64>, s: &[f64]| {
+            let mut target = DVectorViewMut::from_slice(&mut t[range.clone()], range.len());
+            target.gemv_tr(-1.0, &m, &DVectorView::from_slice(s, s.len()), 1.0);
+        };
         if red.m > 1 {
             for (i, iv) in red.intervals.iter().enumerate() {
                 let rows = red.top_rows(i);
@@ -1147,7 +1201,9 @@ mod tests {
     /// The sweep on rows sums each column's dot product with a reflector in
     /// row order in its own lane: the border it transforms is `apply_r`'s,
     /// which reflects one column at a time, to the bit; and the reduction
-    /// compiled for AVX2 is the baseline one, entry by entry.
+    /// compiled for AVX2 is the baseline one, and the shapes compiled with
+    /// their sizes constant (`n = 2, 3`, degree 4) the code for any size,
+    /// entry by entry.
     #[test]
     fn the_sweep_in_lanes_is_the_column_by_column_reflection_to_the_bit() {
         let mut seed = 11;
@@ -1167,6 +1223,9 @@ mod tests {
                 // SAFETY: the processor has AVX2, detected just above.
                 unsafe { reduction.factor_avx2(&lin) };
             }
+            let mut any_size = reduction.clone();
+            let hidden = |x: usize| std::hint::black_box(x);
+            any_size.factor_shaped(&lin, hidden(n), hidden(m));
             let parts = |r: &CyclicReduction| {
                 let mut all: Vec<f64> = r.border.iter().copied().collect();
                 for iv in &r.intervals {
@@ -1190,6 +1249,11 @@ mod tests {
                 parts(&baseline),
                 parts(&reduction),
                 "n {n} m {m} ntst {ntst}"
+            );
+            assert_eq!(
+                parts(&baseline),
+                parts(&any_size),
+                "n {n} m {m} ntst {ntst}: any size"
             );
         }
     }
@@ -1220,10 +1284,10 @@ mod tests {
                     sweep.w.fill(f64::NAN);
                     for c in 0..width {
                         for r in 0..rows {
-                            sweep.set(r, c, a[c * rows + r]);
+                            sweep.w[r * sweep.width + c] = a[c * rows + r];
                         }
                     }
-                    qr.factor(&mut sweep);
+                    qr.factor(&mut sweep.w, (rows, cols), sweep.width);
                     let mut columns = a.clone();
                     let mut r_factor = vec![0.0; cols * cols];
                     for j in 0..cols {
