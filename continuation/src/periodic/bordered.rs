@@ -654,8 +654,8 @@ pub struct BorderedStore {
     /// Scratch of [`Bordered::solve_into`].
     c: Vec<f64>,
     g: DVector<f64>,
-    y: DVector<f64>,
-    w: DVector<f64>,
+    y: Vec<f64>,
+    w: Vec<f64>,
 }
 
 /// `FullPivLU` of the final `(n + k)`-square system, on the stack for the
@@ -748,6 +748,274 @@ pub(super) fn shaped(target: &mut DMatrix<f64>, (rows, cols): (usize, usize)) {
     }
 }
 
+/// `a . b` for vectors of dynamic size, summed as nalgebra sums them
+/// (eight partial sums over whole groups of eight entries, added pairwise,
+/// then the rest in order): the elimination of the dense rows below gives
+/// the results of nalgebra's `gemm_tr`, `gemv` and triangular solves, to
+/// the bit, on slices whose sizes the shapes that occur make constants.
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let b = &b[..a.len()];
+    let mut acc = [0.0f64; 8];
+    let groups = a.len() / 8 * 8;
+    for (x, y) in a[..groups].chunks_exact(8).zip(b[..groups].chunks_exact(8)) {
+        for l in 0..8 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    let mut sum = 0.0;
+    for l in 0..4 {
+        sum += acc[l] + acc[l + 4];
+    }
+    for (x, y) in a[groups..].iter().zip(&b[groups..]) {
+        sum += x * y;
+    }
+    sum
+}
+
+/// `out <- out - lt^T b`: `out` is `k x q` (column-major), `lt` is `len x
+/// k`, column `c` of `b` (`len` entries) is `b(c)`.
+#[inline(always)]
+fn subtract_products<'b>(
+    out: &mut [f64],
+    k: usize,
+    (lt, len): (&[f64], usize),
+    b: impl Fn(usize) -> &'b [f64],
+) {
+    for (c, column) in out.chunks_exact_mut(k).enumerate() {
+        let b = &b(c)[..len];
+        for (j, o) in column.iter_mut().enumerate() {
+            *o -= dot(&lt[j * len..(j + 1) * len], b);
+        }
+    }
+}
+
+/// `w <- w - a x` for the column-major `a` of `w.len()` rows, column `c`
+/// at `a(c)`, `x` of as many entries as `a` has columns.
+#[inline(always)]
+fn subtract_product<'a>(w: &mut [f64], a: impl Fn(usize) -> &'a [f64], x: &[f64]) {
+    for (c, xc) in x.iter().enumerate() {
+        for (wr, ar) in w.iter_mut().zip(a(c)) {
+            *wr -= ar * xc;
+        }
+    }
+}
+
+/// `y <- r^{-1} y` for the upper triangular `r` (column-major, `y.len()`
+/// square), by back substitution; `false` on a zero pivot.
+#[inline(always)]
+fn back_substitute(r: &[f64], y: &mut [f64]) -> bool {
+    let dim = y.len();
+    for i in (0..dim).rev() {
+        let diag = r[i * dim + i];
+        if diag == 0.0 {
+            return false;
+        }
+        let coeff = y[i] / diag;
+        y[i] = coeff;
+        for (yl, rl) in y[..i].iter_mut().zip(&r[i * dim..i * dim + i]) {
+            *yl -= coeff * rl;
+        }
+    }
+    true
+}
+
+/// The multipliers `lt = Lambda^T` that eliminate the unknowns
+/// `start..start + len` (pivot block `r`, upper triangular, column-major)
+/// from the `k` dense rows `rows` (column-major, column `c` at
+/// `rows[c k..]`): `r^T lt = rows[:, start..start + len]^T` by forward
+/// substitution.
+#[inline(always)]
+fn multipliers(
+    rows: &[f64],
+    k: usize,
+    (start, len): (usize, usize),
+    r: &[f64],
+    lt: &mut DMatrix<f64>,
+) -> Result<(), ContinuationError> {
+    shaped(lt, (len, k));
+    let lt = lt.as_mut_slice();
+    for l in 0..len {
+        for j in 0..k {
+            lt[j * len + l] = rows[(start + l) * k + j];
+        }
+    }
+    for column in lt.chunks_exact_mut(len) {
+        for i in 0..len {
+            let d = dot(&r[i * len..i * len + i], &column[..i]);
+            let diag = r[i * len + i];
+            if diag == 0.0 {
+                return Err(ContinuationError::Singular);
+            }
+            column[i] = (column[i] - d) / diag;
+        }
+    }
+    Ok(())
+}
+
+/// Eliminates the reduction's unknowns from the `k` dense rows `rows`
+/// (`k x (N + k)`), in the order of the reduction, keeping the
+/// multipliers in `store`: `rows -= lambda (r y_cols + ...)` with `lambda =
+/// rows_cols r^{-1}` for each interval's interior, then each eliminated
+/// node. `(n, m, k)` are the state dimension, the degree and the border.
+#[inline(always)]
+fn eliminate_dense(
+    reduction: &CyclicReduction,
+    columns: &DMatrix<f64>,
+    rows: &mut DMatrix<f64>,
+    store: &mut BorderedStore,
+    (n, m, k): (usize, usize, usize),
+) -> Result<(), ContinuationError> {
+    let mn = m * n;
+    let ntst = reduction.intervals.len();
+    let nn = ntst * mn;
+    let interior = (m - 1) * n;
+    let border = columns.as_slice();
+    // Column `c` of the border columns: `border[c nn..]`.
+    let border_rows = |start: usize, len: usize| move |c: usize| &border[c * nn + start..][..len];
+    let rows = rows.as_mut_slice();
+    let intervals = if m > 1 { ntst } else { 0 };
+    store.interior.resize_with(intervals, DMatrix::default);
+    for (i, (iv, lt)) in reduction
+        .intervals
+        .iter()
+        .zip(store.interior.iter_mut())
+        .enumerate()
+    {
+        let top = i * mn;
+        multipliers(rows, k, (top + n, interior), iv.qr.r.as_slice(), lt)?;
+        let lt = (lt.as_slice(), interior);
+        let t = iv.top.as_slice();
+        let next = (i + 1) % ntst;
+        subtract_products(&mut rows[i * mn * k..][..n * k], k, lt, |c| {
+            &t[c * interior..][..interior]
+        });
+        subtract_products(&mut rows[next * mn * k..][..n * k], k, lt, |c| {
+            &t[(n + c) * interior..][..interior]
+        });
+        subtract_products(
+            &mut rows[nn * k..][..k * k],
+            k,
+            lt,
+            border_rows(top, interior),
+        );
+    }
+    store
+        .nodes
+        .resize_with(reduction.eliminations.len(), DMatrix::default);
+    for (el, lt) in reduction.eliminations.iter().zip(store.nodes.iter_mut()) {
+        multipliers(rows, k, (el.node * mn, n), el.qr.r.as_slice(), lt)?;
+        let lt = (lt.as_slice(), n);
+        let (x, z) = (el.x.as_slice(), el.z.as_slice());
+        subtract_products(&mut rows[el.left * mn * k..][..n * k], k, lt, |c| {
+            &x[c * n..][..n]
+        });
+        subtract_products(&mut rows[el.right * mn * k..][..n * k], k, lt, |c| {
+            &z[c * n..][..n]
+        });
+        let relation = reduction.relation_rows(el.upper).start;
+        subtract_products(
+            &mut rows[nn * k..][..k * k],
+            k,
+            lt,
+            border_rows(relation, n),
+        );
+    }
+    Ok(())
+}
+
+/// [`Bordered::solve_into`] after `R` (`store.c`, `N + k` entries, and the
+/// final system's right-hand side in `store.g`): the dense rows'
+/// elimination applied to the right-hand side, the final system solved,
+/// then back substitution through the node eliminations in reverse and
+/// each interval's interior, into `z`.
+#[inline(always)]
+fn substitute(
+    red: &CyclicReduction,
+    columns: &DMatrix<f64>,
+    store: &mut BorderedStore,
+    z: &mut Vec<f64>,
+    (n, m, k): (usize, usize, usize),
+) -> Result<(), ContinuationError> {
+    let mn = m * n;
+    let nn = columns.nrows();
+    let interior = (m - 1) * n;
+    let border = columns.as_slice();
+    let border_rows = |start: usize, len: usize| move |c: usize| &border[c * nn + start..][..len];
+    let BorderedStore {
+        interior: lts,
+        nodes,
+        lu,
+        c,
+        g,
+        y,
+        w,
+        ..
+    } = store;
+    let c = &c[..nn + k];
+    let dense = |g: &mut [f64], lt: &[f64], rows: &[f64]| {
+        let len = rows.len();
+        for (j, gj) in g[n..n + k].iter_mut().enumerate() {
+            *gj -= dot(&lt[j * len..(j + 1) * len], rows);
+        }
+    };
+    for (i, lt) in lts.iter().enumerate() {
+        dense(g.as_mut_slice(), lt.as_slice(), &c[i * mn..][..interior]);
+    }
+    for (el, lt) in red.eliminations.iter().zip(nodes.iter()) {
+        let rows = red.relation_rows(el.upper).start;
+        dense(g.as_mut_slice(), lt.as_slice(), &c[rows..][..n]);
+    }
+    let lu = lu.as_ref().expect("factored in `reduced`");
+    if !lu.solve_mut(g) {
+        return Err(ContinuationError::Singular);
+    }
+    let g = g.as_slice();
+    z.clear();
+    z.resize(nn + k, 0.0);
+    z[..n].copy_from_slice(&g[..n]);
+    z[nn..].copy_from_slice(&g[n..n + k]);
+    let x = &g[n..n + k];
+    // r y = c - (x y_left + z y_right + (R E) x), eliminations in reverse.
+    y.resize(n, 0.0);
+    let y = &mut y[..n];
+    for el in red.eliminations.iter().rev() {
+        let rows = red.relation_rows(el.upper).start;
+        y.copy_from_slice(&c[rows..][..n]);
+        let (ex, ez) = (el.x.as_slice(), el.z.as_slice());
+        subtract_product(y, |c| &ex[c * n..][..n], &z[el.left * mn..][..n]);
+        subtract_product(y, |c| &ez[c * n..][..n], &z[el.right * mn..][..n]);
+        subtract_product(y, border_rows(rows, n), x);
+        if !back_substitute(el.qr.r.as_slice(), y) {
+            return Err(ContinuationError::Singular);
+        }
+        z[el.node * mn..][..n].copy_from_slice(y);
+    }
+    if m > 1 {
+        let ntst = red.intervals.len();
+        w.resize(interior, 0.0);
+        let w = &mut w[..interior];
+        for (i, iv) in red.intervals.iter().enumerate() {
+            let top = i * mn;
+            w.copy_from_slice(&c[top..][..interior]);
+            let t = iv.top.as_slice();
+            let next = (i + 1) % ntst;
+            subtract_product(w, |c| &t[c * interior..][..interior], &z[top..][..n]);
+            subtract_product(
+                w,
+                |c| &t[(n + c) * interior..][..interior],
+                &z[next * mn..][..n],
+            );
+            subtract_product(w, border_rows(top, interior), x);
+            if !back_substitute(iv.qr.r.as_slice(), w) {
+                return Err(ContinuationError::Singular);
+            }
+            z[top + n..][..interior].copy_from_slice(w);
+        }
+    }
+    Ok(())
+}
+
 impl<'a> Bordered<'a> {
     /// The system whose border columns are those of the linearization
     /// `reduction` was factored from (`dF/dT`, `dF/dp_k`), already
@@ -807,47 +1075,10 @@ impl<'a> Bordered<'a> {
                 rows.nrows()
             )));
         }
-        // Eliminates the unknowns `cols` (pivot `r`) from the dense rows:
-        // `rows -= lambda (r y_cols + ...)` with `lambda = rows_cols r^{-1}`;
-        // `lt` becomes `lambda^T`.
-        let multipliers =
-            |rows: &DMatrix<f64>, cols: Range<usize>, r: &DMatrix<f64>, lt: &mut DMatrix<f64>| {
-                shaped(lt, (cols.len(), k));
-                rows.columns(cols.start, cols.len()).transpose_to(lt);
-                r.tr_solve_upper_triangular_mut(lt)
-                    .then_some(())
-                    .ok_or(ContinuationError::Singular)
-            };
-        let intervals = if reduction.m > 1 { ntst } else { 0 };
-        store.interior.resize_with(intervals, DMatrix::default);
-        for (i, (iv, lt)) in reduction
-            .intervals
-            .iter()
-            .zip(store.interior.iter_mut())
-            .enumerate()
-        {
-            let top = reduction.top_rows(i);
-            multipliers(rows, top.start + n..top.end + n, &iv.qr.r, lt)?;
-            let next = (i + 1) % ntst;
-            rows.columns_mut(i * mn, n)
-                .gemm_tr(-1.0, &*lt, &iv.top.columns(0, n), 1.0);
-            rows.columns_mut(next * mn, n)
-                .gemm_tr(-1.0, &*lt, &iv.top.columns(n, n), 1.0);
-            rows.columns_mut(nn, k)
-                .gemm_tr(-1.0, &*lt, &columns.rows(top.start, top.len()), 1.0);
-        }
-        store
-            .nodes
-            .resize_with(reduction.eliminations.len(), DMatrix::default);
-        for (el, lt) in reduction.eliminations.iter().zip(store.nodes.iter_mut()) {
-            multipliers(rows, reduction.node(el.node), &el.qr.r, lt)?;
-            rows.columns_mut(el.left * mn, n)
-                .gemm_tr(-1.0, &*lt, &el.x, 1.0);
-            rows.columns_mut(el.right * mn, n)
-                .gemm_tr(-1.0, &*lt, &el.z, 1.0);
-            let w = reduction.relation_rows(el.upper);
-            rows.columns_mut(nn, k)
-                .gemm_tr(-1.0, &*lt, &columns.rows(w.start, n), 1.0);
+        match (n, reduction.m, k) {
+            (2, 4, 2) => eliminate_dense(reduction, &columns, rows, &mut store, (2, 4, 2))?,
+            (3, 4, 2) => eliminate_dense(reduction, &columns, rows, &mut store, (3, 4, 2))?,
+            shape => eliminate_dense(reduction, &columns, rows, &mut store, shape)?,
         }
         // Final system in (y_0, x): [a + b, R E; D_0, G].
         let (a, b) = reduction.pencil();
@@ -890,6 +1121,24 @@ impl<'a> Bordered<'a> {
     /// [`Bordered::solve`] into `z`, in the system's storage: no allocation
     /// once `z` and the storage have the system's size.
     pub fn solve_into(&mut self, rhs: &[f64], z: &mut Vec<f64>) -> Result<(), ContinuationError> {
+        let shape = (self.reduction.n, self.reduction.m, self.columns.ncols());
+        match shape {
+            (2, 4, 2) => self.solve_shaped(rhs, z, (2, 4, 2)),
+            (3, 4, 2) => self.solve_shaped(rhs, z, (3, 4, 2)),
+            _ => self.solve_shaped(rhs, z, shape),
+        }
+    }
+
+    /// [`Bordered::solve_into`] for the shape `(n, m, k)` (state dimension,
+    /// degree, border), inlined once more for each of the common shapes with
+    /// the sizes constant.
+    #[inline(always)]
+    fn solve_shaped(
+        &mut self,
+        rhs: &[f64],
+        z: &mut Vec<f64>,
+        shape: (usize, usize, usize),
+    ) -> Result<(), ContinuationError> {
         self.check("the right-hand side", rhs)?;
         let red = self.reduction;
         let (n, nn, k) = (red.n, self.columns.nrows(), self.columns.ncols());
@@ -905,66 +1154,7 @@ impl<'a> Bordered<'a> {
         g.rows_mut(0, n)
             .copy_from_slice(&c[red.relation_rows(red.last)]);
         g.rows_mut(n, k).copy_from_slice(&c[nn..]);
-        let dense = |g: &mut DVector<f64>, lt: &DMatrix<f64>, rows: Range<usize>| {
-            g.rows_mut(n, k).gemv_tr(
-                -1.0,
-                lt,
-                &DVectorView::from_slice(&c[rows.clone()], rows.len()),
-                1.0,
-            );
-        };
-        for (i, lt) in store.interior.iter().enumerate() {
-            dense(g, lt, red.top_rows(i));
-        }
-        for (el, lt) in red.eliminations.iter().zip(&store.nodes) {
-            dense(g, lt, red.relation_rows(el.upper));
-        }
-        let lu = store.lu.as_ref().expect("factored in `reduced`");
-        if !lu.solve_mut(g) {
-            return Err(ContinuationError::Singular);
-        }
-        let sol = &*g;
-        let x = sol.rows(n, k);
-        z.clear();
-        z.resize(nn + k, 0.0);
-        z[..n].copy_from_slice(sol.rows(0, n).as_slice());
-        z[nn..].copy_from_slice(x.as_slice());
-        // r y = c - (x y_left + z y_right + (R E) x), eliminations in reverse.
-        let y = &mut store.y;
-        if y.len() != n {
-            *y = DVector::zeros(n);
-        }
-        for el in red.eliminations.iter().rev() {
-            let rows = red.relation_rows(el.upper);
-            y.copy_from_slice(&c[rows.clone()]);
-            let node = |i: usize| DVectorView::from_slice(&z[red.node(i)], n);
-            y.gemv(-1.0, &el.x, &node(el.left), 1.0);
-            y.gemv(-1.0, &el.z, &node(el.right), 1.0);
-            y.gemv(-1.0, &self.columns.rows(rows.start, n), &x, 1.0);
-            if !el.qr.r.solve_upper_triangular_mut(y) {
-                return Err(ContinuationError::Singular);
-            }
-            z[red.node(el.node)].copy_from_slice(y.as_slice());
-        }
-        if red.m > 1 {
-            let ntst = red.intervals.len();
-            let w = &mut store.w;
-            if w.len() != (red.m - 1) * n {
-                *w = DVector::zeros((red.m - 1) * n);
-            }
-            for (i, iv) in red.intervals.iter().enumerate() {
-                let rows = red.top_rows(i);
-                w.copy_from_slice(&c[rows.clone()]);
-                let node = |i: usize| DVectorView::from_slice(&z[red.node(i)], n);
-                w.gemv(-1.0, &iv.top.columns(0, n), &node(i), 1.0);
-                w.gemv(-1.0, &iv.top.columns(n, n), &node((i + 1) % ntst), 1.0);
-                w.gemv(-1.0, &self.columns.rows(rows.start, rows.len()), &x, 1.0);
-                if !iv.qr.r.solve_upper_triangular_mut(w) {
-                    return Err(ContinuationError::Singular);
-                }
-                z[rows.start + n..rows.end + n].copy_from_slice(w.as_slice());
-            }
-        }
+        substitute(red, &self.columns, store, z, shape)?;
         if z.iter().all(|v| v.is_finite()) {
             Ok(())
         } else {
@@ -1175,6 +1365,53 @@ mod tests {
                     "n {n} m {m} ntst {ntst}: {a} vs {b}"
                 );
             }
+        }
+    }
+
+    /// `dot` is nalgebra's dot product of vectors of dynamic size to the
+    /// bit (lengths 0 to 20, entries of very different sizes); the dense
+    /// rows' elimination and the solve compiled with their sizes constant
+    /// (`n = 2, 3`, degree 4, `k = 2`) are the code for any size, entry by
+    /// entry.
+    #[test]
+    fn the_dense_rows_eliminated_with_sizes_constant_are_the_code_for_any_size() {
+        let mut seed = 17;
+        for len in 0..=20 {
+            let a: Vec<f64> = (0..len)
+                .map(|i| noise(&mut seed) * 10f64.powi((i % 5) * 4 - 8))
+                .collect();
+            let b: Vec<f64> = (0..len).map(|_| noise(&mut seed)).collect();
+            let expected = DVector::from_column_slice(&a).dot(&DVector::from_column_slice(&b));
+            assert_eq!(dot(&a, &b).to_bits(), expected.to_bits(), "length {len}");
+        }
+        let hidden = |x: usize| std::hint::black_box(x);
+        for (n, m, ntst) in SHAPES {
+            let (lin, columns, dense, full) = random_system(&mut seed, (n, m, ntst, 2));
+            let reduction = CyclicReduction::new(&lin, n);
+            let mut columns = columns;
+            let nn = columns.nrows();
+            for column in columns.as_mut_slice().chunks_exact_mut(nn) {
+                reduction.apply_r(column);
+            }
+            let mut rows = dense.clone();
+            let mut sys =
+                Bordered::transformed(&reduction, &columns, &mut rows, BorderedStore::default())
+                    .unwrap();
+            let mut rows_any = dense.clone();
+            let mut store = BorderedStore::default();
+            let shape = (hidden(n), hidden(m), hidden(2));
+            eliminate_dense(&reduction, &columns, &mut rows_any, &mut store, shape).unwrap();
+            let bits = |x: &DMatrix<f64>| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&rows), bits(&rows_any), "n {n} m {m} ntst {ntst}");
+            for (a, b) in sys.store.interior.iter().zip(&store.interior) {
+                assert_eq!(bits(a), bits(b), "n {n} m {m} ntst {ntst}");
+            }
+            let rhs: Vec<f64> = (0..full.nrows()).map(|_| noise(&mut seed)).collect();
+            let (mut z, mut z_any) = (Vec::new(), Vec::new());
+            sys.solve_into(&rhs, &mut z).unwrap();
+            sys.solve_shaped(&rhs, &mut z_any, shape).unwrap();
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&z), bits(&z_any), "n {n} m {m} ntst {ntst}");
         }
     }
 
