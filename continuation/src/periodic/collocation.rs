@@ -240,6 +240,22 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// has this mesh's shape (Newton's iterations on one mesh allocate
     /// nothing per interval).
     pub fn linearize_into(&self, z: &[f64], lin: &mut Linearization) {
+        match (self.sys.dim(), self.mesh.degree) {
+            (2, 4) => self.linearize_shaped::<2, 4>(z, lin),
+            (3, 4) => self.linearize_shaped::<3, 4>(z, lin),
+            (2, _) => self.linearize_shaped::<2, 0>(z, lin),
+            (3, _) => self.linearize_shaped::<3, 0>(z, lin),
+            _ => self.linearize_shaped::<0, 0>(z, lin),
+        }
+    }
+
+    /// [`Collocation::linearize_into`]; `N` and `M` as in
+    /// [`Collocation::interval`].
+    pub(super) fn linearize_shaped<const N: usize, const M: usize>(
+        &self,
+        z: &[f64],
+        lin: &mut Linearization,
+    ) {
         let n = self.sys.dim();
         let m = self.mesh.degree;
         let (mn, ncols) = (m * n, (m + 1) * n + 2);
@@ -269,11 +285,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         };
         let sums = |jac: &mut PointScratch, (i, ((block, residual), phase)): (usize, Zipped)| {
             let out = (block, residual, phase);
-            match n {
-                2 => self.interval::<2>(i, z, p, out, jac),
-                3 => self.interval::<3>(i, z, p, out, jac),
-                _ => self.interval::<0>(i, z, p, out, jac),
-            }
+            self.interval::<N, M>(i, z, p, out, jac)
         };
         // Each interval's sums, then added up in order (the same totals
         // whether or not the intervals ran in parallel).
@@ -330,9 +342,9 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// The state `x` and its derivative `dx` in the local variable (`h T`
     /// times the time derivative) at collocation point `kk` of interval `i`
     /// of the orbit `z` (`n` entries each, overwritten).
-    /// `N` as in [`Collocation::interval`].
+    /// `N` and `M` as in [`Collocation::interval`].
     #[inline(always)]
-    fn point_state<const N: usize>(
+    fn point_state<const N: usize, const M: usize>(
         &self,
         i: usize,
         kk: usize,
@@ -341,7 +353,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         dx: &mut [f64],
     ) {
         let n = if N == 0 { x.len() } else { N };
-        let m = self.mesh.degree;
+        let m = if M == 0 { self.mesh.degree } else { M };
         let node = |g: usize| &z[g * n..(g + 1) * n];
         // Relative to the interval's first node (the basis sums to 1,
         // its derivatives to 0): the derivative is then rounded
@@ -372,8 +384,22 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// phase condition), the same values as [`Collocation::linearize_into`]
     /// writes, summed in the same order.
     pub fn residual_into(&self, z: &[f64], out: &mut Vec<f64>) {
-        let n = self.sys.dim();
-        let m = self.mesh.degree;
+        match (self.sys.dim(), self.mesh.degree) {
+            (2, 4) => self.residual_shaped::<2, 4>(z, out),
+            (3, 4) => self.residual_shaped::<3, 4>(z, out),
+            _ => self.residual_shaped::<0, 0>(z, out),
+        }
+    }
+
+    /// [`Collocation::residual_into`]; `N` and `M` as in
+    /// [`Collocation::interval`].
+    pub(super) fn residual_shaped<const N: usize, const M: usize>(
+        &self,
+        z: &[f64],
+        out: &mut Vec<f64>,
+    ) {
+        let n = if N == 0 { self.sys.dim() } else { N };
+        let m = if M == 0 { self.mesh.degree } else { M };
         let nn = self.mesh.n_nodes() * n;
         let period = z[nn];
         let mut p: SmallVec<[f64; 16]> = SmallVec::from_slice(&self.p);
@@ -389,7 +415,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
             let h = self.mesh.t[i + 1] - self.mesh.t[i];
             let mut interval_phase = 0.0;
             for kk in 0..m {
-                self.point_state::<0>(i, kk, z, x, dx);
+                self.point_state::<N, M>(i, kk, z, x, dx);
                 if self.implicit {
                     self.sys.implicit_rhs(x, &p, rho, f);
                 } else {
@@ -415,10 +441,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     /// phase-row entries on its `m + 1` nodes; returns its terms of the
     /// phase residual, the term scale and the trace integral. `jac` is
     /// scratch for the Jacobian of `f` at each collocation point (and the
-    /// derivatives of the implicit form). `N` is
-    /// the state dimension when known at compile time (the inner loops
+    /// derivatives of the implicit form). `N` and `M` are the state
+    /// dimension and the degree when known at compile time (the inner loops
     /// unrolled), `0` otherwise; the arithmetic is the same.
-    fn interval<const N: usize>(
+    fn interval<const N: usize, const M: usize>(
         &self,
         i: usize,
         z: &[f64],
@@ -428,7 +454,7 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     ) -> IntervalSums {
         let (block, residual, phase) = out;
         let n = if N == 0 { self.sys.dim() } else { N };
-        let m = self.mesh.degree;
+        let m = if M == 0 { self.mesh.degree } else { M };
         let mn = m * n;
         let nn = self.mesh.n_nodes() * n;
         let period = z[nn];
@@ -452,18 +478,24 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         for kk in 0..m {
             let row0 = kk * n;
             row_sums.fill(0.0);
-            self.point_state::<N>(i, kk, z, x, dx);
+            self.point_state::<N, M>(i, kk, z, x, dx);
             if self.implicit {
                 // Row r, `rho_r x'_r - g_r` times `h T` (`x'_r = dx_r / (h T)`):
                 // its derivatives along `x_c` and `p_k`, divided by `-h T`,
                 // take the places of `D_x f` and `df/dp_k` (`f` is `g`).
                 implicit_first_order(self.sys, x, p, self.k, (rho, f, drho, dg));
+                // Column-major, entry (r, c) at `c n + r`.
+                let (js, dgs, drs) = (
+                    &mut jac.as_mut_slice()[..n * n],
+                    &dg.as_slice()[..n * (n + 1)],
+                    &drho.as_slice()[..n * (n + 1)],
+                );
                 for r in 0..n {
                     let slope = dx[r] / (h * period);
                     for c in 0..n {
-                        jac[(r, c)] = dg[(r, c)] - drho[(r, c)] * slope;
+                        js[c * n + r] = dgs[c * n + r] - drs[c * n + r] * slope;
                     }
-                    fp[r] = dg[(r, n)] - drho[(r, n)] * slope;
+                    fp[r] = dgs[n * n + r] - drs[n * n + r] * slope;
                 }
             } else {
                 self.sys.first_order(x, p, self.k, (f, jac, fp));

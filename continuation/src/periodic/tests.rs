@@ -3,7 +3,7 @@
 //! storage) checked against them.
 
 use super::bordered::CyclicReduction;
-use super::collocation::Collocation;
+use super::collocation::{Collocation, Linearization};
 use super::floquet::pencil_multipliers;
 use super::newton::{newton_bordered, unit_row};
 use super::{
@@ -724,6 +724,52 @@ fn the_residual_alone_is_the_linearizations() {
     let mut residual = Vec::new();
     coll.residual_into(&z, &mut residual);
     compare(residual, &coll.linearize(&z).residual, "implicit");
+}
+
+#[test]
+fn the_shapes_with_constant_sizes_are_the_code_for_any_size() {
+    // Degree 4 and `n = 2` (Stuart–Landau, explicit and implicit form) are
+    // compiled with their sizes constant: the linearization and the
+    // residual alone equal those of the code for any size, to the bit.
+    let mesh = Mesh::uniform(7, 4, CollocationPoints::Radau);
+    let u: Vec<f64> = (0..mesh.n_nodes())
+        .flat_map(|g| {
+            let a = 2.0 * std::f64::consts::PI * mesh.node_time(g / 4, g % 4);
+            [0.7 * a.cos() + 0.05 * (3.0 * a).sin(), 0.6 * a.sin()]
+        })
+        .collect();
+    let c = Cycle {
+        mesh,
+        u,
+        period: 3.1,
+        p: vec![0.4],
+        n: 2,
+    };
+    let explicit = StuartLandau { w: 2.0, g: 0.5 };
+    let implicit = ImplicitStuartLandau(StuartLandau { w: 2.0, g: 0.5 });
+    fn check<S: VectorField>(coll: &Collocation<'_, S>, c: &Cycle, form: &str) {
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let z = coll.unknowns(c);
+        let (mut lin, mut any) = (Linearization::default(), Linearization::default());
+        coll.linearize_into(&z, &mut lin);
+        coll.linearize_shaped::<0, 0>(&z, &mut any);
+        let blocks = |l: &Linearization| l.blocks.slices().flatten().copied().collect::<Vec<_>>();
+        assert_eq!(bits(&blocks(&lin)), bits(&blocks(&any)), "{form}: blocks");
+        assert_eq!(bits(&lin.residual), bits(&any.residual), "{form}: residual");
+        assert_eq!(bits(&lin.phase), bits(&any.phase), "{form}: phase row");
+        assert_eq!(lin.term_scale.to_bits(), any.term_scale.to_bits(), "{form}");
+        assert_eq!(
+            lin.trace_integral.to_bits(),
+            any.trace_integral.to_bits(),
+            "{form}"
+        );
+        let (mut r, mut r_any) = (Vec::new(), Vec::new());
+        coll.residual_into(&z, &mut r);
+        coll.residual_shaped::<0, 0>(&z, &mut r_any);
+        assert_eq!(bits(&r), bits(&r_any), "{form}: residual alone");
+    }
+    check(&Collocation::new(&explicit, &c, 0), &c, "explicit");
+    check(&Collocation::new(&implicit, &c, 0), &c, "implicit");
 }
 
 // Newton's method on the collocation system allocates nothing per
