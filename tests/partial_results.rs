@@ -47,7 +47,12 @@ fn cycles_cut_by_the_step_limit_are_partial() {
 /// A branch that fails after many cycles (here a stiff branch that outgrows
 /// a small mesh limit, as `cycles --set nu=1e-6` outgrows its Floquet
 /// pencil) keeps them and says so: status 4, `complete: false`, the failure
-/// as the stop reason (it said "numerical failure" with status 0).
+/// as the stop reason (it said "numerical failure" with status 0). (With a
+/// limit of 80 intervals, since the steps grow only as far as the tangent's
+/// turn allows, this branch's collocation fails by Newton's method at a
+/// stiffer cycle before its error estimate fails, and the return map
+/// completes the branch: which failure comes first at a mesh limit depends
+/// on the steps taken.)
 #[test]
 fn cycles_that_fail_after_some_are_partial() {
     let dir = temp_dir("cycles-failure");
@@ -58,7 +63,7 @@ fn cycles_that_fail_after_some_are_partial() {
         "--kappa-fraction",
         "0.01",
         "--ntst-max",
-        "80",
+        "60",
         "--json",
         "--out",
         dir.to_str().unwrap(),
@@ -72,7 +77,7 @@ fn cycles_that_fail_after_some_are_partial() {
     assert_eq!(v["complete"], false);
     let stop = v["stop"].as_str().unwrap();
     assert!(
-        stop.contains("no longer resolved") && stop.contains("80 mesh intervals"),
+        stop.contains("no longer resolved") && stop.contains("60 mesh intervals"),
         "{stop}"
     );
     assert!(v["cycles"].as_array().unwrap().len() > 10);

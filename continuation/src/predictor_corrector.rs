@@ -9,7 +9,9 @@
 //! constraint such as a bound to land on). The corrected point is accepted
 //! when its tangent `t'` turns by little, `<t', t>_w >= min_tangent_cos`;
 //! then `ds <- min(growth ds, ds_max)` after an easy correction (at most
-//! `easy_iterations` Newton iterations). A failed correction or a sharp turn
+//! `easy_iterations` Newton iterations), but no longer than the step whose
+//! turn would be [`TURN_MARGIN`] of the largest allowed ([`next_step`]).
+//! A failed correction or a sharp turn
 //! rejects the step, `ds <- ds / 2`, and below `ds_min` the step fails with
 //! [`ContinuationError::StepTooSmall`]. What is particular to a curve — its
 //! corrector, weights, bounds, meshes — lies in its [`CurveProblem`].
@@ -27,7 +29,8 @@ pub struct StepControl {
     pub ds_min: f64,
     /// Largest step.
     pub ds_max: f64,
-    /// Growth factor after an easy correction: `ds <- min(growth ds, ds_max)`.
+    /// Growth factor after an easy correction: `ds <- min(growth ds, ds_max)`
+    /// (and no further than the tangent's turn allows, [`next_step`]).
     pub growth: f64,
     /// A correction is easy in at most this many Newton iterations.
     pub easy_iterations: usize,
@@ -47,6 +50,37 @@ const TURNED: &str = "the tangent turned too sharply";
 /// [`StepControl::min_tangent_cos`] (not when it is NaN).
 fn turns_by_little(cos: f64, control: &StepControl) -> bool {
     cos >= control.min_tangent_cos
+}
+
+/// The fraction of the largest turn of the tangent
+/// ([`StepControl::min_tangent_cos`]) that the next step is sized to turn by
+/// at most ([`next_step`]).
+pub const TURN_MARGIN: f64 = 0.9;
+
+/// The step after an accepted one of length `ds` whose correction took
+/// `iterations` and whose tangent turned by the angle of cosine `cos`:
+/// `growth ds` after an easy correction, `ds` after another, and in either
+/// case no longer than the step whose turn, proportional to the step
+/// (the curvature taken as constant over it), is [`TURN_MARGIN`] of the
+/// largest allowed; at most `ds_max`. Grown without regard to the turn, a
+/// step on a curve that bends more and more sharply (a stiffening cycle
+/// branch) grows until its tangent turns too far, is rejected and halved,
+/// and grows again: every third or fourth correction wasted, the steps half
+/// what they could be.
+pub fn next_step(ds: f64, iterations: usize, cos: f64, control: &StepControl) -> f64 {
+    let grown = if iterations <= control.easy_iterations {
+        ds * control.growth
+    } else {
+        ds
+    };
+    let turned = cos.clamp(-1.0, 1.0).acos();
+    let allowed = control.min_tangent_cos.clamp(-1.0, 1.0).acos();
+    let by_turn = if turned > 0.0 {
+        ds * TURN_MARGIN * allowed / turned
+    } else {
+        f64::INFINITY
+    };
+    grown.min(by_turn).min(control.ds_max)
 }
 
 /// A prediction corrected onto the curve.
@@ -156,9 +190,10 @@ pub fn step<C: CurveProblem>(
                             ds: taken,
                             constrained,
                         } = corrected;
+                        let cos = curve.turn(&t);
                         curve.accept(point, t)?;
-                        if !constrained && report.iterations <= control.easy_iterations {
-                            *ds = (*ds * control.growth).min(control.ds_max);
+                        if !constrained {
+                            *ds = next_step(*ds, report.iterations, cos, control);
                         }
                         return Ok(Stepped { report, ds: taken });
                     }
@@ -251,5 +286,44 @@ mod tests {
             })
         ));
         assert_eq!(ds, 1.0);
+    }
+
+    /// On a curve of constant curvature `c` (a step `ds` turns the tangent
+    /// by `c ds`), steps from `ds = 1e-3` grow by `growth` until their turn
+    /// nears the largest allowed, then hold at [`TURN_MARGIN`] of the step
+    /// that turns that far, and none turns too far (none would be
+    /// rejected); small turns leave the growth as it was, and `ds_max`
+    /// bounds the step.
+    #[test]
+    fn steps_grow_no_further_than_the_turn_allows() {
+        let control = StepControl {
+            ds_max: 10.0,
+            ..CONTROL
+        };
+        let allowed = control.min_tangent_cos.acos();
+        for c in [0.3, 1.0, 5.0] {
+            let mut ds: f64 = 1e-3;
+            for _ in 0..60 {
+                let turned = c * ds;
+                assert!(
+                    turned <= allowed * (1.0 + 1e-12),
+                    "c {c}: ds {ds} turns too far"
+                );
+                ds = next_step(ds, 1, turned.cos(), &control);
+            }
+            let held = TURN_MARGIN * allowed / c;
+            assert!(
+                (ds - held).abs() <= 1e-12 * held,
+                "c {c}: ds {ds}, expected {held}"
+            );
+        }
+        // A turn far below the limit: grown by `growth`, up to `ds_max`.
+        assert_eq!(next_step(0.1, 1, 1.0, &control), 0.1 * control.growth);
+        assert_eq!(next_step(9.0, 1, 1.0, &control), control.ds_max);
+        // A hard correction does not grow the step; a turn near the limit
+        // shrinks it.
+        assert_eq!(next_step(0.1, 5, 1.0, &control), 0.1);
+        let near = (0.95 * allowed).cos();
+        assert!((next_step(0.1, 1, near, &control) - 0.1 * TURN_MARGIN / 0.95).abs() < 1e-12);
     }
 }

@@ -435,6 +435,29 @@ pub fn chord_bordered<S: VectorField>(
     newton::iterate(&mut problem, z, settings).map(|(report, _)| report)
 }
 
+/// Whether `z` already solves the collocation system bordered by `<row, z -
+/// anchor> = 0` to `settings`: its residual within the bound of
+/// [`BorderedPoint`] and its Newton step within `settings.step_tol`
+/// (relative to the iterate, as [`newton::iterate`] measures steps), the
+/// test [`newton::iterate`] applies after a step, here applied before one.
+pub fn solves_bordered<S: VectorField>(
+    coll: &Collocation<S>,
+    z: &[f64],
+    settings: &NewtonSettings,
+    row: &[f64],
+    anchor: &[f64],
+) -> Result<bool, ContinuationError> {
+    let mut problem = BorderedCollocation::new(coll, row, anchor, Linearize::Every);
+    let point = problem.evaluate(z)?;
+    let bound = point.residual_bound(settings.residual_tol, max_norm(z));
+    if !(point.residual_norm() <= bound) {
+        return Ok(false);
+    }
+    let mut dz = Vec::new();
+    problem.newton_step_into(&point, &mut dz)?;
+    Ok(problem.relative_step(&dz, z) <= settings.step_tol)
+}
+
 /// [`correct_bordered`] without the linearization.
 pub fn newton_bordered<S: VectorField>(
     coll: &Collocation<S>,

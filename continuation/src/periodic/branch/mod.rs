@@ -15,8 +15,8 @@ use super::cycle::Cycle;
 use super::floquet::multipliers_and_trivial;
 use super::mesh::{CollocationPoints, Mesh};
 use super::newton::{
-    correct_along, correct_bordered, newton_bordered, tangent, tangent_from, unit_row, ArcWeights,
-    BorderedPoint, OrbitJacobian,
+    correct_along, correct_bordered, newton_bordered, solves_bordered, tangent, tangent_from,
+    unit_row, ArcWeights, BorderedPoint, OrbitJacobian,
 };
 use crate::driver::{Advance, Curve, Driver, Event, Stop};
 use crate::error::ContinuationError;
@@ -596,7 +596,11 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
     }
 
     /// Starts from an approximate orbit (corrected at its parameter first);
-    /// `seed` orients the tangent (default: increasing parameter).
+    /// `seed` orients the tangent (default: increasing parameter). An orbit
+    /// that already solves the system to the corrector's tolerances
+    /// ([`solves_bordered`]: a cycle computed before, restarted) is taken as
+    /// it is, bit for bit: a Newton step from it would move it by the
+    /// rounding of the solve, and its extremes with it.
     pub fn from_cycle(
         sys: &'a S,
         guess: Cycle,
@@ -633,7 +637,10 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
             seed[..nz - 2].iter().all(|v| *v == 0.0) && seed[nz - 2] != 0.0 && seed[nz - 1] == 0.0;
         let w = ArcWeights::at(&z, settings.param_floor);
         let z0 = z.clone();
-        newton_bordered(&coll, &mut z, &settings.corrector, &w.row(&seed), &z0)?;
+        let row = w.row(&seed);
+        if !solves_bordered(&coll, &z, &settings.corrector, &row, &z0)? {
+            newton_bordered(&coll, &mut z, &settings.corrector, &row, &z0)?;
+        }
         let coll = Collocation::new(sys, &coll.cycle(&z), k);
         let jacobian = OrbitJacobian::new(coll.linearize(&z), sys.dim());
         let tangent = tangent_from(&jacobian, &seed, &w)?;
