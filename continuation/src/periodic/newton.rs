@@ -450,7 +450,9 @@ pub fn solves_bordered<S: VectorField>(
     let mut problem = BorderedCollocation::new(coll, row, anchor, Linearize::Every);
     let point = problem.evaluate(z)?;
     let bound = point.residual_bound(settings.residual_tol, max_norm(z));
-    if !(point.residual_norm() <= bound) {
+    let residual = point.residual_norm();
+    // A residual that is not a number does not solve anything.
+    if residual.is_nan() || residual > bound {
         return Ok(false);
     }
     let mut dz = Vec::new();
