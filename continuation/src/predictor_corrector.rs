@@ -62,7 +62,8 @@ pub const TURN_MARGIN: f64 = 0.9;
 /// `growth ds` after an easy correction, `ds` after another, and in either
 /// case no longer than the step whose turn, proportional to the step
 /// (the curvature taken as constant over it), is [`TURN_MARGIN`] of the
-/// largest allowed; at most `ds_max`. Grown without regard to the turn, a
+/// largest allowed, but not below `ds_min`; at most `ds_max`. Grown
+/// without regard to the turn, a
 /// step on a curve that bends more and more sharply (a stiffening cycle
 /// branch) grows until its tangent turns too far, is rejected and halved,
 /// and grows again: every third or fourth correction wasted, the steps half
@@ -80,7 +81,9 @@ pub fn next_step(ds: f64, iterations: usize, cos: f64, control: &StepControl) ->
     } else {
         f64::INFINITY
     };
-    grown.min(by_turn).min(control.ds_max)
+    // Not below `ds_min`: a step that small which turns too far is
+    // rejected, and the next one fails (`step`).
+    grown.min(by_turn).max(control.ds_min).min(control.ds_max)
 }
 
 /// A prediction corrected onto the curve.
@@ -297,6 +300,7 @@ mod tests {
     #[test]
     fn steps_grow_no_further_than_the_turn_allows() {
         let control = StepControl {
+            ds_min: 1e-6,
             ds_max: 10.0,
             ..CONTROL
         };
@@ -325,5 +329,7 @@ mod tests {
         assert_eq!(next_step(0.1, 5, 1.0, &control), 0.1);
         let near = (0.95 * allowed).cos();
         assert!((next_step(0.1, 1, near, &control) - 0.1 * TURN_MARGIN / 0.95).abs() < 1e-12);
+        // Not below `ds_min`, where a turn too far fails the step.
+        assert_eq!(next_step(control.ds_min, 1, near, &control), control.ds_min);
     }
 }

@@ -258,6 +258,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
     ) {
         let n = self.sys.dim();
         let m = self.mesh.degree;
+        debug_assert!(
+            (N == 0 || N == n) && (M == 0 || M == m),
+            "shape ({N}, {M}) for ({n}, {m})"
+        );
         let (mn, ncols) = (m * n, (m + 1) * n + 2);
         let nn = self.mesh.n_nodes() * n;
         let ntst = self.mesh.ntst();
@@ -398,6 +402,10 @@ impl<'a, S: VectorField> Collocation<'a, S> {
         z: &[f64],
         out: &mut Vec<f64>,
     ) {
+        debug_assert!(
+            (N == 0 || N == self.sys.dim()) && (M == 0 || M == self.mesh.degree),
+            "shape ({N}, {M})"
+        );
         let n = if N == 0 { self.sys.dim() } else { N };
         let m = if M == 0 { self.mesh.degree } else { M };
         let nn = self.mesh.n_nodes() * n;

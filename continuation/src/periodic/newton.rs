@@ -436,28 +436,30 @@ pub fn chord_bordered<S: VectorField>(
 }
 
 /// Whether `z` already solves the collocation system bordered by `<row, z -
-/// anchor> = 0` to `settings`: its residual within the bound of
+/// anchor> = 0` to `settings`: its residual finite and within the bound of
 /// [`BorderedPoint`] and its Newton step within `settings.step_tol`
 /// (relative to the iterate, as [`newton::iterate`] measures steps), the
 /// test [`newton::iterate`] applies after a step, here applied before one.
+/// A system that cannot be linearized or solved there is not solved: Newton's
+/// method, run next, says why in its own words.
 pub fn solves_bordered<S: VectorField>(
     coll: &Collocation<S>,
     z: &[f64],
     settings: &NewtonSettings,
     row: &[f64],
     anchor: &[f64],
-) -> Result<bool, ContinuationError> {
+) -> bool {
     let mut problem = BorderedCollocation::new(coll, row, anchor, Linearize::Every);
-    let point = problem.evaluate(z)?;
+    let Ok(point) = problem.evaluate(z) else {
+        return false;
+    };
     let bound = point.residual_bound(settings.residual_tol, max_norm(z));
-    let residual = point.residual_norm();
-    // A residual that is not a number does not solve anything.
-    if residual.is_nan() || residual > bound {
-        return Ok(false);
+    if !point.residual().iter().all(|v| v.is_finite()) || point.residual_norm() > bound {
+        return false;
     }
     let mut dz = Vec::new();
-    problem.newton_step_into(&point, &mut dz)?;
-    Ok(problem.relative_step(&dz, z) <= settings.step_tol)
+    problem.newton_step_into(&point, &mut dz).is_ok()
+        && problem.relative_step(&dz, z) <= settings.step_tol
 }
 
 /// [`correct_bordered`] without the linearization.

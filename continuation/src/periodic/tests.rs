@@ -5,7 +5,7 @@
 use super::bordered::CyclicReduction;
 use super::collocation::{Collocation, Linearization};
 use super::floquet::pencil_multipliers;
-use super::newton::{newton_bordered, unit_row};
+use super::newton::{newton_bordered, solves_bordered, unit_row};
 use super::{
     locate_lpc, CollocationPoints, Cycle, CycleBranch, CycleEvent, CyclePoint, CycleSettings,
     Discretization, FloquetPolicy, LpcCurve, LpcCurveSettings, Mesh,
@@ -770,6 +770,30 @@ fn the_shapes_with_constant_sizes_are_the_code_for_any_size() {
     }
     check(&Collocation::new(&explicit, &c, 0), &c, "explicit");
     check(&Collocation::new(&implicit, &c, 0), &c, "implicit");
+}
+
+#[test]
+fn an_orbit_that_solves_its_system_is_recognised_and_no_other() {
+    // A cycle restarts as it was only if it already solves its system:
+    // `solves_bordered` says no for an orbit off the solution and for one
+    // holding a NaN, and yes for the orbit Newton's method converged to.
+    let sys = StuartLandau { w: 2.0, g: 0.5 };
+    let c = perturbed_orbit(CollocationPoints::Radau);
+    let coll = Collocation::new(&sys, &c, 0);
+    let z0 = coll.unknowns(&c);
+    let row = unit_row(z0.len(), z0.len() - 1);
+    let settings = NewtonSettings {
+        step_tol: 1e-10,
+        residual_tol: 1e-10,
+        max_iter: 20,
+    };
+    assert!(!solves_bordered(&coll, &z0, &settings, &row, &z0));
+    let mut z = z0.clone();
+    newton_bordered(&coll, &mut z, &settings, &row, &z0).unwrap();
+    assert!(solves_bordered(&coll, &z, &settings, &row, &z0));
+    let mut broken = z.clone();
+    broken[3] = f64::NAN;
+    assert!(!solves_bordered(&coll, &broken, &settings, &row, &z0));
 }
 
 // Newton's method on the collocation system allocates nothing per

@@ -638,7 +638,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
         let w = ArcWeights::at(&z, settings.param_floor);
         let z0 = z.clone();
         let row = w.row(&seed);
-        if !solves_bordered(&coll, &z, &settings.corrector, &row, &z0)? {
+        if !solves_bordered(&coll, &z, &settings.corrector, &row, &z0) {
             newton_bordered(&coll, &mut z, &settings.corrector, &row, &z0)?;
         }
         let coll = Collocation::new(sys, &coll.cycle(&z), k);
