@@ -109,10 +109,15 @@ impl Householder {
         }
     }
 
-    /// `x <- Q^T x` (`x` has as many entries as the block has rows).
-    fn apply_qt(&self, x: &mut [f64]) {
-        for j in 0..self.v.ncols() {
-            reflect(self.reflector(j), &mut x[j..]);
+    /// `x <- Q^T x` (`x` has as many entries as the block has rows,
+    /// `rows`; the block's `rows x cols` passed in: a caller that knows them
+    /// at compile time gets the loops unrolled).
+    #[inline(always)]
+    fn apply_qt_sized(&self, x: &mut [f64], (rows, cols): (usize, usize)) {
+        let v = &self.v.as_slice()[..rows * cols];
+        let x = &mut x[..rows];
+        for j in 0..cols {
+            reflect(&v[j * rows + j..(j + 1) * rows], &mut x[j..]);
         }
     }
 
@@ -584,16 +589,30 @@ impl CyclicReduction {
 
     /// `x <- R x` on the collocation rows.
     pub fn apply_r(&self, x: &mut [f64]) {
-        let mn = self.mn();
+        match (self.n, self.m) {
+            (2, 4) => self.apply_r_shaped(x, (2, 4)),
+            (3, 4) => self.apply_r_shaped(x, (3, 4)),
+            shape => self.apply_r_shaped(x, shape),
+        }
+    }
+
+    /// [`CyclicReduction::apply_r`] for the state dimension and degree
+    /// `(n, m)`, inlined once more for each of the common shapes with the
+    /// sizes constant.
+    #[inline(always)]
+    fn apply_r_shaped(&self, x: &mut [f64], (n, m): (usize, usize)) {
+        let mn = m * n;
         for (i, iv) in self.intervals.iter().enumerate() {
             let rows = &mut x[i * mn..(i + 1) * mn];
-            rows.iter_mut().zip(&iv.scale).for_each(|(a, s)| *a *= s);
-            iv.qr.apply_qt(rows);
+            rows.iter_mut()
+                .zip(&iv.scale[..mn])
+                .for_each(|(a, s)| *a *= s);
+            iv.qr.apply_qt_sized(rows, (mn, (m - 1) * n));
         }
-        let mut pair = SmallVec::<[f64; 16]>::from_elem(0.0, 2 * self.n);
+        let mut pair = SmallVec::<[f64; 16]>::from_elem(0.0, 2 * n);
         for el in &self.eliminations {
             self.gather(x, el, &mut pair);
-            el.qr.apply_qt(&mut pair);
+            el.qr.apply_qt_sized(&mut pair, (2 * n, n));
             self.scatter(&pair, el, x);
         }
     }
