@@ -63,11 +63,10 @@ pub const TURN_MARGIN: f64 = 0.9;
 /// case no longer than the step whose turn, proportional to the step
 /// (the curvature taken as constant over it), is [`TURN_MARGIN`] of the
 /// largest allowed, but not below `ds_min`; at most `ds_max`. Grown
-/// without regard to the turn, a
-/// step on a curve that bends more and more sharply (a stiffening cycle
-/// branch) grows until its tangent turns too far, is rejected and halved,
-/// and grows again: every third or fourth correction wasted, the steps half
-/// what they could be.
+/// without regard to the turn, a step on a curve that bends more and more
+/// sharply (a stiffening cycle branch) grows until its tangent turns too
+/// far, is rejected and halved, and grows again: every third or fourth
+/// correction wasted, the steps half what they could be.
 pub fn next_step(ds: f64, iterations: usize, cos: f64, control: &StepControl) -> f64 {
     let grown = if iterations <= control.easy_iterations {
         ds * control.growth
@@ -178,12 +177,15 @@ pub fn step<C: CurveProblem>(
                 },
             ) => return Err(e),
             Err(e) => e.to_string(),
-            Ok(mut corrected) => match curve.tangent(&mut corrected.point) {
+            Ok(mut corrected) => match curve
+                .tangent(&mut corrected.point)
+                .map(|t| (curve.turn(&t), t))
+            {
                 Err(e) => e.to_string(),
-                Ok(t) if !corrected.constrained && !turns_by_little(curve.turn(&t), control) => {
+                Ok((cos, _)) if !corrected.constrained && !turns_by_little(cos, control) => {
                     TURNED.into()
                 }
-                Ok(t) => match curve.review(&corrected) {
+                Ok((cos, t)) => match curve.review(&corrected) {
                     Review::Retake => continue,
                     Review::Reject(cause) => cause.into(),
                     Review::Keep => {
@@ -193,7 +195,6 @@ pub fn step<C: CurveProblem>(
                             ds: taken,
                             constrained,
                         } = corrected;
-                        let cos = curve.turn(&t);
                         curve.accept(point, t)?;
                         if !constrained {
                             *ds = next_step(*ds, report.iterations, cos, control);

@@ -872,6 +872,19 @@ fn multipliers(
     Ok(())
 }
 
+/// Rows `start..start + len` of the border columns `columns` (`N x k`,
+/// column-major), column by column.
+#[inline(always)]
+fn border_rows<'a>(
+    columns: &'a DMatrix<f64>,
+    start: usize,
+    len: usize,
+) -> impl Fn(usize) -> &'a [f64] + 'a {
+    let nn = columns.nrows();
+    let border = columns.as_slice();
+    move |c| &border[c * nn + start..][..len]
+}
+
 /// Eliminates the reduction's unknowns from the `k` dense rows `rows`
 /// (`k x (N + k)`), in the order of the reduction, keeping the
 /// multipliers in `store`: `rows -= lambda (r y_cols + ...)` with `lambda =
@@ -889,9 +902,6 @@ fn eliminate_dense(
     let ntst = reduction.intervals.len();
     let nn = ntst * mn;
     let interior = (m - 1) * n;
-    let border = columns.as_slice();
-    // Column `c` of the border columns: `border[c nn..]`.
-    let border_rows = |start: usize, len: usize| move |c: usize| &border[c * nn + start..][..len];
     let rows = rows.as_mut_slice();
     let intervals = if m > 1 { ntst } else { 0 };
     store.interior.resize_with(intervals, DMatrix::default);
@@ -916,7 +926,7 @@ fn eliminate_dense(
             &mut rows[nn * k..][..k * k],
             k,
             lt,
-            border_rows(top, interior),
+            border_rows(columns, top, interior),
         );
     }
     store
@@ -937,7 +947,7 @@ fn eliminate_dense(
             &mut rows[nn * k..][..k * k],
             k,
             lt,
-            border_rows(relation, n),
+            border_rows(columns, relation, n),
         );
     }
     Ok(())
@@ -959,8 +969,6 @@ fn substitute(
     let mn = m * n;
     let nn = columns.nrows();
     let interior = (m - 1) * n;
-    let border = columns.as_slice();
-    let border_rows = |start: usize, len: usize| move |c: usize| &border[c * nn + start..][..len];
     let BorderedStore {
         interior: lts,
         nodes,
@@ -972,18 +980,24 @@ fn substitute(
         ..
     } = store;
     let c = &c[..nn + k];
-    let dense = |g: &mut [f64], lt: &[f64], rows: &[f64]| {
-        let len = rows.len();
-        for (j, gj) in g[n..n + k].iter_mut().enumerate() {
-            *gj -= dot(&lt[j * len..(j + 1) * len], rows);
-        }
-    };
+    // The dense rows' right-hand side: `g_x -= lambda c`.
     for (i, lt) in lts.iter().enumerate() {
-        dense(g.as_mut_slice(), lt.as_slice(), &c[i * mn..][..interior]);
+        let rows = &c[i * mn..][..interior];
+        subtract_products(
+            &mut g.as_mut_slice()[n..n + k],
+            k,
+            (lt.as_slice(), interior),
+            |_| rows,
+        );
     }
     for (el, lt) in red.eliminations.iter().zip(nodes.iter()) {
-        let rows = red.relation_rows(el.upper).start;
-        dense(g.as_mut_slice(), lt.as_slice(), &c[rows..][..n]);
+        let rows = &c[red.relation_rows(el.upper).start..][..n];
+        subtract_products(
+            &mut g.as_mut_slice()[n..n + k],
+            k,
+            (lt.as_slice(), n),
+            |_| rows,
+        );
     }
     let lu = lu.as_ref().expect("factored in `reduced`");
     if !lu.solve_mut(g) {
@@ -1004,7 +1018,7 @@ fn substitute(
         let (ex, ez) = (el.x.as_slice(), el.z.as_slice());
         subtract_product(y, |c| &ex[c * n..][..n], &z[el.left * mn..][..n]);
         subtract_product(y, |c| &ez[c * n..][..n], &z[el.right * mn..][..n]);
-        subtract_product(y, border_rows(rows, n), x);
+        subtract_product(y, border_rows(columns, rows, n), x);
         if !back_substitute(el.qr.r.as_slice(), y) {
             return Err(ContinuationError::Singular);
         }
@@ -1025,7 +1039,7 @@ fn substitute(
                 |c| &t[(n + c) * interior..][..interior],
                 &z[next * mn..][..n],
             );
-            subtract_product(w, border_rows(top, interior), x);
+            subtract_product(w, border_rows(columns, top, interior), x);
             if !back_substitute(iv.qr.r.as_slice(), w) {
                 return Err(ContinuationError::Singular);
             }
@@ -1431,6 +1445,74 @@ mod tests {
             sys.solve_shaped(&rhs, &mut z_any, shape).unwrap();
             let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&z), bits(&z_any), "n {n} m {m} ntst {ntst}");
+        }
+    }
+
+    /// The slice kernels of the dense rows' elimination and of the solve
+    /// against the nalgebra operations they replaced, to the bit:
+    /// `subtract_products` against `gemm_tr`, `subtract_product` against
+    /// `gemv`, `back_substitute` against `solve_upper_triangular_mut`,
+    /// `multipliers` against `transpose_to` and
+    /// `tr_solve_upper_triangular_mut`; sizes 1 to 12, borders 1 to 4,
+    /// entries of very different sizes.
+    #[test]
+    fn the_slice_kernels_are_nalgebras_operations_to_the_bit() {
+        let mut seed = 23;
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let matrix = |seed: &mut u64, rows: usize, cols: usize| {
+            DMatrix::from_fn(rows, cols, |i, j| {
+                noise(seed) * 10f64.powi(((i + 2 * j) % 5) as i32 * 3 - 6)
+            })
+        };
+        for len in 1..=12 {
+            let mut r = matrix(&mut seed, len, len);
+            for i in 0..len {
+                r[(i, i)] = 2.0 + noise(&mut seed);
+            }
+            let y0 = matrix(&mut seed, len, 1);
+            let mut expected = y0.clone();
+            assert!(r.solve_upper_triangular_mut(&mut expected));
+            let mut got = y0.as_slice().to_vec();
+            assert!(back_substitute(r.as_slice(), &mut got));
+            assert_eq!(bits(&got), bits(expected.as_slice()), "back, {len}");
+            for k in 1..=4 {
+                let (lt, b, out0) = (
+                    matrix(&mut seed, len, k),
+                    matrix(&mut seed, len, 3),
+                    matrix(&mut seed, k, 3),
+                );
+                let mut expected = out0.clone();
+                expected.gemm_tr(-1.0, &lt, &b, 1.0);
+                let mut got = out0.clone();
+                let columns = |c: usize| &b.as_slice()[c * len..][..len];
+                subtract_products(got.as_mut_slice(), k, (lt.as_slice(), len), columns);
+                assert_eq!(
+                    bits(got.as_slice()),
+                    bits(expected.as_slice()),
+                    "gemm_tr, {len} {k}"
+                );
+                let (a, x, w0) = (
+                    matrix(&mut seed, len, k),
+                    matrix(&mut seed, k, 1),
+                    matrix(&mut seed, len, 1),
+                );
+                let mut expected = DVector::from_column_slice(w0.as_slice());
+                expected.gemv(-1.0, &a, &DVector::from_column_slice(x.as_slice()), 1.0);
+                let mut got = w0.as_slice().to_vec();
+                subtract_product(&mut got, |c| &a.as_slice()[c * len..][..len], x.as_slice());
+                assert_eq!(bits(&got), bits(expected.as_slice()), "gemv, {len} {k}");
+                let rows = matrix(&mut seed, k, len + 3);
+                let mut expected = DMatrix::zeros(len, k);
+                rows.columns(2, len).transpose_to(&mut expected);
+                assert!(r.tr_solve_upper_triangular_mut(&mut expected));
+                let mut got = DMatrix::zeros(0, 0);
+                multipliers(rows.as_slice(), k, (2, len), r.as_slice(), &mut got).unwrap();
+                assert_eq!(
+                    bits(got.as_slice()),
+                    bits(expected.as_slice()),
+                    "lambda, {len} {k}"
+                );
+            }
         }
     }
 
