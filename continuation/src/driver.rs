@@ -45,9 +45,10 @@ pub struct Event<K, P> {
 pub enum Stop {
     /// A bounded parameter reached an end of its range: `value` of the
     /// parameter `index` (in the field's parameter vector) at or beyond
-    /// `bound`. Branches of equilibria, Hopf and fold curves and curves of
-    /// folds of cycles land on the bound (`value == bound`); a cycle branch
-    /// ends at the first orbit at or past it.
+    /// `bound`. Every curve lands on the bound (`value == bound`), except
+    /// where the point on it could not be solved with the parameter fixed
+    /// (then the located point, within the locator's tolerance of it) and a
+    /// cycle branch whose first orbit already lies outside the range.
     Bound {
         /// Index of the parameter in the field's parameter vector.
         index: usize,

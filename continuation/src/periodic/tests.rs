@@ -11,7 +11,8 @@ use super::{
     Discretization, FloquetPolicy, LpcCurve, LpcCurveSettings, Mesh,
 };
 use crate::{
-    Complex64, ContinuationError, NewtonFailure, NewtonSettings, Scalar, StepControl, VectorField,
+    Complex64, ContinuationError, NewtonFailure, NewtonSettings, Scalar, StepControl, Stop,
+    VectorField,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -314,6 +315,43 @@ fn user_points_land_exactly_on_the_requested_parameters() {
         let (lo, hi) = u.cycle.range(&sys, 0);
         assert!((0.5 * (hi - lo) / f64::sqrt(beta) - 1.0).abs() < 1e-8);
     }
+}
+
+#[test]
+fn a_cycle_branch_lands_on_its_range_bound() {
+    let sys = StuartLandau { w: 2.0, g: 0.5 };
+    let p_max = 0.8;
+    let settings = CycleSettings {
+        mesh: Discretization {
+            ntst: 20,
+            ..Default::default()
+        },
+        p_max,
+        step: StepControl {
+            ds: 1e-2,
+            ..CycleSettings::default().step
+        },
+        user_points: vec![0.5],
+        ..Default::default()
+    };
+    let mut branch = CycleBranch::from_hopf(&sys, &[0.0, 0.0], 2.0, &[0.0], 0, settings).unwrap();
+    let points: Vec<CyclePoint> = branch.by_ref().map(|pt| pt.unwrap()).collect();
+    assert_eq!(
+        branch.stop(),
+        Some(Stop::Bound {
+            index: 0,
+            value: p_max,
+            bound: p_max
+        })
+    );
+    let (last, inside) = points.split_last().unwrap();
+    assert_eq!(last.cycle.p[0], p_max);
+    assert!(inside.iter().all(|pt| pt.cycle.p[0] < p_max));
+    // The closed form r = sqrt(beta) on the bound, and the user point
+    // passed on the way kept.
+    let (lo, hi) = last.cycle.range(&sys, 0);
+    assert!((0.5 * (hi - lo) / f64::sqrt(p_max) - 1.0).abs() < 1e-8);
+    assert_eq!(points.iter().flat_map(|pt| pt.user_points()).count(), 1);
 }
 
 /// `Z' = (beta + i w) Z + alpha Z |Z|^2 - Z |Z|^4` (parameters `beta`, `alpha`):

@@ -64,8 +64,9 @@ pub struct CycleSettings {
     pub step: StepControl,
     /// Largest number of steps after the first orbit. Default 200.
     pub max_steps: usize,
-    /// Bounds of the parameter; the branch stops at the first orbit at or
-    /// past them. Default unbounded.
+    /// Bounds of the parameter; the branch lands on them and stops there
+    /// (the orbit at the bound, located and solved with the parameter fixed
+    /// like a user point). Default unbounded.
     pub p_min: f64,
     pub p_max: f64,
     /// Stop when the period exceeds this. Default `None`: no limit.
@@ -1098,12 +1099,15 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
         // The first orbit, like every other, on a mesh fine enough for it.
         let result = self.refined_point(NewtonReport::NONE);
         self.steps += 1;
-        Ok(self.handed_out(result?, false))
+        Ok(self.handed_out(result?, false, None))
     }
 
     fn advance(&mut self) -> Result<Advance<CyclePoint>, ContinuationError> {
         // The branch came back to a Hopf point (see `Stop::HopfPoint`).
         let mut at_hopf = false;
+        // The range bound the step went past, which the orbit handed out
+        // lies on.
+        let mut landed = None;
         let mut retries = 0;
         let result = loop {
             let attempt = self
@@ -1154,6 +1158,12 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                             pt.attach(CycleEvent::User { value: target }, user);
                         }
                     }
+                    if !at_hopf {
+                        if let Some(bound) = self.bound_crossed(p1) {
+                            pt = self.orbit_on_bound(&coll0, (&z0, &t0), ds, p0, bound, pt)?;
+                            landed = Some(bound);
+                        }
+                    }
                     Ok(Ok(pt))
                 });
             match attempt {
@@ -1202,17 +1212,66 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                 param: self.previous_param,
             }));
         }
-        let (pt, stop) = self.handed_out(pt, at_hopf);
+        let (pt, stop) = self.handed_out(pt, at_hopf, landed);
         Ok(Advance::Point(pt, stop))
     }
 }
 
-impl<S: VectorField> Cycles<'_, S> {
+impl<'a, S: VectorField> Cycles<'a, S> {
+    /// The range bound (`p_min` or `p_max`) that a step from inside the
+    /// range to the parameter `p1` reached or went past.
+    fn bound_crossed(&self, p1: f64) -> Option<f64> {
+        let (p_min, p_max) = (self.settings.p_min, self.settings.p_max);
+        if p1 < p_min {
+            Some(p_min)
+        } else if p1 > p_max {
+            Some(p_max)
+        } else {
+            None
+        }
+    }
+
+    /// The orbit on the range bound `bound` that the step of length `ds`
+    /// from `z0` (tangent `t0`, parameter `p0`, on the mesh of `coll0`) to
+    /// `beyond` went past: located like a user point (the zero of
+    /// `p - bound`, [`Self::locate`]) and solved with the parameter fixed
+    /// there ([`Self::pin`]). It carries the events of `beyond` that lie
+    /// within the range (those the branch met before the bound).
+    fn orbit_on_bound(
+        &self,
+        coll0: &Collocation<'a, S>,
+        (z0, t0): (&[f64], &[f64]),
+        ds: f64,
+        p0: f64,
+        bound: f64,
+        beyond: CyclePoint,
+    ) -> Result<CyclePoint, ContinuationError> {
+        let nz = z0.len();
+        let p1 = beyond.cycle.p[self.k];
+        let located = self.locate(coll0, z0, t0, (p0 - bound, p1 - bound), ds, |z, _| {
+            Ok(z[nz - 1] - bound)
+        })?;
+        let mut on_bound = self.pin(coll0, located, t0, bound)?;
+        let (p_min, p_max) = (self.settings.p_min, self.settings.p_max);
+        on_bound.events = beyond
+            .events
+            .into_iter()
+            .filter(|e| (p_min..=p_max).contains(&e.point.cycle.p[self.k]))
+            .collect();
+        Ok(on_bound)
+    }
+
     /// The orbit `pt` handed out, with the reason the branch ends on it
-    /// (`at_hopf`: its step went through the equilibrium at a Hopf point).
-    /// A branch that passed through the equilibrium between steps ends
-    /// before this ([`Curve::advance`]).
-    fn handed_out(&mut self, pt: CyclePoint, at_hopf: bool) -> (CyclePoint, Option<Stop>) {
+    /// (`at_hopf`: its step went through the equilibrium at a Hopf point;
+    /// `landed`: its step went past this range bound, and `pt` is the orbit
+    /// on it). A branch that passed through the equilibrium between steps
+    /// ends before this ([`Curve::advance`]).
+    fn handed_out(
+        &mut self,
+        pt: CyclePoint,
+        at_hopf: bool,
+        landed: Option<f64>,
+    ) -> (CyclePoint, Option<Stop>) {
         let p = pt.cycle.p[self.k];
         self.previous_mu.clone_from(&pt.multipliers);
         self.previous_trivial_error = pt.trivial_error;
@@ -1220,7 +1279,14 @@ impl<S: VectorField> Cycles<'_, S> {
         let (p_min, p_max) = (self.settings.p_min, self.settings.p_max);
         let stop = if at_hopf {
             Some(Stop::HopfPoint { param: p })
+        } else if let Some(bound) = landed {
+            Some(Stop::Bound {
+                index: self.k,
+                value: p,
+                bound,
+            })
         } else if p <= p_min || p >= p_max {
+            // The first orbit, outside the range or on its bound.
             Some(Stop::Bound {
                 index: self.k,
                 value: p,
