@@ -166,6 +166,34 @@ fn fold_of_cycles_is_located_and_stability_changes_there() {
     assert!(lpc.dp_ds.abs() < 1e-8);
 }
 
+#[test]
+fn a_branch_lands_on_a_bound_next_to_a_fold_and_drops_the_fold_beyond() {
+    // The Bautin system of the test above, its fold of cycles at beta =
+    // -1/4, the range ending 1e-9 before it: the orbit at the bound is
+    // nearly a fold (r^2 = 1/2 -+ 3.2e-5), and the fold past the bound is
+    // not reported.
+    let sys = Bautin { w: 1.5 };
+    let p_min = -0.25 + 1e-9;
+    let settings = CycleSettings {
+        p_min,
+        ..bautin_settings(120)
+    };
+    let mut branch =
+        CycleBranch::from_hopf(&sys, &[0.0, 0.0], 1.5, &[0.0, 1.0], 0, settings).unwrap();
+    let points: Vec<CyclePoint> = branch.by_ref().map(|pt| pt.unwrap()).collect();
+    let last = points.last().unwrap();
+    let beta = last.cycle.p[0];
+    assert!(
+        (beta - p_min).abs() < 1e-11 * p_min.abs(),
+        "ended at {beta}"
+    );
+    assert!(matches!(branch.stop(), Some(Stop::Bound { bound, .. }) if bound == p_min));
+    let (lo, hi) = last.cycle.range(&sys, 0);
+    let r2 = (0.5 * (hi - lo)).powi(2);
+    assert!((beta - (r2 * r2 - r2)).abs() < 1e-8, "r^2 = {r2}");
+    assert!(points.iter().all(|pt| pt.event(CycleEvent::Fold).is_none()));
+}
+
 /// Van der Pol `x' = y, y' = mu (1 - x^2) y - x` (parameter mu).
 struct VanDerPol;
 impl VectorField for VanDerPol {

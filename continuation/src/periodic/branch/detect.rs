@@ -154,7 +154,8 @@ impl<S: VectorField> Cycles<'_, S> {
             let pd = self.estimated(
                 self.locate(coll0, z0, t0, (pd0, pd1), ds, |z, _| {
                     Ok(period_doubling_test(&at(z)?))
-                })?,
+                })?
+                .0,
                 Reading::AtParameter,
             );
             let band = multiplier_error(n, pd.trivial_error).max(FOLD_MULTIPLIER);
@@ -167,7 +168,8 @@ impl<S: VectorField> Cycles<'_, S> {
             let ns = self.estimated(
                 self.locate(coll0, z0, t0, (ns0, ns1), ds, |z, _| {
                     Ok(torus_test(&at(z)?))
-                })?,
+                })?
+                .0,
                 Reading::AtParameter,
             );
             if has_complex_pair_on_circle(&ns.multipliers, 1e-6) {

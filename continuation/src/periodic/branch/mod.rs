@@ -422,8 +422,8 @@ impl CyclePoint {
 }
 
 /// A branch of periodic orbits being traced; iterate it to get the orbits.
-/// It ends at a [`Stop`] ([`Driver::stop`]): [`Stop::Bound`] (the first
-/// orbit at or past `p_min` or `p_max`), [`Stop::MaxSteps`],
+/// It ends at a [`Stop`] ([`Driver::stop`]): [`Stop::Bound`] (the orbit
+/// on `p_min` or `p_max`, which the branch lands on), [`Stop::MaxSteps`],
 /// [`Stop::MaxPeriod`] or [`Stop::HopfPoint`] (the cycles shrank to the
 /// equilibrium: the last orbit is the one the step through it reached, or
 /// the one before where the branch passed through it between steps), or
@@ -438,9 +438,10 @@ pub struct Cycles<'a, S: VectorField> {
     z: Vec<f64>,
     tangent: Vec<f64>,
     coll: Collocation<'a, S>,
-    /// The first orbit was corrected at its parameter (no orbit part in the
-    /// seed): its refinement keeps the parameter.
-    start_at_fixed_parameter: bool,
+    /// The current orbit is held at its parameter — the first orbit
+    /// corrected there (no orbit part in the seed), or the orbit landed on a
+    /// range bound: its refinement keeps the parameter.
+    held: bool,
     /// The first orbit was corrected at its period (the seed along the
     /// period alone): the caller starts at a fold of cycles, where the
     /// orbits at fixed parameter are not isolated. The first orbit is read
@@ -659,7 +660,7 @@ impl<'a, S: VectorField> Driver<Cycles<'a, S>> {
             z,
             tangent,
             coll,
-            start_at_fixed_parameter,
+            held: start_at_fixed_parameter,
             start_at_fold,
             steps: 0,
             previous_param: f64::NAN,
@@ -703,7 +704,8 @@ impl<'a, S: VectorField> Cycles<'a, S> {
     /// regula falsi (Illinois, [`crate::root::illinois`]) on the arclength,
     /// each trial corrected onto
     /// the branch. Folds of cycles use `f = dp/ds`; user points `f = p - p_user`.
-    /// Returns the orbit (without error estimate) and the branch's tangent there.
+    /// Returns the orbit (without error estimate) and the branch's tangent
+    /// there, with its arclength from `z0`.
     #[allow(clippy::too_many_arguments)]
     fn locate(
         &self,
@@ -713,7 +715,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         (f0, f1): (f64, f64),
         ds: f64,
         f: impl Fn(&[f64], &[f64]) -> Result<f64, ContinuationError>,
-    ) -> Result<(CyclePoint, Vec<f64>), ContinuationError> {
+    ) -> Result<((CyclePoint, Vec<f64>), f64), ContinuationError> {
         let mut best = None;
         let w = ArcWeights::at(z0, self.settings.param_floor);
         crate::root::illinois(
@@ -721,7 +723,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
                 let (z, rep, at) = correct_along(coll, (z0, t0, sigma), &w, &LOCATOR, None)?;
                 let t = tangent_from(&at.jacobian, t0, &w)?;
                 let fz = f(&z, &t)?;
-                best = Some((point_at(coll, &z, &at.jacobian, &t, rep)?, t));
+                best = Some(((point_at(coll, &z, &at.jacobian, &t, rep)?, t), sigma));
                 Ok(fz)
             },
             (0.0, f0),
@@ -867,6 +869,20 @@ const REMESH_ITERATIONS: usize = 30;
 /// the tangent.
 type StepStart<'a, S> = (Collocation<'a, S>, Vec<f64>, Vec<f64>);
 
+/// A step that crossed a range bound ([`Cycles::orbit_on_bound`]): from
+/// `z0` (tangent `t0`, parameter `p0`, on the mesh of `coll0`) to the
+/// arclength `sigma` along it, where the parameter is `p_end` beyond the
+/// bound — the step's end, or where the parameter turned (`turned`).
+struct Crossing<'c, 'a, S: VectorField> {
+    coll0: &'c Collocation<'a, S>,
+    z0: &'c [f64],
+    t0: &'c [f64],
+    sigma: f64,
+    p0: f64,
+    p_end: f64,
+    turned: bool,
+}
+
 impl<'a, S: VectorField> Cycles<'a, S> {
     /// Corrects the orbit just moved onto a finer mesh (up to
     /// [`REMESH_ITERATIONS`] Newton iterations) and recomputes its tangent
@@ -895,6 +911,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
     /// (up to [`REMESH_ITERATIONS`] Newton iterations), with half the first
     /// step length, up to [`REFINEMENT_RETRIES`] times.
     fn stepped_point(&mut self) -> Result<(CyclePoint, f64, StepStart<'a, S>), ContinuationError> {
+        self.held = false;
         let converged = (self.coll.cycle(&self.z), self.tangent.clone());
         let ds = self.ds;
         let mut ntst = self.mesh_size();
@@ -1114,6 +1131,9 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                 .stepped_point()
                 .and_then(|(mut pt, ds, (coll0, z0, t0))| {
                     let nz = z0.len();
+                    // Where the parameter turned within the step: the
+                    // arclength of the turn from `z0`, and the turn.
+                    let mut turn = None;
                     // From a fold the parameter's turn within the first
                     // step is the fold the branch started at.
                     let from_fold = self.steps == 1 && self.start_at_fold;
@@ -1123,7 +1143,10 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                                 Ok(t[nz - 1])
                             });
                         let lpc = match located {
-                            Ok(lpc) => self.estimated(lpc, Reading::Point),
+                            Ok((lpc, sigma)) => {
+                                turn = Some((sigma, lpc.0.cycle.p[self.k]));
+                                self.estimated(lpc, Reading::Point)
+                            }
                             // The turn of the parameter between the two orbits
                             // is not found (a long step over a Hopf point,
                             // where the orbit collapses): taken again shorter.
@@ -1146,7 +1169,7 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                     let (p0, p1) = (z0[nz - 1], self.z[self.z.len() - 1]);
                     for &target in &self.settings.user_points {
                         if (p0 - target) * (p1 - target) < 0.0 || p1 == target {
-                            let user = self.locate(
+                            let (user, _) = self.locate(
                                 &coll0,
                                 &z0,
                                 &t0,
@@ -1158,9 +1181,26 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                             pt.attach(CycleEvent::User { value: target }, user);
                         }
                     }
-                    if !at_hopf {
-                        if let Some(bound) = self.bound_crossed(p1) {
-                            pt = self.orbit_on_bound(&coll0, (&z0, &t0), ds, p0, bound, pt)?;
+                    // The range's bound crossed first: where the parameter
+                    // turned beyond it, on the way to the turn.
+                    let crossing = match turn {
+                        Some((sigma, p_turn)) if self.bound_crossed(p_turn).is_some() => {
+                            Some((sigma, p_turn, true))
+                        }
+                        _ => Some((ds, p1, false)),
+                    };
+                    if let Some((sigma, p_end, turned)) = crossing.filter(|_| !at_hopf) {
+                        if let Some(bound) = self.bound_crossed(p_end) {
+                            let step = Crossing {
+                                coll0: &coll0,
+                                z0: &z0,
+                                t0: &t0,
+                                sigma,
+                                p0,
+                                p_end,
+                                turned,
+                            };
+                            pt = self.orbit_on_bound(&step, bound, pt)?;
                             landed = Some(bound);
                         }
                     }
@@ -1231,27 +1271,76 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         }
     }
 
-    /// The orbit on the range bound `bound` that the step of length `ds`
-    /// from `z0` (tangent `t0`, parameter `p0`, on the mesh of `coll0`) to
-    /// `beyond` went past: located like a user point (the zero of
-    /// `p - bound`, [`Self::locate`]) and solved with the parameter fixed
-    /// there ([`Self::pin`]). It carries the events of `beyond` that lie
+    /// The orbit on the range bound `bound` that `step` crossed on its way
+    /// to the branch's current orbit `beyond`, with the branch's state put
+    /// on it. Predicted along the tangent of whichever end of the step lies
+    /// nearer the bound in the parameter (its start where the parameter
+    /// turned beyond the bound), solved with the parameter held on the
+    /// bound, and refined as every orbit of the branch is
+    /// ([`Self::refined_point`]: the mesh its error estimate and its
+    /// multipliers need). Where that correction fails or reaches an orbit
+    /// the parameter runs the other way on (near a fold of cycles the orbit
+    /// at a fixed parameter is ill-determined, and there are two), the
+    /// orbit is located on the step like a user point (the zero of `p -
+    /// bound`, [`Self::locate`]) and kept as located, within the locator's
+    /// tolerance of the bound. It carries the events of `beyond` that lie
     /// within the range (those the branch met before the bound).
     fn orbit_on_bound(
-        &self,
-        coll0: &Collocation<'a, S>,
-        (z0, t0): (&[f64], &[f64]),
-        ds: f64,
-        p0: f64,
+        &mut self,
+        step: &Crossing<'_, 'a, S>,
         bound: f64,
         beyond: CyclePoint,
     ) -> Result<CyclePoint, ContinuationError> {
-        let nz = z0.len();
-        let p1 = beyond.cycle.p[self.k];
-        let located = self.locate(coll0, z0, t0, (p0 - bound, p1 - bound), ds, |z, _| {
-            Ok(z[nz - 1] - bound)
-        })?;
-        let mut on_bound = self.pin(coll0, located, t0, bound)?;
+        let (z0, t0) = (step.z0, step.t0);
+        let crossed = (self.coll.cycle(&self.z), self.tangent.clone());
+        if step.turned || (bound - step.p0).abs() < (bound - step.p_end).abs() {
+            self.restore((step.coll0.cycle(z0), t0.to_vec()));
+        }
+        let last = self.z.len() - 1;
+        let s = (bound - self.z[last]) / self.tangent[last];
+        let patient = NewtonSettings {
+            max_iter: REMESH_ITERATIONS,
+            ..self.settings.corrector
+        };
+        let mut held = || {
+            if !s.is_finite() {
+                return Err(ContinuationError::Singular);
+            }
+            for (z, t) in self.z.iter_mut().zip(&self.tangent) {
+                *z += s * t;
+            }
+            self.z[last] = bound;
+            self.held = true;
+            let rep = self.correct_on_mesh(&patient)?;
+            let w = ArcWeights::at(&self.z, self.settings.param_floor);
+            if let Some((_, jacobian)) = &self.jacobian {
+                self.tangent = tangent_from(jacobian, &self.tangent, &w)?;
+            }
+            let last = self.z.len() - 1;
+            if self.tangent[last] * t0[z0.len() - 1] > 0.0 {
+                Ok(rep)
+            } else {
+                Err(ContinuationError::Singular)
+            }
+        };
+        let mut on_bound = match held() {
+            Ok(rep) => self.refined_point(rep)?,
+            Err(_) => {
+                self.held = false;
+                self.restore(crossed);
+                let nz = z0.len();
+                let (located, _) = self.locate(
+                    step.coll0,
+                    z0,
+                    t0,
+                    (step.p0 - bound, step.p_end - bound),
+                    step.sigma,
+                    |z, _| Ok(z[nz - 1] - bound),
+                )?;
+                self.restore((located.0.cycle.clone(), located.1.clone()));
+                self.estimated(located, Reading::AtParameter)
+            }
+        };
         let (p_min, p_max) = (self.settings.p_min, self.settings.p_max);
         on_bound.events = beyond
             .events

@@ -219,16 +219,17 @@ impl<S: VectorField> Cycles<'_, S> {
     /// Corrects the current orbit, just moved onto a new mesh, on the
     /// hyperplane through it normal to the branch: well posed also near a
     /// Hopf point or a fold, where the orbit at fixed parameter is
-    /// ill-determined. A first orbit that was corrected at its parameter
-    /// stays there. The corrected orbit becomes the phase reference; the
-    /// system linearized there is kept for its multipliers
+    /// ill-determined. An orbit held at its parameter (`held`: a first
+    /// orbit corrected there, an orbit landed on a range bound) stays
+    /// there. The corrected orbit becomes the phase reference; the system
+    /// linearized there is kept for its multipliers
     /// ([`Cycles::point`]: they come from the collocation rows, which the
     /// new phase reference does not change).
     pub(super) fn correct_on_mesh(
         &mut self,
         settings: &NewtonSettings,
     ) -> Result<NewtonReport, ContinuationError> {
-        let row = if self.steps == 0 && self.start_at_fixed_parameter {
+        let row = if self.held {
             unit_row(self.z.len(), self.z.len() - 1)
         } else {
             ArcWeights::at(&self.z, self.settings.param_floor).row(&self.tangent)
