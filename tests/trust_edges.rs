@@ -467,3 +467,59 @@ fn a_bad_scene_value_names_its_file_once() {
     assert_eq!(err.matches(path).count(), 1, "{err}");
     assert!(err.contains("state_law"), "{err}");
 }
+
+/// A servo-loaded granite pair in double direct shear (no stiffness given:
+/// the branch spans the onset).
+const SHEAR_GRANITE: &str = r#"
+name = "shear-granite"
+A = 0.008
+B = 0.012
+mu0 = 0.7
+D0 = 5.0
+V0 = 1.0
+M = 10.0
+W = 1.0e5
+V = 10.0
+V_range = [0.1, 1000.0]
+"#;
+
+/// A spring compressed by the block's overshoot is not negative friction:
+/// with `m = 0.5` (inertial) the spring force swings far below zero while
+/// the friction coefficient stays above 0.68; before, the warning called
+/// that "negative friction" and quoted the positive coefficient.
+#[test]
+fn a_compressed_spring_is_not_called_negative_friction() {
+    let dir = temp_dir("trust-compressed-spring");
+    let scene = dir.join("shear-granite.toml");
+    std::fs::write(&scene, SHEAR_GRANITE).unwrap();
+    let (code, text, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--model",
+        "inertial",
+        "--set",
+        "m=0.5",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&text);
+    let cycles = v["cycles"].as_array().unwrap();
+    let least = |key: &str| {
+        cycles
+            .iter()
+            .map(|c| c[key].as_f64().unwrap())
+            .fold(f64::INFINITY, f64::min)
+    };
+    assert!(least("s_min") < -1.0, "the spring is compressed");
+    assert!(least("friction_min") > 0.5, "friction stays positive");
+    assert!(
+        v["negative_friction"].is_null(),
+        "{}",
+        v["negative_friction"]
+    );
+    assert!(!err.contains("negative friction"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

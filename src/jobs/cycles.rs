@@ -828,9 +828,12 @@ pub struct NegativeFriction {
 }
 
 impl NegativeFriction {
-    /// `None` when friction and spring force stay non-negative on every cycle.
+    /// `None` when friction stays non-negative on every cycle. A negative
+    /// spring force alone is not flagged: with inertia the block overshoots
+    /// and the spring is compressed while friction stays positive, which a
+    /// real spring does.
     fn of(records: &[CycleRecord]) -> Option<Self> {
-        let bad = Flagged::among(records, |c| c.friction_min < 0.0 || c.s_min < 0.0)?;
+        let bad = Flagged::among(records, |c| c.friction_min < 0.0)?;
         let [kappa_lo, kappa_hi] = bad.kappa_range;
         let (friction_min, s_min) = (bad.least(|c| c.friction_min), bad.least(|c| c.s_min));
         Some(NegativeFriction {
