@@ -980,24 +980,21 @@ fn substitute(
         ..
     } = store;
     let c = &c[..nn + k];
-    // The dense rows' right-hand side: `g_x -= lambda c`.
+    // The dense rows' right-hand side: `g_x -= lambda c`, one dot product
+    // per dense row (through `subtract_products` with one column the
+    // compiler kept the column loop: job 4 spent 0.53 G instructions more).
+    let dense = |g: &mut [f64], lt: &[f64], rows: &[f64]| {
+        let len = rows.len();
+        for (j, gj) in g[n..n + k].iter_mut().enumerate() {
+            *gj -= dot(&lt[j * len..(j + 1) * len], rows);
+        }
+    };
     for (i, lt) in lts.iter().enumerate() {
-        let rows = &c[i * mn..][..interior];
-        subtract_products(
-            &mut g.as_mut_slice()[n..n + k],
-            k,
-            (lt.as_slice(), interior),
-            |_| rows,
-        );
+        dense(g.as_mut_slice(), lt.as_slice(), &c[i * mn..][..interior]);
     }
     for (el, lt) in red.eliminations.iter().zip(nodes.iter()) {
-        let rows = &c[red.relation_rows(el.upper).start..][..n];
-        subtract_products(
-            &mut g.as_mut_slice()[n..n + k],
-            k,
-            (lt.as_slice(), n),
-            |_| rows,
-        );
+        let rows = red.relation_rows(el.upper).start;
+        dense(g.as_mut_slice(), lt.as_slice(), &c[rows..][..n]);
     }
     let lu = lu.as_ref().expect("factored in `reduced`");
     if !lu.solve_mut(g) {
