@@ -3,6 +3,8 @@
 //! cycles that are not there, and a simulation whose velocity underflows.
 //! Each check recomputes what it asserts from the printed numbers.
 
+mod common;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -190,27 +192,12 @@ fn rr_cycles_near_the_hopf_point_are_undecidable_and_finite() {
     assert!(first["stable"].is_null() && undecidable >= 1, "{first}");
 }
 
-/// The press-loaded granite rig of the issue: plain RR law, inertial.
-const GRANITE: &str = r#"
-name = "granite"
-description = "Granite/granite, plain Rice-Ruina, 5 MPa on 0.02 m^2"
-A = 0.008
-B = 0.012
-mu0 = 0.7
-D0 = 5.0
-V0 = 1.0
-M = 10.0
-W = 1.0e5
-V = 10.0
-V_range = [0.1, 1000.0]
-"#;
-
 /// `stickslip CMD --scene granite.toml --json` in a fresh folder `dir`:
 /// exit 0, no NaN or inf, the parsed JSON.
 fn granite_json(cmd: &str, dir: &str) -> Value {
     let dir = out_dir(dir);
     let scene = dir.join("granite.toml");
-    std::fs::write(&scene, GRANITE).unwrap();
+    std::fs::write(&scene, common::SHEAR_GRANITE).unwrap();
     let args = [
         cmd,
         "--scene",

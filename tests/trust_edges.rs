@@ -468,21 +468,6 @@ fn a_bad_scene_value_names_its_file_once() {
     assert!(err.contains("state_law"), "{err}");
 }
 
-/// A servo-loaded granite pair in double direct shear (no stiffness given:
-/// the branch spans the onset).
-const SHEAR_GRANITE: &str = r#"
-name = "shear-granite"
-A = 0.008
-B = 0.012
-mu0 = 0.7
-D0 = 5.0
-V0 = 1.0
-M = 10.0
-W = 1.0e5
-V = 10.0
-V_range = [0.1, 1000.0]
-"#;
-
 /// A spring compressed by the block's overshoot is not negative friction:
 /// with `m = 0.5` (inertial) the spring force swings far below zero while
 /// the friction coefficient stays above 0.68; before, the warning called
@@ -491,7 +476,7 @@ V_range = [0.1, 1000.0]
 fn a_compressed_spring_is_not_called_negative_friction() {
     let dir = temp_dir("trust-compressed-spring");
     let scene = dir.join("shear-granite.toml");
-    std::fs::write(&scene, SHEAR_GRANITE).unwrap();
+    std::fs::write(&scene, common::SHEAR_GRANITE).unwrap();
     let (code, text, err) = stickslip(&[
         "cycles",
         "--scene",

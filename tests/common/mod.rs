@@ -152,6 +152,22 @@ V = 1.0         # µm/s
 V_range = [0.01, 1000.0]
 "#;
 
+/// A servo-loaded granite pair in double direct shear (plain Rice–Ruina,
+/// no stiffness given: a branch spans the onset).
+pub const SHEAR_GRANITE: &str = r#"
+name = "granite"
+description = "Granite/granite, plain Rice-Ruina, 5 MPa on 0.02 m^2"
+A = 0.008
+B = 0.012
+mu0 = 0.7
+D0 = 5.0
+V0 = 1.0
+M = 10.0
+W = 1.0e5
+V = 10.0
+V_range = [0.1, 1000.0]
+"#;
+
 /// `stickslip ARGS`: the exit status, the JSON it printed (`null` when it
 /// printed none) and its standard error.
 pub fn json_of(args: &[&str]) -> (i32, serde_json::Value, String) {
