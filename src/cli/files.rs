@@ -144,18 +144,15 @@ impl LineFile {
     /// The line ends within the first `n` pending bytes, as file offsets
     /// from `start`.
     fn pending_ends(&self, start: u64, n: usize) -> Vec<u64> {
-        self.pending[..n]
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| **b == b'\n')
-            .map(|(i, _)| start + i as u64 + 1)
+        memchr::memchr_iter(b'\n', &self.pending[..n])
+            .map(|i| start + i as u64 + 1)
             .collect()
     }
 
     /// Writes the complete lines gathered, in one write.
     fn commit(&mut self) -> std::io::Result<()> {
         self.open()?;
-        let Some(last) = self.pending.iter().rposition(|b| *b == b'\n') else {
+        let Some(last) = memchr::memrchr(b'\n', &self.pending) else {
             return Ok(());
         };
         let start = self.len();
@@ -168,10 +165,7 @@ impl LineFile {
         for end in self.pending_ends(start, n) {
             self.push_end(end);
         }
-        let line_start = self.pending[..last]
-            .iter()
-            .rposition(|b| *b == b'\n')
-            .map_or(0, |i| i + 1);
+        let line_start = memchr::memrchr(b'\n', &self.pending[..last]).map_or(0, |i| i + 1);
         self.marked = self.pending[line_start..last].starts_with(INCOMPLETE.as_bytes());
         self.pending.drain(..n);
         Ok(())
