@@ -65,8 +65,8 @@ pub struct CycleSettings {
     /// Largest number of steps after the first orbit. Default 200.
     pub max_steps: usize,
     /// Bounds of the parameter; the branch lands on them and stops there
-    /// (the orbit at the bound, located and solved with the parameter fixed
-    /// like a user point). Default unbounded.
+    /// (the orbit on the bound solved with the parameter held there,
+    /// `Cycles::orbit_on_bound`). Default unbounded.
     pub p_min: f64,
     pub p_max: f64,
     /// Stop when the period exceeds this. Default `None`: no limit.
@@ -1298,6 +1298,9 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         }
         let last = self.z.len() - 1;
         let s = (bound - self.z[last]) / self.tangent[last];
+        // The direction the parameter runs in at the end predicted from:
+        // the orbit reached has the same (not the one across a fold).
+        let direction = self.tangent[last];
         let patient = NewtonSettings {
             max_iter: REMESH_ITERATIONS,
             ..self.settings.corrector
@@ -1317,7 +1320,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
                 self.tangent = tangent_from(jacobian, &self.tangent, &w)?;
             }
             let last = self.z.len() - 1;
-            if self.tangent[last] * t0[z0.len() - 1] > 0.0 {
+            if self.tangent[last] * direction > 0.0 {
                 Ok(rep)
             } else {
                 Err(ContinuationError::Singular)
