@@ -870,7 +870,7 @@ const REMESH_ITERATIONS: usize = 30;
 type StepStart<'a, S> = (Collocation<'a, S>, Vec<f64>, Vec<f64>);
 
 /// A step that crossed a range bound ([`Cycles::orbit_on_bound`]): from
-/// `z0` (tangent `t0`, parameter `p0`, on the mesh of `coll0`) to the
+/// `z0` (tangent `t0`, on the mesh of `coll0`) to the
 /// arclength `sigma` along it, where the parameter is `p_end` beyond the
 /// bound — the step's end, or where the parameter turned (`turned`).
 struct Crossing<'c, 'a, S: VectorField> {
@@ -878,7 +878,6 @@ struct Crossing<'c, 'a, S: VectorField> {
     z0: &'c [f64],
     t0: &'c [f64],
     sigma: f64,
-    p0: f64,
     p_end: f64,
     turned: bool,
 }
@@ -1183,26 +1182,23 @@ impl<S: VectorField> Curve for Cycles<'_, S> {
                     }
                     // The range's bound crossed first: where the parameter
                     // turned beyond it, on the way to the turn.
-                    let crossing = match turn {
+                    let (sigma, p_end, turned) = match turn {
                         Some((sigma, p_turn)) if self.bound_crossed(p_turn).is_some() => {
-                            Some((sigma, p_turn, true))
+                            (sigma, p_turn, true)
                         }
-                        _ => Some((ds, p1, false)),
+                        _ => (ds, p1, false),
                     };
-                    if let Some((sigma, p_end, turned)) = crossing.filter(|_| !at_hopf) {
-                        if let Some(bound) = self.bound_crossed(p_end) {
-                            let step = Crossing {
-                                coll0: &coll0,
-                                z0: &z0,
-                                t0: &t0,
-                                sigma,
-                                p0,
-                                p_end,
-                                turned,
-                            };
-                            pt = self.orbit_on_bound(&step, bound, pt)?;
-                            landed = Some(bound);
-                        }
+                    if let Some(bound) = self.bound_crossed(p_end).filter(|_| !at_hopf) {
+                        let step = Crossing {
+                            coll0: &coll0,
+                            z0: &z0,
+                            t0: &t0,
+                            sigma,
+                            p_end,
+                            turned,
+                        };
+                        pt = self.orbit_on_bound(&step, bound, pt)?;
+                        landed = Some(bound);
                     }
                     Ok(Ok(pt))
                 });
@@ -1292,8 +1288,9 @@ impl<'a, S: VectorField> Cycles<'a, S> {
         beyond: CyclePoint,
     ) -> Result<CyclePoint, ContinuationError> {
         let (z0, t0) = (step.z0, step.t0);
+        let p0 = z0[z0.len() - 1];
         let crossed = (self.coll.cycle(&self.z), self.tangent.clone());
-        if step.turned || (bound - step.p0).abs() < (bound - step.p_end).abs() {
+        if step.turned || (bound - p0).abs() < (bound - step.p_end).abs() {
             self.restore((step.coll0.cycle(z0), t0.to_vec()));
         }
         let last = self.z.len() - 1;
@@ -1336,7 +1333,7 @@ impl<'a, S: VectorField> Cycles<'a, S> {
                     step.coll0,
                     z0,
                     t0,
-                    (step.p0 - bound, step.p_end - bound),
+                    (p0 - bound, step.p_end - bound),
                     step.sigma,
                     |z, _| Ok(z[nz - 1] - bound),
                 )?;
