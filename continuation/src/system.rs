@@ -148,31 +148,44 @@ pub fn first_order_by_duals<S: VectorField + ?Sized>(
     }
 }
 
-/// The state `x` (`n` entries) and the parameters `p` in dual numbers of
-/// `N >= n + 1` directions: `x_j` along direction `j`, `p_k` along
-/// direction `n`. The state is an array of `N` entries filled in place (no
-/// collecting into a buffer that is then moved).
+/// `body(x, p)` on the state `x` (`n` entries) and the parameters `p` in
+/// dual numbers of `N >= n + 1` directions: `x_j` along direction `j`,
+/// `p_k` along direction `n`. Both are arrays filled in place on this
+/// frame (the parameters on the heap beyond [`PARAMS_ON_STACK`]), lent to
+/// `body` rather than returned: a buffer returned by value is copied, and
+/// this runs at every collocation point.
 #[inline(always)]
-fn seeded<const N: usize>(
+fn with_seeded<const N: usize, R>(
     n: usize,
-    x: &[f64],
-    p: &[f64],
-    k: usize,
-) -> ([DualSVec64<N>; N], Buf<DualSVec64<N>>) {
+    (x, p, k): (&[f64], &[f64], usize),
+    body: impl FnOnce(&[DualSVec64<N>], &[DualSVec64<N>]) -> R,
+) -> R {
     let zero = DualSVec64::<N>::from_re(0.0);
     let mut xd = [zero; N];
     for (j, (d, &v)) in xd.iter_mut().zip(x).enumerate() {
         *d = DualSVec64::from_re(v).derivative(j);
     }
-    let mut pd: Buf<DualSVec64<N>> = SmallVec::from_elem(zero, p.len());
-    for (j, (d, &v)) in pd.iter_mut().zip(p).enumerate() {
-        *d = DualSVec64::from_re(v);
-        if j == k {
-            *d = d.derivative(n);
+    let fill = |pd: &mut [DualSVec64<N>]| {
+        for (j, (d, &v)) in pd.iter_mut().zip(p).enumerate() {
+            *d = DualSVec64::from_re(v);
+            if j == k {
+                *d = d.derivative(n);
+            }
         }
+    };
+    if p.len() <= PARAMS_ON_STACK {
+        let mut pd = [zero; PARAMS_ON_STACK];
+        fill(&mut pd[..p.len()]);
+        body(&xd[..n], &pd[..p.len()])
+    } else {
+        let mut pd = vec![zero; p.len()];
+        fill(&mut pd);
+        body(&xd[..n], &pd)
     }
-    (xd, pd)
 }
+
+/// Parameters [`with_seeded`] keeps on the stack.
+const PARAMS_ON_STACK: usize = 16;
 
 /// [`first_order_by_duals`] with `N >= n + 1` directions.
 fn first_order_in<S: VectorField + ?Sized, const N: usize>(
@@ -183,9 +196,8 @@ fn first_order_in<S: VectorField + ?Sized, const N: usize>(
     (f, jac, fp): (&mut [f64], &mut DMatrix<f64>, &mut [f64]),
 ) {
     let n = sys.dim();
-    let (xd, pd) = seeded::<N>(n, x, p, k);
     let mut out = [DualSVec64::<N>::from_re(0.0); N];
-    sys.rhs(&xd[..n], &pd, &mut out[..n]);
+    with_seeded::<N, _>(n, (x, p, k), |xd, pd| sys.rhs(xd, pd, &mut out[..n]));
     for (i, y) in out[..n].iter().enumerate() {
         f[i] = y.re;
         let eps = y.eps.unwrap_generic(Const::<N>, U1);
@@ -232,10 +244,11 @@ fn implicit_first_order_in<S: VectorField + ?Sized, const N: usize>(
     (rho, g, drho, dg): ImplicitFirstOrder,
 ) {
     let n = sys.dim();
-    let (xd, pd) = seeded::<N>(n, x, p, k);
     let zero = DualSVec64::<N>::from_re(0.0);
     let (mut rd, mut gd) = ([zero; N], [zero; N]);
-    sys.implicit_rhs(&xd[..n], &pd, &mut rd[..n], &mut gd[..n]);
+    with_seeded::<N, _>(n, (x, p, k), |xd, pd| {
+        sys.implicit_rhs(xd, pd, &mut rd[..n], &mut gd[..n])
+    });
     for i in 0..n {
         rho[i] = rd[i].re;
         g[i] = gd[i].re;

@@ -562,14 +562,11 @@ fn record(log: &LogBlock, pt: &CyclePoint, leg: Leg, watch: &InertiaWatch) -> Cy
     let ((x_min, x_max), (ln_v_min, ln_v_max)) = (extremes[0], extremes[1]);
     let (s_min, s_max) = (log.origin()[0] + x_min, log.origin()[0] + x_max);
     let (v_min, v_max) = (ln_v_min.exp(), ln_v_max.exp());
-    let samples: Vec<[f64; 4]> = c
-        .samples(4)
-        .iter()
-        .map(|(tau, x)| {
-            let phi = log.origin()[2] + x[log.dim() - 1];
-            [*tau, log.spring_force(x), log.ln_velocity(x, &c.p), phi]
-        })
-        .collect();
+    let mut samples: Vec<[f64; 4]> = Vec::with_capacity(c.mesh.ntst() * 4 + 1);
+    c.each_sample(4, |tau, x| {
+        let phi = log.origin()[2] + x[log.dim() - 1];
+        samples.push([tau, log.spring_force(x), log.ln_velocity(x, &c.p), phi]);
+    });
     let law = friction_from(log.cutoff, &c.p);
     let friction_min = friction_min(&law, &samples);
     let direct_effect_min = direct_effect_min(&law, &samples);

@@ -1,6 +1,6 @@
 //! A periodic orbit on a collocation mesh: node values, period, parameters.
 
-use super::mesh::{lagrange_values, Mesh};
+use super::mesh::{lagrange_into, lagrange_values, Mesh};
 use crate::system::VectorField;
 use nalgebra::{DMatrix, DVector, Dyn};
 use std::cell::RefCell;
@@ -44,8 +44,22 @@ impl Cycle {
     /// The polynomial of interval `i` at local coordinate `z` in `[0, 1]`,
     /// added into `x` (`n` entries).
     fn interval_into(&self, i: usize, z: f64, x: &mut [f64]) {
-        for (l, b) in lagrange_values(self.mesh.degree, z).iter().enumerate() {
-            for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
+        let (m, n) = (self.mesh.degree, self.n);
+        let mut stack = [0.0; 8];
+        let mut heap = Vec::new();
+        let basis = if m < stack.len() {
+            &mut stack[..=m]
+        } else {
+            heap.resize(m + 1, 0.0);
+            &mut heap[..]
+        };
+        lagrange_into(m, z, basis);
+        // Node `(i, l)` is `i m + l`; the last interval's end is node 0.
+        let last = self.mesh.n_nodes();
+        for (l, b) in basis.iter().enumerate() {
+            let g = i * m + l;
+            let g = if g == last { 0 } else { g };
+            for (xj, uj) in x.iter_mut().zip(&self.u[g * n..(g + 1) * n]) {
                 *xj += b * uj;
             }
         }
@@ -63,16 +77,20 @@ impl Cycle {
     /// the state in one buffer (no allocation per sample).
     pub fn each_sample(&self, per_interval: usize, mut visit: impl FnMut(f64, &[f64])) {
         let mut x = vec![0.0; self.n];
-        let mut at = |tau: f64, x: &mut [f64]| {
-            x.fill(0.0);
-            self.state_into(tau, x);
-            visit(tau, x);
-        };
+        let t = &self.mesh.t;
         for i in 0..self.mesh.ntst() {
             for s in 0..per_interval {
-                let tau = self.mesh.t[i]
-                    + (self.mesh.t[i + 1] - self.mesh.t[i]) * s as f64 / per_interval as f64;
-                at(tau, &mut x);
+                let tau = t[i] + (t[i + 1] - t[i]) * s as f64 / per_interval as f64;
+                x.fill(0.0);
+                // Interval `i` is where `Mesh::locate` finds `tau` (its
+                // local coordinate computed as there) unless rounding put
+                // `tau` on the next mesh point.
+                if tau < t[i + 1] && tau < 1.0 {
+                    self.interval_into(i, (tau - t[i]) / (t[i + 1] - t[i]), &mut x);
+                } else {
+                    self.state_into(tau, &mut x);
+                }
+                visit(tau, &x);
             }
         }
         // The closing sample at `tau = 1` is the state at 0.
@@ -113,13 +131,17 @@ impl Cycle {
         let basis: Vec<_> = (0..per)
             .map(|s| lagrange_values(m, s as f64 / per as f64))
             .collect();
-        let mut x = vec![0.0; self.n];
+        let (n, last) = (self.n, self.mesh.n_nodes());
+        let mut x = vec![0.0; n];
         let mut values = Vec::with_capacity(ntst * per);
         for i in 0..ntst {
             for b in &basis {
                 x.fill(0.0);
                 for (l, bl) in b.iter().enumerate() {
-                    for (xj, uj) in x.iter_mut().zip(self.node(self.mesh.node(i, l))) {
+                    // Node `(i, l)`; the last interval's end is node 0.
+                    let node = i * m + l;
+                    let node = if node == last { 0 } else { node };
+                    for (xj, uj) in x.iter_mut().zip(&self.u[node * n..(node + 1) * n]) {
                         *xj += bl * uj;
                     }
                 }

@@ -119,16 +119,49 @@ pub fn lagrange(m: usize, z: f64) -> (Vec<f64>, Vec<f64>) {
 /// Values `L_l(z)` of the Lagrange basis on the equally spaced nodes `l / m`
 /// (no derivatives, no heap allocation for `m < 8`): for evaluating orbits.
 pub fn lagrange_values(m: usize, z: f64) -> SmallVec<[f64; 8]> {
-    let nodes: SmallVec<[f64; 8]> = (0..=m).map(|j| j as f64 / m as f64).collect();
-    let mut values = SmallVec::from_elem(1.0, m + 1);
-    for ((l, value), xl) in values.iter_mut().enumerate().zip(&nodes) {
-        for (j, xj) in nodes.iter().enumerate() {
-            if j != l {
-                *value *= (z - xj) / (xl - xj);
-            }
+    let mut values = SmallVec::from_elem(0.0, m + 1);
+    lagrange_into(m, z, &mut values);
+    values
+}
+
+/// [`lagrange_values`] written into `out[..=m]`: `L_l(z) = prod_{j != l}
+/// (z - x_j) / (x_l - x_j)`, `x_j = j / m`, the factors in increasing `j`.
+/// Compiled once more for `m = 4` (the default degree) with the nodes as
+/// constants and the loops unrolled: the same operations in the same order,
+/// so the same values to the bit.
+#[inline]
+pub fn lagrange_into(m: usize, z: f64, out: &mut [f64]) {
+    match m {
+        4 => lagrange_fixed::<5>(z, out),
+        _ => {
+            let nodes: SmallVec<[f64; 8]> = (0..=m).map(|j| j as f64 / m as f64).collect();
+            lagrange_on(&nodes, z, out);
         }
     }
-    values
+}
+
+/// [`lagrange_into`] with the number of nodes `P = m + 1` constant.
+#[inline(always)]
+fn lagrange_fixed<const P: usize>(z: f64, out: &mut [f64]) {
+    let mut nodes = [0.0; P];
+    for (j, x) in nodes.iter_mut().enumerate() {
+        *x = j as f64 / (P - 1) as f64;
+    }
+    lagrange_on(&nodes, z, out);
+}
+
+/// The Lagrange basis on `nodes` at `z`, into `out[..nodes.len()]`.
+#[inline(always)]
+fn lagrange_on(nodes: &[f64], z: f64, out: &mut [f64]) {
+    for (l, (value, &xl)) in out[..nodes.len()].iter_mut().zip(nodes).enumerate() {
+        let mut v = 1.0;
+        for (j, &xj) in nodes.iter().enumerate() {
+            if j != l {
+                v *= (z - xj) / (xl - xj);
+            }
+        }
+        *value = v;
+    }
 }
 
 /// Where the collocation equations are imposed in every interval.
@@ -285,6 +318,37 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lagrange_basis_compiled_for_degree_4_is_the_general_one_to_the_bit() {
+        // The product written out with the degree hidden from the compiler.
+        let reference = |m: usize, z: f64| -> Vec<f64> {
+            let m = std::hint::black_box(m);
+            let x = |j: usize| j as f64 / m as f64;
+            (0..=m)
+                .map(|l| {
+                    (0..=m)
+                        .filter(|&j| j != l)
+                        .fold(1.0, |v, j| v * ((z - x(j)) / (x(l) - x(j))))
+                })
+                .collect()
+        };
+        for m in 1..=9 {
+            for k in -40..=440 {
+                let z = k as f64 / 400.0 + 1e-3 * (k as f64).sin();
+                let mut out = vec![f64::NAN; m + 1];
+                lagrange_into(m, z, &mut out);
+                let expected = reference(m, z);
+                assert!(
+                    out.iter()
+                        .zip(&expected)
+                        .all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "m = {m}, z = {z}: {out:?} against {expected:?}"
+                );
+                assert_eq!(lagrange_values(m, z).as_slice(), &out[..]);
+            }
+        }
+    }
 
     #[test]
     fn gauss_legendre_integrates_degree_2m_minus_1_exactly() {

@@ -979,3 +979,35 @@ fn bautin_settings(max_steps: usize) -> CycleSettings {
         ..Default::default()
     }
 }
+
+#[test]
+fn samples_are_the_orbit_where_the_mesh_locates_them_to_the_bit() {
+    // Uneven intervals, down to a few ulps of their mesh point, where the
+    // sample's time may round onto the next mesh point.
+    let base = Mesh::uniform(1, 4, CollocationPoints::Radau);
+    let mut t = vec![0.0, 0.1, 0.1 + 1e-9, 0.3];
+    t.push(0.3 + 4.0 * f64::EPSILON);
+    t.extend([0.55, 0.9, 1.0]);
+    let mesh = base.on(t);
+    let n = 3;
+    let u: Vec<f64> = (0..mesh.n_nodes() * n)
+        .map(|k| (0.37 * k as f64).sin())
+        .collect();
+    let cycle = Cycle {
+        mesh,
+        u,
+        period: 1.0,
+        p: vec![],
+        n,
+    };
+    let mut count = 0;
+    cycle.each_sample(8, |tau, x| {
+        let at = cycle.state_at(tau);
+        assert!(
+            x.iter().zip(&at).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "tau = {tau}: {x:?} against {at:?}"
+        );
+        count += 1;
+    });
+    assert_eq!(count, 7 * 8 + 1);
+}

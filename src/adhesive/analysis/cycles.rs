@@ -123,11 +123,10 @@ fn record<B: AdhesiveModel>(model: B, p: &AdhesiveParams, point: &CyclePoint) ->
     let (s_min, s_max) = c.range(&model, 0);
     let (n_min, n_max) = c.range(&model, model.dim() - 1);
     let (u_min, u_max) = c.range_of(&model, |x| model.velocity(&q, x));
-    let orbit = c
-        .samples(4)
-        .into_iter()
-        .map(|(tau, x)| [tau, x[0], model.velocity(&q, &x), model.bonds(&x)])
-        .collect();
+    let mut orbit = Vec::with_capacity(c.mesh.ntst() * 4 + 1);
+    c.each_sample(4, |tau, x| {
+        orbit.push([tau, x[0], model.velocity(&q, x), model.bonds(x)]);
+    });
     AdhesiveCycle {
         kappa: q.kappa,
         period: c.period,
