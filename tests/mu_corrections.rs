@@ -611,3 +611,84 @@ fn cycles_that_leave_the_laws_domain_are_named() {
     }
     assert!(v.get("outside_domain").is_none());
 }
+
+/// `--set mu_vv=1e-3` on pmma: the branch's orbits reach stick velocities
+/// where the direct effect `A + 2 mu_vv ln v + mu_vphi ln theta` is
+/// negative (the law outside its domain). There the inertial imbalance
+/// `chi` has no meaning (it measures the error of a quasi-static reduction
+/// that does not exist): the CSV says `n/a`, the JSON `null` with the
+/// reason, never the largest `f64`. Where collocation then fails, the
+/// branch ends naming the law's domain, and the return map, whose
+/// quasi-static stick needs a positive direct effect, does not take over
+/// (it ended with its integrator's "event function ... above the
+/// floating-point range" before).
+#[test]
+fn orbits_outside_the_laws_domain_have_no_inertial_imbalance_and_end_the_branch_in_words() {
+    let dir = temp_dir("mu-vv-domain");
+    let out = dir.to_str().unwrap();
+    let (status, v, err) = json_of(&[
+        "cycles",
+        "--json",
+        "--set",
+        "mu_vv=1e-3",
+        "--max-steps",
+        "52",
+        "--out",
+        out,
+        "--force",
+    ]);
+    assert_eq!(status, 4, "{err}");
+    let cycles = v["cycles"].as_array().unwrap();
+    let outside: Vec<&Value> = cycles
+        .iter()
+        .filter(|c| num(c, "direct_effect_min") <= 0.0)
+        .collect();
+    assert!(outside.len() >= 10, "{} of {}", outside.len(), cycles.len());
+    for c in cycles {
+        if num(c, "direct_effect_min") <= 0.0 {
+            assert!(c["inertial_imbalance"].is_null(), "{c}");
+            let why = c["inertial_imbalance_reason"].as_str().unwrap();
+            assert!(why.contains("direct effect"), "{why}");
+        } else {
+            assert!(num(c, "inertial_imbalance").is_finite(), "{c}");
+            assert!(c.get("inertial_imbalance_reason").is_none(), "{c}");
+        }
+    }
+    let csv = std::fs::read_to_string(dir.join("pmma_mu_vv=0.001-cycles.csv")).unwrap();
+    assert!(!csv.contains("e308"), "the largest f64 in the CSV");
+    let header = csv.lines().find(|l| l.starts_with("kappa,")).unwrap();
+    let column = header
+        .split(',')
+        .position(|h| h == "inertial_imbalance")
+        .unwrap();
+    let na = csv
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("kappa,"))
+        .filter(|l| l.split(',').nth(column) == Some("n/a"))
+        .count();
+    assert_eq!(na, outside.len());
+
+    // The whole branch: it fails where collocation no longer converges on
+    // orbits outside the domain, and says so.
+    let (status, v, err) = json_of(&[
+        "cycles",
+        "--json",
+        "--set",
+        "mu_vv=1e-3",
+        "--out",
+        out,
+        "--force",
+    ]);
+    assert!(status == 0 || status == 4, "{err}");
+    assert!(!err.contains("event function"), "{err}");
+    let cycles = v["cycles"].as_array().unwrap();
+    assert!(
+        cycles.iter().all(|c| c["method"] == "collocation"),
+        "the return map took over"
+    );
+    if status == 4 && err.contains("collocation failed") {
+        assert!(err.contains("outside the friction law's domain"), "{err}");
+        let last = cycles.last().unwrap();
+        assert!(num(last, "direct_effect_min") <= 0.0, "{last}");
+    }
+}

@@ -16,7 +16,8 @@
 //! the reduction makes in the slip velocity where it matters most. On the
 //! inertial model the same number is `|s - mu| / mu_v`, the imbalance the
 //! inertial orbit actually carries; where it passes through `mu_v <= 0`,
-//! which no quasi-static state does, `chi` is the largest `f64`. Together with the
+//! which no quasi-static state does, `chi` is infinite (the records say
+//! `n/a`, with the reason). Together with the
 //! linear criterion at onset (`m nu^2 / mu_v`, [`super::model_choice`]),
 //! which covers small oscillations, it decides the model along a branch:
 //! the quasi-static model holds on an orbit while both are below the same
@@ -45,7 +46,7 @@ pub fn inertial_imbalance(log: &LogBlock, cycle: &Cycle, m: f64) -> f64 {
 }
 
 /// `m v |d ln v/dt| / mu_v` at the state `x` of `log` with parameters `p`,
-/// `mu_v = d mu / d ln v` there (the largest `f64` where `mu_v <= 0`). The
+/// `mu_v = d mu / d ln v` there (infinite where `mu_v <= 0`). The
 /// time derivative of `ln v` is the state's own (inertial: it is a
 /// variable) or its derivative along the flow by a central difference
 /// (quasi-static: `ln v` is a function of the state).
@@ -81,7 +82,7 @@ pub fn state_imbalance(log: &LogBlock, x: &[f64], p: &[f64], m: f64) -> f64 {
     let law = friction_from(log.cutoff, p);
     let mu_v = law.rate_coefficient(2.0 * ln_v, ln_theta) + law.damping(ln_v.exp());
     if mu_v.is_nan() || mu_v <= 0.0 {
-        return f64::MAX;
+        return f64::INFINITY;
     }
     m * ln_v.exp() * rate.abs() / mu_v
 }

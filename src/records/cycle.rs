@@ -5,7 +5,7 @@
 use super::branch::ParamValue;
 use crate::analysis::cycles::{
     CycleBifurcation, CycleMethod, CycleRecord, Leg, NotDelivered, RequestedPoint, Stability,
-    ESTIMATE_UNAVAILABLE, TRIVIAL_REMOVED, TRIVIAL_UNAVAILABLE,
+    ESTIMATE_UNAVAILABLE, IMBALANCE_UNDEFINED, TRIVIAL_REMOVED, TRIVIAL_UNAVAILABLE,
 };
 use crate::analysis::operating_point::Regime;
 use crate::analysis::settle::SettledOrbit;
@@ -98,8 +98,11 @@ pub struct Cycle {
     /// Whether the cycle is at a requested stiffness (`--at-kappa`).
     pub user_point: bool,
     pub model: ModelKind,
-    /// `chi = max m |dv/dt| / A` with the scene's inertia.
-    pub inertial_imbalance: f64,
+    /// `chi = max m |dv/dt| / A` with the scene's inertia; `n/a` where
+    /// the direct effect `d mu / d ln v` is not positive on the orbit
+    /// (`inertial_imbalance_reason`).
+    #[serde(serialize_with = "or_na")]
+    pub inertial_imbalance: Option<f64>,
     #[serde(rename = "K_over_W_per_m")]
     pub k_over_w_per_m: f64,
     /// Period \[s\].
@@ -148,6 +151,9 @@ pub struct Cycle {
     /// Why `error_estimate` is unavailable (JSON only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_estimate_reason: Option<&'static str>,
+    /// Why `inertial_imbalance` is unavailable (JSON only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub inertial_imbalance_reason: Option<&'static str>,
     /// Why the stability is undecidable (JSON only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stability_reason: Option<String>,
@@ -164,6 +170,7 @@ impl CsvRecord for Cycle {
         "method",
         "trivial_multiplier_error_reason",
         "error_estimate_reason",
+        "inertial_imbalance_reason",
         "stability_reason",
     ];
 }
@@ -185,7 +192,7 @@ impl Cycle {
             ntst: c.ntst(),
             user_point: c.user_point,
             model: c.model,
-            inertial_imbalance: c.inertial_imbalance,
+            inertial_imbalance: Some(c.inertial_imbalance).filter(|chi| chi.is_finite()),
             k_over_w_per_m: u.k_over_w(c.kappa),
             m: c.m,
             friction_min: c.friction_min,
@@ -206,6 +213,8 @@ impl Cycle {
                 CycleMethod::ReturnMap => TRIVIAL_REMOVED,
             }),
             error_estimate_reason: c.error_estimate.is_none().then_some(ESTIMATE_UNAVAILABLE),
+            inertial_imbalance_reason: (!c.inertial_imbalance.is_finite())
+                .then_some(IMBALANCE_UNDEFINED),
             stability_reason: c.stability_reason(),
             direct_effect_min: c.direct_effect_min,
         }
