@@ -347,3 +347,40 @@ fn a_second_fit_in_a_folder_is_treated_as_every_commands_rerun() {
     assert_ne!(std::fs::read_to_string(&gel_toml).unwrap(), "stale");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Steady data the law reproduces exactly (a friction that does not depend
+/// on the velocity, as a stranger wrote by hand): the errors estimated from
+/// zero residuals were 1e-308, the next minimisation went off to
+/// non-finite parameters, and nalgebra's SVD of that Jacobian looped
+/// forever (a fit that ignored SIGINT and SIGTERM). Now the errors stop at
+/// the rounding of the values and the fit ends at once: velocity-neutral
+/// friction, `B - A = 0` and `mu2 = 0` to rounding, `mu0` the data's.
+#[test]
+fn steady_data_reproduced_exactly_end_the_fit_with_the_exact_values() {
+    let dir = temp_dir("flat");
+    let file = dir.join("flat.csv");
+    std::fs::write(
+        &file,
+        "V_um_s,mu\n1,0.5\n10,0.5\n100,0.5\n1000,0.5\n3,0.5\n30,0.5\n",
+    )
+    .unwrap();
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = sender.send(fit_with(vec![(Kind::Steady, file)], None, false));
+    });
+    let f = receiver
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .expect("the fit did not end within 60 s")
+        .unwrap();
+    let p = &f.summary.parameters;
+    assert!(
+        (p["mu0"].value - 0.5).abs() < 1e-12,
+        "mu0 {}",
+        p["mu0"].value
+    );
+    assert!((p["B"].value - p["A"].value).abs() < 1e-12);
+    assert!(p["mu2"].value.abs() < 1e-12, "mu2 {}", p["mu2"].value);
+    for (name, e) in p.iter() {
+        assert!(e.value.is_finite(), "{name}");
+    }
+}

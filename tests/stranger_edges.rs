@@ -500,3 +500,90 @@ fn a_branch_in_v_is_drawn_along_the_branch() {
         "not monotone along the branch: {along:?}"
     );
 }
+
+/// A stranger's steel-on-PMMA rig (session 25), `K` below `K_c`: steady
+/// sliding repels at the pulling velocity.
+const STEEL_PMMA: &str = "A = 0.010\nB = 0.018\nmu0 = 0.45\nmu2 = 3e-4\nD0 = 0.5\nV0 = 1.0\n\
+                          M = 0.3\nW = 50.0\nK = 6e5\nV = 5.0\nV_range = [0.5, 200.0]\n";
+
+/// `simulate --perturb P` started closer to a repelling steady sliding than
+/// the integrator's tolerance reported steady sliding with exit 0 (two
+/// steps over 60 s: Radau IIA's long steps damped the growing oscillation
+/// they did not resolve, and the regime's search called a start 1e-6 off
+/// steady sliding decayed at once). Every perturbation, down to none (the
+/// rounding grows), reaches the stick-slip cycle the default perturbation
+/// and `cycles` reach.
+#[test]
+fn a_small_perturbation_of_repelling_steady_sliding_grows_to_the_cycle() {
+    let dir = temp_dir("steel-pmma-perturb");
+    let scene = dir.join("steelpmma.toml");
+    std::fs::write(&scene, STEEL_PMMA).unwrap();
+    let out = dir.join("out");
+    let run = |perturb: &str| {
+        let (status, stdout, err) = stickslip(&[
+            "simulate",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--perturb",
+            perturb,
+            "--protocol",
+            "5:60",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+            "--force",
+        ]);
+        assert_eq!(status, 0, "--perturb {perturb}: {err}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        let regime = v["regime"].clone();
+        assert_eq!(regime["kind"], "periodic", "--perturb {perturb}: {regime}");
+        (
+            regime["period_s"].as_f64().unwrap(),
+            regime["force_drop_N"].as_f64().unwrap(),
+        )
+    };
+    let (period, drop) = run("0.01");
+    for perturb in ["0", "1e-12", "1e-9", "1e-6", "7e-5"] {
+        let (p, d) = run(perturb);
+        assert!(
+            (p / period - 1.0).abs() < 1e-6,
+            "--perturb {perturb}: {p} s against {period} s"
+        );
+        assert!(
+            (d / drop - 1.0).abs() < 1e-6,
+            "--perturb {perturb}: {d} N against {drop} N"
+        );
+    }
+    // The cycle continued by collocation to the same stiffness agrees.
+    let (status, stdout, err) = stickslip(&[
+        "cycles",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--at",
+        "K=6e5",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(status, 0, "{err}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    let at = v["cycles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["user_point"] == true)
+        .unwrap_or_else(|| panic!("no cycle at K = 6e5 N/m: {err}"));
+    let (p, d) = (
+        at["period_s"].as_f64().unwrap(),
+        at["delta_s_N"].as_f64().unwrap(),
+    );
+    assert!(
+        (p / period - 1.0).abs() < 1e-6,
+        "cycles {p} s, simulate {period} s"
+    );
+    assert!(
+        (d / drop - 1.0).abs() < 1e-6,
+        "cycles {d} N, simulate {drop} N"
+    );
+}

@@ -13,7 +13,10 @@
 //!
 //! both measured in the scaled distance [`gap`] (`E_k`: the largest distance
 //! from steady sliding during the `k`-th period). It has decayed to steady
-//! sliding when that distance falls below `decay_tol` at any step.
+//! sliding when that distance falls below `decay_tol` at any step, where
+//! steady sliding attracts; where it repels (an eigenvalue with
+//! `Re lambda > 0`) an orbit that close is leaving it (a run started
+//! `1e-6` from steady sliding was called decayed at its first step).
 //!
 //! Steps are bounded by a twentieth of the period `2 pi / |Im lambda|` of
 //! steady sliding's oscillatory eigenvalues: Radau IIA damps oscillations it
@@ -182,19 +185,36 @@ fn gap(a: [f64; 3], b: [f64; 3], scale_s: f64) -> f64 {
     d_s.max(d_v).max(d_theta)
 }
 
-/// A twentieth of the shortest period `2 pi / |Im lambda|` among the
-/// eigenvalues of steady sliding (infinite when they are all real, or when
-/// the eigenvalue solver fails: the steps are then bounded by the tolerance
-/// alone, as everywhere else).
-fn step_bound(kind: ModelKind, params: &Params) -> f64 {
-    let block = DrivenBlock::new(kind, params);
-    let x = steady_state(kind, params);
-    let omega = eigenvalues(&jacobian(&block, &x, &params.to_vec()))
-        .map_or(0.0, |ev| ev.iter().fold(0.0f64, |w, l| w.max(l.im.abs())));
-    if omega > 0.0 {
-        2.0 * std::f64::consts::PI / (20.0 * omega)
-    } else {
-        f64::INFINITY
+/// What an integration near steady sliding at `params` needs to know of
+/// its eigenvalues `lambda`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadySpectrum {
+    /// A twentieth of the shortest period `2 pi / |Im lambda|` (infinite
+    /// when they are all real, or when the eigenvalue solver fails: the
+    /// steps are then bounded by the tolerance alone, as everywhere else).
+    pub step_bound: f64,
+    /// Some `Re lambda > 0`: steady sliding repels, and an orbit near it
+    /// has not decayed onto it (false where the solver fails).
+    pub growing: bool,
+}
+
+impl SteadySpectrum {
+    /// The spectrum of steady sliding of the model `kind` at `params`.
+    pub fn of(kind: ModelKind, params: &Params) -> Self {
+        let block = DrivenBlock::new(kind, params);
+        let x = steady_state(kind, params);
+        let ev = eigenvalues(&jacobian(&block, &x, &params.to_vec()));
+        let omega = ev
+            .as_ref()
+            .map_or(0.0, |ev| ev.iter().fold(0.0f64, |w, l| w.max(l.im.abs())));
+        SteadySpectrum {
+            step_bound: if omega > 0.0 {
+                2.0 * std::f64::consts::PI / (20.0 * omega)
+            } else {
+                f64::INFINITY
+            },
+            growing: ev.is_ok_and(|ev| ev.iter().any(|l| l.re > 0.0)),
+        }
     }
 }
 
@@ -211,10 +231,11 @@ pub fn settle(
     let steady = Steady::of(params);
     let rest = [steady.s, steady.ln_v.exp(), steady.ln_theta.exp()];
     let distance = |x: &[f64]| gap(log.to_model(x, &pv), rest, steady.a);
+    let spectrum = SteadySpectrum::of(kind, params);
     let integration = Settings {
         rtol: settings.rtol,
         atol: settings.rtol * 1e-3,
-        h_max: step_bound(kind, params),
+        h_max: spectrum.step_bound,
         ..Settings::default()
     };
     let kappa = params.kappa;
@@ -234,7 +255,8 @@ pub fn settle(
         let sol = solver.solve_with(t, &x, settings.max_time, Output::Final, |step| {
             let d = distance(step.x);
             extent = extent.max(d);
-            decayed = d < settings.decay_tol;
+            // Near a repelling steady sliding the orbit is only passing.
+            decayed = !spectrum.growing && d < settings.decay_tol;
             if decayed {
                 ControlFlow::Break(())
             } else {

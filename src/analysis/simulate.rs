@@ -8,7 +8,7 @@
 
 use crate::analysis::joined_flow::stick_threshold;
 use crate::analysis::orbit_inertia::{inertial_state, state_imbalance, InertiaWatch};
-use crate::analysis::settle::{settle, SettleError, SettleSettings, SettledOrbit};
+use crate::analysis::settle::{settle, SettleError, SettleSettings, SettledOrbit, SteadySpectrum};
 use crate::error::NumericalError;
 use crate::log_model::LogBlock;
 use crate::model::ModelKind;
@@ -266,7 +266,25 @@ pub fn simulate_watched(
                 w.switch && log.kind == ModelKind::QuasiStatic && sticks.below.is_none()
             });
             let mut hand_over = None;
-            let mut solver = Radau5::new(&log, &pv, settings.clone());
+            // Where steady sliding repels, the steps resolve its
+            // oscillation: Radau IIA's long steps damp a growing oscillation
+            // they do not resolve (module docs of [`super::settle`]; a run
+            // from 1e-6 off steady sliding took two steps over 60 s and
+            // ended on steady sliding).
+            let spectrum = SteadySpectrum::of(log.kind, &p);
+            let h_max = if spectrum.growing {
+                spectrum.step_bound
+            } else {
+                f64::INFINITY
+            };
+            let mut solver = Radau5::new(
+                &log,
+                &pv,
+                Settings {
+                    h_max,
+                    ..settings.clone()
+                },
+            );
             // The inertial block comes to rest below v_b, or leaves such a
             // stick: the joined flow ([`super::joined_flow`]).
             let ln_v_b = (params.m > 0.0

@@ -152,8 +152,14 @@ pub fn minimize<P: Problem>(p: &P, x0: &[f64]) -> Result<(Minimum, bool), LeastS
 /// The singular values of `J` with its columns scaled to unit length, in
 /// decreasing order, and the right singular vectors (columns, same order):
 /// a direction of the unknowns the data do not determine has a singular
-/// value at rounding level relative to the largest.
-pub fn scaled_svd(j: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
+/// value at rounding level relative to the largest. `None` where `J` has
+/// an entry that is not finite or the iterations of the decomposition do
+/// not converge ([`SVD_ITERATIONS`]; nalgebra's unbounded `svd` loops
+/// forever on such input).
+pub fn scaled_svd(j: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    if !j.iter().all(|v| v.is_finite()) {
+        return None;
+    }
     let mut scaled = j.clone();
     for mut c in scaled.column_iter_mut() {
         let n = c.norm();
@@ -161,7 +167,7 @@ pub fn scaled_svd(j: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
             c /= n;
         }
     }
-    let svd = scaled.svd(false, true);
+    let svd = scaled.try_svd(false, true, f64::EPSILON, SVD_ITERATIONS)?;
     let v_t = svd
         .v_t
         .unwrap_or_else(|| DMatrix::identity(j.ncols(), j.ncols()));
@@ -169,8 +175,12 @@ pub fn scaled_svd(j: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
     order.sort_by(|&a, &b| svd.singular_values[b].total_cmp(&svd.singular_values[a]));
     let values = order.iter().map(|&k| svd.singular_values[k]).collect();
     let vectors = DMatrix::from_fn(j.ncols(), order.len(), |i, c| v_t[(order[c], i)]);
-    (values, vectors)
+    Some((values, vectors))
 }
+
+/// Sweeps [`scaled_svd`] allows (a handful per singular value converge a
+/// Jacobian of a few columns).
+const SVD_ITERATIONS: usize = 1000;
 
 /// `(J^T J)^-1`, the covariance of the unknowns for weighted residuals.
 pub fn covariance(j: &DMatrix<f64>) -> Option<DMatrix<f64>> {
@@ -244,8 +254,11 @@ mod tests {
         // Two equal columns: one direction undetermined.
         let mut j2 = j.clone();
         j2.set_column(1, &j.column(0).clone_owned());
-        let (s, v) = scaled_svd(&j2);
+        let (s, v) = scaled_svd(&j2).unwrap();
         assert!(s[1] < 1e-12 * s[0]);
+        // Not finite: no decomposition (nalgebra's unbounded one loops).
+        j2[(0, 0)] = f64::NAN;
+        assert!(scaled_svd(&j2).is_none());
         assert!((v[(0, 1)].abs() - v[(1, 1)].abs()).abs() < 1e-12);
     }
 }

@@ -610,7 +610,20 @@ pub(crate) fn fit_determined<P: DataFit + Problem>(
         // last iterate tells which parameters the data leave free: they are
         // held as at a minimum, and the fit tried again without them.
         let (minimum, converged) = fit_with_estimated_errors(problem)?;
-        let (s, v) = scaled_svd(&minimum.jacobian);
+        let Some((s, v)) = scaled_svd(&minimum.jacobian) else {
+            let keys = problem.free_keys();
+            let undefined: Vec<&str> = (0..keys.len())
+                .filter(|&k| !minimum.jacobian.column(k).iter().all(|d| d.is_finite()))
+                .map(|k| keys[k])
+                .collect();
+            return Err(NumericalError::Analysis(format!(
+                "the model's derivatives along {} are not finite at the fit's last iterate \
+                 (after {} iterations), so which parameters the data determine cannot be told",
+                undefined.join(", "),
+                minimum.iterations
+            ))
+            .into());
+        };
         let weakest = s.len() - 1;
         let keys = problem.free_keys();
         let (k, with, error) = if s[weakest] > UNDETERMINED * s[0] && s[0] > 0.0 {
@@ -1025,8 +1038,14 @@ fn fit_with_estimated_errors<P: DataFit + Problem>(
                 }
                 let rss = residual_sum_of_squares(problem, k, &x, q);
                 let n = q.values.len() as f64;
+                // Data the model reproduces to rounding (exact synthetic
+                // values) estimate no error below the rounding of their own
+                // magnitude: weights of 1/MIN_POSITIVE sent the next
+                // minimisation off to non-finite parameters.
+                let magnitude = (q.values.iter().map(|y| y * y).sum::<f64>() / n).sqrt();
                 let new = (rss / (n * (1.0 - p as f64 / total as f64)))
                     .sqrt()
+                    .max(ROUNDING_ERRORS * f64::EPSILON * magnitude)
                     .max(f64::MIN_POSITIVE);
                 moved = moved.max((new / *scale - 1.0).abs());
                 *scale = new;
@@ -1039,6 +1058,10 @@ fn fit_with_estimated_errors<P: DataFit + Problem>(
     }
     minimize(problem, &x).map_err(failed)
 }
+
+/// The least error per row estimated from residuals, in units of the
+/// rounding of the values' magnitude.
+const ROUNDING_ERRORS: f64 = 16.0;
 
 /// A failed minimisation as the job's error, with what to try.
 fn failed(e: LeastSquaresError) -> Error {
