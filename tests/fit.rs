@@ -384,3 +384,33 @@ fn steady_data_reproduced_exactly_end_the_fit_with_the_exact_values() {
         assert!(e.value.is_finite(), "{name}");
     }
 }
+
+/// The remedy of a parameter the data leave free never asks for the kind
+/// of data given (onset data alone: D0 was "add onset data").
+#[test]
+fn a_remedy_does_not_ask_for_the_data_given() {
+    for (kind, file, asked) in [
+        (
+            Kind::Onset,
+            "examples/data/pmma-onset.csv",
+            "add onset data",
+        ),
+        (
+            Kind::Steady,
+            "examples/data/pmma-steady.csv",
+            "add steady-friction data",
+        ),
+    ] {
+        let f = fit_with(vec![(kind, file.into())], None, false).unwrap();
+        assert!(!f.summary.not_determined.is_empty(), "{file}");
+        for n in &f.summary.not_determined {
+            assert!(n.remedy.starts_with("add "), "{}", n.remedy);
+            assert!(
+                !n.remedy.starts_with(asked),
+                "{file}: {}: {}",
+                n.name,
+                n.remedy
+            );
+        }
+    }
+}

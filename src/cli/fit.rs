@@ -230,7 +230,10 @@ fn print_text(fit: &Fit) {
     if let Some(c) = &fit.closed_form {
         let mut line = format!(
             "closed forms ({}): B - A = {:.4e}, mu0 = {:.5}",
-            c.from, c.b_minus_a, c.mu0
+            // + 0.0: a zero slope prints as 0, not -0.
+            c.from,
+            c.b_minus_a + 0.0,
+            c.mu0
         );
         if let Some(d0) = c.d0_um {
             line += &format!(", D0 = {d0:.4} µm");

@@ -713,10 +713,27 @@ fn by_key(key: &str) -> Name {
         .unwrap_or(Name::Mu0)
 }
 
-/// Which data determine a parameter.
-fn remedy(name: Name, with: &[Name]) -> String {
+/// Which data determine a parameter, given the kinds of data the fit had
+/// (`given`): never one of those alone where it did not suffice.
+fn remedy(name: Name, with: &[Name], given: &[Kind]) -> String {
     let only_combination = with.len() > 1;
+    let has = |k: Kind| given.contains(&k);
     let what = match name {
+        // Onset data give (K/W)_c = (B - A)/D0 (eq. KcRR): D0 needs B - A
+        // from elsewhere; steady friction gives B - A, not D0.
+        Name::D0 if has(Kind::Onset) && !has(Kind::Steady) => {
+            "steady-friction or velocity-step data: the critical stiffness gives (B - A) / D0 \
+             (eq. KcRR), and B - A from the steady slope separates D0"
+        }
+        Name::D0 if has(Kind::Onset) => {
+            "velocity-step data, or onset data over a wider range of V: these determine \
+             (B - A) / D0 and B - A too loosely to separate D0"
+        }
+        Name::A | Name::B if !only_combination && has(Kind::Steady) && has(Kind::Onset) => {
+            "velocity-step data, or steady and onset data over a wider range of V"
+        }
+        Name::A | Name::B if !only_combination && has(Kind::Steady) => "onset data",
+        Name::A | Name::B if !only_combination && has(Kind::Onset) => "steady-friction data",
         Name::Mu0 => {
             "steady-friction or velocity-step data (relaxation data see only changes of friction)"
         }
@@ -818,13 +835,14 @@ pub fn run(spec: &SceneSpec, request: &FitRequest) -> Result<Fit, Error> {
             })
             .collect(),
     };
+    let given: Vec<Kind> = request.data.iter().map(|(kind, _)| *kind).collect();
     let (minimum, not_determined) = fit_determined(&mut problem, |key, with, _| {
         let name = by_key(key);
         let with: Vec<Name> = with.iter().map(|k| by_key(k)).collect();
         NotDetermined {
             name: key,
             with: with.iter().map(|n| n.key()).collect(),
-            remedy: remedy(name, &with),
+            remedy: remedy(name, &with, &given),
             kept_at: start.get(name).unwrap_or(f64::NAN),
         }
     })?;
