@@ -116,8 +116,8 @@ where
         .map_err(e)?;
     chart
         .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
+        .x_desc(x_axis.title(x_label))
+        .y_desc(y_axis.title(y_label))
         .x_label_formatter(&|v| x_axis.label(*v))
         .y_label_formatter(&|v| y_axis.label(*v))
         .label_style((FONT, 16))

@@ -26,6 +26,10 @@ pub struct Axis {
     pub grid: Vec<f64>,
     /// Whether every label is in mantissa-exponent form.
     exponent: bool,
+    /// Subtracted from every labelled value ([`Axis::title`] says so):
+    /// nonzero where the range is so narrow against its values that the
+    /// ticks would read alike ([`label_offset`]).
+    offset: (f64, usize),
 }
 
 impl Axis {
@@ -39,7 +43,9 @@ impl Axis {
         } else {
             linear_ticks(range.0, range.1)
         };
-        let too_long = ticks.iter().any(|&v| {
+        let offset = label_offset(&ticks, log);
+        let shifted: Vec<f64> = ticks.iter().map(|&v| less_offset(v, offset)).collect();
+        let too_long = shifted.iter().any(|&v| {
             let plain = plain_label(v);
             let digits = plain.trim_start_matches('-');
             digits
@@ -50,7 +56,7 @@ impl Axis {
         // Only where it does not lengthen the labels: `700.08` stays, not
         // `7.0008e2`.
         let longest =
-            |label: fn(f64) -> String| ticks.iter().map(|&v| label(v).len()).max().unwrap_or(0);
+            |label: fn(f64) -> String| shifted.iter().map(|&v| label(v).len()).max().unwrap_or(0);
         let exponent = too_long && longest(exponent_label) <= longest(plain_label);
         Axis {
             range,
@@ -58,15 +64,27 @@ impl Axis {
             ticks,
             grid,
             exponent,
+            offset,
         }
     }
 
-    /// The label of the tick at `v`, in the axis's format.
+    /// The label of the tick at `v`, in the axis's format (less the
+    /// axis's offset, if any).
     pub fn label(&self, v: f64) -> String {
+        let v = less_offset(v, self.offset);
         if self.exponent {
             exponent_label(v)
         } else {
             plain_label(v)
+        }
+    }
+
+    /// The axis title `label`, with the offset its tick labels leave out
+    /// (`spring force [N] − 21.895081`: the ticks read the force less it).
+    pub fn title(&self, label: &str) -> String {
+        match self.offset {
+            (0.0, _) => label.to_string(),
+            (offset, d) => format!("{label} − {offset:.d$}"),
         }
     }
 
@@ -120,6 +138,39 @@ impl Ranged for LinearCoord {
     fn range(&self) -> Range<f64> {
         self.inner.range()
     }
+}
+
+/// The value a linear axis subtracts from its tick labels: zero where the
+/// labels of its ticks read differently in either format; else, where the
+/// range is too narrow against its values for that (a force of 21.9 N
+/// varying by 1e-8 N: every tick read `2.189508e1`), the ticks' first value
+/// rounded down to a multiple of `10^k`, `10^k` between 10 and 100 tick
+/// steps: the labels are then the small round differences from it.
+fn label_offset(ticks: &[f64], log: bool) -> (f64, usize) {
+    if log || ticks.len() < 2 {
+        return (0.0, 0);
+    }
+    let distinct = |label: fn(f64) -> String| {
+        let labels: Vec<String> = ticks.iter().map(|&v| label(v)).collect();
+        labels.windows(2).all(|w| w[0] != w[1])
+    };
+    if distinct(plain_label) || distinct(exponent_label) {
+        return (0.0, 0);
+    }
+    let k = (ticks[1] - ticks[0]).log10().floor() as i32 + 2;
+    let unit = 10f64.powi(k);
+    ((ticks[0] / unit).floor() * unit, (-k).max(0) as usize)
+}
+
+/// `v` less the axis offset `(offset, its decimals)`, rounded to six
+/// decimals below the offset's last: the subtraction's rounding would
+/// otherwise show in the label (`2.300000e-7`, not `2.3e-7`).
+fn less_offset(v: f64, (offset, d): (f64, usize)) -> f64 {
+    if offset == 0.0 {
+        return v;
+    }
+    let q = 10f64.powi(-(d as i32) - 6);
+    ((v - offset) / q).round() * q
 }
 
 /// Fewest decimals (up to 12) that write `v` to 1e-9 of itself.
@@ -238,6 +289,35 @@ fn round_step(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::{log_ticks, Axis};
+
+    /// A range too narrow against its values for any label format (a
+    /// 21.9 N force varying by 1e-8 N: every tick read `2.189508e1`): the
+    /// labels differ, read the ticks less the offset the title names, and
+    /// an ordinary range keeps its labels and title as they were.
+    #[test]
+    fn the_ticks_of_a_narrow_range_read_apart_from_an_offset_in_the_title() {
+        for (lo, hi) in [
+            (21.89507919, 21.89507924),
+            (-3.000000001, -3.0000000007),
+            (1e6, 1e6 + 1e-4),
+            (0.5, 0.5 + 1e-13),
+        ] {
+            let axis = Axis::new(lo, hi, false);
+            let labels = axis.labels();
+            assert!(labels.len() >= 3, "{lo} .. {hi}: {labels:?}");
+            assert!(labels.windows(2).all(|w| w[0] != w[1]), "{labels:?}");
+            let title = axis.title("F [N]");
+            let offset: f64 = title.rsplit(" − ").next().unwrap().parse().unwrap();
+            let step = axis.ticks[1] - axis.ticks[0];
+            for (&v, label) in axis.ticks.iter().zip(&labels) {
+                let read = offset + label.parse::<f64>().unwrap();
+                assert!((read - v).abs() <= 1e-3 * step, "{title}: {label} at {v}");
+            }
+        }
+        let axis = Axis::new(0.0, 25.0, false);
+        assert_eq!(axis.title("F [N]"), "F [N]");
+        assert_eq!(axis.labels()[1], "2.5");
+    }
 
     /// Whether every label of `labels` (but a `0`) is in plain decimals, or
     /// every one in mantissa-exponent form.
