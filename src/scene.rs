@@ -270,14 +270,17 @@ pub fn load(name_or_path: &str) -> Result<Scene, InputError> {
     let path = Path::new(name_or_path);
     let looks_like_path = name_or_path.contains(['/', '\\']) || path.extension().is_some();
     if !path.exists() && !looks_like_path {
-        let allowed = format!(
-            "{}, or a path to a TOML scene file",
-            BUILTIN_NAMES.join(", ")
-        );
+        // Every built-in scene, the adhesive ones too (`gel`).
+        let names: Vec<&str> = BUILTIN_NAMES
+            .iter()
+            .copied()
+            .chain(crate::adhesive::scene::builtin_names())
+            .collect();
+        let allowed = format!("{}, or a path to a TOML scene file", names.join(", "));
         return Err(InputError::UnknownName {
             what: "scene",
             name: name_or_path.to_string(),
-            suggestion: closest(name_or_path, BUILTIN_NAMES.iter().copied()),
+            suggestion: closest(name_or_path, names.iter().copied()),
             allowed,
         });
     }

@@ -173,7 +173,22 @@ fn simulate_chooses_and_switches_the_model_from_the_velocities() {
         "--name",
         "fast-protocol",
     ]);
-    assert_eq!(code, 0, "{stderr}");
+    // The regime after this run is not this test's subject; steady sliding
+    // repels there (kappa_c = 9.3e4 at nu = 1e6), so it is never called
+    // steady (it was, before session 25: the search took the orbit's
+    // first step near steady sliding for a decay), and where the return
+    // map has not settled in 300 oscillations the run is partial (4).
+    assert!(code == 0 || code == 4, "{stderr}");
+    assert!(
+        !stdout.contains("steady sliding (the oscillation decays)"),
+        "{stdout}"
+    );
+    if code == 4 {
+        assert!(
+            stderr.contains("the regime the run reaches is undetermined"),
+            "{stderr}"
+        );
+    }
     assert!(stdout.contains("model: inertial"), "{stdout}");
     assert!(stdout.contains("fastest pulling velocity"), "{stdout}");
 }

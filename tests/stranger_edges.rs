@@ -587,3 +587,25 @@ fn a_small_perturbation_of_repelling_steady_sliding_grows_to_the_cycle() {
         "cycles {d} N, simulate {drop} N"
     );
 }
+
+/// Input messages a stranger met (session 25): a negative `--nu-range` was
+/// clap's "unexpected argument '-1'" (not naming the option); an empty
+/// `--from/--to` range was advised "give 1e1 to 1e1", the range refused; a
+/// misspelt scene was offered every built-in but `gel`.
+#[test]
+fn input_messages_name_the_field_and_never_repeat_the_refused_input() {
+    let dir = temp_dir("input-messages");
+    let out = dir.to_str().unwrap();
+    let (status, _, err) = stickslip(&["diagram", "--nu-range", "-1:10", "--out", out]);
+    assert_eq!(status, 2, "{err}");
+    assert!(err.contains("--nu-range") && err.contains("-1:10"), "{err}");
+    let (status, _, err) = stickslip(&["hopf", "--param", "V", "--from", "10", "--to", "10"]);
+    assert_eq!(status, 2, "{err}");
+    assert!(
+        err.contains("empty") && !err.contains("give 1e1 to 1e1"),
+        "{err}"
+    );
+    let (status, _, err) = stickslip(&["hopf", "--scene", "gle"]);
+    assert_eq!(status, 2, "{err}");
+    assert!(err.contains("did you mean 'gel'"), "{err}");
+}

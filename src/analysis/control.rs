@@ -902,7 +902,13 @@ pub fn upward_range((lo, hi): (f64, f64), fields: &str) -> Result<(f64, f64), In
             expected: "finite numbers".into(),
         });
     }
-    if lo >= hi {
+    if lo == hi {
+        return Err(InputError::Conflict(format!(
+            "{fields} gives the range {lo:e} to {hi:e}, which is empty: the onset is searched \
+             between two different values"
+        )));
+    }
+    if lo > hi {
         return Err(InputError::Conflict(format!(
             "{fields} gives the range {lo:e} to {hi:e}, which does not run upward: the onset is \
              searched from the low end to the high end; give {hi:e} to {lo:e}"

@@ -28,7 +28,9 @@ pub struct DiagramArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Velocity range as LO:HI in units of V0 (dimensionless nu); default: the scene's V_range.
-    #[arg(long, value_name = "LO:HI")]
+    // A value starting with '-' is this option's (refused by its own
+    // check, naming it), not an unknown flag.
+    #[arg(long, value_name = "LO:HI", allow_hyphen_values = true)]
     pub nu_range: Option<String>,
     #[command(flatten)]
     pub output: OutputArgs,
