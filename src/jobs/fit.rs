@@ -616,10 +616,18 @@ pub(crate) fn fit_determined<P: DataFit + Problem>(
                 .filter(|&k| !minimum.jacobian.column(k).iter().all(|d| d.is_finite()))
                 .map(|k| keys[k])
                 .collect();
+            let why = if undefined.is_empty() {
+                "the singular value decomposition of the model's derivatives did not converge"
+                    .to_string()
+            } else {
+                format!(
+                    "the model's derivatives along {} are not finite",
+                    undefined.join(", ")
+                )
+            };
             return Err(NumericalError::Analysis(format!(
-                "the model's derivatives along {} are not finite at the fit's last iterate \
-                 (after {} iterations), so which parameters the data determine cannot be told",
-                undefined.join(", "),
+                "{why} at the fit's last iterate (after {} iterations), so which parameters the \
+                 data determine cannot be told",
                 minimum.iterations
             ))
             .into());
