@@ -135,6 +135,13 @@ fn cycles_stopped_by(signal: libc::c_int, code: i32, word: &str, dir_name: &str)
         dir.join("pmma_m=0.01-cycles-amplitude.png").exists(),
         "figures of the computed cycles"
     );
+    // Every figure of the branch says it was interrupted (the orbits and
+    // the time series did not, session 25).
+    for figure in ["amplitude", "period", "orbits", "time-series"] {
+        let svg = std::fs::read_to_string(dir.join(format!("pmma_m=0.01-cycles-{figure}.svg")))
+            .unwrap_or_default();
+        assert!(svg.contains("interrupted"), "{figure}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -225,7 +225,11 @@ pub fn branch_figures(
         .iter()
         .any(|c| c.ln_v_min / std::f64::consts::LN_10 + log10_v0 < -300.0);
     let orbit = LineFigure {
-        title: format!("Cycles in the (K(Vt - x), v) plane, {}", setup.label),
+        title: format!(
+            "Cycles in the (K(Vt - x), v) plane, {}{}",
+            setup.label,
+            cut.unwrap_or_default()
+        ),
         x_label: "spring force K(Vt - x) [N]".into(),
         y_label: if beyond {
             "log10 of the slip velocity v [µm/s] (below 1e-300 µm/s)".into()
@@ -243,7 +247,11 @@ pub fn branch_figures(
         }),
     };
     let series = LineFigure {
-        title: format!("Spring force over one period, {}", setup.label),
+        title: format!(
+            "Spring force over one period, {}{}",
+            setup.label,
+            cut.unwrap_or_default()
+        ),
         x_label: "time t [s]".into(),
         y_label: "spring force K(Vt - x) [N]".into(),
         log_x: false,
