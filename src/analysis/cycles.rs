@@ -1405,26 +1405,12 @@ fn follow<E: LegEnd>(
                 // the stop into the stick, fails otherwise, or its
                 // multipliers are swamped by rounding (the map's Jacobian
                 // decides stability).
-                // The return map's stick is integrated quasi-statically,
-                // `s = mu(v, theta)` solved for `v`: where the law leaves its
-                // domain on the orbit (`d mu / d ln v <= 0`) that has no
-                // solution, and the map cannot take over.
-                let inertial_in_kappa = log.kind == ModelKind::Inertial && param == Param::Kappa;
                 match (&last_rec, kappa_before) {
-                    (Some(rec), Some(_)) if inertial_in_kappa && rec.direct_effect_min <= 0.0 => {
-                        return Err(NumericalError::Analysis(format!(
-                            "{why}; the orbits there lie outside the friction law's domain: the \
-                             direct effect d mu / d ln v = A + 2 mu_vv ln v + mu_vphi ln theta is \
-                             down to {:.4e} on the last one, where friction falls as the slip \
-                             speeds up; the return map, which continues a branch where \
-                             collocation fails, solves s = mu(v, theta) for v in the stick and \
-                             needs it positive, so the branch ends here (a smaller mu_vv or \
-                             mu_vphi keeps the law in its domain, docs/model.md)",
-                            rec.direct_effect_min
-                        ))
-                        .into())
-                    }
-                    (Some(rec), Some(before)) if inertial_in_kappa && rec.kappa != before => {
+                    (Some(rec), Some(before))
+                        if log.kind == ModelKind::Inertial
+                            && param == Param::Kappa
+                            && rec.kappa != before =>
+                    {
                         return return_map::continue_branch(
                             log,
                             rec,

@@ -387,6 +387,21 @@ pub fn continue_branch(
     leg: Leg,
     sink: &mut impl FnMut(&CycleRecord) -> Result<(), Error>,
 ) -> Result<Stop, Error> {
+    // The stick is integrated quasi-statically, `s = mu(v, theta)` solved
+    // for `v`: where the law leaves its domain on the orbit (`d mu / d ln v
+    // <= 0`) that has no solution, and the map cannot take over.
+    if last.direct_effect_min <= 0.0 {
+        return Err(NumericalError::Analysis(format!(
+            "{why}; the orbits there lie outside the friction law's domain: the direct effect \
+             d mu / d ln v = A + 2 mu_vv ln v + mu_vphi ln theta is down to {:.4e} on the last \
+             one, where friction falls as the slip speeds up; the return map, which continues a \
+             branch where collocation fails, solves s = mu(v, theta) for v in the stick and needs \
+             it positive, so the branch ends here (a smaller mu_vv or mu_vphi keeps the law in \
+             its domain, docs/model.md)",
+            last.direct_effect_min
+        ))
+        .into());
+    }
     let base = params_of(log, &last.params);
     let failed = |kappa: f64, e: String| -> Error {
         NumericalError::Analysis(format!(

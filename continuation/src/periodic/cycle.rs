@@ -44,7 +44,7 @@ impl Cycle {
     /// The polynomial of interval `i` at local coordinate `z` in `[0, 1]`,
     /// added into `x` (`n` entries).
     fn interval_into(&self, i: usize, z: f64, x: &mut [f64]) {
-        let (m, n) = (self.mesh.degree, self.n);
+        let m = self.mesh.degree;
         let mut stack = [0.0; 8];
         let mut heap = Vec::new();
         let basis = if m < stack.len() {
@@ -54,8 +54,15 @@ impl Cycle {
             &mut heap[..]
         };
         lagrange_into(m, z, basis);
-        // Node `(i, l)` is `i m + l`; the last interval's end is node 0.
-        let last = self.mesh.n_nodes();
+        self.add_combination(i, basis, x);
+    }
+
+    /// `sum_l basis[l] u_(i, l)` over the nodes of interval `i`, added into
+    /// `x`: node `(i, l)` is `i m + l`, the last interval's end node 0
+    /// (indexed directly, not through the `%` of [`Cycle::node`]).
+    #[inline]
+    fn add_combination(&self, i: usize, basis: &[f64], x: &mut [f64]) {
+        let (m, n, last) = (self.mesh.degree, self.n, self.mesh.n_nodes());
         for (l, b) in basis.iter().enumerate() {
             let g = i * m + l;
             let g = if g == last { 0 } else { g };
@@ -131,20 +138,12 @@ impl Cycle {
         let basis: Vec<_> = (0..per)
             .map(|s| lagrange_values(m, s as f64 / per as f64))
             .collect();
-        let (n, last) = (self.n, self.mesh.n_nodes());
-        let mut x = vec![0.0; n];
+        let mut x = vec![0.0; self.n];
         let mut values = Vec::with_capacity(ntst * per);
         for i in 0..ntst {
             for b in &basis {
                 x.fill(0.0);
-                for (l, bl) in b.iter().enumerate() {
-                    // Node `(i, l)`; the last interval's end is node 0.
-                    let node = i * m + l;
-                    let node = if node == last { 0 } else { node };
-                    for (xj, uj) in x.iter_mut().zip(&self.u[node * n..(node + 1) * n]) {
-                        *xj += bl * uj;
-                    }
-                }
+                self.add_combination(i, b, &mut x);
                 values.push(g(&x));
             }
         }
